@@ -1,0 +1,81 @@
+"""Built-in system definitions, by name.
+
+Each builder returns an :class:`observability.System`; its module header cites
+where the model comes from. :func:`build` turns ``-o key=value`` options of the
+CLI into builder arguments or known-parameter values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+from observability.errors import ModelError
+from observability.expressions import parse_number
+from observability.system import System
+
+from .slam15d import slam15d, slam15d_beacon, slam15d_disparity
+
+__all__ = ["BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity"]
+
+
+def _choice(*allowed: str) -> Callable[[str, str], str]:
+    def parse(key: str, text: str) -> str:
+        if text not in allowed:
+            raise ModelError(f"option {key}: expected one of {', '.join(allowed)}, got {text!r}")
+        return text
+
+    return parse
+
+
+@dataclass(frozen=True)
+class BuiltinModel:
+    """A named model: its builder, a one-line summary and its options."""
+
+    name: str
+    builder: Callable[..., System]
+    summary: str
+    options: Mapping[str, Callable[[str, str], object]]
+
+
+_TIME = {"time": _choice("continuous", "discrete")}
+
+BUILTINS: dict[str, BuiltinModel] = {
+    m.name: m
+    for m in (
+        BuiltinModel("slam1.5d-beacon", slam15d_beacon, "1.5-D monocular SLAM, beacon + landmark, projective only", _TIME),
+        BuiltinModel("slam1.5d", slam15d, "1.5-D monocular SLAM, landmark only, projective only", _TIME),
+        BuiltinModel(
+            "slam1.5d-disparity", slam15d_disparity, "1.5-D monocular SLAM, landmark only, projective + disparity", _TIME
+        ),
+    )
+}
+
+
+def build(name: str, options: Mapping[str, str] | None = None) -> System:
+    """Build the built-in model ``name`` with ``options`` given as strings.
+
+    A key that is a builder option (e.g. ``time``) is passed to the builder; any
+    other key must be a known parameter of the model and sets its value.
+
+    Raises
+    ------
+    ModelError
+        For an unknown model, option or parameter, or a malformed value.
+    """
+    if name not in BUILTINS:
+        raise ModelError(f"unknown model {name!r} (built-in models: {', '.join(BUILTINS)})")
+    model = BUILTINS[name]
+    kwargs: dict[str, object] = {}
+    values: dict[str, object] = {}
+    for key, text in (options or {}).items():
+        if key in model.options:
+            kwargs[key] = model.options[key](key, text)
+        else:
+            values[key] = parse_number(text, f"option {key}")
+    system = model.builder(**kwargs)
+    unknown = [k for k in values if k not in {p.name for p in system.parameters}]
+    if unknown:
+        choices = sorted(model.options) + [p.name for p in system.parameters]
+        raise ModelError(f"{name}: unknown option or parameter {unknown[0]!r} (choose from: {', '.join(choices)})")
+    return system.with_values(**values) if values else system

@@ -1,0 +1,253 @@
+"""The verdict: rank, observable states and unobservable directions of a system."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import sympy
+
+from .numeric import float_rank
+from .randomized import randomized_rank
+from .symbolic import Undecided, null_space, observability_rows, symbolic_rank, with_budget
+from .system import System
+
+__all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
+
+Method = Literal["symbolic", "random", "float"]
+METHODS: tuple[str, ...] = ("random", "symbolic", "float")
+
+#: Seconds the symbolic null space may take before directions are left out.
+DIRECTIONS_BUDGET = 20.0
+
+
+@dataclass(frozen=True)
+class UnobservableDirection:
+    """A vector field along which the outputs cannot tell states apart.
+
+    Attributes
+    ----------
+    name : str or None
+        A name such as "translation" when the direction is recognised.
+    vector : Mapping[str, str]
+        The non-zero components, state name -> expression in the states.
+    """
+
+    name: str | None
+    vector: Mapping[str, str]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "vector": dict(self.vector)}
+
+    def __str__(self) -> str:
+        body = ", ".join(f"{k}: {v}" for k, v in self.vector.items())
+        return f"{self.name + ' ' if self.name else ''}{{{body}}}"
+
+
+@dataclass(frozen=True)
+class ObservabilityResult:
+    """The outcome of :func:`analyze`.
+
+    ``rank`` and ``observable`` are None when the symbolic method could not decide
+    within its budget. ``error_probability`` bounds the chance that the verdict is
+    wrong (0 for the exact symbolic rank and for a full randomized rank; None for
+    the floating-point method, whose reliability is described by its gap).
+    """
+
+    model: str
+    states: tuple[str, ...]
+    rank: int | None
+    observable: bool | None
+    method: str
+    seed: int | None
+    error_probability: float | None
+    orders: int | None
+    observable_states: tuple[str, ...]
+    unobservable_directions: tuple[UnobservableDirection, ...]
+    seconds: float
+    details: str
+    time: str = "continuous"
+    singular_values: tuple[float, ...] | None = None
+    row_labels: tuple[tuple[str, int], ...] = field(default=(), repr=False)
+
+    @property
+    def n_states(self) -> int:
+        return len(self.states)
+
+    @property
+    def unobservable_states(self) -> tuple[str, ...]:
+        return tuple(s for s in self.states if s not in self.observable_states)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (the CLI's ``--format json``)."""
+        return {
+            "model": self.model,
+            "time": self.time,
+            "states": list(self.states),
+            "n_states": self.n_states,
+            "rank": self.rank,
+            "observable": self.observable,
+            "method": self.method,
+            "seed": self.seed,
+            "error_probability": self.error_probability,
+            "orders": self.orders,
+            "observable_states": list(self.observable_states),
+            "unobservable_states": list(self.unobservable_states) if self.rank is not None else None,
+            "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
+            "singular_values": list(self.singular_values) if self.singular_values is not None else None,
+            "details": self.details,
+            "seconds": round(self.seconds, 6),
+        }
+
+    def verdict(self) -> str:
+        if self.rank is None:
+            return "undecided"
+        return "observable" if self.observable else "NOT observable"
+
+    def __str__(self) -> str:
+        lines = [
+            f"{self.model}: {self.verdict()}"
+            + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None else ""),
+            f"  method: {self.method}; {self.details}",
+        ]
+        if self.rank is not None:
+            lines.append(f"  Lie orders used: 0..{self.orders}")
+            lines.append(f"  observable states: {', '.join(self.observable_states) or 'none'}")
+            if not self.observable:
+                lines.append(f"  not observable: {', '.join(self.unobservable_states)}")
+        for d in self.unobservable_directions:
+            lines.append(f"  unobservable direction: {d}")
+        return "\n".join(lines)
+
+
+def _directions(vectors: list[list[sympy.Expr]], states: tuple[sympy.Symbol, ...]) -> tuple[UnobservableDirection, ...]:
+    out = []
+    for vector in vectors:
+        components = {s.name: str(v) for s, v in zip(states, vector) if v != 0}
+        out.append(UnobservableDirection(name=None, vector=components))
+    return tuple(out)
+
+
+def _symbolic_directions(system: System, orders: int, input_derivatives: int | None, budget: float | None):
+    def work() -> list[list[sympy.Expr]]:
+        matrix, _ = observability_rows(system, orders, input_derivatives)
+        return null_space(matrix)
+
+    return with_budget(work, seconds=budget)
+
+
+def analyze(
+    system: System,
+    method: Method = "random",
+    seed: int | None = None,
+    *,
+    input_derivatives: int | None = None,
+    max_order: int | None = None,
+    budget: float | None = 60.0,
+    point: Mapping[str, float] | None = None,
+    directions: bool = True,
+    progress: Callable[[str], None] | None = None,
+) -> ObservabilityResult:
+    """Decide whether ``system`` is locally (weakly) observable, and how not.
+
+    Parameters
+    ----------
+    system : System
+    method : {"random", "symbolic", "float"}
+        ``random`` (default): exact rank modulo a 61-bit prime at random points,
+        with a stated error probability. ``symbolic``: exact generic rank over the
+        rational-function field, "undecided" after ``budget`` seconds. ``float``:
+        SVD at ``point`` (or a random point), with singular values and the gap.
+    seed : int, optional
+        For the random point (drawn and reported when omitted).
+    input_derivatives : int, optional
+        Number of non-zero derivatives of each input (continuous time).
+    max_order : int, optional
+        Highest Lie order to try (default n - 1).
+    budget : float or None
+        Seconds allowed for symbolic work (the symbolic rank, and the symbolic
+        unobservable directions of the other methods); None: unlimited.
+    point : mapping, optional
+        Float method: values of states, parameters and input derivatives.
+    directions : bool
+        Compute the unobservable directions symbolically (when cheap).
+    progress : callable, optional
+        Receives a status line after each order.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    start = time.perf_counter()
+    states = system.states
+    names = tuple(s.name for s in states)
+    n = len(states)
+    singular_values = None
+    vectors: list[list[sympy.Expr]] | None = None
+    labels: tuple[tuple[str, int], ...] = ()
+    if method == "random":
+        result = randomized_rank(
+            system, seed=seed, input_derivatives=input_derivatives, max_order=max_order, progress=progress
+        )
+        rank, orders, seed, labels = result.rank, result.orders, result.seed, result.row_labels
+        observable_columns = result.observable_columns
+        probability = result.error_probability
+        if rank == n:
+            details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain"
+        else:
+            details = (
+                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); "
+                f"rank too low with probability <= {probability:.1e} (Schwartz-Zippel, degree bound {result.degree_bound})"
+            )
+    elif method == "symbolic":
+        try:
+            sym = with_budget(symbolic_rank, system, input_derivatives, max_order, seconds=budget)
+        except Undecided as exc:
+            return ObservabilityResult(
+                model=system.name, states=names, rank=None, observable=None, method=method, seed=None,
+                error_probability=None, orders=None, observable_states=(), unobservable_directions=(),
+                seconds=time.perf_counter() - start, details=f"undecided: {exc}", time=system.time,
+            )
+        rank, orders, labels, probability, seed = sym.rank, sym.orders, sym.row_labels, 0.0, None
+        details = "exact generic rank over the field of rational functions"
+        observable_columns = tuple(range(n)) if rank == n else None
+    else:
+        fr = float_rank(system, seed=seed, point=point, input_derivatives=input_derivatives, max_order=max_order)
+        rank, orders, labels, probability = fr.rank, fr.orders, fr.row_labels, None
+        singular_values = fr.singular_values
+        observable_columns = fr.observable_columns
+        shown = ", ".join(f"{v:.3g}" for v in fr.singular_values)
+        details = f"SVD at {'the given' if point else 'a random'} point: singular values [{shown}], threshold {fr.threshold:.2g}, gap {fr.gap:.3g}"
+        if fr.rank < n:
+            details += f"; numerical null space of dimension {len(fr.null_space)}"
+
+    if rank < n and (directions or observable_columns is None):
+        try:
+            vectors = _symbolic_directions(system, orders, input_derivatives, budget if budget is None else min(budget, DIRECTIONS_BUDGET))
+        except Undecided as exc:
+            details += f"; directions not computed ({exc})"
+        if vectors is not None and len(vectors) != n - rank:
+            details += f"; warning: symbolic null space has dimension {len(vectors)}, expected {n - rank}"
+    if observable_columns is None:
+        if vectors is None:
+            observable_columns = ()
+            details += "; observable states unknown"
+        else:
+            observable_columns = tuple(i for i in range(n) if all(v[i] == 0 for v in vectors))
+    return ObservabilityResult(
+        model=system.name,
+        states=names,
+        rank=rank,
+        observable=rank == n,
+        method=method,
+        seed=seed,
+        error_probability=probability,
+        orders=orders,
+        observable_states=tuple(names[i] for i in observable_columns),
+        unobservable_directions=_directions(vectors, states) if vectors else (),
+        seconds=time.perf_counter() - start,
+        details=details,
+        time=system.time,
+        singular_values=singular_values,
+        row_labels=labels,
+    )

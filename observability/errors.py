@@ -1,0 +1,47 @@
+"""Exceptions raised by the toolkit.
+
+Every error subclasses a built-in exception so that callers who do not know this
+package can still catch it, and every message names the offending item.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ObservabilityError",
+    "ModelError",
+    "ModelFileError",
+    "UnsupportedExpressionError",
+    "SingularModelError",
+]
+
+
+class ObservabilityError(Exception):
+    """Base class of every error this package raises on purpose."""
+
+
+class ModelError(ObservabilityError, ValueError):
+    """A system definition is invalid (undeclared symbol, missing dynamics, ...)."""
+
+
+class ModelFileError(ModelError):
+    """A model file cannot be read: syntax, wrong types, forbidden expressions.
+
+    The message starts with ``path:`` (and the TOML key where known) so that the
+    CLI can print it as the one line a user needs.
+    """
+
+
+class UnsupportedExpressionError(ModelError):
+    """An expression uses a construct the exact engines cannot handle.
+
+    Examples are non-differentiable functions (``Abs``, ``sign``), non-constant
+    exponents, or fractional powers other than square roots.
+    """
+
+
+class SingularModelError(ObservabilityError, ArithmeticError):
+    """Every evaluation point hit a pole: the model is singular where it is used.
+
+    Typically a known parameter was given a value that makes a denominator vanish
+    identically.
+    """

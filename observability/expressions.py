@@ -1,0 +1,201 @@
+"""Safe parsing and checking of the expressions a model is written in.
+
+Model files are data: their expressions are parsed by :func:`parse_expression`,
+which walks Python's abstract syntax tree and accepts only numbers, declared
+names, ``+ - * / **`` and the functions in :data:`FUNCTIONS`. Nothing is ever
+passed to ``eval`` or ``sympify``, so loading a model never executes code.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Mapping
+
+import sympy
+
+from .errors import ModelFileError, UnsupportedExpressionError
+
+__all__ = ["FUNCTIONS", "parse_expression", "parse_number", "prev", "is_previous", "check_supported"]
+
+#: Functions a model may use, by the name written in a model file.
+FUNCTIONS: dict[str, object] = {
+    "sin": sympy.sin,
+    "cos": sympy.cos,
+    "tan": sympy.tan,
+    "atan": sympy.atan,
+    "atan2": sympy.atan2,
+    "exp": sympy.exp,
+    "log": sympy.log,
+    "sqrt": sympy.sqrt,
+}
+
+_ARITY = {"atan2": 2}
+
+_BINARY = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: lambda a, b: a**b,
+}
+
+_PREV_PREFIX = "prev("
+
+
+def prev(state: sympy.Symbol | str) -> sympy.Symbol:
+    """The symbol standing for the previous value of a state, ``x_{k-1}``.
+
+    The name ``prev(x)`` cannot clash with a user's identifier because it contains
+    parentheses; outputs of discrete-time systems may use it.
+    """
+    name = state.name if isinstance(state, sympy.Symbol) else str(state)
+    return sympy.Symbol(f"{_PREV_PREFIX}{name})")
+
+
+def is_previous(symbol: sympy.Symbol) -> bool:
+    """Whether ``symbol`` was made by :func:`prev`."""
+    return symbol.name.startswith(_PREV_PREFIX) and symbol.name.endswith(")")
+
+
+def previous_of(symbol: sympy.Symbol) -> str:
+    """The state name inside ``prev(...)``."""
+    return symbol.name[len(_PREV_PREFIX) : -1]
+
+
+def parse_number(text: str, where: str) -> sympy.Rational:
+    """Parse a numeric literal or a constant expression like ``1/3`` exactly."""
+    value = parse_expression(text, {}, where=where)
+    if not value.is_Rational:
+        raise ModelFileError(f"{where}: expected a number, got {text!r}")
+    return value
+
+
+def parse_expression(
+    text: str,
+    names: Mapping[str, sympy.Symbol],
+    *,
+    where: str,
+    allow_prev: bool = False,
+) -> sympy.Expr:
+    """Parse ``text`` into a sympy expression without executing anything.
+
+    Parameters
+    ----------
+    text : str
+        The expression, in Python syntax (``**`` is the power).
+    names : Mapping[str, sympy.Symbol]
+        The declared names and the symbols they stand for.
+    where : str
+        Where the expression comes from, e.g. ``"model.toml: outputs.bearing"``;
+        it starts every error message.
+    allow_prev : bool
+        Whether ``prev(state)`` may be written (outputs of discrete-time models).
+
+    Raises
+    ------
+    ModelFileError
+        On a syntax error, an undeclared name, a function outside the whitelist,
+        or any other construct (attribute access, strings, comparisons, ...).
+    """
+    if not isinstance(text, str):
+        raise ModelFileError(f"{where}: expected an expression in a string, got {type(text).__name__} {text!r}")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except SyntaxError as exc:
+        raise ModelFileError(f"{where}: syntax error in {text!r} at column {exc.offset}: {exc.msg}") from None
+    source = text.strip()
+
+    def fail(node: ast.AST, what: str) -> ModelFileError:
+        col = getattr(node, "col_offset", 0) + 1
+        return ModelFileError(f"{where}: {what} in {text!r} (column {col})")
+
+    def walk(node: ast.AST) -> sympy.Expr:
+        if isinstance(node, ast.Expression):
+            return walk(node.body)
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+                raise fail(node, f"{node.value!r} is not a number")
+            # The literal's own digits give the exact rational: 0.1 means 1/10.
+            return sympy.Rational(ast.get_source_segment(source, node))
+        if isinstance(node, ast.Name):
+            if node.id not in names:
+                raise fail(node, f"unknown symbol {node.id!r}")
+            return names[node.id]
+        if isinstance(node, ast.BinOp):
+            op = _BINARY.get(type(node.op))
+            if op is None:
+                hint = " (use ** for powers)" if isinstance(node.op, ast.BitXor) else ""
+                raise fail(node, f"operator {type(node.op).__name__} is not allowed{hint}")
+            return op(walk(node.left), walk(node.right))
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            value = walk(node.operand)
+            return -value if isinstance(node.op, ast.USub) else value
+        if isinstance(node, ast.Call):
+            if not isinstance(node.func, ast.Name):
+                raise fail(node, "only plain function calls are allowed")
+            fname = node.func.id
+            if node.keywords:
+                raise fail(node, f"keyword arguments to {fname} are not allowed")
+            if fname == "prev":
+                if not allow_prev:
+                    raise fail(node, "prev() is only allowed in outputs of discrete-time models")
+                if len(node.args) != 1 or not isinstance(node.args[0], ast.Name):
+                    raise fail(node, "prev() takes one state name")
+                arg = walk(node.args[0])
+                return prev(arg)
+            if fname not in FUNCTIONS:
+                allowed = ", ".join(sorted(FUNCTIONS))
+                raise fail(node, f"function {fname!r} is not allowed (allowed: {allowed}, prev)")
+            arity = _ARITY.get(fname, 1)
+            if len(node.args) != arity:
+                raise fail(node, f"{fname} takes {arity} argument{'s' if arity > 1 else ''}, got {len(node.args)}")
+            return FUNCTIONS[fname](*(walk(a) for a in node.args))
+        raise fail(node, f"{type(node).__name__} is not allowed")
+
+    result = walk(tree)
+    if not isinstance(result, sympy.Expr) or result.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        raise ModelFileError(f"{where}: {text!r} does not evaluate to a finite expression")
+    return result
+
+
+_SMOOTH = (
+    sympy.sin,
+    sympy.cos,
+    sympy.tan,
+    sympy.atan,
+    sympy.atan2,
+    sympy.exp,
+    sympy.log,
+)
+
+
+def check_supported(expr: sympy.Expr, where: str) -> None:
+    """Raise if ``expr`` uses a construct the engines cannot differentiate exactly.
+
+    Accepted: rational functions, integer powers, square roots (and their integer
+    powers), and sin, cos, tan, atan, atan2, exp, log of any accepted argument.
+    """
+    for node in sympy.preorder_traversal(expr):
+        if isinstance(node, (sympy.Symbol, sympy.Number, sympy.Add, sympy.Mul)):
+            continue
+        if node in (sympy.pi, sympy.E):
+            continue
+        if isinstance(node, sympy.Pow):
+            exponent = node.exp
+            if not exponent.is_Rational:
+                if node.base == sympy.E:
+                    continue
+                raise UnsupportedExpressionError(f"{where}: non-constant exponent in {node}")
+            if exponent.q not in (1, 2):
+                raise UnsupportedExpressionError(
+                    f"{where}: fractional power {exponent} in {node} (only integer powers and square roots)"
+                )
+            continue
+        if isinstance(node, _SMOOTH):
+            continue
+        if isinstance(node, sympy.Expr) and node.is_number:
+            continue
+        name = getattr(node, "func", type(node)).__name__
+        raise UnsupportedExpressionError(
+            f"{where}: {name} is not supported (non-differentiable or outside sin cos tan atan atan2 exp log sqrt)"
+        )

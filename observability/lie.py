@@ -1,0 +1,105 @@
+"""Symbolic Lie derivatives and discrete-time compositions.
+
+Continuous time: the rows of the observability matrix are the gradients of
+L_f^k h. With inputs, the *extended* Lie derivative of STRIKE-GOLDD
+(Villaverde et al. 2016) treats the input derivatives u, u', u'', ... as known
+quantities:
+
+    L h = dh/dx . f(x, u) + sum_j dh/du^(j) . u^(j+1).
+
+Discrete time: the rows are the gradients of h(F^k(x)), where the inputs of step
+j are independent symbols ``u[j]``; an output that depends on the previous state
+is first rewritten through the inverse motion model (:mod:`observability.inverse`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import sympy
+
+from .inverse import eliminate_previous_state
+from .expressions import is_previous, previous_of
+from .system import System
+
+__all__ = ["LieRow", "lie_derivative", "input_derivative", "step_input", "lie_derivatives"]
+
+
+@dataclass(frozen=True)
+class LieRow:
+    """One function whose gradient is a row of the observability matrix."""
+
+    output: str
+    order: int
+    expression: sympy.Expr
+
+
+def lie_derivative(h: sympy.Expr, f: sympy.Matrix | list, x: list | tuple) -> sympy.Expr:
+    """The Lie derivative L_f h = sum_i dh/dx_i f_i."""
+    return sympy.Add(*(sympy.diff(h, xi) * fi for xi, fi in zip(x, f)))
+
+
+def input_derivative(u: sympy.Symbol, j: int) -> sympy.Symbol:
+    """The symbol of the j-th time derivative of input ``u`` (j = 0 is u itself)."""
+    return u if j == 0 else sympy.Symbol(f"{u.name}^({j})")
+
+
+def step_input(u: sympy.Symbol, k: int) -> sympy.Symbol:
+    """The symbol of input ``u`` at discrete step ``k`` (k = -1: before the first)."""
+    return sympy.Symbol(f"{u.name}[{k}]")
+
+
+def _continuous(system: System, input_derivatives: int | None) -> Iterator[list[LieRow]]:
+    f = [system.substitute_values(e) for e in system.dynamics]
+    current = [(name, system.substitute_values(e)) for name, e in system.outputs]
+    order = 0
+    while True:
+        yield [LieRow(name, order, expr) for name, expr in current]
+        nxt = []
+        for name, expr in current:
+            d = lie_derivative(expr, f, system.states)
+            for u in system.inputs:
+                for j in range(order + 1):
+                    if input_derivatives is not None and j + 1 > input_derivatives:
+                        break
+                    d += sympy.diff(expr, input_derivative(u, j)) * input_derivative(u, j + 1)
+            nxt.append((name, d))
+        current = nxt
+        order += 1
+
+
+def _discrete(system: System) -> Iterator[list[LieRow]]:
+    outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system)]
+    F = [system.substitute_values(e) for e in system.dynamics]
+    x = list(system.states)
+    k = 0
+    while True:
+        inputs = {u: step_input(u, k) for u in system.inputs}
+        for sym in {s for _, e in outputs for s in e.free_symbols if is_previous(s)}:
+            inputs[sym] = step_input(sympy.Symbol(previous_of(sym)), k - 1)
+        at = dict(zip(system.states, x)) | inputs
+        yield [LieRow(name, k, expr.xreplace(at)) for name, expr in outputs]
+        x = [fi.xreplace(at) for fi in F]
+        k += 1
+
+
+def lie_derivatives(system: System, input_derivatives: int | None = None) -> Iterator[list[LieRow]]:
+    """Yield, order by order, the functions whose gradients form the matrix.
+
+    Parameters
+    ----------
+    system : System
+    input_derivatives : int or None
+        Continuous time only: how many derivatives of each input may be non-zero
+        (None: as many as the order needs, i.e. a generic input).
+
+    Yields
+    ------
+    list[LieRow]
+        For order k = 0, 1, 2, ...: one row per output, L_f^k h (continuous) or
+        h(F^k(x)) (discrete), with known parameter values substituted.
+    """
+    if system.time == "continuous":
+        return _continuous(system, input_derivatives)
+    return _discrete(system)

@@ -1,0 +1,130 @@
+"""Load a :class:`System` from a TOML model file, without executing any code.
+
+Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
+
+    name = "unicycle-beacon"
+    time = "continuous"               # or "discrete"
+    states = ["x", "y", "th"]
+    inputs = ["v", "w"]
+    parameters = ["bx", "by"]         # or a table: [parameters] f = 20
+    [dynamics]                        # continuous: time derivatives; discrete: next-state values
+    x = "v*cos(th)"
+    y = "v*sin(th)"
+    th = "w"
+    [outputs]
+    bearing = "atan2(by - y, bx - x) - th"
+    [inverse]                         # discrete only, optional: x_{k-1} in terms of x_k
+    x = "x - v*cos(th)"
+
+Expressions are parsed by :func:`observability.expressions.parse_expression`.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from .errors import ModelError, ModelFileError
+from .expressions import parse_number
+from .system import System
+
+__all__ = ["load_model", "parse_model"]
+
+_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description"}
+
+
+def load_model(path: str | Path) -> System:
+    """Read and validate the model file at ``path``.
+
+    Raises
+    ------
+    ModelFileError
+        With a message starting ``path:`` for a missing file, a TOML syntax error,
+        wrong types, unknown keys, or any invalid expression or definition.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ModelFileError(f"{path}: cannot read model file ({exc.__class__.__name__}: {exc})") from None
+    return parse_model(text, source=str(path))
+
+
+def _names(data: dict[str, Any], key: str, source: str, required: bool) -> list[str]:
+    value = data.get(key, [] if not required else None)
+    if value is None:
+        raise ModelFileError(f"{source}: missing required key {key!r}")
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ModelFileError(f"{source}: {key!r} must be a list of names (strings), got {value!r}")
+    for v in value:
+        if not v.isidentifier():
+            raise ModelFileError(f"{source}: {key}: {v!r} is not a valid name")
+    return value
+
+
+def _table(data: dict[str, Any], key: str, source: str, required: bool) -> dict[str, Any] | None:
+    value = data.get(key)
+    if value is None:
+        if required:
+            raise ModelFileError(f"{source}: missing required table [{key}]")
+        return None
+    if not isinstance(value, dict):
+        raise ModelFileError(f"{source}: [{key}] must be a table of name = \"expression\", got {value!r}")
+    for k, v in value.items():
+        if not isinstance(v, str):
+            raise ModelFileError(f"{source}: {key}.{k} must be an expression in a string, got {v!r}")
+    return value
+
+
+def parse_model(text: str, source: str = "<model>") -> System:
+    """Build a :class:`System` from the text of a TOML model file."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
+    unknown = sorted(set(data) - _KEYS)
+    if unknown:
+        raise ModelFileError(f"{source}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(_KEYS))})")
+    name = data.get("name", Path(source).stem)
+    if not isinstance(name, str):
+        raise ModelFileError(f"{source}: 'name' must be a string, got {name!r}")
+    time = data.get("time", "continuous")
+    if time not in ("continuous", "discrete"):
+        raise ModelFileError(f"{source}: 'time' must be \"continuous\" or \"discrete\", got {time!r}")
+    states = _names(data, "states", source, required=True)
+    inputs = _names(data, "inputs", source, required=False)
+    raw_params = data.get("parameters", [])
+    parameters: list[str] | dict[str, Any]
+    if isinstance(raw_params, dict):
+        parameters = {}
+        for key, value in raw_params.items():
+            if not key.isidentifier():
+                raise ModelFileError(f"{source}: parameters: {key!r} is not a valid name")
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                raise ModelFileError(f"{source}: parameters.{key} must be a number, got {value!r}")
+            parameters[key] = parse_number(str(value), f"{source}: parameters.{key}")
+    else:
+        parameters = _names(data, "parameters", source, required=False)
+    dynamics = _table(data, "dynamics", source, required=True)
+    outputs = _table(data, "outputs", source, required=True)
+    inverse = _table(data, "inverse", source, required=False)
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise ModelFileError(f"{source}: 'description' must be a string")
+    try:
+        return System(
+            states,
+            dynamics,
+            outputs,
+            inputs=inputs,
+            parameters=parameters,
+            time=time,
+            name=name,
+            inverse_dynamics=inverse,
+            description=description,
+        )
+    except ModelFileError as exc:
+        raise ModelFileError(f"{source}: {exc}") from None
+    except ModelError as exc:
+        raise ModelFileError(f"{source}: {exc}") from None

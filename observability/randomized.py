@@ -1,0 +1,258 @@
+"""The randomized exact rank: the observability matrix at random points of Z/pZ.
+
+The rank of the observability matrix at a point never exceeds its generic rank,
+and a rank computed modulo p at a point is a lower bound for the generic rank
+over Q (a non-zero minor mod p is a non-zero polynomial). So a full rank is a
+certificate, and only a deficient rank can be wrong: when a non-zero minor of
+degree at most D vanishes at the random point, which by the Schwartz-Zippel
+lemma happens with probability at most D / p. D is bounded from the degrees of
+the compiled expressions (see :func:`_degree_bound`); further independent points
+are drawn until the stated probability is below ``target``.
+
+Nothing is rounded: sin and cos of an argument take a rational point of the unit
+circle, (2t/(1+t^2), (1-t^2)/(1+t^2)), and all arithmetic is exact mod p.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from .echelon import ModularEchelon
+from .errors import SingularModelError
+from .inverse import eliminate_previous_state
+from .lie import lie_derivatives
+from .program import Op, Program
+from .system import System
+from .taylor import PRIME, Redraw, TaylorEvaluator
+
+__all__ = ["ModularRank", "randomized_rank"]
+
+_ATOMS = (Op.TRIG, Op.EXP, Op.LOG, Op.ATAN2, Op.SQRT)
+_MAX_ATTEMPTS = 64
+_MAX_DRAWS = 6
+
+Progress = Callable[[str], None]
+
+
+@dataclass(frozen=True)
+class ModularRank:
+    """The outcome of :func:`randomized_rank`.
+
+    Attributes
+    ----------
+    rank : int
+        The largest rank found over all points drawn.
+    orders : int
+        The highest Lie-derivative order (or number of compositions) used.
+    row_labels : tuple[tuple[str, int], ...]
+        (output, order) of every row computed at the best point.
+    error_probability : float
+        Upper bound on the probability that ``rank`` is below the generic rank
+        (0.0 when the rank is full: a full rank is certain).
+    draws : int
+        Independent points used (each point that hit a pole was redrawn, not counted).
+    prime : int
+    seed : int
+    observable_columns : tuple[int, ...]
+        States whose unit vector lies in the row space.
+    null_space : tuple[dict[int, int], ...]
+        A basis of the null space at the point, mod p.
+    degree_bound : int
+        The bound D on the degree of a minor used for the error probability.
+    """
+
+    rank: int
+    orders: int
+    row_labels: tuple[tuple[str, int], ...]
+    error_probability: float
+    draws: int
+    prime: int
+    seed: int
+    observable_columns: tuple[int, ...]
+    null_space: tuple[dict[int, int], ...]
+    degree_bound: int
+
+
+def _height(program: Program, node: int) -> int:
+    num, den = program.heights[node]
+    return num + den
+
+
+def _degree_bound(program: Program, system: System, out_roots: list[int], rank: int, order: int) -> int:
+    """Bound on the total degree of the numerator of any ``rank`` x ``rank`` minor.
+
+    Continuous time: with every random quantity (states, parameters, input
+    coefficients, the circle parameter t of each angle, the value of each exp,
+    log and atan2) as an indeterminate, L_f g = sum_i dg/dx_i f_i at most doubles
+    the height (numerator plus denominator degree) of g and adds the height S of
+    the extended vector field, whose atoms contribute through the chain rule;
+    so D_0 = max height of h and D_{k+1} = 2 D_k + S. A gradient row has height
+    at most 2 D_k, and a minor's numerator degree is at most the sum over its
+    rows. Discrete time: the height of each composed row is known exactly from
+    the program. Each square root may halve the chance of a usable point, so it
+    doubles the bound.
+    """
+    if system.time == "continuous":
+        field = sum(_height(program, r) for r in program.roots[: system.n])
+        field += sum(_height(program, i) for i, op in enumerate(program.ops) if op in _ATOMS)
+        field += len(system.inputs)
+        d = max((_height(program, r) for r in out_roots), default=0)
+        for _ in range(order):
+            d = 2 * d + field
+        bound = rank * 2 * max(d, 1)
+    else:
+        rows = sorted((2 * max(_height(program, r), 1) for r in out_roots), reverse=True)
+        bound = sum(rows[:rank])
+    return bound * (2**program.n_sqrt)
+
+
+def _one_point(
+    system: System,
+    rng: random.Random,
+    input_derivatives: int | None,
+    max_order: int,
+    progress: Progress | None,
+) -> tuple[ModularEchelon, int, list[tuple[str, int]], Program, list[int]]:
+    holder: list[Program] = []
+    try:
+        return _rows_at_point(system, rng, input_derivatives, max_order, progress, holder)
+    except Redraw as exc:
+        exc.source = holder[0].source.get(exc.node, f"node {exc.node}") if holder else "the model"
+        raise
+
+
+def _rows_at_point(
+    system: System,
+    rng: random.Random,
+    input_derivatives: int | None,
+    max_order: int,
+    progress: Progress | None,
+    holder: list[Program],
+) -> tuple[ModularEchelon, int, list[tuple[str, int]], Program, list[int]]:
+    n = system.n
+    echelon = ModularEchelon(n, PRIME)
+    labels: list[tuple[str, int]] = []
+    out_roots: list[int] = []
+    if system.time == "continuous":
+        program = Program(system.states, system.inputs, where=system.name)
+        holder.append(program)
+        for expr in system.dynamics:
+            program.add(system.substitute_values(expr))
+        names = system.output_names
+        first = len(program.roots)
+        for _, expr in system.outputs:
+            out_roots.append(program.add(system.substitute_values(expr)))
+        evaluator = TaylorEvaluator(program, n, rng, input_degree=input_derivatives)
+        order = 0
+        while True:
+            evaluator.step()
+            grew = False
+            for j, name in enumerate(names):
+                grew |= echelon.add_row(evaluator.root(first + j, order)[1])
+                labels.append((name, order))
+            if progress:
+                progress(f"order {order}: rank {echelon.rank}/{n}")
+            if echelon.rank == n or not grew or order >= max_order:
+                return echelon, order, labels, program, out_roots
+            order += 1
+    program = Program(system.states, (), where=system.name)
+    holder.append(program)
+    evaluator = TaylorEvaluator(program, n, rng, discrete=True)
+    for order, rows in enumerate(lie_derivatives(system)):
+        nodes = [program.add(row.expression) for row in rows]
+        out_roots.extend(nodes)
+        evaluator.extend()
+        grew = False
+        for row, node in zip(rows, nodes):
+            grew |= echelon.add_row(evaluator.coefficient(node, 0)[1])
+            labels.append((row.output, row.order))
+        if progress:
+            progress(f"step {order}: rank {echelon.rank}/{n}")
+        if echelon.rank == n or not grew or order >= max_order:
+            return echelon, order, labels, program, out_roots
+    raise AssertionError("unreachable")
+
+
+def randomized_rank(
+    system: System,
+    *,
+    seed: int | None = None,
+    input_derivatives: int | None = None,
+    max_order: int | None = None,
+    target: float = 1e-9,
+    progress: Progress | None = None,
+) -> ModularRank:
+    """Exact rank of the observability matrix at random points modulo 2^61 - 1.
+
+    Rows are added order by order until the rank stops growing, reaches n, or
+    ``max_order`` (default n - 1) is reached.
+
+    Parameters
+    ----------
+    system : System
+    seed : int, optional
+        Seeds the point; drawn at random (and reported) when omitted.
+    input_derivatives : int, optional
+        Continuous time: number of non-zero derivatives of each input.
+    max_order : int, optional
+    target : float
+        Points are drawn until the probability of a wrong (too low) rank is below
+        this, or at most six points.
+    progress : callable, optional
+        Called with a short status line after every order.
+
+    Raises
+    ------
+    SingularModelError
+        When every point drawn hits a pole (a denominator that vanishes identically
+        with the given parameter values, say).
+    """
+    if seed is None:
+        seed = random.SystemRandom().randrange(2**32)
+    rng = random.Random(seed)
+    if system.time == "discrete":
+        eliminate_previous_state(system)  # fail early, before any point is drawn
+    limit = system.n - 1 if max_order is None else max_order
+    best = None
+    probability = 1.0
+    draws = 0
+    while draws < _MAX_DRAWS:
+        for _attempt in range(_MAX_ATTEMPTS * (2 ** min(_count_sqrt(system), 8))):
+            try:
+                echelon, order, labels, program, out_roots = _one_point(system, rng, input_derivatives, limit, progress)
+                break
+            except Redraw as exc:
+                last = exc
+        else:
+            raise SingularModelError(
+                f"{system.name}: every random point hits a singularity ({last.reason} in {last.source})"
+            )
+        draws += 1
+        if best is None or echelon.rank > best[0].rank:
+            best = (echelon, order, labels, program, out_roots)
+        if best[0].rank == system.n:
+            probability = 0.0
+            break
+        bound = _degree_bound(program, system, out_roots, echelon.rank, order)
+        probability *= min(1.0, bound / PRIME)
+        if probability <= target:
+            break
+    echelon, order, labels, program, out_roots = best
+    return ModularRank(
+        rank=echelon.rank,
+        orders=order,
+        row_labels=tuple(labels),
+        error_probability=probability,
+        draws=draws,
+        prime=PRIME,
+        seed=seed,
+        observable_columns=tuple(echelon.determined_columns()),
+        null_space=tuple(echelon.null_space()),
+        degree_bound=_degree_bound(program, system, out_roots, echelon.rank, order),
+    )
+
+
+def _count_sqrt(system: System) -> int:
+    return sum(str(e).count("sqrt") for e in (*system.dynamics, *(h for _, h in system.outputs)))

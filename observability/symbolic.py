@@ -1,0 +1,206 @@
+"""The symbolic route: the observability matrix as sympy expressions, its exact
+generic rank and null space over the field of rational functions.
+
+Entries with transcendental functions are mapped, exactly, into a field of
+rational functions: after :func:`~observability.program.canonicalize`, each
+angle a gets an indeterminate T = tan(a/2) with sin a = 2T/(1+T^2) and
+cos a = (1-T^2)/(1+T^2) (a rational parametrization of the circle, so no
+relation is lost), and each exp, log or atan2 value becomes an indeterminate of
+its own (it is transcendental over everything else). Square roots are algebraic
+and are not handled here: the rank is then reported as undecided.
+
+Symbolic computations can take unbounded time, so :func:`with_budget` runs them in
+a child process that is stopped when the budget is spent; the caller then says
+"undecided" instead of guessing.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+import sympy
+from sympy.polys.matrices import DomainMatrix
+
+from .lie import lie_derivatives
+from .program import canonicalize
+from .system import System
+
+__all__ = [
+    "SymbolicRank",
+    "Undecided",
+    "observability_rows",
+    "rationalize",
+    "generic_rank",
+    "symbolic_rank",
+    "null_space",
+    "with_budget",
+]
+
+T = TypeVar("T")
+
+
+class Undecided(Exception):
+    """The symbolic route cannot decide (budget spent, or an algebraic function)."""
+
+
+@dataclass(frozen=True)
+class SymbolicRank:
+    """Generic rank over the rational-function field, with the matrix it came from."""
+
+    rank: int
+    orders: int
+    matrix: sympy.Matrix
+    row_labels: tuple[tuple[str, int], ...]
+
+
+def observability_rows(system: System, orders: int, input_derivatives: int | None = None):
+    """The symbolic observability matrix with orders 0..``orders`` and its row labels."""
+    rows, labels = [], []
+    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+        if k > orders:
+            break
+        for row in block:
+            rows.append([sympy.diff(row.expression, x) for x in system.states])
+            labels.append((row.output, row.order))
+    return sympy.Matrix(rows), tuple(labels)
+
+
+def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, sympy.Expr]]:
+    """Map the entries into a field of rational functions (see module docstring).
+
+    Returns the rational matrix and, for each new indeterminate, the function it
+    stands for (so results can be mapped back).
+
+    Raises
+    ------
+    Undecided
+        When an entry contains a square root or another algebraic function.
+    """
+    atoms: dict[sympy.Expr, sympy.Symbol] = {}
+    back: dict[sympy.Symbol, sympy.Expr] = {}
+
+    def atom(key: sympy.Expr, name: str, meaning: sympy.Expr) -> sympy.Symbol:
+        if key not in atoms:
+            symbol = sympy.Dummy(f"{name}{len(atoms)}")
+            atoms[key] = symbol
+            back[symbol] = meaning
+        return atoms[key]
+
+    def half_angle(a: sympy.Expr) -> sympy.Symbol:
+        return atom(("tan", a), "T", sympy.tan(a / 2))
+
+    def rewrite(expr: sympy.Expr) -> sympy.Expr:
+        expr = canonicalize(expr)
+        expr = expr.replace(lambda e: isinstance(e, sympy.sin), lambda e: 2 * half_angle(e.args[0]) / (1 + half_angle(e.args[0]) ** 2))
+        expr = expr.replace(
+            lambda e: isinstance(e, sympy.cos),
+            lambda e: (1 - half_angle(e.args[0]) ** 2) / (1 + half_angle(e.args[0]) ** 2),
+        )
+        expr = expr.replace(lambda e: isinstance(e, sympy.exp), lambda e: atom(e, "E", e))
+        expr = expr.replace(lambda e: isinstance(e, sympy.log), lambda e: atom(e, "L", e))
+        expr = expr.replace(lambda e: isinstance(e, sympy.atan2), lambda e: atom(e, "A", e))
+        for node in sympy.preorder_traversal(expr):
+            if isinstance(node, sympy.Pow) and not node.exp.is_Integer:
+                raise Undecided(f"the symbolic rank does not handle the algebraic function {node}")
+            if isinstance(node, sympy.NumberSymbol):
+                raise Undecided(f"the symbolic rank does not handle the constant {node}")
+        return expr
+
+    return matrix.applyfunc(rewrite), back
+
+
+def generic_rank(matrix: sympy.Matrix) -> int:
+    """Exact rank of a matrix of rational functions over their fraction field."""
+    if matrix.rows == 0 or matrix.cols == 0:
+        return 0
+    rational, _ = rationalize(matrix)
+    return DomainMatrix.from_Matrix(rational).to_field().rank()
+
+
+def symbolic_rank(system: System, input_derivatives: int | None = None, max_order: int | None = None) -> SymbolicRank:
+    """Generic rank with rows added order by order until it stops growing."""
+    n = system.n
+    limit = n - 1 if max_order is None else max_order
+    rows: list[list[sympy.Expr]] = []
+    labels: list[tuple[str, int]] = []
+    rank = 0
+    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+        for row in block:
+            rows.append([sympy.diff(row.expression, x) for x in system.states])
+            labels.append((row.output, row.order))
+        new_rank = generic_rank(sympy.Matrix(rows))
+        grew = new_rank > rank
+        rank = new_rank
+        if rank == n or not grew or k >= limit:
+            return SymbolicRank(rank, k, sympy.Matrix(rows), tuple(labels))
+    raise AssertionError("unreachable")
+
+
+def _normalize(vector: list[sympy.Expr]) -> list[sympy.Expr]:
+    entries = [sympy.cancel(sympy.together(e)) for e in vector]
+    denominators = [sympy.fraction(e)[1] for e in entries]
+    common = sympy.lcm_list(denominators) if denominators else 1
+    entries = [sympy.cancel(e * common) for e in entries]
+    nonzero = [e for e in entries if e != 0]
+    if nonzero:
+        divisor = sympy.gcd_list(nonzero)
+        entries = [sympy.factor(sympy.cancel(e / divisor)) for e in entries]
+        first = next(e for e in entries if e != 0)
+        if first.could_extract_minus_sign():
+            entries = [-e for e in entries]
+    return entries
+
+
+def null_space(matrix: sympy.Matrix) -> list[list[sympy.Expr]]:
+    """A basis of the right null space over the rational-function field.
+
+    Each vector is scaled to polynomial entries without common factor; the
+    indeterminates introduced for transcendental functions are mapped back.
+    """
+    rational, back = rationalize(matrix)
+    basis = DomainMatrix.from_Matrix(rational).to_field().nullspace().to_Matrix()
+    out = []
+    for i in range(basis.rows):
+        vector = [e.xreplace(back) for e in _normalize(list(basis.row(i)))]
+        if back:
+            vector = [sympy.simplify(e) for e in vector]
+        out.append(vector)
+    return out
+
+
+def _child(conn: Any, func: Callable[..., Any], args: tuple) -> None:
+    try:
+        conn.send(("ok", func(*args)))
+    except Exception as exc:  # noqa: BLE001 - reported to the parent, which re-raises
+        conn.send(("error", exc))
+    finally:
+        conn.close()
+
+
+def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
+    """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
+    when it takes longer than ``seconds`` (None: no limit, run in-process).
+
+    The work runs in a forked child process so that it can really be stopped.
+    """
+    if seconds is None:
+        return func(*args)
+    context = multiprocessing.get_context("fork")
+    parent, child = context.Pipe(duplex=False)
+    process = context.Process(target=_child, args=(child, func, args), daemon=True)
+    process.start()
+    child.close()
+    try:
+        if not parent.poll(seconds):
+            raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s")
+        status, value = parent.recv()
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join()
+    if status == "error":
+        raise value
+    return value

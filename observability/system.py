@@ -1,0 +1,277 @@
+"""The system definition every analysis, code generator and filter starts from.
+
+A :class:`System` is data: states x, inputs u, known parameters p (symbolic, or
+with values), dynamics (continuous time: dx/dt = f(x, u, p); discrete time:
+x_{k+1} = F(x_k, u_k, p)) and named outputs y = h(x[, x_{k-1}], u, p). It is
+validated on construction, so a System that exists is well formed; every error
+names the offending item. The vocabulary (x, u, p, f, h) follows STRIKE-GOLDD.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import sympy
+
+from .errors import ModelError
+from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
+
+__all__ = ["System", "system", "prev"]
+
+Time = Literal["continuous", "discrete"]
+
+
+def _symbols(items: Iterable[Any], what: str) -> tuple[sympy.Symbol, ...]:
+    if isinstance(items, (str, sympy.Symbol)):
+        items = [items]
+    out = []
+    for item in items:
+        if isinstance(item, str):
+            if not item.isidentifier():
+                raise ModelError(f"{what} name {item!r} is not an identifier")
+            out.append(sympy.Symbol(item))
+        elif isinstance(item, sympy.Symbol):
+            out.append(item)
+        else:
+            raise ModelError(f"{what} must be names or sympy Symbols, got {type(item).__name__} {item!r}")
+    return tuple(out)
+
+
+def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_prev: bool) -> sympy.Expr:
+    if isinstance(value, str):
+        return parse_expression(value, names, where=where, allow_prev=allow_prev)
+    if isinstance(value, bool):
+        raise ModelError(f"{where}: expected a scalar expression, got a bool")
+    if isinstance(value, (int, float)):
+        return sympy.Rational(repr(value)) if isinstance(value, float) else sympy.Integer(value)
+    if isinstance(value, sympy.MatrixBase) or isinstance(value, (list, tuple)):
+        raise ModelError(f"{where}: expected a scalar expression, got a {type(value).__name__}")
+    if not isinstance(value, sympy.Expr):
+        raise ModelError(f"{where}: expected a scalar expression, got {type(value).__name__} {value!r}")
+    if value.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        raise ModelError(f"{where}: expression {value} is not finite")
+    return value
+
+
+@dataclass(frozen=True)
+class System:
+    """A validated, immutable state-space system.
+
+    Parameters
+    ----------
+    states : sequence of str or Symbol
+        The unknown state x, in the order the observability matrix columns use.
+    dynamics : mapping state -> expression, or sequence aligned with ``states``
+        Continuous time: the time derivatives; discrete time: the next-state values.
+        Expressions may be sympy expressions or strings (parsed safely).
+    outputs : mapping name -> expression
+        The measured outputs. In discrete time an output may use ``prev(x)``, the
+        previous value of state ``x``.
+    inputs : sequence of str or Symbol, optional
+        Known inputs u (the analysis treats them, and their derivatives, as known).
+    parameters : sequence of str or Symbol, or mapping name -> value, optional
+        Known constants. Without a value they stay symbolic and the analysis is
+        generic in them; with a value (a number) that value is used.
+    time : {"continuous", "discrete"}
+    name : str
+    inverse_dynamics : mapping state -> expression, optional
+        Discrete time only: x_{k-1} as a function of x_k and u, used for outputs
+        that depend on the previous state. Derived symbolically when omitted.
+
+    Raises
+    ------
+    ModelError
+        Naming the offending item: an expression using an undeclared symbol, a
+        state without dynamics, duplicate names, a non-scalar expression, or
+        ``prev()`` in a continuous-time system.
+    """
+
+    states: tuple[sympy.Symbol, ...]
+    dynamics: tuple[sympy.Expr, ...]
+    outputs: tuple[tuple[str, sympy.Expr], ...]
+    inputs: tuple[sympy.Symbol, ...] = ()
+    parameters: tuple[sympy.Symbol, ...] = ()
+    parameter_values: tuple[tuple[sympy.Symbol, sympy.Expr], ...] = ()
+    time: Time = "continuous"
+    name: str = "system"
+    inverse_dynamics: tuple[sympy.Expr, ...] | None = None
+    description: str = field(default="", compare=False)
+
+    def __init__(
+        self,
+        states: Iterable[Any],
+        dynamics: Mapping[Any, Any] | Iterable[Any],
+        outputs: Mapping[str, Any],
+        inputs: Iterable[Any] = (),
+        parameters: Iterable[Any] | Mapping[Any, Any] = (),
+        time: Time = "continuous",
+        name: str = "system",
+        inverse_dynamics: Mapping[Any, Any] | Iterable[Any] | None = None,
+        description: str = "",
+        parameter_values: Iterable[tuple[sympy.Symbol, sympy.Expr]] = (),
+    ) -> None:
+        if time not in ("continuous", "discrete"):
+            raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
+        x = _symbols(states, "state")
+        u = _symbols(inputs, "input")
+        values: dict[sympy.Symbol, sympy.Expr] = dict(parameter_values)
+        if isinstance(parameters, Mapping):
+            p = _symbols(list(parameters), "parameter")
+            for sym, value in zip(p, parameters.values()):
+                if value is not None:
+                    values[sym] = _scalar(value, f"parameter {sym}", {}, False)
+        else:
+            p = _symbols(parameters, "parameter")
+        if not x:
+            raise ModelError("a system needs at least one state")
+        seen: dict[str, str] = {}
+        for kind, group in (("state", x), ("input", u), ("parameter", p)):
+            for sym in group:
+                if sym.name in seen:
+                    raise ModelError(f"duplicate name {sym.name!r} (declared as {seen[sym.name]} and {kind})")
+                seen[sym.name] = kind
+        for sym, value in values.items():
+            if sym not in p:
+                raise ModelError(f"value given for {sym}, which is not a declared parameter")
+            if not (isinstance(value, sympy.Expr) and value.is_number and value.is_finite):
+                raise ModelError(f"parameter {sym}: value {value!r} is not a finite number")
+        names = {s.name: s for s in (*x, *u, *p)}
+
+        f = self._aligned(dynamics, x, names, "dynamics")
+        if not isinstance(outputs, Mapping) or not outputs:
+            raise ModelError("outputs must be a non-empty mapping from output name to expression")
+        h = []
+        for key, value in outputs.items():
+            oname = str(key)
+            if not oname.isidentifier():
+                raise ModelError(f"output name {oname!r} is not an identifier")
+            if oname in (n for n, _ in h):
+                raise ModelError(f"duplicate output name {oname!r}")
+            expr = _scalar(value, f"output {oname}", names, time == "discrete")
+            h.append((oname, expr))
+
+        allowed = set(x) | set(u) | set(p)
+        prev_allowed = {prev(s) for s in x} if time == "discrete" else set()
+        for i, expr in enumerate(f):
+            self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
+        for oname, expr in h:
+            self._check_symbols(expr, allowed | prev_allowed, f"output {oname}", continuous=time == "continuous")
+
+        g = None
+        if inverse_dynamics is not None:
+            if time != "discrete":
+                raise ModelError("inverse_dynamics is only meaningful for discrete-time systems")
+            g = self._aligned(inverse_dynamics, x, names, "inverse_dynamics")
+            for i, expr in enumerate(g):
+                self._check_symbols(expr, allowed, f"inverse_dynamics of {x[i]}")
+
+        object.__setattr__(self, "states", x)
+        object.__setattr__(self, "dynamics", f)
+        object.__setattr__(self, "outputs", tuple(h))
+        object.__setattr__(self, "inputs", u)
+        object.__setattr__(self, "parameters", p)
+        object.__setattr__(self, "parameter_values", tuple(sorted(values.items(), key=lambda kv: kv[0].name)))
+        object.__setattr__(self, "time", time)
+        object.__setattr__(self, "name", str(name))
+        object.__setattr__(self, "inverse_dynamics", g)
+        object.__setattr__(self, "description", str(description))
+
+    @staticmethod
+    def _aligned(values: Any, x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol], what: str):
+        if isinstance(values, Mapping):
+            by_name: dict[str, Any] = {}
+            for key, value in values.items():
+                kname = key.name if isinstance(key, sympy.Symbol) else str(key)
+                if kname not in {s.name for s in x}:
+                    raise ModelError(f"{what} given for {kname!r}, which is not a state")
+                by_name[kname] = value
+            missing = [s.name for s in x if s.name not in by_name]
+            if missing:
+                raise ModelError(f"state {missing[0]!r} has no {what}")
+            seq = [by_name[s.name] for s in x]
+        else:
+            if isinstance(values, (str, sympy.Basic)):
+                raise ModelError(f"{what} must be a mapping state -> expression or a sequence, got {values!r}")
+            seq = list(values)
+            if len(seq) != len(x):
+                raise ModelError(f"{what} has {len(seq)} entries but there are {len(x)} states")
+        return tuple(_scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
+
+    @staticmethod
+    def _check_symbols(expr: sympy.Expr, allowed: set, where: str, continuous: bool = False) -> None:
+        for sym in sorted(expr.free_symbols, key=lambda s: s.name):
+            if sym in allowed:
+                continue
+            if is_previous(sym):
+                if continuous:
+                    raise ModelError(f"{where} uses {sym}: previous-state outputs need a discrete-time system")
+                raise ModelError(f"{where} uses {sym}, but {previous_of(sym)!r} is not a state")
+            raise ModelError(f"{where} uses undeclared symbol {sym.name!r}")
+        check_supported(expr, where)
+
+    # ------------------------------------------------------------------ views
+    @property
+    def n(self) -> int:
+        """Number of states."""
+        return len(self.states)
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.outputs)
+
+    @property
+    def previous_states(self) -> tuple[sympy.Symbol, ...]:
+        """The ``prev(x)`` symbols, aligned with :attr:`states`."""
+        return tuple(prev(s) for s in self.states)
+
+    @property
+    def uses_previous_state(self) -> bool:
+        prevs = set(self.previous_states)
+        return any(expr.free_symbols & prevs for _, expr in self.outputs)
+
+    @property
+    def free_parameters(self) -> tuple[sympy.Symbol, ...]:
+        """Known parameters without a value: the analysis is generic in them."""
+        valued = {s for s, _ in self.parameter_values}
+        return tuple(s for s in self.parameters if s not in valued)
+
+    def substitute_values(self, expr: sympy.Expr) -> sympy.Expr:
+        """``expr`` with every parameter that has a value replaced by it."""
+        if not self.parameter_values:
+            return expr
+        return expr.xreplace(dict(self.parameter_values))
+
+    def with_values(self, **values: Any) -> System:
+        """A copy in which the named parameters have the given numeric values."""
+        names = {s.name: s for s in self.parameters}
+        merged = dict(self.parameter_values)
+        for key, value in values.items():
+            if key not in names:
+                raise ModelError(f"unknown parameter {key!r} (parameters: {', '.join(names) or 'none'})")
+            merged[names[key]] = _scalar(value, f"parameter {key}", {}, False)
+        return System(
+            self.states,
+            self.dynamics,
+            dict(self.outputs),
+            inputs=self.inputs,
+            parameters=self.parameters,
+            time=self.time,
+            name=self.name,
+            inverse_dynamics=self.inverse_dynamics,
+            description=self.description,
+            parameter_values=merged.items(),
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"System(name={self.name!r}, time={self.time!r}, states={[s.name for s in self.states]}, "
+            f"inputs={[s.name for s in self.inputs]}, parameters={[s.name for s in self.parameters]}, "
+            f"outputs={list(self.output_names)})"
+        )
+
+
+def system(*args: Any, **kwargs: Any) -> System:
+    """Lowercase factory for :class:`System` (same arguments)."""
+    return System(*args, **kwargs)
