@@ -1,0 +1,203 @@
+"""The ``observability`` command: thin wrappers over the library.
+
+Exit codes of ``check MODEL``: 0 observable, 1 not observable, 2 bad input (one
+line on stderr saying what and where), 3 undecided (symbolic budget spent),
+4 internal error (a bug: please report the line printed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from .analysis import METHODS, ObservabilityResult, analyze
+from .errors import ObservabilityError
+from .modelfile import load_model
+from .system import System
+
+__all__ = ["main"]
+
+EXIT_OBSERVABLE, EXIT_NOT_OBSERVABLE, EXIT_BAD_INPUT, EXIT_UNDECIDED, EXIT_INTERNAL = 0, 1, 2, 3, 4
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line instead of usage + message
+        raise _UsageError(message)
+
+
+def _options(pairs: Sequence[str]) -> dict[str, str]:
+    options: dict[str, str] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or not key or not value:
+            raise _UsageError(f"-o expects key=value, got {pair!r}")
+        options[key] = value
+    return options
+
+
+def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
+    """A built-in model by name, or a model file by path, with options applied."""
+    import models
+
+    if time is not None:
+        options = {**options, "time": time}
+    if model in models.BUILTINS:
+        return models.build(model, options)
+    path = Path(model)
+    if path.suffix.lower() == ".toml" or path.exists():
+        system = load_model(path)
+        if "time" in options:
+            if options.pop("time") != system.time:
+                raise _UsageError(f"{path}: the model file is {system.time}-time; --time applies to built-in models")
+        return system.with_values(**options) if options else system
+    raise _UsageError(f"unknown model {model!r}: not a built-in ({', '.join(models.BUILTINS)}) and no such file")
+
+
+def _progress():
+    if not sys.stderr.isatty():
+        return None
+
+    def show(line: str) -> None:
+        sys.stderr.write(f"\r\x1b[K{line}")
+        sys.stderr.flush()
+
+    return show
+
+
+def _clear_progress(progress) -> None:
+    if progress is not None:
+        sys.stderr.write("\r\x1b[K")
+        sys.stderr.flush()
+
+
+def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
+    progress = _progress()
+    try:
+        return analyze(
+            system,
+            method=args.method,
+            seed=args.seed,
+            input_derivatives=args.input_derivatives,
+            max_order=args.max_order,
+            budget=args.budget,
+            progress=progress,
+        )
+    finally:
+        _clear_progress(progress)
+
+
+def _table(results: list[ObservabilityResult]) -> str:
+    header = ("model", "time", "n", "rank", "verdict", "orders", "unobservable directions", "seconds")
+    rows = [header]
+    for r in results:
+        directions = "; ".join(str(d) for d in r.unobservable_directions) or "-"
+        rows.append(
+            (
+                r.model,
+                r.time,
+                str(r.n_states),
+                "?" if r.rank is None else str(r.rank),
+                r.verdict(),
+                "?" if r.orders is None else str(r.orders),
+                directions,
+                f"{r.seconds:.3f}",
+            )
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def _check(args: argparse.Namespace) -> int:
+    import models
+
+    if args.all:
+        if args.model:
+            raise _UsageError("give either MODEL or --all, not both")
+        results = []
+        times = [args.time] if args.time else ["continuous", "discrete"]
+        for name in models.BUILTINS:
+            for time in times:
+                system = models.build(name, {**_options(args.option), "time": time})
+                results.append(_analyze(system, args))
+        if args.format == "json":
+            print(json.dumps([r.to_dict() for r in results], indent=2))
+        else:
+            print(_table(results))
+        return 0
+    if not args.model:
+        raise _UsageError("check needs a MODEL (a built-in name or a .toml file) or --all")
+    system = resolve_model(args.model, _options(args.option), args.time)
+    result = _analyze(system, args)
+    print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else str(result))
+    if result.observable is None:
+        return EXIT_UNDECIDED
+    return EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
+
+
+def _models(args: argparse.Namespace) -> int:
+    import models
+
+    width = max(len(name) for name in models.BUILTINS)
+    for name, model in models.BUILTINS.items():
+        options = ", ".join(model.options)
+        print(f"{name.ljust(width)}  {model.summary} (options: {options})")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="observability", description="Nonlinear observability analysis.")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    check = sub.add_parser("check", help="rank-condition check of a model (exit 0 observable, 1 not, 2 bad input)")
+    check.add_argument("model", nargs="?", help="built-in model name or path to a .toml model file")
+    check.add_argument("--all", action="store_true", help="check every built-in model and print a table")
+    check.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE",
+                       help="model option (e.g. time=discrete) or known parameter value (e.g. f=20)")
+    check.add_argument("--method", choices=METHODS, default="random", help="rank method (default: random)")
+    check.add_argument("--seed", type=int, default=None, help="seed of the random point")
+    check.add_argument("--time", choices=("continuous", "discrete"), default=None,
+                       help="time form of a built-in model")
+    check.add_argument("--format", choices=("text", "json"), default="text")
+    check.add_argument("--input-derivatives", type=int, default=None, metavar="N",
+                       help="number of non-zero derivatives of each input (default: generic input)")
+    check.add_argument("--max-order", type=int, default=None, metavar="K", help="highest Lie order (default n-1)")
+    check.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
+                       help="time allowed for symbolic work before it is reported undecided (default 60)")
+    check.set_defaults(func=_check)
+    listing = sub.add_parser("models", help="list the built-in models")
+    listing.set_defaults(func=_models)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``observability`` console script."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_BAD_INPUT
+        return args.func(args)
+    except (_UsageError, ObservabilityError, ValueError) as exc:
+        message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        print(f"observability: error: {message}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("observability: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - a bug must still not print a traceback to users
+        print(f"observability: internal error (please report): {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())
