@@ -159,6 +159,12 @@ class System:
         for oname, expr in h:
             self._check_symbols(expr, allowed | prev_allowed, f"output {oname}", continuous=time == "continuous")
 
+        if values:
+            for where, expr in [*((f"dynamics of {xi}", fi) for xi, fi in zip(x, f)), *((f"output {n}", e) for n, e in h)]:
+                if expr.xreplace(values).has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+                    given = ", ".join(f"{k}={v}" for k, v in values.items() if k in expr.free_symbols)
+                    raise ModelError(f"{where}: {expr} is undefined (division by zero) with {given}")
+
         g = None
         if inverse_dynamics is not None:
             if time != "discrete":

@@ -1,0 +1,124 @@
+"""End to end: the installed console script, its output, and its exit codes."""
+
+import json
+import shutil
+import subprocess
+
+import pytest
+
+SCRIPT = shutil.which("observability")
+pytestmark = pytest.mark.skipif(SCRIPT is None, reason="console script not installed (pip install -e .)")
+
+KEYS = {
+    "model", "states", "n_states", "rank", "observable", "method", "seed", "error_probability",
+    "orders", "observable_states", "unobservable_directions", "seconds",
+}
+
+
+def run(*args, cwd=None):
+    return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+
+
+def test_check_all_prints_the_table():
+    out = run("check", "--all", "--seed", "1")
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0].split()[:5] == ["model", "time", "n", "rank", "verdict"]
+    rows = {(line.split()[0], line.split()[1]): line.split()[3] for line in lines[2:]}
+    assert rows[("slam1.5d-beacon", "continuous")] == "4"
+    assert rows[("slam1.5d", "discrete")] == "2"
+    assert rows[("slam1.5d-disparity", "continuous")] == "2"
+
+
+@pytest.mark.parametrize("model,code,rank", [("slam1.5d-beacon", 0, 4), ("slam1.5d", 1, 2), ("slam1.5d-disparity", 1, 2)])
+@pytest.mark.parametrize("method", ["random", "symbolic", "float"])
+def test_exit_code_and_json(model, code, rank, method):
+    out = run("check", model, "--method", method, "--seed", "5", "--format", "json")
+    assert out.returncode == code, out.stderr
+    data = json.loads(out.stdout)
+    assert KEYS <= set(data)
+    assert data["rank"] == rank and data["n_states"] == 4 and data["method"] == method
+    for direction in data["unobservable_directions"]:
+        assert set(direction) == {"name", "vector"}
+        assert all(isinstance(v, str) for v in direction["vector"].values())
+
+
+def test_python_dash_m_and_options():
+    out = subprocess.run(
+        ["python", "-m", "observability", "check", "slam1.5d-beacon", "-o", "f=20", "--time", "discrete"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "observable (rank 4 of 4)" in out.stdout
+
+
+def test_models_lists_builtins():
+    out = run("models")
+    assert out.returncode == 0
+    assert [line.split()[0] for line in out.stdout.splitlines()] == ["slam1.5d-beacon", "slam1.5d", "slam1.5d-disparity"]
+
+
+def test_model_file(tmp_path):
+    path = tmp_path / "osc.toml"
+    path.write_text('states=["p","q"]\nparameters=["w"]\n[dynamics]\np="q"\nq="-w**2*p"\n[outputs]\ny="p"\n')
+    out = run("check", str(path), "-o", "w=3")
+    assert out.returncode == 0, out.stderr
+    assert "observable (rank 2 of 2)" in out.stdout
+
+
+BAD_FILES = {
+    "syntax.toml": ('states = ["x"\n', "TOML syntax error"),
+    "unknown.toml": ('states=["x"]\n[dynamics]\nx="x"\n[outputs]\ny="x + zz"\n', "unknown symbol 'zz'"),
+    "function.toml": ('states=["x"]\n[dynamics]\nx="x"\n[outputs]\ny="floor(x)"\n', "function 'floor' is not allowed"),
+    "types.toml": ('states=["x"]\n[dynamics]\nx=3\n[outputs]\ny="x"\n', "must be an expression in a string"),
+    "code.toml": ('states=["x"]\n[dynamics]\nx="x"\n[outputs]\ny="__import__(\'os\')"\n', "not allowed"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD_FILES))
+def test_bad_model_file_exits_2_with_one_line(name, tmp_path):
+    text, message = BAD_FILES[name]
+    (tmp_path / name).write_text(text)
+    out = run("check", name, cwd=tmp_path)
+    assert out.returncode == 2
+    assert out.stdout == ""
+    assert len(out.stderr.strip().splitlines()) == 1
+    assert message in out.stderr and name in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["check", "no-such-model"], "unknown model 'no-such-model'"),
+        (["check", "slam1.5d", "-o", "bogus=1"], "unknown option or parameter 'bogus'"),
+        (["check", "slam1.5d", "-o", "f"], "-o expects key=value"),
+        (["check", "slam1.5d", "-o", "time=sideways"], "expected one of continuous, discrete"),
+        (["check", "slam1.5d", "--method", "magic"], "invalid choice"),
+        (["check", "missing.toml"], "cannot read model file"),
+        (["check"], "check needs a MODEL"),
+    ],
+)
+def test_bad_arguments_exit_2(args, message):
+    out = run(*args)
+    assert out.returncode == 2
+    assert len(out.stderr.strip().splitlines()) == 1
+    assert message in out.stderr
+
+
+def test_singular_parameter_value_is_a_clear_error(tmp_path):
+    path = tmp_path / "pole.toml"
+    path.write_text('states=["x"]\nparameters=["a"]\n[dynamics]\nx="1/a"\n[outputs]\ny="x"\n')
+    out = run("check", str(path), "-o", "a=0")
+    assert out.returncode == 2
+    assert "dynamics of x: 1/a is undefined (division by zero) with a=0" in out.stderr
+
+
+def test_singularity_hidden_from_substitution_is_reported(tmp_path):
+    """1/(x - b*x) with b = 1 becomes 1/0 only after expansion: every random point
+    hits the pole, and the CLI says so in one line instead of giving a verdict."""
+    path = tmp_path / "hidden.toml"
+    path.write_text('states=["x"]\nparameters=["b"]\n[dynamics]\nx="1"\n[outputs]\ny="1/(x*(x + 1) - x**2 - b*x)"\n')
+    out = run("check", str(path), "-o", "b=1")
+    assert out.returncode == 2
+    assert "every random point hits a singularity" in out.stderr

@@ -1,0 +1,88 @@
+"""The exact engine against independent routes: symbolic Lie derivatives evaluated
+exactly, and rank / null space / row space computed by sympy."""
+
+import math
+import random
+
+import pytest
+import sympy
+
+from observability import System
+from observability.echelon import ModularEchelon
+from observability.lie import lie_derivatives
+from observability.program import Program
+from observability.taylor import PRIME, TaylorEvaluator, sqrt_mod
+
+
+def _mod(value: sympy.Rational) -> int:
+    value = sympy.Rational(value)
+    return value.p * pow(value.q, -1, PRIME) % PRIME
+
+
+SYSTEMS = [
+    System(["x", "y"], {"x": "y", "y": "-x + x**2*y"}, {"h": "x*y + 1/(1 + x)"}),
+    System(["a", "b", "c"], {"a": "b/c", "b": "a*c - 1", "c": "a + b**3"}, {"h1": "a**2/(b + 2)", "h2": "c"}),
+]
+
+
+@pytest.mark.parametrize("system", SYSTEMS, ids=["van-der-pol-like", "rational"])
+def test_taylor_rows_equal_symbolic_lie_derivatives(system):
+    """Row k of the engine is grad(L_f^k h)/k! at the point, exactly mod p."""
+    program = Program(system.states)
+    for e in system.dynamics:
+        program.add(e)
+    first = len(program.roots)
+    for _, h in system.outputs:
+        program.add(h)
+    evaluator = TaylorEvaluator(program, system.n, random.Random(5))
+    point = dict(zip(system.states, evaluator.point))
+    orders = 4
+    symbolic = [block for _, block in zip(range(orders + 1), lie_derivatives(system))]
+    for k in range(orders + 1):
+        evaluator.step()
+        for j, row in enumerate(symbolic[k]):
+            value, gradient = evaluator.root(first + j, k)
+            # Exact rational evaluation of the symbolic derivative, then reduction mod p.
+            expected_value = _mod(row.expression.subs(point)) * pow(math.factorial(k), -1, PRIME) % PRIME
+            assert value == expected_value
+            for i, x in enumerate(system.states):
+                expected = _mod(sympy.diff(row.expression, x).subs(point)) * pow(math.factorial(k), -1, PRIME) % PRIME
+                assert gradient.get(i, 0) == expected
+
+
+def test_sqrt_mod():
+    rng = random.Random(1)
+    for _ in range(50):
+        a = rng.randrange(PRIME)
+        r = sqrt_mod(a, PRIME)
+        if r is None:
+            assert pow(a, (PRIME - 1) // 2, PRIME) == PRIME - 1
+        else:
+            assert r * r % PRIME == a
+    assert sqrt_mod(10, 13) in (6, 7)  # 6^2 = 36 = 10 mod 13; a prime = 1 mod 4 exercises Tonelli-Shanks
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_echelon_rank_null_space_and_row_space(seed):
+    """Against sympy over Q on small integer matrices (whose Q-rank equals their
+    rank mod 2^61-1, the entries being far too small for p to divide a minor)."""
+    rng = random.Random(seed)
+    rows, cols = rng.randint(1, 7), rng.randint(1, 7)
+    dense = [[rng.choice([0, 0, 0, 1, -1, 2, 3]) for _ in range(cols)] for _ in range(rows)]
+    if rng.random() < 0.5 and rows > 1:
+        dense[-1] = [a + b for a, b in zip(dense[0], dense[1 % rows])]  # force a dependency
+    M = sympy.Matrix(dense)
+    echelon = ModularEchelon(cols, PRIME)
+    grew = [echelon.add_row({c: v for c, v in enumerate(r) if v}) for r in dense]
+    assert echelon.rank == M.rank()
+    assert sum(grew) == M.rank()
+    null = echelon.null_space()
+    assert len(null) == cols - M.rank()
+    for vector in null:
+        for r in dense:
+            assert sum(r[c] * v for c, v in vector.items()) % PRIME == 0
+    for c in range(cols):
+        unit = sympy.zeros(1, cols)
+        unit[c] = 1
+        in_row_space = sympy.Matrix.vstack(M, unit).rank() == M.rank()
+        assert (c in echelon.determined_columns()) == in_row_space
