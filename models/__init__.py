@@ -15,8 +15,9 @@ from observability.expressions import parse_number
 from observability.system import System
 
 from .slam15d import slam15d, slam15d_beacon, slam15d_disparity
+from .slam2d import slam2d
 
-__all__ = ["BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity"]
+__all__ = ["BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity", "slam2d"]
 
 
 def _choice(*allowed: str) -> Callable[[str, str], str]:
@@ -26,6 +27,23 @@ def _choice(*allowed: str) -> Callable[[str, str], str]:
         return text
 
     return parse
+
+
+def _count(key: str, text: str) -> int:
+    if not text.isdigit():
+        raise ModelError(f"option {key}: expected a non-negative integer, got {text!r}")
+    return int(text)
+
+
+def _flag(key: str, text: str) -> bool:
+    value = text.lower()
+    if value not in ("true", "false", "yes", "no", "1", "0"):
+        raise ModelError(f"option {key}: expected true or false, got {text!r}")
+    return value in ("true", "yes", "1")
+
+
+def _number(key: str, text: str) -> object:
+    return parse_number(text, f"option {key}")
 
 
 @dataclass(frozen=True)
@@ -47,6 +65,12 @@ BUILTINS: dict[str, BuiltinModel] = {
         BuiltinModel("slam1.5d", slam15d, "1.5-D monocular SLAM, landmark only, projective only", _TIME),
         BuiltinModel(
             "slam1.5d-disparity", slam15d_disparity, "1.5-D monocular SLAM, landmark only, projective + disparity", _TIME
+        ),
+        BuiltinModel(
+            "slam2d",
+            slam2d,
+            "planar monocular SLAM, N unknown landmarks, M beacons, optional disparity",
+            {**_TIME, "landmarks": _count, "beacons": _count, "disparity": _flag, "f": _number},
         ),
     )
 }

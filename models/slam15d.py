@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from observability.system import System, Time
 
+from .symmetries import line_symmetries
+
 __all__ = ["slam15d", "slam15d_beacon", "slam15d_disparity"]
 
 STATES = ("c", "cdot", "x_L2", "d_L2")
@@ -53,6 +55,7 @@ def _system(name: str, outputs: dict[str, str], time: Time, description: str) ->
         name=name,
         inverse_dynamics=_inverse(time),
         description=f"{description} [{CITATION}]",
+        symmetries=line_symmetries(["c", "x_L2"], ["cdot"], ["d_L2"]),
     )
 
 

@@ -12,6 +12,7 @@ import sympy
 from .numeric import float_rank
 from .randomized import randomized_rank
 from .symbolic import Undecided, null_space, observability_rows, symbolic_rank, with_budget
+from .symmetry import name_null_space
 from .system import System
 
 __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
@@ -21,6 +22,9 @@ METHODS: tuple[str, ...] = ("random", "symbolic", "float")
 
 #: Seconds the symbolic null space may take before directions are left out.
 DIRECTIONS_BUDGET = 20.0
+#: Above this many states the symbolic null space is not attempted: only named
+#: symmetries describe the unobservable directions.
+SYMBOLIC_NULL_SPACE_MAX_STATES = 24
 
 
 @dataclass(frozen=True)
@@ -29,21 +33,25 @@ class UnobservableDirection:
 
     Attributes
     ----------
-    name : str or None
-        A name such as "translation" when the direction is recognised.
+    name : str
+        The verified symmetry it generates (e.g. "translation x"), or
+        "unnamed direction" for a null vector that is not a known symmetry.
     vector : Mapping[str, str]
         The non-zero components, state name -> expression in the states.
+    description : str
+        The symmetry in words, when named.
     """
 
-    name: str | None
+    name: str
     vector: Mapping[str, str]
+    description: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "vector": dict(self.vector)}
+        return {"name": self.name, "vector": dict(self.vector), "description": self.description}
 
     def __str__(self) -> str:
         body = ", ".join(f"{k}: {v}" for k, v in self.vector.items())
-        return f"{self.name + ' ' if self.name else ''}{{{body}}}"
+        return f"{self.name} {{{body}}}"
 
 
 @dataclass(frozen=True)
@@ -122,20 +130,48 @@ class ObservabilityResult:
         return "\n".join(lines)
 
 
-def _directions(vectors: list[list[sympy.Expr]], states: tuple[sympy.Symbol, ...]) -> tuple[UnobservableDirection, ...]:
-    out = []
-    for vector in vectors:
-        components = {s.name: str(v) for s, v in zip(states, vector) if v != 0}
-        out.append(UnobservableDirection(name=None, vector=components))
-    return tuple(out)
+def _vector(states: tuple[sympy.Symbol, ...], vector: list[sympy.Expr]) -> dict[str, str]:
+    return {s.name: str(v) for s, v in zip(states, vector) if v != 0}
 
 
-def _symbolic_directions(system: System, orders: int, input_derivatives: int | None, budget: float | None):
-    def work() -> list[list[sympy.Expr]]:
-        matrix, _ = observability_rows(system, orders, input_derivatives)
-        return null_space(matrix)
+def _unobservable_directions(
+    system: System,
+    nullity: int,
+    orders: int,
+    input_derivatives: int | None,
+    budget: float | None,
+    seed: int,
+) -> tuple[tuple[UnobservableDirection, ...], list[list[sympy.Expr]] | None, str]:
+    """Named symmetries first; then symbolic null vectors that extend them.
 
-    return with_budget(work, seconds=budget)
+    Returns the directions, the symbolic null space basis when it was computed,
+    and a note for the details line.
+    """
+    named, _ = name_null_space(system, nullity, system.symmetries, seed=seed)
+    basis: list[list[sympy.Expr]] | None = None
+    unnamed: list[list[sympy.Expr]] = []
+    note = ""
+    if len(named) < nullity:
+        if system.n > SYMBOLIC_NULL_SPACE_MAX_STATES:
+            note = f"{nullity - len(named)} direction(s) not named and not computed symbolically (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
+        else:
+            seconds = DIRECTIONS_BUDGET if budget is None else min(budget, DIRECTIONS_BUDGET)
+
+            def work() -> list[list[sympy.Expr]]:
+                matrix, _ = observability_rows(system, orders, input_derivatives)
+                return null_space(matrix)
+
+            try:
+                basis = with_budget(work, seconds=seconds)
+            except Undecided as exc:
+                note = f"{nullity - len(named)} direction(s) not named and not computed ({exc})"
+            else:
+                if len(basis) != nullity:
+                    note = f"warning: symbolic null space has dimension {len(basis)}, expected {nullity}"
+                named, unnamed = name_null_space(system, nullity, system.symmetries, extra=basis, seed=seed)
+    directions = [UnobservableDirection(s.name, _vector(system.states, v), s.description) for s, v in named]
+    directions += [UnobservableDirection("unnamed direction", _vector(system.states, v)) for v in unnamed]
+    return tuple(directions), basis, note
 
 
 def analyze(
@@ -183,7 +219,6 @@ def analyze(
     names = tuple(s.name for s in states)
     n = len(states)
     singular_values = None
-    vectors: list[list[sympy.Expr]] | None = None
     labels: tuple[tuple[str, int], ...] = ()
     if method == "random":
         result = randomized_rank(
@@ -221,19 +256,18 @@ def analyze(
         if fr.rank < n:
             details += f"; numerical null space of dimension {len(fr.null_space)}"
 
+    found: tuple[UnobservableDirection, ...] = ()
+    basis = None
     if rank < n and (directions or observable_columns is None):
-        try:
-            vectors = _symbolic_directions(system, orders, input_derivatives, budget if budget is None else min(budget, DIRECTIONS_BUDGET))
-        except Undecided as exc:
-            details += f"; directions not computed ({exc})"
-        if vectors is not None and len(vectors) != n - rank:
-            details += f"; warning: symbolic null space has dimension {len(vectors)}, expected {n - rank}"
+        found, basis, note = _unobservable_directions(system, n - rank, orders, input_derivatives, budget, seed or 0)
+        if note:
+            details += f"; {note}"
     if observable_columns is None:
-        if vectors is None:
+        if basis is None:
             observable_columns = ()
             details += "; observable states unknown"
         else:
-            observable_columns = tuple(i for i in range(n) if all(v[i] == 0 for v in vectors))
+            observable_columns = tuple(i for i in range(n) if all(v[i] == 0 for v in basis))
     return ObservabilityResult(
         model=system.name,
         states=names,
@@ -244,7 +278,7 @@ def analyze(
         error_probability=probability,
         orders=orders,
         observable_states=tuple(names[i] for i in observable_columns),
-        unobservable_directions=_directions(vectors, states) if vectors else (),
+        unobservable_directions=found,
         seconds=time.perf_counter() - start,
         details=details,
         time=system.time,

@@ -98,7 +98,9 @@ def _table(results: list[ObservabilityResult]) -> str:
     header = ("model", "time", "n", "rank", "verdict", "orders", "unobservable directions", "seconds")
     rows = [header]
     for r in results:
-        directions = "; ".join(str(d) for d in r.unobservable_directions) or "-"
+        directions = "; ".join(
+            str(d) if d.name == "unnamed direction" else d.name for d in r.unobservable_directions
+        ) or "-"
         rows.append(
             (
                 r.model,

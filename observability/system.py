@@ -17,6 +17,7 @@ import sympy
 
 from .errors import ModelError
 from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
+from .symmetry import EPSILON, Symmetry
 
 __all__ = ["System", "system", "prev"]
 
@@ -98,6 +99,7 @@ class System:
     name: str = "system"
     inverse_dynamics: tuple[sympy.Expr, ...] | None = None
     description: str = field(default="", compare=False)
+    symmetries: tuple[Symmetry, ...] = field(default=(), compare=False)
 
     def __init__(
         self,
@@ -111,6 +113,7 @@ class System:
         inverse_dynamics: Mapping[Any, Any] | Iterable[Any] | None = None,
         description: str = "",
         parameter_values: Iterable[tuple[sympy.Symbol, sympy.Expr]] = (),
+        symmetries: Iterable[Symmetry] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
@@ -183,6 +186,7 @@ class System:
         object.__setattr__(self, "name", str(name))
         object.__setattr__(self, "inverse_dynamics", g)
         object.__setattr__(self, "description", str(description))
+        object.__setattr__(self, "symmetries", self._symmetries(symmetries, x, names))
 
     @staticmethod
     def _aligned(values: Any, x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol], what: str):
@@ -204,6 +208,26 @@ class System:
             if len(seq) != len(x):
                 raise ModelError(f"{what} has {len(seq)} entries but there are {len(x)} states")
         return tuple(_scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
+
+    @staticmethod
+    def _symmetries(symmetries: Iterable[Any], x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol]):
+        out = []
+        state_names = {s.name for s in x}
+        allowed = set(names.values()) | {EPSILON}
+        for symmetry in symmetries:
+            if not isinstance(symmetry, Symmetry):
+                raise ModelError(f"symmetries must be Symmetry objects, got {type(symmetry).__name__}")
+            for state, image in symmetry.transformation:
+                where = f"symmetry {symmetry.name!r}, state {state}"
+                if state not in state_names:
+                    raise ModelError(f"{where}: {state!r} is not a state")
+                if not isinstance(image, sympy.Expr):
+                    raise ModelError(f"{where}: expected an expression, got {image!r}")
+                unknown = sorted(s.name for s in image.free_symbols - allowed)
+                if unknown:
+                    raise ModelError(f"{where}: undeclared symbol {unknown[0]!r} (the group parameter is 'epsilon')")
+            out.append(symmetry)
+        return tuple(out)
 
     @staticmethod
     def _check_symbols(expr: sympy.Expr, allowed: set, where: str, continuous: bool = False) -> None:
@@ -268,6 +292,7 @@ class System:
             inverse_dynamics=self.inverse_dynamics,
             description=self.description,
             parameter_values=merged.items(),
+            symmetries=self.symmetries,
         )
 
     def __repr__(self) -> str:

@@ -1,0 +1,129 @@
+"""Planar (2-D) monocular SLAM with a constant-velocity camera.
+
+Reference: T. Manzoor and A. Muhammad, "Disparity as a Separate Measurement in
+Monocular SLAM", IEEE ROBIO 2013, Sec. IV, eqs. (16)-(17).
+
+State, in the paper's order: [cx, cxdot, cy, cydot, cth, cthdot, L1x, L1y, L2x,
+L2y, ...] — camera position, heading and their velocities, then the unknown
+landmarks. Constant-velocity motion: cx' = cxdot, ... (continuous) or
+cx_{k+1} = cx_k + dt*cxdot_k, ... (discrete); landmarks are static.
+
+Landmark L in the camera frame (the camera looks along its own second axis):
+    C_L = [ (Lx-cx) cos(cth) + (Ly-cy) sin(cth),  -(Lx-cx) sin(cth) + (Ly-cy) cos(cth) ]
+projective measurement h = f * C_L[0] / C_L[1]. Beacons B1..BM are points with known
+positions (parameters BjX, BjY, symbolic unless given values).
+
+Disparity of an unknown landmark: disp = f*B/d with baseline B = |c_k - c_{k-1}|
+and d = [(cx_k - cx_{k-1})(cy_{k-1} - Ly) - (cx_{k-1} - Lx)(cy_k - cy_{k-1})] / B,
+the distance of the landmark from the baseline; so disp = f*B^2/(B*d), which needs
+no square root. In continuous time c_{k-1} comes from the inverse
+constant-velocity model, c_{k-1} = c_k - dt*cdot_k.
+"""
+
+from __future__ import annotations
+
+from observability.system import System, Time
+
+from .symmetries import planar_symmetries
+
+__all__ = ["slam2d", "pose_states", "landmark_states"]
+
+CITATION = "Manzoor & Muhammad, ROBIO 2013, Sec. IV"
+POSE = ("cx", "cxdot", "cy", "cydot", "cth", "cthdot")
+
+
+def pose_states() -> tuple[str, ...]:
+    return POSE
+
+
+def landmark_states(i: int) -> tuple[str, str]:
+    """Names of the coordinates of unknown landmark ``i`` (1-based)."""
+    return f"L{i}x", f"L{i}y"
+
+
+def _projection(px: str, py: str) -> str:
+    ahead = f"(({px} - cx)*cos(cth) + ({py} - cy)*sin(cth))"
+    depth = f"(-({px} - cx)*sin(cth) + ({py} - cy)*cos(cth))"
+    return f"f*{ahead}/{depth}"
+
+
+def _disparity(px: str, py: str, previous_x: str, previous_y: str) -> str:
+    dx, dy = f"(cx - {previous_x})", f"(cy - {previous_y})"
+    baseline_times_distance = f"({dx}*({previous_y} - {py}) - ({previous_x} - {px})*{dy})"
+    return f"f*({dx}**2 + {dy}**2)/{baseline_times_distance}"
+
+
+def slam2d(
+    landmarks: int = 1,
+    beacons: int = 0,
+    disparity: bool = False,
+    time: Time = "continuous",
+    f: float | None = None,
+) -> System:
+    """The planar monocular SLAM system.
+
+    Parameters
+    ----------
+    landmarks : int
+        Number of unknown landmarks N (state dimension 6 + 2N).
+    beacons : int
+        Number of beacons M, with known positions ``B{j}x, B{j}y``.
+    disparity : bool
+        Add the disparity measurement of every unknown landmark.
+    time : {"continuous", "discrete"}
+    f : number, optional
+        Focal length; symbolic when omitted.
+    """
+    if landmarks < 0 or beacons < 0:
+        raise ValueError(f"landmarks and beacons must be >= 0, got {landmarks} and {beacons}")
+    states = list(POSE)
+    for i in range(1, landmarks + 1):
+        states += landmark_states(i)
+    if time == "continuous":
+        dynamics = {"cx": "cxdot", "cy": "cydot", "cth": "cthdot", "cxdot": "0", "cydot": "0", "cthdot": "0"}
+        previous = ("(cx - dt*cxdot)", "(cy - dt*cydot)")
+        inverse = None
+    else:
+        dynamics = {"cx": "cx + dt*cxdot", "cy": "cy + dt*cydot", "cth": "cth + dt*cthdot"}
+        dynamics |= {v: v for v in ("cxdot", "cydot", "cthdot")}
+        previous = ("prev(cx)", "prev(cy)")
+        inverse = {"cx": "cx - dt*cxdot", "cy": "cy - dt*cydot", "cth": "cth - dt*cthdot"}
+        inverse |= {v: v for v in ("cxdot", "cydot", "cthdot")}
+    outputs: dict[str, str] = {}
+    for j in range(1, beacons + 1):
+        outputs[f"hB{j}"] = _projection(f"B{j}x", f"B{j}y")
+    for i in range(1, landmarks + 1):
+        lx, ly = landmark_states(i)
+        dynamics[lx] = "0" if time == "continuous" else lx
+        dynamics[ly] = "0" if time == "continuous" else ly
+        if inverse is not None:
+            inverse[lx], inverse[ly] = lx, ly
+        outputs[f"hL{i}"] = _projection(lx, ly)
+        if disparity:
+            outputs[f"dL{i}"] = _disparity(lx, ly, *previous)
+    if not outputs:
+        raise ValueError("slam2d needs at least one landmark or beacon to measure")
+    parameters: dict[str, object] = {"f": f, "dt": None}
+    for j in range(1, beacons + 1):
+        parameters[f"B{j}x"] = None
+        parameters[f"B{j}y"] = None
+    label = f"slam2d-L{landmarks}-B{beacons}" + ("-disparity" if disparity else "")
+    symmetries = planar_symmetries(
+        points=[("cx", "cy")] + [landmark_states(i) for i in range(1, landmarks + 1)],
+        velocities=[("cxdot", "cydot")],
+        headings=["cth"],
+        pivots=[(f"beacon {j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)],
+    )
+    return System(
+        states,
+        dynamics,
+        outputs,
+        parameters=parameters,
+        time=time,
+        name=label,
+        inverse_dynamics=inverse,
+        description=f"planar monocular SLAM, {landmarks} landmark(s), {beacons} beacon(s)"
+        + (", with disparity" if disparity else "")
+        + f" [{CITATION}]",
+        symmetries=symmetries,
+    )
