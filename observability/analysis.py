@@ -9,6 +9,7 @@ from typing import Any, Literal
 
 import sympy
 
+from .inverse import Previous, eliminate_previous_state
 from .numeric import float_rank
 from .randomized import randomized_rank
 from .symbolic import Undecided, null_space, observability_rows, symbolic_rank, with_budget
@@ -183,6 +184,7 @@ def analyze(
     max_order: int | None = None,
     budget: float | None = 60.0,
     point: Mapping[str, float] | None = None,
+    previous: Previous = "inverse",
     directions: bool = True,
     progress: Callable[[str], None] | None = None,
 ) -> ObservabilityResult:
@@ -207,6 +209,10 @@ def analyze(
         unobservable directions of the other methods); None: unlimited.
     point : mapping, optional
         Float method: values of states, parameters and input derivatives.
+    previous : {"inverse", "augment"}
+        Discrete time: how outputs that use ``prev(x)`` are rewritten, through the
+        inverse motion model or by carrying the previous state
+        (:mod:`observability.inverse`).
     directions : bool
         Compute the unobservable directions symbolically (when cheap).
     progress : callable, optional
@@ -215,6 +221,8 @@ def analyze(
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     start = time.perf_counter()
+    if system.time == "discrete":
+        system = eliminate_previous_state(system, previous)
     states = system.states
     names = tuple(s.name for s in states)
     n = len(states)

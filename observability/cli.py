@@ -88,6 +88,7 @@ def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
             input_derivatives=args.input_derivatives,
             max_order=args.max_order,
             budget=args.budget,
+            previous=args.previous,
             progress=progress,
         )
     finally:
@@ -168,6 +169,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--seed", type=int, default=None, help="seed of the random point")
     check.add_argument("--time", choices=("continuous", "discrete"), default=None,
                        help="time form of a built-in model")
+    check.add_argument("--previous", choices=("inverse", "augment"), default="inverse",
+                       help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text")
     check.add_argument("--input-derivatives", type=int, default=None, metavar="N",
                        help="number of non-zero derivatives of each input (default: generic input)")

@@ -9,7 +9,8 @@ quantities:
 
 Discrete time: the rows are the gradients of h(F^k(x)), where the inputs of step
 j are independent symbols ``u[j]``; an output that depends on the previous state
-is first rewritten through the inverse motion model (:mod:`observability.inverse`).
+is rewritten first (:func:`observability.inverse.eliminate_previous_state`; the
+inverse motion model unless the caller chose otherwise).
 """
 
 from __future__ import annotations
@@ -70,7 +71,7 @@ def _continuous(system: System, input_derivatives: int | None) -> Iterator[list[
 
 
 def _discrete(system: System) -> Iterator[list[LieRow]]:
-    outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system)]
+    outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system).outputs]
     F = [system.substitute_values(e) for e in system.dynamics]
     x = list(system.states)
     k = 0

@@ -156,7 +156,7 @@ class System:
             h.append((oname, expr))
 
         allowed = set(x) | set(u) | set(p)
-        prev_allowed = {prev(s) for s in x} if time == "discrete" else set()
+        prev_allowed = {prev(s) for s in (*x, *u)} if time == "discrete" else set()
         for i, expr in enumerate(f):
             self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
         for oname, expr in h:
@@ -237,7 +237,7 @@ class System:
             if is_previous(sym):
                 if continuous:
                     raise ModelError(f"{where} uses {sym}: previous-state outputs need a discrete-time system")
-                raise ModelError(f"{where} uses {sym}, but {previous_of(sym)!r} is not a state")
+                raise ModelError(f"{where} uses {sym}, but {previous_of(sym)!r} is not a state or input")
             raise ModelError(f"{where} uses undeclared symbol {sym.name!r}")
         check_supported(expr, where)
 
@@ -258,6 +258,7 @@ class System:
 
     @property
     def uses_previous_state(self) -> bool:
+        """Whether an output uses ``prev()`` of a state."""
         prevs = set(self.previous_states)
         return any(expr.free_symbols & prevs for _, expr in self.outputs)
 
