@@ -19,14 +19,30 @@ __all__ = ["planar_symmetries", "line_symmetries"]
 S = sympy.Symbol
 
 
+# Images are built unevaluated: they are only compiled, never displayed, and
+# sympy's automatic simplification would dominate the cost of a 1000-landmark model.
+_COS, _SIN, _GROW = sympy.cos(EPSILON), sympy.sin(EPSILON), sympy.exp(EPSILON)
+_MINUS_SIN = sympy.Mul(-1, _SIN, evaluate=False)
+
+
+def _sum(*terms: sympy.Expr) -> sympy.Expr:
+    return sympy.Add(*terms, evaluate=False)
+
+
+def _product(*factors: sympy.Expr) -> sympy.Expr:
+    return sympy.Mul(*factors, evaluate=False)
+
+
 def _rotate(x: str, y: str, about: tuple[sympy.Expr, sympy.Expr]) -> dict[str, sympy.Expr]:
-    c, s = sympy.cos(EPSILON), sympy.sin(EPSILON)
-    dx, dy = S(x) - about[0], S(y) - about[1]
-    return {x: about[0] + c * dx - s * dy, y: about[1] + s * dx + c * dy}
+    dx, dy = _sum(S(x), _product(-1, about[0])), _sum(S(y), _product(-1, about[1]))
+    return {
+        x: _sum(about[0], _product(_COS, dx), _product(_MINUS_SIN, dy)),
+        y: _sum(about[1], _product(_SIN, dx), _product(_COS, dy)),
+    }
 
 
 def _scale(names: Sequence[str], about: Sequence[sympy.Expr]) -> dict[str, sympy.Expr]:
-    return {n: a + sympy.exp(EPSILON) * (S(n) - a) for n, a in zip(names, about)}
+    return {n: _sum(a, _product(_GROW, _sum(S(n), _product(-1, a)))) for n, a in zip(names, about)}
 
 
 def planar_symmetries(
@@ -46,27 +62,53 @@ def planar_symmetries(
         scale may also be a symmetry; x, y are parameter names.
     """
     out = [
-        Symmetry.of("translation x", "moves the camera and every landmark along x", {x: S(x) + EPSILON for x, _ in points}),
-        Symmetry.of("translation y", "moves the camera and every landmark along y", {y: S(y) + EPSILON for _, y in points}),
+        Symmetry.of(
+            "translation x",
+            "moves the camera and every landmark along x",
+            {x: _sum(S(x), EPSILON) for x, _ in points},
+            {x: 1 for x, _ in points},
+        ),
+        Symmetry.of(
+            "translation y",
+            "moves the camera and every landmark along y",
+            {y: _sum(S(y), EPSILON) for _, y in points},
+            {y: 1 for _, y in points},
+        ),
     ]
     centres = [("the origin", sympy.Integer(0), sympy.Integer(0))] + [(label, S(x), S(y)) for label, x, y in pivots]
     for label, cx, cy in centres:
         rotation: dict[str, sympy.Expr] = {}
+        turn: dict[str, sympy.Expr] = {}
         for x, y in points:
             rotation |= _rotate(x, y, (cx, cy))
+            turn |= {x: cy - S(y), y: S(x) - cx}
         for vx, vy in velocities:
             rotation |= _rotate(vx, vy, (sympy.Integer(0), sympy.Integer(0)))
-        rotation |= {h: S(h) + EPSILON for h in headings}
-        out.append(Symmetry.of(f"rotation about {label}", f"turns the whole scene about {label}", rotation))
-        scale = _scale([n for p in points for n in p], [cx, cy] * len(points))
-        scale |= {v: sympy.exp(EPSILON) * S(v) for pair in velocities for v in pair}
-        out.append(Symmetry.of(f"scale about {label}", f"enlarges the whole scene about {label} (velocities too)", scale))
+            turn |= {vx: -S(vy), vy: S(vx)}
+        rotation |= {h: _sum(S(h), EPSILON) for h in headings}
+        turn |= {h: 1 for h in headings}
+        out.append(Symmetry.of(f"rotation about {label}", f"turns the whole scene about {label}", rotation, turn))
+        positions = [n for p in points for n in p]
+        scale = _scale(positions, [cx, cy] * len(points))
+        grow = {n: S(n) - a for n, a in zip(positions, [cx, cy] * len(points))}
+        scale |= {v: _product(_GROW, S(v)) for pair in velocities for v in pair}
+        grow |= {v: S(v) for pair in velocities for v in pair}
+        out.append(
+            Symmetry.of(f"scale about {label}", f"enlarges the whole scene about {label} (velocities too)", scale, grow)
+        )
     return tuple(out)
 
 
 def line_symmetries(positions: Sequence[str], velocities: Sequence[str], inverse_depths: Sequence[str]) -> tuple[Symmetry, ...]:
     """Translation along the line and scale about the origin (inverse depths scale inversely)."""
-    translation = Symmetry.of("translation", "moves the camera and the landmark along the line", {p: S(p) + EPSILON for p in positions})
+    translation = Symmetry.of(
+        "translation",
+        "moves the camera and the landmark along the line",
+        {p: S(p) + EPSILON for p in positions},
+        {p: 1 for p in positions},
+    )
     scale = {p: sympy.exp(EPSILON) * S(p) for p in (*positions, *velocities)}
     scale |= {d: sympy.exp(-EPSILON) * S(d) for d in inverse_depths}
-    return translation, Symmetry.of("scale", "enlarges the scene about the origin: positions and speed grow, inverse depths shrink", scale)
+    grow = {p: S(p) for p in (*positions, *velocities)} | {d: -S(d) for d in inverse_depths}
+    description = "enlarges the scene about the origin: positions and speed grow, inverse depths shrink"
+    return translation, Symmetry.of("scale", description, scale, grow)

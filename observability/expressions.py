@@ -35,7 +35,9 @@ _BINARY = {
     ast.Add: lambda a, b: a + b,
     ast.Sub: lambda a, b: a - b,
     ast.Mult: lambda a, b: a * b,
-    ast.Div: lambda a, b: a / b,
+    # An unevaluated reciprocal skips sympy's assumption queries on the
+    # denominator, which dominate the cost of building large models.
+    ast.Div: lambda a, b: a / b if b.is_Number else sympy.Mul(a, sympy.Pow(b, -1, evaluate=False), evaluate=False),
     ast.Pow: lambda a, b: a**b,
 }
 

@@ -84,6 +84,17 @@ def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
     return expr
 
 
+def _prepare(expr: sympy.Expr) -> sympy.Expr:
+    """The rewriting a program needs; angles and exponents are expanded on nodes."""
+    if expr.has(sympy.tan):
+        expr = expr.replace(sympy.tan, lambda a: sympy.sin(a) / sympy.cos(a))
+    if expr.has(sympy.atan):
+        expr = expr.replace(sympy.atan, lambda a: sympy.atan2(a, sympy.Integer(1)))
+    if expr.has(sympy.log):
+        expr = sympy.expand_log(expr, force=True)
+    return expr
+
+
 class Program:
     """A straight-line program that grows as expressions are added.
 
@@ -114,7 +125,9 @@ class Program:
         self.args: list[tuple] = []
         self.constant: list[bool] = []
         self.heights: list[tuple[int, int]] = []
-        self.memo: dict[object, int] = {}
+        self.memo: dict[object, object] = {}  # (op, args) -> node, ("sincos", a) -> pair
+        self.expression_memo: dict[sympy.Expr, int] = {}
+        self.bindings: dict[sympy.Symbol, int] = {}
         self.n_sqrt = 0
 
     def _node(self, op: Op, args: tuple, constant: bool, height: tuple[int, int]) -> int:
@@ -168,18 +181,94 @@ class Program:
         h = self.heights[a]
         return self._node(op, (a,), self.constant[a], (1 + h[0], h[1]))
 
-    def _trig(self, arg: sympy.Expr, which: Op) -> int:
-        a = self.build(arg)
-        h = self.heights[a]
-        t = self._node(Op.TRIG, (a,), self.constant[a], (2 + h[0], 2 + h[1]))
-        return self._node(which, (t,), self.constant[a], (2 + h[0], 2 + h[1]))
+    def _split(self, a: int) -> tuple[list[int], int, int] | None:
+        """Node a as a sum of terms, or as k * b for a rational constant k."""
+        if self.ops[a] is Op.ADD:
+            return list(self.args[a]), 0, 0
+        if self.ops[a] is Op.MUL:
+            x, y = self.args[a]
+            for const, rest in ((x, y), (y, x)):
+                if self.ops[const] is Op.CONST:
+                    value = self.args[const][0]
+                    if value.q != 1:
+                        raise UnsupportedExpressionError(
+                            f"{value} * ({self.source.get(rest, 'an argument')}) inside sin, cos or exp: "
+                            "introduce a new symbol for the fractional angle"
+                        )
+                    return [], int(value), rest
+        return None
+
+    def _neg(self, a: int) -> int:
+        return self._mul(self._const(sympy.Integer(-1)), a)
+
+    def _sincos(self, a: int) -> tuple[int, int]:
+        """(sin a, cos a), expanding sums and integer multiples so that every
+        TRIG node has an independent argument (sin(x+y) and sin(2x) beside sin(x)
+        would otherwise get unrelated values)."""
+        key = ("sincos", a)
+        if key in self.memo:
+            return self.memo[key]
+        split = self._split(a)
+        if self.ops[a] is Op.CONST and self.args[a][0] == 0:
+            result = (self._const(sympy.Integer(0)), self._const(sympy.Integer(1)))
+        elif split is None:
+            h = self.heights[a]
+            t = self._node(Op.TRIG, (a,), self.constant[a], (2 + h[0], 2 + h[1]))
+            height = (2 + h[0], 2 + h[1])
+            result = (self._node(Op.SIN, (t,), self.constant[a], height), self._node(Op.COS, (t,), self.constant[a], height))
+        else:
+            terms, k, b = split
+            if terms:
+                pairs = [self._sincos(t) for t in terms]
+            else:
+                pairs = [self._angle_multiple(self._sincos(b), k)]
+            result = pairs[0]
+            for pair in pairs[1:]:
+                result = self._add_angles(result, pair)
+        self.memo[key] = result
+        return result
+
+    def _add_angles(self, p: tuple[int, int], q: tuple[int, int]) -> tuple[int, int]:
+        (s1, c1), (s2, c2) = p, q
+        sine = self._add([self._mul(s1, c2), self._mul(c1, s2)])
+        cosine = self._add([self._mul(c1, c2), self._neg(self._mul(s1, s2))])
+        return sine, cosine
+
+    def _angle_multiple(self, pair: tuple[int, int], k: int) -> tuple[int, int]:
+        if k < 0:
+            s, c = self._angle_multiple(pair, -k)
+            return self._neg(s), c
+        result = (self._const(sympy.Integer(0)), self._const(sympy.Integer(1)))
+        while k:
+            if k & 1:
+                result = self._add_angles(result, pair)
+            k >>= 1
+            if k:
+                pair = self._add_angles(pair, pair)
+        return result
+
+    def _exp(self, a: int) -> int:
+        """exp a, with exp(x+y) = exp x exp y and exp(k x) = (exp x)^k on nodes."""
+        split = self._split(a)
+        if self.ops[a] is Op.CONST and self.args[a][0] == 0:
+            return self._const(sympy.Integer(1))
+        if split is None:
+            return self._unary(Op.EXP, a)
+        terms, k, b = split
+        if not terms:
+            return self._power(self._exp(b), k)
+        result = self._exp(terms[0])
+        for t in terms[1:]:
+            result = self._mul(result, self._exp(t))
+        return result
 
     def build(self, expr: sympy.Expr) -> int:
-        found = self.memo.get(expr)
+        memo = self.expression_memo
+        found = memo.get(expr)
         if found is not None:
             return found
         index = self._build(expr)
-        self.memo[expr] = index
+        memo[expr] = index
         self.source.setdefault(index, expr)
         return index
 
@@ -187,6 +276,8 @@ class Program:
         if expr.is_Rational:
             return self._const(expr)
         if isinstance(expr, sympy.Symbol):
+            if expr in self.bindings:
+                return self.bindings[expr]
             op, arg = self.kinds.get(expr, (Op.RANDOM, expr))
             constant = op is Op.RANDOM
             return self._node(op, (arg,), constant, (1, 0))
@@ -195,6 +286,9 @@ class Program:
         if isinstance(expr, sympy.Add):
             return self._add([self.build(a) for a in expr.args])
         if isinstance(expr, sympy.Mul):
+            coeff, rest = expr.as_coeff_Mul()
+            if coeff != 1:  # k * (rest): keeps integer multiples visible to _split
+                return self._mul(self._const(coeff), self.build(rest))
             items = [self.build(a) for a in expr.args]
             result = items[0]
             for item in items[1:]:
@@ -213,14 +307,11 @@ class Program:
                 b = self._node(Op.SQRT, (b,), self.constant[b], (1 + h[0], h[1]))
             return self._power(b, int(exponent.p))
         if isinstance(expr, sympy.sin):
-            return self._trig(expr.args[0], Op.SIN)
+            return self._sincos(self.build(expr.args[0]))[0]
         if isinstance(expr, sympy.cos):
-            return self._trig(expr.args[0], Op.COS)
+            return self._sincos(self.build(expr.args[0]))[1]
         if isinstance(expr, sympy.exp):
-            scaled = _integer_coefficient(expr.args[0])
-            if scaled is not None and scaled[0] != 1:
-                return self._power(self._unary(Op.EXP, self.build(scaled[1])), scaled[0])
-            return self._unary(Op.EXP, self.build(expr.args[0]))
+            return self._exp(self.build(expr.args[0]))
         if isinstance(expr, sympy.log):
             return self._unary(Op.LOG, self.build(expr.args[0]))
         if isinstance(expr, sympy.atan2):
@@ -231,12 +322,22 @@ class Program:
         raise UnsupportedExpressionError(f"{type(expr).__name__} in {expr} is not supported")
 
 
-    def add(self, expr: sympy.Expr) -> int:
-        """Compile ``expr`` (canonicalized) and return its node; record it as a root."""
+    def add(self, expr: sympy.Expr, bindings: dict[sympy.Symbol, int] | None = None) -> int:
+        """Compile ``expr`` and return its node; record it as a root.
+
+        ``bindings`` maps symbols to existing nodes: the expression is then
+        composed with them (h(g(x)) from h and the nodes of g), sharing every
+        subexpression, angles included, with what is already compiled.
+        """
+        saved = self.bindings, self.expression_memo
+        if bindings:
+            self.bindings, self.expression_memo = bindings, {}
         try:
-            node = self.build(canonicalize(sympy.sympify(expr), self.where))
+            node = self.build(_prepare(sympy.sympify(expr)))
         except UnsupportedExpressionError as exc:
             raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
+        finally:
+            self.bindings, self.expression_memo = saved
         self.roots.append(node)
         return node
 

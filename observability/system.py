@@ -217,7 +217,7 @@ class System:
         for symmetry in symmetries:
             if not isinstance(symmetry, Symmetry):
                 raise ModelError(f"symmetries must be Symmetry objects, got {type(symmetry).__name__}")
-            for state, image in symmetry.transformation:
+            for state, image in (*symmetry.transformation, *(symmetry.vector or ())):
                 where = f"symmetry {symmetry.name!r}, state {state}"
                 if state not in state_names:
                     raise ModelError(f"{where}: {state!r} is not a state")
