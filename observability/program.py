@@ -12,9 +12,11 @@ circle at order 0, the ODE s' = c a', c' = -s a' at higher orders); ``exp``,
 ``log`` and ``atan2`` become nodes whose order-0 value is a fresh independent
 quantity and whose higher orders follow from their derivative. This is exact as
 long as the distinct transcendental arguments are algebraically independent,
-which the canonicalization here enforces for the common cases: ``sin(2a)`` and
-``sin(a+b)`` are expanded, ``exp(a+b)`` and ``log(a*b)`` are split, and
-``sin(a/2)`` beside ``sin(a)`` is rejected instead of silently mis-handled.
+which the construction enforces on the nodes themselves for the common cases:
+``sin(2a)`` and ``sin(a+b)`` are expanded by the addition formulas, ``exp(a+b)``
+and ``log(a*b)`` are split, and ``sin(a/2)`` is rejected instead of silently
+mis-handled. Working on nodes (not on sympy expressions) also makes composition
+cheap: h(g(x)) reuses every node of g, angles included.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ import sympy
 
 from .errors import UnsupportedExpressionError
 
-__all__ = ["Op", "Program", "canonicalize"]
+__all__ = ["Op", "Program"]
 
 
 class Op(IntEnum):
@@ -43,56 +45,6 @@ class Op(IntEnum):
     EXP = 11
     LOG = 12
     ATAN2 = 13  # args: (y, x)
-
-
-def _integer_coefficient(arg: sympy.Expr) -> tuple[int, sympy.Expr] | None:
-    coeff, rest = arg.as_coeff_Mul()
-    if coeff.is_Rational and coeff != 1 and rest != 1:
-        if coeff.q != 1:
-            return None
-        return int(coeff), rest
-    return 1, arg
-
-
-def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
-    """Rewrite ``expr`` so that its transcendental atoms are independent.
-
-    tan and atan become sin/cos and atan2, multiple and compound angles are
-    expanded, exponentials and logarithms of sums and products are split.
-
-    Raises
-    ------
-    UnsupportedExpressionError
-        For fractional multiples inside sin, cos or exp (``sin(x/2)``), whose
-        relation to other atoms the exact engine would not see.
-    """
-    expr = expr.replace(sympy.tan, lambda a: sympy.sin(a) / sympy.cos(a))
-    expr = expr.replace(sympy.atan, lambda a: sympy.atan2(a, sympy.Integer(1)))
-    if expr.has(sympy.sin, sympy.cos):
-        expr = sympy.expand_trig(expr)
-    if expr.has(sympy.exp):
-        expr = sympy.expand_power_exp(expr)
-    if expr.has(sympy.log):
-        expr = sympy.expand_log(expr, force=True)
-    for node in sympy.preorder_traversal(expr):
-        if isinstance(node, (sympy.sin, sympy.cos, sympy.exp)):
-            if _integer_coefficient(node.args[0]) is None:
-                raise UnsupportedExpressionError(
-                    f"{where}: {node} has a fractional multiple of its argument; "
-                    "introduce a new symbol for the half angle"
-                )
-    return expr
-
-
-def _prepare(expr: sympy.Expr) -> sympy.Expr:
-    """The rewriting a program needs; angles and exponents are expanded on nodes."""
-    if expr.has(sympy.tan):
-        expr = expr.replace(sympy.tan, lambda a: sympy.sin(a) / sympy.cos(a))
-    if expr.has(sympy.atan):
-        expr = expr.replace(sympy.atan, lambda a: sympy.atan2(a, sympy.Integer(1)))
-    if expr.has(sympy.log):
-        expr = sympy.expand_log(expr, force=True)
-    return expr
 
 
 class Program:
@@ -247,6 +199,22 @@ class Program:
                 pair = self._add_angles(pair, pair)
         return result
 
+    def _atan2(self, y: int, x: int) -> int:
+        hy, hx = self.heights[y], self.heights[x]
+        height = (1 + hx[0] + hy[0] + hx[1] + hy[1], 2 * (hx[0] + hy[0] + hx[1] + hy[1]))
+        return self._node(Op.ATAN2, (y, x), self.constant[y] and self.constant[x], height)
+
+    def _log(self, a: int) -> int:
+        """log a, with log(x y) = log x + log y and log(x^k) = k log x on nodes,
+        so that logarithms of related arguments stay related."""
+        if self.ops[a] is Op.MUL:
+            return self._add([self._log(b) for b in self.args[a]])
+        if self.ops[a] is Op.INV:
+            return self._neg(self._log(self.args[a][0]))
+        if self.ops[a] is Op.CONST and self.args[a][0] == 1:
+            return self._const(sympy.Integer(0))
+        return self._unary(Op.LOG, a)
+
     def _exp(self, a: int) -> int:
         """exp a, with exp(x+y) = exp x exp y and exp(k x) = (exp x)^k on nodes."""
         split = self._split(a)
@@ -313,12 +281,14 @@ class Program:
         if isinstance(expr, sympy.exp):
             return self._exp(self.build(expr.args[0]))
         if isinstance(expr, sympy.log):
-            return self._unary(Op.LOG, self.build(expr.args[0]))
+            return self._log(self.build(expr.args[0]))
+        if isinstance(expr, sympy.tan):
+            s, c = self._sincos(self.build(expr.args[0]))
+            return self._mul(s, self._inv(c))
+        if isinstance(expr, sympy.atan):
+            return self._atan2(self.build(expr.args[0]), self._const(sympy.Integer(1)))
         if isinstance(expr, sympy.atan2):
-            y, x = (self.build(a) for a in expr.args)
-            hy, hx = self.heights[y], self.heights[x]
-            height = (1 + hx[0] + hy[0] + hx[1] + hy[1], 2 * (hx[0] + hy[0] + hx[1] + hy[1]))
-            return self._node(Op.ATAN2, (y, x), self.constant[y] and self.constant[x], height)
+            return self._atan2(*(self.build(a) for a in expr.args))
         raise UnsupportedExpressionError(f"{type(expr).__name__} in {expr} is not supported")
 
 
@@ -333,7 +303,7 @@ class Program:
         if bindings:
             self.bindings, self.expression_memo = bindings, {}
         try:
-            node = self.build(_prepare(sympy.sympify(expr)))
+            node = self.build(sympy.sympify(expr))
         except UnsupportedExpressionError as exc:
             raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
         finally:

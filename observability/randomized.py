@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import random
 from collections.abc import Callable
+
+import sympy
 from dataclasses import dataclass
 
 from .echelon import ModularEchelon
@@ -255,4 +257,5 @@ def randomized_rank(
 
 
 def _count_sqrt(system: System) -> int:
-    return sum(str(e).count("sqrt") for e in (*system.dynamics, *(h for _, h in system.outputs)))
+    expressions = (*system.dynamics, *(h for _, h in system.outputs))
+    return sum(1 for e in expressions for p in e.atoms(sympy.Pow) if p.exp.is_Rational and p.exp.q == 2)

@@ -2,7 +2,7 @@
 generic rank and null space over the field of rational functions.
 
 Entries with transcendental functions are mapped, exactly, into a field of
-rational functions: after :func:`~observability.program.canonicalize`, each
+rational functions: after :func:`canonicalize`, each
 angle a gets an indeterminate T = tan(a/2) with sin a = 2T/(1+T^2) and
 cos a = (1-T^2)/(1+T^2) (a rational parametrization of the circle, so no
 relation is lost), and each exp, log or atan2 value becomes an indeterminate of
@@ -25,11 +25,12 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from .lie import lie_derivatives
-from .program import canonicalize
+from .errors import UnsupportedExpressionError
 from .system import System
 
 __all__ = [
     "SymbolicRank",
+    "canonicalize",
     "Undecided",
     "observability_rows",
     "rationalize",
@@ -40,6 +41,45 @@ __all__ = [
 ]
 
 T = TypeVar("T")
+
+
+def _integer_coefficient(arg: sympy.Expr) -> tuple[int, sympy.Expr] | None:
+    coeff, rest = arg.as_coeff_Mul()
+    if coeff.is_Rational and coeff != 1 and rest != 1:
+        if coeff.q != 1:
+            return None
+        return int(coeff), rest
+    return 1, arg
+
+
+def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
+    """Rewrite ``expr`` so that its transcendental atoms are independent.
+
+    tan and atan become sin/cos and atan2, multiple and compound angles are
+    expanded, exponentials and logarithms of sums and products are split.
+
+    Raises
+    ------
+    UnsupportedExpressionError
+        For fractional multiples inside sin, cos or exp (``sin(x/2)``), whose
+        relation to other atoms the exact engine would not see.
+    """
+    expr = expr.replace(sympy.tan, lambda a: sympy.sin(a) / sympy.cos(a))
+    expr = expr.replace(sympy.atan, lambda a: sympy.atan2(a, sympy.Integer(1)))
+    if expr.has(sympy.sin, sympy.cos):
+        expr = sympy.expand_trig(expr)
+    if expr.has(sympy.exp):
+        expr = sympy.expand_power_exp(expr)
+    if expr.has(sympy.log):
+        expr = sympy.expand_log(expr, force=True)
+    for node in sympy.preorder_traversal(expr):
+        if isinstance(node, (sympy.sin, sympy.cos, sympy.exp)):
+            if _integer_coefficient(node.args[0]) is None:
+                raise UnsupportedExpressionError(
+                    f"{where}: {node} has a fractional multiple of its argument; "
+                    "introduce a new symbol for the half angle"
+                )
+    return expr
 
 
 class Undecided(Exception):

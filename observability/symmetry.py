@@ -18,7 +18,7 @@ is expanded and a thousand landmarks cost a fraction of a second. Models list th
 from __future__ import annotations
 
 import random
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -32,7 +32,7 @@ from .taylor import PRIME, Redraw, TaylorEvaluator
 if TYPE_CHECKING:  # System holds Symmetry objects, so the import is one-way
     from .system import System
 
-__all__ = ["EPSILON", "Symmetry", "generator", "verify", "name_null_space"]
+__all__ = ["EPSILON", "Symmetry", "generator", "verify", "verify_all", "name_null_space"]
 
 #: The group parameter of a :class:`Symmetry` (the identity is eps = 0).
 EPSILON = sympy.Symbol("epsilon")
@@ -92,69 +92,95 @@ def _dot(gradient: dict[int, int], values: Sequence[int]) -> int:
     return sum(d * values[j] for j, d in gradient.items()) % PRIME
 
 
-def _check(symmetry: Symmetry, system: System, rng: random.Random) -> bool:
-    """One random point: finite invariance and equivariance, and the same for the generator."""
-    n = system.n
+def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Program, Callable[[TaylorEvaluator], list[bool]]]:
+    """One program holding h, f and, per candidate, the composed functions to compare.
+
+    Returns the program and a function that, given an evaluator of it at a random
+    point, says which candidates pass every identity there.
+    """
     program = Program(system.states, where=system.name)
-    images = [program.add(e) for e in symmetry.images(system)]
-    field = [program.add(e) for e in generator(symmetry, system)]
-    moved = dict(zip(system.states, images))
     f = [program.add(system.substitute_values(e)) for e in system.dynamics]
     h = [program.add(system.substitute_values(e)) for _, e in system.outputs]
-    h_moved = [program.add(system.substitute_values(e), moved) for _, e in system.outputs]
-    f_moved = [program.add(system.substitute_values(e), moved) for e in system.dynamics]
-    if system.time == "discrete":
-        after = dict(zip(system.states, f))
-        g_after = [program.add(e, after) for e in symmetry.images(system)]
-        v_after = [program.add(e, after) for e in generator(symmetry, system)]
-    evaluator = TaylorEvaluator(program, n, rng, discrete=True)
-    evaluator.extend()
-    value = lambda node: evaluator.coefficient(node, 0)[0]  # noqa: E731
-    grad = lambda node: evaluator.coefficient(node, 0)[1]  # noqa: E731
-    f_values = [value(i) for i in f]
-    v_values = [value(i) for i in field]
-    # Outputs: h(g(x)) = h(x), and infinitesimally L_v h = dh . v = 0.
-    if any(value(a) != value(b) for a, b in zip(h, h_moved)):
-        return False
-    if any(_dot(grad(a), v_values) for a in h):
-        return False
-    if system.time == "continuous":
-        # Dg(x) f(x) = f(g(x)), and [f, v] = Dv f - Df v = 0.
-        if any((_dot(grad(g), f_values) - value(fm)) % PRIME for g, fm in zip(images, f_moved)):
-            return False
-        return not any((_dot(grad(v), f_values) - _dot(grad(fi), v_values)) % PRIME for v, fi in zip(field, f))
-    # g(F(x)) = F(g(x)), and v(F(x)) = DF(x) v(x).
-    if any(value(a) != value(b) for a, b in zip(g_after, f_moved)):
-        return False
-    return not any((value(va) - _dot(grad(fi), v_values)) % PRIME for va, fi in zip(v_after, f))
+    after = dict(zip(system.states, f))
+    plans = []
+    for symmetry in candidates:
+        images = [program.add(e) for e in symmetry.images(system)]
+        field = [program.add(e) for e in generator(symmetry, system)]
+        moved = dict(zip(system.states, images))
+        plan = {
+            "images": images,
+            "field": field,
+            "h_moved": [program.add(system.substitute_values(e), moved) for _, e in system.outputs],
+            "f_moved": [program.add(system.substitute_values(e), moved) for e in system.dynamics],
+        }
+        if system.time == "discrete":
+            plan["g_after"] = [program.add(e, after) for e in symmetry.images(system)]
+            plan["v_after"] = [program.add(e, after) for e in generator(symmetry, system)]
+        plans.append(plan)
+
+    def passes(evaluator: TaylorEvaluator) -> list[bool]:
+        value = lambda node: evaluator.coefficient(node, 0)[0]  # noqa: E731
+        grad = lambda node: evaluator.coefficient(node, 0)[1]  # noqa: E731
+        f_values = [value(i) for i in f]
+        out = []
+        for plan in plans:
+            v = [value(i) for i in plan["field"]]
+            # Outputs: h(g(x)) = h(x), and infinitesimally L_v h = dh . v = 0.
+            ok = all(value(a) == value(b) for a, b in zip(h, plan["h_moved"]))
+            ok = ok and not any(_dot(grad(a), v) for a in h)
+            if system.time == "continuous":
+                # Dg(x) f(x) = f(g(x)), and [f, v] = Dv f - Df v = 0.
+                ok = ok and not any(
+                    (_dot(grad(g), f_values) - value(fm)) % PRIME for g, fm in zip(plan["images"], plan["f_moved"])
+                )
+                ok = ok and not any(
+                    (_dot(grad(vi), f_values) - _dot(grad(fi), v)) % PRIME for vi, fi in zip(plan["field"], f)
+                )
+            else:
+                # g(F(x)) = F(g(x)), and v(F(x)) = DF(x) v(x).
+                ok = ok and all(value(a) == value(b) for a, b in zip(plan["g_after"], plan["f_moved"]))
+                ok = ok and not any((value(va) - _dot(grad(fi), v)) % PRIME for va, fi in zip(plan["v_after"], f))
+            out.append(ok)
+        return out
+
+    return program, passes
 
 
-def verify(symmetry: Symmetry, system: System, seed: int = 0, points: int = 2) -> bool:
-    """Whether the symmetry holds: outputs invariant, dynamics equivariant.
+def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 2) -> list[bool]:
+    """For each candidate, whether it holds: outputs invariant, dynamics equivariant.
 
     Checked for the finite transformation (at a random eps) and for its generator
-    v (L_v h = 0 and v commutes with the dynamics), exactly modulo 2^61 - 1 at
+    v (L_v h = 0 and v commuting with the dynamics), exactly modulo 2^61 - 1 at
     ``points`` random points: a false "yes" needs non-zero rational functions to
-    vanish at every point, probability below (degree / p)^points. An output that
-    uses ``prev()`` is first rewritten through the inverse motion model.
+    vanish at every point, probability below (degree / p)^points. Outputs that use
+    ``prev()`` are first rewritten through the inverse motion model.
     """
     from .inverse import eliminate_previous_state  # inverse imports System, which imports this module
 
+    if not candidates:
+        return []
     if system.time == "discrete":
         system = eliminate_previous_state(system)
+    program, passes = _verification(system, candidates)
     rng = random.Random(seed)
+    result = [True] * len(candidates)
     for _ in range(points):
         for _attempt in range(32):
+            evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
             try:
-                ok = _check(symmetry, system, rng)
+                evaluator.extend()
                 break
             except Redraw:
                 continue
         else:
-            return False
-        if not ok:
-            return False
-    return True
+            return [False] * len(candidates)
+        result = [a and b for a, b in zip(result, passes(evaluator))]
+    return result
+
+
+def verify(symmetry: Symmetry, system: System, seed: int = 0, points: int = 2) -> bool:
+    """Whether one candidate holds (see :func:`verify_all`)."""
+    return verify_all(system, [symmetry], seed, points)[0]
 
 
 def _values(expressions: Sequence[sympy.Expr], system: System, rng: random.Random) -> list[int]:
@@ -185,7 +211,7 @@ def name_null_space(
     symbolic null space basis) that extend their span, until ``nullity`` vectors
     are chosen. Returns (chosen symmetries with their generators, chosen extras).
     """
-    verified = [s for s in candidates if verify(s, system, seed)] if nullity else []
+    verified = [s for s, ok in zip(candidates, verify_all(system, candidates, seed)) if ok] if nullity else []
     fields = [generator(s, system) for s in verified]
     vectors = [*fields, *(list(v) for v in extra)]
     if not vectors:
