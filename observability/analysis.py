@@ -259,7 +259,8 @@ def analyze(
         rank, orders, labels, probability = fr.rank, fr.orders, fr.row_labels, None
         singular_values = fr.singular_values
         observable_columns = fr.observable_columns
-        shown = ", ".join(f"{v:.3g}" for v in fr.singular_values)
+        values = [f"{v:.3g}" for v in fr.singular_values]
+        shown = ", ".join(values if len(values) <= 12 else values[:3] + ["..."] + values[-6:])
         details = f"SVD at {'the given' if point else 'a random'} point: singular values [{shown}], threshold {fr.threshold:.2g}, gap {fr.gap:.3g}"
         if fr.rank < n:
             details += f"; numerical null space of dimension {len(fr.null_space)}"

@@ -14,11 +14,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import sympy
-
 from .errors import SingularModelError
-from .lie import lie_derivatives
+from .expansion import expand_rows
 from .system import System
+from .taylor import FloatTaylorEvaluator, Redraw
 
 __all__ = ["FloatRank", "float_rank", "numeric_rank"]
 
@@ -65,6 +64,33 @@ def numeric_rank(matrix: np.ndarray) -> tuple[int, np.ndarray, float, float, np.
     return rank, sigma, float(threshold), gap, vt[rank:]
 
 
+class _FloatRows:
+    """Rows as float arrays; the rank is decided by SVD (recomputed when asked)."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.rows: list[np.ndarray] = []
+        self._cache: tuple[int, tuple] | None = None
+
+    def add_row(self, row: dict) -> bool:
+        dense = np.zeros(self.n)
+        for column, value in row.items():
+            dense[column] = value
+        if not np.all(np.isfinite(dense)):
+            raise Redraw(-1, "a row is not finite at the point")
+        self.rows.append(dense)
+        return True
+
+    def svd(self) -> tuple[int, np.ndarray, float, float, np.ndarray]:
+        if self._cache is None or self._cache[0] != len(self.rows):
+            self._cache = (len(self.rows), numeric_rank(np.array(self.rows)))
+        return self._cache[1]
+
+    @property
+    def rank(self) -> int:
+        return self.svd()[0] if self.rows else 0
+
+
 def float_rank(
     system: System,
     *,
@@ -75,63 +101,46 @@ def float_rank(
 ) -> FloatRank:
     """Rank of the observability matrix in floating point at one point.
 
-    Symbols missing from ``point`` (states, free parameters, input derivatives,
-    inputs of earlier steps) get values drawn from N(0, 1) with ``seed``.
+    The rows are the Taylor coefficients L_f^k h / k! of the outputs along the
+    true trajectory through the point, computed by the same series arithmetic as
+    the exact route, in floating point (transcendental functions at their true
+    values). Symbols missing from ``point`` (states, free parameters, inputs of
+    earlier steps) and input coefficients get values drawn from N(0, 1) with
+    ``seed``.
 
     Raises
     ------
     SingularModelError
-        When the matrix is not finite at the point (a pole), after 20 redraws.
+        When the point given is singular, or 20 random points all are.
     """
     n = system.n
     limit = n - 1 if max_order is None else max_order
     rng = random.Random(seed)
-    given = {str(k): float(v) for k, v in (point or {}).items()}
-    rows: list[sympy.Expr] = []
-    labels: list[tuple[str, int]] = []
-    rank = 0
-    for attempt in range(20):
-        values: dict[sympy.Symbol, float] = {}
+    for _attempt in range(1 if point else 20):
+        values = {str(k): float(v) for k, v in (point or {}).items()}
+        sink = _FloatRows(n)
 
-        def value(symbol: sympy.Symbol) -> float:
-            if symbol not in values:
-                values[symbol] = given.get(symbol.name, rng.gauss(0.0, 1.0))
-            return values[symbol]
+        def make(program, discrete: bool) -> FloatTaylorEvaluator:
+            return FloatTaylorEvaluator(
+                program, n, rng, values=values, states=system.states, input_degree=input_derivatives, discrete=discrete
+            )
 
-        rows, labels, rank = [], [], 0
-        numeric_rows: list[np.ndarray] = []
         try:
-            for k, block in enumerate(lie_derivatives(system, input_derivatives)):
-                for row in block:
-                    gradient = [sympy.diff(row.expression, x) for x in system.states]
-                    numbers = []
-                    for g in gradient:
-                        subs = {s: value(s) for s in sorted(g.free_symbols, key=lambda s: s.name)}
-                        numbers.append(complex(g.evalf(subs=subs)))
-                    array = np.array(numbers)
-                    if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12 * (1 + np.max(np.abs(array))):
-                        raise ArithmeticError(f"row {row.output} order {row.order} is not finite and real at the point")
-                    numeric_rows.append(array.real)
-                    labels.append((row.output, row.order))
-                new_rank, sigma, threshold, gap, null = numeric_rank(np.array(numeric_rows))
-                grew = new_rank > rank
-                rank = new_rank
-                if rank == n or not grew or k >= limit:
-                    break
-        except ArithmeticError:
+            expansion = expand_rows(system, sink, make, max_order=limit)
+        except Redraw as exc:
+            last = exc
             continue
-        for s in system.states:
-            value(s)
+        rank, sigma, threshold, gap, null = sink.svd()
         observable = tuple(i for i in range(n) if null.shape[0] == 0 or np.linalg.norm(null[:, i]) < 1e-8)
         return FloatRank(
             rank=rank,
-            orders=k,
+            orders=expansion.orders,
             singular_values=tuple(float(v) for v in sigma),
             threshold=threshold,
             gap=gap,
-            point={s.name: v for s, v in values.items()},
+            point=dict(values),
             observable_columns=observable,
             null_space=tuple(tuple(float(v) for v in vec) for vec in null),
-            row_labels=tuple(labels),
+            row_labels=expansion.row_labels,
         )
-    raise SingularModelError(f"{system.name}: the matrix is not finite at 20 random points")
+    raise SingularModelError(f"{system.name}: the observability matrix is singular at the point ({last.reason})")

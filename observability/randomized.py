@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from .echelon import ModularEchelon
 from .errors import SingularModelError
 from .inverse import eliminate_previous_state
-from .lie import lie_derivatives
+from .expansion import expand_rows
 from .program import Op, Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
@@ -110,71 +110,14 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
     return bound * (2**program.n_sqrt)
 
 
-def _one_point(
-    system: System,
-    rng: random.Random,
-    input_derivatives: int | None,
-    max_order: int,
-    progress: Progress | None,
-) -> tuple[ModularEchelon, int, list[tuple[str, int]], Program, list[int]]:
-    holder: list[Program] = []
-    try:
-        return _rows_at_point(system, rng, input_derivatives, max_order, progress, holder)
-    except Redraw as exc:
-        exc.source = holder[0].source.get(exc.node, f"node {exc.node}") if holder else "the model"
-        raise
+def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int, progress):
+    echelon = ModularEchelon(system.n, PRIME)
 
+    def make(program: Program, discrete: bool) -> TaylorEvaluator:
+        return TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
 
-def _rows_at_point(
-    system: System,
-    rng: random.Random,
-    input_derivatives: int | None,
-    max_order: int,
-    progress: Progress | None,
-    holder: list[Program],
-) -> tuple[ModularEchelon, int, list[tuple[str, int]], Program, list[int]]:
-    n = system.n
-    echelon = ModularEchelon(n, PRIME)
-    labels: list[tuple[str, int]] = []
-    out_roots: list[int] = []
-    if system.time == "continuous":
-        program = Program(system.states, system.inputs, where=system.name)
-        holder.append(program)
-        for expr in system.dynamics:
-            program.add(system.substitute_values(expr))
-        names = system.output_names
-        first = len(program.roots)
-        for _, expr in system.outputs:
-            out_roots.append(program.add(system.substitute_values(expr)))
-        evaluator = TaylorEvaluator(program, n, rng, input_degree=input_derivatives)
-        order = 0
-        while True:
-            evaluator.step()
-            grew = False
-            for j, name in enumerate(names):
-                grew |= echelon.add_row(evaluator.root(first + j, order)[1])
-                labels.append((name, order))
-            if progress:
-                progress(f"order {order}: rank {echelon.rank}/{n}")
-            if echelon.rank == n or not grew or order >= max_order:
-                return echelon, order, labels, program, out_roots
-            order += 1
-    program = Program(system.states, (), where=system.name)
-    holder.append(program)
-    evaluator = TaylorEvaluator(program, n, rng, discrete=True)
-    for order, rows in enumerate(lie_derivatives(system)):
-        nodes = [program.add(row.expression) for row in rows]
-        out_roots.extend(nodes)
-        evaluator.extend()
-        grew = False
-        for row, node in zip(rows, nodes):
-            grew |= echelon.add_row(evaluator.coefficient(node, 0)[1])
-            labels.append((row.output, row.order))
-        if progress:
-            progress(f"step {order}: rank {echelon.rank}/{n}")
-        if echelon.rank == n or not grew or order >= max_order:
-            return echelon, order, labels, program, out_roots
-    raise AssertionError("unreachable")
+    expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress)
+    return echelon, expansion.orders, list(expansion.row_labels), expansion.program, list(expansion.output_roots)
 
 
 def randomized_rank(

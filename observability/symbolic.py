@@ -88,11 +88,10 @@ class Undecided(Exception):
 
 @dataclass(frozen=True)
 class SymbolicRank:
-    """Generic rank over the rational-function field, with the matrix it came from."""
+    """Generic rank over the rational-function field."""
 
     rank: int
     orders: int
-    matrix: sympy.Matrix
     row_labels: tuple[tuple[str, int], ...]
 
 
@@ -184,7 +183,7 @@ def symbolic_rank(system: System, input_derivatives: int | None = None, max_orde
         grew = new_rank > rank
         rank = new_rank
         if rank == n or not grew or k >= limit:
-            return SymbolicRank(rank, k, sympy.Matrix(rows), tuple(labels))
+            return SymbolicRank(rank, k, tuple(labels))
     raise AssertionError("unreachable")
 
 

@@ -17,12 +17,13 @@ raises :class:`Redraw`; the caller draws a new point.
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Sequence
 
 from .program import Op, Program
 
-__all__ = ["PRIME", "Redraw", "TaylorEvaluator", "sqrt_mod"]
+__all__ = ["PRIME", "Redraw", "TaylorEvaluator", "FloatTaylorEvaluator", "sqrt_mod"]
 
 #: The Mersenne prime 2^61 - 1: large enough that a random point is bad with
 #: negligible probability, small enough for fast Python integers.
@@ -69,11 +70,18 @@ def sqrt_mod(a: int, p: int) -> int | None:
     return r
 
 
-def _scale(a: Dual, s: int, p: int) -> Dual:
+def _reduce(value, grad: dict, p: int) -> Dual:
+    """Reduce mod p (p = 0: floating point, nothing to reduce)."""
+    if p:
+        return (value % p, {c: d % p for c, d in grad.items() if d % p})
+    return (value, {c: d for c, d in grad.items() if d})
+
+
+def _scale(a: Dual, s, p: int) -> Dual:
     value, grad = a
     if s == 1:
         return a
-    return (value * s % p, {c: d * s % p for c, d in grad.items()})
+    return _reduce(value * s, {c: d * s for c, d in grad.items()}, p)
 
 
 def _combine(terms: Sequence[tuple[Dual, Dual]], p: int) -> Dual:
@@ -89,7 +97,7 @@ def _combine(terms: Sequence[tuple[Dual, Dual]], p: int) -> Dual:
         if av:
             for c, d in bg.items():
                 grad[c] = get(c, 0) + av * d
-    return (value % p, {c: d % p for c, d in grad.items() if d % p})
+    return _reduce(value, grad, p)
 
 
 def _linear(terms: Sequence[tuple[int, Dual]], p: int) -> Dual:
@@ -101,7 +109,7 @@ def _linear(terms: Sequence[tuple[int, Dual]], p: int) -> Dual:
         value += s * av
         for c, d in ag.items():
             grad[c] = get(c, 0) + s * d
-    return (value % p, {c: d % p for c, d in grad.items() if d % p})
+    return _reduce(value, grad, p)
 
 
 class TaylorEvaluator:
@@ -142,12 +150,54 @@ class TaylorEvaluator:
         self.series: list[list] = []
         self.trig: dict[int, tuple[list, list]] = {}
         self.aux: dict[int, tuple[list, list, list]] = {}
-        self.point = [rng.randrange(p) for _ in range(n_states)]
+        self.point = [rng.randrange(p) for _ in range(n_states)] if p else []
         self.inputs: dict[tuple[int, int], int] = {}
         self.order = -1
 
+    # ---------------------------------------------------------------- field
+    # The arithmetic of Z/pZ; FloatTaylorEvaluator overrides these for floats.
     def _random(self) -> int:
         return self.rng.randrange(1, self.p)
+
+    def _random_constant(self, key: object) -> int:
+        return self._random()
+
+    def _recip(self, k: int) -> int:
+        return pow(k, -1, self.p)
+
+    def _number(self, value) -> int:
+        return value.p * pow(value.q, -1, self.p) % self.p
+
+    def _inv(self, value: int, node: int) -> int:
+        if value == 0:
+            raise Redraw(node, "division by zero")
+        return pow(value, -1, self.p)
+
+    def _circle(self, angle: int) -> tuple[int, int]:
+        """(sin, cos) at order 0: a random rational point of the unit circle."""
+        p = self.p
+        while True:
+            t = self.rng.randrange(p)
+            den = (1 + t * t) % p
+            if den:
+                break
+        inv = pow(den, -1, p)
+        return 2 * t * inv % p, (1 - t * t) * inv % p
+
+    def _exp0(self, a0: int) -> int:
+        return self._random()  # exp of a generic value: an independent quantity
+
+    def _log0(self, a0: int) -> int:
+        return self._random()
+
+    def _atan0(self, y0: int, x0: int) -> int:
+        return self._random()
+
+    def _sqrt0(self, a0: int, node: int) -> int:
+        root = sqrt_mod(a0, self.p)
+        if root is None or root == 0:
+            raise Redraw(node, "square root of a non-square or of zero")
+        return self.p - root if self.rng.random() < 0.5 else root
 
     def _input(self, j: int, k: int) -> int:
         if self.input_degree is not None and k > self.input_degree:
@@ -156,11 +206,6 @@ class TaylorEvaluator:
         if key not in self.inputs:
             self.inputs[key] = self._random()
         return self.inputs[key]
-
-    def _inv(self, value: int, node: int) -> int:
-        if value == 0:
-            raise Redraw(node, "division by zero")
-        return pow(value, -1, self.p)
 
     def step(self) -> None:
         """Compute Taylor coefficient ``order + 1`` of every node (continuous time)."""
@@ -204,15 +249,13 @@ class TaylorEvaluator:
             j = arg[0]
             if k == 0:
                 return (self.point[j], {j: 1})
-            f = c(self.program.roots[j], k - 1)
-            return _scale(f, pow(k, -1, p), p)
+            return _scale(c(self.program.roots[j], k - 1), self._recip(k), p)
         if op is Op.INPUT:
             return (self._input(arg[0], k), {})
         if op is Op.CONST:
-            value = arg[0]
-            return (value.p * pow(value.q, -1, p) % p, {})
+            return (self._number(arg[0]), {})
         if op is Op.RANDOM:
-            return (self._random(), {})
+            return (self._random_constant(arg[0]), {})
         if op is Op.ADD:
             return _linear([(1, c(a, k)) for a in arg], p)
         if op is Op.MUL:
@@ -222,78 +265,57 @@ class TaylorEvaluator:
             if self.program.constant[b]:
                 return _combine([(c(a, k), c(b, 0))], p)
             return _combine([(c(a, j), c(b, k - j)) for j in range(k + 1)], p)
+        mine = self.series[i]
         if op is Op.INV:
             (a,) = arg
-            a0 = c(a, 0)
-            inv0 = self._inv(a0[0], i)
             if k == 0:
-                return (inv0, {col: -d * inv0 * inv0 % p for col, d in a0[1].items()})
-            mine = self.series[i]
+                return self._inv_dual(c(a, 0), i)
+            # c_k = -(sum_{j>=1} a_j c_{k-j}) c_0
             acc = _combine([(c(a, j), mine[k - j]) for j in range(1, k + 1)], p)
-            # c_k = -(sum_{j>=1} a_j c_{k-j}) / a_0, with the dual a_0 in the division.
-            return _combine([((-acc[0] % p, {col: -d % p for col, d in acc[1].items()}), mine[0])], p)
+            return _combine([(_scale(acc, -1, p), mine[0])], p)
         if op is Op.SQRT:
             (a,) = arg
-            mine = self.series[i]
             if k == 0:
                 a0 = c(a, 0)
-                root = sqrt_mod(a0[0], p)
-                if root is None or root == 0:
-                    raise Redraw(i, "square root of a non-square or of zero")
-                if self.rng.random() < 0.5:
-                    root = p - root
-                half = self._inv(2 * root, i)
-                return (root, {col: d * half % p for col, d in a0[1].items()})
+                root = self._sqrt0(a0[0], i)
+                return (root, _scale(a0, self._inv(2 * root, i), p)[1])
             # r^2 = a:  2 r_0 r_k = a_k - sum_{j=1}^{k-1} r_j r_{k-j}
             rest = _combine([(mine[j], mine[k - j]) for j in range(1, k)], p) if k > 1 else _ZERO
             diff = _linear([(1, c(a, k)), (-1, rest)], p)
-            inv2r = self._inv_dual(_scale(mine[0], 2, p), i)
-            return _combine([(diff, inv2r)], p)
+            return _combine([(diff, self._inv_dual(_scale(mine[0], 2, p), i))], p)
         if op is Op.TRIG:
             (a,) = arg
             if k == 0:
                 a0 = c(a, 0)
-                while True:
-                    t = self.rng.randrange(p)
-                    den = (1 + t * t) % p
-                    if den:
-                        break
-                inv = pow(den, -1, p)
-                s, co = 2 * t * inv % p, (1 - t * t) * inv % p
-                sin0 = (s, {col: co * d % p for col, d in a0[1].items()})
-                cos0 = (co, {col: -s * d % p for col, d in a0[1].items()})
-                self.trig[i] = ([sin0], [cos0])
+                sine, cosine = self._circle(a0[0])
+                self.trig[i] = ([(sine, _scale(a0, cosine, p)[1])], [(cosine, _scale(a0, -sine, p)[1])])
             else:
                 sins, coss = self.trig[i]
                 ka = [(j, c(a, j)) for j in range(1, k + 1)]
-                invk = pow(k, -1, p)
-                s_k = _combine([(_scale(aj, j * invk % p, p), coss[k - j]) for j, aj in ka], p)
-                c_k = _combine([(_scale(aj, -j * invk % p, p), sins[k - j]) for j, aj in ka], p)
-                sins.append(s_k)
-                coss.append(c_k)
+                invk = self._recip(k)
+                sins.append(_combine([(_scale(aj, j * invk, p), coss[k - j]) for j, aj in ka], p))
+                coss.append(_combine([(_scale(aj, -j * invk, p), sins[k - j]) for j, aj in ka], p))
             return _ZERO  # the pair lives in self.trig
         if op is Op.SIN or op is Op.COS:
             sins, coss = self.trig[arg[0]]
             return (sins if op is Op.SIN else coss)[k]
         if op is Op.EXP:
             (a,) = arg
-            mine = self.series[i]
             if k == 0:
                 a0 = c(a, 0)
-                e = self._random()
-                return (e, {col: e * d % p for col, d in a0[1].items()})
-            invk = pow(k, -1, p)
-            return _combine([(_scale(c(a, j), j * invk % p, p), mine[k - j]) for j in range(1, k + 1)], p)
+                e = self._exp0(a0[0])
+                return (e, _scale(a0, e, p)[1])
+            invk = self._recip(k)
+            return _combine([(_scale(c(a, j), j * invk, p), mine[k - j]) for j in range(1, k + 1)], p)
         if op is Op.LOG:
             (a,) = arg
-            mine = self.series[i]
             a0 = c(a, 0)
             inv_a0 = self._inv_dual(a0, i)
             if k == 0:
-                return (self._random(), {col: d * inv_a0[0] % p for col, d in a0[1].items()})
+                return (self._log0(a0[0]), _scale(a0, inv_a0[0], p)[1])
             # k l_k a_0 = k a_k - sum_{j=1}^{k-1} j l_j a_{k-j}
-            invk = pow(k, -1, p)
-            acc = _combine([(_scale(mine[j], j * invk % p, p), c(a, k - j)) for j in range(1, k)], p) if k > 1 else _ZERO
+            invk = self._recip(k)
+            acc = _combine([(_scale(mine[j], j * invk, p), c(a, k - j)) for j in range(1, k)], p) if k > 1 else _ZERO
             return _combine([(_linear([(1, c(a, k)), (-1, acc)], p), inv_a0)], p)
         if op is Op.ATAN2:
             return self._atan2(i, arg, k)
@@ -301,7 +323,7 @@ class TaylorEvaluator:
 
     def _inv_dual(self, a: Dual, node: int) -> Dual:
         inv = self._inv(a[0], node)
-        return (inv, {col: -d * inv * inv % self.p for col, d in a[1].items()})
+        return (inv, _scale(a, -inv * inv, self.p)[1])
 
     def _atan2(self, i: int, arg: tuple, k: int) -> Dual:
         # theta = atan2(y, x):  theta' = q = (x y' - y x') / (x^2 + y^2),
@@ -310,15 +332,10 @@ class TaylorEvaluator:
         y, x = arg
         if k == 0:
             x0, y0 = c(x, 0), c(y, 0)
-            den = (x0[0] * x0[0] + y0[0] * y0[0]) % p
-            inv = self._inv(den, i)
-            grad: dict[int, int] = {}
-            for col, d in y0[1].items():
-                grad[col] = grad.get(col, 0) + x0[0] * d
-            for col, d in x0[1].items():
-                grad[col] = grad.get(col, 0) - y0[0] * d
+            inv = self._inv(_combine([(x0, x0), (y0, y0)], p)[0], i)
+            grad = _linear([(x0[0], (0, y0[1])), (-y0[0], (0, x0[1]))], p)[1]
             self.aux[i] = ([], [], [])
-            return (self._random(), {col: d * inv % p for col, d in grad.items() if d % p})
+            return (self._atan0(y0[0], x0[0]), _scale((0, grad), inv, p)[1])
         num, den, q = self.aux[i]
         m = k - 1  # the order of q being computed
 
@@ -329,4 +346,63 @@ class TaylorEvaluator:
         den.append(_combine([(c(x, j), c(x, m - j)) for j in range(m + 1)] + [(c(y, j), c(y, m - j)) for j in range(m + 1)], p))
         acc = _combine([(den[j], q[m - j]) for j in range(1, m + 1)], p) if m > 0 else _ZERO
         q.append(_combine([(_linear([(1, num[m]), (-1, acc)], p), self._inv_dual(den[0], i))], p))
-        return _scale(q[m], pow(k, -1, p), p)
+        return _scale(q[m], self._recip(k), p)
+
+
+class FloatTaylorEvaluator(TaylorEvaluator):
+    """The same Taylor expansion in floating point, at a real point.
+
+    Transcendental functions take their true values; states, free parameters
+    and input coefficients not given in ``values`` are drawn from N(0, 1).
+    """
+
+    def __init__(self, program: Program, n_states: int, rng: random.Random, *, values: dict, states, **kwargs) -> None:
+        super().__init__(program, n_states, rng, p=0, **kwargs)
+        self.values = values
+        self.point = [self._value(s) for s in states]
+
+    def _value(self, symbol) -> float:
+        name = getattr(symbol, "name", str(symbol))
+        if name not in self.values:
+            self.values[name] = self.rng.gauss(0.0, 1.0)
+        return self.values[name]
+
+    def _random(self) -> float:
+        return self.rng.gauss(0.0, 1.0)
+
+    def _random_constant(self, key: object) -> float:
+        if key is math.pi or str(key) == "pi":
+            return math.pi
+        if str(key) == "E":
+            return math.e
+        return self._value(key)
+
+    def _recip(self, k: int) -> float:
+        return 1.0 / k
+
+    def _number(self, value) -> float:
+        return float(value)
+
+    def _inv(self, value: float, node: int) -> float:
+        if value == 0 or not math.isfinite(value):
+            raise Redraw(node, "division by zero")
+        return 1.0 / value
+
+    def _circle(self, angle: float) -> tuple[float, float]:
+        return math.sin(angle), math.cos(angle)
+
+    def _exp0(self, a0: float) -> float:
+        return math.exp(a0)
+
+    def _log0(self, a0: float) -> float:
+        if a0 <= 0:
+            raise Redraw(-1, "logarithm of a non-positive value")
+        return math.log(a0)
+
+    def _atan0(self, y0: float, x0: float) -> float:
+        return math.atan2(y0, x0)
+
+    def _sqrt0(self, a0: float, node: int) -> float:
+        if a0 <= 0:
+            raise Redraw(node, "square root of a non-positive value")
+        return math.sqrt(a0)
