@@ -113,3 +113,14 @@ def test_unnamed_direction_is_reported():
     result = analyze(stripped, seed=1)
     assert [d.name for d in result.unobservable_directions] == ["unnamed direction"] * 2
     assert result.unobservable_directions[0].vector == {"c": "1", "x_L2": "1"}
+
+
+@pytest.mark.parametrize("beacons", [0, 1, 2])
+def test_float_route_agrees_on_small_models(beacons):
+    """Third route (floating point on the true trajectory): same rank, clear gap."""
+    system = slam2d(2, beacons, disparity=True)
+    exact = analyze(system, seed=8, directions=False)
+    numeric = analyze(system, "float", seed=8, directions=False)
+    assert numeric.rank == exact.rank == system.n - LOST[beacons]
+    if numeric.rank < system.n:
+        assert float(numeric.details.split("gap ")[1].split(";")[0]) > 1e6
