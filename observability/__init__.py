@@ -21,15 +21,18 @@ from .modelfile import load_model, parse_model
 from .numeric import float_rank
 from .randomized import randomized_rank
 from .symbolic import generic_rank, null_space, observability_rows, symbolic_rank
+from .symmetry import EPSILON, Symmetry, verify
 from .system import System, system
 
 __all__ = [
+    "EPSILON",
     "METHODS",
     "ModelError",
     "ModelFileError",
     "ObservabilityError",
     "ObservabilityResult",
     "SingularModelError",
+    "Symmetry",
     "System",
     "UnobservableDirection",
     "UnsupportedExpressionError",
@@ -48,6 +51,7 @@ __all__ = [
     "randomized_rank",
     "symbolic_rank",
     "system",
+    "verify",
 ]
 
 __version__ = "0.1.0"

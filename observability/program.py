@@ -47,6 +47,10 @@ class Op(IntEnum):
     ATAN2 = 13  # args: (y, x)
 
 
+_LEAVES = (Op.STATE, Op.INPUT, Op.CONST, Op.RANDOM)
+_FREE_VALUES = (Op.EXP, Op.LOG, Op.ATAN2)
+
+
 class Program:
     """A straight-line program that grows as expressions are added.
 
@@ -72,7 +76,10 @@ class Program:
         self.kinds.update({u: (Op.INPUT, j) for j, u in enumerate(inputs)})
         self.where = where
         self.roots: list[int] = []
-        self.source: dict[int, sympy.Expr] = {}  # node -> an expression it computes, for messages
+        self.source: dict[int, sympy.Expr] = {}
+        # Whether a node's value involves exp, log or atan2 of a non-constant: such
+        # values are independent random quantities, so only derivatives relate them.
+        self.free_value: list[bool] = []  # node -> an expression it computes, for messages
         self.ops: list[Op] = []
         self.args: list[tuple] = []
         self.constant: list[bool] = []
@@ -91,6 +98,8 @@ class Program:
         self.args.append(args)
         self.constant.append(constant)
         self.heights.append(height)
+        free = op in _FREE_VALUES or (op not in _LEAVES and any(self.free_value[a] for a in args))
+        self.free_value.append(free)
         index = len(self.ops) - 1
         self.memo[key] = index
         return index

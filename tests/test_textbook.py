@@ -128,3 +128,26 @@ def test_input_derivatives_limit_matters():
     assert analyze(s, seed=1, input_derivatives=0).rank == 2
     blind = System(["x", "z"], {"x": "u", "z": "0"}, {"y": "x"}, inputs=["u"])
     assert analyze(blind, seed=1).rank == 1
+
+
+def test_user_declared_symmetry_is_verified_and_named():
+    """The README example: a rotation about the beacon, declared by the user with
+    its finite transformation only (the generator is derived), names the direction;
+    a wrong declaration (rotating the position but not the heading) is rejected."""
+    import sympy
+
+    from observability import EPSILON, Symmetry
+
+    x, y, th, bx, by = sympy.symbols("x y th bx by")
+    c, s = sympy.cos(EPSILON), sympy.sin(EPSILON)
+    position = {"x": bx + c * (x - bx) - s * (y - by), "y": by + s * (x - bx) + c * (y - by)}
+    good = Symmetry.of("rotation about the beacon", "turns the pose about the beacon", {**position, "th": th + EPSILON})
+    bad = Symmetry.of("position only", "", position)
+    base, _, _ = CASES["unicycle-one-beacon"]
+    system = System(
+        base.states, base.dynamics, dict(base.outputs), inputs=base.inputs, parameters=base.parameters,
+        symmetries=[bad, good],
+    )
+    result = analyze(system, seed=2)
+    assert [d.name for d in result.unobservable_directions] == ["rotation about the beacon"]
+    assert result.unobservable_directions[0].vector == {"x": "by - y", "y": "-bx + x", "th": "1"}
