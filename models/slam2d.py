@@ -108,12 +108,14 @@ def slam2d(
         parameters[f"B{j}x"] = None
         parameters[f"B{j}y"] = None
     label = f"slam2d-L{landmarks}-B{beacons}" + ("-disparity" if disparity else "")
-    symmetries = planar_symmetries(
-        points=[("cx", "cy")] + [landmark_states(i) for i in range(1, landmarks + 1)],
-        velocities=[("cxdot", "cydot")],
-        headings=["cth"],
-        pivots=[(f"beacon {j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)],
-    )
+    def symmetries():
+        return planar_symmetries(
+            points=[("cx", "cy")] + [landmark_states(i) for i in range(1, landmarks + 1)],
+            velocities=[("cxdot", "cydot")],
+            headings=["cth"],
+            pivots=[(f"beacon {j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)],
+        )
+
     return System(
         states,
         dynamics,

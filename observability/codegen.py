@@ -148,7 +148,7 @@ def discretize(system: System, dt: sympy.Expr | float | str = "dt", method: str 
         name=system.name,
         description=system.description,
         parameter_values=system.parameter_values,
-        symmetries=system.symmetries,
+        symmetries=system.symmetry_source,
     )
 
 

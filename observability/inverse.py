@@ -99,5 +99,5 @@ def eliminate_previous_state(system: System, method: Previous = "inverse") -> Sy
         inverse_dynamics=system.inverse_dynamics,
         description=system.description,
         parameter_values=system.parameter_values,
-        symmetries=system.symmetries,
+        symmetries=system.symmetry_source,
     )

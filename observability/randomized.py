@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import random
 from collections.abc import Callable
-
-import sympy
 from dataclasses import dataclass
 
 from .echelon import ModularEchelon
@@ -159,21 +157,25 @@ def randomized_rank(
     rng = random.Random(seed)
     if system.time == "discrete":
         eliminate_previous_state(system)  # fail early, before any point is drawn
-    limit = system.n - 1 if max_order is None else max_order
+    limit_order = system.n - 1 if max_order is None else max_order
     best = None
     probability = 1.0
     draws = 0
     while draws < _MAX_DRAWS:
-        for _attempt in range(_MAX_ATTEMPTS * (2 ** min(_count_sqrt(system), 8))):
+        attempts, limit = 0, _MAX_ATTEMPTS
+        while True:
             try:
-                echelon, order, labels, program, out_roots = _one_point(system, rng, input_derivatives, limit, progress)
+                echelon, order, labels, program, out_roots = _one_point(system, rng, input_derivatives, limit_order, progress)
                 break
             except Redraw as exc:
-                last = exc
-        else:
-            raise SingularModelError(
-                f"{system.name}: every random point hits a singularity ({last.reason} in {last.source})"
-            )
+                attempts += 1
+                if exc.reason.startswith("square root"):
+                    # each square root halves the chance that a point is usable
+                    limit = _MAX_ATTEMPTS * 256
+                if attempts >= limit:
+                    raise SingularModelError(
+                        f"{system.name}: every random point hits a singularity ({exc.reason} in {exc.source})"
+                    ) from None
         draws += 1
         if best is None or echelon.rank > best[0].rank:
             best = (echelon, order, labels, program, out_roots)
@@ -199,6 +201,3 @@ def randomized_rank(
     )
 
 
-def _count_sqrt(system: System) -> int:
-    expressions = (*system.dynamics, *(h for _, h in system.outputs))
-    return sum(1 for e in expressions for p in e.atoms(sympy.Pow) if p.exp.is_Rational and p.exp.q == 2)

@@ -9,7 +9,7 @@ names the offending item. The vocabulary (x, u, p, f, h) follows STRIKE-GOLDD.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -99,7 +99,7 @@ class System:
     name: str = "system"
     inverse_dynamics: tuple[sympy.Expr, ...] | None = None
     description: str = field(default="", compare=False)
-    symmetries: tuple[Symmetry, ...] = field(default=(), compare=False)
+    symmetry_source: Any = field(default=(), compare=False, repr=False)
 
     def __init__(
         self,
@@ -113,7 +113,7 @@ class System:
         inverse_dynamics: Mapping[Any, Any] | Iterable[Any] | None = None,
         description: str = "",
         parameter_values: Iterable[tuple[sympy.Symbol, sympy.Expr]] = (),
-        symmetries: Iterable[Symmetry] = (),
+        symmetries: Iterable[Symmetry] | Callable[[], Iterable[Symmetry]] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
@@ -186,7 +186,11 @@ class System:
         object.__setattr__(self, "name", str(name))
         object.__setattr__(self, "inverse_dynamics", g)
         object.__setattr__(self, "description", str(description))
-        object.__setattr__(self, "symmetries", self._symmetries(symmetries, x, names))
+        # A callable is called (and its candidates validated) on first use: large
+        # models have thousands of candidate components and most checks need none.
+        object.__setattr__(self, "symmetry_source", symmetries if callable(symmetries) else tuple(symmetries))
+        if not callable(symmetries):
+            self._symmetries(symmetries, x, names)
 
     @staticmethod
     def _aligned(values: Any, x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol], what: str):
@@ -208,6 +212,18 @@ class System:
             if len(seq) != len(x):
                 raise ModelError(f"{what} has {len(seq)} entries but there are {len(x)} states")
         return tuple(_scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
+
+    @property
+    def symmetries(self) -> tuple[Symmetry, ...]:
+        """The candidate symmetries (validated; generated on first use when lazy)."""
+        if not callable(self.symmetry_source):
+            return self.symmetry_source
+        cached = self.__dict__.get("_symmetry_cache")
+        if cached is None:
+            names = {s.name: s for s in (*self.states, *self.inputs, *self.parameters)}
+            cached = self._symmetries(self.symmetry_source(), self.states, names)
+            object.__setattr__(self, "_symmetry_cache", cached)
+        return cached
 
     @staticmethod
     def _symmetries(symmetries: Iterable[Any], x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol]):
@@ -293,7 +309,7 @@ class System:
             inverse_dynamics=self.inverse_dynamics,
             description=self.description,
             parameter_values=merged.items(),
-            symmetries=self.symmetries,
+            symmetries=self.symmetry_source,
         )
 
     def __repr__(self) -> str:

@@ -1,0 +1,22 @@
+"""Extended Kalman filters driven by the generated casadi Functions (numpy only, no sympy).
+
+:mod:`.ekf` holds the conventional EKF, the paper's generalized EKF for
+measurements that depend on the previous state, and the stochastic-cloning EKF;
+:mod:`.consistency` the NEES/NIS tests and the degree-of-observability metric.
+"""
+
+from .consistency import chi2_bounds, degree_of_observability, nees, nis
+from .ekf import CloningEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, Update
+
+__all__ = [
+    "CloningEKF",
+    "ConventionalEKF",
+    "FilterError",
+    "FilterState",
+    "GeneralizedEKF",
+    "Update",
+    "chi2_bounds",
+    "degree_of_observability",
+    "nees",
+    "nis",
+]

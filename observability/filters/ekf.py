@@ -1,0 +1,207 @@
+"""EKF variants for measurements that may depend on the previous state.
+
+All take a :class:`~observability.codegen.FilterFunctions` (the same symbolic
+model the rank test analysed), use the Joseph-form update, keep P symmetric, and
+refuse a non-finite measurement or a non-positive-definite innovation covariance
+with an error naming the step. A measurement entry given as ``None`` is missing
+(e.g. a landmark out of view) and is skipped alone; the others are used.
+
+* :class:`ConventionalEKF`: W_k = R_k. With a measurement that depends on the
+  previous state it evaluates h(x_k|k-1, x_k-1|k-1) and ignores the dependence:
+  the "naive" filter.
+* :class:`GeneralizedEKF`: the paper's eqs. (6)-(11), with
+  W_k = R_k + H_Xk-1 G_w Q G_w^T H_Xk-1^T.
+* :class:`CloningEKF`: stochastic cloning (Roumeliotis & Burdick 2002): the state
+  is augmented with a copy of the previous state, so h(x_k, x_k-1) is an ordinary
+  measurement of the augmented state and all correlations are kept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..codegen import FilterFunctions
+
+__all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF"]
+
+
+class FilterError(ArithmeticError):
+    """A filter step cannot proceed (NaN input, indefinite covariance, ...)."""
+
+
+@dataclass(frozen=True)
+class FilterState:
+    """Estimate after a step: the current state and, for filters that need it,
+    the previous one (cloning: the joint covariance of both).
+
+    Attributes
+    ----------
+    x, P : the current estimate and its covariance (n, n x n)
+    x_prev : the previous posterior estimate (n), or None before the first step
+    joint : the covariance of [x; x_prev] (2n x 2n), cloning filter only
+    step : the number of predictions so far
+    """
+
+    x: np.ndarray
+    P: np.ndarray
+    x_prev: np.ndarray | None = None
+    joint: np.ndarray | None = None
+    step: int = 0
+
+
+@dataclass(frozen=True)
+class Update:
+    """An update's outcome: the new state and the innovation statistics."""
+
+    state: FilterState
+    innovation: np.ndarray
+    S: np.ndarray
+    used: tuple[int, ...]
+
+
+def _dense(value) -> np.ndarray:
+    return np.array(value.full() if hasattr(value, "full") else value, dtype=float)
+
+
+def _symmetric(P: np.ndarray) -> np.ndarray:
+    return 0.5 * (P + P.T)
+
+
+class _Base:
+    def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = ()):
+        self.fn = functions
+        self.Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        self.R = np.atleast_2d(np.asarray(R, dtype=float))
+        self.p = np.asarray(parameters, dtype=float)
+        n_w, n_y = len(functions.noise), len(functions.outputs)
+        if self.Q.shape != (n_w, n_w):
+            raise ValueError(f"Q has shape {self.Q.shape} but the noise {functions.noise} needs ({n_w}, {n_w})")
+        if self.R.shape != (n_y, n_y):
+            raise ValueError(f"R has shape {self.R.shape} but the outputs {functions.outputs} need ({n_y}, {n_y})")
+        if self.p.shape != (len(functions.parameters),):
+            raise ValueError(f"parameters has {self.p.size} values but the model needs {functions.parameters}")
+        self.n = len(functions.states)
+        self.w0 = np.zeros(n_w)
+
+    def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
+        x0 = np.asarray(x0, dtype=float)
+        P0 = np.asarray(P0, dtype=float)
+        if x0.shape != (self.n,) or P0.shape != (self.n, self.n):
+            raise ValueError(f"x0 and P0 must have shapes ({self.n},) and ({self.n}, {self.n})")
+        return FilterState(x0, _symmetric(P0))
+
+    def _motion(self, x: np.ndarray, u: np.ndarray):
+        args = (x, u, self.w0, self.p)
+        return (
+            _dense(self.fn["f"](*args)).ravel(),
+            _dense(self.fn["F_X"](*args)),
+            _dense(self.fn["F_w"](*args)),
+        )
+
+    def _measurement(self, x: np.ndarray, x_prev: np.ndarray):
+        args = (x, x_prev, self.p)
+        return _dense(self.fn["h"](*args)).ravel(), _dense(self.fn["H_Xk"](*args)), _dense(self.fn["H_Xk_1"](*args))
+
+    @staticmethod
+    def _select(y: Sequence[float | None], step: int) -> tuple[np.ndarray, list[int]]:
+        used = [i for i, v in enumerate(y) if v is not None]
+        values = np.array([y[i] for i in used], dtype=float)
+        bad = [used[j] for j in np.flatnonzero(~np.isfinite(values))]
+        if bad:
+            raise FilterError(f"step {step}: measurement {bad[0]} is {values[used.index(bad[0])]}; use None for a missing one")
+        return values, used
+
+    @staticmethod
+    def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
+        S = _symmetric(H @ P @ H.T + W)
+        try:
+            L = np.linalg.cholesky(S)
+        except np.linalg.LinAlgError:
+            raise FilterError(f"step {step}: innovation covariance is not positive definite") from None
+        K = np.linalg.solve(L.T, np.linalg.solve(L, H @ P.T)).T
+        return K, S
+
+    @staticmethod
+    def _joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray) -> np.ndarray:
+        A = np.eye(P.shape[0]) - K @ H
+        return _symmetric(A @ P @ A.T + K @ W @ K.T)
+
+    def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
+        """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T."""
+        u = np.asarray(u, dtype=float)
+        x, F, Fw = self._motion(state.x, u)
+        P = _symmetric(F @ state.P @ F.T + Fw @ self.Q @ Fw.T)
+        if not np.all(np.isfinite(x)) or not np.all(np.isfinite(P)):
+            raise FilterError(f"step {state.step + 1}: prediction is not finite")
+        return FilterState(x, P, x_prev=state.x, step=state.step + 1)
+
+    def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.zeros((H_prev.shape[0], H_prev.shape[0]))
+
+    def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
+        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y``."""
+        values, used = self._select(y, state.step)
+        x_prev = state.x if state.x_prev is None else state.x_prev
+        h, H, H_prev = self._measurement(state.x, x_prev)
+        if not used:
+            return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        H, H_prev = H[used], H_prev[used]
+        W = self.R[np.ix_(used, used)] + self._extra_noise(state, H_prev, np.asarray(u, dtype=float))
+        K, S = self._gain(state.P, H, W, state.step)
+        nu = values - h[used]
+        x = state.x + K @ nu
+        P = self._joseph(state.P, K, H, W)
+        return Update(FilterState(x, P, x_prev=state.x_prev, step=state.step), nu, S, tuple(used))
+
+
+class ConventionalEKF(_Base):
+    """The conventional EKF: W_k = R_k (naive for previous-state measurements)."""
+
+
+class GeneralizedEKF(_Base):
+    """The paper's generalized EKF: W_k = R_k + H_Xk-1 G_w Q G_w^T H_Xk-1^T (eq. 8)."""
+
+    def __init__(self, functions: FilterFunctions, Q, R, parameters: Sequence[float] = ()):
+        if "G_w" not in functions.functions:
+            raise ValueError("the generalized EKF needs the inverse motion model (G_w), which could not be derived")
+        super().__init__(functions, Q, R, parameters)
+
+    def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
+        Gw = _dense(self.fn["G_w"](state.x, u, self.w0, self.p))
+        return H_prev @ Gw @ self.Q @ Gw.T @ H_prev.T
+
+
+class CloningEKF(_Base):
+    """Stochastic cloning: the state is augmented with the previous state."""
+
+    def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
+        u = np.asarray(u, dtype=float)
+        x, F, Fw = self._motion(state.x, u)
+        P = state.P
+        current = F @ P @ F.T + Fw @ self.Q @ Fw.T
+        cross = F @ P
+        joint = _symmetric(np.block([[current, cross], [cross.T, P]]))
+        if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
+            raise FilterError(f"step {state.step + 1}: prediction is not finite")
+        n = self.n
+        return FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1)
+
+    def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
+        values, used = self._select(y, state.step)
+        if state.joint is None:  # before the first prediction there is no clone
+            return super().update(state, y, u)
+        n = self.n
+        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        if not used:
+            return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        H_aug = np.hstack([H[used], H_prev[used]])
+        W = self.R[np.ix_(used, used)]
+        K, S = self._gain(state.joint, H_aug, W, state.step)
+        nu = values - h[used]
+        z = np.concatenate([state.x, state.x_prev]) + K @ nu
+        joint = self._joseph(state.joint, K, H_aug, W)
+        new = FilterState(z[:n], joint[:n, :n], x_prev=z[n:], joint=joint, step=state.step)
+        return Update(new, nu, S, tuple(used))

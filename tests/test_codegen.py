@@ -1,0 +1,123 @@
+"""Generated casadi Functions against sympy and central finite differences."""
+
+import shutil
+
+import numpy as np
+import pytest
+import sympy
+
+import models
+from observability import System
+from observability.codegen import compile_functions, discretize, filter_functions, write_c
+from observability.errors import ModelError
+from observability.expressions import prev
+
+CASES = {
+    "slam1.5d-disparity": (models.build("slam1.5d-disparity", {"time": "discrete"}), ["cdot", "x_L2", "d_L2"]),
+    "slam2d-disparity": (models.build("slam2d", {"landmarks": "2", "disparity": "true", "time": "discrete"}), ["cxdot", "cydot", "cthdot"]),
+    "unicycle-input-noise": (
+        System(["x", "y", "th"], {"x": "x + dt*v*cos(th)", "y": "y + dt*v*sin(th)", "th": "th + dt*w"},
+               {"b": "atan2(by - y, bx - x) - th"}, inputs=["v", "w"], parameters=["bx", "by", "dt"], time="discrete"),
+        ["v", "w"],
+    ),
+}
+
+
+def _point(rng, ff):
+    n, m, k, q = len(ff.states), len(ff.inputs), len(ff.noise), len(ff.parameters)
+    return rng.uniform(0.5, 2.0, n), rng.uniform(0.5, 2.0, m), rng.normal(0, 0.1, k), rng.uniform(0.5, 2.0, q)
+
+
+def _central(fun, args, which, eps=1e-6):
+    base = [np.array(a, dtype=float) for a in args]
+    cols = []
+    for i in range(base[which].size):
+        plus = [a.copy() for a in base]
+        minus = [a.copy() for a in base]
+        plus[which][i] += eps
+        minus[which][i] -= eps
+        cols.append((np.array(fun(*plus).full()).ravel() - np.array(fun(*minus).full()).ravel()) / (2 * eps))
+    return np.array(cols).T
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_jacobians_match_finite_differences(name):
+    system, noise = CASES[name]
+    ff = filter_functions(system, noise)
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        x, u, w, p = _point(rng, ff)
+        motion = (x, u, w, p)
+        for jac, fun, which in (("F_X", "f", 0), ("F_w", "f", 2)) + ((("G_X", "g", 0), ("G_w", "g", 2)) if "g" in ff.functions else ()):
+            np.testing.assert_allclose(ff[jac](*motion).full(), _central(ff[fun], motion, which), rtol=1e-5, atol=1e-6)
+        x_prev = x - 0.1 * rng.uniform(0.5, 1.0, x.size)
+        meas = (x, x_prev, p)
+        np.testing.assert_allclose(ff["H_Xk"](*meas).full(), _central(ff["h"], meas, 0), rtol=1e-5, atol=1e-6)
+        np.testing.assert_allclose(ff["H_Xk_1"](*meas).full(), _central(ff["h"], meas, 1), rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_measurement_jacobian_matches_sympy(name):
+    """A second route: sympy's own Jacobian of the outputs, evaluated at the same point."""
+    system, noise = CASES[name]
+    ff = filter_functions(system, noise)
+    rng = np.random.default_rng(1)
+    x, _, _, p = _point(rng, ff)
+    x_prev = x - 0.05
+    outputs = sympy.Matrix([e for _, e in system.outputs])
+    at = dict(zip(system.states, x)) | dict(zip(system.previous_states, x_prev))
+    at |= {sympy.Symbol(q): v for q, v in zip(ff.parameters, p)}
+    expected = outputs.jacobian(system.states).subs(at).evalf()
+    np.testing.assert_allclose(ff["H_Xk"](x, x_prev, p).full(), np.array(expected, dtype=float), rtol=1e-10)
+
+
+def test_inverse_motion_model_inverts_the_motion():
+    system, noise = CASES["slam2d-disparity"]
+    ff = filter_functions(system, noise)
+    x, u, w, p = _point(np.random.default_rng(2), ff)
+    forward = ff["f"](x, u, w, p).full().ravel()
+    np.testing.assert_allclose(ff["g"](forward, u, w, p).full().ravel(), x, rtol=1e-12)
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None, reason="no C compiler")
+def test_compiled_c_agrees_with_in_memory(tmp_path):
+    system, noise = CASES["slam2d-disparity"]
+    ff = filter_functions(system, noise)
+    compiled = compile_functions(ff, cache=tmp_path)
+    assert compiled["f"].class_name() == "External" and ff["f"].class_name() == "SXFunction"
+    x, u, w, p = _point(np.random.default_rng(3), ff)
+    for name in ("f", "F_X", "F_w", "g", "G_X", "G_w"):
+        np.testing.assert_allclose(compiled[name](x, u, w, p).full(), ff[name](x, u, w, p).full(), rtol=1e-13)
+    for name in ("h", "H_Xk", "H_Xk_1"):
+        np.testing.assert_allclose(compiled[name](x, x * 0.9, p).full(), ff[name](x, x * 0.9, p).full(), rtol=1e-13)
+
+
+def test_write_c_files(tmp_path):
+    system, noise = CASES["slam1.5d-disparity"]
+    written = write_c(filter_functions(system, noise), tmp_path)
+    assert set(written) == {"c", "h", "loader"}
+    assert "H_Xk_1" in written["h"].read_text()
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_discretize_rk4_is_exact_for_constant_velocity():
+    continuous = models.build("slam1.5d")
+    discrete = discretize(continuous, "dt", "rk4")
+    c, cdot, dt = sympy.symbols("c cdot dt")
+    assert sympy.expand(discrete.dynamics[0]) == c + dt * cdot
+
+
+def test_unknown_noise_name():
+    system, _ = CASES["slam1.5d-disparity"]
+    with pytest.raises(ModelError, match="noise enters 'speed'"):
+        filter_functions(system, ["speed"])
+
+
+def test_prev_symbol_in_measurement_function():
+    system, noise = CASES["slam1.5d-disparity"]
+    ff = filter_functions(system, noise)
+    assert prev(sympy.Symbol("c")) in system.outputs[1][1].free_symbols
+    x = np.array([1.0, 2.0, 3.0, 0.5])
+    p = np.array([20.0, 0.1, 0.0, 0.0])
+    # y3 = -f d c + f d c_prev = f d (c_prev - c): with c_prev = c - 0.2, y3 = -20 * 0.5 * 0.2.
+    assert ff["h"](x, x - np.array([0.2, 0, 0, 0]), p).full().ravel()[1] == pytest.approx(-2.0)
