@@ -148,6 +148,20 @@ def _check(args: argparse.Namespace) -> int:
     return EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
 
 
+def _codegen(args: argparse.Namespace) -> int:
+    from .codegen import filter_functions, write_c
+
+    system = resolve_model(args.model, _options(args.option), args.time)
+    noise = [n.strip() for n in args.noise.split(",") if n.strip()] if args.noise else None
+    functions = filter_functions(system, noise, dt=args.dt, method=args.discretization)
+    written = write_c(functions, args.out, args.name)
+    print(f"{system.name}: wrote {', '.join(str(p) for p in written.values())}")
+    print(f"  functions: {', '.join(functions.functions)}")
+    print(f"  x = [{', '.join(functions.states)}], u = [{', '.join(functions.inputs)}], "
+          f"w = [{', '.join(functions.noise)}], p = [{', '.join(functions.parameters)}]")
+    return 0
+
+
 def _models(args: argparse.Namespace) -> int:
     import models
 
@@ -179,6 +193,17 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
                        help="time allowed for symbolic work before it is reported undecided (default 60)")
     check.set_defaults(func=_check)
+    codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
+    codegen.add_argument("model", help="built-in model name or path to a .toml model file")
+    codegen.add_argument("--out", required=True, type=Path, help="directory to write into")
+    codegen.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE")
+    codegen.add_argument("--time", choices=("continuous", "discrete"), default=None)
+    codegen.add_argument("--noise", default=None, metavar="NAMES",
+                         help="comma-separated states and inputs the process noise enters (default: every state)")
+    codegen.add_argument("--dt", default="dt", help="time step (a number or a parameter name) for continuous models")
+    codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler")
+    codegen.add_argument("--name", default="filter_functions", help="base name of the generated files")
+    codegen.set_defaults(func=_codegen)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=_models)
     return parser

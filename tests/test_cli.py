@@ -122,3 +122,12 @@ def test_singularity_hidden_from_substitution_is_reported(tmp_path):
     out = run("check", str(path), "-o", "b=1")
     assert out.returncode == 2
     assert "every random point hits a singularity" in out.stderr
+
+
+def test_codegen_writes_compilable_c(tmp_path):
+    out = run("codegen", "slam1.5d-disparity", "--time", "discrete", "--noise", "cdot,x_L2,d_L2", "--out", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    assert {p.name for p in tmp_path.iterdir()} == {"filter_functions.c", "filter_functions.h", "load_filter_functions.py"}
+    assert "H_Xk_1" in (tmp_path / "filter_functions.h").read_text()
+    bad = run("codegen", "slam1.5d", "--noise", "nope", "--out", str(tmp_path / "x"))
+    assert bad.returncode == 2 and "noise enters 'nope'" in bad.stderr

@@ -164,3 +164,14 @@ def test_chi2_bounds_match_known_quantiles():
     lo, hi = chi2_bounds(2, 50)
     assert lo * 50 == pytest.approx(74.2219, abs=1e-3)
     assert hi * 50 == pytest.approx(129.5612, abs=1e-3)
+
+
+def test_monte_carlo_streams_are_reproducible_and_progress_is_shown_on_request(capsys):
+    """Run i gets the same stream whatever the number of runs; the progress line
+    goes to stderr only when asked (tests are not a terminal)."""
+    from observability.filters import monte_carlo
+
+    first = monte_carlo(lambda rng: rng.normal(), runs=3, seed=5, progress=False)
+    more = monte_carlo(lambda rng: rng.normal(), runs=5, seed=5, progress=True)
+    assert first == more[:3] and len(set(more)) == 5
+    assert "Monte Carlo: 5/5" in capsys.readouterr().err

@@ -7,6 +7,7 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, Update
+from .montecarlo import monte_carlo
 
 __all__ = [
     "CloningEKF",
@@ -17,6 +18,7 @@ __all__ = [
     "Update",
     "chi2_bounds",
     "degree_of_observability",
+    "monte_carlo",
     "nees",
     "nis",
 ]
