@@ -14,6 +14,8 @@ G_X, G_w  x, u, w, p                       d x_prev / d x, d x_prev / d w
 h         x, x_prev, p                     y
 H_Xk      x, x_prev, p                     d y / d x
 H_Xk_1    x, x_prev, p                     d y / d x_prev
+motion    x, u, w, p                       x_next, F_X, F_w (one call)
+measurement x, x_prev, p                   y, H_Xk, H_Xk_1 (one call)
 ========  ===============================  ==========================
 
 The process noise ``w`` enters where the model says: additively on named states
@@ -45,7 +47,6 @@ from .system import System
 
 __all__ = ["FilterFunctions", "discretize", "filter_functions", "to_casadi", "compile_functions", "write_c"]
 
-FUNCTION_NAMES = ("f", "F_X", "F_w", "g", "G_X", "G_w", "h", "H_Xk", "H_Xk_1")
 
 _UNARY = {
     sympy.sin: casadi.sin,
@@ -234,6 +235,16 @@ def filter_functions(
         "h": casadi.Function("h", meas_in, [y], meas_names, ["y"]),
         "H_Xk": casadi.Function("H_Xk", meas_in, [casadi.jacobian(y, x)], meas_names, ["H_Xk"]),
         "H_Xk_1": casadi.Function("H_Xk_1", meas_in, [casadi.jacobian(y, x_prev)], meas_names, ["H_Xk_1"]),
+        # One call per filter step instead of three: each casadi call from Python
+        # costs tens of microseconds, more than the arithmetic of a small model.
+        "motion": casadi.Function(
+            "motion", motion_in, [x_next, casadi.densify(casadi.jacobian(x_next, x)), casadi.densify(casadi.jacobian(x_next, w))],
+            motion_names, ["x_next", "F_X", "F_w"],
+        ),
+        "measurement": casadi.Function(
+            "measurement", meas_in, [y, casadi.densify(casadi.jacobian(y, x)), casadi.densify(casadi.jacobian(y, x_prev))],
+            meas_names, ["y", "H_Xk", "H_Xk_1"],
+        ),
     }
     inverse = _inverse(system, noise)
     if inverse is not None:
@@ -241,7 +252,7 @@ def filter_functions(
         functions |= {
             "g": casadi.Function("g", motion_in, [x_back], motion_names, ["x_prev"]),
             "G_X": casadi.Function("G_X", motion_in, [casadi.jacobian(x_back, x)], motion_names, ["G_X"]),
-            "G_w": casadi.Function("G_w", motion_in, [casadi.jacobian(x_back, w)], motion_names, ["G_w"]),
+            "G_w": casadi.Function("G_w", motion_in, [casadi.densify(casadi.jacobian(x_back, w))], motion_names, ["G_w"]),
         }
     return FilterFunctions(
         functions, tuple(states), tuple(inputs), tuple(q.name for q in params), tuple(out_names), tuple(noise)
