@@ -175,3 +175,57 @@ def test_monte_carlo_streams_are_reproducible_and_progress_is_shown_on_request(c
     more = monte_carlo(lambda rng: rng.normal(), runs=5, seed=5, progress=True)
     assert first == more[:3] and len(set(more)) == 5
     assert "Monte Carlo: 5/5" in capsys.readouterr().err
+
+
+def test_colored_noise_filter_equals_batch_least_squares():
+    """Measurements y_k = [p_k, p_k - p_{k-1}] + D0 nu_k + D1 nu_{k-1} + eps_k: the
+    odometry shares the position noise of both ends (as the paper's disparity
+    shares the projective noise of k-1 and k). For this linear model the
+    augmented filter is exact, so it must equal the batch generalized least
+    squares over x_0..x_K and nu_0..nu_K (priors N(m0, P0) and N(0, R_nu))."""
+    from observability.filters import ColoredNoiseEKF
+
+    rng = np.random.default_rng(3)
+    steps, m0, P0 = 15, np.array([0.0, 1.0]), np.diag([1.0, 0.5])
+    R_nu, R_eps = np.array([[0.3]]), np.diag([0.05, 0.01])
+    D0, D1 = np.array([[1.0], [1.0]]), np.array([[0.0], [-1.0]])
+    xs, ys = [np.array([0.2, 0.9])], []
+    nu_prev = rng.normal(0, np.sqrt(R_nu[0, 0]), 1)
+    for _ in range(steps):
+        x = F @ xs[-1] + rng.multivariate_normal(np.zeros(2), Q)
+        nu = rng.normal(0, np.sqrt(R_nu[0, 0]), 1)
+        ys.append(np.array([x[0], x[0] - xs[-1][0]]) + D0 @ nu + D1 @ nu_prev + rng.multivariate_normal(np.zeros(2), R_eps))
+        xs.append(x)
+        nu_prev = nu
+    ekf = ColoredNoiseEKF(filter_functions(CV), Q, R_eps, R_nu, D0, D1)
+    state = ekf.initial(m0, P0)
+    for y in ys:
+        state = ekf.update(ekf.predict(state), y).state
+    # Batch: unknowns x_0..x_K (2 each) then nu_0..nu_K (1 each).
+    nx, nn = 2 * (steps + 1), steps + 1
+    size = nx + nn
+    rows, rhs, weights = [], [], []
+
+    def unit(start, width):
+        E = np.zeros((width, size))
+        E[:, start : start + width] = np.eye(width)
+        return E
+
+    X = lambda k: unit(2 * k, 2)  # noqa: E731
+    N = lambda k: unit(nx + k, 1)  # noqa: E731
+    rows.append(X(0)); rhs.append(m0); weights.append(np.linalg.inv(P0))  # noqa: E702
+    for k in range(steps + 1):
+        rows.append(N(k)); rhs.append(np.zeros(1)); weights.append(np.linalg.inv(R_nu))  # noqa: E702
+    H1, H0 = np.array([[1.0, 0.0], [1.0, 0.0]]), np.array([[0.0, 0.0], [-1.0, 0.0]])
+    for k, y in enumerate(ys, start=1):
+        rows.append(X(k) - F @ X(k - 1)); rhs.append(np.zeros(2)); weights.append(np.linalg.inv(Q))  # noqa: E702
+        rows.append(H1 @ X(k) + H0 @ X(k - 1) + D0 @ N(k) + D1 @ N(k - 1))
+        rhs.append(y)
+        weights.append(np.linalg.inv(R_eps))
+    info = sum(A.T @ W @ A for A, W in zip(rows, weights))
+    vector = sum(A.T @ W @ b for A, W, b in zip(rows, weights, rhs))
+    solution, covariance = np.linalg.solve(info, vector), np.linalg.inv(info)
+    last = slice(2 * steps, 2 * steps + 2)
+    np.testing.assert_allclose(state.x, solution[last], atol=1e-9)
+    np.testing.assert_allclose(state.P, covariance[last, last], atol=1e-9)
+    np.testing.assert_allclose(state.noise[0], solution[nx + steps], atol=1e-9)

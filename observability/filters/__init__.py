@@ -6,11 +6,12 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 """
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
-from .ekf import CloningEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, Update
+from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, Update
 from .montecarlo import monte_carlo
 
 __all__ = [
     "CloningEKF",
+    "ColoredNoiseEKF",
     "ConventionalEKF",
     "FilterError",
     "FilterState",

@@ -14,6 +14,10 @@ with an error naming the step. A measurement entry given as ``None`` is missing
 * :class:`CloningEKF`: stochastic cloning (Roumeliotis & Burdick 2002): the state
   is augmented with a copy of the previous state, so h(x_k, x_k-1) is an ordinary
   measurement of the augmented state and all correlations are kept.
+* :class:`ColoredNoiseEKF`: cloning plus colored measurement noise handled by
+  state augmentation (paper Sec. IV-B): y_k = h(x_k, x_k-1) + D0 nu_k + D1 nu_k-1
+  + eps_k, with nu white, so the disparity's noise may share the projective
+  noise of the previous step.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF"]
+__all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
 
 
 class FilterError(ArithmeticError):
@@ -41,7 +45,9 @@ class FilterState:
     ----------
     x, P : the current estimate and its covariance (n, n x n)
     x_prev : the previous posterior estimate (n), or None before the first step
-    joint : the covariance of [x; x_prev] (2n x 2n), cloning filter only
+    joint : the covariance of [x; x_prev] (2n x 2n) for the cloning filter, of
+        [x; x_prev; nu; nu_prev] for the colored-noise filter
+    noise : the estimates of [nu; nu_prev], colored-noise filter only
     step : the number of predictions so far
     """
 
@@ -50,6 +56,7 @@ class FilterState:
     x_prev: np.ndarray | None = None
     joint: np.ndarray | None = None
     step: int = 0
+    noise: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -221,4 +228,79 @@ class CloningEKF(_Base):
         z = np.concatenate([state.x, state.x_prev]) + K @ nu
         joint = self._joseph(state.joint, K, H_aug, W)
         new = FilterState(z[:n], joint[:n, :n], x_prev=z[n:], joint=joint, step=state.step)
+        return Update(new, nu, S, tuple(used))
+
+
+class ColoredNoiseEKF(_Base):
+    """Cloning EKF with colored measurement noise, by state augmentation.
+
+    The measurement is y_k = h(x_k, x_k-1) + D0 nu_k + D1 nu_k-1 + eps_k with
+    nu_k ~ N(0, R_nu) white and eps_k ~ N(0, R) white. The noise nu enters the
+    state: the filter estimates [x_k, x_k-1, nu_k, nu_k-1] jointly, so the part of
+    nu_k-1 already seen by the measurement at k-1 is accounted for at k (Bryson &
+    Henrikson's augmentation for colored measurement noise). For the paper's
+    disparity, nu is the projective noise and D0, D1 are the linearized weights of
+    eq. 18. ``D0`` and ``D1`` are (m, q) arrays, or callables of (x_k, x_k-1)
+    returning them.
+    """
+
+    def __init__(self, functions: FilterFunctions, Q, R, R_nu, D0, D1, parameters: Sequence[float] = ()):
+        super().__init__(functions, Q, R, parameters)
+        self.R_nu = np.atleast_2d(np.asarray(R_nu, dtype=float))
+        self.q = self.R_nu.shape[0]
+        self.D0, self.D1 = D0, D1
+
+    def _weights(self, x: np.ndarray, x_prev: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        out = []
+        for D in (self.D0, self.D1):
+            value = np.asarray(D(x, x_prev) if callable(D) else D, dtype=float)
+            if value.shape != (len(self.fn.outputs), self.q):
+                raise ValueError(f"D0 and D1 must have shape ({len(self.fn.outputs)}, {self.q}), got {value.shape}")
+            out.append(value)
+        return out[0], out[1]
+
+    def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
+        base = super().initial(x0, P0)
+        n, q = self.n, self.q
+        # Before the first step there is only x and the noise of the step before
+        # the first measurement, unseen so far: N(0, R_nu), independent. It sits in
+        # the slot of the latest noise, which the next prediction moves back.
+        joint = np.zeros((2 * n + 2 * q, 2 * n + 2 * q))
+        joint[:n, :n] = base.P
+        joint[2 * n : 2 * n + q, 2 * n : 2 * n + q] = self.R_nu
+        return FilterState(base.x, base.P, x_prev=base.x, joint=joint, noise=np.zeros(2 * q))
+
+    def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
+        n, q = self.n, self.q
+        x, F, Fw = self._motion(state.x, np.asarray(u, dtype=float))
+        keep = list(range(n)) + list(range(2 * n, 2 * n + q))  # x_k-1 and nu_k-1 (the latest of each)
+        M = state.joint[np.ix_(keep, keep)]
+        T = np.zeros((2 * n + 2 * q, n + q))
+        T[:n, :n] = F
+        T[n : 2 * n, :n] = np.eye(n)
+        T[2 * n + q :, n:] = np.eye(q)
+        joint = T @ M @ T.T
+        joint[:n, :n] += Fw @ self.Q @ Fw.T
+        joint[2 * n : 2 * n + q, 2 * n : 2 * n + q] += self.R_nu
+        joint = _symmetric(joint)
+        if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
+            raise FilterError(f"step {state.step + 1}: prediction is not finite")
+        noise = np.concatenate([np.zeros(q), state.noise[:q]])
+        return FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1, noise=noise)
+
+    def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
+        values, used = self._select(y, state.step)
+        if not used:
+            return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        n, q = self.n, self.q
+        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        D0, D1 = self._weights(state.x, state.x_prev)
+        predicted = h + D0 @ state.noise[:q] + D1 @ state.noise[q:]
+        H_aug = np.hstack([H, H_prev, D0, D1])[used]
+        W = self.R[np.ix_(used, used)]
+        K, S = self._gain(state.joint, H_aug, W, state.step)
+        nu = values - predicted[used]
+        z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
+        joint = self._joseph(state.joint, K, H_aug, W)
+        new = FilterState(z[:n], joint[:n, :n], x_prev=z[n : 2 * n], joint=joint, step=state.step, noise=z[2 * n :])
         return Update(new, nu, S, tuple(used))
