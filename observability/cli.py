@@ -162,6 +162,17 @@ def _codegen(args: argparse.Namespace) -> int:
     return 0
 
 
+def _consistency(args: argparse.Namespace) -> int:
+    from .report.consistency import ConsistencyStudy, write_consistency_report
+
+    study = ConsistencyStudy(runs=args.runs, steps=args.steps, seed=args.seed)
+    summary = write_consistency_report(args.out, study)
+    for name, row in summary.items():
+        print(f"{name:26} mean NEES {row['mean_nees']:9.2f}  {row['verdict']}")
+    print(f"wrote {args.out / 'consistency.md'} and {args.out / 'consistency_nees.png'}")
+    return 0
+
+
 def _models(args: argparse.Namespace) -> int:
     import models
 
@@ -204,6 +215,12 @@ def build_parser() -> argparse.ArgumentParser:
     codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler")
     codegen.add_argument("--name", default="filter_functions", help="base name of the generated files")
     codegen.set_defaults(func=_codegen)
+    consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
+    consistency.add_argument("--out", type=Path, default=Path("reports"))
+    consistency.add_argument("--runs", type=int, default=50)
+    consistency.add_argument("--steps", type=int, default=80)
+    consistency.add_argument("--seed", type=int, default=7)
+    consistency.set_defaults(func=_consistency)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=_models)
     return parser

@@ -131,3 +131,11 @@ def test_codegen_writes_compilable_c(tmp_path):
     assert "H_Xk_1" in (tmp_path / "filter_functions.h").read_text()
     bad = run("codegen", "slam1.5d", "--noise", "nope", "--out", str(tmp_path / "x"))
     assert bad.returncode == 2 and "noise enters 'nope'" in bad.stderr
+
+
+def test_consistency_report(tmp_path):
+    out = run("consistency", "--out", str(tmp_path), "--runs", "6", "--steps", "30")
+    assert out.returncode == 0, out.stderr
+    text = (tmp_path / "consistency.md").read_text()
+    assert "| cloning EKF |" in text and (tmp_path / "consistency_nees.png").stat().st_size > 1000
+    assert "cloning EKF" in out.stdout and "naive EKF" in out.stdout
