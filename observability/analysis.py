@@ -115,6 +115,29 @@ class ObservabilityResult:
             return "undecided"
         return "observable" if self.observable else "NOT observable"
 
+    def _repr_latex_(self) -> str:
+        """Jupyter: the verdict as display math."""
+        if self.rank is None:
+            return f"$\\text{{{self.model}: undecided}}$"
+        return (
+            f"$\\text{{{self.model}: {self.verdict()}}}\\quad \\operatorname{{rank}} \\mathcal{{O}} = "
+            f"{self.rank} \\text{{ of }} n = {self.n_states}$"
+        )
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the verdict and the directions as a table."""
+        import html
+
+        rows = [
+            ("verdict", self.verdict()),
+            ("rank", f"{self.rank} of {self.n_states}"),
+            ("method", f"{self.method}: {self.details}"),
+            ("observable states", ", ".join(self.observable_states) or "none"),
+        ]
+        rows += [(d.name, ", ".join(f"{k}: {v}" for k, v in d.vector.items())) for d in self.unobservable_directions]
+        body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in rows)
+        return f"<table><caption>{html.escape(self.model)}</caption>{body}</table>"
+
     def __str__(self) -> str:
         lines = [
             f"{self.model}: {self.verdict()}"

@@ -162,6 +162,20 @@ def _codegen(args: argparse.Namespace) -> int:
     return 0
 
 
+def _latex(args: argparse.Namespace) -> int:
+    from .report.files import write_text
+    from .report.latex import latex_document
+
+    system = resolve_model(args.model, _options(args.option), args.time)
+    text = latex_document(system, analyze(system, seed=args.seed or 0), body_only=args.body_only)
+    if args.out is None:
+        print(text, end="")
+    else:
+        write_text(args.out, text)
+        print(f"wrote {args.out}")
+    return 0
+
+
 def _consistency(args: argparse.Namespace) -> int:
     from .report.consistency import ConsistencyStudy, write_consistency_report
 
@@ -215,6 +229,14 @@ def build_parser() -> argparse.ArgumentParser:
     codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler")
     codegen.add_argument("--name", default="filter_functions", help="base name of the generated files")
     codegen.set_defaults(func=_codegen)
+    latex = sub.add_parser("latex", help="the observability matrix and verdict in LaTeX")
+    latex.add_argument("model", help="built-in model name or path to a .toml model file")
+    latex.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE")
+    latex.add_argument("--time", choices=("continuous", "discrete"), default=None)
+    latex.add_argument("--out", type=Path, default=None, help="file to write (default: stdout)")
+    latex.add_argument("--body-only", action="store_true", help="only the bmatrix, for pasting into a paper")
+    latex.add_argument("--seed", type=int, default=None)
+    latex.set_defaults(func=_latex)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
     consistency.add_argument("--out", type=Path, default=Path("reports"))
     consistency.add_argument("--runs", type=int, default=50)
