@@ -46,7 +46,7 @@ def test_long_entries_are_abbreviated():
     system = models.build("slam2d", {"beacons": "2"})
     pieces = latex_matrix(system, 1)
     assert pieces.definitions and all(name.startswith("a_{") for name, _ in pieces.definitions)
-    assert "a_{1}" in pieces.body
+    assert "a_{" in pieces.body
     full = sympy.latex(observability_rows(system, 1)[0].applyfunc(sympy.factor))
     assert len(pieces.body) + sum(len(v) for _, v in pieces.definitions) < len(full)
 
