@@ -57,14 +57,18 @@ class BuiltinModel:
 
 
 _TIME = {"time": _choice("continuous", "discrete")}
+_LINE = {**_TIME, "literal": _flag}
 
 BUILTINS: dict[str, BuiltinModel] = {
     m.name: m
     for m in (
-        BuiltinModel("slam1.5d-beacon", slam15d_beacon, "1.5-D monocular SLAM, beacon + landmark, projective only", _TIME),
-        BuiltinModel("slam1.5d", slam15d, "1.5-D monocular SLAM, landmark only, projective only", _TIME),
+        BuiltinModel("slam1.5d-beacon", slam15d_beacon, "1.5-D monocular SLAM, beacon + landmark, projective only", _LINE),
+        BuiltinModel("slam1.5d", slam15d, "1.5-D monocular SLAM, landmark only, projective only", _LINE),
         BuiltinModel(
-            "slam1.5d-disparity", slam15d_disparity, "1.5-D monocular SLAM, landmark only, projective + disparity", _TIME
+            "slam1.5d-disparity",
+            slam15d_disparity,
+            "1.5-D monocular SLAM, landmark only, projective + disparity",
+            {**_LINE, "previous": _choice("inverse", "input")},
         ),
         BuiltinModel(
             "slam2d",

@@ -30,10 +30,14 @@ PARAMETERS = ("f", "dt", "x_L1", "d_L1")
 CITATION = "Manzoor & Muhammad, ROBIO 2013, Sec. II"
 
 
-def _dynamics(time: Time) -> dict[str, str]:
-    if time == "continuous":
-        return {"c": "cdot", "cdot": "0", "x_L2": "0", "d_L2": "0"}
-    return {"c": "c + dt*cdot", "cdot": "cdot", "x_L2": "x_L2", "d_L2": "d_L2"}
+DISCRETE_MAP = {"c": "c + dt*cdot", "cdot": "cdot", "x_L2": "x_L2", "d_L2": "d_L2"}
+
+
+def _dynamics(time: Time, literal: bool) -> dict[str, str]:
+    if time == "discrete" or literal:
+        # literal: the paper's discrete map (eq. 4) read as the vector field of eq. 2
+        return DISCRETE_MAP
+    return {"c": "cdot", "cdot": "0", "x_L2": "0", "d_L2": "0"}
 
 
 def _inverse(time: Time) -> dict[str, str] | None:
@@ -45,35 +49,54 @@ def _inverse(time: Time) -> dict[str, str] | None:
 PROJECTION_L2 = "f*d_L2*(x_L2 - c)"
 
 
-def _system(name: str, outputs: dict[str, str], time: Time, description: str) -> System:
+def _system(
+    name: str, outputs: dict[str, str], time: Time, description: str, literal: bool = False, inputs: tuple = ()
+) -> System:
+    if literal and time != "continuous":
+        raise ValueError("literal=True reads the discrete map as a continuous-time vector field: use time='continuous'")
     return System(
         STATES,
-        _dynamics(time),
+        _dynamics(time, literal),
         outputs,
+        inputs=inputs,
         parameters=PARAMETERS,
         time=time,
-        name=name,
+        name=name + ("-literal" if literal else ""),
         inverse_dynamics=_inverse(time),
         description=f"{description} [{CITATION}]",
         symmetries=line_symmetries(["c", "x_L2"], ["cdot"], ["d_L2"]),
     )
 
 
-def slam15d_beacon(time: Time = "continuous") -> System:
-    """Beacon L1 (known) and landmark L2 (unknown), projective measurements only (claim a)."""
+def slam15d_beacon(time: Time = "continuous", literal: bool = False) -> System:
+    """Beacon L1 (known) and landmark L2 (unknown), projective measurements only (claim a).
+
+    ``literal=True`` (continuous time only) uses the discrete map of eq. 4 as the
+    vector field, as a literal reading of the paper's test does.
+    """
     outputs = {"y1": "f*d_L1*(x_L1 - c) - x_L1*f*d_L1", "y2": PROJECTION_L2}
-    return _system("slam1.5d-beacon", outputs, time, "1.5-D SLAM, beacon + landmark, projective only")
+    return _system("slam1.5d-beacon", outputs, time, "1.5-D SLAM, beacon + landmark, projective only", literal)
 
 
-def slam15d(time: Time = "continuous") -> System:
+def slam15d(time: Time = "continuous", literal: bool = False) -> System:
     """Landmark L2 only, projective measurement only (claim b)."""
-    return _system("slam1.5d", {"y2": PROJECTION_L2}, time, "1.5-D SLAM, landmark only, projective only")
+    return _system("slam1.5d", {"y2": PROJECTION_L2}, time, "1.5-D SLAM, landmark only, projective only", literal)
 
 
-def slam15d_disparity(time: Time = "continuous") -> System:
-    """Landmark L2 only, projective + disparity measurements (claim c)."""
-    previous_c = "(c - dt*cdot)" if time == "continuous" else "prev(c)"
+def slam15d_disparity(time: Time = "continuous", literal: bool = False, previous: str = "inverse") -> System:
+    """Landmark L2 only, projective + disparity measurements (claim c).
+
+    ``previous`` says where c_{k-1} comes from: ``"inverse"`` (the inverse
+    constant-velocity model; in discrete time the output keeps prev(c)) or
+    ``"input"`` (a known input ``c_prev``, as if the previous position were measured).
+    """
+    if previous not in ("inverse", "input"):
+        raise ValueError(f"previous must be 'inverse' or 'input', got {previous!r}")
+    inputs: tuple = ()
+    if previous == "input":
+        previous_c, inputs = "c_prev", ("c_prev",)
+    else:
+        previous_c = "(c - dt*cdot)" if time == "continuous" else "prev(c)"
     outputs = {"y2": PROJECTION_L2, "y3": f"-f*c*d_L2 + f*{previous_c}*d_L2"}
-    return _system(
-        "slam1.5d-disparity", outputs, time, "1.5-D SLAM, landmark only, projective + disparity"
-    )
+    name = "slam1.5d-disparity" + ("-input" if previous == "input" else "")
+    return _system(name, outputs, time, "1.5-D SLAM, landmark only, projective + disparity", literal, inputs)
