@@ -176,6 +176,14 @@ def _latex(args: argparse.Namespace) -> int:
     return 0
 
 
+def _reproduce(args: argparse.Namespace) -> int:
+    from .report.reproduce import reproduce
+
+    written = reproduce(args.out, quick=args.quick, runs=args.runs)
+    print(f"wrote {len(written)} files into {args.out}: " + ", ".join(p.name for p in written))
+    return 0
+
+
 def _consistency(args: argparse.Namespace) -> int:
     from .report.consistency import ConsistencyStudy, write_consistency_report
 
@@ -237,6 +245,11 @@ def build_parser() -> argparse.ArgumentParser:
     latex.add_argument("--body-only", action="store_true", help="only the bmatrix, for pasting into a paper")
     latex.add_argument("--seed", type=int, default=None)
     latex.set_defaults(func=_latex)
+    reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
+    reproduce.add_argument("--out", type=Path, default=Path("reports"))
+    reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
+    reproduce.add_argument("--runs", type=int, default=None, help="Monte Carlo runs of the simulation (default 50)")
+    reproduce.set_defaults(func=_reproduce)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
     consistency.add_argument("--out", type=Path, default=Path("reports"))
     consistency.add_argument("--runs", type=int, default=50)
