@@ -155,7 +155,7 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
     return program, passes
 
 
-def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 2) -> list[bool]:
+def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 1) -> list[bool]:
     """For each candidate, whether it holds: outputs invariant, dynamics equivariant.
 
     Checked for the finite transformation (at a random eps) and for its generator
@@ -187,7 +187,7 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
     return result
 
 
-def verify(symmetry: Symmetry, system: System, seed: int = 0, points: int = 2) -> bool:
+def verify(symmetry: Symmetry, system: System, seed: int = 0, points: int = 1) -> bool:
     """Whether one candidate holds (see :func:`verify_all`)."""
     return verify_all(system, [symmetry], seed, points)[0]
 
