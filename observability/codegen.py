@@ -139,18 +139,7 @@ def discretize(system: System, dt: sympy.Expr | float | str = "dt", method: str 
         if step in system.states or step in system.inputs:
             raise ModelError(f"{step} is a state or input; choose another name for the time step")
         parameters.append(step)
-    return System(
-        system.states,
-        list(nxt),
-        dict(system.outputs),
-        inputs=system.inputs,
-        parameters=parameters,
-        time="discrete",
-        name=system.name,
-        description=system.description,
-        parameter_values=system.parameter_values,
-        symmetries=system.symmetry_source,
-    )
+    return system.replace(dynamics=list(nxt), parameters=parameters, time="discrete", inverse_dynamics=None)
 
 
 @dataclass(frozen=True)

@@ -88,16 +88,4 @@ def eliminate_previous_state(system: System, method: Previous = "inverse") -> Sy
     else:
         act = dict(zip(system.states, system.dynamics)) | dict(zip(system.previous_states, system.states))
     outputs = {name: expr.xreplace(act) for name, expr in system.outputs}
-    return System(
-        system.states,
-        system.dynamics,
-        outputs,
-        inputs=system.inputs,
-        parameters=system.parameters,
-        time="discrete",
-        name=system.name,
-        inverse_dynamics=system.inverse_dynamics,
-        description=system.description,
-        parameter_values=system.parameter_values,
-        symmetries=system.symmetry_source,
-    )
+    return system.replace(outputs=outputs)

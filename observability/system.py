@@ -290,6 +290,26 @@ class System:
             return expr
         return expr.xreplace(dict(self.parameter_values))
 
+    def replace(self, **changes: Any) -> System:
+        """A new, validated System with the given constructor arguments changed."""
+        arguments = {
+            "states": self.states,
+            "dynamics": self.dynamics,
+            "outputs": dict(self.outputs),
+            "inputs": self.inputs,
+            "parameters": self.parameters,
+            "time": self.time,
+            "name": self.name,
+            "inverse_dynamics": self.inverse_dynamics,
+            "description": self.description,
+            "parameter_values": self.parameter_values,
+            "symmetries": self.symmetry_source,
+        }
+        unknown = set(changes) - set(arguments)
+        if unknown:
+            raise TypeError(f"System.replace got unknown argument {sorted(unknown)[0]!r}")
+        return System(**(arguments | changes))
+
     def with_values(self, **values: Any) -> System:
         """A copy in which the named parameters have the given numeric values."""
         names = {s.name: s for s in self.parameters}
@@ -298,19 +318,7 @@ class System:
             if key not in names:
                 raise ModelError(f"unknown parameter {key!r} (parameters: {', '.join(names) or 'none'})")
             merged[names[key]] = _scalar(value, f"parameter {key}", {}, False)
-        return System(
-            self.states,
-            self.dynamics,
-            dict(self.outputs),
-            inputs=self.inputs,
-            parameters=self.parameters,
-            time=self.time,
-            name=self.name,
-            inverse_dynamics=self.inverse_dynamics,
-            description=self.description,
-            parameter_values=merged.items(),
-            symmetries=self.symmetry_source,
-        )
+        return self.replace(parameter_values=merged.items())
 
     def __repr__(self) -> str:
         return (
