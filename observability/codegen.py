@@ -42,7 +42,7 @@ import casadi
 import sympy
 
 from .errors import ModelError, UnsupportedExpressionError
-from .expressions import prev
+from .expressions import parse_number, prev
 from .system import System
 
 __all__ = ["FilterFunctions", "discretize", "filter_functions", "to_casadi", "compile_functions", "write_c"]
@@ -117,7 +117,10 @@ def discretize(system: System, dt: sympy.Expr | float | str = "dt", method: str 
     """
     if system.time == "discrete":
         return system
-    step = sympy.Symbol(dt) if isinstance(dt, str) else sympy.nsimplify(dt)
+    if isinstance(dt, str):
+        step = sympy.Symbol(dt) if dt.isidentifier() else parse_number(dt, "time step")
+    else:
+        step = sympy.nsimplify(dt)
     x = sympy.Matrix(system.states)
     f = sympy.Matrix(system.dynamics)
 

@@ -139,3 +139,11 @@ def test_consistency_report(tmp_path):
     text = (tmp_path / "consistency.md").read_text()
     assert "| cloning EKF |" in text and (tmp_path / "consistency_nees.png").stat().st_size > 1000
     assert "cloning EKF" in out.stdout and "naive EKF" in out.stdout
+
+
+def test_unwritable_output_is_a_clear_error(tmp_path):
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("not a folder")
+    out = run("latex", "slam1.5d", "--out", str(blocker / "m.tex"))
+    assert out.returncode == 2
+    assert len(out.stderr.strip().splitlines()) == 1 and "Traceback" not in out.stderr
