@@ -15,6 +15,11 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     bearing = "atan2(by - y, bx - x) - th"
     [inverse]                         # discrete only, optional: x_{k-1} in terms of x_k
     x = "x - v*cos(th)"
+    [symmetries.rotation]             # optional candidate symmetries, group parameter epsilon
+    description = "turns the pose about the beacon"
+    x = "bx + cos(epsilon)*(x - bx) - sin(epsilon)*(y - by)"
+    y = "by + sin(epsilon)*(x - bx) + cos(epsilon)*(y - by)"
+    th = "th + epsilon"
 
 Expressions are parsed by :func:`observability.expressions.parse_expression`.
 """
@@ -25,13 +30,16 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+import sympy
+
 from .errors import ModelError, ModelFileError
-from .expressions import parse_number
+from .expressions import parse_expression, parse_number
+from .symmetry import EPSILON, Symmetry
 from .system import System
 
 __all__ = ["load_model", "parse_model"]
 
-_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description"}
+_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries"}
 
 
 def load_model(path: str | Path) -> System:
@@ -77,6 +85,29 @@ def _table(data: dict[str, Any], key: str, source: str, required: bool) -> dict[
     return value
 
 
+def _symmetries(raw: Any, states: list[str], inputs: list[str], parameters: Any, source: str) -> list[Symmetry]:
+    """``[symmetries.NAME]`` tables: state = "image in epsilon", optional description."""
+    if not isinstance(raw, dict):
+        raise ModelFileError(f"{source}: [symmetries] must hold tables [symmetries.NAME]")
+    names = {n: sympy.Symbol(n) for n in (*states, *inputs, *parameters)} | {"epsilon": EPSILON}
+    out = []
+    for name, table in raw.items():
+        if not isinstance(table, dict):
+            raise ModelFileError(f"{source}: symmetries.{name} must be a table of state = \"expression\"")
+        description = table.get("description", "")
+        if not isinstance(description, str):
+            raise ModelFileError(f"{source}: symmetries.{name}.description must be a string")
+        images = {}
+        for key, text in table.items():
+            if key == "description":
+                continue
+            if key not in states:
+                raise ModelFileError(f"{source}: symmetries.{name}.{key}: {key!r} is not a state")
+            images[key] = parse_expression(text, names, where=f"{source}: symmetries.{name}.{key}")
+        out.append(Symmetry.of(name, description, images))
+    return out
+
+
 def parse_model(text: str, source: str = "<model>") -> System:
     """Build a :class:`System` from the text of a TOML model file."""
     try:
@@ -112,6 +143,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ModelFileError(f"{source}: 'description' must be a string")
+    symmetries = _symmetries(data.get("symmetries", {}), states, inputs, parameters, source)
     try:
         return System(
             states,
@@ -123,6 +155,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
             name=name,
             inverse_dynamics=inverse,
             description=description,
+            symmetries=symmetries,
         )
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None

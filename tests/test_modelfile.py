@@ -86,3 +86,22 @@ def test_bad_file_message_names_file_and_problem(case, tmp_path, monkeypatch):
 def test_missing_file():
     with pytest.raises(ModelFileError, match="cannot read model file"):
         load_model("/nonexistent/model.toml")
+
+
+def test_symmetries_from_a_file_are_verified_and_named(tmp_path):
+    """A rotation about the beacon declared in the file names the unobservable
+    direction; a declaration that is no symmetry (heading left out) is rejected
+    by the verification, leaving the direction unnamed."""
+    from observability import analyze
+
+    rotation = (
+        '[symmetries.rotation]\ndescription = "turns the pose about the beacon"\n'
+        'x = "bx + cos(epsilon)*(x - bx) - sin(epsilon)*(y - by)"\n'
+        'y = "by + sin(epsilon)*(x - bx) + cos(epsilon)*(y - by)"\n'
+    )
+    good = parse_model(EXAMPLE + rotation + 'th = "th + epsilon"\n')
+    assert [d.name for d in analyze(good, seed=1).unobservable_directions] == ["rotation"]
+    bad = parse_model(EXAMPLE + rotation)
+    assert [d.name for d in analyze(bad, seed=1).unobservable_directions] == ["unnamed direction"]
+    with pytest.raises(ModelFileError, match="symmetries.r.z: 'z' is not a state"):
+        parse_model(EXAMPLE + '[symmetries.r]\nz = "1"\n')
