@@ -17,6 +17,7 @@ from pathlib import Path
 from .analysis import METHODS, ObservabilityResult, analyze
 from .errors import ObservabilityError
 from .modelfile import load_model
+from .progress import clear_line, status_line
 from .system import System
 
 __all__ = ["main"]
@@ -62,25 +63,8 @@ def resolve_model(model: str, options: dict[str, str], time: str | None = None) 
     raise _UsageError(f"unknown model {model!r}: not a built-in ({', '.join(models.BUILTINS)}) and no such file")
 
 
-def _progress():
-    if not sys.stderr.isatty():
-        return None
-
-    def show(line: str) -> None:
-        sys.stderr.write(f"\r\x1b[K{line}")
-        sys.stderr.flush()
-
-    return show
-
-
-def _clear_progress(progress) -> None:
-    if progress is not None:
-        sys.stderr.write("\r\x1b[K")
-        sys.stderr.flush()
-
-
 def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
-    progress = _progress()
+    progress = status_line()
     try:
         return analyze(
             system,
@@ -93,7 +77,7 @@ def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
             progress=progress,
         )
     finally:
-        _clear_progress(progress)
+        clear_line()
 
 
 def _table(results: list[ObservabilityResult]) -> str:

@@ -7,7 +7,28 @@ import time
 from collections.abc import Callable
 from typing import TextIO
 
-__all__ = ["progress_line"]
+__all__ = ["progress_line", "status_line", "clear_line"]
+
+
+def status_line(stream: TextIO | None = None) -> Callable[[str], None] | None:
+    """A function that redraws one status line on a terminal; None when not a terminal."""
+    stream = stream or sys.stderr
+    if not stream.isatty():
+        return None
+
+    def show(text: str) -> None:
+        stream.write(f"\r\x1b[K{text}")
+        stream.flush()
+
+    return show
+
+
+def clear_line(stream: TextIO | None = None) -> None:
+    """Erase the status line (only on a terminal)."""
+    stream = stream or sys.stderr
+    if stream.isatty():
+        stream.write("\r\x1b[K")
+        stream.flush()
 
 
 def progress_line(label: str, total: int, stream: TextIO | None = None, force: bool | None = None) -> Callable[[int], None]:
@@ -26,8 +47,7 @@ def progress_line(label: str, total: int, stream: TextIO | None = None, force: b
         elapsed = time.perf_counter() - start
         eta = elapsed / done * (total - done) if done else float("nan")
         stream.write(f"\r\x1b[K{label}: {done}/{total}, {elapsed:.1f} s, about {eta:.0f} s left")
-        if done >= total:
-            stream.write("\r\x1b[K")
+        stream.write("\r\x1b[K" if done >= total else "")
         stream.flush()
 
     return tick
