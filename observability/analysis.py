@@ -9,7 +9,8 @@ from typing import Any, Literal
 
 import sympy
 
-from .inverse import Previous, eliminate_previous_state
+from .errors import ModelError
+from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
 from .randomized import randomized_rank
 from .symbolic import Undecided, null_space, observability_rows, symbolic_rank, with_budget
@@ -63,6 +64,10 @@ class ObservabilityResult:
     within its budget. ``error_probability`` bounds the chance that the verdict is
     wrong (0 for the exact symbolic rank and for a full randomized rank; None for
     the floating-point method, whose reliability is described by its gap).
+    ``observable_states`` is None when it is not known (the symbolic null space
+    was not computed), never an empty tuple that would read as "none".
+    ``lower_bound`` is a rank that is certain when the verdict is undecided
+    (e.g. the orders allowed were cut while the rank was still growing).
     """
 
     model: str
@@ -73,20 +78,23 @@ class ObservabilityResult:
     seed: int | None
     error_probability: float | None
     orders: int | None
-    observable_states: tuple[str, ...]
+    observable_states: tuple[str, ...] | None
     unobservable_directions: tuple[UnobservableDirection, ...]
     seconds: float
     details: str
     time: str = "continuous"
     singular_values: tuple[float, ...] | None = None
     row_labels: tuple[tuple[str, int], ...] = field(default=(), repr=False)
+    lower_bound: int | None = None
 
     @property
     def n_states(self) -> int:
         return len(self.states)
 
     @property
-    def unobservable_states(self) -> tuple[str, ...]:
+    def unobservable_states(self) -> tuple[str, ...] | None:
+        if self.observable_states is None:
+            return None
         return tuple(s for s in self.states if s not in self.observable_states)
 
     def to_dict(self) -> dict[str, Any]:
@@ -102,8 +110,11 @@ class ObservabilityResult:
             "seed": self.seed,
             "error_probability": self.error_probability,
             "orders": self.orders,
-            "observable_states": list(self.observable_states),
-            "unobservable_states": list(self.unobservable_states) if self.rank is not None else None,
+            "rank_lower_bound": self.lower_bound,
+            "observable_states": list(self.observable_states) if self.observable_states is not None else None,
+            "unobservable_states": (
+                list(self.unobservable_states) if self.rank is not None and self.observable_states is not None else None
+            ),
             "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
             "singular_values": list(self.singular_values) if self.singular_values is not None else None,
             "details": self.details,
@@ -132,7 +143,7 @@ class ObservabilityResult:
             ("verdict", self.verdict()),
             ("rank", f"{self.rank} of {self.n_states}"),
             ("method", f"{self.method}: {self.details}"),
-            ("observable states", ", ".join(self.observable_states) or "none"),
+            ("observable states", _state_list(self.observable_states)),
         ]
         rows += [(d.name, ", ".join(f"{k}: {v}" for k, v in d.vector.items())) for d in self.unobservable_directions]
         body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in rows)
@@ -146,12 +157,20 @@ class ObservabilityResult:
         ]
         if self.rank is not None:
             lines.append(f"  Lie orders used: 0..{self.orders}")
-            lines.append(f"  observable states: {', '.join(self.observable_states) or 'none'}")
+            lines.append(f"  observable states: {_state_list(self.observable_states)}")
             if not self.observable:
-                lines.append(f"  not observable: {', '.join(self.unobservable_states)}")
+                lines.append(f"  not observable: {_state_list(self.unobservable_states)}")
+        elif self.lower_bound is not None:
+            lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d}")
         return "\n".join(lines)
+
+
+def _state_list(names: tuple[str, ...] | None) -> str:
+    if names is None:
+        return "unknown"
+    return ", ".join(names) or "none"
 
 
 def _vector(states: tuple[sympy.Symbol, ...], vector: list[sympy.Expr]) -> dict[str, str]:
@@ -165,6 +184,7 @@ def _unobservable_directions(
     input_derivatives: int | None,
     budget: float | None,
     seed: int,
+    previous: str = "inverse",
 ) -> tuple[tuple[UnobservableDirection, ...], list[list[sympy.Expr]] | None, str]:
     """Named symmetries first; then symbolic null vectors that extend them.
 
@@ -172,7 +192,8 @@ def _unobservable_directions(
     and a note for the details line.
     """
     named, _ = name_null_space(system, nullity, system.symmetries, seed=seed)
-    basis: list[list[sympy.Expr]] | None = None
+    # Independent verified generators as many as the nullity span the null space.
+    basis: list[list[sympy.Expr]] | None = [v for _, v in named] if len(named) == nullity else None
     unnamed: list[list[sympy.Expr]] = []
     note = ""
     if len(named) < nullity:
@@ -182,7 +203,7 @@ def _unobservable_directions(
             seconds = DIRECTIONS_BUDGET if budget is None else min(budget, DIRECTIONS_BUDGET)
 
             def work() -> list[list[sympy.Expr]]:
-                matrix, _ = observability_rows(system, orders, input_derivatives)
+                matrix, _ = observability_rows(system, orders, input_derivatives, previous)
                 return null_space(matrix)
 
             try:
@@ -226,9 +247,12 @@ def analyze(
     input_derivatives : int, optional
         Number of non-zero derivatives of each input (continuous time).
     max_order : int, optional
-        Highest Lie order to try (default n - 1).
+        Highest Lie order to try (default: the order that always suffices, n - 1,
+        or n for a discrete map that is not a local diffeomorphism). When it cuts
+        the expansion while the rank could still grow and the rank is not full, the
+        verdict is "undecided" with the rank found as a lower bound.
     budget : float or None
-        Seconds allowed for symbolic work (the symbolic rank, and the symbolic
+        CPU seconds allowed for symbolic work (the symbolic rank, and the symbolic
         unobservable directions of the other methods); None: unlimited.
     point : mapping, optional
         Float method: values of states, parameters and input derivatives.
@@ -243,20 +267,46 @@ def analyze(
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if previous not in PREVIOUS_METHODS:
+        raise ModelError(f"previous-state method must be one of {', '.join(PREVIOUS_METHODS)}, got {previous!r}")
+    if max_order is not None and max_order < 0:
+        raise ModelError(f"max_order must be a non-negative integer, got {max_order}")
+    if input_derivatives is not None and input_derivatives < 0:
+        raise ModelError(f"input_derivatives must be a non-negative integer, got {input_derivatives}")
     start = time.perf_counter()
-    if system.time == "discrete":
+    if system.time == "discrete" and previous == "inverse":
         system = eliminate_previous_state(system, previous)
     states = system.states
     names = tuple(s.name for s in states)
     n = len(states)
     singular_values = None
     labels: tuple[tuple[str, int], ...] = ()
+
+    def undecided(details: str, lower: int | None = None, orders: int | None = None) -> ObservabilityResult:
+        return ObservabilityResult(
+            model=system.name, states=names, rank=None, observable=None, method=method, seed=seed,
+            error_probability=None, orders=orders, observable_states=None, unobservable_directions=(),
+            seconds=time.perf_counter() - start, details=f"undecided: {details}", time=system.time,
+            lower_bound=lower,
+        )
+
+    def truncated(rank: int, orders: int, rule: str, certain: bool) -> ObservabilityResult:
+        return undecided(
+            f"rank {rank} of {n} at orders 0..{orders} is only a lower bound: the order limit {max_order} "
+            f"was reached while the rank could still grow ({rule})",
+            lower=rank if certain else None,
+            orders=orders,
+        )
+
     if method == "random":
         result = randomized_rank(
-            system, seed=seed, input_derivatives=input_derivatives, max_order=max_order, progress=progress
+            system, seed=seed, input_derivatives=input_derivatives, max_order=max_order, progress=progress,
+            previous=previous,
         )
         rank, orders, seed, labels = result.rank, result.orders, result.seed, result.row_labels
-        observable_columns = result.observable_columns
+        if not result.complete and rank < n:
+            return truncated(rank, orders, result.rule, True)
+        observable_columns: tuple[int, ...] | None = result.observable_columns
         probability = result.error_probability
         if rank == n:
             details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain"
@@ -267,18 +317,21 @@ def analyze(
             )
     elif method == "symbolic":
         try:
-            sym = with_budget(symbolic_rank, system, input_derivatives, max_order, seconds=budget)
+            sym = with_budget(symbolic_rank, system, input_derivatives, max_order, previous, seconds=budget)
         except Undecided as exc:
-            return ObservabilityResult(
-                model=system.name, states=names, rank=None, observable=None, method=method, seed=None,
-                error_probability=None, orders=None, observable_states=(), unobservable_directions=(),
-                seconds=time.perf_counter() - start, details=f"undecided: {exc}", time=system.time,
-            )
+            return undecided(str(exc))
+        if not sym.complete and sym.rank < n:
+            return truncated(sym.rank, sym.orders, sym.rule, True)
         rank, orders, labels, probability, seed = sym.rank, sym.orders, sym.row_labels, 0.0, None
         details = "exact generic rank over the field of rational functions"
         observable_columns = tuple(range(n)) if rank == n else None
     else:
-        fr = float_rank(system, seed=seed, point=point, input_derivatives=input_derivatives, max_order=max_order)
+        fr = float_rank(
+            system, seed=seed, point=point, input_derivatives=input_derivatives, max_order=max_order,
+            previous=previous,
+        )
+        if not fr.complete and fr.rank < n:
+            return truncated(fr.rank, fr.orders, fr.rule, False)
         rank, orders, labels, probability = fr.rank, fr.orders, fr.row_labels, None
         singular_values = fr.singular_values
         observable_columns = fr.observable_columns
@@ -291,15 +344,20 @@ def analyze(
     found: tuple[UnobservableDirection, ...] = ()
     basis = None
     if rank < n and (directions or observable_columns is None):
-        found, basis, note = _unobservable_directions(system, n - rank, orders, input_derivatives, budget, seed or 0)
+        found, basis, note = _unobservable_directions(
+            system, n - rank, orders, input_derivatives, budget, seed or 0, previous
+        )
         if note:
             details += f"; {note}"
+    observable_states: tuple[str, ...] | None
     if observable_columns is None:
         if basis is None:
-            observable_columns = ()
+            observable_states = None
             details += "; observable states unknown"
         else:
-            observable_columns = tuple(i for i in range(n) if all(v[i] == 0 for v in basis))
+            observable_states = tuple(names[i] for i in range(n) if all(v[i] == 0 for v in basis))
+    else:
+        observable_states = tuple(names[i] for i in observable_columns)
     return ObservabilityResult(
         model=system.name,
         states=names,
@@ -309,7 +367,7 @@ def analyze(
         seed=seed,
         error_probability=probability,
         orders=orders,
-        observable_states=tuple(names[i] for i in observable_columns),
+        observable_states=observable_states,
         unobservable_directions=found,
         seconds=time.perf_counter() - start,
         details=details,

@@ -3,22 +3,25 @@
 Shared by the exact route (rows mod p into an incremental echelon form) and the
 floating-point route (rows as floats, rank by SVD): the program is compiled once,
 the evaluator expands it one order at a time, and rows are handed to a *sink*
-that knows its rank. Expansion stops when an order adds nothing, the rank
-reaches n, or ``max_order`` is reached.
+that knows its rank. Expansion stops when the rank reaches n, when an order adds
+nothing and that provably ends the growth (:func:`stopping_rule`), or at
+``max_order``; an expansion cut by ``max_order`` says so (``complete``).
 """
 
 from __future__ import annotations
 
+import random
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
 
-from .lie import lie_derivatives
+from .echelon import ModularEchelon
+from .lie import lie_derivatives, step_input
 from .program import Program
 from .system import System
-from .taylor import Redraw, TaylorEvaluator
+from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["RowSink", "Expansion", "expand_rows"]
+__all__ = ["RowSink", "Expansion", "expand_rows", "map_is_dominant", "stopping_rule"]
 
 Progress = Callable[[str], None]
 EvaluatorFactory = Callable[..., TaylorEvaluator]
@@ -34,12 +37,64 @@ class RowSink(Protocol):
 
 @dataclass(frozen=True)
 class Expansion:
-    """What was expanded: the highest order, the row labels, the program."""
+    """What was expanded: the highest order, the row labels, the program.
+
+    ``complete`` says whether the rank found is the rank of the whole
+    observability matrix at the point: False only when ``max_order`` cut the
+    expansion before the stopping rule allowed it to end (the rank is then a
+    lower bound).
+    """
 
     orders: int
     row_labels: tuple[tuple[str, int], ...]
     program: Program
     output_roots: tuple[int, ...]
+    complete: bool = True
+    rule: str = ""
+
+
+def map_is_dominant(system: System, seed: int = 0) -> bool:
+    """Whether the discrete-time map F is a local diffeomorphism at a generic point.
+
+    Decided by the rank of its Jacobian at random points mod p: a full rank there
+    is a proof (a non-zero minor at a point is a non-zero polynomial); anything
+    else is answered False, which only makes the caller compute more orders.
+    """
+    rng = random.Random(seed)
+    inputs = {u: step_input(u, 0) for u in system.inputs}
+    for _ in range(4):
+        program = Program(system.states, (), where=system.name)
+        nodes = [program.add(system.substitute_values(f).xreplace(inputs)) for f in system.dynamics]
+        evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
+        try:
+            evaluator.extend()
+        except Redraw:
+            continue
+        echelon = ModularEchelon(system.n, PRIME)
+        for node in nodes:
+            echelon.add_row(evaluator.coefficient(node, 0)[1])
+        if echelon.rank == system.n:
+            return True
+    return False
+
+
+def stopping_rule(system: System, previous: str = "inverse") -> tuple[int, bool, str]:
+    """(order that always suffices, whether a first order adding nothing ends it, rule in words).
+
+    Continuous time, and discrete time with a dominant map: the codistribution
+    filtration is stationary from the first order that adds nothing, and some
+    order below n adds nothing unless the rank is full, so n - 1 suffices.
+    A discrete map that collapses the state (not dominant) can add nothing at one
+    order and more later (x1+ = 0, x2+ = x4, x3+ = x2 + x3, x4+ = x4 with outputs
+    x1, x1 x2, x3: ranks 3, 3, 4); there the images F^k(X) stabilise after
+    m <= n - dim V steps, and on the limit V the map is dominant, so the rank is
+    final at order n, which is computed in full.
+    """
+    if system.time == "continuous":
+        return system.n - 1, True, "continuous time: stop at the first order that adds nothing"
+    if map_is_dominant(system):
+        return system.n - 1, True, "discrete map of full Jacobian rank: stop at the first order that adds nothing"
+    return system.n, False, "discrete map of deficient Jacobian rank: every order up to n computed"
 
 
 def expand_rows(
@@ -47,12 +102,16 @@ def expand_rows(
     sink: RowSink,
     make_evaluator: EvaluatorFactory,
     *,
-    max_order: int,
+    max_order: int | None = None,
     progress: Progress | None = None,
+    previous: str = "inverse",
+    exhaustive: bool = False,
 ) -> Expansion:
-    """Feed the rows of orders 0, 1, ... into ``sink`` until the rank stops growing.
+    """Feed the rows of orders 0, 1, ... into ``sink`` until the rank is final.
 
     ``make_evaluator(program, discrete=...)`` builds the evaluator at the point.
+    ``max_order`` caps the orders (default: the order that always suffices, see
+    :func:`stopping_rule`); ``exhaustive`` computes every order up to it.
 
     Raises
     ------
@@ -61,16 +120,18 @@ def expand_rows(
     """
     program = Program(system.states, system.inputs if system.time == "continuous" else (), where=system.name)
     try:
-        return _expand(system, sink, make_evaluator, program, max_order, progress)
+        return _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive)
     except Redraw as exc:
         exc.source = program.source.get(exc.node, f"node {exc.node}")
         raise
 
 
-def _expand(system, sink, make_evaluator, program, max_order, progress) -> Expansion:
+def _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive) -> Expansion:
     n = system.n
     labels: list[tuple[str, int]] = []
     roots: list[int] = []
+    sufficient, early_stop, rule = stopping_rule(system, previous)
+    limit = sufficient if max_order is None else max_order
     if system.time == "continuous":
         for expr in system.dynamics:
             program.add(system.substitute_values(expr))
@@ -83,7 +144,7 @@ def _expand(system, sink, make_evaluator, program, max_order, progress) -> Expan
 
     else:
         evaluator = make_evaluator(program, discrete=True)
-        blocks = lie_derivatives(system)
+        blocks = lie_derivatives(system, previous=previous)
 
         def rows_of(order: int):
             block = next(blocks)
@@ -100,6 +161,10 @@ def _expand(system, sink, make_evaluator, program, max_order, progress) -> Expan
             labels.append((name, order))
         if progress:
             progress(f"order {order}: rank {sink.rank}/{n}")
-        if sink.rank == n or sink.rank == before or order >= max_order:
-            return Expansion(order, tuple(labels), program, tuple(roots))
+        grew = sink.rank > before
+        if not exhaustive and (sink.rank == n or (early_stop and not grew)):
+            return Expansion(order, tuple(labels), program, tuple(roots), True, rule)
+        if order >= limit:
+            complete = sink.rank == n or order >= sufficient or (early_stop and not grew)
+            return Expansion(order, tuple(labels), program, tuple(roots), complete, rule)
         order += 1

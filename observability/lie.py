@@ -70,22 +70,38 @@ def _continuous(system: System, input_derivatives: int | None) -> Iterator[list[
         order += 1
 
 
-def _discrete(system: System) -> Iterator[list[LieRow]]:
-    outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system).outputs]
+def _discrete(system: System, previous: str) -> Iterator[list[LieRow]]:
     F = [system.substitute_values(e) for e in system.dynamics]
     x = list(system.states)
+    if previous == "augment" and system.uses_previous_state:
+        # The unknown is z = x_{-1}: x_0 = F(z, u[-1]), and the output of step k
+        # is h(x_k, x_{k-1}, u[k]) with x_k = F(x_{k-1}, u[k-1]). Each input
+        # symbol is the one that really moved the state, so the output's own
+        # input u[k] is the input of the next transition, not of the last one.
+        outputs = [(name, system.substitute_values(e)) for name, e in system.outputs]
+        before = {u: step_input(u, -1) for u in system.inputs}
+        last, x = x, [fi.xreplace(dict(zip(system.states, x)) | before) for fi in F]
+    else:
+        outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system).outputs]
+        last = None
     k = 0
     while True:
         inputs = {u: step_input(u, k) for u in system.inputs}
         for sym in {s for _, e in outputs for s in e.free_symbols if is_previous(s)}:
             inputs[sym] = step_input(sympy.Symbol(previous_of(sym)), k - 1)
         at = dict(zip(system.states, x)) | inputs
+        if last is not None:
+            at |= dict(zip(system.previous_states, last))
         yield [LieRow(name, k, expr.xreplace(at)) for name, expr in outputs]
-        x = [fi.xreplace(at) for fi in F]
+        last, x = x, [fi.xreplace(dict(zip(system.states, x)) | {u: step_input(u, k) for u in system.inputs}) for fi in F]
+        if previous != "augment" or not system.uses_previous_state:
+            last = None
         k += 1
 
 
-def lie_derivatives(system: System, input_derivatives: int | None = None) -> Iterator[list[LieRow]]:
+def lie_derivatives(
+    system: System, input_derivatives: int | None = None, previous: str = "inverse"
+) -> Iterator[list[LieRow]]:
     """Yield, order by order, the functions whose gradients form the matrix.
 
     Parameters
@@ -94,6 +110,10 @@ def lie_derivatives(system: System, input_derivatives: int | None = None) -> Ite
     input_derivatives : int or None
         Continuous time only: how many derivatives of each input may be non-zero
         (None: as many as the order needs, i.e. a generic input).
+    previous : {"inverse", "augment"}
+        Discrete time, outputs that use ``prev()``: rewrite x_{k-1} by the inverse
+        motion model, or take the previous state x_{-1} as the unknown (see
+        :mod:`observability.inverse`).
 
     Yields
     ------
@@ -103,4 +123,4 @@ def lie_derivatives(system: System, input_derivatives: int | None = None) -> Ite
     """
     if system.time == "continuous":
         return _continuous(system, input_derivatives)
-    return _discrete(system)
+    return _discrete(system, previous)

@@ -51,6 +51,8 @@ class FloatRank:
     observable_columns: tuple[int, ...]
     null_space: tuple[tuple[float, ...], ...]
     row_labels: tuple[tuple[str, int], ...]
+    complete: bool = True
+    rule: str = ""
 
 
 def numeric_rank(matrix: np.ndarray) -> tuple[int, np.ndarray, float, float, np.ndarray]:
@@ -98,6 +100,7 @@ def float_rank(
     point: Mapping[str, float] | None = None,
     input_derivatives: int | None = None,
     max_order: int | None = None,
+    previous: str = "inverse",
 ) -> FloatRank:
     """Rank of the observability matrix in floating point at one point.
 
@@ -114,7 +117,6 @@ def float_rank(
         When the point given is singular, or 20 random points all are.
     """
     n = system.n
-    limit = n - 1 if max_order is None else max_order
     rng = random.Random(seed)
     for _attempt in range(1 if point else 20):
         values = {str(k): float(v) for k, v in (point or {}).items()}
@@ -126,7 +128,7 @@ def float_rank(
             )
 
         try:
-            expansion = expand_rows(system, sink, make, max_order=limit)
+            expansion = expand_rows(system, sink, make, max_order=max_order, previous=previous)
         except Redraw as exc:
             last = exc
             continue
@@ -142,5 +144,7 @@ def float_rank(
             observable_columns=observable,
             null_space=tuple(tuple(float(v) for v in vec) for vec in null),
             row_labels=expansion.row_labels,
+            complete=expansion.complete,
+            rule=expansion.rule,
         )
     raise SingularModelError(f"{system.name}: the observability matrix is singular at the point ({last.reason})")

@@ -27,7 +27,7 @@ import sympy
 
 from .errors import UnsupportedExpressionError
 
-__all__ = ["Op", "Program"]
+__all__ = ["Op", "Program", "PRIME"]
 
 
 class Op(IntEnum):
@@ -47,6 +47,10 @@ class Op(IntEnum):
     ATAN2 = 13  # args: (y, x)
 
 
+#: The Mersenne prime 2^61 - 1 of the exact arithmetic: large enough that a
+#: random point is bad with negligible probability, small enough for fast
+#: Python integers.
+PRIME = (1 << 61) - 1
 _LEAVES = (Op.STATE, Op.INPUT, Op.CONST, Op.RANDOM)
 _FREE_VALUES = (Op.EXP, Op.LOG, Op.ATAN2)
 
@@ -105,6 +109,15 @@ class Program:
         return index
 
     def _const(self, value: sympy.Rational) -> int:
+        # The rank mod p is a lower bound whatever the constants, but the stated
+        # error probability assumes the minors do not vanish identically mod p;
+        # a constant with p in its numerator or denominator (a parameter value of
+        # 2^61 - 1, say) could make them.
+        if value != 0 and (value.p % PRIME == 0 or value.q % PRIME == 0):
+            raise UnsupportedExpressionError(
+                f"the constant {value} is a multiple of the working prime 2^61-1 in its numerator or "
+                "denominator; rescale the model's units"
+            )
         return self._node(Op.CONST, (value,), True, (0, 0))
 
     def _add(self, items: list[int]) -> int:

@@ -61,6 +61,15 @@ class ModularRank:
         A basis of the null space at the point, mod p.
     degree_bound : int
         The bound D on the degree of a minor used for the error probability.
+    complete : bool
+        False when ``max_order`` cut the expansion while the rank could still
+        grow: ``rank`` is then only a lower bound.
+    rule : str
+        The stopping rule applied, in words.
+    independent_rows : tuple[int, ...]
+        Indices (in ``row_labels``) of rows that raised the rank: with
+        ``pivot_columns`` they select a non-singular ``rank`` x ``rank`` minor.
+    pivot_columns : tuple[int, ...]
     """
 
     rank: int
@@ -73,6 +82,26 @@ class ModularRank:
     observable_columns: tuple[int, ...]
     null_space: tuple[dict[int, int], ...]
     degree_bound: int
+    complete: bool = True
+    rule: str = ""
+    independent_rows: tuple[int, ...] = ()
+    pivot_columns: tuple[int, ...] = ()
+
+
+class _RecordingEchelon(ModularEchelon):
+    """An echelon form that remembers which rows raised the rank."""
+
+    def __init__(self, n_columns: int, p: int) -> None:
+        super().__init__(n_columns, p)
+        self.rows_seen = 0
+        self.independent: list[int] = []
+
+    def add_row(self, row) -> bool:
+        grew = super().add_row(row)
+        if grew:
+            self.independent.append(self.rows_seen)
+        self.rows_seen += 1
+        return grew
 
 
 def _height(program: Program, node: int) -> int:
@@ -108,14 +137,14 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
     return bound * (2**program.n_sqrt)
 
 
-def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int, progress):
-    echelon = ModularEchelon(system.n, PRIME)
+def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous):
+    echelon = _RecordingEchelon(system.n, PRIME)
 
     def make(program: Program, discrete: bool) -> TaylorEvaluator:
         return TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
 
-    expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress)
-    return echelon, expansion.orders, list(expansion.row_labels), expansion.program, list(expansion.output_roots)
+    expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous)
+    return echelon, expansion
 
 
 def randomized_rank(
@@ -126,11 +155,14 @@ def randomized_rank(
     max_order: int | None = None,
     target: float = 1e-9,
     progress: Progress | None = None,
+    previous: str = "inverse",
 ) -> ModularRank:
     """Exact rank of the observability matrix at random points modulo 2^61 - 1.
 
-    Rows are added order by order until the rank stops growing, reaches n, or
-    ``max_order`` (default n - 1) is reached.
+    Rows are added order by order until the rank reaches n, the stopping rule
+    ends the growth (:func:`observability.expansion.stopping_rule`), or
+    ``max_order`` is reached (then ``complete`` is False unless the rule had
+    already ended it).
 
     Parameters
     ----------
@@ -155,9 +187,8 @@ def randomized_rank(
     if seed is None:
         seed = random.SystemRandom().randrange(2**32)
     rng = random.Random(seed)
-    if system.time == "discrete":
+    if system.time == "discrete" and previous == "inverse":
         eliminate_previous_state(system)  # fail early, before any point is drawn
-    limit_order = system.n - 1 if max_order is None else max_order
     best = None
     probability = 1.0
     draws = 0
@@ -165,7 +196,7 @@ def randomized_rank(
         attempts, limit = 0, _MAX_ATTEMPTS
         while True:
             try:
-                echelon, order, labels, program, out_roots = _one_point(system, rng, input_derivatives, limit_order, progress)
+                echelon, expansion = _one_point(system, rng, input_derivatives, max_order, progress, previous)
                 break
             except Redraw as exc:
                 attempts += 1
@@ -178,26 +209,34 @@ def randomized_rank(
                     ) from None
         draws += 1
         if best is None or echelon.rank > best[0].rank:
-            best = (echelon, order, labels, program, out_roots)
+            best = (echelon, expansion)
         if best[0].rank == system.n:
             probability = 0.0
             break
-        bound = _degree_bound(program, system, out_roots, echelon.rank, order)
+        # The rank is too low only if a minor one larger than it vanishes at the point.
+        bound = _degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
         probability *= min(1.0, bound / PRIME)
         if probability <= target:
             break
-    echelon, order, labels, program, out_roots = best
+    echelon, expansion = best
+    rank = echelon.rank
     return ModularRank(
-        rank=echelon.rank,
-        orders=order,
-        row_labels=tuple(labels),
+        rank=rank,
+        orders=expansion.orders,
+        row_labels=tuple(expansion.row_labels),
         error_probability=probability,
         draws=draws,
         prime=PRIME,
         seed=seed,
         observable_columns=tuple(echelon.determined_columns()),
         null_space=tuple(echelon.null_space()),
-        degree_bound=_degree_bound(program, system, out_roots, echelon.rank, order),
+        degree_bound=_degree_bound(
+            expansion.program, system, list(expansion.output_roots), min(rank + 1, system.n), expansion.orders
+        ),
+        complete=expansion.complete,
+        rule=expansion.rule,
+        independent_rows=tuple(echelon.independent),
+        pivot_columns=tuple(echelon.pivot_rows),
     )
 
 

@@ -17,6 +17,8 @@ a child process that is stopped when the budget is spent; the caller then says
 from __future__ import annotations
 
 import multiprocessing
+import os
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TypeVar
@@ -24,6 +26,7 @@ from typing import Any, TypeVar
 import sympy
 from sympy.polys.matrices import DomainMatrix
 
+from .expansion import stopping_rule
 from .lie import lie_derivatives
 from .errors import UnsupportedExpressionError
 from .system import System
@@ -93,12 +96,14 @@ class SymbolicRank:
     rank: int
     orders: int
     row_labels: tuple[tuple[str, int], ...]
+    complete: bool = True
+    rule: str = ""
 
 
-def observability_rows(system: System, orders: int, input_derivatives: int | None = None):
+def observability_rows(system: System, orders: int, input_derivatives: int | None = None, previous: str = "inverse"):
     """The symbolic observability matrix with orders 0..``orders`` and its row labels."""
     rows, labels = [], []
-    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+    for k, block in enumerate(lie_derivatives(system, input_derivatives, previous)):
         if k > orders:
             break
         for row in block:
@@ -168,22 +173,28 @@ def generic_rank(matrix: sympy.Matrix) -> int:
     return _field_matrix(rational).rank()
 
 
-def symbolic_rank(system: System, input_derivatives: int | None = None, max_order: int | None = None) -> SymbolicRank:
-    """Generic rank with rows added order by order until it stops growing."""
+def symbolic_rank(
+    system: System, input_derivatives: int | None = None, max_order: int | None = None, previous: str = "inverse"
+) -> SymbolicRank:
+    """Generic rank with rows added order by order until the stopping rule ends it
+    (:func:`observability.expansion.stopping_rule`, shared with the other routes)."""
     n = system.n
-    limit = n - 1 if max_order is None else max_order
+    sufficient, early_stop, rule = stopping_rule(system, previous)
+    limit = sufficient if max_order is None else max_order
     rows: list[list[sympy.Expr]] = []
     labels: list[tuple[str, int]] = []
     rank = 0
-    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+    for k, block in enumerate(lie_derivatives(system, input_derivatives, previous)):
         for row in block:
             rows.append([sympy.diff(row.expression, x) for x in system.states])
             labels.append((row.output, row.order))
         new_rank = generic_rank(sympy.Matrix(rows))
         grew = new_rank > rank
         rank = new_rank
-        if rank == n or not grew or k >= limit:
-            return SymbolicRank(rank, k, tuple(labels))
+        if rank == n or (early_stop and not grew):
+            return SymbolicRank(rank, k, tuple(labels), True, rule)
+        if k >= limit:
+            return SymbolicRank(rank, k, tuple(labels), k >= sufficient, rule)
     raise AssertionError("unreachable")
 
 
@@ -228,22 +239,49 @@ def _child(conn: Any, func: Callable[..., Any], args: tuple) -> None:
         conn.close()
 
 
+def _cpu_seconds(pid: int) -> float | None:
+    """CPU time (user + system) a process has used, from /proc; None where unavailable."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as stat:
+            fields = stat.read().rsplit(b")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+#: A budget is CPU time; the wall clock may run this many times longer (a
+#: loaded machine) before the work is stopped anyway, so nothing hangs.
+WALL_FACTOR = 10.0
+
+
 def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
     """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
-    when it takes longer than ``seconds`` (None: no limit, run in-process).
+    when it uses more than ``seconds`` of CPU time (None: no limit, run
+    in-process).
 
-    The work runs in a forked child process so that it can really be stopped.
+    The work runs in a forked child process so that it can really be stopped. The
+    budget counts the child's CPU time, so the answer does not depend on how
+    loaded the machine is; where CPU time cannot be read (no /proc), wall time
+    is used. The wall clock is capped at ``WALL_FACTOR`` times the budget.
     """
     if seconds is None:
         return func(*args)
+    if not seconds > 0 or seconds == float("inf"):
+        raise ValueError(f"a budget must be a positive finite number of seconds, got {seconds}")
     context = multiprocessing.get_context("fork")
     parent, child = context.Pipe(duplex=False)
     process = context.Process(target=_child, args=(child, func, args), daemon=True)
     process.start()
     child.close()
+    began = time.monotonic()
     try:
-        if not parent.poll(seconds):
-            raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s")
+        while not parent.poll(0.02):
+            used = _cpu_seconds(process.pid)
+            wall = time.monotonic() - began
+            if (used if used is not None else wall) > seconds or wall > WALL_FACTOR * seconds:
+                raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
+            if not process.is_alive() and not parent.poll(0):
+                raise Undecided("the symbolic computation ended without an answer (out of memory?)")
         status, value = parent.recv()
     finally:
         if process.is_alive():

@@ -21,13 +21,10 @@ import math
 import random
 from collections.abc import Sequence
 
-from .program import Op, Program
+from .program import PRIME, Op, Program
 
 __all__ = ["PRIME", "Redraw", "TaylorEvaluator", "FloatTaylorEvaluator", "sqrt_mod"]
 
-#: The Mersenne prime 2^61 - 1: large enough that a random point is bad with
-#: negligible probability, small enough for fast Python integers.
-PRIME = (1 << 61) - 1
 
 Dual = tuple  # (value: int, gradient: dict[int, int])
 _ZERO: Dual = (0, {})

@@ -1,0 +1,224 @@
+"""Routes to a false "certain" verdict, each closed and checked against a reference
+that does not use the engine's stopping rule or its atoms (issue 9).
+
+The references are exact sympy computations: the Jacobian of the stacked outputs
+h, h o F, h o F o F, ... composed symbolically to a depth well beyond any stopping
+rule (n + 2 compositions), and its rank over Q(x)."""
+
+import json
+import random
+import shutil
+import subprocess
+
+import pytest
+import sympy
+
+import models
+from observability import System, analyze
+from observability.errors import ModelError
+
+SCRIPT = shutil.which("observability")
+
+
+def _composed_rank(system: System, depth: int) -> int:
+    """Rank of d(h o F^k), k = 0..depth (inputs of step k: fresh symbols), by
+    sympy: symbolic composition and differentiation, then the exact rational rank
+    at two random integer points with entries up to 10^12 (a rank at a point never
+    exceeds the generic rank, and falls short of it with probability below 1e-9)."""
+    x = list(system.states)
+    rows = []
+    current = list(x)
+    for k in range(depth + 1):
+        step = {u: sympy.Symbol(f"{u.name}_{k}") for u in system.inputs}
+        at = dict(zip(system.states, current)) | step
+        for _, h in system.outputs:
+            e = h.xreplace(at)
+            rows.append([sympy.diff(e, xi) for xi in x])
+        current = [f.xreplace(at) for f in system.dynamics]
+    matrix = sympy.Matrix(rows)
+    symbols = sorted(matrix.free_symbols, key=lambda s: s.name)
+    rng = random.Random(0)
+    best = 0
+    for _ in range(2):
+        point = {s: sympy.Integer(rng.randint(1, 10**12)) for s in symbols}
+        best = max(best, matrix.xreplace(point).rank())
+    return best
+
+
+# Maps that collapse the state: the rank stalls at one order and grows later.
+COLLAPSING = [
+    # The issue's example: ranks by order 3, 3, 4 (x4 reaches x3 only through x2+ = x4).
+    System(["x1", "x2", "x3", "x4"], {"x1": "0", "x2": "x4", "x3": "x2 + x3", "x4": "x4"},
+           {"a": "x1", "b": "x1*x2", "c": "x3"}, time="discrete"),
+    # Ranks 3, 4, 4, 5: x5 enters x4 after three steps, x3 after one.
+    System(["x1", "x2", "x3", "x4", "x5"],
+           {"x1": "0", "x2": "x5", "x3": "x2 + x3", "x4": "x3 + x4", "x5": "x5"},
+           {"a": "x1", "b": "x1*x2", "c": "x4"}, time="discrete"),
+    # Nonlinear: x1 is forgotten after one step; x3 reaches the output through x2 late.
+    System(["x1", "x2", "x3"], {"x1": "0", "x2": "x3**2", "x3": "x3"},
+           {"a": "x1", "b": "x1*x2 + x2**2*0", "c": "x1 + x2"}, time="discrete"),
+    # With an input: the map is not dominant (x2+ does not depend on x2).
+    System(["x1", "x2", "x3"], {"x1": "u*x1", "x2": "x3", "x3": "x3"},
+           {"a": "x1*x2", "b": "x1"}, inputs=["u"], time="discrete"),
+]
+
+
+@pytest.mark.parametrize("system", COLLAPSING, ids=range(len(COLLAPSING)))
+@pytest.mark.parametrize("method", ["random", "symbolic"])
+def test_collapsing_maps_are_expanded_to_order_n(system, method):
+    reference = _composed_rank(system, system.n + 2)
+    result = analyze(system, method, seed=3, budget=None)
+    assert result.rank == reference
+    assert result.observable == (reference == system.n)
+
+
+def test_collapsing_map_reference_really_stalls():
+    """The first example stalls (3, 3) before it grows (4): a stop at the first
+    order adding nothing would be wrong, which is what this test guards."""
+    system = COLLAPSING[0]
+    assert [_composed_rank(system, k) for k in range(3)] == [3, 3, 4]
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_random_collapsing_maps_against_composition(seed):
+    """Random polynomial maps with some coordinates forgotten (set to 0 or to a
+    function of other coordinates), against the exact composed Jacobian."""
+    rng = random.Random(seed)
+    n = rng.randint(2, 4)
+    names = [f"x{i}" for i in range(n)]
+    dynamics = {}
+    for i, name in enumerate(names):
+        kind = rng.random()
+        if kind < 0.3:
+            dynamics[name] = "0"
+        elif kind < 0.6:
+            dynamics[name] = names[rng.randrange(n)]
+        else:
+            a, b = rng.choice(names), rng.choice(names)
+            dynamics[name] = f"{a} + {b}*{rng.choice(names)}"
+    outputs = {"y0": f"{rng.choice(names)}*{rng.choice(names)}"}
+    if rng.random() < 0.7:
+        outputs["y1"] = f"{rng.choice(names)} + {rng.randint(1, 3)}*{rng.choice(names)}"
+    system = System(names, dynamics, outputs, time="discrete")
+    reference = _composed_rank(system, n + 2)
+    assert analyze(system, seed=seed, directions=False).rank == reference
+
+
+# --------------------------------------------------------------- truncated orders
+CHAIN = System(["x1", "x2", "x3"], {"x1": "x2", "x2": "x3", "x3": "0"}, {"y": "x1"})
+
+
+@pytest.mark.parametrize("method", ["random", "symbolic", "float"])
+def test_order_limit_while_growing_is_undecided(method):
+    """x1' = x2, x2' = x3: y, y', y'' = x1, x2, x3, one new state per order, so
+    orders 0..1 give rank 2 but the rank is 3."""
+    cut = analyze(CHAIN, method, seed=1, max_order=1)
+    assert cut.rank is None and cut.observable is None
+    assert "lower bound" in cut.details
+    if method != "float":
+        assert cut.lower_bound == 2
+    assert analyze(CHAIN, method, seed=1, max_order=2).rank == 3
+
+
+def test_order_limit_after_the_rank_stopped_is_a_verdict():
+    """x' = 0, z' = 0, y = x: order 1 adds nothing, so the rank 1 is final even
+    with max_order = 1."""
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x"})
+    result = analyze(system, seed=1, max_order=1)
+    assert result.rank == 1 and result.observable is False
+
+
+def test_order_limit_full_rank_is_certain():
+    """A full rank at a cut order is still a full rank (rank 3 of 3 at order 2)."""
+    result = analyze(CHAIN, seed=1, max_order=2)
+    assert result.observable is True
+
+
+@pytest.mark.skipif(SCRIPT is None, reason="console script not installed")
+def test_order_limit_exit_code_three():
+    """slam2d with two beacons is observable (rank 8); orders 0..1 give 6."""
+    out = subprocess.run(
+        [SCRIPT, "check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2", "--max-order", "1", "--format", "json"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert out.returncode == 3, out.stderr
+    data = json.loads(out.stdout)
+    assert data["rank"] is None and data["rank_lower_bound"] == 6
+    full = subprocess.run([SCRIPT, "check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2"], capture_output=True, text=True)
+    assert full.returncode == 0
+
+
+@pytest.mark.parametrize("value", ["-1", "-5"])
+def test_negative_order_limit_is_refused(value):
+    with pytest.raises(ModelError, match="max_order"):
+        analyze(CHAIN, max_order=int(value))
+
+
+# --------------------------------------------------------------- the error bound
+def test_error_bound_counts_a_minor_one_larger_than_the_rank():
+    """Discrete x+ = x, z+ = z, output x: rows x and x o F = x, each the gradient
+    of a height-1 function (height bound 2 per row). The rank is 1; a wrong rank
+    would need a non-zero 2 x 2 minor, of degree at most 2 + 2 = 4."""
+    system = System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x"}, time="discrete")
+    result = analyze(system, seed=1, directions=False)
+    assert result.rank == 1
+    assert f"degree bound 4" in result.details
+
+
+@pytest.mark.parametrize(
+    "values",
+    [{"f": 2**61 - 1}, {"f": sympy.Rational(1, 2**61 - 1)}, {"f": 3 * (2**61 - 1)}],
+    ids=["p", "1/p", "3p"],
+)
+def test_parameter_values_vanishing_mod_p_are_refused(values):
+    system = models.build("slam1.5d", {})
+    with pytest.raises(ModelError, match="working prime"):
+        analyze(system.with_values(**values), seed=1)
+
+
+def test_constant_sum_vanishing_mod_p_is_refused():
+    """sympy folds (2^61) - 1 to the prime itself, which is then refused."""
+    system = System(["x"], {"x": "0"}, {"y": "x*(a - 1)"}, parameters={"a": 2**61})
+    with pytest.raises(ModelError, match="working prime"):
+        analyze(system, seed=1)
+
+
+@pytest.mark.skipif(SCRIPT is None, reason="console script not installed")
+def test_cli_refuses_a_value_that_is_the_prime():
+    out = subprocess.run([SCRIPT, "check", "slam1.5d", "-o", "f=2305843009213693951"], capture_output=True, text=True)
+    assert out.returncode == 2
+    assert len(out.stderr.strip().splitlines()) == 1 and "working prime" in out.stderr
+
+
+# ------------------------------------------------------------ augment with inputs
+AUGMENT = [
+    # x+ = x u, y_k = x_k - x_{k-1} u_k. Inverse: x_{k-1} = x_k / u_{k-1}, so
+    # y = x (1 - u_k / u_{k-1}): rank 1. Augment: y_0 = z (u_{-1} - u_0): rank 1.
+    (System(["x"], {"x": "x*u"}, {"y": "x - prev(x)*u"}, inputs=["u"], time="discrete"), 1),
+    # p+ = p + v u, v+ = v, y = p - prev(p) = v u_{k-1}: v observable, p not.
+    (System(["p", "v"], {"p": "p + v*u", "v": "v"}, {"y": "p - prev(p)"}, inputs=["u"], time="discrete"), 1),
+    # p+ = p + v u, v+ = v, y = p*u - prev(p): both observable (hand: y_0 = p(u_0 - 1) + v u_{-1}).
+    (System(["p", "v"], {"p": "p + v*u", "v": "v"}, {"y": "p*u - prev(p)"}, inputs=["u"], time="discrete"), 2),
+]
+
+
+@pytest.mark.parametrize("system,rank", AUGMENT, ids=range(len(AUGMENT)))
+@pytest.mark.parametrize("method", ["random", "symbolic", "float"])
+def test_augment_and_inverse_agree_with_inputs(system, rank, method):
+    inverse = analyze(system, method, seed=2, previous="inverse", budget=None)
+    augment = analyze(system, method, seed=2, previous="augment", budget=None)
+    assert inverse.rank == augment.rank == rank
+
+
+# ------------------------------------------------- unknown is unknown, not "none"
+def test_symbolic_unknown_observable_states_are_null():
+    """26 states, 25 seen directly: rank 25, and no null space is computed
+    symbolically above 24 states, so the observable states are unknown."""
+    names = [f"x{i}" for i in range(26)]
+    system = System(names, {s: "0" for s in names}, {f"y{i}": s for i, s in enumerate(names[:25])})
+    result = analyze(system, "symbolic", budget=None)
+    assert result.rank == 25
+    assert result.observable_states is None
+    data = result.to_dict()
+    assert data["observable_states"] is None and data["unobservable_states"] is None
+    assert "observable states: unknown" in str(result)
