@@ -9,6 +9,7 @@ from typing import Any, Literal
 
 import sympy
 
+from .certificate import certify_rank
 from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
@@ -304,16 +305,40 @@ def analyze(
             previous=previous,
         )
         rank, orders, seed, labels = result.rank, result.orders, result.seed, result.row_labels
+        if result.dependence is None:
+            certificate = "the transcendental terms are provably independent, so the rank mod p is a lower bound"
+            certain = True
+        else:
+            proof = certify_rank(
+                system, orders, result.independent_rows, result.pivot_columns, seed=seed,
+                input_derivatives=input_derivatives, previous=previous,
+            )
+            certain = proof.proven
+            certificate = f"{result.dependence}; lower bound certified: {proof.how}" if certain else ""
+            if not certain:
+                return undecided(
+                    f"rank {rank} of {n} mod 2^61-1 may be too high: {result.dependence}, and the certificate "
+                    f"at a real point failed ({proof.how})",
+                    orders=orders,
+                )
         if not result.complete and rank < n:
-            return truncated(rank, orders, result.rule, True)
+            return truncated(rank, orders, result.rule, certain)
+        upper_sound = result.dependence is None or "square root" not in result.dependence
+        if rank < n and not upper_sound:
+            return undecided(
+                f"rank at least {rank} of {n} ({certificate}), but square roots with related radicands may "
+                "take other branches at the random point, so a higher rank is not excluded",
+                lower=rank, orders=orders,
+            )
         observable_columns: tuple[int, ...] | None = result.observable_columns
         probability = result.error_probability
         if rank == n:
-            details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain"
+            details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain ({certificate})"
         else:
             details = (
-                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); "
-                f"rank too low with probability <= {probability:.1e} (Schwartz-Zippel, degree bound {result.degree_bound})"
+                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); rank {rank} is certain as a "
+                f"lower bound ({certificate}); too low with probability <= {probability:.1e} "
+                f"(Schwartz-Zippel, degree bound {result.degree_bound})"
             )
     elif method == "symbolic":
         try:
@@ -322,8 +347,24 @@ def analyze(
             return undecided(str(exc))
         if not sym.complete and sym.rank < n:
             return truncated(sym.rank, sym.orders, sym.rule, True)
-        rank, orders, labels, probability, seed = sym.rank, sym.orders, sym.row_labels, 0.0, None
+        rank, orders, labels, probability = sym.rank, sym.orders, sym.row_labels, 0.0
         details = "exact generic rank over the field of rational functions"
+        # The field treats each atom as an indeterminate: exact only when the atoms
+        # are independent; otherwise the rank must be proven at a real point.
+        check = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=orders, previous=previous)
+        seed = check.seed if check.dependence is not None else None
+        if check.dependence is not None:
+            proof = certify_rank(
+                system, check.orders, check.independent_rows, check.pivot_columns, seed=check.seed,
+                input_derivatives=input_derivatives, previous=previous,
+            )
+            if not (proof.proven and check.rank == rank):
+                return undecided(
+                    f"rank {rank} over the field of rational functions treats related transcendental terms as "
+                    f"independent ({check.dependence}) and could not be proven at a real point ({proof.how})",
+                    orders=orders,
+                )
+            details += f" ({check.dependence}; {proof.how})"
         observable_columns = tuple(range(n)) if rank == n else None
     else:
         fr = float_rank(

@@ -25,6 +25,7 @@ from enum import IntEnum
 
 import sympy
 
+from .atoms import normal_form
 from .errors import UnsupportedExpressionError
 
 __all__ = ["Op", "Program", "PRIME"]
@@ -90,6 +91,7 @@ class Program:
         self.heights: list[tuple[int, int]] = []
         self.memo: dict[object, object] = {}  # (op, args) -> node, ("sincos", a) -> pair
         self.expression_memo: dict[sympy.Expr, int] = {}
+        self.normal_memo: dict[sympy.Expr, sympy.Expr] = {}
         self.bindings: dict[sympy.Symbol, int] = {}
         self.n_sqrt = 0
 
@@ -325,7 +327,7 @@ class Program:
         if bindings:
             self.bindings, self.expression_memo = bindings, {}
         try:
-            node = self.build(sympy.sympify(expr))
+            node = self.build(normal_form(sympy.sympify(expr), self.normal_memo))
         except UnsupportedExpressionError as exc:
             raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
         finally:

@@ -2,8 +2,12 @@
 
 The rank of the observability matrix at a point never exceeds its generic rank,
 and a rank computed modulo p at a point is a lower bound for the generic rank
-over Q (a non-zero minor mod p is a non-zero polynomial). So a full rank is a
-certificate, and only a deficient rank can be wrong: when a non-zero minor of
+over Q (a non-zero minor mod p is a non-zero polynomial) as long as the values
+given to transcendental atoms respect every relation among them: provably so
+when :func:`observability.independence.dependence` finds them independent,
+otherwise the caller certifies the rank at a real point
+(:mod:`observability.certificate`). Then a full rank is certain, and only a
+deficient rank can be wrong: when a non-zero minor of
 degree at most D vanishes at the random point, which by the Schwartz-Zippel
 lemma happens with probability at most D / p. D is bounded from the degrees of
 the compiled expressions (see :func:`_degree_bound`); further independent points
@@ -23,6 +27,7 @@ from .echelon import ModularEchelon
 from .errors import SingularModelError
 from .inverse import eliminate_previous_state
 from .expansion import expand_rows
+from .independence import dependence
 from .program import Op, Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
@@ -70,6 +75,10 @@ class ModularRank:
         Indices (in ``row_labels``) of rows that raised the rank: with
         ``pivot_columns`` they select a non-singular ``rank`` x ``rank`` minor.
     pivot_columns : tuple[int, ...]
+    dependence : str or None
+        None when the atoms of the model are provably algebraically independent,
+        so that ``rank`` is a certain lower bound; otherwise why that cannot be
+        asserted (:func:`observability.independence.dependence`).
     """
 
     rank: int
@@ -86,6 +95,7 @@ class ModularRank:
     rule: str = ""
     independent_rows: tuple[int, ...] = ()
     pivot_columns: tuple[int, ...] = ()
+    dependence: str | None = None
 
 
 class _RecordingEchelon(ModularEchelon):
@@ -237,6 +247,7 @@ def randomized_rank(
         rule=expansion.rule,
         independent_rows=tuple(echelon.independent),
         pivot_columns=tuple(echelon.pivot_rows),
+        dependence=dependence(expansion.program, system.n if system.time == "continuous" else 0),
     )
 
 

@@ -28,6 +28,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .expansion import stopping_rule
 from .lie import lie_derivatives
+from .atoms import normal_form
 from .errors import UnsupportedExpressionError
 from .system import System
 
@@ -58,8 +59,10 @@ def _integer_coefficient(arg: sympy.Expr) -> tuple[int, sympy.Expr] | None:
 def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
     """Rewrite ``expr`` so that its transcendental atoms are independent.
 
-    tan and atan become sin/cos and atan2, multiple and compound angles are
-    expanded, exponentials and logarithms of sums and products are split.
+    The shared normal form first (:func:`observability.atoms.normal_form`:
+    expanded arguments, factored radicands); then tan and atan become sin/cos
+    and atan2, multiple and compound angles are expanded, exponentials and
+    logarithms of sums and products are split.
 
     Raises
     ------
@@ -67,6 +70,7 @@ def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
         For fractional multiples inside sin, cos or exp (``sin(x/2)``), whose
         relation to other atoms the exact engine would not see.
     """
+    expr = normal_form(expr)
     expr = expr.replace(sympy.tan, lambda a: sympy.sin(a) / sympy.cos(a))
     expr = expr.replace(sympy.atan, lambda a: sympy.atan2(a, sympy.Integer(1)))
     if expr.has(sympy.sin, sympy.cos):
@@ -136,6 +140,12 @@ def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, 
     def half_angle(a: sympy.Expr) -> sympy.Symbol:
         return atom(("tan", a), "T", sympy.tan(a / 2))
 
+    def exponential(e: sympy.Expr) -> sympy.Expr:
+        # exp(k m) is exp(m)^k: one indeterminate for exp(x) and exp(2x).
+        k, m = _integer_coefficient(e.args[0]) or (1, e.args[0])
+        base = sympy.exp(m)
+        return atom(base, "E", base) ** k
+
     def rewrite(expr: sympy.Expr) -> sympy.Expr:
         expr = canonicalize(expr)
         expr = expr.replace(lambda e: isinstance(e, sympy.sin), lambda e: 2 * half_angle(e.args[0]) / (1 + half_angle(e.args[0]) ** 2))
@@ -143,7 +153,7 @@ def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, 
             lambda e: isinstance(e, sympy.cos),
             lambda e: (1 - half_angle(e.args[0]) ** 2) / (1 + half_angle(e.args[0]) ** 2),
         )
-        expr = expr.replace(lambda e: isinstance(e, sympy.exp), lambda e: atom(e, "E", e))
+        expr = expr.replace(lambda e: isinstance(e, sympy.exp), exponential)
         expr = expr.replace(lambda e: isinstance(e, sympy.log), lambda e: atom(e, "L", e))
         expr = expr.replace(lambda e: isinstance(e, sympy.atan2), lambda e: atom(e, "A", e))
         for node in sympy.preorder_traversal(expr):
@@ -223,7 +233,9 @@ def null_space(matrix: sympy.Matrix) -> list[list[sympy.Expr]]:
     basis = _field_matrix(rational).nullspace().to_Matrix()
     out = []
     for i in range(basis.rows):
-        vector = [e.xreplace(back) for e in _normalize(list(basis.row(i)))]
+        vector = _normalize(list(basis.row(i)))
+        while any(e.free_symbols & set(back) for e in vector):  # atoms nested in atoms
+            vector = [e.xreplace(back) for e in vector]
         if back:
             vector = [sympy.simplify(e) for e in vector]
         out.append(vector)
