@@ -12,7 +12,7 @@ rank. Two tools close that route:
   same atoms: arguments of exp, sin and cos are expanded (the program then splits
   sums and integer multiples), radicands of log and sqrt are factored into
   irreducible polynomials, ``b**e`` with a non-constant exponent becomes
-  ``exp(e*log(b))`` and ``tanh`` becomes exponentials.
+  ``exp(e*log(b))`` and tanh, sinh, cosh become exponentials.
 * :func:`observability.independence.dependence` inspects a compiled program and says whether its atoms are
   *provably* independent (None), or why that cannot be asserted. Provable cases
   (Ax 1971, "On Schanuel's conjectures"; Rosenlicht's structure theorem): the
@@ -89,9 +89,11 @@ def _rule(expr: sympy.Expr) -> sympy.Expr:
             if expanded != arg:
                 return expr.func(expanded)
         return expr
-    if isinstance(expr, sympy.tanh):
-        e = sympy.exp(2 * sympy.expand(expr.args[0]))
-        return (e - 1) / (e + 1)
+    if isinstance(expr, (sympy.tanh, sympy.sinh, sympy.cosh)):
+        e = sympy.exp(sympy.expand(expr.args[0]))
+        if isinstance(expr, sympy.tanh):
+            return (e**2 - 1) / (e**2 + 1)
+        return (e - 1 / e) / 2 if isinstance(expr, sympy.sinh) else (e + 1 / e) / 2
     if isinstance(expr, sympy.log):
         return _log(expr.args[0])
     if isinstance(expr, sympy.Pow):

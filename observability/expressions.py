@@ -27,7 +27,13 @@ FUNCTIONS: dict[str, object] = {
     "exp": sympy.exp,
     "log": sympy.log,
     "sqrt": sympy.sqrt,
+    "tanh": sympy.tanh,
+    "sinh": sympy.sinh,
+    "cosh": sympy.cosh,
 }
+
+#: Named constants a model may use (a declared name of the same spelling wins).
+CONSTANTS: dict[str, sympy.Expr] = {"pi": sympy.pi}
 
 _ARITY = {"atan2": 2}
 
@@ -120,9 +126,11 @@ def parse_expression(
             # The literal's own digits give the exact rational: 0.1 means 1/10.
             return sympy.Rational(ast.get_source_segment(source, node))
         if isinstance(node, ast.Name):
-            if node.id not in names:
-                raise fail(node, f"unknown symbol {node.id!r}")
-            return names[node.id]
+            if node.id in names:
+                return names[node.id]
+            if node.id in CONSTANTS:
+                return CONSTANTS[node.id]
+            raise fail(node, f"unknown symbol {node.id!r}")
         if isinstance(node, ast.BinOp):
             op = _BINARY.get(type(node.op))
             if op is None:
@@ -161,6 +169,9 @@ def parse_expression(
 
 
 _SMOOTH = (
+    sympy.tanh,
+    sympy.sinh,
+    sympy.cosh,
     sympy.sin,
     sympy.cos,
     sympy.tan,
@@ -175,7 +186,10 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
     """Raise if ``expr`` uses a construct the engines cannot differentiate exactly.
 
     Accepted: rational functions, integer powers, square roots (and their integer
-    powers), and sin, cos, tan, atan, atan2, exp, log of any accepted argument.
+    powers), powers with a non-constant exponent (``b**e`` = exp(e log b)), and
+    sin, cos, tan, atan, atan2, exp, log, tanh, sinh, cosh of any accepted
+    argument. Non-analytic functions (abs, min, max, sign) are refused: the rank
+    test needs derivatives of every order.
     """
     for node in sympy.preorder_traversal(expr):
         if isinstance(node, (sympy.Symbol, sympy.Number, sympy.Add, sympy.Mul)):
@@ -184,10 +198,12 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
             continue
         if isinstance(node, sympy.Pow):
             exponent = node.exp
+            if not exponent.is_number:
+                continue  # b**e is exp(e*log(b)) (observability.atoms.normal_form)
             if not exponent.is_Rational:
                 if node.base == sympy.E:
                     continue
-                raise UnsupportedExpressionError(f"{where}: non-constant exponent in {node}")
+                raise UnsupportedExpressionError(f"{where}: irrational constant exponent in {node}")
             if exponent.q not in (1, 2):
                 raise UnsupportedExpressionError(
                     f"{where}: fractional power {exponent} in {node} (only integer powers and square roots)"
@@ -199,5 +215,5 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
             continue
         name = getattr(node, "func", type(node)).__name__
         raise UnsupportedExpressionError(
-            f"{where}: {name} is not supported (non-differentiable or outside sin cos tan atan atan2 exp log sqrt)"
+            f"{where}: {name} is not supported (not analytic, or outside sin cos tan atan atan2 exp log sqrt tanh sinh cosh)"
         )
