@@ -57,7 +57,7 @@ def test_rejected_with_named_item(overrides, message):
         make(**overrides)
 
 
-@pytest.mark.parametrize("expr", [sympy.Abs(x), sympy.sign(x), sympy.Piecewise((x, x > 0), (0, True)), x**y, x ** sympy.Rational(1, 3)])
+@pytest.mark.parametrize("expr", [sympy.Abs(x), sympy.sign(x), sympy.Piecewise((x, x > 0), (0, True)), sympy.Min(x, y), sympy.Max(x, 1), x ** sympy.Rational(1, 3)])
 def test_non_differentiable_or_unsupported_rejected(expr):
     with pytest.raises(UnsupportedExpressionError, match="output pos"):
         make(outputs={"pos": expr})
