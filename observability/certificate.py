@@ -16,79 +16,19 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass
 
-import sympy
-from flint import arb, arb_mat, ctx, fmpq
+from flint import arb, arb_mat, ctx
 
 from .expansion import expand_rows
 from .program import Program
 from .system import System
-from .taylor import Redraw, TaylorEvaluator
+from .taylor import BallTaylorEvaluator, Redraw
 
-__all__ = ["BallTaylorEvaluator", "Certificate", "certify_rank"]
+__all__ = ["Certificate", "certify_rank"]
 
 #: Above this rank the certificate is not attempted (an arb determinant of that
 #: size costs minutes); the verdict then says so.
 MAX_CERTIFIED_RANK = 300
 _PRECISIONS = (128, 256, 512)
-
-
-class BallTaylorEvaluator(TaylorEvaluator):
-    """The Taylor expansion in ball arithmetic at a random rational point.
-
-    States, free parameters and input coefficients are exact rationals drawn in
-    [1/2, 2] (positive, so logarithms and square roots of symbols are defined);
-    pi and e are their balls; every operation is rigorous. A ball that cannot
-    be proven non-zero (a divisor) or positive (a log or sqrt argument) raises
-    :class:`~observability.taylor.Redraw`.
-    """
-
-    def __init__(self, program: Program, n_states: int, rng: random.Random, **kwargs) -> None:
-        super().__init__(program, n_states, rng, p=0, **kwargs)
-        self.point = [self._random() for _ in range(n_states)]
-
-    def _random(self) -> arb:
-        return arb(fmpq(self.rng.randint(1 << 20, 1 << 22), 1 << 21))
-
-    def _random_constant(self, key: object) -> arb:
-        if key is sympy.pi:
-            return arb.pi()
-        if key is sympy.E:
-            return arb.const_e()
-        if isinstance(key, sympy.NumberSymbol):
-            raise Redraw(-1, f"no ball for the constant {key}")
-        return self._random()
-
-    def _recip(self, k: int) -> arb:
-        return arb(fmpq(1, k))
-
-    def _number(self, value) -> arb:
-        return arb(fmpq(int(value.p), int(value.q)))
-
-    def _inv(self, value: arb, node: int) -> arb:
-        if value.contains(0):
-            raise Redraw(node, "a divisor not proven non-zero")
-        return 1 / value
-
-    def _circle(self, angle: arb) -> tuple[arb, arb]:
-        return angle.sin_cos()
-
-    def _exp0(self, a0: arb) -> arb:
-        return a0.exp()
-
-    def _log0(self, a0: arb) -> arb:
-        if not a0 > 0:
-            raise Redraw(-1, "a logarithm of a value not proven positive")
-        return a0.log()
-
-    def _atan0(self, y0: arb, x0: arb) -> arb:
-        if not (x0 > 0 or y0 > 0 or y0 < 0):
-            raise Redraw(-1, "atan2 on its branch cut")
-        return arb.atan2(y0, x0)
-
-    def _sqrt0(self, a0: arb, node: int) -> arb:
-        if not a0 > 0:
-            raise Redraw(node, "a square root of a value not proven positive")
-        return a0.sqrt()
 
 
 class _BallRows:

@@ -9,9 +9,10 @@ v = d g_eps / d eps at eps = 0 annihilates every row of the observability matrix
 so it is an unobservable direction. Candidates are never assumed: :func:`verify`
 checks these identities for the finite transformation (with eps itself random)
 and for the generator (L_v h = 0, v commuting with the dynamics), exactly modulo a
-61-bit prime at random points. (Where an output's value involves exp, log or
-atan2, only the generator's identities are testable, and only they are checked:
-they are what makes v an unobservable direction.) The composed functions h(g(x)) are built on the
+61-bit prime at random points; a declared generator must equal d g / d eps at 0.
+Where a value involves exp, log or atan2 (free quantities mod p), the finite
+identity is checked at a true real point in ball arithmetic instead. Half
+angles of eps (a quaternion rotation) are checked with eps rescaled. The composed functions h(g(x)) are built on the
 compiled program (:meth:`Program.add` with bindings), so no symbolic expression
 is expanded and a thousand landmarks cost a fraction of a second. Models list their candidates (translation, rotation, scale, ...);
 :func:`name_null_space` keeps the verified ones that are independent.
@@ -29,7 +30,7 @@ import sympy
 from .echelon import ModularEchelon
 from .expressions import prev
 from .program import Program
-from .taylor import PRIME, Redraw, TaylorEvaluator
+from .taylor import PRIME, BallTaylorEvaluator, Redraw, TaylorEvaluator
 
 if TYPE_CHECKING:  # System holds Symmetry objects, so the import is one-way
     from .system import System
@@ -77,17 +78,39 @@ class Symmetry:
         return cls(name, description, pairs, field)
 
     def images(self, system: System) -> list[sympy.Expr]:
-        """g_eps(x) for every state of ``system``, in state order."""
+        """g_eps(x) for every state of ``system``, in state order, with the
+        system's parameter values substituted (a beacon at B1x = 3 moves the
+        rotation centre to 3, as in the outputs)."""
         table = dict(self.transformation)
-        return [table.get(s.name, s) for s in system.states]
+        return [system.substitute_values(table.get(s.name, s)) for s in system.states]
 
 
 def generator(symmetry: Symmetry, system: System) -> list[sympy.Expr]:
     """The infinitesimal generator d g_eps(x) / d eps at eps = 0, per state."""
     if symmetry.vector is not None:
         table = dict(symmetry.vector)
-        return [table.get(s.name, sympy.Integer(0)) for s in system.states]
+        return [system.substitute_values(table.get(s.name, sympy.Integer(0))) for s in system.states]
     return [sympy.diff(image, EPSILON).subs(EPSILON, 0) for image in symmetry.images(system)]
+
+
+def _derived_generator(symmetry: Symmetry, system: System) -> list[sympy.Expr]:
+    return [sympy.diff(image, EPSILON).subs(EPSILON, 0) for image in symmetry.images(system)]
+
+
+def _integer_parameter(images: Sequence[sympy.Expr]) -> list[sympy.Expr]:
+    """The images with eps replaced by q eps, q the least common denominator of
+    the multiples of eps inside sin, cos, tan and exp: a half angle (sin(eps/2),
+    the natural form of a quaternion rotation) becomes a whole one. The finite
+    check holds for every eps, so a rescaled eps checks the same group."""
+    q = 1
+    for image in images:
+        for atom in image.atoms(sympy.sin, sympy.cos, sympy.tan, sympy.exp):
+            for term in sympy.Add.make_args(sympy.expand(atom.args[0])):
+                if term.has(EPSILON):
+                    coefficient = term.as_coeff_Mul()[0]
+                    if coefficient.is_Rational:
+                        q = sympy.ilcm(q, coefficient.q)
+    return [image.xreplace({EPSILON: q * EPSILON}) for image in images] if q != 1 else list(images)
 
 
 def _dot(gradient: dict[int, int], values: Sequence[int]) -> int:
@@ -106,48 +129,63 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
     after = dict(zip(system.states, f))
     plans = []
     for symmetry in candidates:
-        images = [program.add(e) for e in symmetry.images(system)]
+        finite = _integer_parameter(symmetry.images(system))
+        images = [program.add(e) for e in finite]
         field = [program.add(e) for e in generator(symmetry, system)]
         moved = dict(zip(system.states, images))
         plan = {
             "images": images,
             "field": field,
+            # A declared generator must be d g / d eps at 0 of the transformation
+            # it is named after.
+            "derived": [program.add(e) for e in _derived_generator(symmetry, system)] if symmetry.vector else [],
             "h_moved": [program.add(system.substitute_values(e), moved) for _, e in system.outputs],
             "f_moved": [program.add(system.substitute_values(e), moved) for e in system.dynamics],
         }
         if system.time == "discrete":
-            plan["g_after"] = [program.add(e, after) for e in symmetry.images(system)]
+            plan["g_after"] = [program.add(e, after) for e in finite]
             plan["v_after"] = [program.add(e, after) for e in generator(symmetry, system)]
         plans.append(plan)
 
-    def passes(evaluator: TaylorEvaluator) -> list[bool]:
+    def passes(evaluator: TaylorEvaluator, ball: BallTaylorEvaluator | None) -> list[bool]:
         value = lambda node: evaluator.coefficient(node, 0)[0]  # noqa: E731
         grad = lambda node: evaluator.coefficient(node, 0)[1]  # noqa: E731
         free = program.free_value.__getitem__
+
+        def same(a: int, b: int) -> bool:
+            # Values of exp, log and atan2 are free random quantities mod p, so an
+            # identity through them is checked at a true real point instead: the
+            # difference's ball must contain zero (a non-zero analytic function
+            # is far from zero at a random real point).
+            if not free(a) and not free(b):
+                return value(a) == value(b)
+            if ball is None:
+                return False
+            return (ball.coefficient(a, 0)[0] - ball.coefficient(b, 0)[0]).contains(0)
+
         f_values = [value(i) for i in f]
         out = []
         for plan in plans:
             v = [value(i) for i in plan["field"]]
-            # Outputs: h(g(x)) = h(x), and infinitesimally L_v h = dh . v = 0. The
-            # finite identity is not testable where values of exp, log or atan2
-            # enter (they are free random quantities); the infinitesimal one is.
-            ok = all(value(a) == value(b) for a, b in zip(h, plan["h_moved"]) if not free(a) and not free(b))
+            ok = all(same(a, b) for a, b in zip(plan["field"], plan["derived"]))
+            # Outputs: h(g(x)) = h(x), and infinitesimally L_v h = dh . v = 0.
+            ok = ok and all(same(a, b) for a, b in zip(h, plan["h_moved"]))
             ok = ok and not any(_dot(grad(a), v) for a in h)
             if system.time == "continuous":
-                # Dg(x) f(x) = f(g(x)), and [f, v] = Dv f - Df v = 0.
+                # Dg(x) f(x) = f(g(x)), and [f, v] = Dv f - Df v = 0. The first
+                # needs Dg's value, which a ball gives only through the series;
+                # where f(g(x)) has free values the generator identity carries it.
                 ok = ok and not any(
                     (_dot(grad(g), f_values) - value(fm)) % PRIME
                     for g, fm in zip(plan["images"], plan["f_moved"])
-                    if not free(fm)
+                    if not free(fm) and not free(g)
                 )
                 ok = ok and not any(
                     (_dot(grad(vi), f_values) - _dot(grad(fi), v)) % PRIME for vi, fi in zip(plan["field"], f)
                 )
             else:
                 # g(F(x)) = F(g(x)), and v(F(x)) = DF(x) v(x).
-                ok = ok and all(
-                    value(a) == value(b) for a, b in zip(plan["g_after"], plan["f_moved"]) if not free(a) and not free(b)
-                )
+                ok = ok and all(same(a, b) for a, b in zip(plan["g_after"], plan["f_moved"]))
                 ok = ok and not any((value(va) - _dot(grad(fi), v)) % PRIME for va, fi in zip(plan["v_after"], f))
             out.append(ok)
         return out
@@ -173,6 +211,7 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
     program, passes = _verification(system, candidates)
     rng = random.Random(seed)
     result = [True] * len(candidates)
+    needs_ball = any(program.free_value)
     for _ in range(points):
         for _attempt in range(32):
             evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
@@ -183,8 +222,23 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
                 continue
         else:
             return [False] * len(candidates)
-        result = [a and b for a, b in zip(result, passes(evaluator))]
+        ball = _ball_point(program, system.n, rng) if needs_ball else None
+        result = [a and b for a, b in zip(result, passes(evaluator, ball))]
     return result
+
+
+def _ball_point(program: Program, n: int, rng: random.Random) -> BallTaylorEvaluator | None:
+    """The program at a true real point in ball arithmetic (None if every point
+    tried is outside the model's domain: the identities through free values then
+    count as failed, which only leaves a direction unnamed)."""
+    for _ in range(8):
+        ball = BallTaylorEvaluator(program, n, rng, discrete=True)
+        try:
+            ball.extend()
+        except Redraw:
+            continue
+        return ball
+    return None
 
 
 def verify(symmetry: Symmetry, system: System, seed: int = 0, points: int = 1) -> bool:

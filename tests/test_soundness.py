@@ -222,3 +222,30 @@ def test_symbolic_unknown_observable_states_are_null():
     data = result.to_dict()
     assert data["observable_states"] is None and data["unobservable_states"] is None
     assert "observable states: unknown" in str(result)
+
+
+# ------------------------------------------------------- a given inverse is checked
+WRONG_INVERSES = [
+    # c+ = c + dt v: the inverse is c - dt v, not c - 2 dt v.
+    ({"c": "c + dt*v", "v": "v"}, {"c": "c - 2*dt*v", "v": "v"}, [], "c"),
+    # x+ = x u: the inverse is x / u[k-1], not x u.
+    ({"x": "x*u"}, {"x": "x*u"}, ["u"], "x"),
+    # Unicycle step: the previous position uses the previous heading th - w.
+    ({"px": "px + v*cos(th)", "th": "th + w"}, {"px": "px - v*cos(th)", "th": "th - w"}, ["v", "w"], "px"),
+]
+
+
+@pytest.mark.parametrize("dynamics,inverse,inputs,state", WRONG_INVERSES, ids=range(3))
+def test_a_wrong_inverse_is_refused_naming_the_state(dynamics, inverse, inputs, state):
+    first = next(iter(dynamics))
+    system = System(list(dynamics), dynamics, {"y": f"{first} - prev({first})"}, inputs=inputs,
+                    parameters=["dt"] if "dt" in str(dynamics) else [], time="discrete", inverse_dynamics=inverse)
+    with pytest.raises(ModelError, match=f"wrong for state {state}"):
+        analyze(system, seed=1)
+
+
+def test_a_right_inverse_is_accepted():
+    """px+ = px + v cos(th), th+ = th + w: px- = px - v cos(th - w), th- = th - w."""
+    system = System(["px", "th"], {"px": "px + v*cos(th)", "th": "th + w"}, {"y": "px - prev(px)"},
+                    inputs=["v", "w"], time="discrete", inverse_dynamics={"px": "px - v*cos(th - w)", "th": "th - w"})
+    assert analyze(system, seed=1).rank is not None
