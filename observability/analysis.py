@@ -380,7 +380,9 @@ def analyze(
         shown = ", ".join(values if len(values) <= 12 else values[:3] + ["..."] + values[-6:])
         details = f"SVD at {'the given' if point else 'a random'} point: singular values [{shown}], threshold {fr.threshold:.2g}, gap {fr.gap:.3g}"
         if fr.rank < n:
-            details += f"; numerical null space of dimension {len(fr.null_space)}"
+            details += f"; numerical null space of dimension {n - fr.rank}"
+        if fr.note:
+            details += f"; {fr.note}"
 
     found: tuple[UnobservableDirection, ...] = ()
     basis = None

@@ -14,10 +14,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from flint import arb
+
 from .errors import SingularModelError
 from .expansion import expand_rows
 from .system import System
-from .taylor import FloatTaylorEvaluator, Redraw
+from .taylor import BallTaylorEvaluator, FloatTaylorEvaluator, Redraw
 
 __all__ = ["FloatRank", "float_rank", "numeric_rank"]
 
@@ -37,7 +39,8 @@ class FloatRank:
         sigma_rank / sigma_{rank+1} (inf when nothing is below the threshold).
     point : dict[str, float]
         The values of every symbol at which the matrix was evaluated.
-    observable_columns : tuple[int, ...]
+    observable_columns : tuple[int, ...] or None
+        None when the gap does not support a claim.
     null_space : tuple[tuple[float, ...], ...]
         Orthonormal basis of the numerical null space.
     """
@@ -53,17 +56,73 @@ class FloatRank:
     row_labels: tuple[tuple[str, int], ...]
     complete: bool = True
     rule: str = ""
+    note: str = ""
+
+
+def equilibrate(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns scaled to unit size: (scaled matrix, column scales).
+
+    The rank and the null space's zero pattern do not change under non-singular
+    diagonal scaling, but the singular values do: rows of high Lie order grow
+    like k! and states of different units differ by orders of magnitude, which
+    an unscaled SVD reads as rank loss. Columns are scaled by their largest
+    entry, then rows by their norm (a few sweeps); a null vector v of the scaled
+    matrix is ``scales * v`` for the original one.
+    """
+    scaled = np.array(matrix, dtype=float)
+    scales = np.ones(scaled.shape[1])
+    for _ in range(3):
+        cols = np.max(np.abs(scaled), axis=0)
+        cols[cols == 0] = 1.0
+        scaled /= cols
+        scales /= cols
+        rows = np.linalg.norm(scaled, axis=1)
+        rows[rows == 0] = 1.0
+        scaled /= rows[:, None]
+    return scaled, scales
 
 
 def numeric_rank(matrix: np.ndarray) -> tuple[int, np.ndarray, float, float, np.ndarray]:
-    """Rank of a float matrix by SVD: (rank, singular values, threshold, gap, null basis)."""
+    """Rank of a float matrix by SVD of its equilibrated form (:func:`equilibrate`):
+    (rank, singular values, threshold, gap, null basis in scaled coordinates)."""
     m, n = matrix.shape
-    _, sigma, vt = np.linalg.svd(matrix)
+    scaled, _ = equilibrate(matrix)
+    _, sigma, vt = np.linalg.svd(scaled)
     threshold = max(m, n) * np.finfo(float).eps * (sigma[0] if sigma.size else 0.0)
     rank = int(np.sum(sigma > threshold))
     below = sigma[rank] if rank < sigma.size else 0.0
     gap = float(sigma[rank - 1] / below) if rank and below > 0 else float("inf")
-    return rank, sigma, float(threshold), gap, vt[rank:]
+    null = vt[rank:] if rank < n else np.zeros((0, n))
+    return rank, sigma, float(threshold), gap, null
+
+
+def high_precision_rank(rows: list[list], n: int, digits: int) -> tuple[int, list, float, float, list]:
+    """The same decision at ``digits`` significant digits (mpmath SVD of the
+    equilibrated matrix; threshold 10^-(digits/2) relative to the largest
+    singular value): used to confirm a gap that double precision leaves open."""
+    import mpmath
+
+    with mpmath.workdps(digits):
+        matrix = mpmath.matrix(rows)
+        for _ in range(3):
+            for j in range(n):
+                top = max((abs(matrix[i, j]) for i in range(matrix.rows)), default=0)
+                if top:
+                    for i in range(matrix.rows):
+                        matrix[i, j] /= top
+            for i in range(matrix.rows):
+                norm = mpmath.norm(matrix[i, :])
+                if norm:
+                    for j in range(n):
+                        matrix[i, j] /= norm
+        _, sigma, v = mpmath.svd_r(matrix, compute_uv=True)
+        values = [sigma[i] for i in range(len(sigma))]
+        threshold = values[0] * mpmath.mpf(10) ** (-(digits // 2)) if values else 0
+        rank = sum(1 for x in values if x > threshold)
+        below = values[rank] if rank < len(values) else 0
+        gap = float(values[rank - 1] / below) if rank and below else float("inf")
+        null = [[float(v[i, j]) for j in range(n)] for i in range(rank, v.rows)]
+    return rank, [float(x) for x in values], float(threshold), gap, null
 
 
 class _FloatRows:
@@ -93,6 +152,81 @@ class _FloatRows:
         return self.svd()[0] if self.rows else 0
 
 
+class _Replay(BallTaylorEvaluator):
+    """The float evaluator's point, replayed in ball arithmetic: the same state,
+    parameter and input values (floats are exact binary rationals)."""
+
+    def __init__(self, program, n_states, rng, *, values: dict, inputs: dict, states, **kwargs) -> None:
+        super().__init__(program, n_states, rng, **kwargs)
+        self.values = values
+        self.point = [arb(values[s.name]) for s in states]
+        self.inputs = {key: arb(v) for key, v in inputs.items()}
+
+    def _random_constant(self, key: object) -> arb:
+        name = getattr(key, "name", str(key))
+        if name in self.values:
+            return arb(self.values[name])
+        return super()._random_constant(key)
+
+
+#: A gap below this (sigma_r / sigma_{r+1}), or a singular value near the
+#: threshold, is re-examined in higher precision.
+CLEAR_GAP = 1e8
+#: Digits of the confirmation, and the largest n it is attempted for.
+HIGH_PRECISION_DIGITS = 60
+HIGH_PRECISION_MAX_STATES = 40
+
+
+def _observable(null: np.ndarray | list, n: int, tolerance: float) -> tuple[int, ...] | None:
+    """States whose component vanishes in every null vector; None when some
+    component is neither clearly zero nor clearly not."""
+    null = np.asarray(null, dtype=float).reshape(-1, n)
+    if null.shape[0] == 0:
+        return tuple(range(n))
+    sizes = np.linalg.norm(null, axis=0)
+    if np.any((sizes >= tolerance) & (sizes < 1e-4)):
+        return None
+    return tuple(i for i in range(n) if sizes[i] < tolerance)
+
+
+def _replay_rows(system, program_values, inputs, rng, input_derivatives, previous, digits):
+    """All rows up to the order that always suffices, at the same point, in balls."""
+    from flint import ctx
+
+    from .expansion import stopping_rule
+
+    sufficient, _, _ = stopping_rule(system, previous)
+    rows: list[dict] = []
+
+    class Sink:
+        rank = 0
+
+        def add_row(self, row: dict) -> bool:
+            rows.append(row)
+            return True
+
+    old = ctx.prec
+    ctx.prec = int(digits * 3.33) + 64
+    try:
+        def make(program, discrete: bool) -> _Replay:
+            return _Replay(
+                program, system.n, rng, values=program_values, inputs=inputs, states=system.states,
+                input_degree=input_derivatives, discrete=discrete,
+            )
+
+        expand_rows(system, Sink(), make, max_order=sufficient, previous=previous, exhaustive=True)
+    finally:
+        ctx.prec = old
+    import mpmath
+
+    def mp(x: arb):
+        mantissa, exponent = arb(x).mid().man_exp()
+        return mpmath.mpf((int(mantissa), int(exponent)))
+
+    with mpmath.workdps(digits):
+        return [[mp(row[c]) if c in row else mpmath.mpf(0) for c in range(system.n)] for row in rows]
+
+
 def float_rank(
     system: System,
     *,
@@ -109,7 +243,10 @@ def float_rank(
     the exact route, in floating point (transcendental functions at their true
     values). Symbols missing from ``point`` (states, free parameters, inputs of
     earlier steps) and input coefficients get values drawn from N(0, 1) with
-    ``seed``.
+    ``seed``. The rank is decided on the equilibrated matrix (scale-invariant);
+    a gap below ``CLEAR_GAP`` is re-examined with the rows recomputed at the same
+    point in 60-digit ball arithmetic; if it stays unclear, the observable states
+    are not claimed (``observable_columns`` is None).
 
     Raises
     ------
@@ -121,11 +258,15 @@ def float_rank(
     for _attempt in range(1 if point else 20):
         values = {str(k): float(v) for k, v in (point or {}).items()}
         sink = _FloatRows(n)
+        made: list[FloatTaylorEvaluator] = []
 
         def make(program, discrete: bool) -> FloatTaylorEvaluator:
-            return FloatTaylorEvaluator(
-                program, n, rng, values=values, states=system.states, input_degree=input_derivatives, discrete=discrete
+            made.append(
+                FloatTaylorEvaluator(
+                    program, n, rng, values=values, states=system.states, input_degree=input_derivatives, discrete=discrete
+                )
             )
+            return made[-1]
 
         try:
             expansion = expand_rows(system, sink, make, max_order=max_order, previous=previous)
@@ -133,7 +274,31 @@ def float_rank(
             last = exc
             continue
         rank, sigma, threshold, gap, null = sink.svd()
-        observable = tuple(i for i in range(n) if null.shape[0] == 0 or np.linalg.norm(null[:, i]) < 1e-8)
+        observable = _observable(null, n, 1e-8)
+        # Unclear: a small gap, or a singular value within a few orders of the
+        # threshold on either side (rounding could have put it on the wrong side).
+        near = bool(np.any((sigma > 1e-2 * threshold) & (sigma < 1e6 * threshold)))
+        unclear = gap < CLEAR_GAP or near
+        note = ""
+        if unclear and n <= HIGH_PRECISION_MAX_STATES:
+            try:
+                rows = _replay_rows(
+                    system, made[-1].values, made[-1].inputs, random.Random(seed), input_derivatives, previous,
+                    HIGH_PRECISION_DIGITS,
+                )
+                hp = high_precision_rank(rows, n, HIGH_PRECISION_DIGITS)
+            except Redraw:
+                hp = None
+            if hp is not None and hp[3] >= 1e20:
+                rank, sigma, threshold, gap = hp[0], np.array(hp[1]), hp[2], hp[3]
+                observable = _observable(hp[4], n, 1e-15)
+                note = f"double precision left the gap open; decided at {HIGH_PRECISION_DIGITS} digits"
+            else:
+                observable = None
+                note = "the gap stays unclear at 60 digits: rank uncertain, observable states not claimed"
+        elif unclear:
+            observable = None
+            note = "unclear gap: observable states not claimed"
         return FloatRank(
             rank=rank,
             orders=expansion.orders,
@@ -146,5 +311,6 @@ def float_rank(
             row_labels=expansion.row_labels,
             complete=expansion.complete,
             rule=expansion.rule,
+            note=note,
         )
     raise SingularModelError(f"{system.name}: the observability matrix is singular at the point ({last.reason})")
