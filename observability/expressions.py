@@ -44,8 +44,30 @@ _BINARY = {
     # An unevaluated reciprocal skips sympy's assumption queries on the
     # denominator, which dominate the cost of building large models.
     ast.Div: lambda a, b: a / b if b.is_Number else sympy.Mul(a, sympy.Pow(b, -1, evaluate=False), evaluate=False),
-    ast.Pow: lambda a, b: a**b,
 }
+
+#: Limits that keep parsing and exact evaluation bounded on any input: the
+#: length of one expression, of one number literal, and the size of a power.
+MAX_EXPRESSION_CHARS = 100_000
+MAX_LITERAL_DIGITS = 1000
+MAX_EXPONENT = 10_000
+MAX_POWER_BITS = 100_000
+
+
+def _power(base: sympy.Expr, exponent: sympy.Expr, fail) -> sympy.Expr:
+    """base**exponent, refused before evaluation when the result would be huge
+    (9**9**9**9 would otherwise be computed exactly)."""
+    if exponent.is_number:
+        if not exponent.is_Rational:
+            raise fail(f"the exponent {exponent} is not a rational number")
+        if abs(exponent) > MAX_EXPONENT:
+            raise fail(f"the exponent {exponent} is beyond {MAX_EXPONENT}")
+        if base.is_Rational and base != 0:
+            bits = max(abs(base.p).bit_length(), abs(base.q).bit_length()) * abs(exponent)
+            if bits > MAX_POWER_BITS:
+                raise fail(f"{base}**{exponent} has more than {MAX_POWER_BITS} bits")
+    return base**exponent
+
 
 _PREV_PREFIX = "prev("
 
@@ -68,6 +90,10 @@ def is_previous(symbol: sympy.Symbol) -> bool:
 def previous_of(symbol: sympy.Symbol) -> str:
     """The state name inside ``prev(...)``."""
     return symbol.name[len(_PREV_PREFIX) : -1]
+
+
+def _short(text: str) -> str:
+    return repr(text) if len(text) <= 80 else repr(text[:60]) + f" ... ({len(text)} characters)"
 
 
 def parse_number(text: str, where: str) -> sympy.Rational:
@@ -107,15 +133,19 @@ def parse_expression(
     """
     if not isinstance(text, str):
         raise ModelFileError(f"{where}: expected an expression in a string, got {type(text).__name__} {text!r}")
+    if len(text) > MAX_EXPRESSION_CHARS:
+        raise ModelFileError(f"{where}: expression of {len(text)} characters (the limit is {MAX_EXPRESSION_CHARS})")
     try:
         tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError as exc:
-        raise ModelFileError(f"{where}: syntax error in {text!r} at column {exc.offset}: {exc.msg}") from None
+    except (SyntaxError, ValueError) as exc:  # ValueError: a null byte
+        raise ModelFileError(f"{where}: syntax error in {_short(text)} at column {getattr(exc, 'offset', 0)}: {getattr(exc, 'msg', exc)}") from None
+    except (RecursionError, MemoryError):
+        raise ModelFileError(f"{where}: expression nested too deeply") from None
     source = text.strip()
 
     def fail(node: ast.AST, what: str) -> ModelFileError:
         col = getattr(node, "col_offset", 0) + 1
-        return ModelFileError(f"{where}: {what} in {text!r} (column {col})")
+        return ModelFileError(f"{where}: {what} in {_short(text)} (column {col})")
 
     def walk(node: ast.AST) -> sympy.Expr:
         if isinstance(node, ast.Expression):
@@ -123,23 +153,46 @@ def parse_expression(
         if isinstance(node, ast.Constant):
             if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
                 raise fail(node, f"{node.value!r} is not a number")
+            digits = ast.get_source_segment(source, node) or ""
+            if len(digits) > MAX_LITERAL_DIGITS:
+                raise fail(node, f"a number of more than {MAX_LITERAL_DIGITS} characters")
+            if isinstance(node.value, int):
+                return sympy.Integer(node.value)  # 0x10, 0b1, 0o7 and 1_000 as Python reads them
             # The literal's own digits give the exact rational: 0.1 means 1/10.
-            return sympy.Rational(ast.get_source_segment(source, node))
+            mantissa, _, exponent = digits.replace("_", "").lower().partition("e")
+            if exponent and abs(int(exponent)) > MAX_LITERAL_DIGITS:
+                raise fail(node, f"the exponent of {digits} is beyond 10^{MAX_LITERAL_DIGITS}")
+            return sympy.Rational(mantissa) * sympy.Integer(10) ** int(exponent or 0)
         if isinstance(node, ast.Name):
             if node.id in names:
                 return names[node.id]
             if node.id in CONSTANTS:
                 return CONSTANTS[node.id]
             raise fail(node, f"unknown symbol {node.id!r}")
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            return _power(walk(node.left), walk(node.right), lambda what: fail(node, what))
         if isinstance(node, ast.BinOp):
-            op = _BINARY.get(type(node.op))
-            if op is None:
-                hint = " (use ** for powers)" if isinstance(node.op, ast.BitXor) else ""
-                raise fail(node, f"operator {type(node.op).__name__} is not allowed{hint}")
-            return op(walk(node.left), walk(node.right))
+            # Long sums and products are left-deep chains: walk down the chain in
+            # a loop, so a thousand terms do not need a thousand stack frames.
+            chain = []
+            while isinstance(node, ast.BinOp) and not isinstance(node.op, ast.Pow):
+                chain.append(node)
+                node = node.left
+            value = walk(node)
+            for link in reversed(chain):
+                op = _BINARY.get(type(link.op))
+                if op is None:
+                    hint = " (use ** for powers)" if isinstance(link.op, ast.BitXor) else ""
+                    raise fail(link, f"operator {type(link.op).__name__} is not allowed{hint}")
+                value = op(value, walk(link.right))
+            return value
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            value = walk(node.operand)
-            return -value if isinstance(node.op, ast.USub) else value
+            negative = False
+            while isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+                negative ^= isinstance(node.op, ast.USub)
+                node = node.operand
+            value = walk(node)
+            return -value if negative else value
         if isinstance(node, ast.Call):
             if not isinstance(node.func, ast.Name):
                 raise fail(node, "only plain function calls are allowed")
@@ -162,7 +215,10 @@ def parse_expression(
             return FUNCTIONS[fname](*(walk(a) for a in node.args))
         raise fail(node, f"{type(node).__name__} is not allowed")
 
-    result = walk(tree)
+    try:
+        result = walk(tree)
+    except RecursionError:
+        raise ModelFileError(f"{where}: expression nested too deeply") from None
     if not isinstance(result, sympy.Expr) or result.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
         raise ModelFileError(f"{where}: {text!r} does not evaluate to a finite expression")
     return result

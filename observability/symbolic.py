@@ -300,5 +300,7 @@ def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
             process.kill()
         process.join()
     if status == "error":
+        if isinstance(value, (RecursionError, MemoryError)):
+            raise Undecided(f"the symbolic computation exceeded a resource limit ({type(value).__name__})")
         raise value
     return value

@@ -155,14 +155,24 @@ def test_negative_order_limit_is_refused(value):
 
 
 # --------------------------------------------------------------- the error bound
-def test_error_bound_counts_a_minor_one_larger_than_the_rank():
-    """Discrete x+ = x, z+ = z, output x: rows x and x o F = x, each the gradient
-    of a height-1 function (height bound 2 per row). The rank is 1; a wrong rank
-    would need a non-zero 2 x 2 minor, of degree at most 2 + 2 = 4."""
-    system = System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x"}, time="discrete")
+BOUND_CASES = [
+    # Discrete x+ = x, z+ = z, output x: rows x and x o F = x, each the gradient of
+    # a height-1 function (bound 2 per row). Rank 1; a wrong rank needs a non-zero
+    # 2 x 2 minor, of degree at most 2 + 2 = 4.
+    (System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x"}, time="discrete"), 4),
+    # The same with output x^2 (height 2, row bound 4): 4 + 4 = 8.
+    (System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x**2"}, time="discrete"), 8),
+    # Continuous x' = 0, z' = 0, output x: D_0 = 1, one order: D_1 = 2 D_0 + 0 = 2;
+    # a (rank + 1) = 2 minor of rows of height at most 2 D_1: 2 * 2 * 2 = 8.
+    (System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x"}), 8),
+]
+
+
+@pytest.mark.parametrize("system,bound", BOUND_CASES, ids=range(3))
+def test_error_bound_counts_a_minor_one_larger_than_the_rank(system, bound):
     result = analyze(system, seed=1, directions=False)
     assert result.rank == 1
-    assert f"degree bound 4" in result.details
+    assert f"degree bound {bound})" in result.details
 
 
 @pytest.mark.parametrize(
@@ -211,13 +221,20 @@ def test_augment_and_inverse_agree_with_inputs(system, rank, method):
 
 
 # ------------------------------------------------- unknown is unknown, not "none"
-def test_symbolic_unknown_observable_states_are_null():
-    """26 states, 25 seen directly: rank 25, and no null space is computed
-    symbolically above 24 states, so the observable states are unknown."""
-    names = [f"x{i}" for i in range(26)]
-    system = System(names, {s: "0" for s in names}, {f"y{i}": s for i, s in enumerate(names[:25])})
+def _wide(n: int, seen: int, time: str = "continuous") -> System:
+    names = [f"x{i}" for i in range(n)]
+    dynamics = {s: (s if time == "discrete" else "0") for s in names}
+    return System(names, dynamics, {f"y{i}": s for i, s in enumerate(names[:seen])}, time=time)
+
+
+@pytest.mark.parametrize("system,rank", [(_wide(26, 25), 25), (_wide(30, 20), 20), (_wide(27, 26, "discrete"), 26)],
+                         ids=["26-25", "30-20", "27-26-discrete"])
+def test_symbolic_unknown_observable_states_are_null(system, rank):
+    """n > 24 states, ``rank`` of them seen directly, no candidate symmetry: no
+    null space is computed symbolically above 24 states, so the observable
+    states are unknown, and reported as such, not as "none"."""
     result = analyze(system, "symbolic", budget=None)
-    assert result.rank == 25
+    assert result.rank == rank
     assert result.observable_states is None
     data = result.to_dict()
     assert data["observable_states"] is None and data["unobservable_states"] is None

@@ -1,0 +1,143 @@
+"""A generated corpus of malformed model files through ``check`` (issue 9).
+
+Each file ends in exit 0, 1 or 3 with JSON on stdout (a mutation that happens to
+be a valid model), or exit 2 with one line on stderr naming the file; never exit
+4, never a traceback, never more than 10 s of CPU, never a file written, never a
+payload executed. The cases are seeded (hypothesis, derandomized) and the
+command runs in-process, so the corpus of 1,100 cases takes seconds."""
+
+import contextlib
+import io
+import json
+import os
+import random
+import signal
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from observability.cli import main
+
+VALID = '''name = "unicycle"
+time = "continuous"
+states = ["x", "y", "th"]
+inputs = ["v", "w"]
+parameters = ["bx", "by"]
+[dynamics]
+x = "v*cos(th)"
+y = "v*sin(th)"
+th = "w"
+[outputs]
+bearing = "atan2(by - y, bx - x) - th"
+[symmetries.turn]
+x = "bx + cos(epsilon)*(x - bx) - sin(epsilon)*(y - by)"
+y = "by + sin(epsilon)*(x - bx) + cos(epsilon)*(y - by)"
+th = "th + epsilon"
+'''
+
+CANARY = "PWNED_CANARY"
+ATTACKS = [
+    f"__import__('os').system('touch {CANARY}')",
+    f"open('{CANARY}', 'w')",
+    "lambda: 1", "x.__class__", "[x for x in y]", "{'a': 1}", "f'{x}'", "x if y else th",
+    "9**9**9**9", "10**(10**10)", "x**(10**30)", "2**-99999999", "1e999", "1e-999", "0x10", "0b1", "0o7",
+    "(" * 300 + "x" + ")" * 300, "+".join(["x"] * 3000), "-" * 3000 + "x", "*".join(["x"] * 2000),
+    "sin(" * 150 + "x" + ")" * 150, "abs(x)", "min(x, y)", "sign(x)", "x % y", "x // y", "x @ y", "x ^ y",
+    "x < y", "not x", "x and y", "prev(x)", "prev(prev(x))", "sqrt()", "atan2(x)", "exp(x, y)",
+    "ｘ", "x\u200b", "lambda", "None", "True", "'str'", "b'x'", "...", "x; y", "x\ny", "", " ", "nan", "inf",
+    "1/0", "0/0", "log(0)", "x/(x - x)", "sin(x/2) + sin(x)", "x**0.5", "x**(1/3)", "exp(x)**(1/2)",
+    "a" * 5000, "9" * 5000, "1." + "0" * 5000 + "1",
+]
+TOKENS = ['"', "'", "[", "]", "=", "\n", "#", "\\", "\x00", "states", "dynamics", "[outputs]", "[[x]]", "1", "-",
+          "time = \"sideways\"", "states = []", "states = [\"x\", \"x\"]", "inputs = [\"x\"]", "\ufeff", "é"]
+
+
+def _mutate(rng: random.Random, text: str) -> str:
+    lines = text.splitlines()
+    kind = rng.randrange(7)
+    if kind == 0 and lines:
+        del lines[rng.randrange(len(lines))]
+    elif kind == 1 and lines:
+        i = rng.randrange(len(lines))
+        lines.insert(i, lines[i])
+    elif kind == 2 and any("= \"" in line for line in lines):
+        expression_lines = [i for i, line in enumerate(lines) if "= \"" in line and not line.startswith(("name", "time"))]
+        i = rng.choice(expression_lines or [0])
+        key = lines[i].split("=")[0].strip()
+        attack = rng.choice(ATTACKS).replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+        lines[i] = f'{key} = "{attack}"'
+    elif kind == 3:
+        cut = rng.randrange(len(text) + 1)
+        return text[:cut]
+    elif kind == 4:
+        pos = rng.randrange(len(text) + 1)
+        return text[:pos] + rng.choice(TOKENS) + text[pos:]
+    elif kind == 5 and lines:
+        i = rng.randrange(len(lines))
+        lines[i] = lines[i].replace(rng.choice(["x", "y", "th", "v", "bx"]), rng.choice(["lambda", "q", "x_", "1x", "ｘ"]))
+    else:
+        lines = [line for line in lines if not line.startswith("[symmetries")] + ["[parameters]", "bx = 2305843009213693951"]
+    return "\n".join(lines)
+
+
+def _run(path: Path) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+
+    def too_long(signum, frame):
+        raise TimeoutError(f"{path}: more than 10 s of CPU")
+
+    previous = signal.signal(signal.SIGVTALRM, too_long)
+    signal.setitimer(signal.ITIMER_VIRTUAL, 10.0)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = main(["check", str(path), "--format", "json", "--seed", "1", "--budget", "2"])
+    finally:
+        signal.setitimer(signal.ITIMER_VIRTUAL, 0)
+        signal.signal(signal.SIGVTALRM, previous)
+    return code, out.getvalue(), err.getvalue()
+
+
+def _check_one(tmp_path: Path, text: str) -> None:
+    path = tmp_path / "model.toml"
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    before = set(os.listdir(tmp_path))
+    code, out, err = _run(path)
+    assert code in (0, 1, 2, 3), (code, err, text)
+    assert "Traceback" not in err and "internal error" not in err, (err, text)
+    if code == 2:
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("observability: error:"), (err, text)
+    else:
+        json.loads(out)
+    assert set(os.listdir(tmp_path)) == before
+    assert not Path(CANARY).exists() and not (tmp_path / CANARY).exists()
+
+
+@pytest.fixture
+def in_tmp(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+@settings(max_examples=1000, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.integers(min_value=0, max_value=2**32), st.integers(min_value=1, max_value=3))
+def test_mutated_files(tmp_path_factory, seed, rounds):
+    tmp = tmp_path_factory.mktemp("m")
+    rng = random.Random(seed)
+    text = VALID
+    for _ in range(rounds):
+        text = _mutate(rng, text)
+    cwd = os.getcwd()
+    os.chdir(tmp)
+    try:
+        _check_one(tmp, text)
+    finally:
+        os.chdir(cwd)
+
+
+@pytest.mark.parametrize("attack", ATTACKS, ids=range(len(ATTACKS)))
+def test_every_attack_in_an_output(in_tmp, attack):
+    escaped = attack.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+    _check_one(in_tmp, VALID.replace('bearing = "atan2(by - y, bx - x) - th"', f'bearing = "{escaped}"'))
