@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import sympy
 
-__all__ = ["normal_form"]
+__all__ = ["normal_form", "expanded_argument", "factored", "exponential_form"]
 
 #: Arguments larger than this (in operations) are not expanded or factored: the
 #: atom is kept as written and :func:`dependence` reports it.
@@ -40,14 +40,26 @@ MAX_ARGUMENT_OPS = 400
 
 
 def _small(expr: sympy.Expr) -> bool:
-    return sympy.count_ops(expr, visual=False) <= MAX_ARGUMENT_OPS
+    for count, _ in enumerate(sympy.preorder_traversal(expr)):
+        if count > MAX_ARGUMENT_OPS:
+            return False
+    return True
 
 
-def _factors(expr: sympy.Expr) -> tuple[sympy.Expr, list[tuple[sympy.Expr, int]]] | None:
+def expanded_argument(arg: sympy.Expr) -> sympy.Expr:
+    """The argument of exp, sin, cos or tan, expanded (when small), so that the
+    program can split sums and integer multiples: exp(x(y+1)) = exp(xy) exp(x)."""
+    if arg.is_Atom or not _small(arg):
+        return arg
+    return sympy.expand(arg)
+
+
+def factored(expr: sympy.Expr) -> tuple[sympy.Rational, list[tuple[sympy.Expr, int]]] | None:
     """``expr`` = c * prod f_i^e_i with irreducible primitive f_i (e_i < 0 in the
-    denominator) and a positive rational c; None when that form does not exist or
-    would change the branch (a negative constant)."""
-    if not expr.free_symbols or not _small(expr) or not expr.is_rational_function():
+    denominator) and a positive rational c; None when that form does not exist,
+    would change the branch (a negative constant), or is the expression itself
+    (an irreducible radicand: nothing to split)."""
+    if expr.is_Atom or not expr.free_symbols or not _small(expr) or not expr.is_rational_function():
         return None
     numerator, denominator = sympy.fraction(sympy.together(expr))
     try:
@@ -56,13 +68,27 @@ def _factors(expr: sympy.Expr) -> tuple[sympy.Expr, list[tuple[sympy.Expr, int]]
     except sympy.PolynomialError:
         return None
     c = cn / cd
-    if not c.is_Rational or c <= 0:
+    factors = [(f, e) for f, e in fn] + [(f, -e) for f, e in fd]
+    if not c.is_Rational or c <= 0 or (c == 1 and len(factors) == 1 and factors[0][1] == 1):
         return None
-    return c, [(f, e) for f, e in fn] + [(f, -e) for f, e in fd]
+    return c, factors
+
+
+def exponential_form(expr: sympy.Expr) -> sympy.Expr | None:
+    """tanh, sinh, cosh through exp, and b**e with a non-constant exponent as
+    exp(e log b); None for anything else."""
+    if isinstance(expr, (sympy.tanh, sympy.sinh, sympy.cosh)):
+        e = sympy.exp(expr.args[0])
+        if isinstance(expr, sympy.tanh):
+            return (e**2 - 1) / (e**2 + 1)
+        return (e - 1 / e) / 2 if isinstance(expr, sympy.sinh) else (e + 1 / e) / 2
+    if isinstance(expr, sympy.Pow) and expr.base is not sympy.E and not expr.exp.is_number:
+        return sympy.exp(expr.exp * sympy.log(expr.base))
+    return None
 
 
 def _log(arg: sympy.Expr) -> sympy.Expr:
-    form = _factors(arg)
+    form = factored(arg)
     if form is None:
         return sympy.log(arg)
     c, factors = form
@@ -71,7 +97,7 @@ def _log(arg: sympy.Expr) -> sympy.Expr:
 
 def _sqrt_power(base: sympy.Expr, exponent: sympy.Rational) -> sympy.Expr:
     """base**(k/2) with the radicand split into square-free irreducible factors."""
-    form = _factors(base)
+    form = factored(base)
     if form is None:
         return sympy.Pow(base, exponent)
     c, factors = form
@@ -83,25 +109,17 @@ def _sqrt_power(base: sympy.Expr, exponent: sympy.Rational) -> sympy.Expr:
 
 def _rule(expr: sympy.Expr) -> sympy.Expr:
     if isinstance(expr, (sympy.sin, sympy.cos, sympy.tan, sympy.exp)):
-        arg = expr.args[0]
-        if _small(arg):
-            expanded = sympy.expand(arg)
-            if expanded != arg:
-                return expr.func(expanded)
-        return expr
-    if isinstance(expr, (sympy.tanh, sympy.sinh, sympy.cosh)):
-        e = sympy.exp(sympy.expand(expr.args[0]))
-        if isinstance(expr, sympy.tanh):
-            return (e**2 - 1) / (e**2 + 1)
-        return (e - 1 / e) / 2 if isinstance(expr, sympy.sinh) else (e + 1 / e) / 2
+        arg = expanded_argument(expr.args[0])
+        return expr if arg is expr.args[0] else expr.func(arg)
+    rewritten = exponential_form(expr)
+    if rewritten is not None:
+        return normal_form(rewritten)
     if isinstance(expr, sympy.log):
         return _log(expr.args[0])
     if isinstance(expr, sympy.Pow):
         base, exponent = expr.args
         if base is sympy.E:
             return sympy.exp(exponent)
-        if not exponent.is_number:
-            return sympy.exp(exponent * _log(base))
         if exponent.is_Rational and exponent.q == 2:
             return _sqrt_power(base, exponent)
     return expr

@@ -94,6 +94,7 @@ def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
     """
     matters = _value_matters(program, dynamics_roots)
     ops, args = program.ops, program.args
+    symbolic = _has_symbol(program)
 
     def where(i: int) -> str:
         return str(program.source.get(i) or program.source.get(args[i][0]) or f"node {i}")
@@ -101,7 +102,7 @@ def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
     logs_ok: set[int] = set()
     radicands: set[tuple] = set()
     for i, op in enumerate(ops):
-        if op is Op.LOG and _has_symbol(program, i):
+        if op is Op.LOG and symbolic[i]:
             form = _irreducible(program, args[i][0])
             if form is not None and ("log", form) not in radicands:
                 radicands.add(("log", form))
@@ -109,7 +110,7 @@ def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
     constants = numeric_roots = 0
     seen: set[tuple] = set()
     for i, op in enumerate(ops):
-        numeric = op not in _LEAF and op is not Op.CONST and not _has_symbol(program, i)
+        numeric = op not in _LEAF and op is not Op.CONST and not symbolic[i]
         if op is Op.RANDOM and isinstance(args[i][0], sympy.NumberSymbol):
             constants += 1
         elif op in (Op.EXP, Op.TRIG, Op.LOG, Op.ATAN2) and numeric:
@@ -140,16 +141,17 @@ def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
     return None
 
 
-def _has_symbol(program: Program, node: int) -> bool:
-    stack, seen = [node], set()
-    while stack:
-        i = stack.pop()
-        if i in seen:
-            continue
-        seen.add(i)
-        op = program.ops[i]
-        if op in (Op.STATE, Op.INPUT) or (op is Op.RANDOM and not isinstance(program.args[i][0], sympy.NumberSymbol)):
-            return True
-        if op not in _LEAF and op is not Op.CONST:
-            stack.extend(program.args[i])
-    return False
+def _has_symbol(program: Program) -> list[bool]:
+    """For each node, whether it depends on a state, an input or a symbolic
+    parameter (one pass: nodes are in topological order)."""
+    out: list[bool] = []
+    for op, args in zip(program.ops, program.args):
+        if op in (Op.STATE, Op.INPUT):
+            out.append(True)
+        elif op is Op.RANDOM:
+            out.append(not isinstance(args[0], sympy.NumberSymbol))
+        elif op is Op.CONST:
+            out.append(False)
+        else:
+            out.append(any(out[a] for a in args))
+    return out

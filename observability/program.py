@@ -25,7 +25,7 @@ from enum import IntEnum
 
 import sympy
 
-from .atoms import normal_form
+from .atoms import expanded_argument, exponential_form, factored
 from .errors import UnsupportedExpressionError
 
 __all__ = ["Op", "Program", "PRIME"]
@@ -91,7 +91,6 @@ class Program:
         self.heights: list[tuple[int, int]] = []
         self.memo: dict[object, object] = {}  # (op, args) -> node, ("sincos", a) -> pair
         self.expression_memo: dict[sympy.Expr, int] = {}
-        self.normal_memo: dict[sympy.Expr, sympy.Expr] = {}
         self.bindings: dict[sympy.Symbol, int] = {}
         self.n_sqrt = 0
 
@@ -254,6 +253,25 @@ class Program:
             result = self._mul(result, self._exp(t))
         return result
 
+    def _root_power(self, base: sympy.Expr, k: int) -> int:
+        """base**(k/2), the radicand split into square-free irreducible factors
+        (square roots are taken where every factor is positive)."""
+        form = factored(base)
+        if form is None:
+            b = self.build(base)
+            self.n_sqrt += 1
+            h = self.heights[b]
+            return self._power(self._node(Op.SQRT, (b,), self.constant[b], (1 + h[0], h[1])), k)
+        c, factors = form
+        items = [self._power(self.build(f), (e // 2) * k) for f, e in factors if e // 2]
+        items += [self._root_power(f, k) for f, e in factors if e % 2]
+        if c != 1:
+            items.append(self.build(sympy.Pow(c, sympy.Rational(k, 2))))
+        result = items[0]
+        for item in items[1:]:
+            result = self._mul(result, item)
+        return result
+
     def build(self, expr: sympy.Expr) -> int:
         memo = self.expression_memo
         found = memo.get(expr)
@@ -286,28 +304,35 @@ class Program:
             for item in items[1:]:
                 result = self._mul(result, item)
             return result
+        rewritten = exponential_form(expr)
+        if rewritten is not None:
+            return self.build(rewritten)
         if isinstance(expr, sympy.Pow):
             base, exponent = expr.args
             if base is sympy.E:
                 return self.build(sympy.exp(exponent))
             if not exponent.is_Rational or exponent.q not in (1, 2):
                 raise UnsupportedExpressionError(f"power {expr} (only integer powers and square roots)")
-            b = self.build(base)
             if exponent.q == 2:
-                self.n_sqrt += 1
-                h = self.heights[b]
-                b = self._node(Op.SQRT, (b,), self.constant[b], (1 + h[0], h[1]))
-            return self._power(b, int(exponent.p))
+                return self._root_power(base, int(exponent.p))
+            return self._power(self.build(base), int(exponent.p))
+        # The atom normal form (observability.atoms) is applied here, in the one
+        # walk that compiles the expression: arguments expanded, radicands factored.
         if isinstance(expr, sympy.sin):
-            return self._sincos(self.build(expr.args[0]))[0]
+            return self._sincos(self.build(expanded_argument(expr.args[0])))[0]
         if isinstance(expr, sympy.cos):
-            return self._sincos(self.build(expr.args[0]))[1]
+            return self._sincos(self.build(expanded_argument(expr.args[0])))[1]
         if isinstance(expr, sympy.exp):
-            return self._exp(self.build(expr.args[0]))
+            return self._exp(self.build(expanded_argument(expr.args[0])))
         if isinstance(expr, sympy.log):
-            return self._log(self.build(expr.args[0]))
+            form = factored(expr.args[0])
+            if form is None:
+                return self._log(self.build(expr.args[0]))
+            c, factors = form
+            terms = [self._mul(self._const(sympy.Integer(e)), self._log(self.build(f))) for f, e in factors]
+            return self._add(terms + ([self._log(self._const(c))] if c != 1 else []))
         if isinstance(expr, sympy.tan):
-            s, c = self._sincos(self.build(expr.args[0]))
+            s, c = self._sincos(self.build(expanded_argument(expr.args[0])))
             return self._mul(s, self._inv(c))
         if isinstance(expr, sympy.atan):
             return self._atan2(self.build(expr.args[0]), self._const(sympy.Integer(1)))
@@ -327,7 +352,7 @@ class Program:
         if bindings:
             self.bindings, self.expression_memo = bindings, {}
         try:
-            node = self.build(normal_form(sympy.sympify(expr), self.normal_memo))
+            node = self.build(sympy.sympify(expr))
         except UnsupportedExpressionError as exc:
             raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
         finally:
