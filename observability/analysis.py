@@ -306,7 +306,7 @@ def analyze(
         )
         rank, orders, seed, labels = result.rank, result.orders, result.seed, result.row_labels
         if result.dependence is None:
-            certificate = "the transcendental terms are provably independent, so the rank mod p is a lower bound"
+            certificate = "exact arithmetic; the transcendental terms are provably independent"
             certain = True
         else:
             proof = certify_rank(
@@ -336,7 +336,7 @@ def analyze(
             details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain ({certificate})"
         else:
             details = (
-                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); rank {rank} is certain as a "
+                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); rank {rank} certain as a "
                 f"lower bound ({certificate}); too low with probability <= {probability:.1e} "
                 f"(Schwartz-Zippel, degree bound {result.degree_bound})"
             )
