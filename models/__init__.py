@@ -29,10 +29,18 @@ def _choice(*allowed: str) -> Callable[[str, str], str]:
     return parse
 
 
+#: The largest count a size option takes: 100,000 landmarks are 200,006 states,
+#: far beyond any analysis that fits in memory; larger values are refused, not built.
+MAX_COUNT = 100_000
+
+
 def _count(key: str, text: str) -> int:
-    if not text.isdigit():
-        raise ModelError(f"option {key}: expected a non-negative integer, got {text!r}")
-    return int(text)
+    if not (text.isascii() and text.isdigit()) or len(text) > 7:
+        raise ModelError(f"option {key}: expected a non-negative integer up to {MAX_COUNT}, got {text!r}")
+    value = int(text)
+    if value > MAX_COUNT:
+        raise ModelError(f"option {key}: {value} is above the limit of {MAX_COUNT}")
+    return value
 
 
 def _flag(key: str, text: str) -> bool:

@@ -14,7 +14,8 @@ from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
 from .randomized import randomized_rank
-from .symbolic import Undecided, null_space, observability_rows, symbolic_rank, with_budget
+from .budget import Undecided, with_budget
+from .symbolic import null_space, observability_rows, symbolic_rank
 from .symmetry import name_null_space
 from .system import System
 
@@ -267,7 +268,7 @@ def analyze(
         Receives a status line after each order.
     """
     if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        raise ModelError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if previous not in PREVIOUS_METHODS:
         raise ModelError(f"previous-state method must be one of {', '.join(PREVIOUS_METHODS)}, got {previous!r}")
     if max_order is not None and max_order < 0:

@@ -34,6 +34,43 @@ class _Parser(argparse.ArgumentParser):
         raise _UsageError(message)
 
 
+def _count(text: str) -> int:
+    """argparse type: a non-negative integer."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {value}")
+    return value
+
+
+def _positive(text: str) -> int:
+    """argparse type: a positive integer."""
+    value = _count(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError("expected a positive integer, got 0")
+    return value
+
+
+def _seconds(text: str) -> float:
+    """argparse type: a positive, finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not (0 < value < 1e7):
+        raise argparse.ArgumentTypeError(f"expected a positive, finite number of seconds below 1e7, got {text}")
+    return value
+
+
+def _identifier(text: str) -> str:
+    """argparse type: a C identifier (base name of generated files and functions)."""
+    if not (text.isascii() and text.isidentifier()):
+        raise argparse.ArgumentTypeError(f"expected a C identifier (letters, digits, underscores), got {text!r}")
+    return text
+
+
 def _options(pairs: Sequence[str]) -> dict[str, str]:
     options: dict[str, str] = {}
     for pair in pairs:
@@ -204,11 +241,12 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--previous", choices=("inverse", "augment"), default="inverse",
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text")
-    check.add_argument("--input-derivatives", type=int, default=None, metavar="N",
+    check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",
                        help="number of non-zero derivatives of each input (default: generic input)")
-    check.add_argument("--max-order", type=int, default=None, metavar="K", help="highest Lie order (default n-1)")
-    check.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
-                       help="time allowed for symbolic work before it is reported undecided (default 60)")
+    check.add_argument("--max-order", type=_count, default=None, metavar="K",
+                       help="highest Lie order (default: the order that always suffices)")
+    check.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
+                       help="CPU time allowed for symbolic work before it is reported undecided (default 60)")
     check.set_defaults(func=_check)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
     codegen.add_argument("model", help="built-in model name or path to a .toml model file")
@@ -219,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
                          help="comma-separated states and inputs the process noise enters (default: every state)")
     codegen.add_argument("--dt", default="dt", help="time step (a number or a parameter name) for continuous models")
     codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler")
-    codegen.add_argument("--name", default="filter_functions", help="base name of the generated files")
+    codegen.add_argument("--name", type=_identifier, default="filter_functions", help="base name of the generated files")
     codegen.set_defaults(func=_codegen)
     latex = sub.add_parser("latex", help="the observability matrix and verdict in LaTeX")
     latex.add_argument("model", help="built-in model name or path to a .toml model file")
@@ -232,12 +270,12 @@ def build_parser() -> argparse.ArgumentParser:
     reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
     reproduce.add_argument("--out", type=Path, default=Path("reports"))
     reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
-    reproduce.add_argument("--runs", type=int, default=None, help="Monte Carlo runs of the simulation (default 50)")
+    reproduce.add_argument("--runs", type=_positive, default=None, help="Monte Carlo runs of the simulation (default 50)")
     reproduce.set_defaults(func=_reproduce)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
     consistency.add_argument("--out", type=Path, default=Path("reports"))
-    consistency.add_argument("--runs", type=int, default=50)
-    consistency.add_argument("--steps", type=int, default=80)
+    consistency.add_argument("--runs", type=_positive, default=50)
+    consistency.add_argument("--steps", type=_positive, default=80)
     consistency.add_argument("--seed", type=int, default=7)
     consistency.set_defaults(func=_consistency)
     listing = sub.add_parser("models", help="list the built-in models")
@@ -254,7 +292,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser.print_help()
             return EXIT_BAD_INPUT
         return args.func(args)
-    except (_UsageError, ObservabilityError, ValueError) as exc:
+    # Exit 2 only for errors raised on purpose about the input; anything else,
+    # a ValueError from deep inside a library included, is a bug (exit 4).
+    except (_UsageError, ObservabilityError) as exc:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"observability: error: {message}", file=sys.stderr)
         return EXIT_BAD_INPUT

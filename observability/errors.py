@@ -12,6 +12,7 @@ __all__ = [
     "ModelFileError",
     "UnsupportedExpressionError",
     "SingularModelError",
+    "OptionError",
 ]
 
 
@@ -45,3 +46,8 @@ class SingularModelError(ObservabilityError, ArithmeticError):
     Typically a known parameter was given a value that makes a denominator vanish
     identically.
     """
+
+
+class OptionError(ObservabilityError, ValueError):
+    """An option of an analysis, a report or a study makes no sense (a negative
+    order, one Monte Carlo step after a burn-in of ten, ...); the message names it."""

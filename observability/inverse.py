@@ -22,6 +22,7 @@ from typing import Literal
 
 import sympy
 
+from .budget import Undecided, with_budget
 from .errors import ModelError
 from .expressions import prev
 from .system import System
@@ -49,6 +50,19 @@ def inverse_dynamics(system: System) -> tuple[sympy.Expr, ...]:
     if system.inverse_dynamics is not None:
         verify_inverse(system, system.inverse_dynamics)
         return system.inverse_dynamics
+    try:
+        solution = with_budget(_solve_inverse, system, seconds=INVERSE_BUDGET)
+    except Undecided as exc:
+        raise ModelError(
+            f"{system.name}: the inverse motion model could not be derived ({exc}); give it in the model ([inverse])"
+        ) from None
+    if isinstance(solution, str):
+        raise ModelError(f"{system.name}: {solution}; give inverse_dynamics in the model ([inverse])")
+    return solution
+
+
+def _solve_inverse(system: System) -> tuple[sympy.Expr, ...] | str:
+    """Solve F(z, u) = x for z; a string says why there is no unique solution."""
     z = sympy.symbols(f"z0:{system.n}", cls=sympy.Dummy)
     back = dict(zip(system.states, z))
     equations = [sympy.Eq(fi.xreplace(back), xi) for fi, xi in zip(system.dynamics, system.states)]
@@ -57,12 +71,12 @@ def inverse_dynamics(system: System) -> tuple[sympy.Expr, ...]:
     except NotImplementedError:
         solutions = []
     if len(solutions) != 1 or set(solutions[0]) != set(z):
-        raise ModelError(
-            f"{system.name}: cannot invert the motion model uniquely in closed form "
-            f"({len(solutions)} solutions); give inverse_dynamics in the model"
-        )
+        return f"cannot invert the motion model uniquely in closed form ({len(solutions)} solutions)"
     return tuple(sympy.simplify(solutions[0][zi]) for zi in z)
 
+
+#: CPU seconds allowed for deriving an inverse motion model symbolically.
+INVERSE_BUDGET = 20.0
 
 #: Digits of the evaluation that checks a given inverse, and the residual
 #: (relative to the state's size) above which it is refused.

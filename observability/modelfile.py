@@ -26,6 +26,7 @@ Expressions are parsed by :func:`observability.expressions.parse_expression`.
 
 from __future__ import annotations
 
+import stat
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -38,6 +39,10 @@ from .symmetry import EPSILON, Symmetry
 from .system import System
 
 __all__ = ["load_model", "parse_model"]
+
+#: A model file larger than this is refused before it is read (a model with
+#: thousands of states takes well under a megabyte).
+MAX_FILE_BYTES = 8 * 1024 * 1024
 
 _KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries"}
 
@@ -53,7 +58,16 @@ def load_model(path: str | Path) -> System:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        info = path.stat()
+        if not stat.S_ISREG(info.st_mode):
+            raise ModelFileError(f"{path}: not a regular file")
+        if info.st_size > MAX_FILE_BYTES:
+            raise ModelFileError(f"{path}: {info.st_size} bytes, above the limit of {MAX_FILE_BYTES} for a model file")
+        with path.open("rb") as handle:
+            data = handle.read(MAX_FILE_BYTES + 1)
+        if len(data) > MAX_FILE_BYTES:
+            raise ModelFileError(f"{path}: above the limit of {MAX_FILE_BYTES} bytes for a model file")
+        text = data.decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelFileError(f"{path}: cannot read model file ({exc.__class__.__name__}: {exc})") from None
     return parse_model(text, source=str(path))

@@ -9,6 +9,8 @@ names the offending item. The vocabulary (x, u, p, f, h) follows STRIKE-GOLDD.
 
 from __future__ import annotations
 
+import keyword
+import unicodedata
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -24,15 +26,25 @@ __all__ = ["System", "system", "prev"]
 Time = Literal["continuous", "discrete"]
 
 
+def normal_name(name: str, what: str) -> str:
+    """A declared name in NFKC form, as Python's parser reads identifiers (so
+    ``ｘ`` in an expression is ``x``); keywords are refused, since an expression
+    could not use them."""
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ModelError(f"{what} name {name!r} is not an identifier")
+    normal = unicodedata.normalize("NFKC", name)
+    if keyword.iskeyword(normal) or normal in ("prev", "epsilon"):
+        raise ModelError(f"{what} name {name!r} is reserved (a Python keyword, prev or epsilon)")
+    return normal
+
+
 def _symbols(items: Iterable[Any], what: str) -> tuple[sympy.Symbol, ...]:
     if isinstance(items, (str, sympy.Symbol)):
         items = [items]
     out = []
     for item in items:
         if isinstance(item, str):
-            if not item.isidentifier():
-                raise ModelError(f"{what} name {item!r} is not an identifier")
-            out.append(sympy.Symbol(item))
+            out.append(sympy.Symbol(normal_name(item, what)))
         elif isinstance(item, sympy.Symbol):
             out.append(item)
         else:
@@ -146,12 +158,12 @@ class System:
         if not isinstance(outputs, Mapping) or not outputs:
             raise ModelError("outputs must be a non-empty mapping from output name to expression")
         h = []
+        output_names: set[str] = set()
         for key, value in outputs.items():
-            oname = str(key)
-            if not oname.isidentifier():
-                raise ModelError(f"output name {oname!r} is not an identifier")
-            if oname in (n for n, _ in h):
-                raise ModelError(f"duplicate output name {oname!r}")
+            oname = normal_name(str(key), "output")
+            if oname in output_names:
+                raise ModelError(f"duplicate output name {oname!r} (names must differ after Unicode normalisation)")
+            output_names.add(oname)
             expr = _scalar(value, f"output {oname}", names, time == "discrete")
             h.append((oname, expr))
 
@@ -196,10 +208,13 @@ class System:
     def _aligned(values: Any, x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol], what: str):
         if isinstance(values, Mapping):
             by_name: dict[str, Any] = {}
+            state_names = {s.name for s in x}
             for key, value in values.items():
-                kname = key.name if isinstance(key, sympy.Symbol) else str(key)
-                if kname not in {s.name for s in x}:
+                kname = key.name if isinstance(key, sympy.Symbol) else unicodedata.normalize("NFKC", str(key))
+                if kname not in state_names:
                     raise ModelError(f"{what} given for {kname!r}, which is not a state")
+                if kname in by_name:
+                    raise ModelError(f"{what} given twice for {kname!r} (names must differ after Unicode normalisation)")
                 by_name[kname] = value
             missing = [s.name for s in x if s.name not in by_name]
             if missing:

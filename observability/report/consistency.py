@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..codegen import filter_functions
+from ..errors import OptionError
 from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, monte_carlo, nees
 from ..system import System
 from .files import save_figure, write_text
@@ -38,6 +39,12 @@ class ConsistencyStudy:
     burn_in: int = 10
     x0: tuple[float, float] = (0.0, 1.0)
     p0: tuple[float, float] = (1.0, 0.5)
+
+    def __post_init__(self) -> None:
+        if self.steps <= self.burn_in:
+            raise OptionError(f"steps must exceed the burn-in of {self.burn_in} steps, got {self.steps}")
+        if self.runs < 2:
+            raise OptionError(f"runs must be at least 2 for a Monte Carlo average, got {self.runs}")
 
     def system(self) -> System:
         return System(

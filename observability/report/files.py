@@ -1,23 +1,55 @@
-"""Writing report files completely or not at all."""
+"""Writing report files completely or not at all, and only where asked."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import shutil
+import stat
+import tempfile
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-__all__ = ["write_text", "write_json", "save_figure"]
+from ..errors import OptionError
+
+__all__ = ["write_text", "write_json", "save_figure", "staged_directory"]
+
+
+def _target(path: Path) -> Path:
+    """Where to write: a symbolic link is written through (its target is replaced,
+    not the link); an existing path that is not a regular file (a device, a
+    directory, a pipe) is refused."""
+    path = Path(path)
+    if path.is_symlink():
+        path = path.resolve()
+    if path.exists() and not stat.S_ISREG(path.stat().st_mode):
+        raise OptionError(f"{path}: exists and is not a regular file; refusing to replace it")
+    return path
+
+
+def _atomic(path: Path, write: Callable[[Path], None], suffix: str) -> Path:
+    """Write through a uniquely named temporary file beside ``path`` and rename
+    it into place; the temporary file is removed whatever happens."""
+    path = _target(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    os.close(handle)
+    partial = Path(name)
+    try:
+        write(partial)
+        os.chmod(partial, 0o644)
+        os.replace(partial, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            partial.unlink()
+    return path
 
 
 def write_text(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file and an atomic rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_name(path.name + ".partial")
-    partial.write_text(text, encoding="utf-8")
-    os.replace(partial, path)
-    return path
+    """Write ``text`` to ``path`` completely or not at all."""
+    return _atomic(Path(path), lambda p: p.write_text(text, encoding="utf-8"), ".partial")
 
 
 def write_json(path: Path, data: Any) -> Path:
@@ -25,10 +57,25 @@ def write_json(path: Path, data: Any) -> Path:
 
 
 def save_figure(figure, path: Path) -> Path:
-    """Save a matplotlib figure atomically (PNG)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_name(path.stem + ".partial.png")
-    figure.savefig(partial, dpi=110)
-    os.replace(partial, path)
-    return path
+    """Save a matplotlib figure (PNG) completely or not at all."""
+    return _atomic(Path(path), lambda p: figure.savefig(p, dpi=110, format="png"), ".partial.png")
+
+
+@contextlib.contextmanager
+def staged_directory(out: Path) -> Iterator[Path]:
+    """A temporary directory beside ``out`` to write a set of files into; on
+    success each file is moved into ``out`` (other files there are left alone),
+    on failure nothing in ``out`` changes and the temporary directory is removed."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise OptionError(f"{out}: exists and is not a directory")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    try:
+        yield stage
+        out.mkdir(parents=True, exist_ok=True)
+        for item in sorted(stage.iterdir()):
+            _target(out / item.name)
+            os.replace(item, out / item.name)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)

@@ -16,7 +16,7 @@ from ..expressions import parse_expression
 from ..symbolic import observability_rows
 from ..system import System
 
-__all__ = ["LatexMatrix", "latex_matrix", "latex_document"]
+__all__ = ["LatexMatrix", "latex_matrix", "latex_document", "latex_text"]
 
 #: Above this many characters of LaTeX for the whole matrix, subexpressions are named.
 ABBREVIATE_ABOVE = 1200
@@ -79,7 +79,26 @@ def latex_matrix(system: System, orders: int, abbreviate_above: int = ABBREVIATE
     )
 
 
+_SPECIAL = {
+    "\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&", "#": r"\#",
+    "^": r"\textasciicircum{}", "_": r"\_", "%": r"\%", "~": r"\textasciitilde{}",
+}
+
+
+def latex_text(text: str) -> str:
+    """``text`` as LaTeX text: every special character escaped, line breaks as
+    spaces, so a model or direction name can never run a command."""
+    return "".join(_SPECIAL.get(c, " " if c in "\r\n" else c) for c in str(text))
+
+
+def _comment(text: str) -> str:
+    """``text`` inside a LaTeX comment: no line break can end the comment."""
+    return " ".join(str(text).split())
+
+
 def _verdict(system: System, result: ObservabilityResult) -> str:
+    if result.rank is None:
+        return f"Undecided: {latex_text(result.details)}"
     status = "observable" if result.observable else "not observable"
     lines = [f"Rank {result.rank} of {result.n_states}: {status} (method {result.method}, Lie orders 0 to {result.orders})."]
     if result.unobservable_directions:
@@ -91,7 +110,7 @@ def _verdict(system: System, result: ObservabilityResult) -> str:
                 f"${sympy.latex(names[k])}$: ${sympy.latex(parse_expression(v, names, where=d.name))}$"
                 for k, v in d.vector.items()
             )
-            lines.append(f"\\item {d.name}: {parts}")
+            lines.append(f"\\item {latex_text(d.name)}: {parts}")
         lines.append("\\end{itemize}")
     return "\n".join(lines)
 
@@ -103,10 +122,10 @@ def latex_document(system: System, result: ObservabilityResult | None = None, bo
     Lie orders decide how many rows are shown.
     """
     result = result or analyze(system, seed=0)
-    pieces = latex_matrix(system, result.orders)
+    pieces = latex_matrix(system, result.orders if result.orders is not None else 0)
     if body_only:
         header = [
-            f"% observability matrix of {system.name}: rows "
+            f"% observability matrix of {_comment(system.name)}: rows "
             + ", ".join(f"d L^{k} {o}" for o, k in pieces.rows),
             "% columns: " + ", ".join(s.name for s in system.states),
         ]
@@ -114,7 +133,7 @@ def latex_document(system: System, result: ObservabilityResult | None = None, bo
         if pieces.definitions:
             text += "\n% where\n" + "\n".join(f"% {name} = {value}" for name, value in pieces.definitions)
         return text + "\n"
-    title = system.name.replace("_", "\\_")
+    title = latex_text(system.name)
     return "\n".join(
         [
             "\\documentclass{article}",

@@ -14,7 +14,8 @@ from pathlib import Path
 
 from .claims import claim_rows, claims_markdown, planar_rows
 from .consistency import ConsistencyStudy, write_consistency_report
-from .files import write_text
+from ..errors import OptionError
+from .files import staged_directory, write_text
 from .simulation import SimulationConfig, write_simulation_report
 
 __all__ = ["reproduce", "CLAIMS_SEED"]
@@ -30,16 +31,28 @@ def claims_text() -> str:
 
 
 def reproduce(out: Path, quick: bool = False, runs: int | None = None, progress: bool | None = None) -> list[Path]:
-    """Regenerate the reports into ``out``; ``quick`` is a smoke run (few, short runs)."""
-    out = Path(out)
-    start = time.perf_counter()
-    written = [write_text(out / "claims.md", claims_text())]
+    """Regenerate the reports into ``out``; ``quick`` is a smoke run (few, short runs).
+
+    Every option is validated before anything is written, and the set is written
+    into a temporary directory first: on failure ``out`` is left as it was.
+    """
+    final = Path(out)
+    if runs is not None and runs < 1:
+        raise OptionError(f"runs must be at least 1, got {runs}")
     study = ConsistencyStudy(runs=5, steps=30) if quick else ConsistencyStudy()
-    consistency = write_consistency_report(out, study, progress)
-    written += [out / "consistency.md", out / "consistency_nees.png"]
     config = SimulationConfig(runs=3, duration=10.0) if quick else SimulationConfig()
     if runs is not None:
         config = replace(config, runs=runs)
+    with staged_directory(final) as out:
+        names = _write_reports(out, study, config, quick, progress)
+    return [final / name for name in names]
+
+
+def _write_reports(out: Path, study: ConsistencyStudy, config: SimulationConfig, quick: bool, progress) -> list[str]:
+    start = time.perf_counter()
+    written = [write_text(out / "claims.md", claims_text())]
+    consistency = write_consistency_report(out, study, progress)
+    written += [out / "consistency.md", out / "consistency_nees.png"]
     simulation = write_simulation_report(out, config, progress)
     written += [out / "summary.json"] + [out / f for f in simulation["figures"]]
     choices = "\n".join(f"| `{k}` | {v} |" for k, v in simulation["config"].items())
@@ -93,4 +106,4 @@ See [consistency.md](consistency.md).
 {choices}
 """
     written.append(write_text(out / "README.md", text))
-    return written
+    return [p.name for p in written]

@@ -1,0 +1,87 @@
+"""CPU-time budgets for symbolic work that may not end.
+
+Symbolic computations (a generic rank, a null space, solving for an inverse
+model) can take unbounded time and memory, so they run in a forked child process
+that is stopped when its budget is spent; the caller then says "undecided" (or
+refuses with a clear reason) instead of hanging.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+__all__ = ["Undecided", "with_budget", "WALL_FACTOR"]
+
+T = TypeVar("T")
+
+
+class Undecided(Exception):
+    """The symbolic route cannot decide (budget spent, or an algebraic function)."""
+
+
+def _child(conn: Any, func: Callable[..., Any], args: tuple) -> None:
+    try:
+        conn.send(("ok", func(*args)))
+    except Exception as exc:  # noqa: BLE001 - reported to the parent, which re-raises
+        conn.send(("error", exc))
+    finally:
+        conn.close()
+
+
+def _cpu_seconds(pid: int) -> float | None:
+    """CPU time (user + system) a process has used, from /proc; None where unavailable."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as stat:
+            fields = stat.read().rsplit(b")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+#: A budget is CPU time; the wall clock may run this many times longer (a
+#: loaded machine) before the work is stopped anyway, so nothing hangs.
+WALL_FACTOR = 10.0
+
+
+def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
+    """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
+    when it uses more than ``seconds`` of CPU time (None: no limit, run
+    in-process).
+
+    The work runs in a forked child process so that it can really be stopped. The
+    budget counts the child's CPU time, so the answer does not depend on how
+    loaded the machine is; where CPU time cannot be read (no /proc), wall time
+    is used. The wall clock is capped at ``WALL_FACTOR`` times the budget.
+    """
+    if seconds is None:
+        return func(*args)
+    if not seconds > 0 or seconds == float("inf"):
+        raise ValueError(f"a budget must be a positive finite number of seconds, got {seconds}")
+    context = multiprocessing.get_context("fork")
+    parent, child = context.Pipe(duplex=False)
+    process = context.Process(target=_child, args=(child, func, args), daemon=True)
+    process.start()
+    child.close()
+    began = time.monotonic()
+    try:
+        while not parent.poll(0.02):
+            used = _cpu_seconds(process.pid)
+            wall = time.monotonic() - began
+            if (used if used is not None else wall) > seconds or wall > WALL_FACTOR * seconds:
+                raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
+            if not process.is_alive() and not parent.poll(0):
+                raise Undecided("the symbolic computation ended without an answer (out of memory?)")
+        status, value = parent.recv()
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join()
+    if status == "error":
+        if isinstance(value, (RecursionError, MemoryError)):
+            raise Undecided(f"the symbolic computation exceeded a resource limit ({type(value).__name__})")
+        raise value
+    return value
