@@ -22,18 +22,17 @@ with an error naming the step. A measurement entry given as ``None`` is missing
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..codegen import FilterFunctions
+from . import validation
+from .validation import FilterError
 
 __all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
-
-
-class FilterError(ArithmeticError):
-    """A filter step cannot proceed (NaN input, indefinite covariance, ...)."""
 
 
 @dataclass(frozen=True)
@@ -91,6 +90,18 @@ class _Buffered:
         return [out.T.copy() for out in self.outputs]
 
 
+def _quiet(method):
+    """Overflow inside a step is not warned about: the step's result is checked
+    (validation.estimate) and a non-finite one is refused with a FilterError."""
+
+    @functools.wraps(method)
+    def wrapper(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore"):
+            return method(*args, **kwargs)
+
+    return wrapper
+
+
 def _symmetric(P: np.ndarray) -> np.ndarray:
     return 0.5 * (P + P.T)
 
@@ -98,27 +109,33 @@ def _symmetric(P: np.ndarray) -> np.ndarray:
 class _Base:
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = ()):
         self.fn = functions
-        self.Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        self.R = np.atleast_2d(np.asarray(R, dtype=float))
-        self.p = np.asarray(parameters, dtype=float)
         n_w, n_y = len(functions.noise), len(functions.outputs)
-        if self.Q.shape != (n_w, n_w):
-            raise ValueError(f"Q has shape {self.Q.shape} but the noise {functions.noise} needs ({n_w}, {n_w})")
-        if self.R.shape != (n_y, n_y):
-            raise ValueError(f"R has shape {self.R.shape} but the outputs {functions.outputs} need ({n_y}, {n_y})")
-        if self.p.shape != (len(functions.parameters),):
-            raise ValueError(f"parameters has {self.p.size} values but the model needs {functions.parameters}")
+        where = f"{type(self).__name__} setup"
+        self.Q = validation.covariance(Q, f"Q (noise {', '.join(functions.noise)})", n_w, where, definite=False)
+        self.R = validation.covariance(R, f"R (outputs {', '.join(functions.outputs)})", n_y, where)
+        self.p = validation.vector(parameters, f"parameters ({', '.join(functions.parameters)})", len(functions.parameters), where)
         self.n = len(functions.states)
+        self.n_inputs = len(functions.inputs)
         self.w0 = np.zeros(n_w)
         self._motion_call = _Buffered(functions["motion"])
         self._measurement_call = _Buffered(functions["measurement"])
 
     def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
-        x0 = np.asarray(x0, dtype=float)
-        P0 = np.asarray(P0, dtype=float)
-        if x0.shape != (self.n,) or P0.shape != (self.n, self.n):
-            raise ValueError(f"x0 and P0 must have shapes ({self.n},) and ({self.n}, {self.n})")
-        return FilterState(x0, _symmetric(P0))
+        where = f"{type(self).__name__} initial state"
+        x0 = validation.vector(x0, "x0", self.n, where)
+        P0 = validation.covariance(P0, "P0", self.n, where)
+        return FilterState(x0, P0)
+
+    def _inputs(self, u: Sequence[float], step: int) -> np.ndarray:
+        return validation.vector(u, "the input u", self.n_inputs, f"step {step}")
+
+    @staticmethod
+    def _checked(state: FilterState, what: str) -> FilterState:
+        where = f"step {state.step} ({what})"
+        validation.estimate(state.x, state.P, where)
+        if state.joint is not None:
+            validation.covariance(state.joint, "the joint covariance", state.joint.shape[0], where)
+        return state
 
     def _motion(self, x: np.ndarray, u: np.ndarray):
         x_next, F, Fw = self._motion_call(x, u, self.w0, self.p)
@@ -128,14 +145,8 @@ class _Base:
         y, H, H_prev = self._measurement_call(x, x_prev, self.p)
         return y.ravel(), H, H_prev
 
-    @staticmethod
-    def _select(y: Sequence[float | None], step: int) -> tuple[np.ndarray, list[int]]:
-        used = [i for i, v in enumerate(y) if v is not None]
-        values = np.array([y[i] for i in used], dtype=float)
-        bad = [used[j] for j in np.flatnonzero(~np.isfinite(values))]
-        if bad:
-            raise FilterError(f"step {step}: measurement {bad[0]} is {values[used.index(bad[0])]}; use None for a missing one")
-        return values, used
+    def _select(self, y: Sequence[float | None], step: int) -> tuple[np.ndarray, list[int]]:
+        return validation.measurement(y, len(self.fn.outputs), f"step {step} (update)")
 
     @staticmethod
     def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
@@ -143,7 +154,7 @@ class _Base:
         try:
             L = np.linalg.cholesky(S)
         except np.linalg.LinAlgError:
-            raise FilterError(f"step {step}: innovation covariance is not positive definite") from None
+            raise FilterError(f"step {step} (update): the innovation covariance S is not positive definite") from None
         K = np.linalg.solve(L.T, np.linalg.solve(L, H @ P.T)).T
         return K, S
 
@@ -152,18 +163,18 @@ class _Base:
         A = np.eye(P.shape[0]) - K @ H
         return _symmetric(A @ P @ A.T + K @ W @ K.T)
 
+    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T."""
-        u = np.asarray(u, dtype=float)
+        u = self._inputs(u, state.step + 1)
         x, F, Fw = self._motion(state.x, u)
         P = _symmetric(F @ state.P @ F.T + Fw @ self.Q @ Fw.T)
-        if not np.all(np.isfinite(x)) or not np.all(np.isfinite(P)):
-            raise FilterError(f"step {state.step + 1}: prediction is not finite")
-        return FilterState(x, P, x_prev=state.x, step=state.step + 1)
+        return self._checked(FilterState(x, P, x_prev=state.x, step=state.step + 1), "prediction")
 
     def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
         return np.zeros((H_prev.shape[0], H_prev.shape[0]))
 
+    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """Eqs. (8)-(11) in Joseph form, with the available entries of ``y``."""
         values, used = self._select(y, state.step)
@@ -172,12 +183,12 @@ class _Base:
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
         H, H_prev = H[used], H_prev[used]
-        W = self.R[np.ix_(used, used)] + self._extra_noise(state, H_prev, np.asarray(u, dtype=float))
+        W = self.R[np.ix_(used, used)] + self._extra_noise(state, H_prev, self._inputs(u, state.step))
         K, S = self._gain(state.P, H, W, state.step)
         nu = values - h[used]
         x = state.x + K @ nu
         P = self._joseph(state.P, K, H, W)
-        return Update(FilterState(x, P, x_prev=state.x_prev, step=state.step), nu, S, tuple(used))
+        return Update(self._checked(FilterState(x, P, x_prev=state.x_prev, step=state.step), "update"), nu, S, tuple(used))
 
 
 class ConventionalEKF(_Base):
@@ -189,7 +200,7 @@ class GeneralizedEKF(_Base):
 
     def __init__(self, functions: FilterFunctions, Q, R, parameters: Sequence[float] = ()):
         if "G_w" not in functions.functions:
-            raise ValueError("the generalized EKF needs the inverse motion model (G_w), which could not be derived")
+            raise FilterError("GeneralizedEKF setup: the generalized EKF needs the inverse motion model (G_w), which could not be derived")
         super().__init__(functions, Q, R, parameters)
         self._inverse_call = _Buffered(functions["G_w"])
 
@@ -201,18 +212,25 @@ class GeneralizedEKF(_Base):
 class CloningEKF(_Base):
     """Stochastic cloning: the state is augmented with the previous state."""
 
+    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
-        u = np.asarray(u, dtype=float)
+        u = self._inputs(u, state.step + 1)
         x, F, Fw = self._motion(state.x, u)
         P = state.P
         current = F @ P @ F.T + Fw @ self.Q @ Fw.T
         cross = F @ P
+        # The joint covariance of (x_k, x_k-1) is singular when F loses rank or Q
+        # is singular; only its finiteness and symmetry are required here, the
+        # current block must be positive definite.
         joint = _symmetric(np.block([[current, cross], [cross.T, P]]))
         if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
-            raise FilterError(f"step {state.step + 1}: prediction is not finite")
+            raise FilterError(f"step {state.step + 1} (prediction): the prediction is not finite")
         n = self.n
-        return FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1)
+        new = FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1)
+        validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
+        return new
 
+    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         values, used = self._select(y, state.step)
         if state.joint is None:  # before the first prediction there is no clone
@@ -228,6 +246,7 @@ class CloningEKF(_Base):
         z = np.concatenate([state.x, state.x_prev]) + K @ nu
         joint = self._joseph(state.joint, K, H_aug, W)
         new = FilterState(z[:n], joint[:n, :n], x_prev=z[n:], joint=joint, step=state.step)
+        validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, nu, S, tuple(used))
 
 
@@ -246,16 +265,18 @@ class ColoredNoiseEKF(_Base):
 
     def __init__(self, functions: FilterFunctions, Q, R, R_nu, D0, D1, parameters: Sequence[float] = ()):
         super().__init__(functions, Q, R, parameters)
-        self.R_nu = np.atleast_2d(np.asarray(R_nu, dtype=float))
-        self.q = self.R_nu.shape[0]
+        raw = np.atleast_2d(np.asarray(R_nu, dtype=float)) if not isinstance(R_nu, (str, bytes, dict)) else R_nu
+        q = raw.shape[0] if isinstance(raw, np.ndarray) else 0
+        self.R_nu = validation.covariance(R_nu, "R_nu", q, "ColoredNoiseEKF setup")
+        self.q = q
         self.D0, self.D1 = D0, D1
 
     def _weights(self, x: np.ndarray, x_prev: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         out = []
         for D in (self.D0, self.D1):
-            value = np.asarray(D(x, x_prev) if callable(D) else D, dtype=float)
+            value = validation._array(D(x, x_prev) if callable(D) else D, "D0 / D1", "ColoredNoiseEKF weights")
             if value.shape != (len(self.fn.outputs), self.q):
-                raise ValueError(f"D0 and D1 must have shape ({len(self.fn.outputs)}, {self.q}), got {value.shape}")
+                raise FilterError(f"ColoredNoiseEKF weights: D0 and D1 must have shape ({len(self.fn.outputs)}, {self.q}), got {value.shape}")
             out.append(value)
         return out[0], out[1]
 
@@ -270,9 +291,10 @@ class ColoredNoiseEKF(_Base):
         joint[2 * n : 2 * n + q, 2 * n : 2 * n + q] = self.R_nu
         return FilterState(base.x, base.P, x_prev=base.x, joint=joint, noise=np.zeros(2 * q))
 
+    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         n, q = self.n, self.q
-        x, F, Fw = self._motion(state.x, np.asarray(u, dtype=float))
+        x, F, Fw = self._motion(state.x, self._inputs(u, state.step + 1))
         keep = list(range(n)) + list(range(2 * n, 2 * n + q))  # x_k-1 and nu_k-1 (the latest of each)
         M = state.joint[np.ix_(keep, keep)]
         T = np.zeros((2 * n + 2 * q, n + q))
@@ -284,10 +306,13 @@ class ColoredNoiseEKF(_Base):
         joint[2 * n : 2 * n + q, 2 * n : 2 * n + q] += self.R_nu
         joint = _symmetric(joint)
         if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
-            raise FilterError(f"step {state.step + 1}: prediction is not finite")
+            raise FilterError(f"step {state.step + 1} (prediction): the prediction is not finite")
         noise = np.concatenate([np.zeros(q), state.noise[:q]])
-        return FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1, noise=noise)
+        new = FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1, noise=noise)
+        validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
+        return new
 
+    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         values, used = self._select(y, state.step)
         if not used:
@@ -303,4 +328,5 @@ class ColoredNoiseEKF(_Base):
         z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
         joint = self._joseph(state.joint, K, H_aug, W)
         new = FilterState(z[:n], joint[:n, :n], x_prev=z[n : 2 * n], joint=joint, step=state.step, noise=z[2 * n :])
+        validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, nu, S, tuple(used))

@@ -1,0 +1,94 @@
+"""The one validation layer of the filters: what goes in and what comes out.
+
+Every check raises :class:`FilterError` naming the step and the quantity, so a
+filter never returns NaN, an indefinite covariance, or an estimate of the wrong
+shape without a word. Tolerances are stated here and nowhere else.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..errors import ObservabilityError
+
+__all__ = ["FilterError", "SYMMETRY_TOLERANCE", "covariance", "vector", "measurement", "estimate"]
+
+#: A matrix is symmetric when |M - M^T| <= SYMMETRY_TOLERANCE * max(1, |M|_max).
+SYMMETRY_TOLERANCE = 1e-9
+
+
+class FilterError(ObservabilityError, ValueError, ArithmeticError):
+    """A filter refuses an input or a step (NaN, wrong shape, indefinite
+    covariance, ...); the message names the step and the quantity."""
+
+
+def _array(value, name: str, where: str) -> np.ndarray:
+    if isinstance(value, (str, bytes, dict)) or value is None:
+        raise FilterError(f"{where}: {name} must be numeric, got {type(value).__name__} {value!r}")
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise FilterError(f"{where}: {name} must be numeric, got {value!r}") from None
+    if not np.all(np.isfinite(array)):
+        raise FilterError(f"{where}: {name} has entries that are not finite")
+    return array
+
+
+def vector(value, name: str, size: int, where: str) -> np.ndarray:
+    """A finite vector of length ``size``."""
+    array = _array(value, name, where)
+    if array.shape != (size,):
+        raise FilterError(f"{where}: {name} has shape {array.shape}, expected ({size},)")
+    return array
+
+
+def covariance(value, name: str, size: int, where: str, *, definite: bool = True) -> np.ndarray:
+    """A finite, symmetric, positive definite (or, with ``definite=False``,
+    semi-definite) ``size`` x ``size`` matrix; a 1 x 1 covariance may be a scalar."""
+    array = _array(value, name, where)
+    if array.ndim == 0 and size == 1:
+        array = array.reshape(1, 1)
+    if array.shape != (size, size):
+        raise FilterError(f"{where}: {name} has shape {array.shape}, expected ({size}, {size})")
+    scale = max(1.0, float(np.max(np.abs(array)))) if array.size else 1.0
+    if np.max(np.abs(array - array.T), initial=0.0) > SYMMETRY_TOLERANCE * scale:
+        raise FilterError(f"{where}: {name} is not symmetric (tolerance {SYMMETRY_TOLERANCE:g} relative)")
+    array = 0.5 * (array + array.T)
+    if size:
+        if definite:
+            try:
+                np.linalg.cholesky(array)
+            except np.linalg.LinAlgError:
+                raise FilterError(f"{where}: {name} is not positive definite") from None
+        elif np.min(np.linalg.eigvalsh(array)) < -SYMMETRY_TOLERANCE * scale:
+            raise FilterError(f"{where}: {name} is not positive semi-definite")
+    return array
+
+
+def measurement(y: Sequence[float | None], size: int, where: str) -> tuple[np.ndarray, list[int]]:
+    """The available entries of a measurement of ``size`` outputs (None: missing)."""
+    if isinstance(y, (str, bytes, dict)) or not isinstance(y, (Sequence, np.ndarray)):
+        raise FilterError(f"{where}: the measurement must be a sequence of {size} numbers or None, got {type(y).__name__}")
+    if len(y) != size:
+        raise FilterError(f"{where}: the measurement has {len(y)} entries, expected {size} (None marks a missing one)")
+    used, values = [], []
+    for i, v in enumerate(y):
+        if v is None:
+            continue
+        if isinstance(v, (str, bytes, bool)) or np.ndim(v) != 0:
+            raise FilterError(f"{where}: measurement {i} must be a number or None, got {v!r}")
+        value = float(v)
+        if not np.isfinite(value):
+            raise FilterError(f"{where}: measurement {i} is {value}; use None for a missing one")
+        used.append(i)
+        values.append(value)
+    return np.array(values, dtype=float), used
+
+
+def estimate(x: np.ndarray, P: np.ndarray, where: str) -> None:
+    """What a step hands back: a finite state and a symmetric positive definite P."""
+    if not np.all(np.isfinite(x)):
+        raise FilterError(f"{where}: the state estimate is not finite")
+    covariance(P, "the covariance", P.shape[0], where)
