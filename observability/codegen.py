@@ -55,6 +55,9 @@ _UNARY = {
     sympy.exp: casadi.exp,
     sympy.log: casadi.log,
     sympy.atan: casadi.atan,
+    sympy.tanh: casadi.tanh,
+    sympy.sinh: casadi.sinh,
+    sympy.cosh: casadi.cosh,
 }
 
 
@@ -65,7 +68,7 @@ def to_casadi(expr: sympy.Expr, table: dict[sympy.Symbol, casadi.SX]) -> casadi.
     ------
     UnsupportedExpressionError
         For a construct outside rational functions, powers, sin cos tan atan atan2
-        exp log (a System never contains one), or a symbol missing from ``table``.
+        exp log tanh sinh cosh (a System never contains one), or a symbol missing from ``table``.
     """
     memo: dict[sympy.Expr, casadi.SX] = {}
 

@@ -121,3 +121,18 @@ def test_prev_symbol_in_measurement_function():
     p = np.array([20.0, 0.1, 0.0, 0.0])
     # y3 = -f d c + f d c_prev = f d (c_prev - c): with c_prev = c - 0.2, y3 = -20 * 0.5 * 0.2.
     assert ff["h"](x, x - np.array([0.2, 0, 0, 0]), p).full().ravel()[1] == pytest.approx(-2.0)
+
+
+def test_hyperbolic_functions_pi_and_symbolic_powers_translate():
+    """tanh, cosh, pi and x**a (the functions model files accept since issue 9)
+    against sympy's own numbers at a point."""
+    import casadi
+    import sympy
+
+    from observability.codegen import to_casadi
+
+    x, a = sympy.symbols("x a")
+    expr = sympy.tanh(x) + sympy.cosh(x) * sympy.pi + x**a + sympy.sinh(a)
+    X, A = casadi.SX.sym("x"), casadi.SX.sym("a")
+    f = casadi.Function("f", [X, A], [to_casadi(expr, {x: X, a: A})])
+    assert float(f(0.7, 1.3)) == pytest.approx(float(expr.subs({x: 0.7, a: 1.3})), rel=1e-12)

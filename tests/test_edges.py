@@ -1,0 +1,120 @@
+"""Hardened edges, end to end through the console script (issue 10): every bad
+input is exit 2 with one line naming what is wrong, files are written completely
+or not at all and only where asked, and nothing reaches LaTeX unescaped."""
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+SCRIPT = shutil.which("observability")
+pytestmark = pytest.mark.skipif(SCRIPT is None, reason="console script not installed (pip install -e .)")
+
+
+def run(*args, cwd=None):
+    return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+
+
+def _one_line_error(out, *words):
+    assert out.returncode == 2, (out.returncode, out.stderr)
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("observability: error:"), out.stderr
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+MODEL = '''states = {states}
+[dynamics]
+{dynamics}
+[outputs]
+y = "{output}"
+'''
+
+
+def _model(tmp_path, states='["x"]', dynamics='x = "0"', output="x", name="m.toml"):
+    path = tmp_path / name
+    path.write_text(MODEL.format(states=states, dynamics=dynamics, output=output), encoding="utf-8")
+    return path
+
+
+def test_lookalike_names_are_one_name(tmp_path):
+    """'ｘ' (fullwidth) is 'x' after NFKC, as Python's parser reads it."""
+    path = _model(tmp_path, states='["x", "ｘ"]', dynamics='x = "0"\n"ｘ" = "0"')
+    _one_line_error(run("check", str(path)), "duplicate name 'x'")
+
+
+def test_keyword_state_is_refused_at_the_declaration(tmp_path):
+    path = _model(tmp_path, states='["lambda"]', dynamics='lambda = "0"', output="1")
+    _one_line_error(run("check", str(path)), "'lambda'", "reserved")
+
+
+def test_literals_in_other_bases_and_constant_functions(tmp_path):
+    """0x10 is 16; atan(3) is a constant: y = 16 x^2 + atan(3) x has rank 1 of 1."""
+    path = _model(tmp_path, output="0x10*x**2 + atan(3)*x")
+    out = run("check", str(path))
+    assert out.returncode == 0, out.stderr
+
+
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (["check", "slam1.5d", "--max-order", "-5"], ["--max-order"]),
+        (["check", "slam1.5d", "--input-derivatives", "-1"], ["--input-derivatives"]),
+        (["check", "slam1.5d", "--budget", "inf"], ["--budget"]),
+        (["check", "slam1.5d", "--budget", "0"], ["--budget"]),
+        (["check", "slam2d", "-o", "landmarks=10**22"], ["landmarks"]),
+        (["check", "slam1.5d", "-o", "f=9**9**9**9"], ["9**9**9**9"]),
+        (["consistency", "--steps", "1"], ["steps"]),
+        (["consistency", "--runs", "0"], ["--runs"]),
+        (["codegen", "slam1.5d", "--out", "x", "--name", ""], ["--name"]),
+        (["codegen", "slam1.5d", "--out", "x", "--name", "a b-c"], ["--name"]),
+        (["check", "/dev/zero"], ["not a regular file"]),
+    ],
+)
+def test_nonsense_options_are_refused(tmp_path, args, words):
+    out = run(*args, cwd=tmp_path)
+    _one_line_error(out, *words)
+    assert os.listdir(tmp_path) == []
+
+
+def test_reproduce_validates_before_writing(tmp_path):
+    out = run("reproduce", "--runs", "0", "--out", str(tmp_path / "reports"))
+    _one_line_error(out, "--runs")
+    assert not (tmp_path / "reports").exists()
+
+
+def test_output_to_a_device_is_refused_and_the_device_kept(tmp_path):
+    """--out /dev/full must not replace the device node."""
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full")
+    before = os.stat("/dev/full")
+    out = run("latex", "slam1.5d-beacon", "--out", "/dev/full")
+    _one_line_error(out, "not a regular file")
+    after = os.stat("/dev/full")
+    assert (after.st_ino, after.st_rdev) == (before.st_ino, before.st_rdev)
+
+
+def test_output_through_a_symlink_writes_its_target(tmp_path):
+    target = tmp_path / "real.tex"
+    target.write_text("old")
+    link = tmp_path / "link.tex"
+    link.symlink_to(target)
+    out = run("latex", "slam1.5d-beacon", "--out", str(link), "--seed", "1")
+    assert out.returncode == 0, out.stderr
+    assert link.is_symlink() and "\\begin{document}" in target.read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.tex", "real.tex"]
+
+
+def test_latex_escapes_the_model_name(tmp_path):
+    """A model named \\input{/etc/hostname} is text in the document, not a command."""
+    path = tmp_path / "evil.toml"
+    path.write_text('name = "\\\\input{/etc/hostname} \\\\write18{touch PWNED} 100% $x$ a_b"\n'
+                    'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x"\n', encoding="utf-8")
+    out = run("latex", str(path), "--seed", "1")
+    assert out.returncode == 0, out.stderr
+    assert "\\input{" not in out.stdout and "\\write18{" not in out.stdout
+    assert "\\textbackslash{}input\\{/etc/hostname\\}" in out.stdout
+    body = run("latex", str(path), "--seed", "1", "--body-only")
+    assert all(line.startswith("%") or not line.startswith("\\input") for line in body.stdout.splitlines())
