@@ -8,6 +8,7 @@ line on stderr saying what and where), 3 undecided (symbolic budget spent),
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import sys
@@ -15,6 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .analysis import METHODS, ObservabilityResult, analyze
+from .budget import Undecided, with_budget
 from .errors import ObservabilityError
 from .modelfile import load_model
 from .progress import clear_line, status_line
@@ -80,6 +82,18 @@ def _options(pairs: Sequence[str]) -> dict[str, str]:
             raise _UsageError(f"-o expects key=value, got {pair!r}")
         options[key] = value
     return options
+
+
+@contextlib.contextmanager
+def _about(model: str | None):
+    """Errors raised while working on ``model`` name it (a file path or a built-in)."""
+    try:
+        yield
+    except ObservabilityError as exc:
+        text = str(exc)
+        if model and model not in text:
+            raise type(exc)(f"{model}: {text}") from None
+        raise
 
 
 def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
@@ -161,8 +175,9 @@ def _check(args: argparse.Namespace) -> int:
         return 0
     if not args.model:
         raise _UsageError("check needs a MODEL (a built-in name or a .toml file) or --all")
-    system = resolve_model(args.model, _options(args.option), args.time)
-    result = _analyze(system, args)
+    with _about(args.model):
+        system = resolve_model(args.model, _options(args.option), args.time)
+        result = _analyze(system, args)
     print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else str(result))
     if result.observable is None:
         return EXIT_UNDECIDED
@@ -172,12 +187,15 @@ def _check(args: argparse.Namespace) -> int:
 def _codegen(args: argparse.Namespace) -> int:
     from .codegen import filter_functions, write_c
 
-    system = resolve_model(args.model, _options(args.option), args.time)
-    noise = [n.strip() for n in args.noise.split(",") if n.strip()] if args.noise else None
-    functions = filter_functions(system, noise, dt=args.dt, method=args.discretization)
+    with _about(args.model):
+        system = resolve_model(args.model, _options(args.option), args.time)
+        noise = [n.strip() for n in args.noise.split(",") if n.strip()] if args.noise else None
+        functions = filter_functions(system, noise, dt=args.dt, method=args.discretization)
     written = write_c(functions, args.out, args.name)
     print(f"{system.name}: wrote {', '.join(str(p) for p in written.values())}")
     print(f"  functions: {', '.join(functions.functions)}")
+    if "g" not in functions.functions:
+        print("  no inverse motion model (g, G_X, G_w): none in closed form within its budget; the generalized EKF needs it")
     print(f"  x = [{', '.join(functions.states)}], u = [{', '.join(functions.inputs)}], "
           f"w = [{', '.join(functions.noise)}], p = [{', '.join(functions.parameters)}]")
     return 0
@@ -187,8 +205,15 @@ def _latex(args: argparse.Namespace) -> int:
     from .report.files import write_text
     from .report.latex import latex_document
 
-    system = resolve_model(args.model, _options(args.option), args.time)
-    text = latex_document(system, analyze(system, seed=args.seed or 0), body_only=args.body_only)
+    with _about(args.model):
+        system = resolve_model(args.model, _options(args.option), args.time)
+        result = analyze(system, seed=args.seed or 0, budget=args.budget)
+    try:
+        text = with_budget(latex_document, system, result, args.body_only, seconds=args.budget)
+    except Undecided as exc:
+        print(f"observability: undecided: {system.name}: the symbolic matrix did not fit the budget ({exc}); "
+              "the rank verdict is `observability check`", file=sys.stderr)
+        return EXIT_UNDECIDED
     if args.out is None:
         print(text, end="")
     else:
@@ -266,6 +291,8 @@ def build_parser() -> argparse.ArgumentParser:
     latex.add_argument("--out", type=Path, default=None, help="file to write (default: stdout)")
     latex.add_argument("--body-only", action="store_true", help="only the bmatrix, for pasting into a paper")
     latex.add_argument("--seed", type=int, default=None)
+    latex.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
+                       help="CPU time allowed for the symbolic matrix (default 60); exit 3 when it does not fit")
     latex.set_defaults(func=_latex)
     reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
     reproduce.add_argument("--out", type=Path, default=Path("reports"))

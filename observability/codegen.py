@@ -41,6 +41,7 @@ from pathlib import Path
 import casadi
 import sympy
 
+from .budget import Undecided, with_budget
 from .errors import ModelError, UnsupportedExpressionError
 from .expressions import parse_number, prev
 from .system import System
@@ -262,8 +263,23 @@ def _noise_table(noise: Sequence[str], w: casadi.SX) -> dict[sympy.Symbol, casad
     return {s: w[i] for i, s in enumerate(_noise_symbols(noise))}
 
 
+#: CPU seconds allowed for deriving the noisy inverse motion model; without it
+#: the other functions are still generated (the generalized EKF needs it).
+CODEGEN_INVERSE_BUDGET = 10.0
+
+
 def _inverse(system: System, noise: Sequence[str]) -> list[sympy.Expr] | None:
-    """x_{k-1} = g(x_k, u, w): solve x_k = F(z, u + w_u) + w_x for z, or None."""
+    """x_{k-1} = g(x_k, u, w), or None when it cannot be derived within
+    ``CODEGEN_INVERSE_BUDGET`` CPU seconds (an RK4 step of a pendulum has no closed-form
+    inverse, and sympy would search for one without end)."""
+    try:
+        return with_budget(_solve_inverse, system, list(noise), seconds=CODEGEN_INVERSE_BUDGET)
+    except Undecided:
+        return None
+
+
+def _solve_inverse(system: System, noise: list[str]) -> list[sympy.Expr] | None:
+    """Solve x_k = F(z, u + w_u) + w_x for z; None without a unique solution."""
     symbols = dict(zip(noise, _noise_symbols(noise)))
     z = sympy.symbols(f"z0:{system.n}", cls=sympy.Dummy)
     back = dict(zip(system.states, z)) | {u: u + symbols[u.name] for u in system.inputs if u.name in symbols}

@@ -147,7 +147,7 @@ def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, 
         )
         expr = expr.replace(lambda e: isinstance(e, sympy.exp), exponential)
         expr = expr.replace(lambda e: isinstance(e, sympy.log), lambda e: atom(e, "L", e))
-        expr = expr.replace(lambda e: isinstance(e, sympy.atan2), lambda e: atom(e, "A", e))
+        expr = expr.replace(lambda e: isinstance(e, (sympy.atan2, sympy.atan)), lambda e: atom(e, "A", e))
         for node in sympy.preorder_traversal(expr):
             if isinstance(node, sympy.Pow) and not node.exp.is_Integer:
                 raise Undecided(f"the symbolic rank does not handle the algebraic function {node}")
@@ -163,7 +163,10 @@ def _field_matrix(rational: sympy.Matrix) -> DomainMatrix:
     # faster than DomainMatrix.from_Matrix, which searches for a domain.
     generators = sorted(rational.free_symbols, key=lambda s: s.name)
     field = sympy.QQ.frac_field(*generators) if generators else sympy.QQ
-    rows = [[field.from_sympy(sympy.together(e)) for e in rational.row(i)] for i in range(rational.rows)]
+    try:
+        rows = [[field.from_sympy(sympy.together(e)) for e in rational.row(i)] for i in range(rational.rows)]
+    except (ValueError, sympy.polys.polyerrors.CoercionFailed) as exc:
+        raise Undecided(f"the symbolic route cannot map an entry into a field of rational functions ({exc})") from None
     return DomainMatrix(rows, rational.shape, field)
 
 
