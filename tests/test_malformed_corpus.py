@@ -116,6 +116,15 @@ def _check_one(tmp_path: Path, text: str) -> None:
     assert not Path(CANARY).exists() and not (tmp_path / CANARY).exists()
 
 
+def _check_in_fresh_directory(tmp: Path, text: str) -> None:
+    cwd = os.getcwd()
+    os.chdir(tmp)
+    try:
+        _check_one(tmp, text)
+    finally:
+        os.chdir(cwd)
+
+
 @pytest.fixture
 def in_tmp(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
@@ -125,17 +134,11 @@ def in_tmp(tmp_path, monkeypatch):
 @settings(max_examples=1000, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
 @given(st.integers(min_value=0, max_value=2**32), st.integers(min_value=1, max_value=3))
 def test_mutated_files(tmp_path_factory, seed, rounds):
-    tmp = tmp_path_factory.mktemp("m")
     rng = random.Random(seed)
     text = VALID
     for _ in range(rounds):
         text = _mutate(rng, text)
-    cwd = os.getcwd()
-    os.chdir(tmp)
-    try:
-        _check_one(tmp, text)
-    finally:
-        os.chdir(cwd)
+    _check_in_fresh_directory(tmp_path_factory.mktemp("m"), text)
 
 
 _ATOMS = ["x", "y", "th", "v", "w", "bx", "by", "2", "1/3"]
@@ -169,13 +172,7 @@ def test_random_valid_systems(tmp_path_factory, seed):
     outputs = "\n".join(f'y{i} = "{_random_expression(rng, 3)}"' for i in range(rng.randint(1, 2)))
     text = (f'states = ["x", "y", "th"]\ninputs = ["v", "w"]\nparameters = ["bx", "by"]\n'
             f"[dynamics]\n{dynamics}\n[outputs]\n{outputs}\n")
-    tmp = tmp_path_factory.mktemp("r")
-    cwd = os.getcwd()
-    os.chdir(tmp)
-    try:
-        _check_one(tmp, text)
-    finally:
-        os.chdir(cwd)
+    _check_in_fresh_directory(tmp_path_factory.mktemp("r"), text)
 
 
 def test_the_corpus_stays_below_one_gigabyte():
