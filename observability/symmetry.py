@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import sympy
+from flint import arb
 
 from .echelon import ModularEchelon
 from .expressions import prev
@@ -164,6 +165,17 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
             return (ball.coefficient(a, 0)[0] - ball.coefficient(b, 0)[0]).contains(0)
 
         f_values = [value(i) for i in f]
+
+        def equivariant(g: int, fm: int) -> bool:
+            if not free(fm) and not free(g):
+                return not (_dot(grad(g), f_values) - value(fm)) % PRIME
+            if ball is None:
+                return False
+            at = [ball.coefficient(i, 0)[0] for i in f]
+            _, gradient = ball.coefficient(g, 0)
+            moved = sum((d * at[j] for j, d in gradient.items()), 0) - ball.coefficient(fm, 0)[0]
+            return arb(moved).contains(0)
+
         out = []
         for plan in plans:
             v = [value(i) for i in plan["field"]]
@@ -172,14 +184,9 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
             ok = ok and all(same(a, b) for a, b in zip(h, plan["h_moved"]))
             ok = ok and not any(_dot(grad(a), v) for a in h)
             if system.time == "continuous":
-                # Dg(x) f(x) = f(g(x)), and [f, v] = Dv f - Df v = 0. The first
-                # needs Dg's value, which a ball gives only through the series;
-                # where f(g(x)) has free values the generator identity carries it.
-                ok = ok and not any(
-                    (_dot(grad(g), f_values) - value(fm)) % PRIME
-                    for g, fm in zip(plan["images"], plan["f_moved"])
-                    if not free(fm) and not free(g)
-                )
+                # Dg(x) f(x) = f(g(x)) (at a real point in balls where free values
+                # enter), and [f, v] = Dv f - Df v = 0.
+                ok = ok and all(equivariant(g, fm) for g, fm in zip(plan["images"], plan["f_moved"]))
                 ok = ok and not any(
                     (_dot(grad(vi), f_values) - _dot(grad(fi), v)) % PRIME for vi, fi in zip(plan["field"], f)
                 )

@@ -89,3 +89,17 @@ def test_half_angle_wrong_rotation_is_refused():
     wrong = Symmetry.of("rotation", "", {"x": x * (c**2 - s**2) + y * 2 * s * c, "y": x * 2 * s * c + y * (c**2 - s**2)})
     system = System(["x", "y"], {"x": "0", "y": "0"}, {"r": "x**2 + y**2"}, symmetries=[wrong])
     assert [d.name for d in analyze(system, seed=3).unobservable_directions] == ["unnamed direction"]
+
+
+def test_continuous_equivariance_through_exp_is_checked():
+    """x' = x^2, y' = 0, output y: the null space is spanned by v = x^2 (the
+    vector fields commuting with x^2 d/dx), whose flow is x -> x / (1 - eps x).
+    The map x -> x + eps x^2 e^eps has the same generator but does not commute
+    with the flow (D g f = (1 + 2 eps x e^eps) x^2, f(g(x)) = (x + eps x^2 e^eps)^2);
+    the check of that identity goes through exp(eps), a free value mod p, and
+    is made at a real point in ball arithmetic instead of being skipped."""
+    bad = Symmetry.of("bad flow", "", {"x": x + e * x**2 * exp(e)})
+    good = Symmetry.of("flow of x^2", "", {"x": x / (1 - e * x)})
+    system = System(["x", "y"], {"x": "x**2", "y": "0"}, {"r": "y"}, symmetries=[bad, good])
+    names = [d.name for d in analyze(system, seed=4).unobservable_directions]
+    assert names == ["flow of x^2"]
