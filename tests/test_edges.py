@@ -118,3 +118,52 @@ def test_latex_escapes_the_model_name(tmp_path):
     assert "\\textbackslash{}input\\{/etc/hostname\\}" in out.stdout
     body = run("latex", str(path), "--seed", "1", "--body-only")
     assert all(line.startswith("%") or not line.startswith("\\input") for line in body.stdout.splitlines())
+
+
+def test_latex_beyond_its_budget_is_undecided():
+    """The symbolic slam2d matrix does not fit 1 s of CPU: exit 3 and one line."""
+    out = run("latex", "slam2d", "--budget", "1")
+    assert out.returncode == 3, out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1 and "budget" in out.stderr
+    assert out.stdout == ""
+
+
+def test_inverse_derivation_is_bounded(monkeypatch):
+    """x+ = x + sin(x)/3 + u has no closed-form inverse; sympy would search for
+    one without end. Under a budget (shortened here) the analysis refuses with
+    a reason instead of hanging."""
+    import observability.inverse as inverse
+    from observability import System, analyze
+    from observability.errors import ModelError
+
+    monkeypatch.setattr(inverse, "INVERSE_BUDGET", 0.5)
+    system = System(["x"], {"x": "x + sin(x)/3 + exp(x)/7 + u"}, {"y": "x - prev(x)"}, inputs=["u"], time="discrete")
+    with pytest.raises(ModelError, match="could not be derived|cannot invert"):
+        analyze(system, seed=1)
+
+
+def test_codegen_without_a_closed_form_inverse_still_writes(monkeypatch, tmp_path):
+    """RK4 of a pendulum: no closed-form inverse within the (shortened) budget;
+    the other functions are generated and g, G_X, G_w are absent."""
+    import observability.codegen as codegen
+    from observability import System
+
+    monkeypatch.setattr(codegen, "CODEGEN_INVERSE_BUDGET", 0.5)
+    pendulum = System(["th", "w"], {"th": "w", "w": "-g/l*sin(th)"}, {"y": "th"}, parameters=["g", "l", "dt"])
+    functions = codegen.filter_functions(pendulum, method="rk4")
+    assert {"f", "F_X", "h"} <= set(functions.functions) and "g" not in functions.functions
+
+
+def test_a_failed_write_leaves_nothing_behind(tmp_path):
+    from observability.report.files import _atomic, write_text
+
+    write_text(tmp_path / "a.txt", "complete")
+
+    def half(path):
+        path.write_text("half")
+        raise OSError("disk full")
+
+    with pytest.raises(OSError):
+        _atomic(tmp_path / "a.txt", half, ".partial")
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+    assert (tmp_path / "a.txt").read_text() == "complete"
