@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import time
 
-import models
+from observability import models
 from observability import METHODS, analyze
 
 

@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-import models
+from observability import models
 from observability.codegen import compile_functions, filter_functions
 from observability.filters import ConventionalEKF
 

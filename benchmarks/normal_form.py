@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import time
 
-import models
+from observability import models
 import observability.program as program
 from observability import analyze
 

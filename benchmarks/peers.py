@@ -48,7 +48,7 @@ def timed(solve):
 
 OURS = r"""
 import json, sys, time
-import models
+from observability import models
 from observability import analyze
 """ + TIMING + r"""
 name, options = sys.argv[1], json.loads(sys.argv[2])
@@ -120,8 +120,7 @@ def cases() -> list[tuple[str, str, dict[str, str]]]:
 
 def spec(name: str, options: dict[str, str]) -> dict:
     """The model as plain strings, for the peers."""
-    import models
-
+    from observability import models
     system = models.build(name, options)
     used = set().union(*(e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))))
     return {

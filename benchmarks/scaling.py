@@ -23,7 +23,7 @@ from pathlib import Path
 CHILD = r"""
 import json, resource, sys, time
 start = time.perf_counter()
-from models.slam2d import slam2d
+from observability.models.slam2d import slam2d
 from observability import analyze
 N, M = int(sys.argv[1]), int(sys.argv[2])
 t0 = time.perf_counter()

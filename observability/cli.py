@@ -98,8 +98,7 @@ def _about(model: str | None):
 
 def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
     """A built-in model by name, or a model file by path, with options applied."""
-    import models
-
+    from . import models
     if time is not None:
         options = {**options, "time": time}
     if model in models.BUILTINS:
@@ -157,8 +156,7 @@ def _table(results: list[ObservabilityResult]) -> str:
 
 
 def _check(args: argparse.Namespace) -> int:
-    import models
-
+    from . import models
     if args.all:
         if args.model:
             raise _UsageError("give either MODEL or --all, not both")
@@ -178,10 +176,15 @@ def _check(args: argparse.Namespace) -> int:
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)
         result = _analyze(system, args)
-    print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else str(result))
     if result.observable is None:
-        return EXIT_UNDECIDED
-    return EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
+        code = EXIT_UNDECIDED
+    else:
+        code = EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
+    try:
+        print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else str(result), flush=True)
+    except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
+    return code
 
 
 def _codegen(args: argparse.Namespace) -> int:
@@ -242,8 +245,7 @@ def _consistency(args: argparse.Namespace) -> int:
 
 
 def _models(args: argparse.Namespace) -> int:
-    import models
-
+    from . import models
     width = max(len(name) for name in models.BUILTINS)
     for name, model in models.BUILTINS.items():
         options = ", ".join(model.options)
@@ -251,10 +253,26 @@ def _models(args: argparse.Namespace) -> int:
     return 0
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("observability")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="observability", description="Nonlinear observability analysis.")
+    parser.add_argument("--version", action="version", version=f"observability {_version()}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
-    check = sub.add_parser("check", help="rank-condition check of a model (exit 0 observable, 1 not, 2 bad input)")
+    check = sub.add_parser(
+        "check",
+        help="rank-condition check of a model (exit 0 observable, 1 not, 2 bad input, 3 undecided)",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="exit status:\n  0 observable\n  1 not observable\n  2 bad input (one line on stderr)\n"
+        "  3 undecided (budget, order limit, or no certificate; the reason is printed)\n  4 internal error (a bug)",
+    )
     check.add_argument("model", nargs="?", help="built-in model name or path to a .toml model file")
     check.add_argument("--all", action="store_true", help="check every built-in model and print a table")
     check.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE",

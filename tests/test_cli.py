@@ -147,3 +147,30 @@ def test_unwritable_output_is_a_clear_error(tmp_path):
     out = run("latex", "slam1.5d", "--out", str(blocker / "m.tex"))
     assert out.returncode == 2
     assert len(out.stderr.strip().splitlines()) == 1 and "Traceback" not in out.stderr
+
+
+def test_a_models_folder_in_the_working_directory_does_not_shadow_the_built_ins(tmp_path):
+    """Research repositories often have their own models/ package; the built-ins
+    live in observability.models, so `python -m observability` still finds them."""
+    (tmp_path / "models").mkdir()
+    (tmp_path / "models" / "__init__.py").write_text("BUILTINS = None\n")
+    out = subprocess.run(["python", "-m", "observability", "check", "slam1.5d"], capture_output=True, text=True,
+                         timeout=120, cwd=tmp_path)
+    assert out.returncode == 1, out.stderr
+    assert "NOT observable (rank 2 of 4)" in out.stdout
+
+
+def test_version_and_exit_codes_in_help():
+    out = run("--version")
+    assert out.returncode == 0 and out.stdout.startswith("observability ")
+    helptext = run("check", "--help").stdout
+    for word in ("0 observable", "1 not observable", "2 bad input", "3 undecided", "4 internal error"):
+        assert word in helptext
+
+
+def test_exit_status_survives_a_closed_pipe():
+    """`check slam1.5d | head -c 1`: the reader leaves early; the status is still 1."""
+    out = subprocess.run(f"'{SCRIPT}' check slam1.5d | head -c 1 >/dev/null; echo ${{PIPESTATUS[0]}}",
+                         shell=True, executable="/bin/bash", capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "1", out.stderr
+    assert "Traceback" not in out.stderr

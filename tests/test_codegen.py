@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import sympy
 
-import models
+from observability import models
 from observability import System
 from observability.codegen import compile_functions, discretize, filter_functions, write_c
 from observability.errors import ModelError

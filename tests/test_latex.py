@@ -6,7 +6,7 @@ import subprocess
 import pytest
 import sympy
 
-import models
+from observability import models
 from observability import analyze
 from observability.report.latex import latex_document, latex_matrix
 

@@ -25,7 +25,7 @@ slam1.5d-disparity: y3 = -f d c + f d (c - dt cdot) = -f dt d_L2 cdot, so
 import pytest
 import sympy
 
-import models
+from observability import models
 from observability import System, analyze, inverse_dynamics
 
 C, CDOT, XL, DL = sympy.symbols("c cdot x_L2 d_L2")

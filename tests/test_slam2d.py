@@ -21,8 +21,8 @@ error) member of the null space, an upper bound.
 import pytest
 import sympy
 
-import models
-from models.slam2d import slam2d
+from observability import models
+from observability.models.slam2d import slam2d
 from observability import System, analyze
 from observability.symmetry import EPSILON, Symmetry, generator, name_null_space, verify
 

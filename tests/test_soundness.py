@@ -13,7 +13,7 @@ import subprocess
 import pytest
 import sympy
 
-import models
+from observability import models
 from observability import System, analyze
 from observability.errors import ModelError
 

@@ -7,7 +7,7 @@ import pytest
 import sympy
 from sympy import cos, exp, sin
 
-import models
+from observability import models
 from observability import EPSILON, Symmetry, System, analyze
 
 e = EPSILON

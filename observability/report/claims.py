@@ -10,8 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import models
-
+from .. import models
 from ..analysis import ObservabilityResult, analyze
 from ..symmetry import verify
 from ..system import System

@@ -22,8 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-import models
-
+from .. import models
 from ..codegen import filter_functions
 from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, monte_carlo, nees
 from .files import save_figure, write_json
