@@ -10,6 +10,7 @@ from typing import Any, Literal
 import sympy
 
 from .certificate import certify_rank
+from .discovery import classify, discover_directions
 from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
@@ -188,10 +189,12 @@ def _unobservable_directions(
     seed: int,
     previous: str = "inverse",
 ) -> tuple[tuple[UnobservableDirection, ...], list[list[sympy.Expr]] | None, str]:
-    """Named symmetries first; then symbolic null vectors that extend them.
+    """Named symmetries first; then polynomial fields found by the exact ansatz
+    (:mod:`observability.discovery`), named from their structure; then, for what
+    they leave, symbolic null vectors.
 
-    Returns the directions, the symbolic null space basis when it was computed,
-    and a note for the details line.
+    Returns the directions, a basis of the null space when one is known, and a
+    note for the details line.
     """
     named, _ = name_null_space(system, nullity, system.symmetries, seed=seed)
     # Independent verified generators as many as the nullity span the null space.
@@ -199,8 +202,18 @@ def _unobservable_directions(
     unnamed: list[list[sympy.Expr]] = []
     note = ""
     if len(named) < nullity:
+        found = discover_directions(
+            system, nullity, orders, seed=seed, input_derivatives=input_derivatives, previous=previous
+        )
+        named, unnamed = name_null_space(system, nullity, system.symmetries, extra=found, seed=seed)
+        if len(named) + len(unnamed) == nullity:
+            basis = [v for _, v in named] + [list(v) for v in unnamed]
+    if basis is None:
         if system.n > SYMBOLIC_NULL_SPACE_MAX_STATES:
-            note = f"{nullity - len(named)} direction(s) not named and not computed symbolically (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
+            note = (
+                f"{nullity - len(named) - len(unnamed)} direction(s) without a polynomial generator of degree <= 2 "
+                f"and not computed symbolically (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
+            )
         else:
             seconds = DIRECTIONS_BUDGET if budget is None else min(budget, DIRECTIONS_BUDGET)
 
@@ -209,15 +222,21 @@ def _unobservable_directions(
                 return null_space(matrix)
 
             try:
-                basis = with_budget(work, seconds=seconds)
+                symbolic = with_budget(work, seconds=seconds)
             except Undecided as exc:
-                note = f"{nullity - len(named)} direction(s) not named and not computed ({exc})"
+                note = f"{nullity - len(named) - len(unnamed)} direction(s) not found and not computed ({exc})"
             else:
-                if len(basis) != nullity:
-                    note = f"warning: symbolic null space has dimension {len(basis)}, expected {nullity}"
-                named, unnamed = name_null_space(system, nullity, system.symmetries, extra=basis, seed=seed)
+                if len(symbolic) != nullity:
+                    note = f"warning: symbolic null space has dimension {len(symbolic)}, expected {nullity}"
+                else:
+                    basis = symbolic
+                named, unnamed = name_null_space(
+                    system, nullity, system.symmetries, extra=[*(list(v) for v in unnamed), *symbolic], seed=seed
+                )
     directions = [UnobservableDirection(s.name, _vector(system.states, v), s.description) for s, v in named]
-    directions += [UnobservableDirection("unnamed direction", _vector(system.states, v)) for v in unnamed]
+    for v in unnamed:
+        name, description = classify(v, system)
+        directions.append(UnobservableDirection(name, _vector(system.states, v), description))
     return tuple(directions), basis, note
 
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from flint import arb, arb_mat, ctx
 
-from .expansion import expand_rows
+from .expansion import AllRows, expand_rows
 from .program import Program
 from .system import System
 from .taylor import BallTaylorEvaluator, Redraw
@@ -29,19 +29,6 @@ __all__ = ["Certificate", "certify_rank"]
 #: size costs minutes); the verdict then says so.
 MAX_CERTIFIED_RANK = 300
 _PRECISIONS = (128, 256, 512)
-
-
-class _BallRows:
-    """Keeps every row; the expansion is exhaustive, so no rank is needed."""
-
-    rank = 0
-
-    def __init__(self) -> None:
-        self.rows: list[dict] = []
-
-    def add_row(self, row: dict) -> bool:
-        self.rows.append(row)
-        return True
 
 
 @dataclass(frozen=True)
@@ -80,7 +67,7 @@ def certify_rank(
         old = ctx.prec
         ctx.prec = precision
         try:
-            sink = _BallRows()
+            sink = AllRows()
 
             def make(program: Program, discrete: bool) -> BallTaylorEvaluator:
                 return BallTaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)

@@ -21,7 +21,7 @@ from .program import Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["RowSink", "Expansion", "expand_rows", "map_is_dominant", "stopping_rule"]
+__all__ = ["RowSink", "AllRows", "Expansion", "expand_rows", "map_is_dominant", "stopping_rule"]
 
 Progress = Callable[[str], None]
 EvaluatorFactory = Callable[..., TaylorEvaluator]
@@ -33,6 +33,20 @@ class RowSink(Protocol):
     rank: int
 
     def add_row(self, row: dict) -> bool: ...
+
+
+class AllRows:
+    """A sink that keeps every row, for an exhaustive expansion (which needs no
+    rank): the rows at a point, in the order of the row labels."""
+
+    rank = 0
+
+    def __init__(self) -> None:
+        self.rows: list[dict] = []
+
+    def add_row(self, row: dict) -> bool:
+        self.rows.append(row)
+        return True
 
 
 @dataclass(frozen=True)

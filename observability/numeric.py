@@ -193,17 +193,10 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
     """All rows up to the order that always suffices, at the same point, in balls."""
     from flint import ctx
 
-    from .expansion import stopping_rule
+    from .expansion import AllRows, stopping_rule
 
     sufficient, _, _ = stopping_rule(system, previous)
-    rows: list[dict] = []
-
-    class Sink:
-        rank = 0
-
-        def add_row(self, row: dict) -> bool:
-            rows.append(row)
-            return True
+    sink = AllRows()
 
     old = ctx.prec
     ctx.prec = int(digits * 3.33) + 64
@@ -214,7 +207,7 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
                 input_degree=input_derivatives, discrete=discrete,
             )
 
-        expand_rows(system, Sink(), make, max_order=sufficient, previous=previous, exhaustive=True)
+        expand_rows(system, sink, make, max_order=sufficient, previous=previous, exhaustive=True)
     finally:
         ctx.prec = old
     import mpmath
@@ -224,7 +217,7 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
         return mpmath.mpf((int(mantissa), int(exponent)))
 
     with mpmath.workdps(digits):
-        return [[mp(row[c]) if c in row else mpmath.mpf(0) for c in range(system.n)] for row in rows]
+        return [[mp(row[c]) if c in row else mpmath.mpf(0) for c in range(system.n)] for row in sink.rows]
 
 
 def float_rank(

@@ -105,14 +105,16 @@ def test_fifty_landmarks_rank_n_minus_4():
     assert result.error_probability < 1e-9
 
 
-def test_unnamed_direction_is_reported():
-    """Remove the symmetry candidates: the null space is then printed as unnamed
-    directions (the symbolic basis), still in the kernel."""
+def test_directions_without_candidates_are_found_and_named():
+    """Remove the symmetry candidates: the null space is then found by the
+    ansatz and named from its structure (translation of c and x_L2; scaling
+    with the inverse depth weighted -1), still in the kernel."""
     bare = models.slam15d("continuous")
     stripped = System(bare.states, bare.dynamics, dict(bare.outputs), parameters=bare.parameters, name="bare")
     result = analyze(stripped, seed=1)
-    assert [d.name for d in result.unobservable_directions] == ["unnamed direction"] * 2
+    assert [d.name for d in result.unobservable_directions] == ["translation of c, x_L2", "scaling"]
     assert result.unobservable_directions[0].vector == {"c": "1", "x_L2": "1"}
+    assert result.unobservable_directions[1].vector == {"c": "c", "cdot": "cdot", "x_L2": "x_L2", "d_L2": "-d_L2"}
 
 
 @pytest.mark.parametrize("beacons", [0, 1, 2])

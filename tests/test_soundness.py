@@ -222,9 +222,14 @@ def test_augment_and_inverse_agree_with_inputs(system, rank, method):
 
 # ------------------------------------------------- unknown is unknown, not "none"
 def _wide(n: int, seen: int, time: str = "continuous") -> System:
+    """x_i constant, the first ``seen - 1`` seen directly and one output
+    x_a + exp(x_b) of two more: its null direction (exp(x_b), -1) on (x_a, x_b)
+    has no polynomial generator, so the ansatz cannot find it."""
     names = [f"x{i}" for i in range(n)]
     dynamics = {s: (s if time == "discrete" else "0") for s in names}
-    return System(names, dynamics, {f"y{i}": s for i, s in enumerate(names[:seen])}, time=time)
+    outputs = {f"y{i}": s for i, s in enumerate(names[: seen - 1])}
+    outputs["z"] = f"{names[seen - 1]} + exp({names[seen]})"
+    return System(names, dynamics, outputs, time=time)
 
 
 @pytest.mark.parametrize("system,rank", [(_wide(26, 25), 25), (_wide(30, 20), 20), (_wide(27, 26, "discrete"), 26)],

@@ -66,8 +66,10 @@ MISLABELLED = {
 
 @pytest.mark.parametrize("candidate", MISLABELLED.values(), ids=MISLABELLED.keys())
 def test_mislabelled_candidates_are_refused(candidate):
+    """Refused as declared: the direction is then found and named from its
+    structure (the scaling (x, y)), never under the declared name."""
     names = _names(_ratio_system(candidate))
-    assert names == ["unnamed direction"]
+    assert names == ["scaling"]
 
 
 def test_half_angle_rotation_is_verified():
@@ -88,7 +90,8 @@ def test_half_angle_wrong_rotation_is_refused():
     c, s = cos(e / 2), sin(e / 2)
     wrong = Symmetry.of("rotation", "", {"x": x * (c**2 - s**2) + y * 2 * s * c, "y": x * 2 * s * c + y * (c**2 - s**2)})
     system = System(["x", "y"], {"x": "0", "y": "0"}, {"r": "x**2 + y**2"}, symmetries=[wrong])
-    assert [d.name for d in analyze(system, seed=3).unobservable_directions] == ["unnamed direction"]
+    # Refused as declared; found as the rotation about the origin.
+    assert [d.name for d in analyze(system, seed=3).unobservable_directions] == ["rotation about (x, y) = (0, 0)"]
 
 
 def test_continuous_equivariance_through_exp_is_checked():

@@ -1,0 +1,326 @@
+"""Unobservable directions found automatically: polynomial vector fields by an exact ansatz.
+
+A direction v(x) is unobservable when O(x) v(x) = 0 for the observability matrix
+O at every point. With v polynomial of degree at most d in the states and the
+free parameters, v_i(x) = sum_m c_{i,m} m(x), the condition is linear in the
+unknown coefficients c: each independent row rho of O at a random point x_j
+gives one equation sum_i rho_i sum_m c_{i,m} m(x_j) = 0 (mod p). Enough random
+points pin down the space of such fields of degree <= d; a basis of it, brought
+back to rationals by rational reconstruction, is checked at fresh random points
+(O v = 0 there, exactly mod p) before it is kept. Degrees 0, 1, 2 are tried in
+turn (translations, then rotations and scalings, then quadratic fields) until
+the fields found span the null space, whose dimension the rank gives.
+
+The ansatz is tried first on the stronger conditions of a symmetry, L_v h = 0
+and v commuting with the dynamics ([f, v] = 0; v(F(x)) = DF(x) v(x) in discrete
+time), also linear in c: their solutions form a finite-dimensional algebra and
+give the simplest basis. Pointwise null fields fill in what symmetries do not
+span (they include every multiple phi(x) v(x) of a null field, so the basis
+kept is the one with the lowest degree and fewest terms).
+
+The fields are then named from their structure (:func:`classify`): a constant
+field is a translation, a linear one with a diagonal part a scaling, with a
+skew-symmetric part a rotation; anything else is reported with its vector.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy
+
+from .echelon import ModularEchelon
+from .expansion import AllRows, expand_rows
+from .lie import step_input
+from .program import PRIME, Program
+from .system import System
+from .taylor import Redraw, TaylorEvaluator
+
+__all__ = ["discover_directions", "classify", "Discovered", "MAX_UNKNOWNS"]
+
+#: Above this many unknown coefficients the ansatz of a degree is not tried.
+MAX_UNKNOWNS = 4000
+_HALF = int((PRIME // 2) ** 0.5)
+
+
+@dataclass(frozen=True)
+class Discovered:
+    """A found direction: its components (state order) and a name from its structure."""
+
+    vector: tuple[sympy.Expr, ...]
+    name: str
+    description: str
+
+
+class _Recording(TaylorEvaluator):
+    """The exact evaluator, remembering the value it gave each free parameter."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.constants: dict[object, int] = {}
+
+    def _random_constant(self, key: object) -> int:
+        if key not in self.constants:
+            self.constants[key] = super()._random_constant(key)
+        return self.constants[key]
+
+
+def _rational(value: int) -> sympy.Rational | None:
+    """The rational a/b with |a|, |b| < sqrt(p/2) congruent to ``value`` mod p
+    (Wang's rational reconstruction), or None."""
+    r0, r1, s0, s1 = PRIME, value % PRIME, 0, 1
+    while r1 > _HALF:
+        q = r0 // r1
+        r0, r1, s0, s1 = r1, r0 - q * r1, s1, s0 - q * s1
+    if s1 == 0 or abs(s1) > _HALF:
+        return None
+    return sympy.Rational(r1, s1)
+
+
+def _point(system: System, orders: int, rng: random.Random, input_derivatives, previous):
+    """Rows of the observability matrix at a random point, reduced to a basis of
+    their span, and the values of the variables there."""
+    made: list[_Recording] = []
+
+    def make(program: Program, discrete: bool) -> _Recording:
+        made.append(_Recording(program, system.n, rng, input_degree=input_derivatives, discrete=discrete))
+        return made[-1]
+
+    sink = AllRows()
+    expand_rows(system, sink, make, max_order=orders, previous=previous, exhaustive=True)
+    echelon = ModularEchelon(system.n, PRIME)
+    for row in sink.rows:
+        echelon.add_row(row)
+    evaluator = made[-1]
+    # A free parameter the matrix does not involve gets a value all the same.
+    values = list(evaluator.point) + [
+        evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
+    ]
+    return list(echelon.pivot_rows.values()), values
+
+
+def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
+    out = []
+    for d in range(degree + 1):
+        for combo in itertools.combinations_with_replacement(range(count), d):
+            exponents = [0] * count
+            for i in combo:
+                exponents[i] += 1
+            out.append(tuple(exponents))
+    return out
+
+
+def _monomial_values(monomials, values) -> list[int]:
+    out = []
+    for exponents in monomials:
+        v = 1
+        for x, e in zip(values, exponents):
+            if e:
+                v = v * pow(x, e, PRIME) % PRIME
+        out.append(v)
+    return out
+
+
+def _annihilates(rows, values, field, monomials) -> bool:
+    """O(x) v(x) = 0 at the point, exactly mod p, for v with rational coefficients."""
+    mvals = _monomial_values(monomials, values)
+    v = [sum(c.p * pow(c.q, -1, PRIME) * mvals[k] for k, c in comp.items()) % PRIME for comp in field]
+    return all(sum(r * v[i] for i, r in row.items()) % PRIME == 0 for row in rows)
+
+
+def _symmetry_point(system: System, rng: random.Random):
+    """At a random point: output gradients, the dynamics' values and Jacobian,
+    and the values of the variables (states, then free parameters)."""
+    continuous = system.time == "continuous"
+    program = Program(system.states, system.inputs if continuous else (), where=system.name)
+    steps = {} if continuous else {u: step_input(u, 0) for u in system.inputs}
+    f = [program.add(system.substitute_values(e).xreplace(steps)) for e in system.dynamics]
+    h = [program.add(system.substitute_values(e)) for _, e in system.outputs]
+    evaluator = _Recording(program, system.n, rng, discrete=True)
+    evaluator.extend()
+    at = evaluator.coefficient
+    values = list(evaluator.point) + [
+        evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
+    ]
+    return [at(i, 0)[1] for i in h], [at(i, 0) for i in f], values
+
+
+def _symmetry_equations(system: System, monomials, rng: random.Random) -> list[dict[int, int]]:
+    """The conditions L_v h = 0 and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x)
+    (discrete) at one random point, linear in the coefficients of v."""
+    n, size = system.n, len(monomials)
+    gradients, dynamics, values = _symmetry_point(system, rng)
+    mvals = _monomial_values(monomials, values)
+    rows = [{j * size + k: g * mk % PRIME for j, g in gradient.items() for k, mk in enumerate(mvals) if mk} for gradient in gradients]
+    if system.time == "continuous":
+        inverse = [pow(x, -1, PRIME) if x else 0 for x in values[:n]]
+        # (D m . f)(x) for every monomial: the derivative along the flow.
+        along = [
+            sum(e * mk * inverse[s] * dynamics[s][0] for s, e in enumerate(exps[:n]) if e) % PRIME
+            for exps, mk in zip(monomials, mvals)
+        ]
+        images = None
+    else:
+        images = _monomial_values(monomials, [value for value, _ in dynamics] + values[n:])
+    for i in range(n):
+        row: dict[int, int] = {}
+        first = along if images is None else images
+        for k in range(size):
+            if first[k]:
+                row[i * size + k] = first[k]
+        for j, d in dynamics[i][1].items():
+            for k, mk in enumerate(mvals):
+                if mk:
+                    row[j * size + k] = (row.get(j * size + k, 0) - d * mk) % PRIME
+        rows.append({c: v for c, v in row.items() if v})
+    return rows
+
+
+def _pointwise_equations(system, monomials, rng, orders, input_derivatives, previous) -> list[dict[int, int]]:
+    """O(x) v(x) = 0 at one random point, linear in the coefficients of v."""
+    rows, values = _point(system, orders, rng, input_derivatives, previous)
+    mvals = _monomial_values(monomials, values)
+    size = len(monomials)
+    return [{i * size + k: r * mk % PRIME for i, r in row.items() for k, mk in enumerate(mvals) if mk} for row in rows]
+
+
+def _solutions(equations_at_a_point, unknowns: int, size: int, n: int) -> list[list[dict[int, sympy.Rational]]]:
+    """Rational fields solving the equations at enough random points (until two
+    points in a row add nothing), fewest terms first."""
+    echelon = ModularEchelon(unknowns, PRIME)
+    stalled = 0
+    while stalled < 2 and echelon.rank < unknowns:
+        try:
+            rows = equations_at_a_point()
+        except Redraw:
+            continue
+        before = echelon.rank
+        for row in rows:
+            echelon.add_row(row)
+        stalled = stalled + 1 if echelon.rank == before else 0
+    fields = []
+    for vector in echelon.null_space():
+        field: list[dict[int, sympy.Rational]] = [{} for _ in range(n)]
+        for index, value in vector.items():
+            c = _rational(value)
+            if c is None:
+                break
+            if c:
+                field[index // size][index % size] = c
+        else:
+            fields.append(field)
+    return fields
+
+
+def discover_directions(
+    system: System,
+    nullity: int,
+    orders: int,
+    *,
+    seed: int = 0,
+    max_degree: int = 2,
+    input_derivatives: int | None = None,
+    previous: str = "inverse",
+) -> list[tuple[sympy.Expr, ...]]:
+    """Polynomial fields (degree <= ``max_degree`` in the states and free
+    parameters) spanning as much of the ``nullity``-dimensional null space as
+    such fields can, lowest degree and fewest terms first. Symmetries (L_v h = 0
+    and v commuting with the dynamics) are searched first, as they give the
+    simplest basis (a rotation, not a rotation plus multiples of translations);
+    where they do not span the null space, fields with O v = 0 pointwise fill in.
+    Each is checked at fresh random points; a model whose null space has no
+    polynomial generator of that degree yields fewer fields (never a wrong one)."""
+    if nullity <= 0:
+        return []
+    rng = random.Random(seed)
+    variables = list(system.states) + list(system.free_parameters)
+    n = system.n
+    found: list[tuple[sympy.Expr, ...]] = []
+    span = ModularEchelon(n, PRIME)
+    probe_rows = probe = None
+    for _ in range(8):
+        try:
+            probe_rows, probe = _point(system, orders, rng, input_derivatives, previous)
+            break
+        except Redraw:
+            continue
+    if probe is None:
+        return []
+    ansatz = ["symmetry", "pointwise"] if previous == "inverse" or not system.uses_previous_state else ["pointwise"]
+    for degree in range(max_degree + 1):
+        monomials = _monomials(len(variables), degree)
+        size = len(monomials)
+        if n * size > MAX_UNKNOWNS:
+            break
+        for kind in ansatz:
+            if kind == "symmetry":
+                equations = lambda: _symmetry_equations(system, monomials, rng)  # noqa: E731
+            else:
+                equations = lambda: _pointwise_equations(  # noqa: E731
+                    system, monomials, rng, orders, input_derivatives, previous
+                )
+            fields = _solutions(equations, n * size, size, n)
+            fields.sort(key=lambda f: (max((sum(monomials[k]) for comp in f for k in comp), default=0), sum(map(len, f))))
+            at_probe = _monomial_values(monomials, probe)
+            for field in fields:
+                if not _annihilates(probe_rows, probe, field, monomials):
+                    continue
+                row = {
+                    i: sum(c.p * pow(c.q, -1, PRIME) * at_probe[k] for k, c in comp.items()) % PRIME
+                    for i, comp in enumerate(field)
+                }
+                if not span.add_row({i: v for i, v in row.items() if v}):
+                    continue
+                vector = [
+                    sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in comp.items()))
+                    for comp in field
+                ]
+                # One sign convention for a line: the first component does not start with a minus.
+                first = next(e for e in vector if e != 0)
+                found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))
+                if len(found) == nullity:
+                    return found
+    return found
+
+
+def _listing(names: list[str], limit: int = 6) -> str:
+    shown = ", ".join(names[:limit])
+    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
+def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
+    """A name and a description from the structure of a field: constant
+    (translation), linear with a diagonal part (scaling, about its centre), with
+    a skew-symmetric part (rotation, about its centre); otherwise "unnamed
+    direction". Names of found fields say what they are; declared candidates
+    keep their own names."""
+    states = list(system.states)
+    moved = [s.name for s, v in zip(states, vector) if v != 0]
+    if any(not v.is_polynomial(*states) for v in vector):
+        return "unnamed direction", "not a polynomial field"
+    if all(v.free_symbols.isdisjoint(states) for v in vector):
+        return f"translation of {_listing(moved)}", "moves these states together"
+    polys = [sympy.Poly(v, *states) if v != 0 else None for v in vector]
+    if any(p is not None and p.total_degree() > 1 for p in polys):
+        return "unnamed direction", f"a field of degree {max(p.total_degree() for p in polys if p is not None)}"
+    n = len(states)
+    A = [[(polys[i].coeff_monomial(states[j]) if polys[i] is not None else 0) for j in range(n)] for i in range(n)]
+    b = [sympy.expand(vector[i] - sum(A[i][j] * states[j] for j in range(n))) for i in range(n)]
+    off = [(i, j) for i in range(n) for j in range(n) if i != j and A[i][j] != 0]
+    diagonal = [i for i in range(n) if A[i][i] != 0]
+    if not off and diagonal:
+        weights = ", ".join(f"{states[i].name}: {A[i][i]}" for i in diagonal)
+        centre = [(states[i].name, sympy.simplify(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
+        about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
+        return f"scaling{about}", f"scales the states with weights {weights}"
+    if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
+        pairs = sorted({(min(i, j), max(i, j)) for i, j in off})
+        i, j = pairs[0]
+        rate = A[j][i]
+        centre = (sympy.simplify(-b[j] / rate), sympy.simplify(b[i] / rate))
+        about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
+        return f"rotation{about}", "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
+    return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"

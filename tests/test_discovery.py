@@ -1,0 +1,142 @@
+"""Unobservable directions found without declared candidates (issue 17, items 1-2).
+
+Every model below is analysed with its declared symmetries removed, so the
+directions come from the exact ansatz alone. References are hand derivations
+(in each docstring); the property test checks every reported field against the
+observability matrix built independently here with plain sympy."""
+
+import random
+
+import pytest
+import sympy
+
+from observability import System, analyze, models
+
+
+def _bare(name, options=None):
+    return models.build(name, options or {}).replace(symmetries=())
+
+
+def _directions(system, seed=1):
+    result = analyze(system, seed=seed)
+    return result, [(d.name, {k: sympy.sympify(v) for k, v in d.vector.items()}) for d in result.unobservable_directions]
+
+
+def _same_line(found: dict, expected: dict) -> bool:
+    """The two fields are proportional (a non-zero constant factor)."""
+    keys = set(found) | set(expected)
+    ratios = {sympy.simplify(found.get(k, 0) / expected[k]) for k in expected if expected[k] != 0}
+    return len(ratios) == 1 and all(found.get(k, 0) == 0 for k in keys - set(expected)) and next(iter(ratios)).is_number
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+def test_slam15d_translation_and_scale(time):
+    """1.5-D landmark-only SLAM (c, cdot, x_L2, d_L2): moving camera and landmark
+    together (c, x_L2 += eps) and scaling lengths (c, cdot, x_L2 scale by s, the
+    inverse depth d_L2 by 1/s: generator (c, cdot, x_L2, -d_L2)) leave the
+    projection f (x_L2 - c) d_L2 unchanged."""
+    c, cdot, x, d = sympy.symbols("c cdot x_L2 d_L2")
+    _, found = _directions(_bare("slam1.5d", {"time": time}))
+    assert [name for name, _ in found] == ["translation of c, x_L2", "scaling"]
+    assert _same_line(found[0][1], {"c": 1, "x_L2": 1})
+    assert _same_line(found[1][1], {"c": c, "cdot": cdot, "x_L2": x, "d_L2": -d})
+
+
+def test_slam2d_without_beacon_translation_rotation_scale():
+    """Planar SLAM, bearings only, no beacon: translations in x and y, rotation
+    about the origin (cx, cy, L rotate, cth shifts, velocities rotate) and
+    scaling of every length: rank n - 4."""
+    result, found = _directions(_bare("slam2d", {"landmarks": "2"}))
+    assert result.rank == result.n_states - 4
+    assert sorted(name for name, _ in found) == [
+        "rotation about (cx, cy) = (0, 0)", "scaling", "translation of cx, L1x, L2x", "translation of cy, L1y, L2y"]
+    cx, cy, L1x, L1y = sympy.symbols("cx cy L1x L1y")
+    rotation = next(v for name, v in found if name.startswith("rotation"))
+    assert _same_line({k: rotation.get(k, 0) for k in ("cx", "cy", "cth", "L1x", "L1y")},
+                      {"cx": -cy, "cy": cx, "cth": 1, "L1x": -L1y, "L1y": L1x})
+
+
+def test_slam2d_with_one_beacon_rotation_and_scale_about_it():
+    """One beacon at (B1x, B1y): rotation and scaling about the beacon remain."""
+    result, found = _directions(_bare("slam2d", {"landmarks": "1", "beacons": "1"}))
+    assert sorted(name for name, _ in found) == [
+        "rotation about (cx, cy) = (B1x, B1y)", "scaling about cx = B1x, cy = B1y, L1x = B1x, L1y = B1y"]
+    bx, by, cx, cy = sympy.symbols("B1x B1y cx cy")
+    scaling = next(v for name, v in found if name.startswith("scaling"))
+    assert sympy.simplify(scaling["cx"] / (cx - bx) - scaling["cy"] / (cy - by)) == 0
+
+
+def test_range_only_unicycle_rotates_about_the_beacon():
+    """Unicycle (x, y, th) with the range to a beacon (bx, by): turning the pose
+    about the beacon, (by - y, x - bx, 1), keeps the range and commutes with the
+    motion."""
+    x, y, bx, by = sympy.symbols("x y bx by")
+    system = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
+                    {"r": "(x - bx)**2 + (y - by)**2"}, inputs=["v", "w"], parameters=["bx", "by"])
+    result, found = _directions(system)
+    assert result.rank == 2
+    assert found[0][0] == "rotation about (x, y) = (bx, by)"
+    assert _same_line(found[0][1], {"x": by - y, "y": x - bx, "th": 1})
+
+
+def test_a_quadratic_generator():
+    """x' = 0, z' = 0, output x + z^3/3: the null space is spanned by
+    (h_z, -h_x) = (z^2, -1), and every polynomial null field is a polynomial
+    multiple of it, so the simplest generator has degree 2."""
+    z = sympy.Symbol("z")
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + z**3/3"})
+    result, found = _directions(system)
+    assert result.rank == 1
+    assert found[0][0] == "unnamed direction" and _same_line(found[0][1], {"x": z**2, "z": -1})
+
+
+def test_no_polynomial_generator_is_reported_unnamed_with_its_vector():
+    """x' = 0, z' = 0, output x + exp(z): the null space is spanned by
+    (exp(z), -1), and no polynomial field lies in it (v_x + exp(z) v_z = 0 has no
+    polynomial solution but 0); the symbolic null space reports it."""
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
+    result, found = _directions(system)
+    assert result.rank == 1
+    (name, vector), = found
+    assert name == "unnamed direction"
+    z = sympy.Symbol("z")
+    assert _same_line(vector, {"x": sympy.exp(z), "z": -1})
+
+
+def _observability_matrix(system: System, orders: int) -> sympy.Matrix:
+    f = list(system.dynamics)
+    rows, current = [], [h for _, h in system.outputs]
+    for _ in range(orders + 1):
+        rows += [[sympy.diff(h, s) for s in system.states] for h in current]
+        current = [sum(sympy.diff(h, s) * fi for s, fi in zip(system.states, f)) for h in current]
+    return sympy.Matrix(rows)
+
+
+RANDOM_MODELS = [
+    _bare("slam1.5d"),
+    _bare("slam1.5d-disparity"),
+    System(["x", "y", "w"], {"x": "-w*y", "y": "w*x", "w": "0"}, {"h": "x**2 + y**2"}),
+    System(["x", "y", "z"], {"x": "y", "y": "0", "z": "0"}, {"h": "x*z"}),
+    System(["p", "q", "r"], {"p": "q", "q": "-p", "r": "0"}, {"h": "p**2 + q**2 + r"}),
+]
+
+
+@pytest.mark.parametrize("system", RANDOM_MODELS, ids=range(len(RANDOM_MODELS)))
+def test_every_reported_field_annihilates_the_matrix(system):
+    """Independent check: O (built here with sympy, orders 0..those the verdict
+    used) times each field vanishes at random rational points (50 digits, for
+    the sin and atan2 of the planar model); the fields are independent there
+    and as many as n - rank."""
+    result = analyze(system, seed=3)
+    O = _observability_matrix(system, result.orders)
+    fields = [[sympy.sympify(d.vector.get(s.name, "0")) for s in system.states] for d in result.unobservable_directions]
+    assert len(fields) == system.n - result.rank
+    rng = random.Random(0)
+    symbols = sorted(O.free_symbols | {s for v in fields for e in v for s in e.free_symbols}, key=str)
+    for _ in range(2):
+        point = {s: sympy.Rational(rng.randint(1, 97), rng.randint(1, 13)) for s in symbols}
+        at = O.xreplace(point).evalf(50)
+        V = sympy.Matrix([[e.xreplace(point) for e in v] for v in fields]).T
+        product = at * V.evalf(50)
+        assert max(abs(e) for e in product) < sympy.Float("1e-35")
+        assert V.rank() == len(fields)
