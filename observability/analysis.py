@@ -25,6 +25,9 @@ __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 Method = Literal["symbolic", "random", "float"]
 METHODS: tuple[str, ...] = ("random", "symbolic", "float")
 
+#: How many states or vector components ``--brief`` text shows.
+BRIEF_ITEMS = 8
+
 #: Seconds the symbolic null space may take before directions are left out.
 DIRECTIONS_BUDGET = 20.0
 #: Above this many states the symbolic null space is not attempted: only named
@@ -55,7 +58,16 @@ class UnobservableDirection:
         return {"name": self.name, "vector": dict(self.vector), "description": self.description}
 
     def __str__(self) -> str:
-        body = ", ".join(f"{k}: {v}" for k, v in self.vector.items())
+        return self.text()
+
+    def text(self, limit: int | None = None) -> str:
+        """The name and the vector; with ``limit``, at most that many components
+        (then "... and K more")."""
+        items = list(self.vector.items())
+        shown = items if limit is None else items[:limit]
+        body = ", ".join(f"{k}: {v}" for k, v in shown)
+        if len(shown) < len(items):
+            body += f", ... and {len(items) - len(shown)} more"
         return f"{self.name} {{{body}}}"
 
 
@@ -153,6 +165,18 @@ class ObservabilityResult:
         return f"<table><caption>{html.escape(self.model)}</caption>{body}</table>"
 
     def __str__(self) -> str:
+        return self.text()
+
+    def text(self, brief: bool = False) -> str:
+        """The verdict in words; ``brief`` shortens long state lists and vectors
+        to their first components (JSON always keeps everything)."""
+        limit = BRIEF_ITEMS if brief else None
+
+        def states(names: tuple[str, ...] | None) -> str:
+            if brief and names is not None and len(names) > BRIEF_ITEMS:
+                return _state_list(names[:BRIEF_ITEMS]) + f", ... and {len(names) - BRIEF_ITEMS} more"
+            return _state_list(names)
+
         lines = [
             f"{self.model}: {self.verdict()}"
             + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None else ""),
@@ -160,13 +184,13 @@ class ObservabilityResult:
         ]
         if self.rank is not None:
             lines.append(f"  Lie orders used: 0..{self.orders}")
-            lines.append(f"  observable states: {_state_list(self.observable_states)}")
+            lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
-                lines.append(f"  not observable: {_state_list(self.unobservable_states)}")
+                lines.append(f"  not observable: {states(self.unobservable_states)}")
         elif self.lower_bound is not None:
             lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
         for d in self.unobservable_directions:
-            lines.append(f"  unobservable direction: {d}")
+            lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
 
 

@@ -181,7 +181,7 @@ def _check(args: argparse.Namespace) -> int:
     else:
         code = EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
     try:
-        print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else str(result), flush=True)
+        print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else result.text(args.brief), flush=True)
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
     return code
@@ -284,6 +284,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--previous", choices=("inverse", "augment"), default="inverse",
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text")
+    check.add_argument("--brief", action="store_true",
+                       help="text: at most 8 states or components per list ('... and K more'); JSON keeps everything")
     check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",
                        help="number of non-zero derivatives of each input (default: generic input)")
     check.add_argument("--max-order", type=_count, default=None, metavar="K",
