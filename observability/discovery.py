@@ -43,6 +43,10 @@ __all__ = ["discover_directions", "classify", "Discovered", "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients the ansatz of a degree is not tried.
 MAX_UNKNOWNS = 4000
+#: Random points per ansatz at most (each gives as many equations as the rank);
+#: an ansatz left underdetermined yields fields that fail the check at a fresh
+#: point, so the cap bounds the work without admitting a wrong field.
+MAX_POINTS = 200
 _HALF = int((PRIME // 2) ** 0.5)
 
 
@@ -189,10 +193,11 @@ def _pointwise_equations(system, monomials, rng, orders, input_derivatives, prev
 
 def _solutions(equations_at_a_point, unknowns: int, size: int, n: int) -> list[list[dict[int, sympy.Rational]]]:
     """Rational fields solving the equations at enough random points (until two
-    points in a row add nothing), fewest terms first."""
+    points in a row add nothing, or ``MAX_POINTS``)."""
     echelon = ModularEchelon(unknowns, PRIME)
-    stalled = 0
-    while stalled < 2 and echelon.rank < unknowns:
+    stalled = points = 0
+    while stalled < 2 and echelon.rank < unknowns and points < MAX_POINTS:
+        points += 1
         try:
             rows = equations_at_a_point()
         except Redraw:
