@@ -10,7 +10,7 @@ from typing import Any, Literal
 import sympy
 
 from .certificate import certify_rank
-from .discovery import classify, discover_directions
+from .discovery import classify, discover_directions, observable_functions
 from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
@@ -24,6 +24,10 @@ __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 
 Method = Literal["symbolic", "random", "float"]
 METHODS: tuple[str, ...] = ("random", "symbolic", "float")
+
+#: Above this many states the observable functions are not searched (the
+#: ansatz of degree 1 alone has n + p unknowns per point and few equations).
+OBSERVABLE_FUNCTIONS_MAX_STATES = 100
 
 #: How many states or vector components ``--brief`` text shows.
 BRIEF_ITEMS = 8
@@ -83,6 +87,10 @@ class ObservabilityResult:
     was not computed), never an empty tuple that would read as "none".
     ``lower_bound`` is a rank that is certain when the verdict is undecided
     (e.g. the orders allowed were cut while the rank was still growing).
+    ``observable_functions``: polynomial functions of the states that every
+    unobservable direction leaves unchanged (what the outputs still determine),
+    None when not computed (the directions unknown, or n above
+    ``OBSERVABLE_FUNCTIONS_MAX_STATES``).
     """
 
     model: str
@@ -101,6 +109,7 @@ class ObservabilityResult:
     singular_values: tuple[float, ...] | None = None
     row_labels: tuple[tuple[str, int], ...] = field(default=(), repr=False)
     lower_bound: int | None = None
+    observable_functions: tuple[str, ...] | None = None
 
     @property
     def n_states(self) -> int:
@@ -127,6 +136,9 @@ class ObservabilityResult:
             "orders": self.orders,
             "rank_lower_bound": self.lower_bound,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
+            "observable_functions": (
+                list(self.observable_functions) if self.observable_functions is not None else None
+            ),
             "unobservable_states": (
                 list(self.unobservable_states) if self.rank is not None and self.observable_states is not None else None
             ),
@@ -187,6 +199,8 @@ class ObservabilityResult:
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
+            if self.observable_functions:
+                lines.append(f"  observable functions: {states(self.observable_functions)}")
         elif self.lower_bound is not None:
             lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
         for d in self.unobservable_directions:
@@ -436,6 +450,10 @@ def analyze(
         )
         if note:
             details += f"; {note}"
+    functions = None
+    if basis is not None and rank < n and n <= OBSERVABLE_FUNCTIONS_MAX_STATES:
+        found_functions = observable_functions(system, basis, rank, seed=seed or 0)
+        functions = tuple(str(sympy.factor(e)) for e in found_functions)
     observable_states: tuple[str, ...] | None
     if observable_columns is None:
         if basis is None:
@@ -461,4 +479,5 @@ def analyze(
         time=system.time,
         singular_values=singular_values,
         row_labels=labels,
+        observable_functions=functions,
     )

@@ -28,7 +28,6 @@ from __future__ import annotations
 import itertools
 import random
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import sympy
 
@@ -39,7 +38,7 @@ from .program import PRIME, Program
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["discover_directions", "classify", "Discovered", "MAX_UNKNOWNS"]
+__all__ = ["discover_directions", "classify", "observable_functions", "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients the ansatz of a degree is not tried.
 MAX_UNKNOWNS = 4000
@@ -48,15 +47,6 @@ MAX_UNKNOWNS = 4000
 #: point, so the cap bounds the work without admitting a wrong field.
 MAX_POINTS = 200
 _HALF = int((PRIME // 2) ** 0.5)
-
-
-@dataclass(frozen=True)
-class Discovered:
-    """A found direction: its components (state order) and a name from its structure."""
-
-    vector: tuple[sympy.Expr, ...]
-    name: str
-    description: str
 
 
 class _Recording(TaylorEvaluator):
@@ -329,3 +319,107 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
         return f"rotation{about}", "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
+
+
+def observable_functions(
+    system: System,
+    generators: Sequence[Sequence[sympy.Expr]],
+    rank: int,
+    *,
+    seed: int = 0,
+    max_degree: int = 2,
+) -> tuple[sympy.Expr, ...]:
+    """Polynomial functions of the states (degree <= ``max_degree``, free
+    parameters as coefficients) left unchanged by every generator: dphi . v = 0.
+
+    When the generators span the null space these are exactly the polynomial
+    functions whose gradient lies in the row space: what the outputs determine
+    locally, i.e. what a filter can estimate. The same exact ansatz as for the
+    fields (linear in the coefficients, mod p at random points, rational
+    reconstruction); the functions kept are functionally independent (gradients
+    independent at a random point), lowest degree first, at most ``rank``, and
+    each is checked at a fresh point.
+    """
+    if not generators or rank == 0:
+        return ()
+    rng = random.Random(seed)
+    states = list(system.states)
+    variables = states + list(system.free_parameters)
+    n = system.n
+    program = Program(system.states, where=system.name)
+    nodes = [[program.add(e) for e in v] for v in generators]
+
+    def point() -> tuple[list[int], list[list[int]]]:
+        evaluator = _Recording(program, n, rng, discrete=True)
+        evaluator.extend()
+        values = list(evaluator.point) + [
+            evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
+        ]
+        return values, [[evaluator.coefficient(i, 0)[0] for i in v] for v in nodes]
+
+    found: list[sympy.Expr] = []
+    span = ModularEchelon(n, PRIME)
+    for degree in range(1, max_degree + 1):
+        monomials = [m for m in _monomials(len(variables), degree) if any(m[:n])]
+        if len(monomials) > MAX_UNKNOWNS:
+            break
+
+        def gradients(values: list[int]) -> list[dict[int, int]]:
+            """d m / d x_s at the point, per monomial (states only)."""
+            out = []
+            for exps in monomials:
+                grad = {}
+                for s_, e in enumerate(exps[:n]):
+                    if e:
+                        lowered = list(exps)
+                        lowered[s_] -= 1
+                        grad[s_] = e * _monomial_values([tuple(lowered)], values)[0] % PRIME
+                out.append(grad)
+            return out
+
+        def equations() -> list[dict[int, int]]:
+            values, fields = point()
+            grads = gradients(values)
+            return [
+                {k: sum(d * v[s_] for s_, d in g.items()) % PRIME for k, g in enumerate(grads)}
+                for v in fields
+            ]
+
+        echelon = ModularEchelon(len(monomials), PRIME)
+        stalled = points = 0
+        while stalled < 2 and echelon.rank < len(monomials) and points < MAX_POINTS:
+            points += 1
+            try:
+                rows = equations()
+            except Redraw:
+                continue
+            before = echelon.rank
+            for row in rows:
+                echelon.add_row({k: v for k, v in row.items() if v})
+            stalled = stalled + 1 if echelon.rank == before else 0
+        candidates = []
+        for vector in echelon.null_space():
+            coefficients = {k: _rational(v) for k, v in vector.items()}
+            if any(c is None for c in coefficients.values()):
+                continue
+            candidates.append({k: c for k, c in coefficients.items() if c})
+        candidates.sort(key=lambda c: (max(sum(monomials[k]) for k in c), len(c)))
+        try:
+            values, fields = point()
+        except Redraw:
+            return tuple(found)
+        grads = gradients(values)
+        for coefficients in candidates:
+            gradient: dict[int, int] = {}
+            for k, c in coefficients.items():
+                factor = c.p * pow(c.q, -1, PRIME)
+                for s_, d in grads[k].items():
+                    gradient[s_] = (gradient.get(s_, 0) + factor * d) % PRIME
+            if any(sum(gradient.get(s_, 0) * v[s_] for s_ in range(n)) % PRIME for v in fields):
+                continue  # not invariant at a fresh point: the ansatz was underdetermined
+            if not span.add_row({s_: d for s_, d in gradient.items() if d}):
+                continue
+            found.append(sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in coefficients.items())))
+            if len(found) == rank:
+                return tuple(found)
+    return tuple(found)

@@ -140,3 +140,50 @@ def test_every_reported_field_annihilates_the_matrix(system):
         product = at * V.evalf(50)
         assert max(abs(e) for e in product) < sympy.Float("1e-35")
         assert V.rank() == len(fields)
+
+
+def test_slam15d_observable_functions():
+    """Invariants of the translation (c, x_L2 shift together) and the scaling
+    (c, cdot, x_L2 times s, d_L2 divided by s), of degree <= 2: the projective
+    quantity (x_L2 - c) d_L2 and the 'time to contact' rate cdot d_L2. There
+    are rank = 2 independent ones."""
+    c, cdot, x, d = sympy.symbols("c cdot x_L2 d_L2")
+    result = analyze(models.build("slam1.5d"), seed=1)
+    functions = [sympy.sympify(f) for f in result.observable_functions]
+    assert len(functions) == 2
+    expected = [cdot * d, (x - c) * d]
+    for e in expected:
+        assert any(sympy.simplify(f / e).is_number for f in functions)
+    assert result.to_dict()["observable_functions"] == list(result.observable_functions)
+
+
+@pytest.mark.parametrize("system", RANDOM_MODELS, ids=range(len(RANDOM_MODELS)))
+def test_observable_functions_are_invariant_and_in_the_row_space(system):
+    """Each reported function has zero derivative along every reported direction
+    (exact, sympy), and its gradient adds nothing to the row space of O at a
+    random rational point."""
+    result = analyze(system, seed=3)
+    if not result.observable_functions:
+        pytest.skip("no polynomial observable function of degree <= 2")
+    fields = [[sympy.sympify(d.vector.get(s.name, "0")) for s in system.states] for d in result.unobservable_directions]
+    O = _observability_matrix(system, result.orders)
+    rng = random.Random(1)
+    for text in result.observable_functions:
+        phi = sympy.sympify(text)
+        gradient = [sympy.diff(phi, s) for s in system.states]
+        for v in fields:
+            assert sympy.simplify(sum(g * e for g, e in zip(gradient, v))) == 0
+        symbols = sorted(O.free_symbols | phi.free_symbols, key=str)
+        point = {s: sympy.Rational(rng.randint(1, 50), rng.randint(1, 7)) for s in symbols}
+        at = O.xreplace(point).evalf(40)
+        stacked = at.col_join(sympy.Matrix([gradient]).xreplace(point).evalf(40))
+        assert _numeric_rank(stacked) == _numeric_rank(at)
+
+
+def _numeric_rank(matrix) -> int:
+    import mpmath
+
+    with mpmath.workdps(40):
+        values = mpmath.svd_r(mpmath.matrix(matrix.tolist()), compute_uv=False)
+        top = max(values)
+        return sum(1 for v in values if v > top * mpmath.mpf(10) ** -25)
