@@ -11,6 +11,7 @@ import sympy
 
 from .certificate import certify_rank
 from .discovery import classify, discover_directions, observable_functions
+from .proof import PROOF_BUDGET, fields_are_symmetries
 from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
@@ -24,6 +25,15 @@ __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 
 Method = Literal["symbolic", "random", "float"]
 METHODS: tuple[str, ...] = ("random", "symbolic", "float")
+
+#: The proof statuses in words a reviewer would accept.
+PROOFS = {
+    "proven": "proven (the rank is certain: a certified lower bound meets an upper bound from independent "
+    "fields that annihilate the observability matrix as identities)",
+    "lower bound": "lower bound (the rank is certainly not lower; a higher rank is excluded only with the "
+    "stated probability)",
+    "numerical": "numerical (singular values in floating point; not a proof)",
+}
 
 #: Above this many states the observable functions are not searched (the
 #: ansatz of degree 1 alone has n + p unknowns per point and few equations).
@@ -87,6 +97,11 @@ class ObservabilityResult:
     was not computed), never an empty tuple that would read as "none".
     ``lower_bound`` is a rank that is certain when the verdict is undecided
     (e.g. the orders allowed were cut while the rank was still growing).
+    ``proof``: "proven" (the rank is certain from both sides: a certified lower
+    bound, and an upper bound from independent fields that annihilate the matrix
+    as identities, or a full rank), "lower bound" (only the lower bound is
+    certain; the upper one holds with ``error_probability``), "numerical" (the
+    float method: no certificate); None when undecided.
     ``observable_functions``: polynomial functions of the states that every
     unobservable direction leaves unchanged (what the outputs still determine),
     None when not computed (the directions unknown, or n above
@@ -110,6 +125,7 @@ class ObservabilityResult:
     row_labels: tuple[tuple[str, int], ...] = field(default=(), repr=False)
     lower_bound: int | None = None
     observable_functions: tuple[str, ...] | None = None
+    proof: str | None = None
 
     @property
     def n_states(self) -> int:
@@ -135,6 +151,7 @@ class ObservabilityResult:
             "error_probability": self.error_probability,
             "orders": self.orders,
             "rank_lower_bound": self.lower_bound,
+            "proof": self.proof,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
             "observable_functions": (
                 list(self.observable_functions) if self.observable_functions is not None else None
@@ -195,6 +212,7 @@ class ObservabilityResult:
             f"  method: {self.method}; {self.details}",
         ]
         if self.rank is not None:
+            lines.append(f"  proof: {PROOFS.get(self.proof, self.proof)}")
             lines.append(f"  Lie orders used: 0..{self.orders}")
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
@@ -357,6 +375,7 @@ def analyze(
             orders=orders,
         )
 
+    upper = ""  # the random route's statement about the upper bound
     if method == "random":
         result = randomized_rank(
             system, seed=seed, input_derivatives=input_derivatives, max_order=max_order, progress=progress,
@@ -395,8 +414,10 @@ def analyze(
         else:
             details = (
                 f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); rank {rank} certain as a "
-                f"lower bound ({certificate}); too low with probability <= {probability:.1e} "
-                f"(Schwartz-Zippel, degree bound {result.degree_bound})"
+                f"lower bound ({certificate})"
+            )
+            upper = (
+                f"; too low with probability <= {probability:.1e} (Schwartz-Zippel, degree bound {result.degree_bound})"
             )
     elif method == "symbolic":
         try:
@@ -444,12 +465,25 @@ def analyze(
 
     found: tuple[UnobservableDirection, ...] = ()
     basis = None
+    note = ""
     if rank < n and (directions or observable_columns is None):
         found, basis, note = _unobservable_directions(
             system, n - rank, orders, input_derivatives, budget, seed or 0, previous
         )
-        if note:
-            details += f"; {note}"
+    if method == "float":
+        proof = "numerical"
+    elif method == "symbolic" or rank == n:
+        proof = "proven"
+    elif basis is not None and fields_are_symmetries(
+        system, basis, budget=PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
+    ):
+        proof = "proven"
+        # Both bounds are certain: no probability is left to state.
+        probability = 0.0
+        upper = f"; rank {rank} proven from above: {n - rank} independent fields annihilate the matrix as identities"
+    else:
+        proof = "lower bound"
+    details += upper + (f"; {note}" if note else "")
     functions = None
     if basis is not None and rank < n and n <= OBSERVABLE_FUNCTIONS_MAX_STATES:
         found_functions = observable_functions(system, basis, rank, seed=seed or 0)
@@ -480,4 +514,5 @@ def analyze(
         singular_values=singular_values,
         row_labels=labels,
         observable_functions=functions,
+        proof=proof,
     )

@@ -1,0 +1,96 @@
+"""Two-sided certificates: when a rank is proven, not just likely.
+
+A rank r found at a point is a certain lower bound on the generic rank (exact
+arithmetic with provably independent atoms, or the ball-arithmetic certificate).
+An upper bound n - k is proven by k vector fields that are generically
+independent and annihilate every row of the observability matrix *as
+identities*: L_v h = 0 for every output and [f, v] = 0 (continuous time), or
+v(F(x)) = DF(x) v(x) (discrete time); then L_v L_f^j h = L_f^j L_v h = 0 for
+every order. The identities are checked by exact rational-function arithmetic
+after the tangent half-angle substitution of :func:`observability.symbolic.
+rationalize` (sympy ``cancel``), within a CPU budget. When both bounds meet, the
+rank is proven.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Sequence
+
+import sympy
+
+from .budget import Undecided, with_budget
+from .echelon import ModularEchelon
+from .program import PRIME, Program
+from .symbolic import rationalize
+from .system import System
+from .taylor import Redraw, TaylorEvaluator
+
+__all__ = ["fields_are_symmetries", "PROOF_BUDGET", "PROOF_MAX_STATES"]
+
+#: CPU seconds for checking the identities of the upper bound.
+PROOF_BUDGET = 10.0
+#: Above this many states the identities are not attempted (exact rational-
+#: function arithmetic on hundreds of expressions exceeds any useful budget);
+#: the verdict then says "lower bound".
+PROOF_MAX_STATES = 24
+
+
+def _independent(system: System, fields: Sequence[Sequence[sympy.Expr]]) -> bool:
+    """Generically independent: a non-zero k x k minor at a random point mod p
+    (certain: a non-zero value of a polynomial minor)."""
+    rng = random.Random(0)
+    for _ in range(8):
+        program = Program(system.states, where=system.name)
+        nodes = [[program.add(system.substitute_values(e)) for e in v] for v in fields]
+        evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
+        try:
+            evaluator.extend()
+        except Redraw:
+            continue
+        echelon = ModularEchelon(system.n, PRIME)
+        for v in nodes:
+            echelon.add_row({i: evaluator.coefficient(node, 0)[0] for i, node in enumerate(v)})
+        return echelon.rank == len(fields)
+    return False
+
+
+def _identities(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    x = list(system.states)
+    f = [system.substitute_values(e) for e in system.dynamics]
+    h = [system.substitute_values(e) for _, e in system.outputs]
+    expressions = []
+    for v in fields:
+        v = [system.substitute_values(e) for e in v]
+        expressions += [sum(sympy.diff(hi, xj) * vj for xj, vj in zip(x, v)) for hi in h]
+        if system.time == "continuous":
+            expressions += [
+                sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                for vi, fi in zip(v, f)
+            ]
+        else:
+            at_next = dict(zip(x, f))
+            expressions += [
+                vi.xreplace(at_next) - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)) for vi, fi in zip(v, f)
+            ]
+    rational, _ = rationalize(sympy.Matrix(expressions))
+    return all(sympy.cancel(sympy.together(e)) == 0 for e in rational)
+
+
+def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]], budget: float = PROOF_BUDGET) -> bool:
+    """Whether ``fields`` prove the upper bound n - len(fields): generically
+    independent, and annihilating the observability matrix as identities.
+    False when that cannot be shown within ``budget`` CPU seconds."""
+    fields = [list(v) for v in fields]
+    if not fields:
+        return True
+    if system.n > PROOF_MAX_STATES:
+        return False
+    if system.time == "discrete" and system.uses_previous_state:
+        return False  # identities in the previous-state form are not derived here
+    if not _independent(system, fields):
+        return False
+    try:
+        return bool(with_budget(_identities, system, fields, seconds=budget))
+    except (Undecided, ValueError, TypeError):
+        return False
