@@ -21,7 +21,7 @@ from .program import Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["RowSink", "AllRows", "Expansion", "expand_rows", "map_is_dominant", "stopping_rule"]
+__all__ = ["RowSink", "AllRows", "Expansion", "expand_rows", "map_is_dominant", "point_rank", "stopping_rule"]
 
 Progress = Callable[[str], None]
 EvaluatorFactory = Callable[..., TaylorEvaluator]
@@ -67,18 +67,21 @@ class Expansion:
     rule: str = ""
 
 
-def map_is_dominant(system: System, seed: int = 0) -> bool:
-    """Whether the discrete-time map F is a local diffeomorphism at a generic point.
-
-    Decided by the rank of its Jacobian at random points mod p: a full rank there
-    is a proof (a non-zero minor at a point is a non-zero polynomial); anything
-    else is answered False, which only makes the caller compute more orders.
-    """
+def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts: int = 4) -> int:
+    """Rank mod p, at a random point, of the rows of expressions ``rows``: their
+    values (``gradients=False``, each row a sequence of n expressions) or their
+    gradients (each row one expression). The largest rank over the points tried
+    (a point where something is singular is skipped); a rank found is a certain
+    lower bound on the generic rank."""
     rng = random.Random(seed)
-    inputs = {u: step_input(u, 0) for u in system.inputs}
-    for _ in range(4):
+    best = 0
+    for _ in range(attempts):
         program = Program(system.states, (), where=system.name)
-        nodes = [program.add(system.substitute_values(f).xreplace(inputs)) for f in system.dynamics]
+        nodes = [
+            program.add(system.substitute_values(row)) if gradients
+            else [program.add(system.substitute_values(e)) for e in row]
+            for row in rows
+        ]
         evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
         try:
             evaluator.extend()
@@ -86,10 +89,25 @@ def map_is_dominant(system: System, seed: int = 0) -> bool:
             continue
         echelon = ModularEchelon(system.n, PRIME)
         for node in nodes:
-            echelon.add_row(evaluator.coefficient(node, 0)[1])
-        if echelon.rank == system.n:
-            return True
-    return False
+            if gradients:
+                echelon.add_row(evaluator.coefficient(node, 0)[1])
+            else:
+                echelon.add_row({i: evaluator.coefficient(e, 0)[0] for i, e in enumerate(node)})
+        best = max(best, echelon.rank)
+        if best == len(rows):
+            break
+    return best
+
+
+def map_is_dominant(system: System, seed: int = 0) -> bool:
+    """Whether the discrete-time map F is a local diffeomorphism at a generic point.
+
+    Decided by the rank of its Jacobian at random points mod p: a full rank there
+    is a proof (a non-zero minor at a point is a non-zero polynomial); anything
+    else is answered False, which only makes the caller compute more orders.
+    """
+    inputs = {u: step_input(u, 0) for u in system.inputs}
+    return point_rank(system, [f.xreplace(inputs) for f in system.dynamics], gradients=True, seed=seed) == system.n
 
 
 def stopping_rule(system: System, previous: str = "inverse") -> tuple[int, bool, str]:

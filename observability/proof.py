@@ -14,17 +14,14 @@ rank is proven.
 
 from __future__ import annotations
 
-import random
 from collections.abc import Sequence
 
 import sympy
 
 from .budget import Undecided, with_budget
-from .echelon import ModularEchelon
-from .program import PRIME, Program
+from .expansion import point_rank
 from .symbolic import rationalize
 from .system import System
-from .taylor import Redraw, TaylorEvaluator
 
 __all__ = ["fields_are_symmetries", "PROOF_BUDGET", "PROOF_MAX_STATES"]
 
@@ -34,25 +31,6 @@ PROOF_BUDGET = 10.0
 #: function arithmetic on hundreds of expressions exceeds any useful budget);
 #: the verdict then says "lower bound".
 PROOF_MAX_STATES = 24
-
-
-def _independent(system: System, fields: Sequence[Sequence[sympy.Expr]]) -> bool:
-    """Generically independent: a non-zero k x k minor at a random point mod p
-    (certain: a non-zero value of a polynomial minor)."""
-    rng = random.Random(0)
-    for _ in range(8):
-        program = Program(system.states, where=system.name)
-        nodes = [[program.add(system.substitute_values(e)) for e in v] for v in fields]
-        evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
-        try:
-            evaluator.extend()
-        except Redraw:
-            continue
-        echelon = ModularEchelon(system.n, PRIME)
-        for v in nodes:
-            echelon.add_row({i: evaluator.coefficient(node, 0)[0] for i, node in enumerate(v)})
-        return echelon.rank == len(fields)
-    return False
 
 
 def _identities(system: System, fields: list[list[sympy.Expr]]) -> bool:
@@ -88,7 +66,8 @@ def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]]
         return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
-    if not _independent(system, fields):
+    # Generically independent: a non-zero k x k minor at a random point mod p.
+    if point_rank(system, fields, gradients=False, attempts=8) != len(fields):
         return False
     try:
         return bool(with_budget(_identities, system, fields, seconds=budget))
