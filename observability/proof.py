@@ -64,6 +64,12 @@ def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]]
         return True
     if system.n > PROOF_MAX_STATES:
         return False
+    # Independence is tested at a point where transcendental values are free
+    # quantities, which proves it only for rational fields; a field with exp,
+    # log, sin, ... (a null space without polynomial generator) proves nothing here.
+    variables = set(system.states) | set(system.parameters)
+    if not all(sympy.sympify(e).is_rational_function(*variables) for v in fields for e in v):
+        return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
     # Generically independent: a non-zero k x k minor at a random point mod p.

@@ -50,3 +50,11 @@ def test_large_models_say_lower_bound():
     certain lower bound and its stated probability, never a claimed proof."""
     result = analyze(models.build("slam2d", {"landmarks": "10"}), seed=1)
     assert result.rank == result.n_states - 4 and result.proof == "lower bound"
+
+
+def test_a_field_without_polynomial_generator_is_not_a_proof():
+    """x' = 0, z' = 0, output x + exp(z): the null field (exp(z), -1) is not
+    rational, so its independence is not proven here: "lower bound"."""
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
+    result = analyze(system, seed=1)
+    assert result.rank == 1 and result.proof == "lower bound"
