@@ -27,7 +27,7 @@ CASES = [
 
 
 def _best(system, repeat: int, rules) -> float:
-    program.expanded_argument, program.factored = rules
+    program.expanded_argument, program.split_log, program.split_root = rules
     best = float("inf")
     for _ in range(repeat):
         start = time.process_time()
@@ -40,8 +40,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
-    real = (program.expanded_argument, program.factored)
-    identity = (lambda arg: arg, lambda expr: None)  # the engine before the normal form
+    real = (program.expanded_argument, program.split_log, program.split_root)
+    identity = (lambda arg: arg, lambda arg: None, lambda base, exponent: None)  # the engine before the normal form
     print(f"{'model':36} {'with s':>9} {'without s':>10} {'ratio':>6}")
     worst = 0.0
     for name, options in CASES:
@@ -53,7 +53,7 @@ def main() -> None:
         a, b = min(with_), min(without)
         worst = max(worst, a / b) if name == "slam2d" else worst
         print(f"{system.name:36} {a:9.4f} {b:10.4f} {a / b:6.2f}")
-    program.expanded_argument, program.factored = real
+    program.expanded_argument, program.split_log, program.split_root = real
     print(f"worst ratio on the planar family: {worst:.2f} (budget 1.10)")
 
 

@@ -18,7 +18,7 @@ from .numeric import float_rank
 from .randomized import randomized_rank
 from .budget import Undecided, with_budget
 from .symbolic import null_space, observability_rows, symbolic_rank
-from .symmetry import name_null_space
+from .symmetry import independent_basis, verify_all
 from .system import System
 
 __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
@@ -35,9 +35,10 @@ PROOFS = {
     "numerical": "numerical (singular values in floating point; not a proof)",
 }
 
-#: Above this many states the observable functions are not searched (the
-#: ansatz of degree 1 alone has n + p unknowns per point and few equations).
-OBSERVABLE_FUNCTIONS_MAX_STATES = 100
+#: Above this many states the observable functions are not searched: the
+#: ansatz of degree 2 has about (n + p)^2 / 2 unknowns, few equations per point,
+#: and a dense elimination, cubic in the unknowns.
+OBSERVABLE_FUNCTIONS_MAX_STATES = 12
 
 #: How many states or vector components ``--brief`` text shows.
 BRIEF_ITEMS = 8
@@ -252,7 +253,9 @@ def _unobservable_directions(
     Returns the directions, a basis of the null space when one is known, and a
     note for the details line.
     """
-    named, _ = name_null_space(system, nullity, system.symmetries, seed=seed)
+    # The candidates are verified once; the basis is then extended as fields are found.
+    verified = [s for s, ok in zip(system.symmetries, verify_all(system, system.symmetries, seed)) if ok]
+    named, _ = independent_basis(system, nullity, verified, seed=seed)
     # Independent verified generators as many as the nullity span the null space.
     basis: list[list[sympy.Expr]] | None = [v for _, v in named] if len(named) == nullity else None
     unnamed: list[list[sympy.Expr]] = []
@@ -261,7 +264,7 @@ def _unobservable_directions(
         found = discover_directions(
             system, nullity, orders, seed=seed, input_derivatives=input_derivatives, previous=previous
         )
-        named, unnamed = name_null_space(system, nullity, system.symmetries, extra=found, seed=seed)
+        named, unnamed = independent_basis(system, nullity, verified, extra=found, seed=seed)
         if len(named) + len(unnamed) == nullity:
             basis = [v for _, v in named] + [list(v) for v in unnamed]
     if basis is None:
@@ -286,8 +289,8 @@ def _unobservable_directions(
                     note = f"warning: symbolic null space has dimension {len(symbolic)}, expected {nullity}"
                 else:
                     basis = symbolic
-                named, unnamed = name_null_space(
-                    system, nullity, system.symmetries, extra=[*(list(v) for v in unnamed), *symbolic], seed=seed
+                named, unnamed = independent_basis(
+                    system, nullity, verified, extra=[*(list(v) for v in unnamed), *symbolic], seed=seed
                 )
     directions = [UnobservableDirection(s.name, _vector(system.states, v), s.description) for s, v in named]
     for v in unnamed:
@@ -384,24 +387,22 @@ def analyze(
         rank, orders, seed, labels = result.rank, result.orders, result.seed, result.row_labels
         if result.dependence is None:
             certificate = "exact arithmetic; the transcendental terms are provably independent"
-            certain = True
         else:
             proof = certify_rank(
                 system, orders, result.independent_rows, result.pivot_columns, seed=seed,
                 input_derivatives=input_derivatives, previous=previous,
             )
-            certain = proof.proven
-            certificate = f"{result.dependence}; lower bound certified: {proof.how}" if certain else ""
-            if not certain:
+            if not proof.proven:
                 return undecided(
                     f"rank {rank} of {n} mod 2^61-1 may be too high: {result.dependence}, and the certificate "
                     f"at a real point failed ({proof.how})",
                     orders=orders,
                 )
+            certificate = f"{result.dependence}; lower bound certified: {proof.how}"
+        # From here on the rank found is certain as a lower bound.
         if not result.complete and rank < n:
-            return truncated(rank, orders, result.rule, certain)
-        upper_sound = result.dependence is None or "square root" not in result.dependence
-        if rank < n and not upper_sound:
+            return truncated(rank, orders, result.rule, True)
+        if rank < n and result.dependence is not None and result.dependence.square_roots:
             return undecided(
                 f"rank at least {rank} of {n} ({certificate}), but square roots with related radicands may "
                 "take other branches at the random point, so a higher rank is not excluded",

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import sympy
 
-__all__ = ["normal_form", "expanded_argument", "factored", "exponential_form"]
+__all__ = ["normal_form", "expanded_argument", "factored", "exponential_form", "split_log", "split_root"]
 
 #: Arguments larger than this (in operations) are not expanded or factored: the
 #: atom is kept as written and :func:`dependence` reports it.
@@ -87,19 +87,23 @@ def exponential_form(expr: sympy.Expr) -> sympy.Expr | None:
     return None
 
 
-def _log(arg: sympy.Expr) -> sympy.Expr:
+def split_log(arg: sympy.Expr) -> sympy.Expr | None:
+    """log(arg) as log(c) + sum e_i log(f_i) over irreducible factors, or None
+    when there is nothing to split (the one rule for both the program and the
+    symbolic route)."""
     form = factored(arg)
     if form is None:
-        return sympy.log(arg)
+        return None
     c, factors = form
     return sympy.Add(sympy.log(c), *(e * sympy.log(f) for f, e in factors))
 
 
-def _sqrt_power(base: sympy.Expr, exponent: sympy.Rational) -> sympy.Expr:
-    """base**(k/2) with the radicand split into square-free irreducible factors."""
+def split_root(base: sympy.Expr, exponent: sympy.Rational) -> sympy.Expr | None:
+    """base**(k/2) with the radicand split into square-free irreducible factors,
+    or None when there is nothing to split."""
     form = factored(base)
     if form is None:
-        return sympy.Pow(base, exponent)
+        return None
     c, factors = form
     k = int(exponent * 2)
     whole = sympy.Mul(*(sympy.Pow(f, (e // 2) * k) for f, e in factors))
@@ -115,13 +119,15 @@ def _rule(expr: sympy.Expr) -> sympy.Expr:
     if rewritten is not None:
         return normal_form(rewritten)
     if isinstance(expr, sympy.log):
-        return _log(expr.args[0])
+        split = split_log(expr.args[0])
+        return expr if split is None else split
     if isinstance(expr, sympy.Pow):
         base, exponent = expr.args
         if base is sympy.E:
             return sympy.exp(exponent)
         if exponent.is_Rational and exponent.q == 2:
-            return _sqrt_power(base, exponent)
+            split = split_root(base, exponent)
+            return expr if split is None else split
     return expr
 
 

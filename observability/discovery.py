@@ -61,6 +61,11 @@ class _Recording(TaylorEvaluator):
             self.constants[key] = super()._random_constant(key)
         return self.constants[key]
 
+    def variable_values(self, system: System) -> list[int]:
+        """The states, then the free parameters, at the point; a free parameter
+        the program does not involve gets a value all the same."""
+        return list(self.point) + [self.constants.get(q) or self.rng.randrange(1, PRIME) for q in system.free_parameters]
+
 
 def _rational(value: int) -> sympy.Rational | None:
     """The rational a/b with |a|, |b| < sqrt(p/2) congruent to ``value`` mod p
@@ -88,12 +93,7 @@ def _point(system: System, orders: int, rng: random.Random, input_derivatives, p
     echelon = ModularEchelon(system.n, PRIME)
     for row in sink.rows:
         echelon.add_row(row)
-    evaluator = made[-1]
-    # A free parameter the matrix does not involve gets a value all the same.
-    values = list(evaluator.point) + [
-        evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
-    ]
-    return list(echelon.pivot_rows.values()), values
+    return list(echelon.pivot_rows.values()), made[-1].variable_values(system)
 
 
 def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
@@ -118,11 +118,18 @@ def _monomial_values(monomials, values) -> list[int]:
     return out
 
 
-def _annihilates(rows, values, field, monomials) -> bool:
-    """O(x) v(x) = 0 at the point, exactly mod p, for v with rational coefficients."""
-    mvals = _monomial_values(monomials, values)
-    v = [sum(c.p * pow(c.q, -1, PRIME) * mvals[k] for k, c in comp.items()) % PRIME for comp in field]
-    return all(sum(r * v[i] for i, r in row.items()) % PRIME == 0 for row in rows)
+def _mod(c: sympy.Rational) -> int:
+    return c.p * pow(c.q, -1, PRIME) % PRIME
+
+
+def _field_at(field, mvals: list[int]) -> list[int]:
+    """The components of a field with rational coefficients, at the point whose
+    monomial values are ``mvals``, mod p."""
+    return [sum(_mod(c) * mvals[k] for k, c in comp.items()) % PRIME for comp in field]
+
+
+def _polynomial(coefficients: dict, monomials, variables) -> sympy.Expr:
+    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in coefficients.items()))
 
 
 def _symmetry_point(system: System, rng: random.Random):
@@ -136,10 +143,7 @@ def _symmetry_point(system: System, rng: random.Random):
     evaluator = _Recording(program, system.n, rng, discrete=True)
     evaluator.extend()
     at = evaluator.coefficient
-    values = list(evaluator.point) + [
-        evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
-    ]
-    return [at(i, 0)[1] for i in h], [at(i, 0) for i in f], values
+    return [at(i, 0)[1] for i in h], [at(i, 0) for i in f], evaluator.variable_values(system)
 
 
 def _symmetry_equations(system: System, monomials, rng: random.Random) -> list[dict[int, int]]:
@@ -261,18 +265,12 @@ def discover_directions(
             fields.sort(key=lambda f: (max((sum(monomials[k]) for comp in f for k in comp), default=0), sum(map(len, f))))
             at_probe = _monomial_values(monomials, probe)
             for field in fields:
-                if not _annihilates(probe_rows, probe, field, monomials):
+                v = _field_at(field, at_probe)
+                if any(sum(r * v[i] for i, r in row.items()) % PRIME for row in probe_rows):
+                    continue  # O(x) v(x) != 0 at a fresh point: not a null field
+                if not span.add_row({i: value for i, value in enumerate(v) if value}):
                     continue
-                row = {
-                    i: sum(c.p * pow(c.q, -1, PRIME) * at_probe[k] for k, c in comp.items()) % PRIME
-                    for i, comp in enumerate(field)
-                }
-                if not span.add_row({i: v for i, v in row.items() if v}):
-                    continue
-                vector = [
-                    sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in comp.items()))
-                    for comp in field
-                ]
+                vector = [_polynomial(comp, monomials, variables) for comp in field]
                 # One sign convention for a line: the first component does not start with a minus.
                 first = next(e for e in vector if e != 0)
                 found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))
@@ -352,10 +350,7 @@ def observable_functions(
     def point() -> tuple[list[int], list[list[int]]]:
         evaluator = _Recording(program, n, rng, discrete=True)
         evaluator.extend()
-        values = list(evaluator.point) + [
-            evaluator.constants.get(q) or rng.randrange(1, PRIME) for q in system.free_parameters
-        ]
-        return values, [[evaluator.coefficient(i, 0)[0] for i in v] for v in nodes]
+        return evaluator.variable_values(system), [[evaluator.coefficient(i, 0)[0] for i in v] for v in nodes]
 
     found: list[sympy.Expr] = []
     span = ModularEchelon(n, PRIME)
@@ -365,17 +360,16 @@ def observable_functions(
             break
 
         def gradients(values: list[int]) -> list[dict[int, int]]:
-            """d m / d x_s at the point, per monomial (states only)."""
-            out = []
-            for exps in monomials:
-                grad = {}
-                for s_, e in enumerate(exps[:n]):
-                    if e:
-                        lowered = list(exps)
-                        lowered[s_] -= 1
-                        grad[s_] = e * _monomial_values([tuple(lowered)], values)[0] % PRIME
-                out.append(grad)
-            return out
+            """d m / d x_s = e_s m / x_s at the point, per monomial (states only;
+            a state value of 0 mod p would need a redraw, probability n / p)."""
+            if not all(values[:n]):
+                raise Redraw(-1, "a state is zero at the point")
+            inverse = [pow(x, -1, PRIME) for x in values[:n]]
+            mvals = _monomial_values(monomials, values)
+            return [
+                {s_: e * mk % PRIME * inverse[s_] % PRIME for s_, e in enumerate(exps[:n]) if e}
+                for exps, mk in zip(monomials, mvals)
+            ]
 
         def equations() -> list[dict[int, int]]:
             values, fields = point()
@@ -412,14 +406,14 @@ def observable_functions(
         for coefficients in candidates:
             gradient: dict[int, int] = {}
             for k, c in coefficients.items():
-                factor = c.p * pow(c.q, -1, PRIME)
+                factor = _mod(c)
                 for s_, d in grads[k].items():
                     gradient[s_] = (gradient.get(s_, 0) + factor * d) % PRIME
             if any(sum(gradient.get(s_, 0) * v[s_] for s_ in range(n)) % PRIME for v in fields):
                 continue  # not invariant at a fresh point: the ansatz was underdetermined
             if not span.add_row({s_: d for s_, d in gradient.items() if d}):
                 continue
-            found.append(sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in coefficients.items())))
+            found.append(_polynomial(coefficients, monomials, variables))
             if len(found) == rank:
                 return tuple(found)
     return tuple(found)

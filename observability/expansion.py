@@ -10,6 +10,7 @@ nothing and that provably ends the growth (:func:`stopping_rule`), or at
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -99,12 +100,14 @@ def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts
     return best
 
 
+@functools.lru_cache(maxsize=32)
 def map_is_dominant(system: System, seed: int = 0) -> bool:
     """Whether the discrete-time map F is a local diffeomorphism at a generic point.
 
     Decided by the rank of its Jacobian at random points mod p: a full rank there
     is a proof (a non-zero minor at a point is a non-zero polynomial); anything
     else is answered False, which only makes the caller compute more orders.
+    Cached per system: every expansion at every random point asks it.
     """
     inputs = {u: step_input(u, 0) for u in system.inputs}
     return point_rank(system, [f.xreplace(inputs) for f in system.dynamics], gradients=True, seed=seed) == system.n

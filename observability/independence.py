@@ -9,12 +9,14 @@ runs first.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy
 
 from .atoms import MAX_ARGUMENT_OPS
 from .program import Op, Program
 
-__all__ = ["dependence"]
+__all__ = ["Dependence", "dependence"]
 
 _FREE = (Op.EXP, Op.LOG, Op.ATAN2)
 _LEAF = (Op.STATE, Op.INPUT, Op.RANDOM)
@@ -84,10 +86,23 @@ def _value_matters(program: Program, dynamics_roots: int) -> list[bool]:
     return matters
 
 
-def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
+@dataclass(frozen=True)
+class Dependence:
+    """Why the atoms are not provably independent. ``square_roots``: the reason
+    is a square root; its branches at a random point may then belong to another
+    component, so even the rank as an upper bound is not assured."""
+
+    reason: str
+    square_roots: bool = False
+
+    def __str__(self) -> str:
+        return self.reason
+
+
+def dependence(program: Program, dynamics_roots: int = 0) -> Dependence | None:
     """None when the program's atoms are provably algebraically independent (the
     rank mod p at a random point is then a certain lower bound); otherwise the
-    first reason why that cannot be asserted, in words.
+    first reason why that cannot be asserted.
 
     ``dynamics_roots``: how many leading roots are dynamics (continuous time),
     whose values feed the series of every state.
@@ -121,23 +136,30 @@ def dependence(program: Program, dynamics_roots: int = 0) -> str | None:
             signature = _monomial(program, args[i][0], logs_ok)
             kind = "an exponential" if op is Op.EXP else "an angle"
             if signature is None:
-                return f"the argument of {kind} in {where(i)} is not a monomial in the symbols"
+                return Dependence(f"the argument of {kind} in {where(i)} is not a monomial in the symbols")
             if (op, signature) in seen:
-                return f"{kind} in {where(i)} has the argument of another up to a constant factor"
+                return Dependence(f"{kind} in {where(i)} has the argument of another up to a constant factor")
             seen.add((op, signature))
         elif op is Op.LOG and i not in logs_ok and matters[i]:
-            return f"the logarithm in {where(i)} has an argument that is not an irreducible polynomial distinct from the others"
+            return Dependence(f"the logarithm in {where(i)} has an argument that is not an irreducible polynomial distinct from the others")
         elif op is Op.ATAN2 and matters[i]:
-            return f"the atan2 in {where(i)} enters the model non-additively"
+            return Dependence(f"the atan2 in {where(i)} enters the model non-additively")
         elif op is Op.SQRT:
             form = _irreducible(program, args[i][0])
             if form is None or ("sqrt", form) in radicands:
-                return f"the square root in {where(i)} has a radicand that is not an irreducible polynomial distinct from the others"
+                return Dependence(
+                    f"the square root in {where(i)} has a radicand that is not an irreducible polynomial distinct "
+                    "from the others",
+                    square_roots=True,
+                )
             radicands.add(("sqrt", form))
     if constants > 1:
-        return "more than one transcendental constant occurs (their algebraic relations are not known)"
+        return Dependence("more than one transcendental constant occurs (their algebraic relations are not known)")
     if numeric_roots > 1:
-        return "more than one square root of a number occurs (sympy merges them: sqrt(2)*sqrt(3) is sqrt(6))"
+        return Dependence(
+            "more than one square root of a number occurs (sympy merges them: sqrt(2)*sqrt(3) is sqrt(6))",
+            square_roots=True,
+        )
     return None
 
 

@@ -67,18 +67,19 @@ def equilibrate(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     like k! and states of different units differ by orders of magnitude, which
     an unscaled SVD reads as rank loss. Columns are scaled by their largest
     entry, then rows by their norm (a few sweeps); a null vector v of the scaled
-    matrix is ``scales * v`` for the original one.
+    matrix is ``scales * v`` for the original one. Works on float arrays and on
+    object arrays of mpmath numbers alike (the high-precision confirmation).
     """
-    scaled = np.array(matrix, dtype=float)
-    scales = np.ones(scaled.shape[1])
+    scaled = np.array(matrix, dtype=matrix.dtype if matrix.dtype == object else float)
+    scales = np.ones(scaled.shape[1], dtype=scaled.dtype)
     for _ in range(3):
         cols = np.max(np.abs(scaled), axis=0)
-        cols[cols == 0] = 1.0
-        scaled /= cols
-        scales /= cols
-        rows = np.linalg.norm(scaled, axis=1)
-        rows[rows == 0] = 1.0
-        scaled /= rows[:, None]
+        cols[cols == 0] = 1
+        scaled = scaled / cols
+        scales = scales / cols
+        rows = np.sum(scaled * scaled, axis=1) ** 0.5
+        rows[rows == 0] = 1
+        scaled = scaled / rows[:, None]
     return scaled, scales
 
 
@@ -103,19 +104,8 @@ def high_precision_rank(rows: list[list], n: int, digits: int) -> tuple[int, lis
     import mpmath
 
     with mpmath.workdps(digits):
-        matrix = mpmath.matrix(rows)
-        for _ in range(3):
-            for j in range(n):
-                top = max((abs(matrix[i, j]) for i in range(matrix.rows)), default=0)
-                if top:
-                    for i in range(matrix.rows):
-                        matrix[i, j] /= top
-            for i in range(matrix.rows):
-                norm = mpmath.norm(matrix[i, :])
-                if norm:
-                    for j in range(n):
-                        matrix[i, j] /= norm
-        _, sigma, v = mpmath.svd_r(matrix, compute_uv=True)
+        scaled, _ = equilibrate(np.array(rows, dtype=object))
+        _, sigma, v = mpmath.svd_r(mpmath.matrix(scaled.tolist()), compute_uv=True)
         values = [sigma[i] for i in range(len(sigma))]
         threshold = values[0] * mpmath.mpf(10) ** (-(digits // 2)) if values else 0
         rank = sum(1 for x in values if x > threshold)

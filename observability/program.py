@@ -25,7 +25,7 @@ from enum import IntEnum
 
 import sympy
 
-from .atoms import expanded_argument, exponential_form, factored
+from .atoms import expanded_argument, exponential_form, split_log, split_root
 from .errors import UnsupportedExpressionError
 
 __all__ = ["Op", "Program", "PRIME"]
@@ -253,25 +253,6 @@ class Program:
             result = self._mul(result, self._exp(t))
         return result
 
-    def _root_power(self, base: sympy.Expr, k: int) -> int:
-        """base**(k/2), the radicand split into square-free irreducible factors
-        (square roots are taken where every factor is positive)."""
-        form = factored(base)
-        if form is None:
-            b = self.build(base)
-            self.n_sqrt += 1
-            h = self.heights[b]
-            return self._power(self._node(Op.SQRT, (b,), self.constant[b], (1 + h[0], h[1])), k)
-        c, factors = form
-        items = [self._power(self.build(f), (e // 2) * k) for f, e in factors if e // 2]
-        items += [self._root_power(f, k) for f, e in factors if e % 2]
-        if c != 1:
-            items.append(self.build(sympy.Pow(c, sympy.Rational(k, 2))))
-        result = items[0]
-        for item in items[1:]:
-            result = self._mul(result, item)
-        return result
-
     def build(self, expr: sympy.Expr) -> int:
         memo = self.expression_memo
         found = memo.get(expr)
@@ -314,7 +295,14 @@ class Program:
             if not exponent.is_Rational or exponent.q not in (1, 2):
                 raise UnsupportedExpressionError(f"power {expr} (only integer powers and square roots)")
             if exponent.q == 2:
-                return self._root_power(base, int(exponent.p))
+                # Square roots are taken where every factor of the radicand is positive.
+                split = split_root(base, exponent)
+                if split is not None:
+                    return self.build(split)
+                b = self.build(base)
+                self.n_sqrt += 1
+                h = self.heights[b]
+                return self._power(self._node(Op.SQRT, (b,), self.constant[b], (1 + h[0], h[1])), int(exponent.p))
             return self._power(self.build(base), int(exponent.p))
         # The atom normal form (observability.atoms) is applied here, in the one
         # walk that compiles the expression: arguments expanded, radicands factored.
@@ -325,12 +313,8 @@ class Program:
         if isinstance(expr, sympy.exp):
             return self._exp(self.build(expanded_argument(expr.args[0])))
         if isinstance(expr, sympy.log):
-            form = factored(expr.args[0])
-            if form is None:
-                return self._log(self.build(expr.args[0]))
-            c, factors = form
-            terms = [self._mul(self._const(sympy.Integer(e)), self._log(self.build(f))) for f, e in factors]
-            return self._add(terms + ([self._log(self._const(c))] if c != 1 else []))
+            split = split_log(expr.args[0])
+            return self._log(self.build(expr.args[0])) if split is None else self.build(split)
         if isinstance(expr, sympy.tan):
             s, c = self._sincos(self.build(expanded_argument(expr.args[0])))
             return self._mul(s, self._inv(c))

@@ -27,7 +27,7 @@ from .echelon import ModularEchelon
 from .errors import SingularModelError
 from .inverse import eliminate_previous_state
 from .expansion import expand_rows
-from .independence import dependence
+from .independence import Dependence, dependence
 from .program import Op, Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
@@ -75,7 +75,7 @@ class ModularRank:
         Indices (in ``row_labels``) of rows that raised the rank: with
         ``pivot_columns`` they select a non-singular ``rank`` x ``rank`` minor.
     pivot_columns : tuple[int, ...]
-    dependence : str or None
+    dependence : Dependence or None
         None when the atoms of the model are provably algebraically independent,
         so that ``rank`` is a certain lower bound; otherwise why that cannot be
         asserted (:func:`observability.independence.dependence`).
@@ -95,7 +95,7 @@ class ModularRank:
     rule: str = ""
     independent_rows: tuple[int, ...] = ()
     pivot_columns: tuple[int, ...] = ()
-    dependence: str | None = None
+    dependence: Dependence | None = None
 
 
 class _RecordingEchelon(ModularEchelon):

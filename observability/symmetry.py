@@ -36,7 +36,7 @@ from .taylor import PRIME, BallTaylorEvaluator, Redraw, TaylorEvaluator
 if TYPE_CHECKING:  # System holds Symmetry objects, so the import is one-way
     from .system import System
 
-__all__ = ["EPSILON", "Symmetry", "generator", "verify", "verify_all", "name_null_space"]
+__all__ = ["EPSILON", "Symmetry", "generator", "verify", "verify_all", "name_null_space", "independent_basis"]
 
 #: The group parameter of a :class:`Symmetry` (the identity is eps = 0).
 EPSILON = sympy.Symbol("epsilon")
@@ -314,17 +314,27 @@ def name_null_space(
     extra: Sequence[Sequence[sympy.Expr]] = (),
     seed: int = 0,
 ) -> tuple[list[tuple[Symmetry, list[sympy.Expr]]], list[list[sympy.Expr]]]:
-    """A basis of the null space made of named symmetries where possible.
-
-    Verified candidates are taken in the order given while they are independent
-    (tested at one random point mod p); then the vectors of ``extra`` (e.g. a
-    symbolic null space basis) that extend their span, until ``nullity`` vectors
-    are chosen. Returns (chosen symmetries with their generators, chosen extras).
-    """
+    """A basis of the null space made of named symmetries where possible: the
+    candidates that hold (:func:`verify_all`), then :func:`independent_basis`."""
     verified = [s for s, ok in zip(candidates, verify_all(system, candidates, seed)) if ok] if nullity else []
+    return independent_basis(system, nullity, verified, extra, seed)
+
+
+def independent_basis(
+    system: System,
+    nullity: int,
+    verified: Sequence[Symmetry],
+    extra: Sequence[Sequence[sympy.Expr]] = (),
+    seed: int = 0,
+) -> tuple[list[tuple[Symmetry, list[sympy.Expr]]], list[list[sympy.Expr]]]:
+    """Verified symmetries taken in the order given while they are independent
+    (tested at one random point mod p); then the vectors of ``extra`` (found
+    fields, a symbolic null space basis) that extend their span, until
+    ``nullity`` vectors are chosen. Returns (chosen symmetries with their
+    generators, chosen extras)."""
     fields = [generator(s, system) for s in verified]
     vectors = [*fields, *(list(v) for v in extra)]
-    if not vectors:
+    if not vectors or not nullity:
         return [], []
     values = _values([e for v in vectors for e in v], system, random.Random(seed + 1))
     echelon = ModularEchelon(system.n, PRIME)
