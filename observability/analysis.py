@@ -9,6 +9,7 @@ from typing import Any, Literal
 
 import sympy
 
+from .notation import latex_text
 from .certificate import certify_rank
 from .discovery import classify, discover_directions, observable_functions
 from .proof import PROOF_BUDGET, fields_are_symmetries
@@ -174,9 +175,9 @@ class ObservabilityResult:
     def _repr_latex_(self) -> str:
         """Jupyter: the verdict as display math."""
         if self.rank is None:
-            return f"$\\text{{{self.model}: undecided}}$"
+            return f"$\\text{{{latex_text(self.model)}: undecided}}$"
         return (
-            f"$\\text{{{self.model}: {self.verdict()}}}\\quad \\operatorname{{rank}} \\mathcal{{O}} = "
+            f"$\\text{{{latex_text(self.model)}: {self.verdict()}}}\\quad \\operatorname{{rank}} \\mathcal{{O}} = "
             f"{self.rank} \\text{{ of }} n = {self.n_states}$"
         )
 

@@ -66,6 +66,17 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _pages(text: str) -> float:
+    """argparse type: a positive number of pages, at most 1000."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of pages, got {text!r}") from None
+    if not (0 < value <= 1000):
+        raise argparse.ArgumentTypeError(f"expected a number of pages in (0, 1000], got {text}")
+    return value
+
+
 def _identifier(text: str) -> str:
     """argparse type: a C identifier (base name of generated files and functions)."""
     if not (text.isascii() and text.isidentifier()):
@@ -204,19 +215,46 @@ def _codegen(args: argparse.Namespace) -> int:
     return 0
 
 
-def _latex(args: argparse.Namespace) -> int:
-    from .report.files import write_text
-    from .report.latex import latex_document
+def _point(text: str | None) -> dict[str, str] | None:
+    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly)."""
+    if text is None:
+        return None
+    point = {}
+    for pair in filter(None, (p.strip() for p in text.split(","))):
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip() or not value.strip():
+            raise _UsageError(f"--point expects name=value pairs separated by commas, got {pair!r}")
+        point[key.strip()] = value.strip()
+    return point
 
+
+def _latex(args: argparse.Namespace) -> int:
+    from .progress import clear_line, status_line
+    from .report.files import write_text
+    from .report.latex import DoesNotFit, latex_document
+
+    point = _point(args.point)
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)
         result = analyze(system, seed=args.seed or 0, budget=args.budget)
-    try:
-        text = with_budget(latex_document, system, result, args.body_only, seconds=args.budget)
-    except Undecided as exc:
-        print(f"observability: undecided: {system.name}: the symbolic matrix did not fit the budget ({exc}); "
-              "the rank verdict is `observability check`", file=sys.stderr)
-        return EXIT_UNDECIDED
+        show = status_line()
+        progress = (lambda text: show(f"latex {system.name}: {text}")) if show else None
+        try:
+            text = with_budget(latex_document, system, result, args.body_only, args.orders, point, args.seed or 0,
+                               args.max_pages, progress, seconds=args.budget)
+        except Undecided as exc:
+            print(f"observability: undecided: {system.name}: the symbolic matrix did not fit the budget ({exc}); "
+                  "try --orders K or --point, or a larger --budget; the rank verdict is `observability check`",
+                  file=sys.stderr)
+            return EXIT_UNDECIDED
+        except DoesNotFit as exc:
+            print(f"observability: {exc}", file=sys.stderr)
+            return EXIT_UNDECIDED
+        finally:
+            clear_line()
+    if "left out:" in text:
+        omitted = next(line for line in text.splitlines() if "left out:" in line).lstrip("% ")
+        print(f"observability: note: {system.name}: {omitted}".replace("-{}-", "--"), file=sys.stderr)
     if args.out is None:
         print(text, end="")
     else:
@@ -309,8 +347,17 @@ def build_parser() -> argparse.ArgumentParser:
     latex.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE")
     latex.add_argument("--time", choices=("continuous", "discrete"), default=None)
     latex.add_argument("--out", type=Path, default=None, help="file to write (default: stdout)")
-    latex.add_argument("--body-only", action="store_true", help="only the bmatrix, for pasting into a paper")
-    latex.add_argument("--seed", type=int, default=None)
+    latex.add_argument("--body-only", action="store_true",
+                       help="only the matrix (arrays and definitions), for pasting into a paper")
+    latex.add_argument("--orders", type=_count, default=None, metavar="K",
+                       help="only Lie orders 0..K (default: the orders the rank verdict needed)")
+    latex.add_argument("--point", nargs="?", const="", default=None, metavar="NAME=VALUE,...",
+                       help="typeset the matrix at an exact point: the given values (exact numbers such as 1/2), "
+                            "small random integers (drawn with --seed) for the rest")
+    latex.add_argument("--max-pages", type=_pages, default=None, metavar="N",
+                       help="bound on the matrix's size in pages (default 3); orders that would "
+                            "exceed it are left out and said so; exit 3 when not even order 0 fits")
+    latex.add_argument("--seed", type=int, default=None, help="seed of the rank check and of random --point values")
     latex.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
                        help="CPU time allowed for the symbolic matrix (default 60); exit 3 when it does not fit")
     latex.set_defaults(func=_latex)

@@ -1,4 +1,4 @@
-"""Load a :class:`System` from a TOML model file, without executing any code.
+r"""Load a :class:`System` from a TOML model file, without executing any code.
 
 Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
 
@@ -20,6 +20,10 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     x = "bx + cos(epsilon)*(x - bx) - sin(epsilon)*(y - by)"
     y = "by + sin(epsilon)*(x - bx) + cos(epsilon)*(y - by)"
     th = "th + epsilon"
+    [quantities]                      # optional: named functions of the state, used by LaTeX reports
+    range = "sqrt((bx - x)**2 + (by - y)**2)"
+    [latex]                           # optional: how names are typeset (safe LaTeX only)
+    th = "\\psi"                      # default: th -> \theta, x_L2 -> x_{L2}, cdot -> \dot{c}
 
 Expressions are parsed by :func:`observability.expressions.parse_expression`.
 """
@@ -44,7 +48,7 @@ __all__ = ["load_model", "parse_model"]
 #: thousands of states takes well under a megabyte).
 MAX_FILE_BYTES = 8 * 1024 * 1024
 
-_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries"}
+_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities"}
 
 
 def load_model(path: str | Path) -> System:
@@ -158,6 +162,8 @@ def parse_model(text: str, source: str = "<model>") -> System:
     if not isinstance(description, str):
         raise ModelFileError(f"{source}: 'description' must be a string")
     symmetries = _symmetries(data.get("symmetries", {}), states, inputs, parameters, source)
+    latex_names = _table(data, "latex", source, required=False) or {}
+    quantities = _table(data, "quantities", source, required=False) or {}
     try:
         return System(
             states,
@@ -170,6 +176,8 @@ def parse_model(text: str, source: str = "<model>") -> System:
             inverse_dynamics=inverse,
             description=description,
             symmetries=symmetries,
+            latex_names=latex_names,
+            quantities=quantities,
         )
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None

@@ -1,4 +1,8 @@
-"""A progress line on a terminal, silent otherwise (CI logs, pipes, tests)."""
+"""A status line on a terminal, silent otherwise (CI logs, pipes, tests).
+
+Counted work (Monte Carlo runs) uses tqdm; this is for a free-text status that
+is redrawn in place ("rank 12 after Lie order 3"), which is not a counter.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +11,7 @@ import time
 from collections.abc import Callable
 from typing import TextIO
 
-__all__ = ["progress_line", "status_line", "clear_line"]
+__all__ = ["status_line", "clear_line"]
 
 
 def status_line(stream: TextIO | None = None) -> Callable[[str], None] | None:
@@ -29,25 +33,3 @@ def clear_line(stream: TextIO | None = None) -> None:
     if stream.isatty():
         stream.write("\r\x1b[K")
         stream.flush()
-
-
-def progress_line(label: str, total: int, stream: TextIO | None = None, force: bool | None = None) -> Callable[[int], None]:
-    """A function ``tick(done)`` that redraws ``label: done/total, elapsed, eta``.
-
-    It writes only when ``stream`` (default stderr) is a terminal, unless ``force``
-    says otherwise, and clears the line when ``done == total``.
-    """
-    stream = stream or sys.stderr
-    active = stream.isatty() if force is None else force
-    start = time.perf_counter()
-
-    def tick(done: int) -> None:
-        if not active:
-            return
-        elapsed = time.perf_counter() - start
-        eta = elapsed / done * (total - done) if done else float("nan")
-        stream.write(f"\r\x1b[K{label}: {done}/{total}, {elapsed:.1f} s, about {eta:.0f} s left")
-        stream.write("\r\x1b[K" if done >= total else "")
-        stream.flush()
-
-    return tick

@@ -18,6 +18,7 @@ from typing import Any, Literal
 import sympy
 
 from .errors import ModelError
+from .notation import latex_name, latex_text, validate_latex_name
 from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
 from .symmetry import EPSILON, Symmetry
 
@@ -92,6 +93,15 @@ class System:
     inverse_dynamics : mapping state -> expression, optional
         Discrete time only: x_{k-1} as a function of x_k and u, used for outputs
         that depend on the previous state. Derived symbolically when omitted.
+    latex_names : mapping name -> LaTeX, optional
+        How a state, input, parameter, output or quantity is written in LaTeX
+        documents (default: :func:`~observability.notation.latex_name`). Checked
+        against a whitelist of safe LaTeX.
+    quantities : mapping name -> expression, optional
+        Named functions of the states that the model is written around (a
+        landmark in the camera frame, a velocity in the body frame). Reports write
+        matrix entries in terms of them where that is shorter; the analysis
+        never uses them.
 
     Raises
     ------
@@ -112,6 +122,8 @@ class System:
     inverse_dynamics: tuple[sympy.Expr, ...] | None = None
     description: str = field(default="", compare=False)
     symmetry_source: Any = field(default=(), compare=False, repr=False)
+    latex_names: tuple[tuple[str, str], ...] = field(default=(), compare=False)
+    quantities: tuple[tuple[sympy.Symbol, sympy.Expr], ...] = field(default=(), compare=False)
 
     def __init__(
         self,
@@ -126,6 +138,8 @@ class System:
         description: str = "",
         parameter_values: Iterable[tuple[sympy.Symbol, sympy.Expr]] = (),
         symmetries: Iterable[Symmetry] | Callable[[], Iterable[Symmetry]] = (),
+        latex_names: Mapping[str, str] | Iterable[tuple[str, str]] = (),
+        quantities: Mapping[str, Any] | Iterable[tuple[Any, Any]] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
@@ -198,6 +212,10 @@ class System:
         object.__setattr__(self, "name", str(name))
         object.__setattr__(self, "inverse_dynamics", g)
         object.__setattr__(self, "description", str(description))
+        defined = self._quantities(quantities, names, set(seen) | output_names)
+        object.__setattr__(self, "quantities", defined)
+        known = set(seen) | output_names | {q.name for q, _ in defined}
+        object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
         # A callable is called (and its candidates validated) on first use: large
         # models have thousands of candidate components and most checks need none.
         object.__setattr__(self, "symmetry_source", symmetries if callable(symmetries) else tuple(symmetries))
@@ -227,6 +245,33 @@ class System:
             if len(seq) != len(x):
                 raise ModelError(f"{what} has {len(seq)} entries but there are {len(x)} states")
         return tuple(_scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
+
+    @staticmethod
+    def _quantities(quantities: Any, names: Mapping[str, sympy.Symbol], taken: set[str]):
+        items = quantities.items() if isinstance(quantities, Mapping) else quantities
+        out: list[tuple[sympy.Symbol, sympy.Expr]] = []
+        for key, value in items:
+            qname = normal_name(key.name if isinstance(key, sympy.Symbol) else str(key), "quantity")
+            if qname in taken:
+                raise ModelError(f"quantity {qname!r}: the name is already used by a state, input, parameter, output or quantity")
+            taken = taken | {qname}
+            expr = _scalar(value, f"quantity {qname}", names, False)
+            unknown = sorted(str(s) for s in expr.free_symbols if s.name not in names)
+            if unknown:
+                raise ModelError(f"quantity {qname}: unknown symbol {unknown[0]!r}")
+            out.append((sympy.Symbol(qname), expr))
+        return tuple(out)
+
+    @staticmethod
+    def _latex_names(latex_names: Any, known: set[str]):
+        items = latex_names.items() if isinstance(latex_names, Mapping) else latex_names
+        out: dict[str, str] = {}
+        for key, value in items:
+            key = unicodedata.normalize("NFKC", str(key))
+            if key not in known:
+                raise ModelError(f"latex name given for {key!r}, which is not a declared name")
+            out[key] = validate_latex_name(value, f"latex name of {key}")
+        return tuple(out.items())
 
     @property
     def symmetries(self) -> tuple[Symmetry, ...]:
@@ -319,6 +364,8 @@ class System:
             "description": self.description,
             "parameter_values": self.parameter_values,
             "symmetries": self.symmetry_source,
+            "latex_names": self.latex_names,
+            "quantities": self.quantities,
         }
         unknown = set(changes) - set(arguments)
         if unknown:
@@ -334,6 +381,22 @@ class System:
                 raise ModelError(f"unknown parameter {key!r} (parameters: {', '.join(names) or 'none'})")
             merged[names[key]] = _scalar(value, f"parameter {key}", {}, False)
         return self.replace(parameter_values=merged.items())
+
+    def _repr_latex_(self) -> str:
+        """Jupyter: the model as equations, names written as in reports."""
+        names = dict(self.latex_names)
+        symbols = {s: latex_name(s.name, names) for s in (*self.states, *self.inputs, *self.parameters)}
+
+        def tex(expr: sympy.Expr) -> str:
+            return sympy.latex(expr, symbol_names=symbols)
+
+        if self.time == "continuous":
+            motion = [f"\\dot{{{symbols[x]}}} &= {tex(f)}" for x, f in zip(self.states, self.dynamics)]
+        else:
+            motion = [f"{{{symbols[x]}}}^{{+}} &= {tex(f)}" for x, f in zip(self.states, self.dynamics)]
+        measured = [f"{latex_name(name, names)} &= {tex(h)}" for name, h in self.outputs]
+        title = f"\\text{{{latex_text(self.name)} ({self.time} time)}}"
+        return "$$" + title + "\\\\ \\begin{aligned}" + " \\\\ ".join(motion + measured) + "\\end{aligned}$$"
 
     def __repr__(self) -> str:
         return (

@@ -1,6 +1,9 @@
 """Generated casadi Functions against sympy and central finite differences."""
 
+import os
 import shutil
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -136,3 +139,35 @@ def test_hyperbolic_functions_pi_and_symbolic_powers_translate():
     X, A = casadi.SX.sym("x"), casadi.SX.sym("a")
     f = casadi.Function("f", [X, A], [to_casadi(expr, {x: X, a: A})])
     assert float(f(0.7, 1.3)) == pytest.approx(float(expr.subs({x: 0.7, a: 1.3})), rel=1e-12)
+
+
+def test_c_example_program_matches_the_in_memory_functions(tmp_path):
+    """examples/c/main.c, compiled with the generated C, prints h and H_Xk; they
+    equal the in-memory casadi Functions at the same inputs, and the hand values:
+    h = f d (x - c) = [20*0.5*(0 - 1), 20*0.2*(3 - 1)] = [-10, 8],
+    H_Xk row 2 = [-f d_L2, 0, f d_L2, f (x_L2 - c)] = [-4, 0, 4, 40]."""
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if compiler is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI must compile the C example (gcc)")
+        pytest.skip("no C compiler on this machine")
+    functions = filter_functions(models.build("slam1.5d-beacon", {"time": "discrete"}), None)
+    write_c(functions, tmp_path)
+    example = Path(__file__).resolve().parents[1] / "examples" / "c" / "main.c"
+    program = tmp_path / "example"
+    subprocess.run([compiler, "-O1", "-I", str(tmp_path), str(example), str(tmp_path / "filter_functions.c"), "-lm",
+                    "-o", str(program)], check=True, capture_output=True, timeout=120)
+    values = [1, 0.5, 3, 0.2, 0.95, 0.5, 3, 0.2, 20, 0.1, 0, 0.5]
+    out = subprocess.run([str(program), *map(str, values)], capture_output=True, text=True, check=True, timeout=30)
+    printed = {}
+    for line in out.stdout.splitlines():
+        name, rows, cols, *numbers = line.split()
+        printed[name] = np.array([float(v) for v in numbers]).reshape(int(rows), int(cols))
+    x, x_prev, p = values[:4], values[4:8], values[8:]
+    for name in ("h", "H_Xk"):
+        expected = np.array(functions.functions[name](x, x_prev, p))
+        assert np.allclose(printed[name], expected, rtol=1e-14, atol=0)
+    assert np.allclose(printed["h"].ravel(), [-10, 8])
+    assert np.allclose(printed["H_Xk"][1], [-4, 0, 4, 40])
+    bad = subprocess.run([str(program), "1", "2"], capture_output=True, text=True, timeout=30)
+    assert bad.returncode == 2 and "usage" in bad.stderr

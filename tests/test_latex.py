@@ -1,67 +1,249 @@
-"""LaTeX output: content checked against the symbolic matrix, and compiled by a real engine."""
+"""LaTeX output: entries checked against the symbolic matrix by an independent route,
+names and layout checked, and every document compiled by a real engine, its first
+page rendered and looked at (non-empty), with no box overflowing the page."""
 
+import os
+import random
+import re
 import shutil
 import subprocess
+import textwrap
 
+import numpy
 import pytest
 import sympy
 
-from observability import models
-from observability import analyze
-from observability.report.latex import latex_document, latex_matrix
+from observability import analyze, models
+from observability.errors import ModelError, ModelFileError, ObservabilityError
+from observability.modelfile import parse_model
+from observability.notation import latex_name
+from observability.report.latex import DoesNotFit, latex_document, latex_matrix
+from observability.report.layout import PAGE_WIDTH, width
+from observability.report.quantities import rewriting
+from observability.symbolic import observability_rows
 
 ENGINE = shutil.which("pdflatex")
 
+GREEK_AND_UNDERSCORES = textwrap.dedent(r'''
+    name = "my_robot & co %1"
+    states = ["x_1", "theta", "omega_z", "th"]
+    inputs = ["u_a"]
+    parameters = ["b_x"]
+    [dynamics]
+    x_1 = "u_a*cos(theta)"
+    theta = "omega_z"
+    omega_z = "0"
+    th = "0"
+    [outputs]
+    r_1 = "(b_x - x_1)**2 + th"
+    [symmetries.shift_x]
+    description = "moves x_1 and b_x together (an_underscore)"
+    x_1 = "x_1 + epsilon"
+    [latex]
+    omega_z = "\\omega_{z}"
+''')
 
-@pytest.mark.parametrize("name", ["slam1.5d-beacon", "slam1.5d", "slam1.5d-disparity"])
-def test_standalone_document_compiles(name, tmp_path):
+LONG_EXPRESSIONS = textwrap.dedent('''
+    name = "range3d"
+    states = ["x", "y", "z"]
+    parameters = ["a", "b", "c"]
+    [dynamics]
+    x = "y*z + sin(x)"
+    y = "-x*z + cos(y)*exp(z)"
+    z = "x*y - z**3"
+    [outputs]
+    range = "sqrt((x - a)**2 + (y - b)**2 + (z - c)**2)"
+''')
+
+
+def _documents():
+    cases = [(name, {}) for name in models.BUILTINS]
+    cases += [("slam2d", {"beacons": "1"}), ("slam2d", {"landmarks": "2"}), ("slam2d", {"landmarks": "2", "beacons": "1"})]
+    return cases
+
+
+def _compile(tex: str, tmp_path):
     if ENGINE is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI must compile the documents: .ci/run installs texlive-latex-base")
         pytest.skip("no LaTeX engine (pdflatex) on this machine; .ci/run installs texlive-latex-base")
-    system = models.build(name)
-    (tmp_path / "m.tex").write_text(latex_document(system))
+    (tmp_path / "m.tex").write_text(tex)
     out = subprocess.run([ENGINE, "-interaction=nonstopmode", "-halt-on-error", "m.tex"], cwd=tmp_path,
-                         capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stdout[-2000:]
-    assert (tmp_path / "m.pdf").stat().st_size > 1000
+                         capture_output=True, text=True, timeout=180)
+    assert out.returncode == 0, out.stdout[-3000:]
+    log = (tmp_path / "m.log").read_text(errors="replace")
+    assert "Overfull \\hbox" not in log, re.findall(r"Overfull \\hbox.*", log)
+    return tmp_path / "m.pdf"
 
 
-def test_matrix_rows_and_entries():
+def _first_page_ink(pdf) -> int:
+    """Dark pixels on the first page, rendered to PNG (pypdfium2, the PDFium engine)."""
+    import pypdfium2
+
+    image = pypdfium2.PdfDocument(str(pdf))[0].render(scale=1).to_pil().convert("L")
+    png = pdf.with_suffix(".png")
+    image.save(png)
+    assert png.stat().st_size > 2000
+    return int((numpy.asarray(image) < 128).sum())
+
+
+@pytest.mark.parametrize("name,options", _documents(), ids=lambda v: v if isinstance(v, str) else "-".join(f"{k}{x}" for k, x in v.items()))
+def test_builtin_documents_compile(name, options, tmp_path):
+    system = models.build(name, options)
+    pdf = _compile(latex_document(system, analyze(system, seed=1)), tmp_path)
+    assert _first_page_ink(pdf) > 1000
+
+
+@pytest.mark.parametrize("text", [GREEK_AND_UNDERSCORES, LONG_EXPRESSIONS], ids=["greek-underscores", "long"])
+def test_model_file_documents_compile(text, tmp_path):
+    system = parse_model(text, "user.toml")
+    pdf = _compile(latex_document(system, analyze(system, seed=1)), tmp_path)
+    assert _first_page_ink(pdf) > 1000
+
+
+def test_greek_and_underscore_names():
+    """th and theta are both theta; a [latex] override wins; the underscore in a
+    model or direction name is escaped in text."""
+    system = parse_model(GREEK_AND_UNDERSCORES, "user.toml")
+    pieces = latex_matrix(system, 1)
+    assert pieces.column_labels == ("x_{1}", "\\theta", "\\omega_{z}", "\\theta")
+    document = latex_document(system, analyze(system, seed=1))
+    assert "my\\_robot \\& co \\%1" in document
+
+
+def test_default_names():
+    assert latex_name("th") == "\\theta" and latex_name("thdot") == "\\dot{\\theta}"
+    assert latex_name("theta") == "\\theta" and latex_name("th_1") == "\\theta_{1}"
+    assert latex_name("x_L2") == "x_{L2}" and latex_name("cdot") == "\\dot{c}"
+    assert latex_name("thrust") == "thrust"  # only the whole abbreviation is an angle
+    assert latex_name("th", {"th": "\\psi"}) == "\\psi"
+
+
+@pytest.mark.parametrize("override,why", [
+    ("\\input{secret}", "\\input is not allowed"),
+    ("^^5cinput{x}", "'^^' is not allowed"),
+    ("a$b", "'$' is not allowed"),
+    ("x_{1", "unbalanced braces"),
+    ("a%b", "'%' is not allowed"),
+    ("\\write18{ls}", "\\write is not allowed"),
+])
+def test_unsafe_latex_names_are_refused(override, why):
+    text = GREEK_AND_UNDERSCORES.replace('omega_z = "\\\\omega_{z}"', f"omega_z = {override!r}".replace("'", '"'))
+    text = text.replace('"\\input', '"\\\\input').replace('"\\write', '"\\\\write')
+    with pytest.raises(ModelFileError, match=re.escape(why)) as error:
+        parse_model(text, "user.toml")
+    assert "user.toml" in str(error.value) and "omega_z" in str(error.value)
+
+
+def test_latex_name_for_unknown_symbol_is_refused():
+    with pytest.raises(ModelError, match="not a declared name"):
+        models.build("slam1.5d").replace(latex_names={"nothing": "x"})
+
+
+def test_slam15d_entries_and_aligned_labels():
     """slam1.5d: rows grad y2, grad L_f y2, grad L_f^2 y2 (hand derivation in test_slam15d.py):
-    [-f d, 0, f d, -f (c - x)], [0, -f d, 0, -f cdot], [0, 0, 0, 0]."""
+    y2 = f d (x - c): [-f d, 0, f d, f (x - c)], [0, -f d, 0, -f cdot], [0, 0, 0, 0].
+    The header row and every matrix row of the one array have the same number of cells."""
     pieces = latex_matrix(models.build("slam1.5d"), 2)
     assert pieces.rows == (("y2", 0), ("y2", 1), ("y2", 2))
     assert pieces.row_labels == ("\\nabla y_{2}", "\\nabla L_f y_{2}", "\\nabla L_f^{2} y_{2}")
     assert pieces.column_labels == ("c", "\\dot{c}", "x_{L2}", "d_{L2}")
-    lines = pieces.body.splitlines()[1:-1]
-    assert lines[1].rstrip(" \\") == "0 & - d_{L2} f & 0 & - \\dot{c} f"
-    assert lines[2] == "0 & 0 & 0 & 0"
+    assert pieces.entries[1] == ("0", "- d_{L2} f", "0", "- \\dot{c} f")
+    assert pieces.entries[2] == ("0",) * 4
+    array = pieces.equation()
+    lines = [line for line in array.splitlines() if line.endswith("\\\\")]
+    assert lines[0].startswith(" & c & \\dot{c}")  # the header row, in the same array
+    assert len({line.count("&") for line in lines}) == 1
 
 
-def test_long_entries_are_abbreviated():
-    """The planar model's entries are long: named subexpressions are defined under
-    the matrix, the matrix uses them, and the result is shorter than the matrix
-    written out in full (whose length is measured the same way)."""
-    from observability import observability_rows
+def test_entries_in_quantities_equal_the_matrix():
+    """Independent route: every rewritten entry of planar SLAM with a beacon, with
+    the camera-frame quantities replaced by their definitions, equals the plain
+    sympy gradient at three random rational points (50 digits); the landmark and
+    camera coordinates are gone from every rewritten entry, and entries got shorter."""
+    system = models.build("slam2d", {"beacons": "1"})
+    matrix, _ = observability_rows(system, 1)
+    rewrite = rewriting(system)
+    assert rewrite is not None
+    definitions = dict(system.quantities)
+    rng = random.Random(5)
+    shorter = 0
+    for entry in matrix:
+        new = rewrite.apply(entry)
+        back = new.xreplace(definitions)
+        for _ in range(3):
+            point = {s: sympy.Rational(rng.randint(-50, 50), rng.randint(1, 20)) for s in entry.free_symbols | back.free_symbols}
+            assert abs((entry - back).evalf(50, subs=point)) < 1e-35
+        if new != sympy.factor(entry):
+            shorter += sympy.count_ops(new) < sympy.count_ops(sympy.factor(entry))
+            assert not new.free_symbols & set(rewrite.solution)
+    assert shorter >= 6
 
-    system = models.build("slam2d", {"beacons": "2"})
-    pieces = latex_matrix(system, 1)
-    assert pieces.definitions and all(name.startswith("a_{") for name, _ in pieces.definitions)
-    assert "a_{" in pieces.body
-    full = sympy.latex(observability_rows(system, 1)[0].applyfunc(sympy.factor))
-    assert len(pieces.body) + sum(len(v) for _, v in pieces.definitions) < len(full)
+
+def test_at_a_point_equals_the_symbolic_matrix():
+    """--point: the entries are the symbolic matrix (sympy, another route) at the stated point."""
+    system = models.build("slam1.5d")
+    pieces = latex_matrix(system, 1, point={"c": "1/2", "x_L2": "3"}, seed=4)
+    values = dict(pieces.point)
+    assert values["c"] == "\\frac{1}{2}" and values["x_{L2}"] == "3"
+    symbols = {latex_name(s.name): s for s in (*system.states, *system.parameters)}
+    point = {symbols[k]: sympy.sympify(v.replace("\\frac{1}{2}", "1/2")) for k, v in values.items()}
+    matrix, _ = observability_rows(system, 1)
+    expected = [[sympy.latex(e.xreplace(point)) for e in row] for row in matrix.tolist()]
+    assert [list(r) for r in pieces.entries] == expected
+
+
+def test_point_errors():
+    system = models.build("slam1.5d")
+    with pytest.raises(ObservabilityError, match="'zz' is not a state"):
+        latex_matrix(system, 1, point={"zz": "1"})
+    with pytest.raises(ObservabilityError, match="unknown symbol 'x_L2'"):
+        latex_matrix(system, 1, point={"c": "x_L2"})
+    with pytest.raises(ObservabilityError, match="--point c"):
+        latex_matrix(system, 1, point={"c": "1/0"})
+    beacon = models.build("slam2d")
+    with pytest.raises(ObservabilityError, match="undefined at this point"):
+        # the landmark on the camera's optical axis: depth 0, projection undefined
+        latex_matrix(beacon, 0, point={"cx": "0", "cy": "0", "cth": "0", "L1x": "1", "L1y": "0"})
+
+
+def test_size_bound_keeps_leading_orders_and_says_so():
+    system = models.build("slam2d")
+    pieces = latex_matrix(system, 4, max_pages=1)
+    kept = max(order for _, order in pieces.rows)
+    assert kept < 4 and f"Lie order{'s' if kept < 3 else ''} {kept + 1}" in pieces.omitted
+    assert pieces.pages <= 1
+    with pytest.raises(DoesNotFit, match="--point"):
+        latex_matrix(system, 4, max_pages=0.02)
+
+
+def test_wide_matrix_is_split_into_blocks_that_fit():
+    """Six landmarks, order 0: 18 columns cannot share one line; every column is in
+    exactly one block, each block narrower than the page, and the zero blocks of
+    the other landmarks are printed once as a bold 0."""
+    pieces = latex_matrix(models.build("slam2d", {"landmarks": "6"}), 0, max_pages=10)
+    assert len(pieces.blocks) > 1
+    columns = sorted(j for block in pieces.blocks for j in block.columns)
+    assert columns == list(range(18))
+    for block in pieces.blocks:
+        label = max(width(r) for r in pieces.row_labels)
+        assert label + sum(max(width(pieces.entries[i][j]) for i in block.rows) + 2 for j in block.columns) <= PAGE_WIDTH
+    assert "\\multicolumn{2}{c|}{\\mathbf{0}}" in pieces.equation()
 
 
 def test_body_only_and_verdict():
     system = models.build("slam1.5d-disparity")
     body = latex_document(system, body_only=True)
     assert body.splitlines()[0].startswith("% observability matrix of slam1.5d-disparity")
-    assert "\\documentclass" not in body and "\\begin{bmatrix}" in body
+    assert "\\documentclass" not in body and "\\begin{array}" in body
     full = latex_document(system, analyze(system, seed=1))
     assert "Rank 2 of 4: not observable" in full and "\\item translation" in full
 
 
 def test_jupyter_representations():
-    result = analyze(models.build("slam1.5d"), seed=1)
+    system = models.build("slam1.5d")
+    result = analyze(system, seed=1)
     assert "rank" in result._repr_latex_() and "NOT observable" in result._repr_latex_()
     assert "<table>" in result._repr_html_() and "translation" in result._repr_html_()
-    assert sympy.latex(sympy.Symbol("cdot")) == "\\dot{c}"
+    equations = system._repr_latex_()
+    assert "\\dot{c} &= \\dot{c}" in equations and "y_{2} &= d_{L2} f" in equations

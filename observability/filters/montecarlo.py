@@ -7,7 +7,7 @@ from typing import TypeVar
 
 import numpy as np
 
-from ..progress import progress_line
+from tqdm import tqdm
 
 __all__ = ["monte_carlo"]
 
@@ -26,9 +26,6 @@ def monte_carlo(
     if runs < 1:
         raise ValueError(f"runs must be at least 1, got {runs}")
     streams = np.random.SeedSequence(seed).spawn(runs)
-    tick = progress_line(label, runs, force=progress)
-    results = []
-    for i, stream in enumerate(streams):
-        results.append(run(np.random.default_rng(stream)))
-        tick(i + 1)
-    return results
+    # tqdm's disable=None means: only on a terminal.
+    bar = tqdm(streams, desc=label, unit="run", leave=False, disable=None if progress is None else not progress)
+    return [run(np.random.default_rng(stream)) for stream in bar]

@@ -107,6 +107,21 @@ def slam2d(
     for j in range(1, beacons + 1):
         parameters[f"B{j}x"] = None
         parameters[f"B{j}y"] = None
+    # Reports write entries with landmarks and beacons in the camera frame
+    # (xbar ahead, ybar the depth) and the velocity in the camera frame.
+    quantities = {"vbar_x": "cxdot*cos(cth) + cydot*sin(cth)", "vbar_y": "-cxdot*sin(cth) + cydot*cos(cth)"}
+    latex_names = {"cx": "c_x", "cxdot": "\\dot{c}_x", "cy": "c_y", "cydot": "\\dot{c}_y", "cth": "\\theta",
+                   "cthdot": "\\dot{\\theta}", "vbar_x": "\\bar{v}_x", "vbar_y": "\\bar{v}_y"}
+    points = [(f"L{i}", *landmark_states(i)) for i in range(1, landmarks + 1)]
+    points += [(f"B{j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)]
+    for point, px, py in points:
+        quantities[f"xbar_{point}"] = _projection(px, py).split("/")[0].removeprefix("f*")
+        quantities[f"ybar_{point}"] = _projection(px, py).split("/")[1]
+        latex_names[px], latex_names[py] = f"x_{{{point}}}", f"y_{{{point}}}"
+        latex_names[f"h{point}"] = f"h_{{{point}}}"
+        if disparity and point.startswith("L"):
+            latex_names[f"d{point}"] = f"\\delta_{{{point}}}"
+        latex_names[f"xbar_{point}"], latex_names[f"ybar_{point}"] = f"\\bar{{x}}_{{{point}}}", f"\\bar{{y}}_{{{point}}}"
     label = f"slam2d-L{landmarks}-B{beacons}" + ("-disparity" if disparity else "")
     def symmetries():
         return planar_symmetries(
@@ -128,4 +143,6 @@ def slam2d(
         + (", with disparity" if disparity else "")
         + f" [{CITATION}]",
         symmetries=symmetries,
+        latex_names=latex_names,
+        quantities=quantities,
     )

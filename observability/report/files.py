@@ -14,7 +14,7 @@ from typing import Any
 
 from ..errors import OptionError
 
-__all__ = ["write_text", "write_json", "save_figure", "staged_directory"]
+__all__ = ["write_text", "write_bytes", "write_json", "save_figure", "staged_directory"]
 
 
 def _target(path: Path) -> Path:
@@ -50,6 +50,11 @@ def _atomic(path: Path, write: Callable[[Path], None], suffix: str) -> Path:
 def write_text(path: Path, text: str) -> Path:
     """Write ``text`` to ``path`` completely or not at all."""
     return _atomic(Path(path), lambda p: p.write_text(text, encoding="utf-8"), ".partial")
+
+
+def write_bytes(path: Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` completely or not at all."""
+    return _atomic(Path(path), lambda p: p.write_bytes(data), ".partial")
 
 
 def write_json(path: Path, data: Any) -> Path:

@@ -1,94 +1,448 @@
 """The observability matrix in LaTeX, for a paper.
 
-Rows are labelled by output and Lie order (the gradient of L_f^k h), columns by
-state. When the entries are long, repeated subexpressions are named (a_1, a_2, ...)
-and defined under the matrix instead of running off the page.
+One ``array`` per block, with a header row of state names and a first column of
+row labels (output and Lie order), so labels always line up with the entries.
+The matrix is built order by order and shaped for a page:
+
+* entries are written in the model's named quantities where that is shorter
+  (:mod:`.quantities`), names as users write them (:mod:`observability.notation`);
+* rows are grouped by output and columns by the outputs they enter, with rules
+  between the groups, and an all-zero block is printed once as a bold 0 — the
+  block sparsity of SLAM shows;
+* when entries are still too wide, repeated subexpressions are named (a_1, ...)
+  and defined under the matrix, long definitions broken over lines;
+* a matrix wider or taller than a page is split into labelled blocks;
+* a bound on size: the leading orders are kept while the document stays within
+  ``max_pages`` pages; the ones left out are stated in the document and in
+  :attr:`LatexMatrix.omitted`, with the two ways to see them (the matrix at an
+  exact point, ``point=``, or fewer orders).
+
+Sizes are estimated from the LaTeX source (:mod:`.layout`); the compile test
+checks the estimate on every built-in model.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import random
+import re
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 
 import sympy
 
 from ..analysis import ObservabilityResult, analyze
+from ..errors import ObservabilityError
 from ..expressions import parse_expression
-from ..symbolic import observability_rows
+from ..lie import lie_derivatives
+from ..notation import latex_name, latex_text
 from ..system import System
+from .layout import COLUMN_GAP, LINES_PER_PAGE, PAGE_HEIGHT, PAGE_WIDTH, height, width
+from .quantities import rewriting, tidy
 
-__all__ = ["LatexMatrix", "latex_matrix", "latex_document", "latex_text"]
+__all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_PAGES"]
 
-#: Above this many characters of LaTeX for the whole matrix, subexpressions are named.
-ABBREVIATE_ABOVE = 1200
+#: Default bound on the size of the matrix part of a document, in pages.
+MAX_PAGES = 3
+#: An entry wider than this share of the page is shortened by naming subexpressions.
+_WIDE_ENTRY = PAGE_WIDTH / 3
+#: A named subexpression narrower than this (glyphs) is written out instead.
+_INLINE_WIDTH = 14
+#: Before simplifying an order, its raw entries (characters) may exceed a page's
+#: worth of glyphs by this factor; beyond it no simplification could make it fit.
+_RAW_SLACK = 6
+
+
+class DoesNotFit(ObservabilityError):
+    """Not even the order-0 rows of the symbolic matrix fit the page bound."""
+
+
+@dataclass(frozen=True)
+class Block:
+    """A part of the matrix that fits a page: row and column index ranges."""
+
+    rows: tuple[int, ...]
+    columns: tuple[int, ...]
 
 
 @dataclass(frozen=True)
 class LatexMatrix:
-    """The pieces of the LaTeX observability matrix."""
+    """The observability matrix as LaTeX pieces, laid out for a page."""
 
-    body: str  # \begin{bmatrix} ... \end{bmatrix}
+    entries: tuple[tuple[str, ...], ...]  # LaTeX of each entry (rows x states)
     rows: tuple[tuple[str, int], ...]  # (output, Lie order) of each row
     row_labels: tuple[str, ...]
     column_labels: tuple[str, ...]
-    definitions: tuple[tuple[str, str], ...]  # (name, LaTeX of its value)
+    column_groups: tuple[int, ...]  # group of each column (columns entering the same outputs)
+    definitions: tuple[tuple[str, str], ...]  # (LaTeX name, LaTeX lines of its value)
+    point: tuple[tuple[str, str], ...] = ()  # (LaTeX name, value) when the matrix is at a point
+    omitted: str = ""  # which Lie orders were left out and why ("" when complete)
+    blocks: tuple[Block, ...] = field(default=())
+
+    @property
+    def pages(self) -> float:
+        """Estimated number of pages of the matrix and its definitions (infinite
+        when an entry or a line of a definition is wider than the page)."""
+        if self._overflows():
+            return float("inf")
+        lines = sum(self._rows_height(b.rows) + 4 for b in self.blocks)
+        lines += sum(value.count("\\\\") + 1 for _, value in self.definitions) + (2 if self.definitions else 0)
+        return lines / LINES_PER_PAGE
+
+    def _overflows(self) -> bool:
+        label = max(width(r) for r in self.row_labels) + COLUMN_GAP
+        if any(label + width(e) + COLUMN_GAP > PAGE_WIDTH for row in self.entries for e in row):
+            return True
+        return any(width(line) > PAGE_WIDTH - 4 for _, value in self.definitions for line in value.split("\\\\"))
+
+    def _rows_height(self, rows: Sequence[int]) -> float:
+        return sum(1.5 * max(height(e) for e in self.entries[i]) for i in rows)
 
     def equation(self) -> str:
-        """The labelled matrix as display math, with the definitions under it."""
-        labels = " \\\\ ".join(self.row_labels)
-        columns = " & ".join(self.column_labels)
-        lines = [
-            "\\[",
-            f"\\begin{{array}}{{r}} \\\\ {labels} \\end{{array}}",
-            f"\\begin{{array}}{{c}} \\begin{{matrix}} {columns} \\end{{matrix}} \\\\ \\mathcal{{O}} = {self.body} \\end{{array}}",
-            "\\]",
-        ]
+        """Every block as display math, then the definitions."""
+        parts = []
+        for number, block in enumerate(self.blocks, 1):
+            if len(self.blocks) > 1:
+                first, last = block.columns[0], block.columns[-1]
+                parts.append(
+                    f"\\noindent\\textbf{{Block {number} of {len(self.blocks)}:}} rows {block.rows[0] + 1}--"
+                    f"{block.rows[-1] + 1}, columns {first + 1}--{last + 1} "
+                    f"(${self.column_labels[first]}$ to ${self.column_labels[last]}$)"
+                )
+            parts.append("\\[\n" + ("\\mathcal{O} = " if len(self.blocks) == 1 else "") + self._array(block) + "\n\\]")
         if self.definitions:
-            lines.append("where")
-            lines.append("\\begin{align*}")
-            lines += [f"{name} &= {value} \\\\" for name, value in self.definitions]
-            lines.append("\\end{align*}")
+            parts.append("where")
+            parts.append("\\begin{align*}")
+            parts += [f"{name} &= {value} \\\\" for name, value in self.definitions]
+            parts.append("\\end{align*}")
+        return "\n".join(parts)
+
+    def _array(self, block: Block) -> str:
+        columns = block.columns
+        groups = [self.column_groups[j] for j in columns]
+        spec = "r|" + "".join(
+            "c" + ("|" if k + 1 < len(columns) and groups[k + 1] != groups[k] else "") for k in range(len(columns))
+        )
+        lines = [f"\\begin{{array}}{{{spec}}}", " & " + " & ".join(self.column_labels[j] for j in columns) + " \\\\", "\\hline"]
+        runs = _runs(groups)
+        row_runs = _runs([self.rows[i][0] for i in block.rows])
+        for r_start, r_stop in row_runs:
+            if r_start:
+                lines.append("\\hline")
+            rows = block.rows[r_start:r_stop]
+            zero = {(a, b): len(rows) * (b - a) > 1 and all(self.entries[i][columns[k]] == "0" for i in rows for k in range(a, b))
+                    for a, b in runs}
+            for n, i in enumerate(rows):
+                cells = []
+                for a, b in runs:
+                    if zero[(a, b)]:
+                        rule = "|" if b < len(columns) else ""
+                        content = "\\mathbf{0}" if n == 0 else ""
+                        cells.append(f"\\multicolumn{{{b - a}}}{{c{rule}}}{{{content}}}")
+                    else:
+                        cells += [self.entries[i][columns[k]] for k in range(a, b)]
+                lines.append(self.row_labels[i] + " & " + " & ".join(cells) + " \\\\")
+        lines.append("\\end{array}")
         return "\n".join(lines)
 
 
-def _label(output: str, order: int) -> str:
-    name = sympy.latex(sympy.Symbol(output))
+def _runs(keys: Sequence[object]) -> list[tuple[int, int]]:
+    """Index ranges [a, b) of consecutive equal keys."""
+    runs, start = [], 0
+    for k in range(1, len(keys) + 1):
+        if k == len(keys) or keys[k] != keys[start]:
+            runs.append((start, k))
+            start = k
+    return runs
+
+
+def _label(output: str, order: int, discrete: bool, names: Mapping[str, str]) -> str:
+    name = latex_name(output, names)
     if order == 0:
         return f"\\nabla {name}"
+    if discrete:
+        power = "" if order == 1 else f"^{{{order}}}"
+        return f"\\nabla ({name} \\circ F{power})"
     power = "" if order == 1 else f"^{{{order}}}"
     return f"\\nabla L_f{power} {name}"
 
 
-def latex_matrix(system: System, orders: int, abbreviate_above: int = ABBREVIATE_ABOVE) -> LatexMatrix:
-    """The observability matrix with orders 0..``orders`` as LaTeX pieces."""
-    matrix, labels = observability_rows(system, orders)
-    matrix = matrix.applyfunc(sympy.factor)
-    definitions: list[tuple[str, str]] = []
-    if len(sympy.latex(matrix)) > abbreviate_above:
-        names = (sympy.Symbol(f"a_{i}") for i in range(1, 10**6))
-        replacements, (reduced,) = sympy.cse(matrix, symbols=names, optimizations="basic")
-        matrix = reduced
-        definitions = [(sympy.latex(name), sympy.latex(value)) for name, value in replacements]
-    rows = [" & ".join(sympy.latex(matrix[i, j]) for j in range(matrix.cols)) for i in range(matrix.rows)]
-    body = "\\begin{bmatrix}\n" + " \\\\\n".join(rows) + "\n\\end{bmatrix}"
-    return LatexMatrix(
-        body=body,
-        rows=tuple(labels),
-        row_labels=tuple(_label(output, order) for output, order in labels),
-        column_labels=tuple(sympy.latex(s) for s in system.states),
-        definitions=tuple(definitions),
+_DERIVATIVE = re.compile(r"^(.+)\^\((\d+)\)$")
+_STEP = re.compile(r"^(.+)\[(\d+)\]$")
+
+
+def _symbol_names(symbols: set[sympy.Symbol], names: Mapping[str, str]) -> dict[sympy.Symbol, str]:
+    """LaTeX for every symbol: declared names, input derivatives u^(j) and later inputs u[k]."""
+    out = {}
+    for s in symbols:
+        if m := _DERIVATIVE.match(s.name):
+            out[s] = f"{latex_name(m[1], names)}^{{({m[2]})}}"
+        elif m := _STEP.match(s.name):
+            out[s] = f"{latex_name(m[1], names)}_{{[{m[2]}]}}"
+        else:
+            out[s] = latex_name(s.name, names)
+    return out
+
+
+def _point_values(system: System, spec: Mapping[str, str]) -> dict[str, sympy.Expr]:
+    """The exact values of the point: the user's, checked, then random small integers (seeded)."""
+    names = {s.name: s for s in (*system.states, *system.inputs, *system.free_parameters)}
+    values: dict[str, sympy.Expr] = {}
+    for key, text in spec.items():
+        if key not in names:
+            raise ObservabilityError(
+                f"--point: {key!r} is not a state, input or free parameter of {system.name} "
+                f"(they are: {', '.join(names)})"
+            )
+        value = parse_expression(str(text), {}, where=f"--point {key}")
+        if not value.is_number or not value.is_finite:
+            raise ObservabilityError(f"--point {key}: {text!r} is not a finite number")
+        values[key] = value
+    return values
+
+
+def _at_point(entry: sympy.Expr, values: dict[sympy.Symbol, sympy.Expr], rng: random.Random) -> sympy.Expr:
+    angles = set().union(*(f.args[0].free_symbols for f in entry.atoms(sympy.sin, sympy.cos, sympy.tan)))
+    for s in sorted(entry.free_symbols - set(values), key=str):
+        # An angle at pi/6 keeps the entries exact and readable (sin = 1/2).
+        values[s] = sympy.pi / 6 if s in angles else sympy.Integer(rng.choice([-3, -2, -1, 1, 2, 3, 4, 5]))
+    value = entry.xreplace(values)
+    return value if value.is_Rational else sympy.simplify(value)
+
+
+def _fits(glyphs: float, max_pages: float) -> bool:
+    return glyphs <= _RAW_SLACK * max_pages * PAGE_WIDTH * LINES_PER_PAGE
+
+
+def latex_matrix(
+    system: System,
+    orders: int,
+    point: Mapping[str, str] | None = None,
+    seed: int = 0,
+    max_pages: float = MAX_PAGES,
+    progress: Callable[[str], None] | None = None,
+) -> LatexMatrix:
+    """The observability matrix with Lie orders 0..``orders`` as LaTeX laid out for pages.
+
+    Parameters
+    ----------
+    system : System
+    orders : int
+        Highest Lie order wanted; fewer are kept when the document would exceed
+        ``max_pages`` (stated in :attr:`LatexMatrix.omitted`).
+    point : mapping name -> value, optional
+        Typeset the matrix at this exact point instead of symbolically; states,
+        inputs (and their derivatives) and free parameters not given take small
+        random integers drawn with ``seed``, listed in :attr:`LatexMatrix.point`.
+    max_pages : float
+        Bound on the estimated size.
+    progress : callable, optional
+        Called with a short status text as the work proceeds.
+
+    Raises
+    ------
+    DoesNotFit
+        When even the order-0 rows exceed ``max_pages``.
+    ObservabilityError
+        When ``point`` names an unknown symbol, has a value that is not a number,
+        or makes the matrix undefined.
+    """
+    names = dict(system.latex_names)
+    fixed = _point_values(system, point) if point is not None else None
+    rewrite = rewriting(system) if fixed is None else None
+    values = {sympy.Symbol(k): v for k, v in (fixed or {}).items()}
+    rng = random.Random(seed)
+    by_order: list[list[tuple[tuple[str, int], list[sympy.Expr]]]] = []
+    omitted = ""
+    for k, block in enumerate(lie_derivatives(system)):
+        if k > orders:
+            break
+        if fixed is None and not _fits(sum(len(str(row.expression)) for row in block) * system.n, max_pages):
+            # Each entry of a gradient is of the order of the function's size;
+            # stop before differentiating what could not be shown anyway.
+            omitted = _omission(k, orders, max_pages)
+            break
+        rows = []
+        for n, row in enumerate(block):
+            if progress:
+                progress(f"Lie order {k} of {orders}, row {n + 1} of {len(block)}")
+            gradient = [sympy.diff(row.expression, x) for x in system.states]
+            rows.append(((row.output, row.order), gradient))
+        raw = sum(len(str(e)) for _, gradient in rows for e in gradient)
+        if fixed is None and not _fits(raw, max_pages):
+            omitted = _omission(k, orders, max_pages)
+            break
+        if fixed is not None:
+            rows = [(label, [_checked(_at_point(e, values, rng), label, j, system) for j, e in enumerate(g)]) for label, g in rows]
+        elif rewrite is not None:
+            rows = [(label, [rewrite.apply(e) for e in g]) for label, g in rows]
+        else:
+            rows = [(label, [tidy(e) for e in g]) for label, g in rows]
+        by_order.append(rows)
+    while by_order:
+        layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted)
+        if layout.pages <= max_pages or fixed is not None:
+            return layout
+        omitted = _omission(len(by_order) - 1, orders, max_pages)
+        by_order.pop()
+    raise DoesNotFit(
+        f"{system.name}: even the order-0 rows of the symbolic observability matrix do not fit {max_pages:g} "
+        "page(s); typeset it at an exact point (latex --point) or allow more pages (--max-pages)"
     )
 
 
-_SPECIAL = {
-    "\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&", "#": r"\#",
-    "^": r"\textasciicircum{}", "_": r"\_", "%": r"\%", "~": r"\textasciitilde{}",
-}
+def _omission(first: int, orders: int, max_pages: float) -> str:
+    which = f"Lie order {first}" if first == orders else f"Lie orders {first} to {orders}"
+    return (
+        f"{which} left out: with them the symbolic matrix would not fit {max_pages:g} page(s). "
+        "The whole matrix can be typeset at an exact point (latex --point), or with fewer orders (--orders K)."
+    )
 
 
-def latex_text(text: str) -> str:
-    """``text`` as LaTeX text: every special character escaped, line breaks as
-    spaces, so a model or direction name can never run a command."""
-    return "".join(_SPECIAL.get(c, " " if c in "\r\n" else c) for c in str(text))
+def _checked(entry: sympy.Expr, label: tuple[str, int], column: int, system: System) -> sympy.Expr:
+    if entry.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        raise ObservabilityError(
+            f"--point: the matrix is undefined at this point (row of {label[0]} at order {label[1]}, "
+            f"column {system.states[column]}); choose other values"
+        )
+    return entry
+
+
+def _layout(
+    system: System,
+    by_order: list[list[tuple[tuple[str, int], list[sympy.Expr]]]],
+    names: dict[str, str],
+    rewrite,
+    point: dict[sympy.Symbol, sympy.Expr] | None,
+    omitted: str,
+) -> LatexMatrix:
+    # Output-major rows: the rows of one output together, so that its block shows.
+    outputs = [o for o, _ in system.outputs]
+    labelled = sorted((r for rows in by_order for r in rows), key=lambda r: (outputs.index(r[0][0]), r[0][1]))
+    labels = tuple(label for label, _ in labelled)
+    matrix = sympy.Matrix([g for _, g in labelled])
+    symbols = set().union(*(e.free_symbols for e in matrix)) | {s for s, _ in system.quantities}
+    symbol_names = _symbol_names(symbols | set(system.states), names)
+
+    def tex(expr: sympy.Expr) -> str:
+        return sympy.latex(expr, symbol_names=symbol_names)
+
+    definitions: list[tuple[str, str]] = []
+    if rewrite is not None:
+        used = set().union(*(e.free_symbols for e in matrix))
+        definitions += [(tex(q), tex(e)) for q, e in system.quantities if q in used]
+    entries = [[tex(e) for e in row] for row in matrix.tolist()]
+    if any(width(e) > _WIDE_ENTRY for row in entries for e in row):
+        replacements, matrix = _abbreviations(matrix, tex)
+        symbol_names.update({name: f"a_{{{name.name[2:]}}}" for name, _ in replacements})
+        definitions += [(tex(name), _broken(value, tex)) for name, value in replacements]
+        entries = [[tex(e) for e in row] for row in matrix.tolist()]
+    signature = [frozenset(labels[i][0] for i in range(len(labels)) if entries[i][j] != "0") for j in range(system.n)]
+    groups = tuple(n for n, (a, b) in enumerate(_runs(signature)) for _ in range(a, b))
+    column_labels = tuple(symbol_names[x] for x in system.states)
+    row_labels = tuple(_label(o, k, system.time == "discrete", names) for o, k in labels)
+    declared = [*system.states, *system.inputs, *system.parameters]
+    ordered = sorted((point or {}).items(), key=lambda kv: (declared.index(kv[0]) if kv[0] in declared else len(declared), str(kv[0])))
+    shown_point = tuple((symbol_names.get(s, latex_name(s.name, names)), tex(v)) for s, v in ordered)
+    pieces = LatexMatrix(
+        entries=tuple(tuple(r) for r in entries),
+        rows=labels,
+        row_labels=row_labels,
+        column_labels=column_labels,
+        column_groups=groups,
+        definitions=tuple(definitions),
+        point=shown_point,
+        omitted=omitted,
+    )
+    return LatexMatrix(**{**pieces.__dict__, "blocks": _blocks(pieces)})
+
+
+def _abbreviations(
+    matrix: sympy.Matrix, tex: Callable[[sympy.Expr], str]
+) -> tuple[list[tuple[sympy.Symbol, sympy.Expr]], sympy.Matrix]:
+    """Repeated subexpressions named a_1, a_2, ...: common subexpression elimination,
+    then short ones (a sine, a square) and those used once written out again, so a
+    reader meets a name only where it saves room."""
+    temporary = (sympy.Dummy(f"t{i}") for i in range(10**6))
+    replacements, (reduced,) = sympy.cse(matrix, symbols=temporary, optimizations="basic")
+    inline: dict[sympy.Symbol, sympy.Expr] = {}
+    kept: list[tuple[sympy.Symbol, sympy.Expr]] = []
+    for name, value in replacements:
+        value = value.xreplace(inline)
+        if width(tex(value)) <= _INLINE_WIDTH:
+            inline[name] = value
+        else:
+            kept.append((name, value))
+    reduced = reduced.xreplace(inline)
+    while True:
+        uses = Counter(s for e in reduced for s in e.free_symbols)
+        for _, value in kept:
+            uses.update(value.free_symbols)
+        once = {name: value for name, value in kept if uses[name] <= 1 and width(tex(value)) <= 2 * _INLINE_WIDTH}
+        if not once:
+            break
+        last = max(once, key=lambda n: [k for k, _ in kept].index(n))
+        value = once[last]
+        kept = [(n, v.xreplace({last: value})) for n, v in kept if n != last]
+        reduced = reduced.xreplace({last: value})
+    for entry in sorted({e for e in reduced if width(tex(e)) > _WIDE_ENTRY}, key=sympy.default_sort_key):
+        # Still too wide although nothing in it repeats: named on its own, its
+        # definition broken over lines.
+        name = next(temporary)
+        kept.append((name, entry))
+        reduced = reduced.xreplace({entry: name})
+    names = {old: sympy.Symbol(f"a_{i}") for i, (old, _) in enumerate(kept, 1)}
+    return [(names[n], v.xreplace(names)) for n, v in kept], reduced.xreplace(names)
+
+
+def _broken(value: sympy.Expr, tex: Callable[[sympy.Expr], str]) -> str:
+    """A definition's value, a long sum (or a factor times a long sum) broken into
+    lines that fit the page."""
+    text = tex(value)
+    if width(text) <= PAGE_WIDTH - 8:
+        return text
+    if isinstance(value, sympy.Add):
+        return _lines(sympy.Add.make_args(value), tex, "", "")
+    sums = [f for f in sympy.Mul.make_args(value) if isinstance(f, sympy.Add)]
+    if not isinstance(value, sympy.Mul) or not sums:
+        return text
+    widest = max(sums, key=lambda f: len(str(f)))
+    return _lines(sympy.Add.make_args(widest), tex, tex(value / widest) + " \\Bigl(", " \\Bigr)")
+
+
+def _lines(terms: Sequence[sympy.Expr], tex: Callable[[sympy.Expr], str], opening: str, closing: str) -> str:
+    lines, current = [], opening
+    for n, term in enumerate(terms):
+        piece = tex(term)
+        signed = piece if n == 0 or piece.startswith("-") else "+ " + piece
+        if n and width(current + signed) > PAGE_WIDTH - 14:
+            lines.append(current)
+            current = signed if signed.startswith(("-", "+")) else "+ " + signed
+        else:
+            current = f"{current} {signed}".strip()
+    lines.append(current + closing)
+    return " \\\\\n  &\\quad ".join(lines)
+
+
+def _blocks(pieces: LatexMatrix) -> tuple[Block, ...]:
+    """Column blocks that fit the page width, each split into row blocks that fit its height."""
+    label_width = max(width(r) for r in pieces.row_labels) + COLUMN_GAP
+    widths = [
+        max(width(pieces.column_labels[j]), *(width(row[j]) for row in pieces.entries)) + COLUMN_GAP
+        for j in range(len(pieces.column_labels))
+    ]
+    column_blocks: list[list[int]] = [[]]
+    for j, w in enumerate(widths):
+        if column_blocks[-1] and label_width + sum(widths[k] for k in column_blocks[-1]) + w > PAGE_WIDTH:
+            column_blocks.append([])
+        column_blocks[-1].append(j)
+    heights = [1.5 * max(height(e) for e in row) for row in pieces.entries]
+    row_blocks: list[list[int]] = [[]]
+    for i, h in enumerate(heights):
+        if row_blocks[-1] and sum(heights[k] for k in row_blocks[-1]) + h > PAGE_HEIGHT - 4:
+            row_blocks.append([])
+        row_blocks[-1].append(i)
+    return tuple(Block(tuple(r), tuple(c)) for c in column_blocks for r in row_blocks)
 
 
 def _comment(text: str) -> str:
@@ -102,12 +456,14 @@ def _verdict(system: System, result: ObservabilityResult) -> str:
     status = "observable" if result.observable else "not observable"
     lines = [f"Rank {result.rank} of {result.n_states}: {status} (method {result.method}, Lie orders 0 to {result.orders})."]
     if result.unobservable_directions:
+        names = {s.name: s for s in (*system.states, *system.parameters)}
+        symbol_names = _symbol_names(set(names.values()), dict(system.latex_names))
         lines.append("Unobservable directions:")
         lines.append("\\begin{itemize}")
-        names = {s.name: s for s in (*system.states, *system.parameters)}
         for d in result.unobservable_directions:
             parts = ", ".join(
-                f"${sympy.latex(names[k])}$: ${sympy.latex(parse_expression(v, names, where=d.name))}$"
+                f"${symbol_names[names[k]]}$: "
+                f"${sympy.latex(parse_expression(v, names, where=d.name), symbol_names=symbol_names)}$"
                 for k, v in d.vector.items()
             )
             lines.append(f"\\item {latex_text(d.name)}: {parts}")
@@ -115,32 +471,57 @@ def _verdict(system: System, result: ObservabilityResult) -> str:
     return "\n".join(lines)
 
 
-def latex_document(system: System, result: ObservabilityResult | None = None, body_only: bool = False) -> str:
+def _preface(pieces: LatexMatrix) -> str:
+    lines = []
+    if pieces.point:
+        values = ", ".join(f"${name} = {value}$" for name, value in pieces.point)
+        lines.append(f"The matrix at the exact point {values}.")
+    if pieces.omitted:
+        lines.append(latex_text(pieces.omitted))
+    return "\n\n".join(lines)
+
+
+def latex_document(
+    system: System,
+    result: ObservabilityResult | None = None,
+    body_only: bool = False,
+    orders: int | None = None,
+    point: Mapping[str, str] | None = None,
+    seed: int = 0,
+    max_pages: float | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> str:
     """A standalone, compilable document (or only the matrix) with the rank verdict.
 
     ``result`` defaults to :func:`~observability.analysis.analyze` with seed 0; its
-    Lie orders decide how many rows are shown.
+    Lie orders decide how many rows are shown unless ``orders`` is given. ``point``,
+    ``seed``, ``max_pages`` (default :data:`MAX_PAGES`) and ``progress`` are passed to :func:`latex_matrix`.
     """
     result = result or analyze(system, seed=0)
-    pieces = latex_matrix(system, result.orders if result.orders is not None else 0)
+    wanted = orders if orders is not None else (result.orders if result.orders is not None else 0)
+    pieces = latex_matrix(system, wanted, point=point, seed=seed, max_pages=max_pages or MAX_PAGES, progress=progress)
+    preface = _preface(pieces)
     if body_only:
         header = [
             f"% observability matrix of {_comment(system.name)}: rows "
             + ", ".join(f"d L^{k} {o}" for o, k in pieces.rows),
             "% columns: " + ", ".join(s.name for s in system.states),
         ]
-        text = "\n".join(header) + "\n" + pieces.body
-        if pieces.definitions:
-            text += "\n% where\n" + "\n".join(f"% {name} = {value}" for name, value in pieces.definitions)
-        return text + "\n"
+        if pieces.omitted:
+            header.append("% " + _comment(pieces.omitted))
+        return "\n".join(header) + "\n" + (preface + "\n" if pieces.point else "") + pieces.equation() + "\n"
     title = latex_text(system.name)
     return "\n".join(
         [
             "\\documentclass{article}",
             "\\usepackage{amsmath}",
             "\\usepackage[margin=1.5cm,landscape]{geometry}",
+            "\\allowdisplaybreaks",
+            "\\renewcommand{\\arraystretch}{1.5}  % room for fractions between the rows",
             "\\begin{document}",
             f"\\section*{{Observability matrix of {title}}}",
+            preface,
+            "",
             pieces.equation(),
             "",
             _verdict(system, result),

@@ -1,0 +1,134 @@
+"""Matrix entries written in the model's own named quantities.
+
+A planar SLAM entry is three times shorter when written with the landmark's
+coordinates in the camera frame instead of world coordinates and the heading.
+A model names such quantities (``System.quantities``: q_i = e_i(x)); here the
+equations q_i = e_i(x) are solved for as many states (the ones appearing in the
+fewest quantities first, where the equations are linear in them), those states
+are replaced, and the result is simplified with sin^2 + cos^2 = 1. An entry is
+rewritten only when that makes it shorter, and every rewritten entry is checked
+against the original at a random point with 40 significant digits: a report
+never shows an entry that is not equal to the matrix's.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import sympy
+
+from ..system import System
+
+__all__ = ["Rewriting", "rewriting", "tidy", "MAX_REWRITE_CHARS"]
+
+#: Entries longer than this (characters of their sympy form) are left as they are:
+#: the trigonometric reduction is a polynomial division whose cost grows with it.
+MAX_REWRITE_CHARS = 20_000
+
+
+#: Entries up to this many characters are factored; longer ones only have common
+#: factors pulled out (multivariate factoring takes seconds on them).
+MAX_FACTOR_CHARS = 1500
+
+
+def tidy(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` factored when that is cheap, else with its common factors pulled out."""
+    return sympy.factor(expr) if len(str(expr)) <= MAX_FACTOR_CHARS else sympy.factor_terms(expr)
+
+
+def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` as a quotient of polynomials reduced modulo sin(a)^2 + cos(a)^2 = 1 for every angle a."""
+    angles = sorted({f.args[0] for f in expr.atoms(sympy.sin, sympy.cos)}, key=sympy.default_sort_key)
+    if not angles:
+        return tidy(sympy.cancel(expr))
+    cos_ = [sympy.Dummy(f"c{i}") for i in range(len(angles))]
+    sin_ = [sympy.Dummy(f"s{i}") for i in range(len(angles))]
+    forward = {}
+    for a, c, s in zip(angles, cos_, sin_):
+        forward[sympy.cos(a)] = c
+        forward[sympy.sin(a)] = s
+    numerator, denominator = sympy.fraction(sympy.cancel(sympy.together(expr.xreplace(forward))))
+
+    def reduce(poly: sympy.Expr) -> sympy.Expr:
+        # Division by s^2 + c^2 - 1, monic in s: every even power of the sine
+        # becomes a polynomial in the cosine (one variable at a time, cheap).
+        for c, s in zip(cos_, sin_):
+            poly = sympy.rem(sympy.expand(poly), s**2 + c**2 - 1, s)
+        return poly
+
+    back = {v: k for k, v in forward.items()}
+    return tidy(sympy.cancel(reduce(numerator) / reduce(denominator))).xreplace(back)
+
+
+@dataclass(frozen=True)
+class Rewriting:
+    """States solved for in terms of the model's quantities, and how to check it."""
+
+    solution: Mapping[sympy.Symbol, sympy.Expr]  # eliminated state -> expression in quantities
+    definitions: Mapping[sympy.Symbol, sympy.Expr]  # quantity -> its expression in the states
+
+    def apply(self, entry: sympy.Expr) -> sympy.Expr:
+        """``entry`` in terms of the quantities when that is shorter and equal; else ``entry``."""
+        if entry.is_number or len(str(entry)) > MAX_REWRITE_CHARS or not (entry.free_symbols & set(self.solution)):
+            return tidy(entry)
+        try:
+            rewritten = _trig_reduce(entry.xreplace(self.solution))
+        except (sympy.PolynomialError, sympy.polys.polyerrors.PolificationFailed, ZeroDivisionError):
+            return tidy(entry)
+        if not self._equal(entry, rewritten):
+            return tidy(entry)
+        # Against the raw entry first: factoring it is the slow part, needed only
+        # when the rewriting is not clearly shorter.
+        if sympy.count_ops(rewritten) < sympy.count_ops(entry):
+            factored = None
+        else:
+            factored = tidy(entry)
+        return rewritten if factored is None or sympy.count_ops(rewritten) < sympy.count_ops(factored) else factored
+
+    def _equal(self, entry: sympy.Expr, rewritten: sympy.Expr) -> bool:
+        """The two agree at a random point (40 digits), with the quantities replaced by their definitions."""
+        back = rewritten.xreplace(dict(self.definitions))
+        symbols = sorted(entry.free_symbols | back.free_symbols, key=str)
+        rng = random.Random(str(entry))
+        point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 97)) for s in symbols}
+        a = entry.evalf(40, subs=point)
+        b = back.evalf(40, subs=point)
+        if not (a.is_number and b.is_number) or a.has(sympy.zoo, sympy.nan) or b.has(sympy.zoo, sympy.nan):
+            return False
+        return abs(a - b) <= sympy.Float(10) ** -30 * (1 + abs(a))
+
+
+def rewriting(system: System) -> Rewriting | None:
+    """The elimination of states by the system's quantities; None when nothing can be eliminated."""
+    if not system.quantities:
+        return None
+    states = set(system.states)
+    appearances = {x: sum(x in e.free_symbols for _, e in system.quantities) for x in system.states}
+    order = sorted((x for x in system.states if appearances[x]), key=lambda x: (appearances[x], system.states.index(x)))
+    equations = [e - q for q, e in system.quantities]
+    chosen: list[sympy.Symbol] = []
+    columns: list[list[sympy.Expr]] = []
+    for x in order:
+        column = [sympy.diff(eq, x) for eq in equations]
+        involved = set().union(*(c.free_symbols for c in column))
+        if involved & (set(chosen) | {x}) or any(x in c.free_symbols for col in columns for c in col):
+            continue  # the equations are not jointly linear in the chosen states and x
+        if sympy.Matrix([*columns, column]).T.rank(simplify=True) > len(chosen):
+            chosen.append(x)
+            columns.append(column)
+        if len(chosen) == len(equations):
+            break
+    if not chosen:
+        return None
+    coefficients = sympy.Matrix(columns).T  # equations x chosen states
+    independent: list[int] = []
+    for i in range(len(equations)):
+        if coefficients.extract([*independent, i], list(range(len(chosen)))).rank(simplify=True) > len(independent):
+            independent.append(i)
+    solved = sympy.solve([equations[i] for i in independent], chosen, dict=True)
+    if len(solved) != 1:
+        return None
+    solution = {x: _trig_reduce(v) for x, v in solved[0].items()}
+    return Rewriting(solution=solution, definitions=dict(system.quantities))
