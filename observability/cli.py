@@ -300,6 +300,17 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
+_OPTION_HELP = "model option (e.g. time=discrete, landmarks=3) or known parameter value (e.g. f=20)"
+_TIME_HELP = "time form of a built-in model (default: the model's)"
+
+
+def _model_arguments(parser: argparse.ArgumentParser) -> None:
+    """MODEL, -o and --time, the same for every command that takes a model."""
+    parser.add_argument("model", help="built-in model name or path to a .toml model file")
+    parser.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
+    parser.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="observability", description="Nonlinear observability analysis.")
     parser.add_argument("--version", action="version", version=f"observability {_version()}")
@@ -313,15 +324,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     check.add_argument("model", nargs="?", help="built-in model name or path to a .toml model file")
     check.add_argument("--all", action="store_true", help="check every built-in model and print a table")
-    check.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE",
-                       help="model option (e.g. time=discrete) or known parameter value (e.g. f=20)")
+    check.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
     check.add_argument("--method", choices=METHODS, default="random", help="rank method (default: random)")
     check.add_argument("--seed", type=int, default=None, help="seed of the random point")
-    check.add_argument("--time", choices=("continuous", "discrete"), default=None,
-                       help="time form of a built-in model")
+    check.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
     check.add_argument("--previous", choices=("inverse", "augment"), default="inverse",
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
-    check.add_argument("--format", choices=("text", "json"), default="text")
+    check.add_argument("--format", choices=("text", "json"), default="text",
+                       help="text for people, json for programs (one object, or a list with --all)")
     check.add_argument("--brief", action="store_true",
                        help="text: at most 8 states or components per list ('... and K more'); JSON keeps everything")
     check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",
@@ -332,20 +342,23 @@ def build_parser() -> argparse.ArgumentParser:
                        help="CPU time allowed for symbolic work before it is reported undecided (default 60)")
     check.set_defaults(func=_check)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
-    codegen.add_argument("model", help="built-in model name or path to a .toml model file")
+    _model_arguments(codegen)
     codegen.add_argument("--out", required=True, type=Path, help="directory to write into")
-    codegen.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE")
-    codegen.add_argument("--time", choices=("continuous", "discrete"), default=None)
     codegen.add_argument("--noise", default=None, metavar="NAMES",
                          help="comma-separated states and inputs the process noise enters (default: every state)")
     codegen.add_argument("--dt", default="dt", help="time step (a number or a parameter name) for continuous models")
-    codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler")
+    codegen.add_argument("--discretization", choices=("euler", "rk4"), default="euler",
+                         help="how a continuous model becomes the filter's discrete motion model (default: euler)")
     codegen.add_argument("--name", type=_identifier, default="filter_functions", help="base name of the generated files")
     codegen.set_defaults(func=_codegen)
-    latex = sub.add_parser("latex", help="the observability matrix and verdict in LaTeX")
-    latex.add_argument("model", help="built-in model name or path to a .toml model file")
-    latex.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE")
-    latex.add_argument("--time", choices=("continuous", "discrete"), default=None)
+    latex = sub.add_parser(
+        "latex", help="the observability matrix and verdict in LaTeX",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="exit status:\n  0 written (orders left out to fit --max-pages are said so on stderr)\n"
+        "  2 bad input\n  3 the symbolic matrix did not fit --budget, or not even order 0 fits --max-pages\n"
+        "  4 internal error (a bug)",
+    )
+    _model_arguments(latex)
     latex.add_argument("--out", type=Path, default=None, help="file to write (default: stdout)")
     latex.add_argument("--body-only", action="store_true",
                        help="only the matrix (arrays and definitions), for pasting into a paper")
@@ -362,15 +375,15 @@ def build_parser() -> argparse.ArgumentParser:
                        help="CPU time allowed for the symbolic matrix (default 60); exit 3 when it does not fit")
     latex.set_defaults(func=_latex)
     reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
-    reproduce.add_argument("--out", type=Path, default=Path("reports"))
+    reproduce.add_argument("--out", type=Path, default=Path("reports"), help="directory of the reports (default: reports)")
     reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
     reproduce.add_argument("--runs", type=_positive, default=None, help="Monte Carlo runs of the simulation (default 50)")
     reproduce.set_defaults(func=_reproduce)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
-    consistency.add_argument("--out", type=Path, default=Path("reports"))
-    consistency.add_argument("--runs", type=_positive, default=50)
-    consistency.add_argument("--steps", type=_positive, default=80)
-    consistency.add_argument("--seed", type=int, default=7)
+    consistency.add_argument("--out", type=Path, default=Path("reports"), help="directory of the report (default: reports)")
+    consistency.add_argument("--runs", type=_positive, default=50, help="Monte Carlo runs (default 50)")
+    consistency.add_argument("--steps", type=_positive, default=80, help="time steps per run (default 80)")
+    consistency.add_argument("--seed", type=int, default=7, help="seed of the Monte Carlo streams (default 7)")
     consistency.set_defaults(func=_consistency)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=_models)

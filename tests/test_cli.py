@@ -186,3 +186,35 @@ def test_brief_text_and_complete_json():
     data = json.loads(run("check", "slam2d", "-o", "landmarks=50", "--format", "json", "--seed", "1").stdout)
     vector = next(d["vector"] for d in data["unobservable_directions"] if d["name"].startswith("rotation"))
     assert len(vector) == 105
+
+
+def test_every_subcommand_option_has_help_text():
+    """Each option of each subcommand explains itself in --help (checked on the
+    parser, then on the printed help of one subcommand)."""
+    import argparse
+
+    from observability.cli import build_parser
+
+    parser = build_parser()
+    subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    missing = [(name, action.option_strings or action.dest)
+               for name, sub in subcommands.choices.items() for action in sub._actions if not action.help]
+    assert not missing
+    helptext = run("latex", "--help").stdout
+    assert "--point" in helptext and "3 the symbolic matrix did not fit" in helptext
+
+
+def test_latex_options_end_to_end(tmp_path):
+    """--orders bounds the rows; --point gives numbers; a page bound too small for
+    order 0 is exit 3 naming --point; a bad --point is exit 2 on one line."""
+    out = tmp_path / "m.tex"
+    done = run("latex", "slam2d", "--orders", "1", "--out", str(out))
+    assert done.returncode == 0 and "\\nabla L_f h_{L1}" in out.read_text()
+    assert "L_f^{2}" not in out.read_text()
+    at_point = run("latex", "slam1.5d", "--point", "c=1/2, x_L2=3, d_L2=2, f=1, cdot=1", "--body-only")
+    assert at_point.returncode == 0
+    assert "\\nabla y_{2} & -2 & 0 & 2 & \\frac{5}{2} \\\\" in at_point.stdout  # [-f d, 0, f d, f (x - c)]
+    tight = run("latex", "slam2d", "--max-pages", "0.02")
+    assert tight.returncode == 3 and "--point" in tight.stderr and not tight.stdout
+    bad = run("latex", "slam1.5d", "--point", "c")
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "--point" in bad.stderr
