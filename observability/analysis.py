@@ -300,6 +300,48 @@ def _unobservable_directions(
     return tuple(directions), basis, note
 
 
+def _two_sided(
+    system: System, seed: int | None, input_derivatives: int | None, max_order: int | None, previous: str,
+    budget: float | None,
+):
+    """The symbolic method's first route: a certain lower bound at a point that
+    meets an upper bound from verified generators. None when the bounds do not
+    meet (the caller falls back to elimination over the rational-function field).
+
+    Returns (rank, orders, seed, row labels, observable columns, details,
+    (directions, basis, note)).
+    """
+    n = system.n
+    lower = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
+                            previous=previous)
+    if not lower.complete and lower.rank < n:
+        return None
+    if lower.dependence is None:
+        certificate = "exact arithmetic; the transcendental terms are provably independent"
+    else:
+        if lower.dependence.square_roots and lower.rank < n:
+            return None
+        proof = certify_rank(system, lower.orders, lower.independent_rows, lower.pivot_columns, seed=lower.seed,
+                             input_derivatives=input_derivatives, previous=previous)
+        if not proof.proven:
+            return None
+        certificate = f"{lower.dependence}; certified: {proof.how}"
+    head = (f"two-sided proof: rank {lower.rank} certain as a lower bound (a non-zero minor mod 2^61-1 at a random "
+            f"point, seed {lower.seed}; {certificate})")
+    if lower.rank == n:
+        return (n, lower.orders, lower.seed, lower.row_labels, tuple(range(n)), head + ", which is full",
+                ((), None, ""))
+    found, basis, note = _unobservable_directions(system, n - lower.rank, lower.orders, input_derivatives, budget,
+                                                  lower.seed, previous)
+    seconds = PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
+    if basis is None or not fields_are_symmetries(system, basis, budget=seconds):
+        return None
+    details = (f"{head} and as an upper bound ({n - lower.rank} generically independent fields annihilate the "
+               "matrix as identities, verified by exact rational-function arithmetic)")
+    return (lower.rank, lower.orders, lower.seed, lower.row_labels, lower.observable_columns, details,
+            (found, basis, note))
+
+
 def analyze(
     system: System,
     method: Method = "random",
@@ -320,8 +362,11 @@ def analyze(
     system : System
     method : {"random", "symbolic", "float"}
         ``random`` (default): exact rank modulo a 61-bit prime at random points,
-        with a stated error probability. ``symbolic``: exact generic rank over the
-        rational-function field, "undecided" after ``budget`` seconds. ``float``:
+        with a stated error probability. ``symbolic``: the exact generic rank, by a
+        two-sided proof (a certain lower bound at a point meeting an upper bound
+        from generators verified as identities) or, where those bounds do not
+        meet, by elimination over the rational-function field, "undecided" after
+        ``budget`` seconds. ``float``:
         SVD at ``point`` (or a random point), with singular values and the gap.
     seed : int, optional
         For the random point (drawn and reported when omitted).
@@ -380,6 +425,7 @@ def analyze(
         )
 
     upper = ""  # the random route's statement about the upper bound
+    precomputed = None  # directions the two-sided symbolic route already found
     if method == "random":
         result = randomized_rank(
             system, seed=seed, input_derivatives=input_derivatives, max_order=max_order, progress=progress,
@@ -421,6 +467,11 @@ def analyze(
             upper = (
                 f"; too low with probability <= {probability:.1e} (Schwartz-Zippel, degree bound {result.degree_bound})"
             )
+    elif method == "symbolic" and (two_sided := _two_sided(
+        system, seed, input_derivatives, max_order, previous, budget
+    )) is not None:
+        rank, orders, seed, labels, observable_columns, details, precomputed = two_sided
+        probability = 0.0
     elif method == "symbolic":
         try:
             sym = with_budget(symbolic_rank, system, input_derivatives, max_order, previous, seconds=budget)
@@ -468,7 +519,9 @@ def analyze(
     found: tuple[UnobservableDirection, ...] = ()
     basis = None
     note = ""
-    if rank < n and (directions or observable_columns is None):
+    if precomputed is not None:
+        found, basis, note = precomputed
+    elif rank < n and (directions or observable_columns is None):
         found, basis, note = _unobservable_directions(
             system, n - rank, orders, input_derivatives, budget, seed or 0, previous
         )

@@ -195,7 +195,30 @@ def _check(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else result.text(args.brief), flush=True)
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
+    if args.proof is not None:
+        return _write_proof(system, result, args) or code
     return code
+
+
+def _write_proof(system: System, result, args: argparse.Namespace) -> int | None:
+    """``check --proof FILE``: None when written, EXIT_UNDECIDED when there is no proof to write."""
+    from .evidence import proof_evidence
+    from .report.files import write_json
+
+    if result.proof != "proven":
+        print(f"observability: no proof written to {args.proof}: the verdict is "
+              f"{result.proof or 'undecided'}, not proven", file=sys.stderr)
+        return EXIT_UNDECIDED
+    with _about(args.model):
+        try:
+            evidence = proof_evidence(system, result, budget=args.budget)
+        except Undecided as exc:
+            print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
+            return EXIT_UNDECIDED
+    write_json(args.proof, evidence)
+    print(f"wrote the proof to {args.proof} (re-check it with: python benchmarks/check_proof.py {args.proof})",
+          file=sys.stderr)
+    return None
 
 
 def _codegen(args: argparse.Namespace) -> int:
@@ -332,6 +355,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text",
                        help="text for people, json for programs (one object, or a list with --all)")
+    check.add_argument("--proof", type=Path, default=None, metavar="FILE",
+                       help="write the proof of a proven verdict as JSON (the minor at an exact point, the generators "
+                            "and their identities), for benchmarks/check_proof.py; exit 3 when the verdict is not proven")
     check.add_argument("--brief", action="store_true",
                        help="text: at most 8 states or components per list ('... and K more'); JSON keeps everything")
     check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",

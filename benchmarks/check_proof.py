@@ -1,0 +1,155 @@
+"""Re-check a proof written by `observability check MODEL --proof FILE`, with sympy alone.
+
+    python benchmarks/check_proof.py FILE        # exit 0: accepted, 1: rejected (with the reason)
+
+Nothing of the observability package is imported: the Lie derivatives, the minor,
+the identities and the independence of the generators are all recomputed here
+from the model's equations in the file.
+
+* Lower bound: the rows of order k are the gradients of L_f^k h (continuous time,
+  inputs generic: u, u', u'', ... take the listed values) or of h(x_k, u_k) with
+  x_0 = x, x_(k+1) = F(x_k, u_k) (discrete time). The listed r x r minor at the
+  listed exact point must equal the recorded value (exactly when it is rational,
+  else to 30 significant digits, the entries evaluated to
+  60 digits) and be non-zero.
+* Upper bound: each generator v satisfies L_v h = 0 for every output and
+  [f, v] = 0 (continuous) or v(F(x)) - DF(x) v(x) = 0 (discrete), shown by sympy's
+  simplification; the generators are independent at the point.
+* Then r <= rank <= n - (number of generators) = r.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import mpmath
+import sympy
+
+
+class Rejected(Exception):
+    pass
+
+
+def _parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
+    return sympy.sympify(text, locals=dict(symbols))
+
+
+def _zero(expr: sympy.Expr) -> bool:
+    if expr == 0:
+        return True
+    for attempt in (sympy.cancel, sympy.simplify, lambda e: sympy.simplify(sympy.expand_trig(e))):
+        if attempt(expr) == 0:
+            return True
+    return False
+
+
+def check(proof: dict) -> str:
+    if proof.get("format") != "observability proof 1":
+        raise Rejected(f"unknown format {proof.get('format')!r}")
+    model = proof["model"]
+    symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
+    x = [symbols[s] for s in model["states"]]
+    known = {symbols[p]: sympy.sympify(v) for p, v in model["parameters"].items() if v is not None}
+    f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
+    outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
+    n, rank = len(x), int(proof["rank"])
+    lower = proof["lower_bound"]
+    rows = [(str(o), int(k)) for o, k in lower["rows"]]
+    columns = [symbols[c] for c in lower["columns"]]
+    if len(rows) != rank or len(columns) != rank or len(set(rows)) != rank or len(set(columns)) != rank:
+        raise Rejected("the minor is not rank x rank with distinct rows and columns")
+    orders = max((k for _, k in rows), default=0)
+    point = lower["point"]
+    values = {symbols[s]: sympy.Rational(v) for s, v in point["states"].items()}
+    values |= {symbols[p]: sympy.Rational(v) for p, v in point["parameters"].items()}
+
+    # The functions whose gradients are the rows, order by order.
+    functions: dict[tuple[str, int], sympy.Expr] = {}
+    if model["time"] == "continuous":
+        chains = {u: [symbols[u]] + [sympy.Dummy(f"{u}_d{j}") for j in range(1, orders + 2)] for u in model["inputs"]}
+        for u, chain in chains.items():
+            for j, value in enumerate(point["inputs"][u][: orders + 1]):
+                values[chain[j]] = sympy.Rational(value)
+        current = dict(outputs)
+        for k in range(orders + 1):
+            for name, e in current.items():
+                functions[(name, k)] = e
+            current = {
+                name: sum(sympy.diff(e, xi) * fi for xi, fi in zip(x, f))
+                + sum(sympy.diff(e, chain[j]) * chain[j + 1] for chain in chains.values() for j in range(k + 1))
+                for name, e in current.items()
+            }
+    else:
+        state = list(x)
+        for k in range(orders + 1):
+            step = {symbols[u]: sympy.Dummy(f"{u}_{k}") for u in model["inputs"]}
+            for u, d in step.items():
+                values[d] = sympy.Rational(point["inputs"][str(u)][k])
+            at = dict(zip(x, state)) | step
+            for name, e in outputs.items():
+                functions[(name, k)] = e.xreplace(at)
+            state = [fi.xreplace(at) for fi in f]
+    missing = [r for r in rows if r not in functions]
+    if missing:
+        raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
+    minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
+    recorded = lower["minor"]
+    if all(e.is_Rational for e in minor):
+        value = minor.det(method="bareiss")
+        if not lower["exact"] or value != sympy.Rational(recorded) or value == 0:
+            raise Rejected(f"the minor is {value}, the file says {recorded}")
+        how = "exactly"
+    else:
+        # Transcendental entries at the exact point: each to 60 digits (sympy's
+        # evalf), the determinant in mpmath at 60 digits.
+        with mpmath.workdps(60):
+            entries = [[mpmath.mpf(str(sympy.N(e, 60))) for e in row] for row in minor.tolist()]
+            value = mpmath.det(mpmath.matrix(entries))
+            if abs(value) < mpmath.mpf("1e-25") or abs(value - mpmath.mpf(recorded)) > abs(value) * mpmath.mpf("1e-30"):
+                raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
+        how = "to 60 digits"
+
+    # The upper bound.
+    generators = proof["upper_bound"]["generators"]
+    if len(generators) != n - rank:
+        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
+    fields = []
+    for g in generators:
+        v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+        fields.append(v)
+        for name, h in outputs.items():
+            if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
+                raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
+        for i, (vi, fi) in enumerate(zip(v, f)):
+            if model["time"] == "continuous":
+                bracket = sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+            else:
+                bracket = vi.xreplace(dict(zip(x, f))) - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v))
+            if not _zero(bracket):
+                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
+    if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
+        raise Rejected("the generators are not independent at the point")
+    return (f"accepted: {proof['claim']} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
+            "and independent)")
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) != 2:
+        print("usage: python benchmarks/check_proof.py PROOF.json", file=sys.stderr)
+        return 2
+    try:
+        with open(argv[1], encoding="utf-8") as handle:
+            proof = json.load(handle)
+        print(check(proof))
+        return 0
+    except Rejected as exc:
+        print(f"rejected: {exc}")
+        return 1
+    except (KeyError, TypeError, ValueError, sympy.SympifyError) as exc:
+        print(f"rejected: malformed proof ({type(exc).__name__}: {exc})")
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
