@@ -22,7 +22,7 @@ from .numeric import float_rank
 from .randomized import randomized_rank
 from .symbolic import generic_rank, null_space, observability_rows, symbolic_rank
 from .symmetry import EPSILON, Symmetry, verify
-from .system import System, system
+from .system import Motion, System, system
 
 __all__ = [
     "EPSILON",
@@ -34,6 +34,7 @@ __all__ = [
     "SingularModelError",
     "Symmetry",
     "System",
+    "Motion",
     "UnobservableDirection",
     "UnsupportedExpressionError",
     "analyze",

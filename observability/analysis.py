@@ -16,6 +16,7 @@ from .proof import PROOF_BUDGET, fields_are_symmetries
 from .errors import ModelError
 from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
 from .numeric import float_rank
+from .restrictions import ConstraintSet
 from .randomized import randomized_rank
 from .budget import Undecided, with_budget
 from .symbolic import null_space, observability_rows, symbolic_rank
@@ -128,6 +129,8 @@ class ObservabilityResult:
     lower_bound: int | None = None
     observable_functions: tuple[str, ...] | None = None
     proof: str | None = None
+    unknown_inputs: tuple[str, ...] = ()  # inputs modelled as states (observable_states says which are)
+    restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
 
     @property
     def n_states(self) -> int:
@@ -154,6 +157,11 @@ class ObservabilityResult:
             "orders": self.orders,
             "rank_lower_bound": self.lower_bound,
             "proof": self.proof,
+            "unknown_inputs": (
+                {u: u in self.observable_states for u in self.unknown_inputs}
+                if self.observable_states is not None else dict.fromkeys(self.unknown_inputs)
+            ),
+            "restriction": self.restriction,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
             "observable_functions": (
                 list(self.observable_functions) if self.observable_functions is not None else None
@@ -213,6 +221,8 @@ class ObservabilityResult:
             + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None else ""),
             f"  method: {self.method}; {self.details}",
         ]
+        if self.restriction:
+            lines.insert(1, f"  restricted to: {self.restriction}")
         if self.rank is not None:
             lines.append(f"  proof: {PROOFS.get(self.proof, self.proof)}")
             lines.append(f"  Lie orders used: 0..{self.orders}")
@@ -221,6 +231,10 @@ class ObservabilityResult:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
             if self.observable_functions:
                 lines.append(f"  observable functions: {states(self.observable_functions)}")
+            if self.unknown_inputs and self.observable_states is not None:
+                lines.append("  unknown inputs: " + "; ".join(
+                    f"{u} {'observable' if u in self.observable_states else 'NOT observable'}" for u in self.unknown_inputs
+                ))
         elif self.lower_bound is not None:
             lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
         for d in self.unobservable_directions:
@@ -300,6 +314,47 @@ def _unobservable_directions(
     return tuple(directions), basis, note
 
 
+def _on_set(
+    system: System, where: ConstraintSet, seed: int | None, input_derivatives: int | None, max_order: int | None,
+    previous: str, progress, start: float,
+) -> ObservabilityResult:
+    """The rank at a generic point of a constraint set: points drawn on the set."""
+    n = system.n
+    result = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
+                             progress=progress, previous=previous, constraint=where)
+    names = tuple(s.name for s in system.states)
+    common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
+                  unobservable_directions=(), time=system.time, row_labels=result.row_labels,
+                  unknown_inputs=system.unknown_inputs, restriction=f"the set {where.text}")
+    rank = result.rank
+    reason = ""
+    if result.dependence is not None and rank < n:
+        reason = (f"rank at least {rank} mod 2^61-1 on the set, but {result.dependence}; a ball-arithmetic "
+                  "certificate is not available on a constraint set")
+    elif not where.invariant and rank < n:
+        reason = (f"rank {rank} of {n} at points of the set (orders 0..{result.orders}), a lower bound: the motion "
+                  "leaves the set, so higher orders could still raise the rank")
+    elif not result.complete and rank < n:
+        reason = f"rank {rank} of {n} at orders 0..{result.orders} is a lower bound: the order limit was reached"
+    if reason:
+        return ObservabilityResult(
+            rank=None, observable=None, error_probability=None, observable_states=None,
+            seconds=time.perf_counter() - start, details=f"undecided: {reason}",
+            lower_bound=rank if result.dependence is None else None, **common,
+        )
+    details = (f"exact rank mod 2^61-1 at {result.draws} random point(s) of the set (seed {result.seed}; the set "
+               f"is kept by the motion, so the stopping rule holds on it)")
+    if rank < n:
+        details += (f"; rank {rank} certain as a lower bound; too low with probability <= "
+                    f"{result.error_probability:.1e} (Schwartz-Zippel, degree bound x {where.degree} for the set)")
+    return ObservabilityResult(
+        rank=rank, observable=rank == n, error_probability=result.error_probability,
+        observable_states=tuple(names[i] for i in result.observable_columns),
+        seconds=time.perf_counter() - start, details=details,
+        proof="proven" if rank == n else "lower bound", **common,
+    )
+
+
 def _two_sided(
     system: System, seed: int | None, input_derivatives: int | None, max_order: int | None, previous: str,
     budget: float | None,
@@ -354,6 +409,7 @@ def analyze(
     previous: Previous = "inverse",
     directions: bool = True,
     progress: Callable[[str], None] | None = None,
+    where: ConstraintSet | None = None,
 ) -> ObservabilityResult:
     """Decide whether ``system`` is locally (weakly) observable, and how not.
 
@@ -390,6 +446,9 @@ def analyze(
         Compute the unobservable directions symbolically (when cheap).
     progress : callable, optional
         Receives a status line after each order.
+    where : ConstraintSet, optional
+        The rank at a generic point of this set instead of a generic point
+        (:func:`~observability.restrictions.parse_constraints`); random method only.
     """
     if method not in METHODS:
         raise ModelError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
@@ -402,6 +461,10 @@ def analyze(
     start = time.perf_counter()
     if system.time == "discrete" and previous == "inverse":
         system = eliminate_previous_state(system, previous)
+    if where is not None:
+        if method != "random":
+            raise ModelError("a constraint set (--where) is analysed by the random method")
+        return _on_set(system, where, seed, input_derivatives, max_order, previous, progress, start)
     states = system.states
     names = tuple(s.name for s in states)
     n = len(states)
@@ -570,4 +633,5 @@ def analyze(
         row_labels=labels,
         observable_functions=functions,
         proof=proof,
+        unknown_inputs=system.unknown_inputs,
     )

@@ -124,18 +124,45 @@ def resolve_model(model: str, options: dict[str, str], time: str | None = None) 
     raise _UsageError(f"unknown model {model!r}: not a built-in ({', '.join(models.BUILTINS)}) and no such file")
 
 
+def _restricted(system: System, args: argparse.Namespace, where: str | None = None):
+    """The system under --inputs/--input and the constraint set of --where:
+    (system, input derivatives, constraint set or None)."""
+    from .restrictions import parse_constraints, parse_profile, with_input_profiles
+
+    profiles = {}
+    for pair in args.input:
+        name, sep, value = pair.partition("=")
+        if not sep or not name.strip():
+            raise _UsageError(f"--input expects NAME=PROFILE (zero, constant, a number, degree=K), got {pair!r}")
+        profiles[name.strip()] = parse_profile(value, f"--input {name.strip()}")
+    constraint, fixed = (None, {}) if where is None else parse_constraints(system, where)
+    for name, value in fixed.items():
+        if name in profiles:
+            raise _UsageError(f"input {name} is set by both --input and --where")
+        profiles[name] = parse_profile(value, f"--where {name}")
+    default = parse_profile(args.inputs, "--inputs") if args.inputs else None
+    if (profiles or default) and args.input_derivatives is not None:
+        raise _UsageError("give input profiles (--inputs, --input) or --input-derivatives, not both")
+    if not profiles and default is None:
+        return system, args.input_derivatives, constraint
+    restricted, derivatives = with_input_profiles(system, profiles, default)
+    return restricted, derivatives, None if constraint is None else constraint.on(restricted)
+
+
 def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
+    system, input_derivatives, constraint = _restricted(system, args, getattr(args, "where", None))
     progress = status_line()
     try:
         return analyze(
             system,
             method=args.method,
             seed=args.seed,
-            input_derivatives=args.input_derivatives,
+            input_derivatives=input_derivatives,
             max_order=args.max_order,
             budget=args.budget,
             previous=args.previous,
             progress=progress,
+            where=constraint,
         )
     finally:
         clear_line()
@@ -305,6 +332,36 @@ def _consistency(args: argparse.Namespace) -> int:
     return 0
 
 
+def _degenerate(args: argparse.Namespace) -> int:
+    from .motions import degenerate_motions
+
+    with _about(args.model):
+        system = resolve_model(args.model, _options(args.option), args.time)
+        rows = degenerate_motions(system, seed=args.seed or 0)
+    if args.format == "json":
+        print(json.dumps({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}, indent=2))
+        return 0
+    table = [("motion", "rank", "verdict", "lost beyond the generic directions", "observable states")]
+    for r in rows:
+        result = r.result
+        table.append((
+            r.motion.name,
+            f"{result.rank}/{result.n_states}" if result.rank is not None else f">={result.lower_bound}/{result.n_states}",
+            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})"),
+            "; ".join(r.lost_directions) or "-",
+            ", ".join(result.observable_states) if result.observable_states else "-",
+        ))
+    widths = [max(len(str(row[i])) for row in table) for i in range(len(table[0]))]
+    lines = ["  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip() for row in table]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    print(f"{system.name}: the rank at a generic point of each motion (n = {system.n})")
+    print("\n".join(lines))
+    for r in rows[1:]:
+        source = r.motion.where or ", ".join(f"{k}={v}" for k, v in r.motion.inputs.items())
+        print(f"  {r.motion.name}: {source}" + (f" — {r.motion.description}" if r.motion.description else ""))
+    return 0
+
+
 def _models(args: argparse.Namespace) -> int:
     from . import models
     width = max(len(name) for name in models.BUILTINS)
@@ -362,6 +419,14 @@ def build_parser() -> argparse.ArgumentParser:
                        help="text: at most 8 states or components per list ('... and K more'); JSON keeps everything")
     check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",
                        help="number of non-zero derivatives of each input (default: generic input)")
+    check.add_argument("--inputs", default=None, metavar="PROFILE",
+                       help="every known input: zero, constant, a number, or degree=K (a polynomial in time); "
+                            "default: generic")
+    check.add_argument("--input", action="append", default=[], metavar="NAME=PROFILE",
+                       help="one input's profile (repeatable), e.g. --input v=constant --input w=0")
+    check.add_argument("--where", default=None, metavar="EQUATIONS",
+                       help='the rank at a generic point of a set, e.g. "cxdot = 0, cydot = 0" (equations in states, '
+                            "parameters, and inputs set to numbers; solved rationally)")
     check.add_argument("--max-order", type=_count, default=None, metavar="K",
                        help="highest Lie order (default: the order that always suffices)")
     check.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
@@ -411,6 +476,13 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--steps", type=_positive, default=80, help="time steps per run (default 80)")
     consistency.add_argument("--seed", type=int, default=7, help="seed of the Monte Carlo streams (default 7)")
     consistency.set_defaults(func=_consistency)
+    degenerate = sub.add_parser(
+        "degenerate", help="which motions lose observability: the rank on each motion of the model's catalogue")
+    _model_arguments(degenerate)
+    degenerate.add_argument("--format", choices=("text", "json"), default="text",
+                            help="a table for people, or {model, n_states, motions: [...]} for programs")
+    degenerate.add_argument("--seed", type=int, default=None, help="seed of the random points")
+    degenerate.set_defaults(func=_degenerate)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=_models)
     return parser

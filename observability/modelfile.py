@@ -7,6 +7,8 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     states = ["x", "y", "th"]
     inputs = ["v", "w"]
     parameters = ["bx", "by"]         # or a table: [parameters] f = 20
+    unknown_inputs = ["w"]            # optional, continuous time: inputs nobody measures, estimated
+    unknown_input_order = 2           #   with their first 2 derivatives (a polynomial in time)
     [dynamics]                        # continuous: time derivatives; discrete: next-state values
     x = "v*cos(th)"
     y = "v*sin(th)"
@@ -24,6 +26,10 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     range = "sqrt((bx - x)**2 + (by - y)**2)"
     [latex]                           # optional: how names are typeset (safe LaTeX only)
     th = "\\psi"                      # default: th -> \theta, x_L2 -> x_{L2}, cdot -> \dot{c}
+    [motions.turning_in_place]        # optional: motions for `observability degenerate`
+    description = "the robot turns without moving"
+    inputs = { v = "0" }              # profiles: "0", "constant", a number, "degree=K"
+    where = ""                        # or equations in states and parameters, e.g. "x = bx"
 
 Expressions are parsed by :func:`observability.expressions.parse_expression`.
 """
@@ -40,7 +46,7 @@ import sympy
 from .errors import ModelError, ModelFileError
 from .expressions import parse_expression, parse_number
 from .symmetry import EPSILON, Symmetry
-from .system import System
+from .system import Motion, System
 
 __all__ = ["load_model", "parse_model"]
 
@@ -48,7 +54,8 @@ __all__ = ["load_model", "parse_model"]
 #: thousands of states takes well under a megabyte).
 MAX_FILE_BYTES = 8 * 1024 * 1024
 
-_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities"}
+_KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities",
+         "unknown_inputs", "unknown_input_order", "motions"}
 
 
 def load_model(path: str | Path) -> System:
@@ -126,6 +133,31 @@ def _symmetries(raw: Any, states: list[str], inputs: list[str], parameters: Any,
     return out
 
 
+def _motions(raw: Any, source: str) -> list[Motion]:
+    if not isinstance(raw, dict):
+        raise ModelFileError(f"{source}: [motions] must hold tables [motions.NAME]")
+    out = []
+    for name, table in raw.items():
+        where = f"{source}: motions.{name}"
+        if not isinstance(table, dict):
+            raise ModelFileError(f"{where} must be a table with where, inputs and description")
+        unknown = sorted(set(table) - {"where", "inputs", "description"})
+        if unknown:
+            raise ModelFileError(f"{where}: unknown key {unknown[0]!r} (allowed: description, inputs, where)")
+        equations = table.get("where", "")
+        inputs = table.get("inputs", {})
+        description = table.get("description", "")
+        if not isinstance(equations, str) or not isinstance(description, str):
+            raise ModelFileError(f"{where}: where and description must be strings")
+        if not isinstance(inputs, dict) or not all(isinstance(v, (str, int, float)) and not isinstance(v, bool)
+                                                    for v in inputs.values()):
+            raise ModelFileError(f"{where}: inputs must be a table of input = \"0\" | \"constant\" | number | \"degree=K\"")
+        if not equations and not inputs:
+            raise ModelFileError(f"{where}: a motion needs where or inputs")
+        out.append(Motion(name, equations, {k: str(v) for k, v in inputs.items()}, description))
+    return out
+
+
 def parse_model(text: str, source: str = "<model>") -> System:
     """Build a :class:`System` from the text of a TOML model file."""
     try:
@@ -163,6 +195,11 @@ def parse_model(text: str, source: str = "<model>") -> System:
         raise ModelFileError(f"{source}: 'description' must be a string")
     symmetries = _symmetries(data.get("symmetries", {}), states, inputs, parameters, source)
     latex_names = _table(data, "latex", source, required=False) or {}
+    unknown_inputs = _names(data, "unknown_inputs", source, required=False)
+    motions = _motions(data.get("motions", {}), source)
+    order = data.get("unknown_input_order")
+    if order is not None and (isinstance(order, bool) or not isinstance(order, int) or not 0 <= order <= 20):
+        raise ModelFileError(f"{source}: 'unknown_input_order' must be an integer from 0 to 20, got {order!r}")
     quantities = _table(data, "quantities", source, required=False) or {}
     try:
         return System(
@@ -178,6 +215,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
             symmetries=symmetries,
             latex_names=latex_names,
             quantities=quantities,
+            unknown_inputs=unknown_inputs,
+            unknown_input_order=order,
+            motions=motions,
         )
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None

@@ -147,11 +147,15 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
     return bound * (2**program.n_sqrt)
 
 
-def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous):
+def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous,
+               constraint=None):
     echelon = _RecordingEchelon(system.n, PRIME)
 
     def make(program: Program, discrete: bool) -> TaylorEvaluator:
-        return TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
+        evaluator = TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
+        if constraint is not None:
+            constraint.place(evaluator, system)
+        return evaluator
 
     expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous)
     return echelon, expansion
@@ -166,6 +170,7 @@ def randomized_rank(
     target: float = 1e-9,
     progress: Progress | None = None,
     previous: str = "inverse",
+    constraint=None,
 ) -> ModularRank:
     """Exact rank of the observability matrix at random points modulo 2^61 - 1.
 
@@ -187,6 +192,9 @@ def randomized_rank(
         this, or at most six points.
     progress : callable, optional
         Called with a short status line after every order.
+    constraint : observability.restrictions.ConstraintSet, optional
+        Draw the points on this set (the rank at a generic point of the set); the
+        degree bound is multiplied by the degree of its parametrisation.
 
     Raises
     ------
@@ -206,7 +214,8 @@ def randomized_rank(
         attempts, limit = 0, _MAX_ATTEMPTS
         while True:
             try:
-                echelon, expansion = _one_point(system, rng, input_derivatives, max_order, progress, previous)
+                echelon, expansion = _one_point(system, rng, input_derivatives, max_order, progress, previous,
+                                                constraint)
                 break
             except Redraw as exc:
                 attempts += 1
@@ -225,6 +234,8 @@ def randomized_rank(
             break
         # The rank is too low only if a minor one larger than it vanishes at the point.
         bound = _degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
+        if constraint is not None:
+            bound *= constraint.degree
         probability *= min(1.0, bound / PRIME)
         if probability <= target:
             break

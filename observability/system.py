@@ -22,7 +22,7 @@ from .notation import latex_name, latex_text, validate_latex_name
 from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
 from .symmetry import EPSILON, Symmetry
 
-__all__ = ["System", "system", "prev"]
+__all__ = ["System", "Motion", "system", "prev"]
 
 Time = Literal["continuous", "discrete"]
 
@@ -70,6 +70,18 @@ def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_pre
 
 
 @dataclass(frozen=True)
+class Motion:
+    """A motion to examine for lost observability: equations on the states
+    (``where``) and/or profiles of known inputs (``inputs``: name -> "0",
+    "constant", a number or "degree=K"), with a description and its source."""
+
+    name: str
+    where: str = ""
+    inputs: Mapping[str, str] = field(default_factory=dict)
+    description: str = ""
+
+
+@dataclass(frozen=True)
 class System:
     """A validated, immutable state-space system.
 
@@ -97,6 +109,15 @@ class System:
         How a state, input, parameter, output or quantity is written in LaTeX
         documents (default: :func:`~observability.notation.latex_name`). Checked
         against a whitelist of safe LaTeX.
+    unknown_inputs : sequence of str, optional
+        Continuous time: inputs nobody measures. Each becomes a state, with its
+        first ``unknown_input_order`` derivatives
+        (:func:`~observability.restrictions.with_unknown_inputs`).
+    unknown_input_order : int
+        Degree of the polynomial-in-time model of each unknown input (default 2).
+    motions : sequence of Motion, optional
+        Motions that make sense for this model's kinematics, examined by
+        :func:`~observability.motions.degenerate_motions` (checked when used).
     quantities : mapping name -> expression, optional
         Named functions of the states that the model is written around (a
         landmark in the camera frame, a velocity in the body frame). Reports write
@@ -124,6 +145,8 @@ class System:
     symmetry_source: Any = field(default=(), compare=False, repr=False)
     latex_names: tuple[tuple[str, str], ...] = field(default=(), compare=False)
     quantities: tuple[tuple[sympy.Symbol, sympy.Expr], ...] = field(default=(), compare=False)
+    unknown_inputs: tuple[str, ...] = ()
+    motions: tuple[Motion, ...] = field(default=(), compare=False)
 
     def __init__(
         self,
@@ -140,6 +163,9 @@ class System:
         symmetries: Iterable[Symmetry] | Callable[[], Iterable[Symmetry]] = (),
         latex_names: Mapping[str, str] | Iterable[tuple[str, str]] = (),
         quantities: Mapping[str, Any] | Iterable[tuple[Any, Any]] = (),
+        unknown_inputs: Iterable[str] = (),
+        unknown_input_order: int | None = None,
+        motions: Iterable[Motion] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
@@ -216,6 +242,22 @@ class System:
         object.__setattr__(self, "quantities", defined)
         known = set(seen) | output_names | {q.name for q, _ in defined}
         object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
+        object.__setattr__(self, "unknown_inputs", ())
+        motions = tuple(motions)
+        if not all(isinstance(m, Motion) for m in motions):
+            raise ModelError("motions must be Motion objects")
+        object.__setattr__(self, "motions", motions)
+        unknown = [normal_name(str(n), "unknown input") for n in unknown_inputs]
+        if unknown_input_order is not None and not unknown:
+            raise ModelError("unknown_input_order is given but there are no unknown inputs")
+        if unknown:
+            from .restrictions import UNKNOWN_INPUT_ORDER, with_unknown_inputs  # restrictions builds Systems
+
+            extended = with_unknown_inputs(
+                self, unknown, UNKNOWN_INPUT_ORDER if unknown_input_order is None else unknown_input_order
+            )
+            for name in ("states", "dynamics", "inputs", "unknown_inputs", "symmetry_source"):
+                object.__setattr__(self, name, getattr(extended, name))
         # A callable is called (and its candidates validated) on first use: large
         # models have thousands of candidate components and most checks need none.
         object.__setattr__(self, "symmetry_source", symmetries if callable(symmetries) else tuple(symmetries))
@@ -366,11 +408,16 @@ class System:
             "symmetries": self.symmetry_source,
             "latex_names": self.latex_names,
             "quantities": self.quantities,
+            "motions": self.motions,
         }
+        # States that already hold the unknown inputs: the names are only recorded.
+        recorded = tuple(changes.pop("unknown_inputs", self.unknown_inputs))
         unknown = set(changes) - set(arguments)
         if unknown:
             raise TypeError(f"System.replace got unknown argument {sorted(unknown)[0]!r}")
-        return System(**(arguments | changes))
+        replaced = System(**(arguments | changes))
+        object.__setattr__(replaced, "unknown_inputs", recorded)
+        return replaced
 
     def with_values(self, **values: Any) -> System:
         """A copy in which the named parameters have the given numeric values."""

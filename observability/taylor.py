@@ -152,6 +152,7 @@ class TaylorEvaluator:
         self.aux: dict[int, tuple[list, list, list]] = {}
         self.point = [rng.randrange(p) for _ in range(n_states)] if p else []
         self.inputs: dict[tuple[int, int], int] = {}
+        self.constants: dict[object, int] = {}  # values fixed before evaluation (a constraint's parameters)
         self.order = -1
 
     # ---------------------------------------------------------------- field
@@ -160,6 +161,8 @@ class TaylorEvaluator:
         return self.rng.randrange(1, self.p)
 
     def _random_constant(self, key: object) -> int:
+        if key in self.constants:
+            return self.constants[key]
         return self._random()
 
     def _recip(self, k: int) -> int:

@@ -19,7 +19,7 @@ system.
 
 from __future__ import annotations
 
-from observability.system import System, Time
+from observability.system import Motion, System, Time
 
 from .symmetries import line_symmetries
 
@@ -65,6 +65,8 @@ def _system(
         inverse_dynamics=_inverse(time),
         description=f"{description} [{CITATION}]",
         symmetries=line_symmetries(["c", "x_L2"], ["cdot"], ["d_L2"]),
+        motions=[Motion("stationary", "cdot = 0", description="the camera does not move: no parallax "
+                        "(Vidal-Calleja et al., ICRA 2007)")],
     )
 
 

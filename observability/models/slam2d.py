@@ -22,7 +22,7 @@ constant-velocity model, c_{k-1} = c_k - dt*cdot_k.
 
 from __future__ import annotations
 
-from observability.system import System, Time
+from observability.system import Motion, System, Time
 
 from .symmetries import planar_symmetries
 
@@ -122,6 +122,17 @@ def slam2d(
         if disparity and point.startswith("L"):
             latex_names[f"d{point}"] = f"\\delta_{{{point}}}"
         latex_names[f"xbar_{point}"], latex_names[f"ybar_{point}"] = f"\\bar{{x}}_{{{point}}}", f"\\bar{{y}}_{{{point}}}"
+    calleja = "Vidal-Calleja, Bryson, Sukkarieh, Sanfeliu, Andrade-Cetto, ICRA 2007"
+    motions = [
+        Motion("stationary", "cxdot = 0, cydot = 0, cthdot = 0",
+               description=f"the camera neither moves nor turns [{calleja}]"),
+        Motion("pure rotation", "cxdot = 0, cydot = 0", description="the camera turns in place: no parallax"),
+        Motion("straight line", "cthdot = 0", description="constant heading, constant velocity"),
+    ]
+    for point, px, py in points[:3]:
+        kind = "landmark" if point.startswith("L") else "beacon"
+        motions.append(Motion(f"towards {kind} {point[1:]}", f"cxdot*({py} - cy) - cydot*({px} - cx) = 0",
+                              description=f"the velocity points at {kind} {point[1:]} [{calleja}]"))
     label = f"slam2d-L{landmarks}-B{beacons}" + ("-disparity" if disparity else "")
     def symmetries():
         return planar_symmetries(
@@ -145,4 +156,5 @@ def slam2d(
         symmetries=symmetries,
         latex_names=latex_names,
         quantities=quantities,
+        motions=motions,
     )

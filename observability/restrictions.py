@@ -1,0 +1,346 @@
+"""The system under a restriction: an input profile, or inputs nobody measures.
+
+The generic rank answers "for almost every input". These transformations return
+a new :class:`System` (and, for profiles, the number of input derivatives the
+engine may use), so every method, every certificate and every direction search
+applies unchanged:
+
+* **input profiles** — ``zero``: the input is replaced by 0; ``constant``: the
+  input becomes a known constant (a parameter: in continuous time its
+  derivatives vanish, in discrete time it is the same at every step); a number:
+  that constant;
+  ``degree=K`` (continuous time): the input is a polynomial in time of degree
+  K, i.e. its derivatives above K vanish (the engine's ``input_derivatives``);
+* **unknown inputs** (:func:`with_unknown_inputs`) — an input nobody measures,
+  modelled over the analysis window as a polynomial in time of degree d: the
+  input and its first d derivatives become states (w' = w1, ..., w_d' = 0), the
+  extended-state construction of STRIKE-GOLDD's FISPO (Villaverde et al.,
+  "Full observability and estimation of unknown inputs, states and parameters
+  of nonlinear biological models", J. R. Soc. Interface 2019). The verdict then
+  says which states and which unknown inputs are observable.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy
+
+from .errors import ModelError
+from .expressions import parse_expression
+from .system import System
+
+__all__ = [
+    "InputProfile", "parse_profile", "with_input_profiles", "with_unknown_inputs", "ConstraintSet", "parse_constraints",
+    "UNKNOWN_INPUT_ORDER",
+]
+
+#: Default degree d of an unknown input's polynomial model: the input and its
+#: first two derivatives are unknowns (an unknown acceleration with unknown jerk).
+UNKNOWN_INPUT_ORDER = 2
+
+_DEGREE = re.compile(r"^degree\s*=\s*(\d+)$")
+
+
+@dataclass(frozen=True)
+class InputProfile:
+    """How a known input behaves: ``kind`` is "zero", "constant" (constant in time,
+    its value generic), "value" (the constant ``value``) or "degree" (a polynomial
+    in time of degree ``degree``)."""
+
+    kind: str
+    degree: int | None = None
+    value: sympy.Rational | None = None
+
+    def __str__(self) -> str:
+        if self.kind == "degree":
+            return f"degree={self.degree}"
+        return str(self.value) if self.kind == "value" else self.kind
+
+
+def parse_profile(text: str, where: str) -> InputProfile:
+    """``zero`` (or ``0``), ``constant``, a number or ``degree=K`` as an :class:`InputProfile`."""
+    value = text.strip().lower()
+    if value in ("zero", "0"):
+        return InputProfile("zero")
+    try:
+        number = sympy.Rational(value)
+    except (TypeError, ValueError):
+        number = None
+    if number is not None:
+        return InputProfile("zero") if number == 0 else InputProfile("value", value=number)
+    if value == "constant":
+        return InputProfile("constant")
+    if m := _DEGREE.match(value):
+        return InputProfile("degree", int(m[1]))
+    raise ModelError(f"{where}: input profile must be zero, constant, a number or degree=K, got {text!r}")
+
+
+def with_input_profiles(
+    system: System, profiles: Mapping[str, InputProfile], default: InputProfile | None = None
+) -> tuple[System, int | None]:
+    """The system with the given inputs restricted, and the input derivatives to use.
+
+    ``profiles`` maps input names to profiles; ``default`` applies to every
+    other input (None: they stay generic). Returns the new system and the
+    ``input_derivatives`` argument for :func:`~observability.analysis.analyze`
+    (None: generic).
+
+    Raises
+    ------
+    ModelError
+        An unknown input name; ``degree=K`` in discrete time; inputs left with
+        different degrees (the engine bounds all inputs' derivatives alike).
+    """
+    names = {u.name: u for u in system.inputs}
+    for key in profiles:
+        if key not in names:
+            raise ModelError(
+                f"--input {key}: not an input of {system.name} (inputs: {', '.join(names) or 'none'})"
+            )
+    chosen = {name: profiles.get(name, default) for name in names}
+    zero = {names[n]: sympy.Integer(0) for n, p in chosen.items() if p and p.kind == "zero"}
+    constant = {names[n]: p.value for n, p in chosen.items() if p and p.kind in ("constant", "value")}
+    remaining = {n: p for n, p in chosen.items() if not p or p.kind == "degree"}
+    degrees = {p.degree if p else None for p in remaining.values()}
+    if any(p and p.kind == "degree" for p in remaining.values()):
+        if system.time == "discrete":
+            raise ModelError("an input profile degree=K applies to continuous time; discrete time has zero and constant")
+        if len(degrees) > 1:
+            raise ModelError(
+                "inputs left with different profiles (" + ", ".join(f"{n}: {p or 'generic'}" for n, p in remaining.items())
+                + "): give every input that is neither zero nor constant the same degree=K"
+            )
+    input_derivatives = next(iter(degrees)) if remaining else None
+    if not zero and not constant:
+        return system, input_derivatives
+    dynamics = [e.xreplace(zero) for e in system.dynamics]
+    outputs = {name: e.xreplace(zero) for name, e in system.outputs}
+    inverse = None if system.inverse_dynamics is None else [e.xreplace(zero) for e in system.inverse_dynamics]
+    parameters = {p: None for p in system.parameters} | constant
+    restricted = system.replace(
+        dynamics=dynamics,
+        outputs=outputs,
+        inputs=[u for u in system.inputs if u not in zero and u not in constant],
+        parameters=parameters,
+        inverse_dynamics=inverse,
+        name=system.name + "[" + ", ".join(f"{n}={p}" for n, p in chosen.items() if p and p.kind != "degree") + "]",
+        symmetries=(),
+        quantities=(),
+        latex_names=[(k, v) for k, v in system.latex_names if k not in {u.name for u in zero}],
+    )
+    return restricted, input_derivatives
+
+
+def with_unknown_inputs(system: System, unknown: Sequence[str], order: int = UNKNOWN_INPUT_ORDER) -> System:
+    """The extended system in which the inputs ``unknown`` are states.
+
+    Each unknown input w becomes the states w, w_d1, ..., w_d{order} with
+    w' = w_d1, ..., w_d{order}' = 0.
+
+    Raises
+    ------
+    ModelError
+        A name that is not an input, a discrete-time system, or a negative order.
+    """
+    if not unknown:
+        return system
+    if system.time != "continuous":
+        raise ModelError("unknown inputs are modelled in continuous time (their derivatives become states)")
+    if order < 0:
+        raise ModelError(f"the order of an unknown input's model must be >= 0, got {order}")
+    names = {u.name: u for u in system.inputs}
+    taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}
+    states = list(system.states)
+    dynamics = list(system.dynamics)
+    for name in unknown:
+        if name not in names:
+            raise ModelError(f"unknown input {name!r} is not an input of {system.name} (inputs: {', '.join(names)})")
+        chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, order + 1)]
+        clash = [s.name for s in chain[1:] if s.name in taken]
+        if clash:
+            raise ModelError(f"unknown input {name}: the name {clash[0]!r} of its derivative is already taken")
+        states += chain
+        dynamics += [*chain[1:], sympy.Integer(0)]
+    return system.replace(
+        states=states,
+        dynamics=dynamics,
+        inputs=[u for u in system.inputs if u.name not in unknown],
+        symmetries=(),
+        unknown_inputs=(*system.unknown_inputs, *unknown),
+    )
+
+
+def _split(text: str) -> list[str]:
+    """``text`` split at the commas that are outside parentheses."""
+    parts, depth, current = [], 0, ""
+    for c in text:
+        depth += {"(": 1, ")": -1}.get(c, 0)
+        if c == "," and depth == 0:
+            parts.append(current)
+            current = ""
+        else:
+            current += c
+    parts.append(current)
+    return [p.strip() for p in parts if p.strip()]
+
+
+def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
+    numerator, denominator = sympy.fraction(sympy.cancel(expr))
+    return max(sympy.Poly(numerator, *symbols).total_degree(), sympy.Poly(denominator, *symbols).total_degree())
+
+
+def _mod(expr: sympy.Expr, value: Mapping[sympy.Symbol, int], p: int) -> int:
+    """A rational expression evaluated modulo p (ZeroDivisionError at a pole)."""
+    if expr.is_Integer:
+        return int(expr) % p
+    if expr.is_Rational:
+        return expr.p * pow(expr.q, -1, p) % p
+    if expr.is_Symbol:
+        return value[expr]
+    if expr.is_Add:
+        return sum(_mod(a, value, p) for a in expr.args) % p
+    if expr.is_Mul:
+        out = 1
+        for a in expr.args:
+            out = out * _mod(a, value, p) % p
+        return out
+    if expr.is_Pow and expr.exp.is_Integer:
+        base = _mod(expr.base, value, p)
+        if expr.exp < 0 and base == 0:
+            raise ZeroDivisionError
+        return pow(base, int(expr.exp), p)
+    raise ValueError(f"not a rational expression: {expr}")
+
+
+@dataclass(frozen=True)
+class ConstraintSet:
+    """A set of states (and parameters) given by equations, solved rationally.
+
+    Attributes
+    ----------
+    text : str
+        The equations as given.
+    solution : tuple of (Symbol, Expr)
+        Each solved variable (a state or a parameter) as a rational function of
+        the others.
+    degree : int
+        1 + the highest degree of the solution's numerators and denominators: the
+        factor by which the Schwartz-Zippel degree bound grows on the set.
+    invariant : bool
+        Whether the motion keeps the set (then the generic stopping rule holds on
+        it; otherwise higher orders could still raise the rank).
+    """
+
+    text: str
+    solution: tuple[tuple[sympy.Symbol, sympy.Expr], ...]
+    degree: int
+    invariant: bool
+
+    def on(self, system: System) -> ConstraintSet:
+        """The same set for ``system`` with restricted inputs (invariance re-decided)."""
+        return ConstraintSet(self.text, self.solution, self.degree, _invariant(system, dict(self.solution)))
+
+    def place(self, evaluator, system: System) -> None:
+        """Move the evaluator's random point onto the set (states and parameter values)."""
+        from .taylor import Redraw
+
+        p = evaluator.p
+        index = {s: i for i, s in enumerate(system.states)}
+        solved = {v for v, _ in self.solution}
+        value: dict[sympy.Symbol, int] = {s: evaluator.point[i] for s, i in index.items()}
+        for symbol in system.parameters:
+            if symbol not in solved:
+                value[symbol] = evaluator.constants.setdefault(symbol, evaluator.rng.randrange(1, p))
+        for variable, expr in self.solution:
+            try:
+                value[variable] = _mod(expr, value, p)
+            except ZeroDivisionError:
+                raise Redraw(-1, f"the constraint {variable} = {expr} has a pole at the random point") from None
+            if variable in index:
+                evaluator.point[index[variable]] = value[variable]
+            else:
+                evaluator.constants[variable] = value[variable]
+
+
+def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, dict[str, str]]:
+    """``--where "cxdot = 0, cydot = 0"``: the constraint set on states and
+    parameters, and the inputs it fixes (name -> value, as for ``--input``).
+
+    Raises
+    ------
+    ModelError
+        An equation that is not ``lhs = rhs``, an unknown symbol, an input that is
+        not set to a number, no rational solution, or a solved variable inside a
+        transcendental function (the engine draws such values independently).
+    """
+    names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
+    inputs = set(system.inputs)
+    fixed_inputs: dict[str, str] = {}
+    equations: list[sympy.Expr] = []
+    for piece in _split(text):
+        sides = piece.replace("==", "=").split("=")
+        if len(sides) != 2 or not sides[0].strip() or not sides[1].strip():
+            raise ModelError(f"--where: {piece!r} is not an equation lhs = rhs")
+        expr = parse_expression(f"({sides[0]}) - ({sides[1]})", names, where=f"--where {piece!r}")
+        if expr.free_symbols & inputs:
+            if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
+                raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
+            (u,) = expr.free_symbols
+            fixed_inputs[u.name] = str(sympy.solve(expr, u)[0])
+            continue
+        if sympy.expand(expr) == 0:
+            continue  # holds everywhere: the set is the whole space
+        if not expr.free_symbols:
+            raise ModelError(f"--where {piece!r}: the equation has no solution")
+        equations.append(expr)
+    if not equations:
+        return None, fixed_inputs
+    order = [s for s in (*system.states, *system.parameters)]
+    chosen: list[sympy.Symbol] = []
+    for expr in equations:
+        candidates = [s for s in order if s in expr.free_symbols and s not in chosen
+                      and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
+        if not candidates:
+            raise ModelError(f"--where: cannot solve {expr} = 0 rationally for a state or parameter")
+        chosen.append(candidates[0])
+    solutions = sympy.solve(equations, chosen, dict=True)
+    others = [s for s in order if s not in chosen]
+    if len(solutions) != 1 or set(solutions[0]) != set(chosen) or not all(
+        v.is_rational_function(*others) and not (v.free_symbols & set(chosen)) for v in solutions[0].values()
+    ):
+        raise ModelError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
+    solution = solutions[0]
+    expressions = [*system.dynamics, *(e for _, e in system.outputs)]
+    for expr in expressions:
+        for atom in expr.atoms(sympy.Function, sympy.Pow):
+            if isinstance(atom, sympy.Pow) and atom.exp.is_Integer:
+                continue
+            inside = atom.free_symbols & set(chosen)
+            if inside:
+                raise ModelError(
+                    f"--where: {sorted(map(str, inside))[0]} appears inside {atom}; a constraint can fix only "
+                    "variables that enter the model rationally (the engine draws transcendental values independently)"
+                )
+    degree = 1 + max(_degree(v, others) for v in solution.values())
+    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution)), fixed_inputs
+
+
+def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr]) -> bool:
+    """Whether the motion keeps the set x_i = g_i(others) (for every input)."""
+    states = list(system.states)
+    f = [system.substitute_values(e) for e in system.dynamics]
+    on_set = dict(solution)
+    for variable, g in solution.items():
+        if variable not in states:
+            continue  # a parameter relation holds at all times
+        residual = variable - g
+        if system.time == "continuous":
+            change = sum(sympy.diff(residual, x) * fx for x, fx in zip(states, f))
+        else:
+            change = residual.xreplace(dict(zip(states, f)))
+        if sympy.cancel(sympy.together(change.xreplace(on_set))) != 0:
+            return False
+    return True
