@@ -20,14 +20,16 @@ def run(*args, cwd=None):
 
 
 def test_check_all_prints_the_table():
-    out = run("check", "--all", "--seed", "1")
+    """Every built-in, here in continuous time (the README's main command runs both forms)."""
+    out = run("check", "--all", "--seed", "1", "--time", "continuous")
     assert out.returncode == 0, out.stderr
     lines = out.stdout.splitlines()
     assert lines[0].split()[:5] == ["model", "time", "n", "rank", "verdict"]
     rows = {(line.split()[0], line.split()[1]): line.split()[3] for line in lines[2:]}
     assert rows[("slam1.5d-beacon", "continuous")] == "4"
-    assert rows[("slam1.5d", "discrete")] == "2"
+    assert rows[("slam1.5d", "continuous")] == "2"
     assert rows[("slam1.5d-disparity", "continuous")] == "2"
+    assert rows[("slam3d-L1-B0", "continuous")] == "8" and rows[("vins-quaternion-F1", "continuous")] == "8"
 
 
 @pytest.mark.parametrize("model,code,rank", [("slam1.5d-beacon", 0, 4), ("slam1.5d", 1, 2), ("slam1.5d-disparity", 1, 2)])
@@ -55,7 +57,8 @@ def test_python_dash_m_and_options():
 def test_models_lists_builtins():
     out = run("models")
     assert out.returncode == 0
-    assert [line.split()[0] for line in out.stdout.splitlines()] == ["slam1.5d-beacon", "slam1.5d", "slam1.5d-disparity", "slam2d"]
+    assert [line.split()[0] for line in out.stdout.splitlines()] == ["slam1.5d-beacon", "slam1.5d", "slam1.5d-disparity", "slam2d",
+                                                                 "slam3d", "vins"]
 
 
 def test_model_file(tmp_path):
@@ -218,3 +221,10 @@ def test_latex_options_end_to_end(tmp_path):
     assert tight.returncode == 3 and "--point" in tight.stderr and not tight.stdout
     bad = run("latex", "slam1.5d", "--point", "c")
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "--point" in bad.stderr
+
+
+@pytest.mark.parametrize("model,option", [("slam2d", "landmarks=0"), ("vins", "features=0"), ("slam3d", "landmarks=0")])
+def test_impossible_option_combinations_are_bad_input(model, option):
+    """A model with nothing to measure is the user's input, not our bug: exit 2, one line."""
+    out = run("check", model, "-o", option)
+    assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1 and "internal" not in out.stderr

@@ -16,8 +16,12 @@ from observability.system import System
 
 from .slam15d import slam15d, slam15d_beacon, slam15d_disparity
 from .slam2d import slam2d
+from .slam3d import slam3d
+from .vins import ATTITUDES, vins
 
-__all__ = ["BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity", "slam2d"]
+__all__ = [
+    "BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity", "slam2d", "slam3d", "vins",
+]
 
 
 def _choice(*allowed: str) -> Callable[[str, str], str]:
@@ -84,6 +88,18 @@ BUILTINS: dict[str, BuiltinModel] = {
             "planar monocular SLAM, N unknown landmarks, M beacons, optional disparity",
             {**_TIME, "landmarks": _count, "beacons": _count, "disparity": _flag, "f": _number},
         ),
+        BuiltinModel(
+            "slam3d",
+            slam3d,
+            "3-D monocular SLAM, quaternion attitude, N unknown landmarks, M beacons, optional disparity",
+            {**_TIME, "landmarks": _count, "beacons": _count, "disparity": _flag},
+        ),
+        BuiltinModel(
+            "vins",
+            vins,
+            "visual-inertial navigation: IMU inputs, K point features, optional biases, 4 attitude forms",
+            {**_TIME, "features": _count, "biases": _flag, "attitude": _choice(*ATTITUDES)},
+        ),
     )
 }
 
@@ -109,7 +125,10 @@ def build(name: str, options: Mapping[str, str] | None = None) -> System:
             kwargs[key] = model.options[key](key, text)
         else:
             values[key] = parse_number(text, f"option {key}")
-    system = model.builder(**kwargs)
+    try:
+        system = model.builder(**kwargs)
+    except ValueError as exc:  # the builders' own checks on option combinations
+        raise ModelError(f"{name}: {exc}") from None
     unknown = [k for k in values if k not in {p.name for p in system.parameters}]
     if unknown:
         choices = sorted(model.options) + [p.name for p in system.parameters]

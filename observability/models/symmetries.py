@@ -14,7 +14,7 @@ import sympy
 
 from observability.symmetry import EPSILON, Symmetry
 
-__all__ = ["planar_symmetries", "line_symmetries"]
+__all__ = ["planar_symmetries", "line_symmetries", "spatial_symmetries"]
 
 S = sympy.Symbol
 
@@ -112,3 +112,87 @@ def line_symmetries(positions: Sequence[str], velocities: Sequence[str], inverse
     grow = {p: S(p) for p in (*positions, *velocities)} | {d: -S(d) for d in inverse_depths}
     description = "enlarges the scene about the origin: positions and speed grow, inverse depths shrink"
     return translation, Symmetry.of("scale", description, scale, grow)
+
+
+_HALF_COS, _HALF_SIN = sympy.cos(EPSILON / 2), sympy.sin(EPSILON / 2)
+_AXES = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
+
+
+def _axis_rotation(axis: str) -> sympy.Matrix:
+    c, s = sympy.cos(EPSILON), sympy.sin(EPSILON)
+    return {
+        "x": sympy.Matrix([[1, 0, 0], [0, c, -s], [0, s, c]]),
+        "y": sympy.Matrix([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
+        "z": sympy.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+    }[axis]
+
+
+def spatial_symmetries(
+    points: Sequence[tuple[str, str, str]],
+    velocities: Sequence[tuple[str, str, str]],
+    quaternions: Sequence[tuple[str, str, str, str]] = (),
+    yaws: Sequence[str] = (),
+    gibbs: Sequence[tuple[str, str, str]] = (),
+    axes: str = "xyz",
+    scale: bool = True,
+    quaternion_norm: bool = True,
+) -> tuple[Symmetry, ...]:
+    """Translations, rotations about the world axes through the origin, scale,
+    and the norm of each quaternion, for a 3-D scene.
+
+    Parameters
+    ----------
+    points, velocities : (x, y, z) state names (velocities rotate and scale, never translate).
+    quaternions : (q0, q1, q2, q3) attitudes (body to world): a world rotation
+        multiplies them on the left by (cos(eps/2), sin(eps/2) axis).
+    yaws : Euler yaw angles (they turn with a rotation about z; only z is declared then).
+    gibbs : Gibbs vectors (body to world): a world rotation by eps about a composes
+        them with t a, t = tan(eps/2): (t a + g + t a x g) / (1 - t a . g).
+    axes : the rotation axes to declare ("z" for a scene with gravity).
+    """
+    from observability.rotations import quaternion_product
+
+    out: list[Symmetry] = []
+    for k, axis in enumerate("xyz"):
+        out.append(Symmetry.of(
+            f"translation {axis}", f"moves the camera and every point along {axis}",
+            {p[k]: _sum(S(p[k]), EPSILON) for p in points}, {p[k]: 1 for p in points},
+        ))
+    for axis in axes:
+        turn = _axis_rotation(axis)
+        generator = turn.diff(EPSILON).subs(EPSILON, 0)
+        images: dict[str, sympy.Expr] = {}
+        field: dict[str, sympy.Expr] = {}
+        for triple in (*points, *velocities):
+            vector = sympy.Matrix([S(n) for n in triple])
+            images |= dict(zip(triple, turn * vector))
+            field |= dict(zip(triple, generator * vector))
+        half = [_HALF_COS, *(_HALF_SIN * a for a in _AXES[axis])]
+        for q in quaternions:
+            images |= dict(zip(q, quaternion_product(half, [S(n) for n in q])))
+            field |= dict(zip(q, quaternion_product([0, *(sympy.Rational(a, 2) for a in _AXES[axis])], [S(n) for n in q])))
+        t = sympy.tan(EPSILON / 2)
+        for triple in gibbs:
+            g = [S(n) for n in triple]
+            a = [t * e for e in _AXES[axis]]
+            across = (a[1] * g[2] - a[2] * g[1], a[2] * g[0] - a[0] * g[2], a[0] * g[1] - a[1] * g[0])
+            denominator = 1 - sum(ai * gi for ai, gi in zip(a, g))
+            images |= {n: (ai + gi + ci) / denominator for n, ai, gi, ci in zip(triple, a, g, across)}
+            e = _AXES[axis]
+            e_cross_g = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
+            e_dot_g = sum(ei * gi for ei, gi in zip(e, g))
+            field |= {n: (ei + ci + e_dot_g * gi) / 2 for n, ei, ci, gi in zip(triple, e, e_cross_g, g)}
+        if axis == "z":
+            images |= {y: _sum(S(y), EPSILON) for y in yaws}
+            field |= {y: 1 for y in yaws}
+        out.append(Symmetry.of(f"rotation about the {axis}-axis", f"turns the whole scene about the world {axis}-axis",
+                               images, field))
+    if scale:
+        positions = [n for p in (*points, *velocities) for n in p]
+        out.append(Symmetry.of("scale", "enlarges the whole scene about the origin (velocities too)",
+                               {n: _product(_GROW, S(n)) for n in positions}, {n: S(n) for n in positions}))
+    if quaternion_norm:
+        for q in quaternions:
+            out.append(Symmetry.of(f"the norm of ({', '.join(q)})", "scales the attitude quaternion, which only its direction matters",
+                                   {n: _product(_GROW, S(n)) for n in q}, {n: S(n) for n in q}))
+    return tuple(out)

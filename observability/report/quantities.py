@@ -30,7 +30,7 @@ MAX_REWRITE_CHARS = 20_000
 
 #: Entries up to this many characters are factored; longer ones only have common
 #: factors pulled out (multivariate factoring takes seconds on them).
-MAX_FACTOR_CHARS = 1500
+MAX_FACTOR_CHARS = 400
 
 
 def tidy(expr: sympy.Expr) -> sympy.Expr:
