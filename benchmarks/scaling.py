@@ -1,7 +1,8 @@
-"""Scaling of the exact randomized rank on planar SLAM: N = 1 ... 1000 landmarks.
+"""Scaling of the exact randomized rank on planar and 3-D SLAM: N = 1 ... 1000 landmarks.
 
 For ``slam2d`` with 2 beacons (rank must be n) and with 0 beacons (rank must be
-n - 4), n = 6 + 2N, each size is run in a fresh process (so peak memory is that
+n - 4), n = 6 + 2N, and for ``slam3d`` with 3 beacons (rank n - 1: the
+quaternion's norm) and 0 beacons (rank n - 8), n = 13 + 3N, each size is run in a fresh process (so peak memory is that
 size's own) and timed from model construction to the full verdict, named
 unobservable directions included, i.e. what ``observability check slam2d -o
 landmarks=N -o beacons=M`` does after the interpreter has started. Prints a table
@@ -23,11 +24,10 @@ from pathlib import Path
 CHILD = r"""
 import json, resource, sys, time
 start = time.perf_counter()
-from observability.models.slam2d import slam2d
-from observability import analyze
-N, M = int(sys.argv[1]), int(sys.argv[2])
+from observability import analyze, models
+name, N, M = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 t0 = time.perf_counter()
-system = slam2d(N, M)
+system = models.build(name, {"landmarks": str(N), "beacons": str(M)})
 result = analyze(system, seed=1)
 seconds = time.perf_counter() - t0
 print(json.dumps({"N": N, "M": M, "n": system.n, "rank": result.rank, "seconds": seconds,
@@ -37,9 +37,9 @@ print(json.dumps({"N": N, "M": M, "n": system.n, "rank": result.rank, "seconds":
 """
 
 
-def measure(n_landmarks: int, beacons: int) -> dict:
+def measure(model: str, n_landmarks: int, beacons: int) -> dict:
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, str(n_landmarks), str(beacons)], capture_output=True, text=True, check=True
+        [sys.executable, "-c", CHILD, model, str(n_landmarks), str(beacons)], capture_output=True, text=True, check=True
     )
     return json.loads(out.stdout)
 
@@ -56,19 +56,21 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 100, 300, 1000])
     parser.add_argument("--plot", type=Path, default=Path(__file__).resolve().parents[1] / "reports" / "scaling.png")
     args = parser.parse_args()
-    results: dict[int, list[dict]] = {}
-    print(f"{'beacons':>7} {'N':>5} {'n':>5} {'rank':>5} {'expected':>8} {'ok':>3} {'seconds':>8} {'peak MiB':>9}  directions")
-    for beacons, lost in ((2, 0), (0, 4)):
+    results: dict[tuple[str, int, int], list[dict]] = {}
+    print(f"{'model':7} {'beacons':>7} {'N':>5} {'n':>5} {'rank':>5} {'expected':>8} {'ok':>3} {'seconds':>8} "
+          f"{'peak MiB':>9}  directions")
+    for model, beacons, lost in (("slam2d", 2, 0), ("slam2d", 0, 4), ("slam3d", 3, 1), ("slam3d", 0, 8)):
         rows = []
         for size in args.sizes:
-            row = measure(size, beacons)
+            row = measure(model, size, beacons)
             ok = row["rank"] == row["n"] - lost
             rows.append(row)
             print(
-                f"{beacons:>7} {size:>5} {row['n']:>5} {row['rank']:>5} {row['n'] - lost:>8} {'yes' if ok else 'NO':>3} "
-                f"{row['seconds']:8.3f} {row['peak_mib']:9.1f}  {', '.join(row['directions']) or '-'}"
+                f"{model:7} {beacons:>7} {size:>5} {row['n']:>5} {row['rank']:>5} {row['n'] - lost:>8} "
+                f"{'yes' if ok else 'NO':>3} {row['seconds']:8.3f} {row['peak_mib']:9.1f}  "
+                f"{', '.join(row['directions']) or '-'}"
             )
-        results[beacons] = rows
+        results[(model, beacons, lost)] = rows
         if sum(r["N"] >= 10 for r in rows) >= 2:
             print(f"        growth exponent (time ~ n^k, N >= 10): k = {exponent(rows):.2f}")
     try:
@@ -80,12 +82,12 @@ def main() -> None:
         print("matplotlib not installed: no plot (pip install -e '.[bench]')")
         return
     fig, ax = plt.subplots(figsize=(6, 4))
-    for beacons, rows in results.items():
-        label = f"{beacons} beacons (rank {'n' if beacons else 'n - 4'})"
+    for (model, beacons, lost), rows in results.items():
+        label = f"{model}, {beacons} beacons (rank {'n' if not lost else f'n - {lost}'})"
         ax.loglog([r["n"] for r in rows], [r["seconds"] for r in rows], "o-", label=label)
-    ax.set_xlabel("number of states n = 6 + 2N")
+    ax.set_xlabel("number of states n (slam2d: 6 + 2N, slam3d: 13 + 3N)")
     ax.set_ylabel("seconds to the full verdict")
-    ax.set_title("slam2d: exact randomized rank (mod 2^61-1)")
+    ax.set_title("exact randomized rank mod 2^61-1, directions named")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
