@@ -328,8 +328,10 @@ def _on_set(
                   unknown_inputs=system.unknown_inputs, restriction=f"the set {where.text}")
     rank = result.rank
     reason = ""
-    if result.dependence is not None and rank < n:
-        reason = (f"rank at least {rank} mod 2^61-1 on the set, but {result.dependence}; a ball-arithmetic "
+    if result.dependence is not None:
+        # Without provably independent atoms even a full rank mod p needs the
+        # ball certificate, which does not draw its point on a set.
+        reason = (f"rank {rank} mod 2^61-1 on the set, but {result.dependence}; a ball-arithmetic "
                   "certificate is not available on a constraint set")
     elif not where.invariant and rank < n:
         reason = (f"rank {rank} of {n} at points of the set (orders 0..{result.orders}), a lower bound: the motion "
@@ -340,7 +342,7 @@ def _on_set(
         return ObservabilityResult(
             rank=None, observable=None, error_probability=None, observable_states=None,
             seconds=time.perf_counter() - start, details=f"undecided: {reason}",
-            lower_bound=rank if result.dependence is None else None, **common,
+            lower_bound=None if result.dependence is not None else rank, **common,
         )
     details = (f"exact rank mod 2^61-1 at {result.draws} random point(s) of the set (seed {result.seed}; the set "
                f"is kept by the motion, so the stopping rule holds on it)")

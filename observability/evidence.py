@@ -16,13 +16,8 @@ A proven rank r of n rests on two facts (:mod:`observability.proof`):
 strings); ``benchmarks/check_proof.py`` re-derives the Lie derivatives and
 re-checks both facts with sympy alone.
 
-Conventions the checker must share (also written into the artefact): in
-continuous time the row of order k is the gradient of L_f^k h, with the inputs
-generic — input ``u`` and its derivatives u', u'', ... take the listed values in
-order; in discrete time the row of order k is the gradient of h(x_k, u_k) with
-x_0 = x and x_(k+1) = F(x_k, u_k), the input values listed by step. Outputs
-that use the previous state are first rewritten with the inverse motion model
-(the artefact records the rewritten outputs).
+The conventions the checker must share are :data:`CONVENTIONS` (also written
+into the artefact).
 """
 
 from __future__ import annotations
@@ -46,6 +41,15 @@ from .system import System
 __all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
 
 EVIDENCE_FORMAT = "observability proof 1"
+#: The rows' definition the independent checker must share.
+CONVENTIONS = (
+    "In continuous time the row of order k is the gradient of L_f^k h, with the inputs "
+    "generic: input u and its derivatives u', u'', ... take the listed values in "
+    "order; in discrete time the row of order k is the gradient of h(x_k, u_k) with "
+    "x_0 = x and x_(k+1) = F(x_k, u_k), the input values listed by step. Outputs "
+    "that use the previous state are first rewritten with the inverse motion model "
+    "(the artefact records the rewritten outputs)."
+)
 #: CPU seconds for the symbolic rows and the exact minor of the artefact.
 EVIDENCE_BUDGET = 60.0
 _ATTEMPTS = 12
@@ -142,8 +146,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
     return {
         "format": EVIDENCE_FORMAT,
         "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
-        "conventions": __doc__.split("Conventions the checker must share (also written into the artefact): ")[1]
-        .split("\n\n")[0].replace("\n", " "),
+        "conventions": CONVENTIONS,
         "model": {
             "name": system.name,
             "time": system.time,
