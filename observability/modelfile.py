@@ -31,11 +31,30 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     inputs = { v = "0" }              # profiles: "0", "constant", a number, "degree=K"
     where = ""                        # or equations in states and parameters, e.g. "x = bx"
 
-Expressions are parsed by :func:`observability.expressions.parse_expression`.
+Vectors: a declaration ``"p[3]"`` in ``states``, ``inputs`` or ``parameters``
+declares the scalars ``p_0, p_1, p_2`` (``unknown_inputs`` may name a vector input); expressions may use
+``p`` as a whole (vector syntax in :mod:`observability.expressions`), ``p[0]`` or
+``p_0``. A table entry keyed by a vector (``p = "v"`` in ``[dynamics]``, a
+symmetry image, a ``[latex]`` name, a motion's input) gives all its components;
+an output or quantity whose expression is a vector ``z`` becomes ``z_0, z_1, ...``;
+a parameter table entry may be a list of numbers. Everything is expanded to
+scalars here, so the analysis never sees a vector::
+
+    states = ["p[3]", "v[3]", "q[4]"]
+    inputs = ["w[3]", "a[3]"]
+    [parameters]
+    g = [0, 0, -9.81]
+    [dynamics]
+    p = "v"
+    v = "rotation_from_quaternion(q) @ a + g"
+    q = "quaternion_rate(q, w)"
+
+Expressions are parsed by :func:`observability.expressions.parse_value`.
 """
 
 from __future__ import annotations
 
+import re
 import stat
 import tomllib
 from pathlib import Path
@@ -44,7 +63,7 @@ from typing import Any
 import sympy
 
 from .errors import ModelError, ModelFileError
-from .expressions import parse_expression, parse_number
+from .expressions import parse_number, parse_value
 from .symmetry import EPSILON, Symmetry
 from .system import Motion, System
 
@@ -53,6 +72,11 @@ __all__ = ["load_model", "parse_model"]
 #: A model file larger than this is refused before it is read (a model with
 #: thousands of states takes well under a megabyte).
 MAX_FILE_BYTES = 8 * 1024 * 1024
+
+#: The most components one declared vector may have.
+MAX_VECTOR_SIZE = 100_000
+
+_VECTOR = re.compile(r"^(\w+)\[(\d+)\]$")
 
 _KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities",
          "unknown_inputs", "unknown_input_order", "motions"}
@@ -84,16 +108,88 @@ def load_model(path: str | Path) -> System:
     return parse_model(text, source=str(path))
 
 
-def _names(data: dict[str, Any], key: str, source: str, required: bool) -> list[str]:
+def _names(data: dict[str, Any], key: str, source: str, required: bool) -> tuple[list[str], dict[str, tuple[str, ...]]]:
+    """The scalar names a list declares, vectors ``"p[3]"`` expanded, and the vectors."""
     value = data.get(key, [] if not required else None)
     if value is None:
         raise ModelFileError(f"{source}: missing required key {key!r}")
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ModelFileError(f"{source}: {key!r} must be a list of names (strings), got {value!r}")
+    names: list[str] = []
+    vectors: dict[str, tuple[str, ...]] = {}
     for v in value:
-        if not v.isidentifier():
-            raise ModelFileError(f"{source}: {key}: {v!r} is not a valid name")
-    return value
+        match = _VECTOR.match(v)
+        if match and match.group(1).isidentifier():
+            size = int(match.group(2))
+            if not 1 <= size <= MAX_VECTOR_SIZE:
+                raise ModelFileError(f"{source}: {key}: {v!r}: a vector has 1 to {MAX_VECTOR_SIZE} components")
+            vectors[match.group(1)] = _components(match.group(1), size)
+            names.extend(vectors[match.group(1)])
+        elif not v.isidentifier():
+            raise ModelFileError(f"{source}: {key}: {v!r} is not a valid name (a name, or a vector such as \"p[3]\")")
+        else:
+            names.append(v)
+    return names, vectors
+
+
+def _components(name: str, size: int) -> tuple[str, ...]:
+    return tuple(f"{name}_{i}" for i in range(size))
+
+
+def _check_declarations(declared: list[str], vectors: dict[str, tuple[str, ...]], source: str) -> None:
+    """Every scalar, component and vector name once: ``p`` and ``p[3]``, or
+    ``p_1`` and ``p[3]``, would make expressions ambiguous."""
+    owner = {c: f"component {i} of vector {v}[{len(cs)}]" for v, cs in vectors.items() for i, c in enumerate(cs)}
+    seen: set[str] = set()
+    for name in declared:
+        if name in seen:
+            why = f" ({owner[name]})" if name in owner else ""
+            raise ModelFileError(f"{source}: {name!r} is declared twice{why}")
+        seen.add(name)
+    for v, cs in vectors.items():
+        if v in seen:
+            raise ModelFileError(f"{source}: {v!r} is declared both as a name and as the vector {v}[{len(cs)}]")
+
+
+def _entries(
+    table: dict[str, str],
+    section: str,
+    source: str,
+    names: dict[str, sympy.Symbol],
+    vectors: dict[str, tuple[sympy.Symbol, ...]],
+    targets: dict[str, tuple[sympy.Symbol, ...]] | None = None,
+    allow_prev: bool = False,
+) -> dict[str, sympy.Expr]:
+    """Parse a table of name = "expression" into scalar entries. ``targets``: the
+    vectors its keys may name (states for dynamics and symmetries), whose value
+    must be a vector of their length; without targets (outputs, quantities) a
+    vector value ``z`` gives the entries ``z_0, z_1, ...``."""
+    out: dict[str, sympy.Expr] = {}
+    for key, text in table.items():
+        where = f"{source}: {section}.{key}"
+        value = parse_value(text, names, where=where, allow_prev=allow_prev, vectors=vectors)
+        if isinstance(value, sympy.ImmutableMatrix):
+            rows, cols = value.shape
+            if cols != 1:
+                raise ModelFileError(f"{where}: a {rows}x{cols} matrix; a scalar or a vector is expected")
+            if targets is None:
+                keys = _components(key, rows)
+            elif key in targets:
+                keys = tuple(s.name for s in targets[key])
+                if len(keys) != rows:
+                    raise ModelFileError(f"{where}: {key}[{len(keys)}] is given a vector of {rows} components")
+            else:
+                raise ModelFileError(f"{where}: a vector of {rows} components for {key!r}, which is not a vector state")
+            items = list(zip(keys, value))
+        else:
+            if targets and key in targets:
+                raise ModelFileError(f"{where}: {key}[{len(targets[key])}] is a vector, got a scalar")
+            items = [(key, value)]
+        for name, expr in items:
+            if name in out:
+                raise ModelFileError(f"{where}: {name!r} is given twice (as a component and by name)")
+            out[name] = expr
+    return out
 
 
 def _table(data: dict[str, Any], key: str, source: str, required: bool) -> dict[str, Any] | None:
@@ -110,11 +206,13 @@ def _table(data: dict[str, Any], key: str, source: str, required: bool) -> dict[
     return value
 
 
-def _symmetries(raw: Any, states: list[str], inputs: list[str], parameters: Any, source: str) -> list[Symmetry]:
+def _symmetries(raw: Any, states: list[str], names: dict[str, sympy.Symbol],
+                vectors: dict[str, tuple[sympy.Symbol, ...]], state_vectors: dict[str, tuple[sympy.Symbol, ...]],
+                source: str) -> list[Symmetry]:
     """``[symmetries.NAME]`` tables: state = "image in epsilon", optional description."""
     if not isinstance(raw, dict):
         raise ModelFileError(f"{source}: [symmetries] must hold tables [symmetries.NAME]")
-    names = {n: sympy.Symbol(n) for n in (*states, *inputs, *parameters)} | {"epsilon": EPSILON}
+    names = names | {"epsilon": EPSILON}
     out = []
     for name, table in raw.items():
         if not isinstance(table, dict):
@@ -122,18 +220,18 @@ def _symmetries(raw: Any, states: list[str], inputs: list[str], parameters: Any,
         description = table.get("description", "")
         if not isinstance(description, str):
             raise ModelFileError(f"{source}: symmetries.{name}.description must be a string")
-        images = {}
-        for key, text in table.items():
-            if key == "description":
-                continue
-            if key not in states:
+        images = {k: v for k, v in table.items() if k != "description"}
+        for key, text in images.items():
+            if key not in states and key not in state_vectors:
                 raise ModelFileError(f"{source}: symmetries.{name}.{key}: {key!r} is not a state")
-            images[key] = parse_expression(text, names, where=f"{source}: symmetries.{name}.{key}")
+            if not isinstance(text, str):
+                raise ModelFileError(f"{source}: symmetries.{name}.{key} must be an expression in a string")
+        images = _entries(images, f"symmetries.{name}", source, names, vectors, targets=state_vectors)
         out.append(Symmetry.of(name, description, images))
     return out
 
 
-def _motions(raw: Any, source: str) -> list[Motion]:
+def _motions(raw: Any, input_vectors: dict[str, tuple[str, ...]], source: str) -> list[Motion]:
     if not isinstance(raw, dict):
         raise ModelFileError(f"{source}: [motions] must hold tables [motions.NAME]")
     out = []
@@ -154,7 +252,8 @@ def _motions(raw: Any, source: str) -> list[Motion]:
             raise ModelFileError(f"{where}: inputs must be a table of input = \"0\" | \"constant\" | number | \"degree=K\"")
         if not equations and not inputs:
             raise ModelFileError(f"{where}: a motion needs where or inputs")
-        out.append(Motion(name, equations, {k: str(v) for k, v in inputs.items()}, description))
+        profiles = {c: str(v) for k, v in inputs.items() for c in input_vectors.get(k, (k,))}
+        out.append(Motion(name, equations, profiles, description))
     return out
 
 
@@ -173,34 +272,57 @@ def parse_model(text: str, source: str = "<model>") -> System:
     time = data.get("time", "continuous")
     if time not in ("continuous", "discrete"):
         raise ModelFileError(f"{source}: 'time' must be \"continuous\" or \"discrete\", got {time!r}")
-    states = _names(data, "states", source, required=True)
-    inputs = _names(data, "inputs", source, required=False)
+    states, state_vectors = _names(data, "states", source, required=True)
+    inputs, input_vectors = _names(data, "inputs", source, required=False)
     raw_params = data.get("parameters", [])
     parameters: list[str] | dict[str, Any]
+    parameter_vectors: dict[str, tuple[str, ...]] = {}
     if isinstance(raw_params, dict):
         parameters = {}
         for key, value in raw_params.items():
             if not key.isidentifier():
                 raise ModelFileError(f"{source}: parameters: {key!r} is not a valid name")
-            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-                raise ModelFileError(f"{source}: parameters.{key} must be a number, got {value!r}")
-            parameters[key] = parse_number(str(value), f"{source}: parameters.{key}")
+            if isinstance(value, list) and 1 <= len(value) <= MAX_VECTOR_SIZE:
+                parameter_vectors[key] = _components(key, len(value))
+                items = list(zip(parameter_vectors[key], value))
+            else:
+                items = [(key, value)]
+            for component, number in items:
+                if isinstance(number, bool) or not isinstance(number, (int, float, str)):
+                    raise ModelFileError(f"{source}: parameters.{key} must be a number or a list of numbers, got {value!r}")
+                parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
     else:
-        parameters = _names(data, "parameters", source, required=False)
-    dynamics = _table(data, "dynamics", source, required=True)
-    outputs = _table(data, "outputs", source, required=True)
+        parameters, parameter_vectors = _names(data, "parameters", source, required=False)
+    declared = [*states, *inputs, *parameters]
+    vector_names = state_vectors | input_vectors | parameter_vectors
+    _check_declarations(declared, vector_names, source)
+    names = {n: sympy.Symbol(n) for n in declared}
+    vectors = {v: tuple(names[c] for c in cs) for v, cs in vector_names.items()}
+    targets = {v: vectors[v] for v in state_vectors}
+    discrete = time == "discrete"
+    dynamics = _entries(_table(data, "dynamics", source, required=True), "dynamics", source, names, vectors, targets)
+    outputs = _entries(_table(data, "outputs", source, required=True), "outputs", source, names, vectors,
+                       allow_prev=discrete)
     inverse = _table(data, "inverse", source, required=False)
+    if inverse is not None:
+        inverse = _entries(inverse, "inverse", source, names, vectors, targets)
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ModelFileError(f"{source}: 'description' must be a string")
-    symmetries = _symmetries(data.get("symmetries", {}), states, inputs, parameters, source)
-    latex_names = _table(data, "latex", source, required=False) or {}
-    unknown_inputs = _names(data, "unknown_inputs", source, required=False)
-    motions = _motions(data.get("motions", {}), source)
+    symmetries = _symmetries(data.get("symmetries", {}), states, names, vectors, targets, source)
+    latex_names = {}
+    for key, value in (_table(data, "latex", source, required=False) or {}).items():
+        # A vector's symbol typesets its components as subscripted entries.
+        components = vector_names.get(key, ())
+        latex_names |= {c: f"{value}_{{{i}}}" for i, c in enumerate(components)} if components else {key: value}
+    unknown_inputs = [c for n in _names(data, "unknown_inputs", source, required=False)[0]
+                      for c in input_vectors.get(n, (n,))]
+    motions = _motions(data.get("motions", {}), input_vectors, source)
     order = data.get("unknown_input_order")
     if order is not None and (isinstance(order, bool) or not isinstance(order, int) or not 0 <= order <= 20):
         raise ModelFileError(f"{source}: 'unknown_input_order' must be an integer from 0 to 20, got {order!r}")
     quantities = _table(data, "quantities", source, required=False) or {}
+    quantities = _entries(quantities, "quantities", source, names, vectors)
     try:
         return System(
             states,

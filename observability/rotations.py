@@ -20,11 +20,19 @@ from collections.abc import Sequence
 import sympy
 
 __all__ = [
-    "skew", "cross", "dot", "quaternion_product", "rotation_from_quaternion", "rotation_from_euler",
+    "vector", "skew", "cross", "dot", "quaternion_product", "rotation_from_quaternion", "rotation_from_euler",
     "rotation_from_gibbs", "quaternion_rate", "euler_rate", "gibbs_rate",
 ]
 
 Vector = Sequence[sympy.Expr]
+
+
+def vector(name: str, size: int) -> sympy.ImmutableMatrix:
+    """The column of symbols ``name_0 .. name_{size-1}``, as a model file's
+    ``"name[size]"`` declares them; usable as a key in a System's dynamics."""
+    if not isinstance(size, int) or isinstance(size, bool) or size < 1:
+        raise ValueError(f"a vector has at least one component, got size {size!r}")
+    return sympy.ImmutableMatrix([sympy.Symbol(f"{name}_{i}") for i in range(size)])
 
 
 def skew(v: Vector) -> sympy.Matrix:

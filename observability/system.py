@@ -69,6 +69,21 @@ def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_pre
     return value
 
 
+def _vector_items(items: Iterable[tuple[Any, Any]], what: str) -> Iterable[tuple[Any, Any]]:
+    """Entries with vector values expanded to scalars: a key that is a vector of
+    states (:func:`~observability.rotations.vector`) takes a column of the same
+    length, a name key with a column value gives ``name_0, name_1, ...``."""
+    for key, value in items:
+        if isinstance(key, sympy.MatrixBase):
+            if not (isinstance(value, sympy.MatrixBase) and value.shape == key.shape and key.shape[1] == 1):
+                raise ModelError(f"{what} given for the vector {list(key)}: expected a column of {key.shape[0]} expressions")
+            yield from zip(key, value)
+        elif isinstance(value, sympy.MatrixBase) and value.shape[1] == 1 and isinstance(key, str):
+            yield from ((f"{key}_{i}", e) for i, e in enumerate(value))
+        else:
+            yield key, value
+
+
 @dataclass(frozen=True)
 class Motion:
     """A motion to examine for lost observability: equations on the states
@@ -94,7 +109,9 @@ class System:
         Expressions may be sympy expressions or strings (parsed safely).
     outputs : mapping name -> expression
         The measured outputs. In discrete time an output may use ``prev(x)``, the
-        previous value of state ``x``.
+        previous value of state ``x``. A column ``sympy.Matrix`` value gives the
+        outputs ``name_0, name_1, ...``; in ``dynamics`` a key may be a vector of
+        states (:func:`~observability.rotations.vector`) with a column value.
     inputs : sequence of str or Symbol, optional
         Known inputs u (the analysis treats them, and their derivatives, as known).
     parameters : sequence of str or Symbol, or mapping name -> value, optional
@@ -199,7 +216,7 @@ class System:
             raise ModelError("outputs must be a non-empty mapping from output name to expression")
         h = []
         output_names: set[str] = set()
-        for key, value in outputs.items():
+        for key, value in _vector_items(outputs.items(), "output"):
             oname = normal_name(str(key), "output")
             if oname in output_names:
                 raise ModelError(f"duplicate output name {oname!r} (names must differ after Unicode normalisation)")
@@ -269,7 +286,7 @@ class System:
         if isinstance(values, Mapping):
             by_name: dict[str, Any] = {}
             state_names = {s.name for s in x}
-            for key, value in values.items():
+            for key, value in _vector_items(values.items(), what):
                 kname = key.name if isinstance(key, sympy.Symbol) else unicodedata.normalize("NFKC", str(key))
                 if kname not in state_names:
                     raise ModelError(f"{what} given for {kname!r}, which is not a state")
@@ -292,7 +309,7 @@ class System:
     def _quantities(quantities: Any, names: Mapping[str, sympy.Symbol], taken: set[str]):
         items = quantities.items() if isinstance(quantities, Mapping) else quantities
         out: list[tuple[sympy.Symbol, sympy.Expr]] = []
-        for key, value in items:
+        for key, value in _vector_items(items, "quantity"):
             qname = normal_name(key.name if isinstance(key, sympy.Symbol) else str(key), "quantity")
             if qname in taken:
                 raise ModelError(f"quantity {qname!r}: the name is already used by a state, input, parameter, output or quantity")

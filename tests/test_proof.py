@@ -173,3 +173,32 @@ def test_proof_file_from_the_command_line(tmp_path):
     refused = subprocess.run([script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)
     assert refused.returncode == 3 and not other.exists() and "lower bound, not proven" in refused.stderr
+
+
+def test_rational_identities_agree_with_cancel_and_reject_a_wrong_field(monkeypatch):
+    """The polynomial-ring route of the identities against sympy's ``cancel`` on
+    the same expressions (the route it replaces for rational systems). slam3d
+    with one beacon: the rotation about the beacon's z-axis, v = (B1 - c) x e_z
+    rotated like every point, the velocity turned and q multiplied by
+    (0, e_z)/2 on the left, is a symmetry by hand (outputs R^T (L - c) are
+    invariant under a common rotation); without its quaternion part the
+    camera-frame coordinates change, so it is not."""
+    from observability.proof import _identities, _rational_identities
+    from observability.rotations import quaternion_product
+
+    system = models.build("slam3d", {"beacons": "1"})
+    S = sympy.Symbol
+    field = {n: 0 for n in (s.name for s in system.states)}
+    for x, y in (("cx", "cy"), ("cxdot", "cydot"), ("L1x", "L1y")):
+        shift = (S("B1x"), S("B1y")) if x in ("cx", "L1x") else (0, 0)
+        field[x], field[y] = -(S(y) - shift[1]), S(x) - shift[0]
+    q = [S(n) for n in ("q0", "q1", "q2", "q3")]
+    field |= dict(zip(("q0", "q1", "q2", "q3"), quaternion_product([0, 0, 0, sympy.Rational(1, 2)], q)))
+    good = [sympy.sympify(field[s.name]) for s in system.states]
+    bad = [0 if s.name.startswith("q") else e for s, e in zip(system.states, good)]
+    assert _rational_identities(system, [good]) is True
+    assert _rational_identities(system, [bad]) is False
+    assert _identities(system, [bad]) is False
+    # The expression route, forced, agrees on the good field.
+    monkeypatch.setattr("observability.proof._rational_identities", lambda *args: None)
+    assert _identities(system, [good]) is True

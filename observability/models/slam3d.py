@@ -18,7 +18,9 @@ carries the same local information.
 
 Expected (the symmetry argument, verified by the analysis): without beacons 3
 translations, 3 rotations, the scale and the norm of q are unobservable (n - 8);
-Hesch et al. (IEEE T-RO 2014) and the planar case of this package.
+Hesch et al. (IEEE T-RO 2014) and the planar case of this package. One beacon
+leaves the rotations and the scaling about it (n - 5), two the rotation about
+the line through them (n - 2), three only the norm of q (n - 1).
 """
 
 from __future__ import annotations
@@ -41,6 +43,10 @@ S = sympy.Symbol
 
 def _landmark(i: int) -> tuple[str, str, str]:
     return f"L{i}x", f"L{i}y", f"L{i}z"
+
+
+def _beacon(j: int) -> tuple[str, str, str]:
+    return f"B{j}x", f"B{j}y", f"B{j}z"
 
 
 def slam3d(landmarks: int = 1, beacons: int = 0, disparity: bool = False, time: Time = "continuous") -> System:
@@ -89,6 +95,9 @@ def slam3d(landmarks: int = 1, beacons: int = 0, disparity: bool = False, time: 
             points=[POSITION] + [_landmark(i) for i in range(1, landmarks + 1)],
             velocities=[VELOCITY],
             quaternions=[QUATERNION],
+            # Two beacons fix a line, not a frame: the scene may still turn about it
+            # (three generic beacons are not collinear, so no line is left).
+            lines=[("B1 and B2", _beacon(1), _beacon(2))] if beacons == 2 else [],
         )
 
     motions = [

@@ -136,6 +136,7 @@ def spatial_symmetries(
     axes: str = "xyz",
     scale: bool = True,
     quaternion_norm: bool = True,
+    lines: Sequence[tuple[str, tuple[str, str, str], tuple[str, str, str]]] = (),
 ) -> tuple[Symmetry, ...]:
     """Translations, rotations about the world axes through the origin, scale,
     and the norm of each quaternion, for a 3-D scene.
@@ -149,8 +150,13 @@ def spatial_symmetries(
     gibbs : Gibbs vectors (body to world): a world rotation by eps about a composes
         them with t a, t = tan(eps/2): (t a + g + t a x g) / (1 - t a . g).
     axes : the rotation axes to declare ("z" for a scene with gravity).
+    lines : (label, a, b) pairs of known points (x, y, z parameter names): the
+        rotation about the line through them, which leaves both in place (two
+        beacons). Its image is rational: the quaternion r = (1, t (b - a)),
+        t = tan(eps/2), turns points about a by R(r) and attitudes to r q; the
+        generator is (b - a) x (p - a).
     """
-    from observability.rotations import quaternion_product
+    from observability.rotations import quaternion_product, rotation_from_quaternion, skew
 
     out: list[Symmetry] = []
     for k, axis in enumerate("xyz"):
@@ -186,6 +192,26 @@ def spatial_symmetries(
             images |= {y: _sum(S(y), EPSILON) for y in yaws}
             field |= {y: 1 for y in yaws}
         out.append(Symmetry.of(f"rotation about the {axis}-axis", f"turns the whole scene about the world {axis}-axis",
+                               images, field))
+    for label, first, second in lines:
+        a = sympy.Matrix([S(n) for n in first])
+        axis = sympy.Matrix([S(m) - S(n) for m, n in zip(second, first)])
+        r = [sympy.Integer(1), *(sympy.tan(EPSILON / 2) * e for e in axis)]
+        turn = rotation_from_quaternion(r, normalized=True)
+        images, field = {}, {}
+        for triple in points:
+            p = sympy.Matrix([S(n) for n in triple])
+            images |= dict(zip(triple, a + turn * (p - a)))
+            field |= dict(zip(triple, skew(axis) * (p - a)))
+        for triple in velocities:
+            v = sympy.Matrix([S(n) for n in triple])
+            images |= dict(zip(triple, turn * v))
+            field |= dict(zip(triple, skew(axis) * v))
+        for q in quaternions:
+            images |= dict(zip(q, quaternion_product(r, [S(n) for n in q])))
+            field |= dict(zip(q, quaternion_product([0, *(e / 2 for e in axis)], [S(n) for n in q])))
+        out.append(Symmetry.of(f"rotation about the line through {label}",
+                               f"turns the whole scene about the line through {label}, which stays in place",
                                images, field))
     if scale:
         positions = [n for p in (*points, *velocities) for n in p]
