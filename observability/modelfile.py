@@ -64,6 +64,7 @@ import sympy
 
 from .errors import ModelError, ModelFileError
 from .expressions import parse_number, parse_value
+from .notation import component_latex, latex_name
 from .symmetry import EPSILON, Symmetry
 from .system import Motion, System
 
@@ -159,11 +160,12 @@ def _entries(
     vectors: dict[str, tuple[sympy.Symbol, ...]],
     targets: dict[str, tuple[sympy.Symbol, ...]] | None = None,
     allow_prev: bool = False,
+    expanded: dict[str, tuple[str, ...]] | None = None,
 ) -> dict[str, sympy.Expr]:
     """Parse a table of name = "expression" into scalar entries. ``targets``: the
     vectors its keys may name (states for dynamics and symmetries), whose value
     must be a vector of their length; without targets (outputs, quantities) a
-    vector value ``z`` gives the entries ``z_0, z_1, ...``."""
+    vector value ``z`` gives the entries ``z_0, z_1, ...``, recorded in ``expanded``."""
     out: dict[str, sympy.Expr] = {}
     for key, text in table.items():
         where = f"{source}: {section}.{key}"
@@ -174,6 +176,8 @@ def _entries(
                 raise ModelFileError(f"{where}: a {rows}x{cols} matrix; a scalar or a vector is expected")
             if targets is None:
                 keys = _components(key, rows)
+                if expanded is not None:
+                    expanded[key] = keys
             elif key in targets:
                 keys = tuple(s.name for s in targets[key])
                 if len(keys) != rows:
@@ -301,8 +305,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
     targets = {v: vectors[v] for v in state_vectors}
     discrete = time == "discrete"
     dynamics = _entries(_table(data, "dynamics", source, required=True), "dynamics", source, names, vectors, targets)
+    vector_values: dict[str, tuple[str, ...]] = {}  # vector outputs and quantities, by name
     outputs = _entries(_table(data, "outputs", source, required=True), "outputs", source, names, vectors,
-                       allow_prev=discrete)
+                       allow_prev=discrete, expanded=vector_values)
     inverse = _table(data, "inverse", source, required=False)
     if inverse is not None:
         inverse = _entries(inverse, "inverse", source, names, vectors, targets)
@@ -310,11 +315,6 @@ def parse_model(text: str, source: str = "<model>") -> System:
     if not isinstance(description, str):
         raise ModelFileError(f"{source}: 'description' must be a string")
     symmetries = _symmetries(data.get("symmetries", {}), states, names, vectors, targets, source)
-    latex_names = {}
-    for key, value in (_table(data, "latex", source, required=False) or {}).items():
-        # A vector's symbol typesets its components as subscripted entries.
-        components = vector_names.get(key, ())
-        latex_names |= {c: f"{value}_{{{i}}}" for i, c in enumerate(components)} if components else {key: value}
     unknown_inputs = [c for n in _names(data, "unknown_inputs", source, required=False)[0]
                       for c in input_vectors.get(n, (n,))]
     motions = _motions(data.get("motions", {}), input_vectors, source)
@@ -322,7 +322,13 @@ def parse_model(text: str, source: str = "<model>") -> System:
     if order is not None and (isinstance(order, bool) or not isinstance(order, int) or not 0 <= order <= 20):
         raise ModelFileError(f"{source}: 'unknown_input_order' must be an integer from 0 to 20, got {order!r}")
     quantities = _table(data, "quantities", source, required=False) or {}
-    quantities = _entries(quantities, "quantities", source, names, vectors)
+    quantities = _entries(quantities, "quantities", source, names, vectors, expanded=vector_values)
+    latex_names = dict(_table(data, "latex", source, required=False) or {})
+    for vector, components in (vector_names | vector_values).items():
+        # A vector's components are typeset as its symbol with the index joined
+        # to the subscript: c1_0 is c_{1,0} (sympy would print c_{1 0}).
+        base = latex_names.pop(vector, None) or latex_name(vector)
+        latex_names = {c: component_latex(base, i) for i, c in enumerate(components)} | latex_names
     try:
         return System(
             states,

@@ -24,7 +24,7 @@ from sympy.printing.conventions import split_super_sub
 
 from .errors import ModelError
 
-__all__ = ["latex_name", "latex_text", "validate_latex_name", "MAX_LATEX_NAME"]
+__all__ = ["latex_name", "component_latex", "latex_text", "validate_latex_name", "MAX_LATEX_NAME"]
 
 #: Longest accepted override, in characters.
 MAX_LATEX_NAME = 120
@@ -97,6 +97,19 @@ def latex_name(name: str, overrides: Mapping[str, str] | None = None) -> str:
     if overrides and name in overrides:
         return overrides[name]
     return sympy.latex(sympy.Symbol(_expanded(name)))
+
+
+def component_latex(vector: str, index: int) -> str:
+    """The LaTeX of component ``index`` of a vector typeset as ``vector``: the
+    index joins an existing subscript (``c_{1}`` -> ``c_{1,0}``), else becomes one
+    (``\\mathbf{p}`` -> ``\\mathbf{p}_{0}``)."""
+    if vector.endswith("}") and "_{" in vector and vector.count("{") == vector.count("}"):
+        head, _, subscript = vector.rpartition("_{")
+        if subscript.count("{") == subscript.count("}") - 1:  # the subscript is the last group
+            return f"{head}_{{{subscript[:-1]},{index}}}"
+    if len(vector) >= 3 and vector[-2] == "_" and vector[-1].isalnum():
+        return f"{vector[:-2]}_{{{vector[-1]},{index}}}"
+    return f"{vector}_{{{index}}}"
 
 
 _SPECIAL = {

@@ -69,16 +69,17 @@ def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_pre
     return value
 
 
-def _vector_items(items: Iterable[tuple[Any, Any]], what: str) -> Iterable[tuple[Any, Any]]:
+def _vector_items(items: Iterable[tuple[Any, Any]], what: str, named: bool = True) -> Iterable[tuple[Any, Any]]:
     """Entries with vector values expanded to scalars: a key that is a vector of
     states (:func:`~observability.rotations.vector`) takes a column of the same
-    length, a name key with a column value gives ``name_0, name_1, ...``."""
+    length; when ``named`` (outputs, quantities) a name key with a column value
+    gives ``name_0, name_1, ...``."""
     for key, value in items:
         if isinstance(key, sympy.MatrixBase):
             if not (isinstance(value, sympy.MatrixBase) and value.shape == key.shape and key.shape[1] == 1):
                 raise ModelError(f"{what} given for the vector {list(key)}: expected a column of {key.shape[0]} expressions")
             yield from zip(key, value)
-        elif isinstance(value, sympy.MatrixBase) and value.shape[1] == 1 and isinstance(key, str):
+        elif named and isinstance(value, sympy.MatrixBase) and value.shape[1] == 1 and isinstance(key, str):
             yield from ((f"{key}_{i}", e) for i, e in enumerate(value))
         else:
             yield key, value
@@ -286,7 +287,7 @@ class System:
         if isinstance(values, Mapping):
             by_name: dict[str, Any] = {}
             state_names = {s.name for s in x}
-            for key, value in _vector_items(values.items(), what):
+            for key, value in _vector_items(values.items(), what, named=False):
                 kname = key.name if isinstance(key, sympy.Symbol) else unicodedata.normalize("NFKC", str(key))
                 if kname not in state_names:
                     raise ModelError(f"{what} given for {kname!r}, which is not a state")

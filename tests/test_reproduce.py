@@ -8,7 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from observability.report.claims import CLAIMS, MODELLINGS, Claim, Modelling, claim_rows, claims_markdown, planar_rows
+from observability.report.claims import (
+    CLAIMS, MODELLINGS, Claim, Modelling, claim_rows, claims_markdown, planar_rows, spatial_rows,
+)
 from observability.report.reproduce import claims_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,3 +76,17 @@ def test_planar_rows_cover_beacons_and_disparity():
     argument of test_slam2d.py, with and without disparity."""
     rows = planar_rows()
     assert [(r.n_states, r.rank) for r in rows] == [(8, 4), (8, 4), (8, 6), (8, 6), (8, 8), (8, 8)]
+
+
+def test_spatial_section_follows_the_rows():
+    """The 3-D section's verdict is read from its rows: slam3d with one landmark
+    (n = 16) has rank n - 8 without beacons and n - 1 with three, with or
+    without disparity (test_models3d.py); pair the rank-8 row without disparity
+    with the rank-15 row with it, and the report must say disparity changes the
+    rank."""
+    rows = spatial_rows()
+    assert [(r.n_states, r.rank) for r in rows] == [(16, 8), (16, 8), (16, 11), (16, 11), (16, 14), (16, 14),
+                                                    (16, 15), (16, 15)]
+    assert "Disparity never changes the rank of the 3-D model" in claims_markdown([], [], spatial=rows)
+    mixed = claims_markdown([], [], spatial=[rows[0], rows[7]])
+    assert "Disparity changes the rank of the 3-D model (slam3d-L1-B0)" in mixed

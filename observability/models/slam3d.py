@@ -98,6 +98,7 @@ def slam3d(landmarks: int = 1, beacons: int = 0, disparity: bool = False, time: 
             # Two beacons fix a line, not a frame: the scene may still turn about it
             # (three generic beacons are not collinear, so no line is left).
             lines=[("B1 and B2", _beacon(1), _beacon(2))] if beacons == 2 else [],
+            pivots=[("B1", _beacon(1))] if beacons == 1 else [],
         )
 
     motions = [

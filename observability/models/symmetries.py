@@ -137,6 +137,7 @@ def spatial_symmetries(
     scale: bool = True,
     quaternion_norm: bool = True,
     lines: Sequence[tuple[str, tuple[str, str, str], tuple[str, str, str]]] = (),
+    pivots: Sequence[tuple[str, tuple[str, str, str]]] = (),
 ) -> tuple[Symmetry, ...]:
     """Translations, rotations about the world axes through the origin, scale,
     and the norm of each quaternion, for a 3-D scene.
@@ -150,6 +151,8 @@ def spatial_symmetries(
     gibbs : Gibbs vectors (body to world): a world rotation by eps about a composes
         them with t a, t = tan(eps/2): (t a + g + t a x g) / (1 - t a . g).
     axes : the rotation axes to declare ("z" for a scene with gravity).
+    pivots : (label, (x, y, z)) known points (a beacon) about which the axis
+        rotations and the scale are declared too.
     lines : (label, a, b) pairs of known points (x, y, z parameter names): the
         rotation about the line through them, which leaves both in place (two
         beacons). Its image is rational: the quaternion r = (1, t (b - a)),
@@ -164,35 +167,52 @@ def spatial_symmetries(
             f"translation {axis}", f"moves the camera and every point along {axis}",
             {p[k]: _sum(S(p[k]), EPSILON) for p in points}, {p[k]: 1 for p in points},
         ))
-    for axis in axes:
-        turn = _axis_rotation(axis)
-        generator = turn.diff(EPSILON).subs(EPSILON, 0)
-        images: dict[str, sympy.Expr] = {}
-        field: dict[str, sympy.Expr] = {}
-        for triple in (*points, *velocities):
-            vector = sympy.Matrix([S(n) for n in triple])
-            images |= dict(zip(triple, turn * vector))
-            field |= dict(zip(triple, generator * vector))
-        half = [_HALF_COS, *(_HALF_SIN * a for a in _AXES[axis])]
-        for q in quaternions:
-            images |= dict(zip(q, quaternion_product(half, [S(n) for n in q])))
-            field |= dict(zip(q, quaternion_product([0, *(sympy.Rational(a, 2) for a in _AXES[axis])], [S(n) for n in q])))
-        t = sympy.tan(EPSILON / 2)
-        for triple in gibbs:
-            g = [S(n) for n in triple]
-            a = [t * e for e in _AXES[axis]]
-            across = (a[1] * g[2] - a[2] * g[1], a[2] * g[0] - a[0] * g[2], a[0] * g[1] - a[1] * g[0])
-            denominator = 1 - sum(ai * gi for ai, gi in zip(a, g))
-            images |= {n: (ai + gi + ci) / denominator for n, ai, gi, ci in zip(triple, a, g, across)}
-            e = _AXES[axis]
-            e_cross_g = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
-            e_dot_g = sum(ei * gi for ei, gi in zip(e, g))
-            field |= {n: (ei + ci + e_dot_g * gi) / 2 for n, ei, ci, gi in zip(triple, e, e_cross_g, g)}
-        if axis == "z":
-            images |= {y: _sum(S(y), EPSILON) for y in yaws}
-            field |= {y: 1 for y in yaws}
-        out.append(Symmetry.of(f"rotation about the {axis}-axis", f"turns the whole scene about the world {axis}-axis",
-                               images, field))
+    origin = ("", (sympy.Integer(0),) * 3)
+    centres = [origin, *((label, tuple(S(n) for n in triple)) for label, triple in pivots)]
+    for label, centre in centres:
+        through = f" through {label}" if label else ""
+        for axis in axes:
+            turn = _axis_rotation(axis)
+            generator = turn.diff(EPSILON).subs(EPSILON, 0)
+            images: dict[str, sympy.Expr] = {}
+            field: dict[str, sympy.Expr] = {}
+            c = sympy.Matrix(centre)
+            for triple in points:
+                vector = sympy.Matrix([S(n) for n in triple]) - c
+                images |= dict(zip(triple, c + turn * vector))
+                field |= dict(zip(triple, generator * vector))
+            for triple in velocities:
+                vector = sympy.Matrix([S(n) for n in triple])
+                images |= dict(zip(triple, turn * vector))
+                field |= dict(zip(triple, generator * vector))
+            half = [_HALF_COS, *(_HALF_SIN * a for a in _AXES[axis])]
+            for q in quaternions:
+                images |= dict(zip(q, quaternion_product(half, [S(n) for n in q])))
+                field |= dict(zip(q, quaternion_product([0, *(sympy.Rational(a, 2) for a in _AXES[axis])], [S(n) for n in q])))
+            t = sympy.tan(EPSILON / 2)
+            for triple in gibbs:
+                g = [S(n) for n in triple]
+                a = [t * e for e in _AXES[axis]]
+                across = (a[1] * g[2] - a[2] * g[1], a[2] * g[0] - a[0] * g[2], a[0] * g[1] - a[1] * g[0])
+                denominator = 1 - sum(ai * gi for ai, gi in zip(a, g))
+                images |= {n: (ai + gi + ci) / denominator for n, ai, gi, ci in zip(triple, a, g, across)}
+                e = _AXES[axis]
+                e_cross_g = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
+                e_dot_g = sum(ei * gi for ei, gi in zip(e, g))
+                field |= {n: (ei + ci + e_dot_g * gi) / 2 for n, ei, ci, gi in zip(triple, e, e_cross_g, g)}
+            if axis == "z":
+                images |= {y: _sum(S(y), EPSILON) for y in yaws}
+                field |= {y: 1 for y in yaws}
+            out.append(Symmetry.of(f"rotation about the {axis}-axis{through}",
+                                   f"turns the whole scene about the world {axis}-axis{through}", images, field))
+        if scale:
+            positions = [n for p in points for n in p]
+            about = [a for _ in points for a in centre]
+            speeds = [n for v in velocities for n in v]
+            images = _scale(positions, about) | {n: _product(_GROW, S(n)) for n in speeds}
+            field = {n: S(n) - a for n, a in zip(positions, about)} | {n: S(n) for n in speeds}
+            out.append(Symmetry.of(f"scale about {label}" if label else "scale",
+                                   f"enlarges the whole scene about {label or 'the origin'} (velocities too)", images, field))
     for label, first, second in lines:
         a = sympy.Matrix([S(n) for n in first])
         axis = sympy.Matrix([S(m) - S(n) for m, n in zip(second, first)])
@@ -213,10 +233,6 @@ def spatial_symmetries(
         out.append(Symmetry.of(f"rotation about the line through {label}",
                                f"turns the whole scene about the line through {label}, which stays in place",
                                images, field))
-    if scale:
-        positions = [n for p in (*points, *velocities) for n in p]
-        out.append(Symmetry.of("scale", "enlarges the whole scene about the origin (velocities too)",
-                               {n: _product(_GROW, S(n)) for n in positions}, {n: S(n) for n in positions}))
     if quaternion_norm:
         for q in quaternions:
             out.append(Symmetry.of(f"the norm of ({', '.join(q)})", "scales the attitude quaternion, which only its direction matters",

@@ -15,7 +15,8 @@ from ..analysis import ObservabilityResult, analyze
 from ..symmetry import verify
 from ..system import System
 
-__all__ = ["Claim", "Modelling", "CLAIMS", "MODELLINGS", "ClaimRow", "claim_rows", "planar_rows", "claims_markdown"]
+__all__ = ["Claim", "Modelling", "CLAIMS", "MODELLINGS", "ClaimRow", "claim_rows", "planar_rows", "spatial_rows",
+           "claims_markdown"]
 
 
 @dataclass(frozen=True)
@@ -91,6 +92,44 @@ def planar_rows(seed: int = 0, landmarks: int = 1) -> list[ObservabilityResult]:
     return out
 
 
+def spatial_rows(seed: int = 0, landmarks: int = 1) -> list[ObservabilityResult]:
+    """The 3-D model (slam3d) with 0 to 3 beacons, without and with disparity."""
+    return [
+        analyze(models.build("slam3d", {"landmarks": str(landmarks), "beacons": str(beacons), "disparity": disparity}),
+                seed=seed)
+        for beacons in (0, 1, 2, 3) for disparity in ("false", "true")
+    ]
+
+
+def _disparity_sentence(rows: Sequence[ObservabilityResult], model: str, symmetries: str) -> str:
+    """What disparity does to the rank, read from rows in (without, with) pairs."""
+    same_rank = all(a.rank == b.rank for a, b in zip(rows[0::2], rows[1::2]))
+    same_named = all(
+        [d.name for d in a.unobservable_directions] == [d.name for d in b.unobservable_directions]
+        for a, b in zip(rows[0::2], rows[1::2])
+    )
+    if not same_rank:
+        changed = [a.model for a, b in zip(rows[0::2], rows[1::2]) if a.rank != b.rank]
+        return f"Disparity changes the rank of the {model} ({', '.join(changed)})."
+    sentence = f"Disparity never changes the rank of the {model}"
+    if same_named:
+        sentence += (f": with and without it the null space is spanned by the same verified symmetries ({symmetries}), "
+                     "which leave the disparity, a ratio of lengths, unchanged as they leave the projections")
+    return sentence + "."
+
+
+def _beacon_section(title: str, intro: str, rows: Sequence[ObservabilityResult], model: str,
+                    symmetries: str) -> list[str]:
+    """A table of rows in (without, with disparity) pairs by beacons, and what disparity does."""
+    lines = [title, "", intro, "", "| beacons | disparity | n | rank | proof | unobservable directions |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        beacons = r.model.split("-B")[1].split("-")[0]
+        lines.append(f"| {beacons} | {'yes' if 'disparity' in r.model else 'no'} | {r.n_states} | {r.rank} | "
+                     f"{r.proof} | {_directions(r)} |")
+    return [*lines, "", _disparity_sentence(rows, model, symmetries), ""]
+
+
 def _directions(result: ObservabilityResult) -> str:
     if not result.unobservable_directions:
         return "-"
@@ -106,7 +145,8 @@ def _scale_invariance(model: str) -> bool:
     return any(s.name == "scale" and verify(s, system) for s in system.symmetries)
 
 
-def claims_markdown(rows: Sequence[ClaimRow], planar: Sequence[ObservabilityResult], seed: int = 0) -> str:
+def claims_markdown(rows: Sequence[ClaimRow], planar: Sequence[ObservabilityResult], seed: int = 0,
+                    spatial: Sequence[ObservabilityResult] = ()) -> str:
     """Section II as markdown: the tables and the reading of them."""
     lines = [
         "## Section II: the rank claims",
@@ -158,32 +198,16 @@ def claims_markdown(rows: Sequence[ClaimRow], planar: Sequence[ObservabilityResu
             + "with c_(k-1) = c_k - dt*cdot it equals -f*dt*d_L2*cdot, a multiple of the derivative of the "
             "projective measurement." + rescue,
         ]
-    lines += [
-        "",
+    lines += ["", *_beacon_section(
         "## The planar model (Sec. IV)",
-        "",
         "The paper calls this rank too complex for a computer algebra package; it is computed here.",
-        "",
-        "| beacons | disparity | n | rank | unobservable directions |",
-        "|---|---|---|---|---|",
-    ]
-    for r in planar:
-        beacons = r.model.split("-B")[1].split("-")[0]
-        lines.append(
-            f"| {beacons} | {'yes' if 'disparity' in r.model else 'no'} | {r.n_states} | {r.rank} | {_directions(r)} |"
-        )
-    same_rank = all(a.rank == b.rank for a, b in zip(planar[0::2], planar[1::2]))
-    same_named = all(
-        [d.name for d in a.unobservable_directions] == [d.name for d in b.unobservable_directions]
-        for a, b in zip(planar[0::2], planar[1::2])
-    )
-    sentence = "Disparity " + ("never changes the rank of the planar model" if same_rank else "changes the rank of the planar model")
-    if same_rank and same_named:
-        sentence += (
-            ": with and without it the null space is spanned by the same verified symmetries (translations, "
-            "rotation and scale, about a beacon when there is one), which leave the disparity, a ratio of "
-            "lengths, unchanged as they leave the projections."
-        )
-    lines += ["", sentence + ".", ""] if not sentence.endswith(".") else ["", sentence, ""]
+        planar, "planar model", "translations, rotation and scale, about a beacon when there is one")]
+    if spatial:
+        lines += _beacon_section(
+            "## Beyond the paper: 3-D monocular SLAM",
+            "The paper's conjecture asked again in 3-D (`slam3d`: a camera with 6-DoF constant-velocity motion, "
+            "quaternion attitude, one landmark, the squared disparity f^2 |b|^4 / |b x (L - c)|^2).",
+            spatial, "3-D model", "translations, rotations and scale, about the beacons when there are any, and the "
+            "quaternion's norm")
     return "\n".join(lines)
 

@@ -12,7 +12,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from .claims import claim_rows, claims_markdown, planar_rows
+from .claims import claim_rows, claims_markdown, planar_rows, spatial_rows
 from .consistency import ConsistencyStudy, write_consistency_report
 from ..errors import OptionError
 from .files import staged_directory, write_text
@@ -26,7 +26,8 @@ CLAIMS_SEED = 0
 def claims_text() -> str:
     """The Section II report, deterministic (fixed seed): what ``claims.md`` holds."""
     return "# The paper's rank claims, computed\n\n" + claims_markdown(
-        claim_rows(seed=CLAIMS_SEED), planar_rows(seed=CLAIMS_SEED), seed=CLAIMS_SEED
+        claim_rows(seed=CLAIMS_SEED), planar_rows(seed=CLAIMS_SEED), seed=CLAIMS_SEED,
+        spatial=spatial_rows(seed=CLAIMS_SEED),
     )
 
 
@@ -72,8 +73,8 @@ by hand: every number and every verdict below is computed.
 
 ## Section II: the rank claims
 
-See [claims.md](claims.md): each claim (a), (b), (c) under five modellings, and the planar model with 0, 1, 2
-beacons, with and without disparity.
+See [claims.md](claims.md): each claim (a), (b), (c) under five modellings, the planar model with 0, 1, 2
+beacons and the 3-D model with 0 to 3 beacons, with and without disparity.
 
 ## Section III: the generalized EKF, where the truth is known
 
