@@ -106,3 +106,15 @@ def test_vins_four_directions(attitude, biases, lost):
     assert result.n_states - result.rank == lost and result.proof == "proven"
     names = {d.name for d in result.unobservable_directions}
     assert {"translation x", "translation y", "translation z", "rotation about the z-axis"} <= names
+
+
+@pytest.mark.parametrize("features", [2, 3])
+def test_vins_more_features_lose_the_same_four(features):
+    """More features add constants that the same four symmetries move (every
+    feature translates and turns with the scene), and nothing else is lost:
+    n - 4 for K = 2, 3 (unit quaternion, n = 10 + 3 K), proven and named."""
+    result = analyze(models.build("vins", {"attitude": "quaternion-unit", "features": str(features)}), seed=1)
+    assert result.n_states == 10 + 3 * features
+    assert result.n_states - result.rank == 4 and result.proof == "proven"
+    assert {d.name for d in result.unobservable_directions} == {
+        "translation x", "translation y", "translation z", "rotation about the z-axis"}
