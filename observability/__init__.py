@@ -6,23 +6,39 @@ at random points), :mod:`echelon`, :mod:`randomized`, :mod:`symbolic`,
 :mod:`numeric` (the three ranks) and :mod:`analysis` (the verdict).
 """
 
-from .analysis import METHODS, ObservabilityResult, UnobservableDirection, analyze
-from .errors import (
-    ModelError,
-    ModelFileError,
-    ObservabilityError,
-    SingularModelError,
-    UnsupportedExpressionError,
-)
-from .expressions import parse_expression, prev
-from .inverse import inverse_dynamics
-from .lie import lie_derivative, lie_derivatives
-from .modelfile import load_model, parse_model
-from .numeric import float_rank
-from .randomized import randomized_rank
-from .symbolic import generic_rank, null_space, observability_rows, symbolic_rank
-from .symmetry import EPSILON, Symmetry, verify
-from .system import Motion, System, system
+import importlib
+
+# The public names, by the module that holds them: imported on first use (PEP
+# 562), so `observability --version` and the command line's parser do not pay
+# for sympy and the engine.
+_LOCATIONS = {
+    "analysis": ("METHODS", "ObservabilityResult", "UnobservableDirection", "analyze"),
+    "errors": ("ModelError", "ModelFileError", "ObservabilityError", "SingularModelError", "UnsupportedExpressionError"),
+    "expressions": ("parse_expression", "prev"),
+    "inverse": ("inverse_dynamics",),
+    "lie": ("lie_derivative", "lie_derivatives"),
+    "modelfile": ("load_model", "parse_model"),
+    "numeric": ("float_rank",),
+    "randomized": ("randomized_rank",),
+    "symbolic": ("generic_rank", "null_space", "observability_rows", "symbolic_rank"),
+    "symmetry": ("EPSILON", "Symmetry", "verify"),
+    "system": ("Motion", "System", "system"),
+}
+_MODULE_OF = {name: module for module, names in _LOCATIONS.items() for name in names}
+
+
+def __getattr__(name: str):
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module 'observability' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_MODULE_OF])
+
 
 __all__ = [
     "EPSILON",

@@ -14,8 +14,8 @@ from .certificate import certify_rank
 from .discovery import classify, discover_directions, observable_functions
 from .proof import PROOF_BUDGET, fields_are_symmetries
 from .errors import ModelError
-from .inverse import PREVIOUS_METHODS, Previous, eliminate_previous_state
-from .numeric import float_rank
+from .inverse import eliminate_previous_state
+from .methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from .restrictions import ConstraintSet
 from .randomized import randomized_rank
 from .budget import Undecided, with_budget
@@ -25,8 +25,6 @@ from .system import System
 
 __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 
-Method = Literal["symbolic", "random", "float"]
-METHODS: tuple[str, ...] = ("random", "symbolic", "float")
 
 #: The proof statuses in words a reviewer would accept.
 PROOFS = {
@@ -564,6 +562,8 @@ def analyze(
             details += f" ({check.dependence}; {proof.how})"
         observable_columns = tuple(range(n)) if rank == n else None
     else:
+        from .numeric import float_rank  # numpy, imported only by the float route
+
         fr = float_rank(
             system, seed=seed, point=point, input_derivatives=input_derivatives, max_order=max_order,
             previous=previous,

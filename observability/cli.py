@@ -15,12 +15,17 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .analysis import METHODS, ObservabilityResult, analyze
+from typing import TYPE_CHECKING
+
+from . import __version__
 from .budget import Undecided, with_budget
 from .errors import ObservabilityError
-from .modelfile import load_model
+from .methods import METHODS, PREVIOUS_METHODS
 from .progress import clear_line, status_line
-from .system import System
+
+if TYPE_CHECKING:  # the engine (and sympy) is imported by the commands that use it
+    from .analysis import ObservabilityResult
+    from .system import System
 
 __all__ = ["main"]
 
@@ -110,6 +115,8 @@ def _about(model: str | None):
 def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
     """A built-in model by name, or a model file by path, with options applied."""
     from . import models
+    from .modelfile import load_model
+
     if time is not None:
         options = {**options, "time": time}
     if model in models.BUILTINS:
@@ -150,6 +157,8 @@ def _restricted(system: System, args: argparse.Namespace, where: str | None = No
 
 
 def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
+    from .analysis import analyze
+
     system, input_derivatives, constraint = _restricted(system, args, getattr(args, "where", None))
     progress = status_line()
     try:
@@ -279,7 +288,7 @@ def _point(text: str | None) -> dict[str, str] | None:
 
 
 def _latex(args: argparse.Namespace) -> int:
-    from .progress import clear_line, status_line
+    from .analysis import analyze
     from .report.files import write_text
     from .report.latex import DoesNotFit, latex_document
 
@@ -371,15 +380,6 @@ def _models(args: argparse.Namespace) -> int:
     return 0
 
 
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("observability")
-    except PackageNotFoundError:
-        return "unknown (not installed)"
-
-
 _OPTION_HELP = "model option (e.g. time=discrete, landmarks=3) or known parameter value (e.g. f=20)"
 _TIME_HELP = "time form of a built-in model (default: the model's)"
 
@@ -393,7 +393,7 @@ def _model_arguments(parser: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="observability", description="Nonlinear observability analysis.")
-    parser.add_argument("--version", action="version", version=f"observability {_version()}")
+    parser.add_argument("--version", action="version", version=f"observability {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     check = sub.add_parser(
         "check",
@@ -408,7 +408,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--method", choices=METHODS, default="random", help="rank method (default: random)")
     check.add_argument("--seed", type=int, default=None, help="seed of the random point")
     check.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
-    check.add_argument("--previous", choices=("inverse", "augment"), default="inverse",
+    check.add_argument("--previous", choices=PREVIOUS_METHODS, default="inverse",
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text",
                        help="text for people, json for programs (one object, or a list with --all)")

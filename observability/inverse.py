@@ -18,19 +18,17 @@ so it is never observable, whatever the sensors.
 from __future__ import annotations
 
 import random
-from typing import Literal
 
 import sympy
 
 from .budget import Undecided, with_budget
 from .errors import ModelError
 from .expressions import prev
+from .methods import PREVIOUS_METHODS, Previous
 from .system import System
 
 __all__ = ["inverse_dynamics", "verify_inverse", "eliminate_previous_state", "PREVIOUS_METHODS"]
 
-Previous = Literal["inverse", "augment"]
-PREVIOUS_METHODS: tuple[str, ...] = ("inverse", "augment")
 
 
 def inverse_dynamics(system: System) -> tuple[sympy.Expr, ...]:

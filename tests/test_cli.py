@@ -3,6 +3,7 @@
 import json
 import shutil
 import subprocess
+import sys
 
 import pytest
 
@@ -169,6 +170,28 @@ def test_version_and_exit_codes_in_help():
     helptext = run("check", "--help").stdout
     for word in ("0 observable", "1 not observable", "2 bad input", "3 undecided", "4 internal error"):
         assert word in helptext
+
+
+def test_parser_and_version_do_not_import_the_engine():
+    """--version and --help build only the parser: neither sympy nor numpy is
+    imported (counted in sys.modules of a fresh interpreter, not timed); the
+    version is the installed distribution's. `check` imports sympy, not numpy,
+    casadi or matplotlib."""
+    from importlib.metadata import version
+
+    probe = ("import sys, contextlib, io\nfrom observability.cli import main\n"
+             "for argv in (['--version'], ['--help'], ['check', '--help']):\n"
+             "    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+             "        main(argv)\n"
+             "print(sorted(m for m in ('sympy', 'numpy', 'casadi', 'matplotlib', 'flint') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stdout + out.stderr
+    assert run("--version").stdout.strip() == f"observability {version('observability')}"
+    # A rank check needs sympy, never the filters' or the reports' stacks.
+    probe = probe.replace("(['--version'], ['--help'], ['check', '--help'])", "(['check', 'slam2d'],)")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and "sympy" in out.stdout and "numpy" not in out.stdout, out.stdout + out.stderr
+    assert "casadi" not in out.stdout and "matplotlib" not in out.stdout
 
 
 def test_exit_status_survives_a_closed_pipe():
