@@ -346,7 +346,7 @@ def _degenerate(args: argparse.Namespace) -> int:
 
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)
-        rows = degenerate_motions(system, seed=args.seed or 0)
+        rows = degenerate_motions(system, seed=args.seed or 0, conditions=args.conditions, budget=args.budget)
     if args.format == "json":
         print(json.dumps({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}, indent=2))
         return 0
@@ -368,6 +368,21 @@ def _degenerate(args: argparse.Namespace) -> int:
     for r in rows[1:]:
         source = r.motion.where or ", ".join(f"{k}={v}" for k, v in r.motion.inputs.items())
         print(f"  {r.motion.name}: {source}" + (f" — {r.motion.description}" if r.motion.description else ""))
+    if args.conditions:
+        print("where the rank drops below each motion's rank (common factors of the maximal minors):")
+        for r in rows:
+            if r.motion.where:
+                continue
+            for drop in r.rank_drops:
+                rank = f"rank {drop.rank}" if drop.rank is not None else (
+                    f"rank below {r.result.rank}" if drop.details.startswith("every maximal minor") else "undecided")
+                named = f" ({drop.motion})" if drop.motion else ""
+                condition = drop.factor if "=" in drop.factor else f"{drop.factor} = 0"
+                print(f"  {r.motion.name}: {rank} when {condition}{named}")
+            if r.rank_drops_note:
+                print(f"  {r.motion.name}: {r.rank_drops_note}")
+            elif not r.rank_drops:
+                print(f"  {r.motion.name}: none (the rank never drops on a hypersurface)")
     return 0
 
 
@@ -482,6 +497,12 @@ def build_parser() -> argparse.ArgumentParser:
     degenerate.add_argument("--format", choices=("text", "json"), default="text",
                             help="a table for people, or {model, n_states, motions: [...]} for programs")
     degenerate.add_argument("--seed", type=int, default=None, help="seed of the random points")
+    degenerate.add_argument("--conditions", action="store_true",
+                            help="also the polynomial conditions under which each input-profile motion's rank drops "
+                                 "(common factors of the maximal minors; models with at most 8 states)")
+    degenerate.add_argument("--budget", type=_seconds, default=20.0, metavar="SECONDS",
+                            help="CPU time for the symbolic minors of each motion (default 20); beyond it the "
+                                 "conditions are reported undecided")
     degenerate.set_defaults(func=_degenerate)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=_models)

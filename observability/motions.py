@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .analysis import ObservabilityResult, analyze
+from .conditions import RankDrop, rank_drops
 from .errors import ModelError
 from .restrictions import parse_constraints, parse_profile, with_input_profiles
 from .system import Motion, System
@@ -35,6 +36,8 @@ class MotionResult:
     result: ObservabilityResult
     lost_directions: tuple[str, ...]  # beyond the generic ones
     generic_rank: int | None
+    rank_drops: tuple[RankDrop, ...] = ()  # where the rank falls further, on this motion
+    rank_drops_note: str = ""  # why the conditions were not (all) computed
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -48,6 +51,8 @@ class MotionResult:
             "observable_states": list(self.result.observable_states) if self.result.observable_states is not None else None,
             "lost_directions": list(self.lost_directions),
             "details": self.result.details,
+            "rank_drops": [d.to_dict() for d in self.rank_drops],
+            "rank_drops_note": self.rank_drops_note,
         }
 
 
@@ -66,18 +71,29 @@ def catalogue(system: System) -> list[Motion]:
     return motions
 
 
-def _analyse(system: System, motion: Motion, seed: int) -> ObservabilityResult:
+def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget: float | None
+             ) -> tuple[ObservabilityResult, list[RankDrop], str]:
     profiles = {u: parse_profile(p, f"motion {motion.name!r}: input {u}") for u, p in motion.inputs.items()}
     constraint, fixed = (None, {}) if not motion.where else parse_constraints(system, motion.where)
     profiles |= {u: parse_profile(v, f"motion {motion.name!r}") for u, v in fixed.items()}
     restricted, derivatives = with_input_profiles(system, profiles)
-    return analyze(restricted, seed=seed, input_derivatives=derivatives,
-                   where=None if constraint is None else constraint.on(restricted),
-                   directions=constraint is None)
+    result = analyze(restricted, seed=seed, input_derivatives=derivatives,
+                     where=None if constraint is None else constraint.on(restricted),
+                     directions=constraint is None)
+    if not conditions or constraint is not None:
+        return result, [], ""
+    drops, note = rank_drops(restricted, result, seed=seed, budget=budget, input_derivatives=derivatives)
+    return result, drops, note
 
 
-def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | None = None) -> list[MotionResult]:
+def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | None = None,
+                       conditions: bool = False, budget: float | None = 20.0) -> list[MotionResult]:
     """Every motion of the catalogue (or ``motions``) analysed; the first is the generic one.
+
+    With ``conditions``, the motions that are input profiles (not constraint
+    sets) also get the polynomial conditions under which their rank drops
+    (:func:`~observability.conditions.rank_drops`, small models, ``budget`` CPU
+    seconds each).
 
     Raises
     ------
@@ -88,7 +104,7 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
     generic: ObservabilityResult | None = None
     for motion in motions if motions is not None else catalogue(system):
         try:
-            result = _analyse(system, motion, seed)
+            result, drops, note = _analyse(system, motion, seed, conditions, budget)
         except ModelError as exc:
             raise ModelError(f"motion {motion.name!r}: {exc}") from None
         if generic is None:
@@ -103,5 +119,5 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
                         + ("" if not motion.where else " (not named on a constraint set)"),)
             else:
                 lost = tuple(named)
-        out.append(MotionResult(motion, result, lost, generic.rank))
+        out.append(MotionResult(motion, result, lost, generic.rank, tuple(drops), note))
     return out

@@ -209,13 +209,16 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
             return (ball.coefficient(a, 0)[0] - ball.coefficient(b, 0)[0]).contains(0)
 
         f_values = [value(i) for i in f]
+        f_balls: list = []  # f at the real point, filled once on first need (n entries, n checks)
 
         def equivariant(g: int, fm: int) -> bool:
             if not free(fm) and not free(g):
                 return not (_dot(grad(g), f_values) - value(fm)) % PRIME
             if ball is None:
                 return False
-            at = [ball.coefficient(i, 0)[0] for i in f]
+            if not f_balls:
+                f_balls.extend(ball.coefficient(i, 0)[0] for i in f)
+            at = f_balls
             _, gradient = ball.coefficient(g, 0)
             moved = sum((d * at[j] for j, d in gradient.items()), 0) - ball.coefficient(fm, 0)[0]
             return arb(moved).contains(0)

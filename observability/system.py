@@ -229,8 +229,9 @@ class System:
         prev_allowed = {prev(s) for s in (*x, *u)} if time == "discrete" else set()
         for i, expr in enumerate(f):
             self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
+        output_allowed = allowed | prev_allowed  # once: a union per output is quadratic in large models
         for oname, expr in h:
-            self._check_symbols(expr, allowed | prev_allowed, f"output {oname}", continuous=time == "continuous")
+            self._check_symbols(expr, output_allowed, f"output {oname}", continuous=time == "continuous")
 
         if values:
             for where, expr in [*((f"dynamics of {xi}", fi) for xi, fi in zip(x, f)), *((f"output {n}", e) for n, e in h)]:
@@ -256,7 +257,7 @@ class System:
         object.__setattr__(self, "name", str(name))
         object.__setattr__(self, "inverse_dynamics", g)
         object.__setattr__(self, "description", str(description))
-        defined = self._quantities(quantities, names, set(seen) | output_names)
+        defined = self._quantities(quantities, names, set(seen) | output_names)  # a fresh set: filled in
         object.__setattr__(self, "quantities", defined)
         known = set(seen) | output_names | {q.name for q, _ in defined}
         object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
@@ -314,7 +315,7 @@ class System:
             qname = normal_name(key.name if isinstance(key, sympy.Symbol) else str(key), "quantity")
             if qname in taken:
                 raise ModelError(f"quantity {qname!r}: the name is already used by a state, input, parameter, output or quantity")
-            taken = taken | {qname}
+            taken.add(qname)
             expr = _scalar(value, f"quantity {qname}", names, False)
             unknown = sorted(str(s) for s in expr.free_symbols if s.name not in names)
             if unknown:

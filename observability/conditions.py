@@ -1,0 +1,217 @@
+"""Where the rank drops: polynomial conditions from the maximal minors.
+
+The generic rank r holds off a proper subset of the state space; on it every
+r x r minor of the observability matrix vanishes. Its hypersurface part is given
+by the common factors of those minors. Every common factor divides any one
+non-zero r x r minor, so the candidates are the irreducible factors of one such
+minor's numerator, chosen at an exact random point (r independent rows and
+columns); each candidate g is then decided by the rank at a generic point of
+the set g = 0 (:func:`observability.analysis.analyze` with a constraint set),
+so a condition is reported only when the rank on its set is computed below r.
+Trigonometric entries enter through tan(a/2) (the exact map of
+:func:`observability.symbolic.rationalize`); a factor in such a variable is
+reported with its meaning, but not decided (a constraint set must be solved
+rationally in the model's own variables).
+
+Small models only (``MAX_STATES``): the minor is a symbolic determinant, and the
+whole computation runs under a CPU budget.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import sympy
+
+from .analysis import ObservabilityResult, analyze
+from .budget import Undecided, with_budget
+from .errors import ModelError
+from .expansion import stopping_rule
+from .expressions import parse_expression
+from .restrictions import parse_constraints
+from .lie import lie_derivatives
+from .randomized import randomized_rank
+from .symbolic import _field_matrix, rationalize
+from .system import System
+
+__all__ = ["RankDrop", "rank_drops", "MAX_STATES"]
+
+#: Above this many states the conditions are not attempted (a symbolic
+#: determinant of order r grows fast with r).
+MAX_STATES = 8
+
+
+@dataclass(frozen=True)
+class RankDrop:
+    """One condition: the set ``factor = 0`` and the rank there.
+
+    Attributes
+    ----------
+    factor : str
+        An irreducible polynomial in the model's variables (or in tan(a/2)).
+    rank : int or None
+        The rank at a generic point of the set; None when not decided.
+    motion : str or None
+        A declared motion whose equation is this factor.
+    details : str
+        How the rank on the set was decided, or why it was not.
+    """
+
+    factor: str
+    rank: int | None
+    motion: str | None
+    details: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"condition": f"{self.factor} = 0", "rank": self.rank, "motion": self.motion, "details": self.details}
+
+
+#: Factors are checked against every maximal minor of the matrix when there
+#: are at most this many (otherwise only the rank on the set decides).
+MAX_MINORS = 200
+
+
+def _candidates(system: System, seed: int, input_derivatives: int | None
+                ) -> tuple[list[tuple[sympy.Expr, bool]], dict]:
+    """Irreducible factors of one non-zero maximal minor's numerator, each with
+    whether it divides every maximal minor (False when there are too many to
+    compute), and the meaning of each tan-half-angle variable. The minor's rows
+    and columns are those of the exact rank at a random point (non-zero there,
+    so non-zero)."""
+    lower = randomized_rank(system, seed=seed, input_derivatives=input_derivatives)
+    r = lower.rank
+    # Every maximal minor of the rows up to the order that always suffices: at a
+    # special point the rank may need more orders than the generic one did.
+    sufficient, _, _ = stopping_rule(system)
+    n_rows = len(system.outputs) * (sufficient + 1)
+    everything = math.comb(n_rows, r) * math.comb(system.n, r) <= MAX_MINORS
+    wanted = {lower.row_labels[i] for i in lower.independent_rows}
+    rows, labels = [], []
+    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+        if k > (sufficient if everything else lower.orders):
+            break
+        for row in block:
+            if everything or (row.output, row.order) in wanted:
+                rows.append([sympy.diff(row.expression, x) for x in system.states])
+                labels.append((row.output, row.order))
+    rational, meaning = rationalize(sympy.Matrix(rows).applyfunc(system.substitute_values))
+    chosen = [labels.index(lower.row_labels[i]) for i in lower.independent_rows]
+    numerator = _numerator(rational.extract(chosen, list(lower.pivot_columns)))
+    _, factors = sympy.factor_list(numerator)
+    factors = [f for f, _ in factors if f.free_symbols]
+    if not everything:
+        return [(f, False) for f in factors], meaning
+    minors = [_numerator(rational.extract(list(i), list(j)))
+              for i in itertools.combinations(range(len(rows)), r) for j in itertools.combinations(range(system.n), r)]
+    return [(f, all(sympy.rem(m, f, *sorted(f.free_symbols | m.free_symbols, key=str)) == 0 for m in minors))
+            for f in factors], meaning
+
+
+def _numerator(matrix: sympy.Matrix) -> sympy.Expr:
+    field = _field_matrix(matrix)
+    return sympy.numer(sympy.together(field.domain.to_sympy(field.det())))
+
+
+def _real_zeros(factor: sympy.Expr) -> str | None:
+    """The real zero set of a sum of positive even powers of single variables
+    (x^2 + y^2: "x = 0, y = 0"); "" when it has none (x^2 + 1); None for any
+    other polynomial (its zero set is itself)."""
+    terms = sympy.Add.make_args(sympy.expand(factor))
+    variables = []
+    for term in terms:
+        coefficient, rest = term.as_coeff_Mul()
+        if coefficient <= 0:
+            return None
+        if rest == 1:
+            continue
+        base, exponent = rest.as_base_exp()
+        if not (base.is_Symbol and exponent.is_Integer and exponent % 2 == 0):
+            return None
+        variables.append(base)
+    if len(variables) < len(terms):
+        return ""
+    return ", ".join(f"{v} = 0" for v in sorted(variables, key=str))
+
+
+def _equations(system: System, text: str) -> list[sympy.Expr] | None:
+    names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
+    out = []
+    for piece in text.split(","):
+        sides = piece.split("=")
+        if len(sides) != 2:
+            return None
+        try:
+            out.append(parse_expression(f"({sides[0]}) - ({sides[1]})", names, where="motion"))
+        except ModelError:
+            return None
+    return out
+
+
+def _matching_motion(system: System, equations: str) -> str | None:
+    """The declared motion given by the same equations (each up to a constant factor)."""
+    mine = _equations(system, equations)
+    for motion in system.motions:
+        theirs = _equations(system, motion.where) if motion.where and not motion.inputs else None
+        if mine is None or theirs is None or len(theirs) != len(mine):
+            continue
+        if all(any(sympy.cancel(a / b).is_number for b in theirs) for a in mine):
+            return motion.name
+    return None
+
+
+def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budget: float | None = 20.0,
+               input_derivatives: int | None = None) -> tuple[list[RankDrop], str]:
+    """The conditions under which the rank falls below the generic rank
+    ``generic.rank`` (inputs with ``input_derivatives`` non-zero derivatives, as
+    for :func:`~observability.analysis.analyze`).
+
+    Returns the conditions found and a note: empty when the search was complete,
+    else why it was not (too many states, budget, an undecided generic rank).
+    """
+    if system.n > MAX_STATES:
+        return [], f"not attempted: {system.n} states (the symbolic minors are computed for n <= {MAX_STATES})"
+    if generic.rank is None or generic.orders is None:
+        return [], "not attempted: the generic rank is undecided"
+    if generic.rank == 0:
+        return [], ""
+    try:
+        factors, meaning = with_budget(_candidates, system, seed, input_derivatives, seconds=budget)
+    except Undecided as exc:
+        return [], f"undecided: {exc}"
+    drops: list[RankDrop] = []
+    for factor, divides_all in factors:
+        zeros = _real_zeros(factor)
+        if zeros == "":
+            continue  # no real point satisfies it
+        atoms = factor.free_symbols & set(meaning)
+        text = str(factor.xreplace({a: sympy.Symbol(str(meaning[a])) for a in atoms}))
+        if atoms:
+            drops.append(RankDrop(text, None, None, "not decided: the condition involves tan of half an angle, "
+                                                    "and a constraint set is solved in the model's own variables"))
+            continue
+        equations = zeros or f"{factor} = 0"
+        text = zeros or text
+        try:
+            constraint, fixed = parse_constraints(system, equations)
+        except ModelError as exc:
+            if divides_all:
+                drops.append(RankDrop(text, None, _matching_motion(system, equations),
+                                      "every maximal minor vanishes on the set (each is divisible by the factor), "
+                                      f"so the rank is below {generic.rank} there (certain); its value is not "
+                                      f"computed: {exc}"))
+            else:
+                drops.append(RankDrop(text, None, None, f"not decided: {exc}"))
+            continue
+        if fixed or constraint is None:
+            continue  # an input set to a number: the input profiles of the catalogue cover it
+        on_set = analyze(system, seed=seed, where=constraint, directions=False, input_derivatives=input_derivatives)
+        if on_set.rank is not None:
+            if on_set.rank < generic.rank:
+                drops.append(RankDrop(text, on_set.rank, _matching_motion(system, equations),
+                                      f"rank {on_set.rank} on the set: {on_set.details}"))
+        elif on_set.lower_bound is not None and on_set.lower_bound < generic.rank:
+            drops.append(RankDrop(text, None, _matching_motion(system, equations), on_set.details))
+    return drops, ""
