@@ -152,11 +152,11 @@ class _Base:
     def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
         S = _symmetric(H @ P @ H.T + W)
         try:
-            L = np.linalg.cholesky(S)
+            np.linalg.cholesky(S)  # the refusal test: S must be positive definite
         except np.linalg.LinAlgError:
             raise FilterError(f"step {step} (update): the innovation covariance S is not positive definite") from None
-        K = np.linalg.solve(L.T, np.linalg.solve(L, H @ P.T)).T
-        return K, S
+        # K = P H^T S^-1, as the solution of S K^T = H P (P and S symmetric).
+        return np.linalg.solve(S, H @ P).T, S
 
     @staticmethod
     def _joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray) -> np.ndarray:
@@ -182,10 +182,14 @@ class _Base:
         h, H, H_prev = self._measurement(state.x, x_prev)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        H, H_prev = H[used], H_prev[used]
-        W = self.R[np.ix_(used, used)] + self._extra_noise(state, H_prev, self._inputs(u, state.step))
+        if len(used) < len(h):  # some entries missing: the rows of those present
+            H, H_prev, R = H[used], H_prev[used], self.R[np.ix_(used, used)]
+            h = h[used]
+        else:
+            R = self.R
+        W = R + self._extra_noise(state, H_prev, self._inputs(u, state.step))
         K, S = self._gain(state.P, H, W, state.step)
-        nu = values - h[used]
+        nu = values - h
         x = state.x + K @ nu
         P = self._joseph(state.P, K, H, W)
         return Update(self._checked(FilterState(x, P, x_prev=state.x_prev, step=state.step), "update"), nu, S, tuple(used))

@@ -88,7 +88,18 @@ def measurement(y: Sequence[float | None], size: int, where: str) -> tuple[np.nd
 
 
 def estimate(x: np.ndarray, P: np.ndarray, where: str) -> None:
-    """What a step hands back: a finite state and a symmetric positive definite P."""
-    if not np.all(np.isfinite(x)):
+    """What a step hands back: a finite state and a positive definite P.
+
+    The filters build P symmetric (an average with its transpose), so only
+    finiteness and definiteness are checked here: the Cholesky factorisation
+    succeeds exactly when the symmetric P is positive definite, and its factor
+    is finite only when P is.
+    """
+    if not np.isfinite(x).all():
         raise FilterError(f"{where}: the state estimate is not finite")
-    covariance(P, "the covariance", P.shape[0], where)
+    try:
+        factor = np.linalg.cholesky(P)
+    except np.linalg.LinAlgError:
+        raise FilterError(f"{where}: the covariance is not positive definite") from None
+    if not np.isfinite(factor).all():
+        raise FilterError(f"{where}: the covariance has entries that are not finite")
