@@ -151,13 +151,14 @@ def _integer_parameter(images: Sequence[sympy.Expr]) -> tuple[list[sympy.Expr], 
     check holds for every eps, so a rescaled eps checks the same group. Returns
     the images and q."""
     q = 1
-    for image in images:
-        for atom in image.atoms(sympy.sin, sympy.cos, sympy.tan, sympy.exp):
-            for term in sympy.Add.make_args(sympy.expand(atom.args[0])):
-                if term.has(EPSILON):
-                    coefficient = term.as_coeff_Mul()[0]
-                    if coefficient.is_Rational:
-                        q = sympy.ilcm(q, coefficient.q)
+    # The distinct atoms first: a scene's images share a handful (cos(eps), ...).
+    atoms = set().union(*(image.atoms(sympy.sin, sympy.cos, sympy.tan, sympy.exp) for image in images))
+    for atom in atoms:
+        for term in sympy.Add.make_args(sympy.expand(atom.args[0])):
+            if term.has(EPSILON):
+                coefficient = term.as_coeff_Mul()[0]
+                if coefficient.is_Rational:
+                    q = sympy.ilcm(q, coefficient.q)
     return ([image.xreplace({EPSILON: q * EPSILON}) for image in images] if q != 1 else list(images)), q
 
 

@@ -140,7 +140,8 @@ class System:
         Named functions of the states that the model is written around (a
         landmark in the camera frame, a velocity in the body frame). Reports write
         matrix entries in terms of them where that is shorter; the analysis
-        never uses them.
+        never uses them. A callable is called on first use (a large model's
+        quantities cost as much to parse as its outputs).
 
     Raises
     ------
@@ -162,7 +163,7 @@ class System:
     description: str = field(default="", compare=False)
     symmetry_source: Any = field(default=(), compare=False, repr=False)
     latex_names: tuple[tuple[str, str], ...] = field(default=(), compare=False)
-    quantities: tuple[tuple[sympy.Symbol, sympy.Expr], ...] = field(default=(), compare=False)
+    quantity_source: Any = field(default=(), compare=False, repr=False)
     unknown_inputs: tuple[str, ...] = ()
     motions: tuple[Motion, ...] = field(default=(), compare=False)
 
@@ -180,7 +181,7 @@ class System:
         parameter_values: Iterable[tuple[sympy.Symbol, sympy.Expr]] = (),
         symmetries: Iterable[Symmetry] | Callable[[], Iterable[Symmetry]] = (),
         latex_names: Mapping[str, str] | Iterable[tuple[str, str]] = (),
-        quantities: Mapping[str, Any] | Iterable[tuple[Any, Any]] = (),
+        quantities: Mapping[str, Any] | Iterable[tuple[Any, Any]] | Callable[[], Mapping[str, Any]] = (),
         unknown_inputs: Iterable[str] = (),
         unknown_input_order: int | None = None,
         motions: Iterable[Motion] = (),
@@ -257,10 +258,16 @@ class System:
         object.__setattr__(self, "name", str(name))
         object.__setattr__(self, "inverse_dynamics", g)
         object.__setattr__(self, "description", str(description))
-        defined = self._quantities(quantities, names, set(seen) | output_names)  # a fresh set: filled in
-        object.__setattr__(self, "quantities", defined)
-        known = set(seen) | output_names | {q.name for q, _ in defined}
-        object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
+        known = set(seen) | output_names
+        if callable(quantities):
+            object.__setattr__(self, "quantity_source", quantities)
+            # Names given for quantities are checked when the quantities are made.
+            object.__setattr__(self, "latex_names", self._latex_names(latex_names, None))
+        else:
+            defined = self._quantities(quantities, names, set(known))
+            object.__setattr__(self, "quantity_source", defined)
+            known |= {q.name for q, _ in defined}
+            object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
         object.__setattr__(self, "unknown_inputs", ())
         motions = tuple(motions)
         if not all(isinstance(m, Motion) for m in motions):
@@ -323,13 +330,32 @@ class System:
             out.append((sympy.Symbol(qname), expr))
         return tuple(out)
 
+    @property
+    def quantities(self) -> tuple[tuple[sympy.Symbol, sympy.Expr], ...]:
+        """The named quantities (validated; made on first use when lazy)."""
+        if not callable(self.quantity_source):
+            return self.quantity_source
+        cached = self.__dict__.get("_quantity_cache")
+        if cached is None:
+            names = {s.name: s for s in (*self.states, *self.inputs, *self.parameters)}
+            taken = set(names) | set(self.output_names)
+            cached = self._quantities(self.quantity_source(), names, set(taken))
+            known = taken | {q.name for q, _ in cached}
+            for key, _ in self.latex_names:
+                if key not in known:
+                    raise ModelError(f"latex name given for {key!r}, which is not a declared name")
+            object.__setattr__(self, "_quantity_cache", cached)
+        return cached
+
     @staticmethod
-    def _latex_names(latex_names: Any, known: set[str]):
+    def _latex_names(latex_names: Any, known: set[str] | None):
+        """Checked LaTeX for each name; ``known``: the names that may be given
+        (None: checked later, against names made on first use)."""
         items = latex_names.items() if isinstance(latex_names, Mapping) else latex_names
         out: dict[str, str] = {}
         for key, value in items:
             key = unicodedata.normalize("NFKC", str(key))
-            if key not in known:
+            if known is not None and key not in known:
                 raise ModelError(f"latex name given for {key!r}, which is not a declared name")
             out[key] = validate_latex_name(value, f"latex name of {key}")
         return tuple(out.items())
@@ -426,7 +452,7 @@ class System:
             "parameter_values": self.parameter_values,
             "symmetries": self.symmetry_source,
             "latex_names": self.latex_names,
-            "quantities": self.quantities,
+            "quantities": self.quantity_source,
             "motions": self.motions,
         }
         # States that already hold the unknown inputs: the names are only recorded.

@@ -73,3 +73,25 @@ def test_with_values_checks_names():
     assert dict(s.with_values(k=3).parameter_values) == {sympy.Symbol("k"): 3}
     with pytest.raises(ModelError, match="unknown parameter 'q'"):
         s.with_values(q=1)
+
+
+def test_lazy_quantities_are_the_eager_ones_and_checked_on_first_use():
+    """Quantities given by a callable are made when first read, equal to the
+    same quantities given directly; a LaTeX name for a name that the callable
+    does not make is refused then, with the name."""
+    x, y = sympy.symbols("x y")
+    common = dict(states=["x", "y"], dynamics=["y", "0"], outputs={"h": "x"})
+    eager = System(**common, quantities={"r": "x**2 + y**2"}, latex_names={"r": "\\rho"})
+    calls = []
+
+    def make():
+        calls.append(1)
+        return {"r": "x**2 + y**2"}
+
+    lazy = System(**common, quantities=make, latex_names={"r": "\\rho"})
+    assert not calls
+    assert lazy.quantities == eager.quantities == ((sympy.Symbol("r"), x**2 + y**2),)
+    assert lazy.replace(name="again").quantities == eager.quantities
+    wrong = System(**common, quantities=make, latex_names={"s": "\\sigma"})
+    with pytest.raises(ModelError, match="latex name given for 's'"):
+        wrong.quantities

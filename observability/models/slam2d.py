@@ -109,14 +109,20 @@ def slam2d(
         parameters[f"B{j}y"] = None
     # Reports write entries with landmarks and beacons in the camera frame
     # (xbar ahead, ybar the depth) and the velocity in the camera frame.
-    quantities = {"vbar_x": "cxdot*cos(cth) + cydot*sin(cth)", "vbar_y": "-cxdot*sin(cth) + cydot*cos(cth)"}
     latex_names = {"cx": "c_x", "cxdot": "\\dot{c}_x", "cy": "c_y", "cydot": "\\dot{c}_y", "cth": "\\theta",
                    "cthdot": "\\dot{\\theta}", "vbar_x": "\\bar{v}_x", "vbar_y": "\\bar{v}_y"}
     points = [(f"L{i}", *landmark_states(i)) for i in range(1, landmarks + 1)]
     points += [(f"B{j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)]
+
+    def quantities() -> dict[str, str]:
+        # Made on first use (a report): parsing them costs as much as the outputs.
+        out = {"vbar_x": "cxdot*cos(cth) + cydot*sin(cth)", "vbar_y": "-cxdot*sin(cth) + cydot*cos(cth)"}
+        for point, px, py in points:
+            out[f"xbar_{point}"] = _projection(px, py).split("/")[0].removeprefix("f*")
+            out[f"ybar_{point}"] = _projection(px, py).split("/")[1]
+        return out
+
     for point, px, py in points:
-        quantities[f"xbar_{point}"] = _projection(px, py).split("/")[0].removeprefix("f*")
-        quantities[f"ybar_{point}"] = _projection(px, py).split("/")[1]
         latex_names[px], latex_names[py] = f"x_{{{point}}}", f"y_{{{point}}}"
         latex_names[f"h{point}"] = f"h_{{{point}}}"
         if disparity and point.startswith("L"):
