@@ -9,7 +9,7 @@ landmarks=N -o beacons=M`` does after the interpreter has started. Prints a tabl
 with the fitted growth exponent (time ~ n^k, least squares on the log-log points
 with N >= 10) and plots ``reports/scaling.png``.
 
-Not a test: ``python benchmarks/scaling.py [--sizes 1 10 100 300 1000]``.
+Not a test: ``python benchmarks/scaling.py [--sizes 1 10 100 300 1000] [--models slam2d slam3d]``.
 """
 
 from __future__ import annotations
@@ -55,11 +55,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 100, 300, 1000])
     parser.add_argument("--plot", type=Path, default=Path(__file__).resolve().parents[1] / "reports" / "scaling.png")
+    parser.add_argument("--models", nargs="+", choices=("slam2d", "slam3d"), default=["slam2d", "slam3d"],
+                        help="which families (slam2d to N = 10,000: --sizes 100 1000 3000 10000 --models slam2d)")
     args = parser.parse_args()
     results: dict[tuple[str, int, int], list[dict]] = {}
     print(f"{'model':7} {'beacons':>7} {'N':>5} {'n':>5} {'rank':>5} {'expected':>8} {'ok':>3} {'seconds':>8} "
           f"{'peak MiB':>9}  directions")
     for model, beacons, lost in (("slam2d", 2, 0), ("slam2d", 0, 4), ("slam3d", 3, 1), ("slam3d", 0, 8)):
+        if model not in args.models:
+            continue
         rows = []
         for size in args.sizes:
             row = measure(model, size, beacons)

@@ -74,8 +74,10 @@ __all__ = ["load_model", "parse_model"]
 #: thousands of states takes well under a megabyte).
 MAX_FILE_BYTES = 8 * 1024 * 1024
 
-#: The most components one declared vector may have.
-MAX_VECTOR_SIZE = 100_000
+#: The most components one declared vector may have: "p[100000]" would make a
+#: model of 100,000 states from one short line (a scalar file of that size is
+#: megabytes, and is bounded by MAX_FILE_BYTES).
+MAX_VECTOR_SIZE = 10_000
 
 _VECTOR = re.compile(r"^(\w+)\[(\d+)\]$")
 

@@ -49,6 +49,13 @@ ATTACKS = [
     "ｘ", "x\u200b", "lambda", "None", "True", "'str'", "b'x'", "...", "x; y", "x\ny", "", " ", "nan", "inf",
     "1/0", "0/0", "log(0)", "x/(x - x)", "sin(x/2) + sin(x)", "x**0.5", "x**(1/3)", "exp(x)**(1/2)",
     "a" * 5000, "9" * 5000, "1." + "0" * 5000 + "1",
+    # vector syntax: shapes, indices and helpers misused
+    "[x, y][2]", "[x, y][-3]", "[x, y][0.5]", "[x, y][True]", "[x, y][x]", "[x, y][0:2:1]", "[x, y][1:0]", "[]",
+    "[" * 200 + "x" + "]" * 200, "[" + ", ".join(["x"] * 5000) + "]", "[[x], [x, y]]", "[x, [y]]", "[x] + x",
+    "[x, y] * [x, y]", "[x, y] @ [x, y]", "[[x, y]] @ [[x, y]]", "[x, y] / [x, y]", "x / [x, y]", "[x] ** 2",
+    "dot([x], [x, y])", "cross([x, y], [x, y])", "norm(x)", "skew([x, y])", "transpose(x)", "quaternion_rate([x], [y])",
+    "rotation_from_euler(x, y, th)", "rotation_from_quaternion([x, y, th, x])", "rotation_from_gibbs([x, y, th])[3, 0]",
+    "sin([x, y])", "prev([x])", "[x, y][0, 0]", "skew([x, y, th])[0]", "skew([x, y, th])[0, 0, 0]",
 ]
 TOKENS = ['"', "'", "[", "]", "=", "\n", "#", "\\", "\x00", "states", "dynamics", "[outputs]", "[[x]]", "1", "-",
           "time = \"sideways\"", "states = []", "states = [\"x\", \"x\"]", "inputs = [\"x\"]", "\ufeff", "é"]
