@@ -284,10 +284,24 @@ def _listing(names: list[str], limit: int = 6) -> str:
     return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
 
 
+def _norm_preserving(system: System, group: list[sympy.Symbol]) -> bool:
+    """Whether the dynamics move ``group`` by a skew-symmetric linear map of it
+    (q' = Omega q, or q+ = q + Omega q in discrete time), as quaternion
+    kinematics do: the norm of the group is then constant."""
+    index = {s: i for i, s in enumerate(system.states)}
+    step = 1 if system.time == "discrete" else 0
+    jacobian = [[sympy.expand(sympy.diff(system.dynamics[index[a]], b) - (step if a == b else 0)) for b in group]
+                for a in group]
+    return all(not (e.free_symbols & set(group)) for row in jacobian for e in row) and all(
+        sympy.expand(jacobian[i][j] + jacobian[j][i]) == 0 for i in range(4) for j in range(4))
+
+
 def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
     """A name and a description from the structure of a field: constant
-    (translation), linear with a diagonal part (scaling, about its centre), with
-    a skew-symmetric part (rotation, about its centre); otherwise "unnamed
+    (translation), linear with a diagonal part (scaling, about its centre; four
+    states scaled alike about zero whose motion keeps their norm: "the norm of"
+    them, a quaternion's gauge),
+    with a skew-symmetric part (rotation, about its centre); otherwise "unnamed
     direction". Names of found fields say what they are; declared candidates
     keep their own names."""
     states = list(system.states)
@@ -305,6 +319,12 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
     off = [(i, j) for i in range(n) for j in range(n) if i != j and A[i][j] != 0]
     diagonal = [i for i in range(n) if A[i][i] != 0]
     if not off and diagonal:
+        if len(diagonal) == 4 and len({A[i][i] for i in diagonal}) == 1 and not any(b) and _norm_preserving(
+                system, [states[i] for i in diagonal]):
+            # Four states scaled together about zero whose motion keeps their norm:
+            # an attitude quaternion, of which the outputs see only the direction.
+            group = ", ".join(states[i].name for i in diagonal)
+            return f"the norm of ({group})", f"scales ({group}) together: only their direction is seen (a quaternion's norm)"
         weights = ", ".join(f"{states[i].name}: {A[i][i]}" for i in diagonal)
         centre = [(states[i].name, sympy.simplify(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
         about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""

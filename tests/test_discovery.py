@@ -187,3 +187,19 @@ def _numeric_rank(matrix) -> int:
         values = mpmath.svd_r(mpmath.matrix(matrix.tolist()), compute_uv=False)
         top = max(values)
         return sum(1 for v in values if v > top * mpmath.mpf(10) ** -25)
+
+
+def test_quaternion_norm_is_named_without_a_declaration():
+    """slam3d without its declared candidates: the camera attitude enters only
+    through R(q)/|q|^2, so q -> e^eps q leaves every output and the dynamics
+    q' = q (0, w)/2 (linear in q, skew-symmetric: the norm is kept) unchanged:
+    the field (q0, q1, q2, q3) is found and named the norm of q. A uniform
+    scaling of four states whose motion does not keep their norm (the relative
+    position and velocity of bearings-only TMA) stays a "scaling"
+    (test_restrictions.py)."""
+    result, found = _directions(_bare("slam3d", {"beacons": "3"}))
+    assert result.n_states - result.rank == 1
+    ((name, field),) = found
+    assert name == "the norm of (q0, q1, q2, q3)"
+    q = sympy.symbols("q0:4")
+    assert _same_line(field, dict(zip(("q0", "q1", "q2", "q3"), q)))
