@@ -161,6 +161,12 @@ def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
 
     system, input_derivatives, constraint = _restricted(system, args, getattr(args, "where", None))
     progress = status_line()
+    point = None
+    if args.method == "float" and getattr(args, "point", None):
+        from .expressions import parse_number
+
+        # The float method evaluates at the point itself, transcendental values included.
+        point = {k: float(parse_number(v, f"--point {k}")) for k, v in (_point(args.point) or {}).items()}
     try:
         return analyze(
             system,
@@ -169,6 +175,7 @@ def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
             input_derivatives=input_derivatives,
             max_order=args.max_order,
             budget=args.budget,
+            point=point,
             previous=args.previous,
             progress=progress,
             where=constraint,
@@ -223,12 +230,21 @@ def _check(args: argparse.Namespace) -> int:
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)
         result = _analyze(system, args)
+        at_point = None
+        if args.point is not None and args.method != "float":
+            from .pointwise import rank_at_point
+
+            at_point = rank_at_point(system, _point(args.point) or {}, result, seed=args.seed or 0)
     if result.observable is None:
         code = EXIT_UNDECIDED
     else:
         code = EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
     try:
-        print(json.dumps(result.to_dict(), indent=2) if args.format == "json" else result.text(args.brief), flush=True)
+        if args.format == "json":
+            record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
+            print(json.dumps(record, indent=2), flush=True)
+        else:
+            print(result.text(args.brief) + ("\n" + at_point.text() if at_point is not None else ""), flush=True)
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
     if args.proof is not None:
@@ -442,6 +458,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--where", default=None, metavar="EQUATIONS",
                        help='the rank at a generic point of a set, e.g. "cxdot = 0, cydot = 0" (equations in states, '
                             "parameters, and inputs set to numbers; solved rationally)")
+    check.add_argument("--point", default=None, metavar="NAME=VALUE,...",
+                       help="also the rank at this point (exact values such as 1/2; names not given stay generic), "
+                            "whether it is singular, and its null space as numbers when the point is fully given")
     check.add_argument("--max-order", type=_count, default=None, metavar="K",
                        help="highest Lie order (default: the order that always suffices)")
     check.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",

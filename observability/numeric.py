@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import random
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from flint import arb
@@ -42,7 +43,11 @@ class FloatRank:
     observable_columns : tuple[int, ...] or None
         None when the gap does not support a claim.
     null_space : tuple[tuple[float, ...], ...]
-        Orthonormal basis of the numerical null space.
+        Orthonormal basis of the numerical null space of the equilibrated
+        matrix (:func:`equilibrate`: its zero pattern is the original's).
+    matrix : numpy.ndarray
+        The rows evaluated in double precision at the point (original scale),
+        against which a candidate null vector can be checked.
     """
 
     rank: int
@@ -57,6 +62,7 @@ class FloatRank:
     complete: bool = True
     rule: str = ""
     note: str = ""
+    matrix: Any = field(default=None, compare=False, repr=False)
 
 
 def equilibrate(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -295,5 +301,6 @@ def float_rank(
             complete=expansion.complete,
             rule=expansion.rule,
             note=note,
+            matrix=np.array(sink.rows, dtype=float),
         )
     raise SingularModelError(f"{system.name}: the observability matrix is singular at the point ({last.reason})")

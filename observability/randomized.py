@@ -148,7 +148,7 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
 
 
 def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous,
-               constraint=None):
+               constraint=None, exhaustive: bool = False):
     echelon = _RecordingEchelon(system.n, PRIME)
 
     def make(program: Program, discrete: bool) -> TaylorEvaluator:
@@ -157,7 +157,8 @@ def _one_point(system: System, rng: random.Random, input_derivatives: int | None
             constraint.place(evaluator, system)
         return evaluator
 
-    expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous)
+    expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous,
+                            exhaustive=exhaustive)
     return echelon, expansion
 
 
@@ -171,6 +172,7 @@ def randomized_rank(
     progress: Progress | None = None,
     previous: str = "inverse",
     constraint=None,
+    exhaustive: bool = False,
 ) -> ModularRank:
     """Exact rank of the observability matrix at random points modulo 2^61 - 1.
 
@@ -195,6 +197,9 @@ def randomized_rank(
     constraint : observability.restrictions.ConstraintSet, optional
         Draw the points on this set (the rank at a generic point of the set); the
         degree bound is multiplied by the degree of its parametrisation.
+    exhaustive : bool
+        Compute every order up to the one that always suffices, without the
+        early stop (the rank at a special point may grow again after a stall).
 
     Raises
     ------
@@ -215,7 +220,7 @@ def randomized_rank(
         while True:
             try:
                 echelon, expansion = _one_point(system, rng, input_derivatives, max_order, progress, previous,
-                                                constraint)
+                                                constraint, exhaustive)
                 break
             except Redraw as exc:
                 attempts += 1
