@@ -15,8 +15,7 @@ search does not apply).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 from .analysis import ObservabilityResult, analyze

@@ -7,7 +7,6 @@ is redrawn in place ("rank 12 after Lie order 3"), which is not a counter.
 from __future__ import annotations
 
 import sys
-import time
 from collections.abc import Callable
 from typing import TextIO
 

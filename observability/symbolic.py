@@ -16,9 +16,8 @@ guessing.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import TypeVar
 
 import sympy
 from sympy.polys.matrices import DomainMatrix
@@ -26,7 +25,7 @@ from sympy.polys.matrices import DomainMatrix
 from .expansion import stopping_rule
 from .lie import lie_derivatives
 from .atoms import normal_form
-from .budget import Undecided, with_budget
+from .budget import Undecided
 from .errors import UnsupportedExpressionError
 from .system import System
 

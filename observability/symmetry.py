@@ -29,7 +29,6 @@ import sympy
 from flint import arb
 
 from .echelon import ModularEchelon
-from .expressions import prev
 from .program import Program
 from .taylor import PRIME, BallTaylorEvaluator, Redraw, TaylorEvaluator
 

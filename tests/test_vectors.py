@@ -113,7 +113,7 @@ def test_expansion_of_outputs_latex_parameters_and_motions():
         HEAD + '[parameters]\ng = [0, 0, \"1/2\"]\n[dynamics]\np = "v"\nv = "u - g"\n[outputs]\nz = "p[0:2] / p[2]"\n'
         '[latex]\np = "\\\\mathbf{p}"\n[motions.still]\ninputs = { u = "0" }\n'
     )
-    p, v, u = vector("p", 3), vector("v", 3), vector("u", 3)
+    p, u = vector("p", 3), vector("u", 3)
     assert system.output_names == ("z_0", "z_1")
     assert dict(system.outputs)["z_1"] == p[1] / p[2]
     g = vector("g", 3)

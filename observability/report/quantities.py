@@ -169,7 +169,6 @@ def rewriting(system: System) -> Rewriting | None:
     """The elimination of states by the system's quantities; None when nothing can be eliminated."""
     if not system.quantities:
         return None
-    states = set(system.states)
     appearances = {x: sum(x in e.free_symbols for _, e in system.quantities) for x in system.states}
     order = sorted((x for x in system.states if appearances[x]), key=lambda x: (appearances[x], system.states.index(x)))
     equations = [e - q for q, e in system.quantities]
