@@ -17,7 +17,6 @@ guessing.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TypeVar
 
 import sympy
 from sympy.polys.matrices import DomainMatrix
@@ -39,7 +38,6 @@ __all__ = [
     "null_space",
 ]
 
-T = TypeVar("T")
 
 
 def _integer_coefficient(arg: sympy.Expr) -> tuple[int, sympy.Expr] | None:
