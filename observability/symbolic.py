@@ -39,7 +39,6 @@ __all__ = [
 ]
 
 
-
 def _integer_coefficient(arg: sympy.Expr) -> tuple[int, sympy.Expr] | None:
     coeff, rest = arg.as_coeff_Mul()
     if coeff.is_Rational and coeff != 1 and rest != 1:
