@@ -393,8 +393,7 @@ def _degenerate(args: argparse.Namespace) -> int:
                 rank = f"rank {drop.rank}" if drop.rank is not None else (
                     f"rank below {r.result.rank}" if drop.details.startswith("every maximal minor") else "undecided")
                 named = f" ({drop.motion})" if drop.motion else ""
-                condition = drop.factor if "=" in drop.factor else f"{drop.factor} = 0"
-                print(f"  {r.motion.name}: {rank} when {condition}{named}")
+                print(f"  {r.motion.name}: {rank} when {drop.condition}{named}")
             if r.rank_drops_note:
                 print(f"  {r.motion.name}: {r.rank_drops_note}")
             elif not r.rank_drops:

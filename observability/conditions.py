@@ -31,7 +31,7 @@ from .budget import Undecided, with_budget
 from .errors import ModelError
 from .expansion import stopping_rule
 from .expressions import parse_expression
-from .restrictions import parse_constraints
+from .restrictions import _split, parse_constraints
 from .lie import lie_derivatives
 from .randomized import randomized_rank
 from .symbolic import _field_matrix, rationalize
@@ -46,12 +46,15 @@ MAX_STATES = 8
 
 @dataclass(frozen=True)
 class RankDrop:
-    """One condition: the set ``factor = 0`` and the rank there.
+    """One condition: the real points where ``factor`` vanishes, and the rank there.
 
     Attributes
     ----------
     factor : str
         An irreducible polynomial in the model's variables (or in tan(a/2)).
+    condition : str
+        Equations of its real zero set: ``factor = 0``, or for a sum of even
+        powers the variables it sets to zero (``cxdot = 0, cydot = 0``).
     rank : int or None
         The rank at a generic point of the set; None when not decided.
     motion : str or None
@@ -61,12 +64,14 @@ class RankDrop:
     """
 
     factor: str
+    condition: str
     rank: int | None
     motion: str | None
     details: str
 
     def to_dict(self) -> dict[str, Any]:
-        return {"condition": f"{self.factor} = 0", "rank": self.rank, "motion": self.motion, "details": self.details}
+        return {"condition": self.condition, "factor": self.factor, "rank": self.rank, "motion": self.motion,
+                "details": self.details}
 
 
 #: Factors are checked against every maximal minor of the matrix when there
@@ -139,7 +144,7 @@ def _real_zeros(factor: sympy.Expr) -> str | None:
 def _equations(system: System, text: str) -> list[sympy.Expr] | None:
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     out = []
-    for piece in text.split(","):
+    for piece in _split(text):
         sides = piece.split("=")
         if len(sides) != 2:
             return None
@@ -188,30 +193,29 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
             continue  # no real point satisfies it
         atoms = factor.free_symbols & set(meaning)
         text = str(factor.xreplace({a: sympy.Symbol(str(meaning[a])) for a in atoms}))
+        equations = zeros or f"{text} = 0"
         if atoms:
-            drops.append(RankDrop(text, None, None, "not decided: the condition involves tan of half an angle, "
-                                                    "and a constraint set is solved in the model's own variables"))
+            drops.append(RankDrop(text, equations, None, None, "not decided: the condition involves tan of half an "
+                                  "angle, and a constraint set is solved in the model's own variables"))
             continue
-        equations = zeros or f"{factor} = 0"
-        text = zeros or text
         try:
             constraint, fixed = parse_constraints(system, equations)
         except ModelError as exc:
             if divides_all:
-                drops.append(RankDrop(text, None, _matching_motion(system, equations),
+                drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
                                       "every maximal minor vanishes on the set (each is divisible by the factor), "
                                       f"so the rank is below {generic.rank} there (certain); its value is not "
                                       f"computed: {exc}"))
             else:
-                drops.append(RankDrop(text, None, None, f"not decided: {exc}"))
+                drops.append(RankDrop(text, equations, None, None, f"not decided: {exc}"))
             continue
         if fixed or constraint is None:
             continue  # an input set to a number: the input profiles of the catalogue cover it
         on_set = analyze(system, seed=seed, where=constraint, directions=False, input_derivatives=input_derivatives)
         if on_set.rank is not None:
             if on_set.rank < generic.rank:
-                drops.append(RankDrop(text, on_set.rank, _matching_motion(system, equations),
+                drops.append(RankDrop(text, equations, on_set.rank, _matching_motion(system, equations),
                                       f"rank {on_set.rank} on the set: {on_set.details}"))
         elif on_set.lower_bound is not None and on_set.lower_bound < generic.rank:
-            drops.append(RankDrop(text, None, _matching_motion(system, equations), on_set.details))
+            drops.append(RankDrop(text, equations, None, _matching_motion(system, equations), on_set.details))
     return drops, ""

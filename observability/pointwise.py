@@ -118,6 +118,11 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     details = (f"exact rank mod 2^61-1 with every order up to {lower.orders} (no early stop at a special point): "
                "a certain lower bound, equal to the rank over the rationals unless 2^61-1 divides every larger minor "
                "there")
+    if lower.dependence is not None:
+        # Without provably independent atoms the residues may be too high: no bound, no verdict.
+        singular = None
+        details = (f"rank {lower.rank} mod 2^61-1 with every order up to {lower.orders}, not a certain bound: "
+                   f"{lower.dependence}")
     if generic is not None and generic.rank is not None and lower.rank > generic.rank:
         details += f"; above the generic rank {generic.rank}, which is therefore too low"
     null_space: tuple[dict[str, str], ...] = ()

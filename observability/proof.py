@@ -15,14 +15,12 @@ rank is proven.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 import sympy
-from sympy import QQ
-from sympy.polys.fields import field
 
 from .budget import Undecided, with_budget
 from .expansion import point_rank
+from .fractions import NotRational, RationalFunctions
 from .symbolic import rationalize
 from .system import System
 
@@ -36,61 +34,41 @@ PROOF_BUDGET = 10.0
 PROOF_MAX_STATES = 24
 
 
-Fraction = tuple[Any, Any]  # (numerator, denominator) in a sympy polynomial ring
-
-
 def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool | None:
     """The identities for a system and fields that are rational functions, in
-    polynomial arithmetic: each sum of fractions is zero when the numerator over
-    its distinct denominators is the zero polynomial, so no gcd is ever taken
-    (sympy's ``cancel`` on expression trees is ten times slower on slam3d).
-    None when an expression is not rational (then :func:`_identities` decides)."""
+    python-flint's rational-function arithmetic (:mod:`observability.fractions`:
+    sympy's ``cancel`` on expression trees is ten times slower on slam3d).
+    None when an expression is not rational, or in discrete time (then
+    :func:`_identities` decides by expressions)."""
     if system.time != "continuous":
         return None  # v(F(x)) needs composition: left to the expression route
     symbols = [*system.states, *system.inputs, *system.parameters]
     f = [system.substitute_values(e) for e in system.dynamics]
     h = [system.substitute_values(e) for _, e in system.outputs]
     v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
-    if not all(e.is_rational_function(*symbols) for e in (*f, *h, *(e for v in v_all for e in v))):
+    field = RationalFunctions(symbols)
+    try:
+        f_, h_ = [field.of(e) for e in f], [field.of(e) for e in h]
+        v_all_ = [[field.of(e) for e in v] for v in v_all]
+    except NotRational:
         return None
-    domain, *_ = field(symbols, QQ)
-    ring = domain.ring
-    position = {x: ring.gens[i] for i, x in enumerate(symbols)}
 
-    def fraction(expr: sympy.Expr) -> Fraction:
-        value = domain.from_expr(expr)
-        return value.numer, value.denom
-
-    def derivative(a: Fraction, x: sympy.Symbol) -> Fraction:
-        top, bottom = a[0].diff(position[x]), a[1].diff(position[x])
-        return (top, a[1]) if bottom == 0 else (top * a[1] - a[0] * bottom, a[1] ** 2)
-
-    def vanishes(terms: list[tuple[Fraction, Fraction, int]]) -> bool:
+    def vanishes(terms) -> bool:
         """Whether the sum of sign * a * b over the terms is zero."""
-        by_denominator: dict[Any, Any] = {}
+        total = (field.zero, field.one)
         for a, b, sign in terms:
-            if a[0] and b[0]:
-                bottom = a[1] * b[1]
-                by_denominator[bottom] = by_denominator.get(bottom, ring.zero) + sign * a[0] * b[0]
-        parts = [(bottom, top) for bottom, top in by_denominator.items() if top]
-        total = ring.zero
-        for j, (_, top) in enumerate(parts):
-            for k, (bottom, _) in enumerate(parts):
-                if k != j:
-                    top = top * bottom
-            total += top
-        return not total
+            product = field.multiply(a, b)
+            total = field.add(total, product if sign > 0 else field.negative(product))
+        return total[0].is_zero()
 
     x = list(system.states)
-    f_, h_ = [fraction(e) for e in f], [fraction(e) for e in h]
-    for v in v_all:
-        v_ = [fraction(e) for e in v]
+    for v_ in v_all_:
         for hi in h_:
-            if not vanishes([(derivative(hi, xj), vj, 1) for xj, vj in zip(x, v_)]):
+            if not vanishes([(field.derivative(hi, xj), vj, 1) for xj, vj in zip(x, v_)]):
                 return False
         for vi, fi in zip(v_, f_):
-            terms = [(derivative(vi, xj), fj, 1) for xj, fj in zip(x, f_)]
-            terms += [(derivative(fi, xj), vj, -1) for xj, vj in zip(x, v_)]
+            terms = [(field.derivative(vi, xj), fj, 1) for xj, fj in zip(x, f_)]
+            terms += [(field.derivative(fi, xj), vj, -1) for xj, vj in zip(x, v_)]
             if not vanishes(terms):
                 return False
     return True

@@ -66,6 +66,11 @@ def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_pre
         raise ModelError(f"{where}: expected a scalar expression, got {type(value).__name__} {value!r}")
     if value.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
         raise ModelError(f"{where}: expression {value} is not finite")
+    floats = value.atoms(sympy.Float)
+    if floats:
+        # Exact arithmetic throughout: a float means the decimal it prints as
+        # (0.1 is 1/10), as in model files.
+        value = value.xreplace({f: sympy.Rational(str(f)) for f in floats})
     return value
 
 

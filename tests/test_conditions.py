@@ -89,3 +89,16 @@ def test_cli_degenerate_conditions():
                          capture_output=True, text=True, timeout=300)
     generic = json.loads(out.stdout)["motions"][0]
     assert {"condition": "f = 0", "rank": 0} in [{k: d[k] for k in ("condition", "rank")} for d in generic["rank_drops"]]
+
+
+def test_real_zero_sets_of_sums_of_squares():
+    """cxdot^2 + cydot^2 vanishes on the reals only where both do (the camera
+    stands still: slam2d's condition, reported as two equations, not as
+    "... = 0 = 0"); x^2 + 1 has no real zero (dropped); x*y - 1 is its own set."""
+    from observability.conditions import _real_zeros
+
+    x, y = sympy.symbols("cxdot cydot")
+    assert _real_zeros(x**2 + y**2) == "cxdot = 0, cydot = 0"
+    assert _real_zeros(3 * x**4 + y**2) == "cxdot = 0, cydot = 0"
+    assert _real_zeros(x**2 + 1) == ""
+    assert _real_zeros(x * y - 1) is None

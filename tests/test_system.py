@@ -95,3 +95,15 @@ def test_lazy_quantities_are_the_eager_ones_and_checked_on_first_use():
     wrong = System(**common, quantities=make, latex_names={"s": "\\sigma"})
     with pytest.raises(ModelError, match="latex name given for 's'"):
         wrong.quantities
+
+
+def test_sympy_floats_are_read_as_their_decimals():
+    """A sympy Float in an API-built expression is the decimal it prints as
+    (0.5 is 1/2, as 0.1 is 1/10 in a model file), so the exact engines can use
+    it: before, the exact rank failed inside on a Float constant."""
+    x, y = sympy.symbols("x y")
+    system = System(["x", "y"], {"x": sympy.Float(0.5) * y, "y": 0}, {"h": x})
+    assert system.dynamics == (y / 2, 0)
+    from observability import analyze
+
+    assert analyze(system, seed=1).rank == 2

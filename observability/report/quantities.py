@@ -16,11 +16,9 @@ from __future__ import annotations
 import random
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
-
-import flint
 import sympy
 
+from ..fractions import NotRational, RationalFunctions
 from ..system import System
 
 __all__ = ["Rewriting", "rewriting", "tidy", "MAX_REWRITE_CHARS"]
@@ -40,67 +38,12 @@ def tidy(expr: sympy.Expr) -> sympy.Expr:
     return sympy.factor(expr) if len(str(expr)) <= MAX_FACTOR_CHARS else sympy.factor_terms(expr)
 
 
-class _NotRational(Exception):
-    """An expression that is not a rational function of the symbols given."""
-
-
-def _fraction(expr: sympy.Expr, context: Any, gens: Mapping[sympy.Symbol, Any]) -> tuple[Any, Any]:
-    """``expr`` as (numerator, denominator) flint polynomials without a common
-    factor. Every sum and product is cancelled by flint's multivariate gcd (C),
-    which keeps the intermediate fractions small; sympy's own field arithmetic
-    spent minutes on entries of a 3-D model."""
-    if expr.is_Symbol:
-        if expr not in gens:
-            raise _NotRational(expr)
-        return gens[expr], context.from_dict({(0,) * context.nvars(): 1})
-    if expr.is_Rational:
-        unit = (0,) * context.nvars()
-        return context.from_dict({unit: flint.fmpq(int(expr.p), int(expr.q))}), context.from_dict({unit: 1})
-    if expr.is_Add or expr.is_Mul:
-        parts = [_fraction(a, context, gens) for a in expr.args]
-        top, bottom = parts[0]
-        for p, q in parts[1:]:
-            if expr.is_Add:
-                common = bottom.gcd(q)
-                top, bottom = top * (q / common) + p * (bottom / common), bottom / common * q
-            else:
-                top, bottom = top * p, bottom * q
-            top, bottom = _cancel(top, bottom)
-        return top, bottom
-    if expr.is_Pow and expr.exp.is_Integer:
-        top, bottom = _fraction(expr.base, context, gens)
-        k = int(expr.exp)
-        if k < 0:
-            if top.is_zero():
-                raise ZeroDivisionError(expr)
-            top, bottom, k = bottom, top, -k
-        return top**k, bottom**k
-    raise _NotRational(expr)
-
-
-def _cancel(top: Any, bottom: Any) -> tuple[Any, Any]:
-    if top.is_zero():
-        return top, bottom.context().from_dict({(0,) * bottom.context().nvars(): 1})
-    common = top.gcd(bottom)
-    if not common.is_one():
-        top, bottom = top / common, bottom / common
-    lead = bottom.leading_coefficient()
-    return (top / lead, bottom / lead) if lead != 1 else (top, bottom)
-
-
-def _expression(poly: Any, symbols: list[sympy.Symbol]) -> sympy.Expr:
-    return sympy.Add(*(
-        sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*(s**e for s, e in zip(symbols, monomial) if e))
-        for monomial, c in poly.terms()
-    ))
-
-
 def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
     """``expr`` as a quotient of polynomials reduced modulo sin(a)^2 + cos(a)^2 = 1 for every angle a.
 
-    The arithmetic runs on python-flint's multivariate polynomials (see
-    :func:`_fraction`), sines first in a lexicographic order so that division by
-    s^2 + c^2 - 1 turns every even power of a sine into cosines.
+    The arithmetic is python-flint's (:mod:`observability.fractions`), sines
+    first in a lexicographic order so that division by s^2 + c^2 - 1 turns
+    every even power of a sine into cosines.
     """
     angles = sorted({f.args[0] for f in expr.atoms(sympy.sin, sympy.cos)}, key=sympy.default_sort_key)
     cos_ = [sympy.Dummy(f"c{i}") for i in range(len(angles))]
@@ -110,21 +53,17 @@ def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
         forward[sympy.cos(a)] = c
         forward[sympy.sin(a)] = s
     rational = expr.xreplace(forward)
-    symbols = [*sin_, *cos_, *sorted(rational.free_symbols - set(cos_) - set(sin_), key=str)]
-    context = flint.fmpq_mpoly_ctx.get(tuple(f"v{i}" for i in range(len(symbols))), "lex")
-    gens = dict(zip(symbols, context.gens()))
+    field = RationalFunctions([*sin_, *cos_, *sorted(rational.free_symbols - set(cos_) - set(sin_), key=str)])
     try:
-        top, bottom = _fraction(rational, context, gens)
-    except _NotRational:
+        top, bottom = field.of(rational)
+    except NotRational:
         return tidy(sympy.cancel(expr))  # other functions of the states: only cancelled
     for c, s in zip(cos_, sin_):
-        relation = gens[s] ** 2 + gens[c] ** 2 - 1
+        relation = field.gens[s] ** 2 + field.gens[c] ** 2 - 1
         top, bottom = top % relation, bottom % relation
-    if bottom.is_zero():
-        raise ZeroDivisionError(expr)
-    top, bottom = _cancel(top, bottom)
+    top, bottom = field.reduced(top, bottom)
     back = {v: k for k, v in forward.items()}
-    return tidy(_expression(top, symbols) / _expression(bottom, symbols)).xreplace(back)
+    return tidy(field.expression(top) / field.expression(bottom)).xreplace(back)
 
 
 @dataclass(frozen=True)
