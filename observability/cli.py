@@ -341,7 +341,7 @@ def _latex(args: argparse.Namespace) -> int:
 def _reproduce(args: argparse.Namespace) -> int:
     from .report.reproduce import reproduce
 
-    written = reproduce(args.out, quick=args.quick, runs=args.runs)
+    written = reproduce(args.out, quick=args.quick, runs=args.runs, scheduler=args.scheduler, workers=args.workers)
     print(f"wrote {len(written)} files into {args.out}: " + ", ".join(p.name for p in written))
     return 0
 
@@ -349,8 +349,11 @@ def _reproduce(args: argparse.Namespace) -> int:
 def _consistency(args: argparse.Namespace) -> int:
     from .report.consistency import ConsistencyStudy, write_consistency_report
 
+    from .parallel import engine
+
     study = ConsistencyStudy(runs=args.runs, steps=args.steps, seed=args.seed)
-    summary = write_consistency_report(args.out, study)
+    with engine(args.scheduler, args.workers) as run:
+        summary = write_consistency_report(args.out, study, run)
     for name, row in summary.items():
         print(f"{name:26} mean NEES {row['mean_nees']:9.2f}  {row['verdict']}")
     print(f"wrote {args.out / 'consistency.md'} and {args.out / 'consistency_nees.png'}")
@@ -508,6 +511,11 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--runs", type=_positive, default=50, help="Monte Carlo runs (default 50)")
     consistency.add_argument("--steps", type=_positive, default=80, help="time steps per run (default 80)")
     consistency.add_argument("--seed", type=int, default=7, help="seed of the Monte Carlo streams (default 7)")
+    for command in (reproduce, consistency):
+        command.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                             help="run the Monte Carlo tasks on this Dask scheduler (default: a local cluster)")
+        command.add_argument("--workers", type=_positive, default=None,
+                             help="processes of the local Dask cluster (default: all cores)")
     consistency.set_defaults(func=_consistency)
     degenerate = sub.add_parser(
         "degenerate", help="which motions lose observability: the rank on each motion of the model's catalogue")

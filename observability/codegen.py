@@ -247,7 +247,7 @@ def filter_functions(
         x_back = casadi.vertcat(*(to_casadi(e.xreplace(values), table | _noise_table(noise, w)) for e in inverse))
         functions |= {
             "g": casadi.Function("g", motion_in, [x_back], motion_names, ["x_prev"]),
-            "G_X": casadi.Function("G_X", motion_in, [casadi.jacobian(x_back, x)], motion_names, ["G_X"]),
+            "G_X": casadi.Function("G_X", motion_in, [casadi.densify(casadi.jacobian(x_back, x))], motion_names, ["G_X"]),
             "G_w": casadi.Function("G_w", motion_in, [casadi.densify(casadi.jacobian(x_back, w))], motion_names, ["G_w"]),
         }
     return FilterFunctions(

@@ -167,3 +167,11 @@ def test_a_failed_write_leaves_nothing_behind(tmp_path):
         _atomic(tmp_path / "a.txt", half, ".partial")
     assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
     assert (tmp_path / "a.txt").read_text() == "complete"
+
+
+def test_reproduce_refuses_an_unreachable_scheduler_at_once(tmp_path):
+    """A malformed Dask scheduler address is one line and exit 2, before any work."""
+    out = run("reproduce", "--quick", "--scheduler", "no port here", "--out", str(tmp_path / "reports"))
+    assert out.returncode == 2
+    assert "cannot reach the Dask scheduler" in out.stderr and len(out.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "reports").exists()

@@ -15,9 +15,8 @@ from observability.report.reproduce import claims_text
 
 ROOT = Path(__file__).resolve().parents[1]
 KEYS = {
-    "mean_trace_position_cov", "mean_trace_position_cov_first_10s", "mean_trace_landmark_cov",
-    "mean_trace_landmark_cov_first_10s", "mean_ssd_position", "mean_ssd_landmark",
-    "average_nees_position_after_5s", "nees_bounds", "fraction_steps_outside_bounds", "seconds_per_step",
+    "truth", "filter", "beacons", "disparity_variance", "gate", "anees_position", "anees_bounds", "trace_ratio",
+    "trace_ratio_ci", "mse_ratio", "mse_ratio_ci", "diverged",
 }
 
 
@@ -37,21 +36,32 @@ def test_every_promised_file(quick_reports):
     assert not list(quick_reports.glob("*.partial*"))
 
 
-def test_summary_has_finite_numbers(quick_reports):
+def test_summary_has_one_record_per_setting_and_filter(quick_reports):
+    """Tidy records: truth (2) x beacons (2) x disparity variance (2) x gate (2) x
+    filter (4) = 64, each with the keys the issue names and finite numbers; the
+    conventional EKF's ratios are 1 (it is the reference)."""
     summary = json.loads((quick_reports / "summary.json").read_text())
-    assert set(summary["filters"]) == {"conventional EKF (projective)", "generalized EKF (+ disparity)", "cloning EKF (+ disparity)"}
-    for row in summary["filters"].values():
+    rows = summary["records"]
+    assert len(rows) == 64
+    assert {(r["truth"], r["filter"], r["beacons"], r["disparity_variance"], r["gate"]) for r in rows} == {
+        (t, f, b, v, g) for t in ("paper", "matched") for f in ("conventional", "generalized", "generalized-total", "cloning")
+        for b in (2, 3) for v in (74.0, 0.74) for g in (True, False)}
+    for row in rows:
         assert KEYS <= set(row)
-        for key in KEYS:
+        for key in KEYS - {"truth", "filter", "gate"}:
             values = row[key] if isinstance(row[key], list) else [row[key]]
             assert all(math.isfinite(v) for v in values), key
-    assert summary["config"]["f"] == 20.0 and summary["config"]["dt"] == 0.1
+        assert row["trace_ratio_ci"][0] <= row["trace_ratio"] <= row["trace_ratio_ci"][1]
+        if row["filter"] == "conventional":
+            assert row["trace_ratio"] == row["mse_ratio"] == 1.0
+    assert summary["config"]["f"] == 20.0 and summary["config"]["dt"] == 0.1 and summary["quick"] is True
 
 
-def test_readme_states_the_verdict(quick_reports):
+def test_a_quick_readme_is_a_smoke_run_without_verdict(quick_reports):
     text = (quick_reports / "README.md").read_text()
-    assert "Does disparity lower the robot-position covariance trace" in text
-    assert "Is the lower covariance matched by a lower actual error?" in text
+    assert "smoke run" in text and "no verdict is drawn" in text
+    assert "Does disparity lower the robot-position covariance trace" not in text
+    assert "| matched | 3 | 74 | on | generalized |" in text
 
 
 def test_claims_table_changes_with_the_model():

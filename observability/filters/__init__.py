@@ -6,7 +6,7 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 """
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
-from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, Update
+from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
 from .montecarlo import monte_carlo
 
 __all__ = [
@@ -16,6 +16,7 @@ __all__ = [
     "FilterError",
     "FilterState",
     "GeneralizedEKF",
+    "GeneralizedTotalEKF",
     "Update",
     "chi2_bounds",
     "degree_of_observability",

@@ -11,6 +11,11 @@ with an error naming the step. A measurement entry given as ``None`` is missing
   the "naive" filter.
 * :class:`GeneralizedEKF`: the paper's eqs. (6)-(11), with
   W_k = R_k + H_Xk-1 G_w Q G_w^T H_Xk-1^T.
+* :class:`GeneralizedTotalEKF`: a diagnostic, the generalized EKF with the term
+  that eqs. (9)-(11) drop restored: the update uses the total Jacobian
+  H_Xk + H_Xk-1 G_X of h(x_k, g(x_k)) instead of H_Xk alone. The paper's filter
+  treats x_k-1 as known when it linearises; this one lets the previous state move
+  with x_k through the inverse motion model.
 * :class:`CloningEKF`: stochastic cloning (Roumeliotis & Burdick 2002): the state
   is augmented with a copy of the previous state, so h(x_k, x_k-1) is an ordinary
   measurement of the augmented state and all correlations are kept.
@@ -174,6 +179,10 @@ class _Base:
     def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
         return np.zeros((H_prev.shape[0], H_prev.shape[0]))
 
+    def _jacobian(self, state: FilterState, H: np.ndarray, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The Jacobian of the measurement in the update: d h / d x_k, x_k-1 held fixed."""
+        return H
+
     @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """Eqs. (8)-(11) in Joseph form, with the available entries of ``y``."""
@@ -187,7 +196,9 @@ class _Base:
             h = h[used]
         else:
             R = self.R
-        W = R + self._extra_noise(state, H_prev, self._inputs(u, state.step))
+        u = self._inputs(u, state.step)
+        H = self._jacobian(state, H, H_prev, u)
+        W = R + self._extra_noise(state, H_prev, u)
         K, S = self._gain(state.P, H, W, state.step)
         nu = values - h
         x = state.x + K @ nu
@@ -211,6 +222,24 @@ class GeneralizedEKF(_Base):
     def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
         (Gw,) = self._inverse_call(state.x, u, self.w0, self.p)
         return H_prev @ Gw @ self.Q @ Gw.T @ H_prev.T
+
+
+class GeneralizedTotalEKF(GeneralizedEKF):
+    """The generalized EKF with the total Jacobian H_Xk + H_Xk-1 G_X (a diagnostic).
+
+    Eqs. (9)-(11) linearise h(x_k, x_k-1) in x_k alone. With x_k-1 = g(x_k, w)
+    the measurement is a function of x_k through both arguments; this filter
+    keeps the second path, so a comparison with :class:`GeneralizedEKF` shows
+    what the dropped term does to the covariance.
+    """
+
+    def __init__(self, functions: FilterFunctions, Q, R, parameters: Sequence[float] = ()):
+        super().__init__(functions, Q, R, parameters)
+        self._inverse_state_call = _Buffered(functions["G_X"])
+
+    def _jacobian(self, state: FilterState, H: np.ndarray, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
+        (Gx,) = self._inverse_state_call(state.x, u, self.w0, self.p)
+        return H + H_prev @ Gx
 
 
 class CloningEKF(_Base):

@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..codegen import filter_functions
+from ..codegen import FilterFunctions, filter_functions
 from ..errors import OptionError
-from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, monte_carlo, nees
+from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, nees
+from ..parallel import Runner, run_tasks
 from ..system import System
 from .files import save_figure, write_text
 
@@ -78,34 +79,39 @@ class ConsistencyResult:
         return out
 
 
-def run_consistency(study: ConsistencyStudy = ConsistencyStudy(), progress: bool | None = None) -> ConsistencyResult:
-    """Monte Carlo of the three filters on the same simulated data."""
-    functions = filter_functions(study.system())
+def _one_run(functions: FilterFunctions, study: ConsistencyStudy, stream: np.random.SeedSequence) -> dict[str, np.ndarray]:
+    """One Monte Carlo run (a Dask task): the truth, the measurements and the NEES of every filter."""
+    rng = np.random.default_rng(stream)
     F = np.array([[1.0, study.dt], [0.0, 1.0]])
     Q = np.diag([study.q_position, study.q_velocity])
     R = np.diag([study.r_position, study.r_odometry])
     P0 = np.diag(study.p0)
+    x = rng.multivariate_normal(study.x0, P0)
+    truth, ys = [], []
+    for _ in range(study.steps):
+        nxt = F @ x + rng.multivariate_normal(np.zeros(2), Q)
+        ys.append(np.array([nxt[0], nxt[0] - x[0]]) + rng.multivariate_normal(np.zeros(2), R))
+        truth.append(nxt)
+        x = nxt
+    out = {}
+    for name, kind in FILTERS.items():
+        ekf = kind(functions, Q, R)
+        state = ekf.initial(study.x0, P0)
+        values = []
+        for y, true in zip(ys, truth):
+            state = ekf.update(ekf.predict(state), y).state
+            values.append(nees(true - state.x, state.P))
+        out[name] = np.array(values)
+    return out
 
-    def one(rng: np.random.Generator) -> dict[str, np.ndarray]:
-        x = rng.multivariate_normal(study.x0, P0)
-        truth, ys = [], []
-        for _ in range(study.steps):
-            nxt = F @ x + rng.multivariate_normal(np.zeros(2), Q)
-            ys.append(np.array([nxt[0], nxt[0] - x[0]]) + rng.multivariate_normal(np.zeros(2), R))
-            truth.append(nxt)
-            x = nxt
-        out = {}
-        for name, kind in FILTERS.items():
-            ekf = kind(functions, Q, R)
-            state = ekf.initial(study.x0, P0)
-            values = []
-            for y, true in zip(ys, truth):
-                state = ekf.update(ekf.predict(state), y).state
-                values.append(nees(true - state.x, state.P))
-            out[name] = np.array(values)
-        return out
 
-    runs = monte_carlo(one, study.runs, study.seed, label="consistency Monte Carlo", progress=progress)
+def run_consistency(study: ConsistencyStudy = ConsistencyStudy(), run: Runner | None = None) -> ConsistencyResult:
+    """Monte Carlo of the three filters on the same simulated data, one Dask task per
+    run on ``run`` (an :func:`observability.parallel.engine`; default a local cluster).
+    Run i has the i-th stream spawned from the seed, whatever the number of workers."""
+    streams = np.random.SeedSequence(study.seed).spawn(study.runs)
+    runs = run_tasks(_one_run, [(study, stream) for stream in streams], filter_functions(study.system()),
+                     "consistency Monte Carlo", run)
     average = {name: np.mean([r[name] for r in runs], axis=0) for name in FILTERS}
     return ConsistencyResult(study, average, chi2_bounds(2, study.runs))
 
@@ -124,14 +130,14 @@ def _explanation(verdicts: dict[str, str]) -> str:
     return " ".join(text)
 
 
-def write_consistency_report(out: Path, study: ConsistencyStudy = ConsistencyStudy(), progress: bool | None = None) -> dict:
+def write_consistency_report(out: Path, study: ConsistencyStudy = ConsistencyStudy(), run: Runner | None = None) -> dict:
     """Write ``consistency.md`` and ``consistency_nees.png`` into ``out``; return the summary."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    result = run_consistency(study, progress)
+    result = run_consistency(study, run)
     lo, hi = result.bounds
     summary = result.summary()
     fig, ax = plt.subplots(figsize=(7, 4))
