@@ -190,8 +190,9 @@ class RunMetrics:
     ``disparity_used`` marks the steps whose disparity row entered the update;
     ``disparity_margin`` is the landmark's predicted distance from the baseline in
     standard deviations of its position, where a disparity was measured (the gate's
-    quantity, gated or not); ``refused`` is the filter's error message, with the
-    step, or None.
+    quantity, gated or not); ``nis`` the normalized innovation squared of the update
+    and ``nis_dof`` its degrees of freedom (the rows used); ``refused`` is the
+    filter's error message, with the step, or None.
     """
 
     trace_position: np.ndarray
@@ -201,6 +202,8 @@ class RunMetrics:
     nees_position: np.ndarray
     disparity_used: np.ndarray
     disparity_margin: np.ndarray
+    nis: np.ndarray
+    nis_dof: np.ndarray
     refused: str | None
     seconds_per_step: float
     estimates: np.ndarray | None = None  # (steps, 8), kept for the runs drawn in figures
@@ -210,7 +213,7 @@ class RunMetrics:
 def _run_filter(ekf, config: SimulationConfig, truth: Trajectory, projective: np.ndarray, disparity: np.ndarray | None,
                 gate: bool, x0: np.ndarray, P0: np.ndarray, keep: bool) -> RunMetrics:
     steps = config.steps
-    rows = np.full((7, steps), np.nan)
+    rows = np.full((9, steps), np.nan)
     rows[5] = 0.0
     estimates = np.full((steps, 8), np.nan) if keep else None
     covariances = np.full((steps, 2, 2), np.nan) if keep else None
@@ -233,7 +236,11 @@ def _run_filter(ekf, config: SimulationConfig, truth: Trajectory, projective: np
                 else:
                     y.append(float(value))
                     rows[5, k - 1] = 1.0
-            state = ekf.update(state, y, u).state
+            update = ekf.update(state, y, u)
+            state = update.state
+            if update.used:
+                rows[7, k - 1] = update.innovation @ np.linalg.solve(update.S, update.innovation)
+                rows[8, k - 1] = len(update.used)
             error = truth.states[k] - state.x
             P = state.P
             e = error[POSITION]
@@ -252,7 +259,7 @@ def _run_filter(ekf, config: SimulationConfig, truth: Trajectory, projective: np
         refused = str(error)
         rows[5, done:] = np.nan
     elapsed = (time.perf_counter() - start) / max(done, 1)
-    return RunMetrics(*rows[:6], rows[6], refused, elapsed, estimates, covariances)
+    return RunMetrics(*rows[:7], rows[7], rows[8], refused, elapsed, estimates, covariances)
 
 
 def simulate_run(models: dict[tuple[int, bool], FilterFunctions], config: SimulationConfig, run: int, variances: tuple[float, ...], gates: tuple[bool, ...],

@@ -136,6 +136,12 @@ def _record(config, truth, beacons, variance, gate, name, metrics, base, settle,
     nees = np.array([m.nees_position for m in metrics])[finished][:, settle:]
     lo, hi = chi2_bounds(2, max(int(finished.sum()), 1))
     average = nees.mean(axis=0) if nees.size else np.array([np.nan])
+    nis = np.array([m.nis for m in metrics])[finished][:, settle:]
+    dof = np.array([m.nis_dof for m in metrics])[finished][:, settle:]
+    total_dof = np.nansum(dof, axis=0)
+    anis = np.nansum(nis, axis=0)[total_dof > 0] / total_dof[total_dof > 0]
+    typical = int(np.median(total_dof)) if total_dof.size else 0
+    nis_lo, nis_hi = chi2_bounds(1, typical) if typical > 0 else (np.nan, np.nan)
     trace_ratio, trace_ci = _bootstrap_ratio(trace[finished], base_trace[finished], rng)
     mse_ratio, mse_ci = _bootstrap_ratio(ssd[finished], base_ssd[finished], rng)
     used = np.array([np.nanmean(m.disparity_used) for m in metrics])
@@ -144,6 +150,10 @@ def _record(config, truth, beacons, variance, gate, name, metrics, base, settle,
         "runs": len(metrics), "runs_finished": int(finished.sum()),
         "anees_position": float(np.mean(average)), "anees_bounds": [float(lo), float(hi)],
         "fraction_steps_outside_bounds": float(np.mean((average < lo) | (average > hi))),
+        # Per step: the sum over runs of NIS divided by the sum of its degrees of freedom,
+        # averaged over steps; the bounds are those of a step with the median total dof.
+        "anis_per_dof": float(np.mean(anis)) if anis.size else float("nan"),
+        "anis_bounds": [float(nis_lo), float(nis_hi)],
         "trace_ratio": trace_ratio, "trace_ratio_ci": trace_ci, "mse_ratio": mse_ratio, "mse_ratio_ci": mse_ci,
         "mean_trace_position": float(trace[finished].mean()), "mean_mse_position": float(ssd[finished].mean()),
         "diverged": int(diverged.sum()), "diverged_explained": _explain(metrics, diverged, config.dt, config.gate_sigmas),
