@@ -25,9 +25,16 @@ class Undecided(Exception):
 
 def _child(conn: Any, func: Callable[..., Any], args: tuple) -> None:
     try:
-        conn.send(("ok", func(*args)))
-    except Exception as exc:  # noqa: BLE001 - reported to the parent, which re-raises
-        conn.send(("error", exc))
+        try:
+            result = ("ok", func(*args))
+        except Exception as exc:  # noqa: BLE001 - reported to the parent, which re-raises
+            result = ("error", exc)
+        try:
+            conn.send(result)
+        except Exception as exc:  # noqa: BLE001 - e.g. a result nested too deeply to pickle
+            conn.send(("unsendable", f"{type(exc).__name__}: {exc}"))
+    except Exception:  # noqa: BLE001 - the parent reads the closed pipe as "no answer"
+        pass
     finally:
         conn.close()
 
@@ -75,11 +82,16 @@ def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
                 raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
             if not process.is_alive() and not parent.poll(0):
                 raise Undecided("the symbolic computation ended without an answer (out of memory?)")
-        status, value = parent.recv()
+        try:
+            status, value = parent.recv()
+        except EOFError:  # the child closed the pipe without an answer (it crashed, or could not send)
+            raise Undecided("the symbolic computation ended without an answer") from None
     finally:
         if process.is_alive():
             process.kill()
         process.join()
+    if status == "unsendable":
+        raise Undecided(f"the symbolic computation ended without an answer it could pass back ({value})")
     if status == "error":
         if isinstance(value, (RecursionError, MemoryError)):
             raise Undecided(f"the symbolic computation exceeded a resource limit ({type(value).__name__})")

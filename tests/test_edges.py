@@ -175,3 +175,26 @@ def test_reproduce_refuses_an_unreachable_scheduler_at_once(tmp_path):
     assert out.returncode == 2
     assert "cannot reach the Dask scheduler" in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "reports").exists()
+
+
+def _exits_without_answer():
+    import os
+
+    os._exit(3)
+
+
+def _unpicklable_result():
+    import threading
+
+    return threading.Lock()  # a lock cannot be pickled: the child cannot send it
+
+
+@pytest.mark.parametrize("work", [_exits_without_answer, _unpicklable_result])
+def test_a_budgeted_child_without_answer_is_undecided(work):
+    """A child that dies, or whose result cannot be sent back (a sympy expression
+    nested too deeply to pickle, in the malformed-file corpus), closes its pipe:
+    the caller gets Undecided, never an EOFError reported as an internal error."""
+    from observability.budget import Undecided, with_budget
+
+    with pytest.raises(Undecided, match="without an answer"):
+        with_budget(work, seconds=5)

@@ -10,7 +10,7 @@ import pytest
 
 from observability import System
 from observability.codegen import filter_functions
-from observability.filters import ConventionalEKF, GeneralizedTotalEKF, chi2_bounds, nees
+from observability.filters import ConventionalEKF, GeneralizedEKF, GeneralizedTotalEKF, chi2_bounds, nees
 from observability.parallel import engine
 from observability.report.reproduce import simulation_text
 from observability.report.simulation import SimulationConfig, _functions, predicted_distance, process_noise, simulate_run, filter_models
@@ -92,18 +92,26 @@ def test_matched_truth_obeys_the_model_and_follows_the_path():
     assert np.hypot(x[:, 0] - reference[:, 0], x[:, 2] - reference[:, 2]).max() < 3.0
 
 
+def _joseph(P, H, W):
+    S = H @ P @ H.T + W
+    K = P @ H.T @ np.linalg.inv(S)
+    A = np.eye(P.shape[0]) - K @ H
+    return A @ P @ A.T + K @ W @ K.T, S
+
+
 def test_total_jacobian_is_the_derivative_of_h_through_the_inverse_motion():
-    """H_Xk + H_Xk-1 G_X is d/dx h(x, g(x, u, 0)): central finite differences of
-    the composition, evaluated with the generated h and g, agree to 1e-5; the
-    filter's updated covariance is the Joseph update with that Jacobian, computed
-    here in numpy."""
+    """The generalized-total update uses d/dx h(x, g(x, u, 0)) = H_Xk + H_Xk-1 G_X:
+    central finite differences of the composition (evaluated with the generated h
+    and g) give a Jacobian with which the Joseph update, computed here in numpy,
+    reproduces the filter's covariance and innovation covariance; the paper's
+    generalized EKF reproduces the same formula with H_Xk alone, and the two differ
+    (the restored term is not zero here)."""
     functions = _functions(3, True)
     config = SimulationConfig()
-    p = [config.f, config.dt, -1.5, 1.0, 1.5, -1.0, -0.5, -2.5][: len(functions.parameters)]
     values = {"f": config.f, "dt": config.dt, "B1x": -1.5, "B1y": 1.0, "B2x": 1.5, "B2y": -1.0, "B3x": -0.5, "B3y": -2.5}
     p = [values[name] for name in functions.parameters]
     R = np.diag([0.074] * 4 + [74.0])
-    ekf = GeneralizedTotalEKF(functions, process_noise(config), R, p)
+    Q = process_noise(config)
     x = np.array([6.0, 0.8, -1.0, 1.2, 1.0, 0.15, 0.5, 2.0])
     u = np.array([0.01, -0.02, 0.0])
     w0 = np.zeros(5)
@@ -113,24 +121,22 @@ def test_total_jacobian_is_the_derivative_of_h_through_the_inverse_motion():
         return np.array(functions["h"](z, back, p)).ravel()
 
     step = 1e-6
-    numeric = np.column_stack([(composed(x + step * e) - composed(x - step * e)) / (2 * step) for e in np.eye(8)])
+    total = np.column_stack([(composed(x + step * e) - composed(x - step * e)) / (2 * step) for e in np.eye(8)])
     back = np.array(functions["g"](x, u, w0, p)).ravel()
-    _, H, H_prev = ekf._measurement(x, back)
-    state = ekf.initial(x, np.diag(np.full(8, 0.04)))
-    state = replace(state, x_prev=back, step=1)
-    total = ekf._jacobian(state, H, H_prev, u)
-    assert np.allclose(total, numeric, rtol=1e-5, atol=1e-5)
-    assert not np.allclose(total, H, atol=1e-3)  # the restored term is not zero here
-
-    y = list(np.array(functions["h"](x, back, p)).ravel() + 0.1)
-    updated = ekf.update(state, y, u).state
+    H = np.array(functions["H_Xk"](x, back, p))
+    H_prev = np.array(functions["H_Xk_1"](x, back, p))
     Gw = np.array(functions["G_w"](x, u, w0, p))
-    W = R + H_prev @ Gw @ process_noise(config) @ Gw.T @ H_prev.T
-    P = state.P
-    S = numeric @ P @ numeric.T + W
-    K = P @ numeric.T @ np.linalg.inv(S)
-    A = np.eye(8) - K @ numeric
-    assert np.allclose(updated.P, A @ P @ A.T + K @ W @ K.T, rtol=1e-5, atol=1e-9)
+    W = R + H_prev @ Gw @ Q @ Gw.T @ H_prev.T
+    y = list(np.array(functions["h"](x, back, p)).ravel() + 0.1)
+    P = np.diag(np.full(8, 0.04))
+    for kind, jacobian in ((GeneralizedTotalEKF, total), (GeneralizedEKF, H)):
+        ekf = kind(functions, Q, R, p)
+        state = replace(ekf.initial(x, P), x_prev=back, step=1)
+        update = ekf.update(state, y, u)
+        expected_P, expected_S = _joseph(P, jacobian, W)
+        assert np.allclose(update.state.P, expected_P, rtol=1e-5, atol=1e-9), kind.__name__
+        assert np.allclose(update.S, expected_S, rtol=1e-5, atol=1e-9), kind.__name__
+    assert not np.allclose(total, H, atol=1e-3)
 
 
 def test_predicted_distance_and_the_gate():

@@ -230,3 +230,56 @@ def test_colored_noise_filter_equals_batch_least_squares():
     np.testing.assert_allclose(state.x, solution[last], atol=1e-9)
     np.testing.assert_allclose(state.P, covariance[last, last], atol=1e-9)
     np.testing.assert_allclose(state.noise[0], solution[nx + steps], atol=1e-9)
+
+
+@pytest.mark.parametrize("landmarks", [1, 4])
+@pytest.mark.parametrize("kind", [ConventionalEKF, GeneralizedEKF])
+def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
+    """The predict and update are one casadi call each (filters.fused; a scalar SX
+    graph for n = 8, a matrix MX graph for n = 14). Reference: the EKF equations in
+    numpy, with the Jacobians from the generated motion / measurement / G_w
+    Functions, the missing entries dropped as rows (the fused update masks them
+    instead). 60 steps of slam2d with disparity, a third of the entries missing:
+    the estimates agree to 1e-9."""
+    from observability import models
+
+    system = models.build("slam2d", {"landmarks": str(landmarks), "beacons": "1", "disparity": "true", "time": "discrete"})
+    fns = filter_functions(system, ["cxdot", "cydot", "cthdot"])
+    values = {"f": 20.0, "dt": 0.1, "B1x": 0.0, "B1y": 6.0}
+    p = [values[name] for name in fns.parameters]
+    m, n = len(fns.outputs), system.n
+    q = np.diag([0.05, 0.05, 1e-3])
+    r = np.diag(np.linspace(0.05, 0.5, m))
+    rng = np.random.default_rng(4)
+    x = np.concatenate([[0.0, 1.0, 0.0, 0.3, 0.0, 0.05], np.tile([1.0, 8.0], landmarks) + rng.uniform(-1, 1, 2 * landmarks)])
+    P = np.diag(np.full(n, 0.05))
+    ekf = kind(fns, q, r, p)
+    state = ekf.initial(x, P)
+    ref_x, ref_P = x.copy(), P.copy()
+    w0 = np.zeros(3)
+    for k in range(60):
+        # The reference, eqs. (6)-(11) as written.
+        previous = ref_x
+        x_pred, F, Fw = (np.array(a) for a in fns["motion"](ref_x, [], w0, p))
+        x_pred = x_pred.ravel()
+        P_pred = F @ ref_P @ F.T + Fw @ q @ Fw.T
+        y = [float(v) + rng.normal(0, 0.1) if rng.uniform() > 1 / 3 else None
+             for v in np.array(fns["h"](x_pred, previous, p)).ravel()]
+        state = ekf.update(ekf.predict(state), y).state
+        used = [i for i, v in enumerate(y) if v is not None]
+        if not used:
+            ref_x, ref_P = x_pred, P_pred
+            continue
+        h, H, H_prev = (np.array(a) for a in fns["measurement"](x_pred, previous, p))
+        W = r.copy()
+        if kind is GeneralizedEKF:
+            Gw = np.array(fns["G_w"](x_pred, [], w0, p))
+            W = W + H_prev @ Gw @ q @ Gw.T @ H_prev.T
+        H, W = H[used], W[np.ix_(used, used)]
+        S = H @ P_pred @ H.T + W
+        K = P_pred @ H.T @ np.linalg.inv(S)
+        ref_x = x_pred + K @ (np.array([y[i] for i in used]) - h.ravel()[used])
+        A = np.eye(n) - K @ H
+        ref_P = A @ P_pred @ A.T + K @ W @ K.T
+        assert np.allclose(state.x, ref_x, rtol=1e-9, atol=1e-9), k
+        assert np.allclose(state.P, ref_P, rtol=1e-9, atol=1e-12), k

@@ -35,6 +35,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 from . import validation
+from .fused import fused_predict, fused_update
 from .validation import FilterError
 
 __all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
@@ -90,7 +91,7 @@ class _Buffered:
 
     def __call__(self, *args) -> list[np.ndarray]:
         for array, value in zip(self.inputs, args):
-            array[:] = value
+            array[:] = np.ravel(value)  # a matrix is passed transposed: C order of M^T is casadi's column order of M
         self.evaluate()
         return [out.T.copy() for out in self.outputs]
 
@@ -112,6 +113,7 @@ def _symmetric(P: np.ndarray) -> np.ndarray:
 
 
 class _Base:
+    variant = "conventional"  # the fused update's W and H (filters.fused); cloning's first update is conventional
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = ()):
         self.fn = functions
         n_w, n_y = len(functions.noise), len(functions.outputs)
@@ -168,46 +170,47 @@ class _Base:
         A = np.eye(P.shape[0]) - K @ H
         return _symmetric(A @ P @ A.T + K @ W @ K.T)
 
+    @functools.cached_property
+    def _predict_call(self) -> _Buffered:
+        return _Buffered(fused_predict(self.fn, self.Q))
+
+    @functools.cached_property
+    def _update_call(self) -> _Buffered:
+        return _Buffered(fused_update(self.fn, self.Q, self.R, self.variant))
+
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
-        """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T."""
+        """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call)."""
         u = self._inputs(u, state.step + 1)
-        x, F, Fw = self._motion(state.x, u)
-        P = _symmetric(F @ state.P @ F.T + Fw @ self.Q @ Fw.T)
-        return self._checked(FilterState(x, P, x_prev=state.x, step=state.step + 1), "prediction")
-
-    def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return np.zeros((H_prev.shape[0], H_prev.shape[0]))
-
-    def _jacobian(self, state: FilterState, H: np.ndarray, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """The Jacobian of the measurement in the update: d h / d x_k, x_k-1 held fixed."""
-        return H
+        x, P = self._predict_call(state.x, state.P.T, u, self.p)
+        return self._checked(FilterState(x.ravel(), P, x_prev=state.x, step=state.step + 1), "prediction")
 
     @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
-        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y``."""
+        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call)."""
         values, used = self._select(y, state.step)
-        x_prev = state.x if state.x_prev is None else state.x_prev
-        h, H, H_prev = self._measurement(state.x, x_prev)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        if len(used) < len(h):  # some entries missing: the rows of those present
-            H, H_prev, R = H[used], H_prev[used], self.R[np.ix_(used, used)]
-            h = h[used]
-        else:
-            R = self.R
+        m = len(self.fn.outputs)
+        measured, mask = np.zeros(m), np.zeros(m)
+        measured[used], mask[used] = values, 1.0
+        x_prev = state.x if state.x_prev is None else state.x_prev
         u = self._inputs(u, state.step)
-        H = self._jacobian(state, H, H_prev, u)
-        W = R + self._extra_noise(state, H_prev, u)
-        K, S = self._gain(state.P, H, W, state.step)
-        nu = values - h
-        x = state.x + K @ nu
-        P = self._joseph(state.P, K, H, W)
-        return Update(self._checked(FilterState(x, P, x_prev=state.x_prev, step=state.step), "update"), nu, S, tuple(used))
+        x, P, innovation, S = self._update_call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
+        if len(used) < m:
+            innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
+        try:
+            np.linalg.cholesky(S)  # the refusal test: S must be positive definite
+        except np.linalg.LinAlgError:
+            raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+        new = FilterState(x.ravel(), P, x_prev=state.x_prev, step=state.step)
+        return Update(self._checked(new, "update"), innovation.ravel(), S, tuple(used))
 
 
 class ConventionalEKF(_Base):
     """The conventional EKF: W_k = R_k (naive for previous-state measurements)."""
+
+    variant = "conventional"
 
 
 class GeneralizedEKF(_Base):
@@ -217,11 +220,8 @@ class GeneralizedEKF(_Base):
         if "G_w" not in functions.functions:
             raise FilterError("GeneralizedEKF setup: the generalized EKF needs the inverse motion model (G_w), which could not be derived")
         super().__init__(functions, Q, R, parameters)
-        self._inverse_call = _Buffered(functions["G_w"])
 
-    def _extra_noise(self, state: FilterState, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
-        (Gw,) = self._inverse_call(state.x, u, self.w0, self.p)
-        return H_prev @ Gw @ self.Q @ Gw.T @ H_prev.T
+    variant = "generalized"
 
 
 class GeneralizedTotalEKF(GeneralizedEKF):
@@ -233,13 +233,7 @@ class GeneralizedTotalEKF(GeneralizedEKF):
     what the dropped term does to the covariance.
     """
 
-    def __init__(self, functions: FilterFunctions, Q, R, parameters: Sequence[float] = ()):
-        super().__init__(functions, Q, R, parameters)
-        self._inverse_state_call = _Buffered(functions["G_X"])
-
-    def _jacobian(self, state: FilterState, H: np.ndarray, H_prev: np.ndarray, u: np.ndarray) -> np.ndarray:
-        (Gx,) = self._inverse_state_call(state.x, u, self.w0, self.p)
-        return H + H_prev @ Gx
+    variant = "generalized-total"
 
 
 class CloningEKF(_Base):
