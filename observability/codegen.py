@@ -161,6 +161,8 @@ class FilterFunctions:
     states, inputs, parameters, outputs : tuple[str, ...]
     noise : tuple[str, ...]
         The names of the states and inputs the process noise enters, in ``w`` order.
+    source : dict or None
+        For compiled functions, the in-memory Functions they were compiled from.
     """
 
     functions: dict
@@ -169,6 +171,9 @@ class FilterFunctions:
     parameters: tuple[str, ...]
     outputs: tuple[str, ...]
     noise: tuple[str, ...]
+    #: For compiled functions, the in-memory ones they were compiled from: the filters
+    #: expand small models into one scalar graph per step from these (filters.fused).
+    source: dict | None = None
 
     def __getitem__(self, name: str) -> casadi.Function:
         return self.functions[name]
@@ -360,4 +365,4 @@ def compile_functions(functions: FilterFunctions, cache: str | Path | None = Non
         os.replace(partial, library)
     loaded = {name: casadi.external(name, str(library)) for name in functions.functions}
     return FilterFunctions(loaded, functions.states, functions.inputs, functions.parameters, functions.outputs,
-                           functions.noise)
+                           functions.noise, source=functions.source or functions.functions)

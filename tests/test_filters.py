@@ -283,3 +283,32 @@ def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
         ref_P = A @ P_pred @ A.T + K @ W @ K.T
         assert np.allclose(state.x, ref_x, rtol=1e-9, atol=1e-9), k
         assert np.allclose(state.P, ref_P, rtol=1e-9, atol=1e-12), k
+
+
+def test_fused_health_flag_agrees_with_numpy_cholesky():
+    """The scalar check inside the fused graphs (smallest Cholesky pivot, -1 for a
+    non-finite entry) is positive exactly when numpy's Cholesky succeeds and the
+    vector is finite: 200 random symmetric 5 x 5 matrices, half of them indefinite,
+    then NaN and infinite entries."""
+    import casadi
+
+    from observability.filters.fused import _health
+
+    M, v = casadi.SX.sym("M", 5, 5), casadi.SX.sym("v", 3)
+    check = casadi.Function("check", [M, v], [_health(M, v)])
+    rng = np.random.default_rng(2)
+    for k in range(200):
+        A = rng.normal(size=(5, 5))
+        S = A @ A.T + 0.1 * np.eye(5) if k % 2 else A + A.T
+        try:
+            np.linalg.cholesky(S)
+            definite = True
+        except np.linalg.LinAlgError:
+            definite = False
+        assert (float(check(S, np.ones(3))) > 0) == definite, k
+    S = np.eye(5)
+    assert float(check(S, np.ones(3))) > 0
+    assert not float(check(S, [1.0, np.inf, 1.0])) > 0
+    assert not float(check(S, [1.0, np.nan, 1.0])) > 0
+    S[2, 3] = S[3, 2] = np.nan
+    assert not float(check(S, np.ones(3))) > 0

@@ -91,7 +91,8 @@ class _Buffered:
 
     def __call__(self, *args) -> list[np.ndarray]:
         for array, value in zip(self.inputs, args):
-            array[:] = np.ravel(value)  # a matrix is passed transposed: C order of M^T is casadi's column order of M
+            # A matrix is passed transposed: the C order of M^T is casadi's column order of M.
+            array[:] = value.ravel() if isinstance(value, np.ndarray) and value.ndim > 1 else value
         self.evaluate()
         return [out.T.copy() for out in self.outputs]
 
@@ -114,6 +115,7 @@ def _symmetric(P: np.ndarray) -> np.ndarray:
 
 class _Base:
     variant = "conventional"  # the fused update's W and H (filters.fused); cloning's first update is conventional
+    fused = True  # predict and update are the fused casadi calls (the augmented-state filters have their own)
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = ()):
         self.fn = functions
         n_w, n_y = len(functions.noise), len(functions.outputs)
@@ -126,6 +128,8 @@ class _Base:
         self.w0 = np.zeros(n_w)
         self._motion_call = _Buffered(functions["motion"])
         self._measurement_call = _Buffered(functions["measurement"])
+        if self.fused:  # built now, not inside the first step
+            self._predict_call, self._update_call
 
     def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
         where = f"{type(self).__name__} initial state"
@@ -178,14 +182,15 @@ class _Base:
     def _update_call(self) -> _Buffered:
         return _Buffered(fused_update(self.fn, self.Q, self.R, self.variant))
 
-    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call)."""
         u = self._inputs(u, state.step + 1)
-        x, P = self._predict_call(state.x, state.P.T, u, self.p)
-        return self._checked(FilterState(x.ravel(), P, x_prev=state.x, step=state.step + 1), "prediction")
+        x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        new = FilterState(x.ravel(), P, x_prev=state.x, step=state.step + 1)
+        if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
+            self._checked(new, "prediction")
+        return new
 
-    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call)."""
         values, used = self._select(y, state.step)
@@ -196,15 +201,18 @@ class _Base:
         measured[used], mask[used] = values, 1.0
         x_prev = state.x if state.x_prev is None else state.x_prev
         u = self._inputs(u, state.step)
-        x, P, innovation, S = self._update_call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
+        x, P, innovation, S, *health = self._update_call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
-        try:
-            np.linalg.cholesky(S)  # the refusal test: S must be positive definite
-        except np.linalg.LinAlgError:
-            raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
         new = FilterState(x.ravel(), P, x_prev=state.x_prev, step=state.step)
-        return Update(self._checked(new, "update"), innovation.ravel(), S, tuple(used))
+        if not (health and health[0][0, 0] > 0):
+            try:
+                np.linalg.cholesky(S)  # the refusal test: S must be positive definite
+            except np.linalg.LinAlgError:
+                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+        if not (health and health[1][0, 0] > 0):
+            self._checked(new, "update")
+        return Update(new, innovation.ravel(), S, tuple(used))
 
 
 class ConventionalEKF(_Base):
@@ -238,6 +246,8 @@ class GeneralizedTotalEKF(GeneralizedEKF):
 
 class CloningEKF(_Base):
     """Stochastic cloning: the state is augmented with the previous state."""
+
+    fused = False
 
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
@@ -289,6 +299,8 @@ class ColoredNoiseEKF(_Base):
     eq. 18. ``D0`` and ``D1`` are (m, q) arrays, or callables of (x_k, x_k-1)
     returning them.
     """
+
+    fused = False
 
     def __init__(self, functions: FilterFunctions, Q, R, R_nu, D0, D1, parameters: Sequence[float] = ()):
         super().__init__(functions, Q, R, parameters)

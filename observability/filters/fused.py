@@ -11,8 +11,9 @@ so S is block diagonal, the gain's columns for them are exactly zero and the
 result is the update with the present entries only.
 
 Small models are expanded into scalar SX graphs (fastest, sub-microsecond for the
-1.5-D model); above :data:`SX_STATES` states, or when the Functions are compiled C,
-matrix-valued MX graphs keep the operation count from growing with n^3 nodes.
+1.5-D model; compiled Functions keep the in-memory ones they came from for this);
+above :data:`SX_STATES` states matrix-valued MX graphs, calling the compiled C where
+there is one, keep the operation count from growing with n^3 nodes.
 """
 
 from __future__ import annotations
@@ -27,45 +28,84 @@ __all__ = ["fused_predict", "fused_update", "SX_STATES"]
 SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster), above: MX
 
 
-def _kind(functions: FilterFunctions):
-    scalar = len(functions.states) <= SX_STATES and functions["motion"].is_a("SXFunction")
-    return casadi.SX if scalar else casadi.MX
+def _graph(functions: FilterFunctions) -> tuple[type, dict]:
+    """The symbol type and the model Functions to build from: a scalar SX graph from
+    the in-memory Functions (kept beside compiled ones) for small models, else MX."""
+    symbolic = functions.source or functions.functions
+    if len(functions.states) <= SX_STATES and symbolic["motion"].is_a("SXFunction"):
+        return casadi.SX, symbolic
+    return casadi.MX, functions.functions
 
 
 def _symmetric(M):
     return 0.5 * (M + M.T)
 
 
+def _health(M, *vectors):
+    """For a scalar (SX) graph: the smallest pivot of the Cholesky factorisation of
+    the symmetric ``M``, -1 when a pivot or an entry of ``vectors`` is not finite.
+    Positive exactly when M is positive definite and everything is finite, so one
+    comparison in Python replaces a numpy Cholesky (several microseconds) per check.
+    None for a matrix (MX) graph, where numpy checks instead."""
+    if not isinstance(M, casadi.SX):
+        return None
+    n = M.shape[0]
+    L = [[None] * n for _ in range(n)]
+    pivots = []
+    for j in range(n):
+        pivot = M[j, j] - sum((L[j][k] ** 2 for k in range(j)), casadi.SX(0))
+        pivots.append(pivot)
+        root = casadi.sqrt(pivot)  # NaN for a negative pivot: every later entry is NaN too
+        for i in range(j + 1, n):
+            L[i][j] = (M[i, j] - sum((L[i][k] * L[j][k] for k in range(j)), casadi.SX(0))) / root
+    smallest = pivots[0]
+    for pivot in pivots[1:]:
+        smallest = casadi.fmin(smallest, pivot)
+    # fmin ignores NaN: a NaN or infinite pivot or entry is caught through the sum
+    # (|sum| < inf is false for both; an overflowing sum of finite values only sends
+    # the step to the numpy checks). Not "0 * sum": SX folds a product with 0 away.
+    total = sum(pivots, casadi.SX(0)) + sum((casadi.sum1(v) for v in vectors), casadi.SX(0))
+    return casadi.if_else(casadi.fabs(total) < casadi.inf, smallest, -1)
+
+
 def fused_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.Function:
-    """(x, P, u, p) -> (x_pred, P_pred): eqs. (6)-(7), P_pred symmetrized."""
-    X = _kind(functions)
+    """(x, P, u, p) -> (x_pred, P_pred[, health]): eqs. (6)-(7), P_pred symmetrized;
+    ``health`` (scalar graphs) is positive exactly when the prediction is finite and
+    P_pred positive definite."""
+    X, model = _graph(functions)
     n, n_u, n_p = len(functions.states), len(functions.inputs), len(functions.parameters)
     x, P, u, p = X.sym("x", n), X.sym("P", n, n), X.sym("u", n_u), X.sym("p", n_p)
-    x_next, F, Fw = functions["motion"](x, u, casadi.DM.zeros(len(functions.noise)), p)
+    x_next, F, Fw = model["motion"](x, u, casadi.DM.zeros(len(functions.noise)), p)
     P_next = _symmetric(casadi.mtimes([F, P, F.T]) + casadi.mtimes([Fw, casadi.DM(Q), Fw.T]))
-    return casadi.Function("predict", [x, P, u, p], [x_next, P_next], ["x", "P", "u", "p"], ["x_pred", "P_pred"])
+    outputs, names = [x_next, P_next], ["x_pred", "P_pred"]
+    health = _health(P_next, x_next)
+    if health is not None:
+        outputs, names = outputs + [health], names + ["health"]
+    return casadi.Function("predict", [x, P, u, p], outputs, ["x", "P", "u", "p"], names)
 
 
 def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, variant: str) -> casadi.Function:
-    """(x, P, x_prev, u, y, mask, p) -> (x_new, P_new, innovation, S).
+    """(x, P, x_prev, u, y, mask, p) -> (x_new, P_new, innovation, S[, S_health, health]).
 
     ``variant``: ``"conventional"`` (W = R), ``"generalized"`` (W = R + H_Xk-1 G_w Q
     G_w^T H_Xk-1^T, eq. 8) or ``"generalized-total"`` (the same W, and the total
     Jacobian H_Xk + H_Xk-1 G_X). ``mask`` is 1 for a present entry, 0 for a missing one.
+    ``S_health`` and ``health`` (scalar graphs) are positive exactly when S, and the
+    new estimate with P_new, pass the filter's checks.
     """
-    X = _kind(functions)
+    X, model = _graph(functions)
     n, m = len(functions.states), len(functions.outputs)
     n_u, n_p, n_w = len(functions.inputs), len(functions.parameters), len(functions.noise)
     x, P, x_prev = X.sym("x", n), X.sym("P", n, n), X.sym("x_prev", n)
     u, y, mask, p = X.sym("u", n_u), X.sym("y", m), X.sym("mask", m), X.sym("p", n_p)
     w0 = casadi.DM.zeros(n_w)
-    h, H, H_prev = functions["measurement"](x, x_prev, p)
+    h, H, H_prev = model["measurement"](x, x_prev, p)
     W = casadi.DM(R)
     if variant in ("generalized", "generalized-total"):
-        Gw = functions["G_w"](x, u, w0, p)
+        Gw = model["G_w"](x, u, w0, p)
         W = W + casadi.mtimes([H_prev, Gw, casadi.DM(Q), Gw.T, H_prev.T])
     if variant == "generalized-total":
-        H = H + casadi.mtimes(H_prev, functions["G_X"](x, u, w0, p))
+        H = H + casadi.mtimes(H_prev, model["G_X"](x, u, w0, p))
     D = casadi.diag(mask)
     H = casadi.mtimes(D, H)
     W = casadi.mtimes([D, W, D]) + casadi.diag(1 - mask)
@@ -75,5 +115,10 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
     x_new = x + casadi.mtimes(K, innovation)
     A = casadi.DM.eye(n) - casadi.mtimes(K, H)
     P_new = _symmetric(casadi.mtimes([A, P, A.T]) + casadi.mtimes([K, W, K.T]))
-    return casadi.Function("update", [x, P, x_prev, u, y, mask, p], [x_new, P_new, innovation, S],
-                           ["x", "P", "x_prev", "u", "y", "mask", "p"], ["x_new", "P_new", "innovation", "S"])
+    outputs, names = [x_new, P_new, innovation, S], ["x_new", "P_new", "innovation", "S"]
+    health = _health(S)
+    if health is not None:
+        outputs += [health, _health(P_new, x_new)]
+        names += ["S_health", "health"]
+    return casadi.Function("update", [x, P, x_prev, u, y, mask, p], outputs,
+                           ["x", "P", "x_prev", "u", "y", "mask", "p"], names)

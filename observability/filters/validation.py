@@ -38,6 +38,8 @@ def _array(value, name: str, where: str) -> np.ndarray:
 
 def vector(value, name: str, size: int, where: str) -> np.ndarray:
     """A finite vector of length ``size``."""
+    if size == 0 and type(value) in (tuple, list) and not value:
+        return _EMPTY
     array = _array(value, name, where)
     if array.shape != (size,):
         raise FilterError(f"{where}: {name} has shape {array.shape}, expected ({size},)")
@@ -67,12 +69,21 @@ def covariance(value, name: str, size: int, where: str, *, definite: bool = True
     return array
 
 
+_EMPTY = np.zeros(0)
+_EMPTY.flags.writeable = False
+
+
 def measurement(y: Sequence[float | None], size: int, where: str) -> tuple[np.ndarray, list[int]]:
     """The available entries of a measurement of ``size`` outputs (None: missing)."""
     if isinstance(y, (str, bytes, dict)) or not isinstance(y, (Sequence, np.ndarray)):
         raise FilterError(f"{where}: the measurement must be a sequence of {size} numbers or None, got {type(y).__name__}")
     if len(y) != size:
         raise FilterError(f"{where}: the measurement has {len(y)} entries, expected {size} (None marks a missing one)")
+    # The common case, checked in one go: every entry a float, all finite.
+    if (isinstance(y, np.ndarray) and y.dtype.kind == "f" and y.ndim == 1) or all(type(v) is float for v in y):
+        values = np.array(y, dtype=float)
+        if np.isfinite(values).all():
+            return values, list(range(size))
     used, values = [], []
     for i, v in enumerate(y):
         if v is None:
