@@ -233,14 +233,15 @@ def test_colored_noise_filter_equals_batch_least_squares():
 
 
 @pytest.mark.parametrize("landmarks", [1, 4])
-@pytest.mark.parametrize("kind", [ConventionalEKF, GeneralizedEKF])
+@pytest.mark.parametrize("kind", [ConventionalEKF, GeneralizedEKF, CloningEKF])
 def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
     """The predict and update are one casadi call each (filters.fused; a scalar SX
     graph for n = 8, a matrix MX graph for n = 14). Reference: the EKF equations in
     numpy, with the Jacobians from the generated motion / measurement / G_w
     Functions, the missing entries dropped as rows (the fused update masks them
-    instead). 60 steps of slam2d with disparity, a third of the entries missing:
-    the estimates agree to 1e-9."""
+    instead); for cloning, the update of the augmented state [x_k; x_k-1] with the
+    joint covariance. 60 steps of slam2d with disparity, a third of the entries
+    missing: the estimates agree to 1e-9."""
     from observability import models
 
     system = models.build("slam2d", {"landmarks": str(landmarks), "beacons": "1", "disparity": "true", "time": "discrete"})
@@ -271,6 +272,18 @@ def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
             ref_x, ref_P = x_pred, P_pred
             continue
         h, H, H_prev = (np.array(a) for a in fns["measurement"](x_pred, previous, p))
+        if kind is CloningEKF:
+            joint = np.block([[P_pred, F @ ref_P], [(F @ ref_P).T, ref_P]])
+            Ha, W = np.hstack([H, H_prev])[used], r[np.ix_(used, used)]
+            S = Ha @ joint @ Ha.T + W
+            K = joint @ Ha.T @ np.linalg.inv(S)
+            z = np.concatenate([x_pred, previous]) + K @ (np.array([y[i] for i in used]) - h.ravel()[used])
+            A = np.eye(2 * n) - K @ Ha
+            joint = A @ joint @ A.T + K @ W @ K.T
+            ref_x, ref_P = z[:n], joint[:n, :n]
+            assert np.allclose(state.x, ref_x, rtol=1e-9, atol=1e-9), k
+            assert np.allclose(state.P, ref_P, rtol=1e-9, atol=1e-12), k
+            continue
         W = r.copy()
         if kind is GeneralizedEKF:
             Gw = np.array(fns["G_w"](x_pred, [], w0, p))

@@ -35,7 +35,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 from . import validation
-from .fused import fused_predict, fused_update
+from .fused import fused_cloning_predict, fused_cloning_update, fused_predict, fused_update
 from .validation import FilterError
 
 __all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
@@ -115,7 +115,7 @@ def _symmetric(P: np.ndarray) -> np.ndarray:
 
 class _Base:
     variant = "conventional"  # the fused update's W and H (filters.fused); cloning's first update is conventional
-    fused = True  # predict and update are the fused casadi calls (the augmented-state filters have their own)
+    fused = True  # predict and update are fused casadi calls (filters.fused), built at construction
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = ()):
         self.fn = functions
         n_w, n_y = len(functions.noise), len(functions.outputs)
@@ -193,6 +193,9 @@ class _Base:
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call)."""
+        return self._update_with(self._update_call, state, y, u)
+
+    def _update_with(self, call: _Buffered, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
@@ -201,7 +204,7 @@ class _Base:
         measured[used], mask[used] = values, 1.0
         x_prev = state.x if state.x_prev is None else state.x_prev
         u = self._inputs(u, state.step)
-        x, P, innovation, S, *health = self._update_call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
+        x, P, innovation, S, *health = call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
         new = FilterState(x.ravel(), P, x_prev=state.x_prev, step=state.step)
@@ -245,46 +248,55 @@ class GeneralizedTotalEKF(GeneralizedEKF):
 
 
 class CloningEKF(_Base):
-    """Stochastic cloning: the state is augmented with the previous state."""
+    """Stochastic cloning: the state is augmented with the previous state
+    (one casadi call per prediction and per update, :mod:`.fused`)."""
 
-    fused = False
+    @functools.cached_property
+    def _predict_call(self) -> _Buffered:
+        return _Buffered(fused_cloning_predict(self.fn, self.Q))
 
-    @_quiet
+    @functools.cached_property
+    def _update_call(self) -> _Buffered:
+        return _Buffered(fused_cloning_update(self.fn, self.R))
+
+    @functools.cached_property
+    def _first_update_call(self) -> _Buffered:
+        return _Buffered(fused_update(self.fn, self.Q, self.R, "conventional"))
+
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         u = self._inputs(u, state.step + 1)
-        x, F, Fw = self._motion(state.x, u)
-        P = state.P
-        current = F @ P @ F.T + Fw @ self.Q @ Fw.T
-        cross = F @ P
-        # The joint covariance of (x_k, x_k-1) is singular when F loses rank or Q
-        # is singular; only its finiteness and symmetry are required here, the
-        # current block must be positive definite.
-        joint = _symmetric(np.block([[current, cross], [cross.T, P]]))
-        if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
-            raise FilterError(f"step {state.step + 1} (prediction): the prediction is not finite")
+        x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
         n = self.n
-        new = FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1)
-        validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
+        new = FilterState(x.ravel(), joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
+        if not (health and health[0][0, 0] > 0):
+            if not np.all(np.isfinite(new.x)) or not np.all(np.isfinite(joint)):
+                raise FilterError(f"step {new.step} (prediction): the prediction is not finite")
+            validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
         return new
 
-    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
+        if state.joint is None:  # before the first prediction there is no clone: a conventional update
+            return self._update_with(self._first_update_call, state, y, u)
         values, used = self._select(y, state.step)
-        if state.joint is None:  # before the first prediction there is no clone
-            return super().update(state, y, u)
-        n = self.n
-        h, H, H_prev = self._measurement(state.x, state.x_prev)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        H_aug = np.hstack([H[used], H_prev[used]])
-        W = self.R[np.ix_(used, used)]
-        K, S = self._gain(state.joint, H_aug, W, state.step)
-        nu = values - h[used]
-        z = np.concatenate([state.x, state.x_prev]) + K @ nu
-        joint = self._joseph(state.joint, K, H_aug, W)
-        new = FilterState(z[:n], joint[:n, :n], x_prev=z[n:], joint=joint, step=state.step)
-        validation.estimate(new.x, new.P, f"step {new.step} (update)")
-        return Update(new, nu, S, tuple(used))
+        n, m = self.n, len(self.fn.outputs)
+        measured, mask = np.zeros(m), np.zeros(m)
+        measured[used], mask[used] = values, 1.0
+        z, joint, innovation, S, *health = self._update_call(
+            np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask, self.p)
+        z = z.ravel()
+        if len(used) < m:
+            innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
+        if not (health and health[0][0, 0] > 0):
+            try:
+                np.linalg.cholesky(S)
+            except np.linalg.LinAlgError:
+                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+        new = FilterState(z[:n], joint[:n, :n].copy(), x_prev=z[n:], joint=joint, step=state.step)
+        if not (health and health[1][0, 0] > 0):
+            validation.estimate(new.x, new.P, f"step {new.step} (update)")
+        return Update(new, innovation.ravel(), S, tuple(used))
 
 
 class ColoredNoiseEKF(_Base):

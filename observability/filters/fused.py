@@ -23,7 +23,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["fused_predict", "fused_update", "SX_STATES"]
+__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES"]
 
 SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster), above: MX
 
@@ -122,3 +122,52 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
         names += ["S_health", "health"]
     return casadi.Function("update", [x, P, x_prev, u, y, mask, p], outputs,
                            ["x", "P", "x_prev", "u", "y", "mask", "p"], names)
+
+
+def fused_cloning_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.Function:
+    """Stochastic cloning's prediction: (x, P, u, p) -> (x_pred, joint[, health]).
+
+    ``joint`` is the covariance of (x_k, x_k-1): [[F P F^T + F_w Q F_w^T, F P], [P F^T, P]].
+    It is singular when F loses rank or Q is singular; ``health`` asks only that
+    everything be finite and the current block positive definite.
+    """
+    X, model = _graph(functions)
+    n, n_u, n_p = len(functions.states), len(functions.inputs), len(functions.parameters)
+    x, P, u, p = X.sym("x", n), X.sym("P", n, n), X.sym("u", n_u), X.sym("p", n_p)
+    x_next, F, Fw = model["motion"](x, u, casadi.DM.zeros(len(functions.noise)), p)
+    current = casadi.mtimes([F, P, F.T]) + casadi.mtimes([Fw, casadi.DM(Q), Fw.T])
+    cross = casadi.mtimes(F, P)
+    joint = _symmetric(casadi.vertcat(casadi.horzcat(current, cross), casadi.horzcat(cross.T, P)))
+    outputs, names = [x_next, joint], ["x_pred", "joint"]
+    health = _health(joint[:n, :n], x_next, casadi.vec(joint))
+    if health is not None:
+        outputs, names = outputs + [health], names + ["health"]
+    return casadi.Function("cloning_predict", [x, P, u, p], outputs, ["x", "P", "u", "p"], names)
+
+
+def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Function:
+    """Stochastic cloning's update: (z, joint, y, mask, p) -> (z_new, joint_new, innovation, S[, S_health, health]).
+
+    z = [x_k; x_k-1]; h(x_k, x_k-1) is an ordinary measurement of z, H = [H_Xk, H_Xk-1]
+    (Roumeliotis & Burdick 2002). ``health`` asks for a finite z_new and a positive
+    definite current block of joint_new.
+    """
+    X, model = _graph(functions)
+    n, m, n_p = len(functions.states), len(functions.outputs), len(functions.parameters)
+    z, joint, y, mask, p = X.sym("z", 2 * n), X.sym("joint", 2 * n, 2 * n), X.sym("y", m), X.sym("mask", m), X.sym("p", n_p)
+    h, H, H_prev = model["measurement"](z[:n], z[n:], p)
+    D = casadi.diag(mask)
+    H = casadi.mtimes(D, casadi.horzcat(H, H_prev))
+    W = casadi.mtimes([D, casadi.DM(R), D]) + casadi.diag(1 - mask)
+    innovation = mask * (y - h)
+    S = _symmetric(casadi.mtimes([H, joint, H.T]) + W)
+    K = casadi.solve(S, casadi.mtimes(H, joint)).T
+    z_new = z + casadi.mtimes(K, innovation)
+    A = casadi.DM.eye(2 * n) - casadi.mtimes(K, H)
+    joint_new = _symmetric(casadi.mtimes([A, joint, A.T]) + casadi.mtimes([K, W, K.T]))
+    outputs, names = [z_new, joint_new, innovation, S], ["z_new", "joint_new", "innovation", "S"]
+    health = _health(S)
+    if health is not None:
+        outputs += [health, _health(joint_new[:n, :n], z_new)]
+        names += ["S_health", "health"]
+    return casadi.Function("cloning_update", [z, joint, y, mask, p], outputs, ["z", "joint", "y", "mask", "p"], names)
