@@ -80,6 +80,7 @@ class _Buffered:
     converts every argument). Outputs must be dense (codegen densifies them)."""
 
     def __init__(self, function) -> None:
+        self.function = function
         self.buffer, self.evaluate = function.buffer()
         self.inputs = [np.zeros(function.nnz_in(i)) for i in range(function.n_in())]
         # casadi stores matrices column-major: a (rows, cols) output is a C-order (cols, rows) array.

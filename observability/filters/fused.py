@@ -68,6 +68,17 @@ def _health(M, *vectors):
     return casadi.if_else(casadi.fabs(total) < casadi.inf, smallest, -1)
 
 
+def _masked(mask, H, W, innovation):
+    """The rows of H and the innovations of missing entries set to zero, and their
+    block of W to the identity. ``if_else`` rather than a product with the mask: a
+    missing entry may be missing because it is not finite (a pole), and 0 * NaN is NaN."""
+    m, n = H.shape
+    rows = casadi.repmat(mask, 1, n) > 0
+    pairs = casadi.mtimes(mask, mask.T) > 0
+    return (casadi.if_else(rows, H, 0), casadi.if_else(pairs, W, 0) + casadi.diag(1 - mask),
+            casadi.if_else(mask > 0, innovation, 0))
+
+
 def fused_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.Function:
     """(x, P, u, p) -> (x_pred, P_pred[, health]): eqs. (6)-(7), P_pred symmetrized;
     ``health`` (scalar graphs) is positive exactly when the prediction is finite and
@@ -106,10 +117,7 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
         W = W + casadi.mtimes([H_prev, Gw, casadi.DM(Q), Gw.T, H_prev.T])
     if variant == "generalized-total":
         H = H + casadi.mtimes(H_prev, model["G_X"](x, u, w0, p))
-    D = casadi.diag(mask)
-    H = casadi.mtimes(D, H)
-    W = casadi.mtimes([D, W, D]) + casadi.diag(1 - mask)
-    innovation = mask * (y - h)
+    H, W, innovation = _masked(mask, H, W, y - h)
     S = _symmetric(casadi.mtimes([H, P, H.T]) + W)
     K = casadi.solve(S, casadi.mtimes(H, P)).T  # S K^T = H P, P and S symmetric
     x_new = x + casadi.mtimes(K, innovation)
@@ -156,10 +164,7 @@ def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Fu
     n, m, n_p = len(functions.states), len(functions.outputs), len(functions.parameters)
     z, joint, y, mask, p = X.sym("z", 2 * n), X.sym("joint", 2 * n, 2 * n), X.sym("y", m), X.sym("mask", m), X.sym("p", n_p)
     h, H, H_prev = model["measurement"](z[:n], z[n:], p)
-    D = casadi.diag(mask)
-    H = casadi.mtimes(D, casadi.horzcat(H, H_prev))
-    W = casadi.mtimes([D, casadi.DM(R), D]) + casadi.diag(1 - mask)
-    innovation = mask * (y - h)
+    H, W, innovation = _masked(mask, casadi.horzcat(H, H_prev), casadi.DM(R), y - h)
     S = _symmetric(casadi.mtimes([H, joint, H.T]) + W)
     K = casadi.solve(S, casadi.mtimes(H, joint)).T
     z_new = z + casadi.mtimes(K, innovation)

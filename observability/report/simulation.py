@@ -12,9 +12,10 @@ discrete time) with known velocity-change inputs:
 * ``generalized-total``: the same with the Jacobian term eqs. (9)-(11) drop;
 * ``cloning``: the stochastic-cloning EKF, projective + disparity.
 
-One Monte Carlo run (:func:`simulate_run`) is one truth, one set of noise draws,
-and every filter of every disparity variance and gate setting on them, so the
-filters are compared on the same data (paired comparisons).
+A Monte Carlo run is one truth, one set of noise draws, and every filter of every
+disparity variance and gate setting on them, so the filters are compared on the
+same data (paired comparisons); :func:`simulate_runs` advances a chunk of runs of
+each filter together.
 """
 
 from __future__ import annotations
@@ -28,10 +29,11 @@ import sympy
 
 from .. import models
 from ..codegen import FilterFunctions, filter_functions
-from ..filters import CloningEKF, ConventionalEKF, FilterError, GeneralizedEKF, GeneralizedTotalEKF
+from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, GeneralizedTotalEKF
+from ..filters.batch import BatchFilter
 from .truth import Trajectory, matched_truth, paper_truth
 
-__all__ = ["SimulationConfig", "FILTERS", "RunMetrics", "simulate_run", "filter_models", "process_noise", "predicted_distance"]
+__all__ = ["SimulationConfig", "FILTERS", "RunMetrics", "simulate_runs", "filter_models", "process_noise", "predicted_distance"]
 
 POSITION, LANDMARK = [0, 2], [6, 7]
 FILTERS = {"conventional": ConventionalEKF, "generalized": GeneralizedEKF,
@@ -166,21 +168,15 @@ def _measurements(config: SimulationConfig, truth: np.ndarray, rng: np.random.Ge
     return projective, disparity
 
 
-def predicted_distance(x: np.ndarray, x_prev: np.ndarray) -> float:
+def predicted_distance(x: np.ndarray, x_prev: np.ndarray) -> np.ndarray:
     """The landmark's distance from the line of the baseline c_k-1 -> c_k, from the
-    estimates: f*B/d is singular where it vanishes (the gate's quantity)."""
-    dx, dy = x[0] - x_prev[0], x[2] - x_prev[2]
-    baseline = math.hypot(dx, dy)
-    if baseline == 0:
-        return 0.0
-    return abs(dx * (x_prev[2] - x[7]) - (x_prev[0] - x[6]) * dy) / baseline
-
-
-def _margin(state) -> tuple[float, float]:
-    """The gate's quantities: the predicted distance from the baseline, and the same
-    in standard deviations of the landmark's predicted position."""
-    distance = predicted_distance(state.x, state.x_prev)
-    return distance, distance / math.sqrt(state.P[6, 6] + state.P[7, 7])
+    estimates (the last axis holds the state; 0 for a zero baseline): f*B/d is
+    singular where it vanishes (the gate's quantity)."""
+    dx, dy = x[..., 0] - x_prev[..., 0], x[..., 2] - x_prev[..., 2]
+    baseline = np.hypot(dx, dy)
+    cross = np.abs(dx * (x_prev[..., 2] - x[..., 7]) - (x_prev[..., 0] - x[..., 6]) * dy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(baseline > 0, cross / np.where(baseline > 0, baseline, 1.0), 0.0)
 
 
 @dataclass(frozen=True)
@@ -210,97 +206,124 @@ class RunMetrics:
     position_covariances: np.ndarray | None = None  # (steps, 2, 2), likewise
 
 
-def _run_filter(ekf, config: SimulationConfig, truth: Trajectory, projective: np.ndarray, disparity: np.ndarray | None,
-                gate: bool, x0: np.ndarray, P0: np.ndarray, keep: bool) -> RunMetrics:
-    steps = config.steps
-    rows = np.full((9, steps), np.nan)
-    rows[5] = 0.0
+def _run_batch(ekf, config: SimulationConfig, truth: np.ndarray, inputs: np.ndarray, projective: np.ndarray,
+               disparity: np.ndarray | None, gate: bool, x0: np.ndarray, P0: np.ndarray, keep: bool) -> list[RunMetrics]:
+    """Every run of one filter, advanced together (:class:`~observability.filters.batch.BatchFilter`).
+
+    truth (R, steps + 1, 8), inputs (R, steps, 3), projective (R, steps, m0) and
+    disparity (R, steps) or None, NaN where not measured; x0 (R, 8). ``keep``: the
+    first run's estimates and position covariances are kept for the figures.
+    """
+    runs, steps = truth.shape[0], config.steps
+    rows = np.full((9, runs, steps), np.nan)
     estimates = np.full((steps, 8), np.nan) if keep else None
     covariances = np.full((steps, 2, 2), np.nan) if keep else None
-    refused = None
-    state = ekf.initial(x0, P0)
+    refused: list = [None] * runs
+    alive = np.ones(runs, dtype=bool)
+    batch = BatchFilter(ekf, runs)
+    X, P = x0.copy(), np.repeat(P0[None], runs, axis=0)
+    columns = np.arange(runs)
+
+    def gated(x_pred: np.ndarray, P_pred: np.ndarray, x_prev: np.ndarray) -> np.ndarray:
+        # The gate's quantities: the predicted distance of the landmark from the line of
+        # the baseline, in metres and in standard deviations of its predicted position.
+        distance = predicted_distance(x_pred, x_prev)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sigmas = distance / np.sqrt(P_pred[:, 6, 6] + P_pred[:, 7, 7])
+        present = mask[:, -1] > 0
+        rows[6, present, k - 1] = sigmas[present]
+        if gate:
+            mask[:, -1] = present & (distance >= config.gate_distance) & (sigmas >= config.gate_sigmas)
+        return mask
+
     start = time.perf_counter()
-    done = 0
-    try:
-        for k in range(1, steps + 1):
-            u = truth.inputs[k - 1]
-            state = ekf.predict(state, u)
-            y: list[float | None] = [None if math.isnan(v) else float(v) for v in projective[k - 1]]
-            if disparity is not None:
-                value = disparity[k - 1]
-                if not math.isnan(value):
-                    distance, sigmas = _margin(state)
-                    rows[6, k - 1] = sigmas
-                if math.isnan(value) or (gate and (distance < config.gate_distance or sigmas < config.gate_sigmas)):
-                    y.append(None)
-                else:
-                    y.append(float(value))
-                    rows[5, k - 1] = 1.0
-            update = ekf.update(state, y, u)
-            state = update.state
-            if update.used:
-                rows[7, k - 1] = update.innovation @ np.linalg.solve(update.S, update.innovation)
-                rows[8, k - 1] = len(update.used)
-            error = truth.states[k] - state.x
-            P = state.P
-            e = error[POSITION]
-            a, b, d = P[0, 0], P[0, 2], P[2, 2]
-            rows[0, k - 1] = a + d
-            rows[1, k - 1] = P[6, 6] + P[7, 7]
-            rows[2, k - 1] = e @ e
-            rows[3, k - 1] = error[6] ** 2 + error[7] ** 2
-            # e^T P^-1 e for the 2 x 2 block [[a, b], [b, d]].
-            rows[4, k - 1] = (d * e[0] ** 2 - 2 * b * e[0] * e[1] + a * e[1] ** 2) / (a * d - b * b)
-            if keep:
-                estimates[k - 1] = state.x
-                covariances[k - 1] = [[a, b], [b, d]]
-            done = k
-    except FilterError as error:
-        refused = str(error)
-        rows[5, done:] = np.nan
-    elapsed = (time.perf_counter() - start) / max(done, 1)
-    return RunMetrics(*rows[:7], rows[7], rows[8], refused, elapsed, estimates, covariances)
+    for k in range(1, steps + 1):
+        y = projective[:, k - 1] if disparity is None else np.column_stack([projective[:, k - 1], disparity[:, k - 1]])
+        mask = np.isfinite(y).astype(float)
+        out = batch.step(X, P, inputs[:, k - 1], np.nan_to_num(y), mask,
+                         gate=gated if disparity is not None else None, step=k)
+        for r, message in enumerate(out.refused):
+            if message is not None and alive[r]:
+                refused[r], alive[r] = message, False
+        X, P = out.x, out.P
+        error = truth[:, k] - X
+        e0, e1 = error[:, 0], error[:, 2]
+        a, b, d = P[:, 0, 0], P[:, 0, 2], P[:, 2, 2]
+        used = mask.sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            step_rows = [a + d, P[:, 6, 6] + P[:, 7, 7], e0**2 + e1**2, error[:, 6] ** 2 + error[:, 7] ** 2,
+                         # e^T P^-1 e for the 2 x 2 block [[a, b], [b, d]].
+                         (d * e0**2 - 2 * b * e0 * e1 + a * e1**2) / (a * d - b * b),
+                         mask[:, -1] if disparity is not None else np.zeros(runs)]
+            nis = np.einsum("ri,ri->r", out.innovation, np.linalg.solve(out.S, out.innovation[..., None])[..., 0])
+        for j, values in enumerate(step_rows):
+            rows[j, alive, k - 1] = values[alive]
+        measured = alive & (used > 0)
+        rows[7, measured, k - 1], rows[8, measured, k - 1] = nis[measured], used[measured]
+        rows[6, ~alive, k - 1] = np.nan
+        if keep and alive[0]:
+            estimates[k - 1], covariances[k - 1] = X[0], [[a[0], b[0]], [b[0], d[0]]]
+    elapsed = (time.perf_counter() - start) / (runs * steps)
+    return [RunMetrics(*rows[:, r], refused[r], elapsed, estimates if keep and r == 0 else None,
+                       covariances if keep and r == 0 else None) for r in columns]
 
 
-def simulate_run(models: dict[tuple[int, bool], FilterFunctions], config: SimulationConfig, run: int, variances: tuple[float, ...], gates: tuple[bool, ...],
-                 keep: bool = False) -> dict[tuple[str, float | None, bool | None], RunMetrics]:
-    """Monte Carlo run ``run`` of ``config``'s truth mode and beacons: every filter,
-    for every disparity variance and gate setting, on the same truth and draws;
-    ``models`` as :func:`filter_models` makes them.
-
-    The random streams depend only on (seed, run): runs are reproducible one by one,
-    whatever the order or the process they are computed in. Keys are
-    (filter, disparity variance, gate); the conventional EKF, which uses no
-    disparity, has (``"conventional"``, None, None).
-    """
+def _inputs_of(config: SimulationConfig, run: int) -> tuple[Trajectory, np.ndarray, np.ndarray, np.ndarray]:
+    """Run ``run``'s truth, initial estimate and measurements; the random streams
+    depend only on (seed, run), so runs are reproducible one by one, whatever the
+    batch or the process they are computed in."""
     truth_stream, initial_stream, measurement_stream = np.random.SeedSequence([config.seed, run]).spawn(3)
-    Q = process_noise(config)
     if config.truth == "matched":
-        truth = matched_truth(config, Q, np.random.default_rng(truth_stream))
+        truth = matched_truth(config, process_noise(config), np.random.default_rng(truth_stream))
     else:
         truth = paper_truth(config)
-    sigma = config.initial_sigma()
-    x0 = truth.states[0] + np.random.default_rng(initial_stream).normal(0, sigma)
-    P0 = np.diag(sigma**2)
+    x0 = truth.states[0] + np.random.default_rng(initial_stream).normal(0, config.initial_sigma())
     projective, disparity = _measurements(config, truth.states, np.random.default_rng(measurement_stream))
+    return truth, x0, projective, disparity
+
+
+def simulate_runs(models: dict[tuple[int, bool], FilterFunctions], config: SimulationConfig, runs: tuple[int, ...],
+                  variances: tuple[float, ...], gates: tuple[bool, ...]) -> list[dict]:
+    """Monte Carlo runs ``runs`` of ``config``'s truth mode and beacons: every filter,
+    for every disparity variance and gate setting, on the same truths and draws;
+    ``models`` as :func:`filter_models` makes them. The runs of a filter advance
+    together (one mapped casadi call per step), each with exactly the numbers of a
+    run-by-run filter.
+
+    Returns one dict per run, keyed (filter, disparity variance, gate); the
+    conventional EKF, which uses no disparity, has (``"conventional"``, None, None).
+    Run 0, when present, keeps its estimates and covariances and its truth under
+    (``"truth"``, None, None) for the figures.
+    """
+    made = [_inputs_of(config, run) for run in runs]
+    truth = np.array([m[0].states for m in made])
+    inputs = np.array([m[0].inputs for m in made])
+    x0 = np.array([m[1] for m in made])
     count = config.beacon_count
-    projective = np.column_stack([projective[:, :count], projective[:, -1]])
+    projective = np.array([np.column_stack([m[2][:, :count], m[2][:, -1]]) for m in made])
+    keep = runs[0] == 0
+    Q, P0 = process_noise(config), np.diag(config.initial_sigma() ** 2)
     parameters = {"f": config.f, "dt": config.dt}
     for j, (bx, by) in enumerate(config.beacons[:count], start=1):
         parameters |= {f"B{j}x": bx, f"B{j}y": by}
     R = [config.projective_variance] * (count + 1)
-    out = {}
+    out: list[dict] = [{} for _ in runs]
+
+    def record(key, metrics: list[RunMetrics]) -> None:
+        for row, value in zip(out, metrics):
+            row[key] = value
+
     plain = models[(count, False)]
     ekf = ConventionalEKF(plain, Q, np.diag(R), [parameters[p] for p in plain.parameters])
-    out[("conventional", None, None)] = _run_filter(ekf, config, truth, projective, None, False, x0, P0, keep)
+    record(("conventional", None, None), _run_batch(ekf, config, truth, inputs, projective, None, False, x0, P0, keep))
     functions = models[(count, True)]
     values = [parameters[p] for p in functions.parameters]
     for variance in variances:
-        measured = disparity[:, 0] + math.sqrt(variance) * disparity[:, 1]
+        measured = np.array([m[3][:, 0] + math.sqrt(variance) * m[3][:, 1] for m in made])
         for gate in gates:
             for name in ("generalized", "generalized-total", "cloning"):
                 ekf = FILTERS[name](functions, Q, np.diag(R + [variance]), values)
-                out[(name, variance, gate)] = _run_filter(ekf, config, truth, projective, measured, gate, x0, P0, keep)
+                record((name, variance, gate), _run_batch(ekf, config, truth, inputs, projective, measured, gate, x0, P0, keep))
     if keep:
-        out[("truth", None, None)] = truth
+        out[0][("truth", None, None)] = made[0][0]
     return out

@@ -18,13 +18,14 @@ import numpy as np
 
 from ..filters import chi2_bounds
 from ..parallel import Runner, run_tasks
-from .simulation import FILTERS, RunMetrics, SimulationConfig, filter_models, simulate_run
+from .simulation import FILTERS, RunMetrics, SimulationConfig, filter_models, simulate_runs
 from .truth import TRUTH_MODES
 
 __all__ = ["Sweep", "SweepResult", "run_sweep", "records", "verdict", "BOOTSTRAP_SEED", "BOOTSTRAP_RESAMPLES"]
 
 BOOTSTRAP_SEED = 0
 BOOTSTRAP_RESAMPLES = 2000
+RUNS_PER_TASK = 10  # runs advanced together in one task: fixed, so the numbers never depend on the workers
 EXPLAIN_NEES = 13.8  # chi-square(2) 99.9% quantile: a run's position NEES above it "breaks" there
 
 
@@ -40,7 +41,7 @@ class Sweep:
 
 @dataclass(frozen=True)
 class SweepResult:
-    """Per (truth, beacons): the runs' metrics, keyed as :func:`simulate_run` keys them."""
+    """Per (truth, beacons): the runs' metrics, keyed as :func:`simulate_runs` keys them."""
 
     config: SimulationConfig
     sweep: Sweep
@@ -49,13 +50,17 @@ class SweepResult:
 
 
 def run_sweep(config: SimulationConfig, sweep: Sweep = Sweep(), run: Runner | None = None) -> SweepResult:
-    """Every run of every setting, one Dask task per run and (truth, beacons), on
-    ``run`` (an :func:`observability.parallel.engine`; default a local cluster)."""
+    """Every run of every setting, one Dask task per chunk of :data:`RUNS_PER_TASK` runs
+    and (truth, beacons), on ``run`` (an :func:`observability.parallel.engine`;
+    default a local cluster). The chunks do not change the numbers: each run's
+    streams come from (seed, run) and a batched run is a run-by-run run."""
     groups = [(truth, beacons) for truth in sweep.truths for beacons in sweep.beacon_counts]
-    tasks = [(replace(config, truth=truth, beacon_count=beacons), run, sweep.disparity_variances, sweep.gates, run == 0)
-             for truth, beacons in groups for run in range(config.runs)]
-    results = run_tasks(simulate_run, tasks, filter_models(sweep.beacon_counts), "Section V Monte Carlo", run)
-    runs = {group: results[i * config.runs:(i + 1) * config.runs] for i, group in enumerate(groups)}
+    chunks = [tuple(range(start, min(start + RUNS_PER_TASK, config.runs))) for start in range(0, config.runs, RUNS_PER_TASK)]
+    tasks = [(replace(config, truth=truth, beacon_count=beacons), chunk, sweep.disparity_variances, sweep.gates)
+             for truth, beacons in groups for chunk in chunks]
+    results = run_tasks(simulate_runs, tasks, filter_models(sweep.beacon_counts), "Section V Monte Carlo", run)
+    flat = [one for chunk in results for one in chunk]
+    runs = {group: flat[i * config.runs:(i + 1) * config.runs] for i, group in enumerate(groups)}
     kept = {group: runs[group][0] for group in groups}
     return SweepResult(config, sweep, runs, kept)
 
