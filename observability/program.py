@@ -344,5 +344,66 @@ class Program:
         self.roots.append(node)
         return node
 
+    def compose(self, node: int, states: dict[int, int], memo: dict[int, int]) -> int:
+        """The node computing ``node``'s function with state j replaced by the node
+        ``states[j]`` (h(g(x)) from the nodes of h and of g), rebuilt through the
+        same constructors as :meth:`build`, so angles are split and shared as there.
+
+        A walk over nodes, not over a sympy expression: composing ten thousand
+        outputs with a symmetry costs a fraction of compiling them again. ``memo``
+        (node -> composed node) may be shared by every node composed with the same
+        ``states``.
+        """
+        op, arg = self.ops[node], self.args[node]
+        if op is Op.STATE:
+            return states.get(arg[0], node)
+        if op in _LEAVES:
+            return node
+        found = memo.get(node)
+        if found is not None:
+            return found
+        if op is Op.SIN or op is Op.COS:  # a TRIG node is read only through these
+            (angle,) = self.args[arg[0]]
+            moved = self.compose(angle, states, memo)
+            result = node if moved == angle else self._sincos(moved)[op is Op.COS]
+        else:
+            parts = [self.compose(a, states, memo) for a in arg]
+            if list(arg) == parts:
+                result = node
+            elif op is Op.ADD:
+                result = self._add(parts)
+            elif op is Op.MUL:
+                result = self._mul(*parts)
+            elif op is Op.INV:
+                result = self._inv(parts[0])
+            elif op is Op.SQRT:
+                h = self.heights[parts[0]]
+                before = len(self.ops)
+                result = self._node(Op.SQRT, (parts[0],), self.constant[parts[0]], (1 + h[0], h[1]))
+                self.n_sqrt += len(self.ops) > before
+            elif op is Op.EXP:
+                result = self._exp(parts[0])
+            elif op is Op.LOG:
+                result = self._log(parts[0])
+            elif op is Op.ATAN2:
+                result = self._atan2(*parts)
+            else:
+                raise AssertionError(op)
+        memo[node] = result
+        return result
+
+    def reaching(self, nodes) -> bytearray:
+        """Flags of the nodes that ``nodes`` depend on (themselves included): the
+        nodes in topological order, one backward sweep."""
+        flags = bytearray(len(self.ops))
+        for node in nodes:
+            flags[node] = 1
+        ops, args = self.ops, self.args
+        for i in range(len(ops) - 1, -1, -1):
+            if flags[i] and ops[i] not in _LEAVES:
+                for a in args[i]:
+                    flags[a] = 1
+        return flags
+
     def __len__(self) -> int:
         return len(self.ops)

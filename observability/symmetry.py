@@ -115,7 +115,21 @@ class _AtIdentity(TaylorEvaluator):
         return 0 if y0 == 0 else super()._atan0(y0, x0)
 
 
-def _declared_generators_match(system: System, candidates: Sequence[Symmetry], rng: random.Random) -> list[bool]:
+Prepared = dict  # id(candidate) -> (images with an integer parameter, the multiple q, generator)
+
+
+def _prepared(system: System, candidates: Sequence[Symmetry]) -> Prepared:
+    """Each candidate's finite images (eps rescaled to an integer parameter, see
+    :func:`_integer_parameter`) and generator, made once for both checks."""
+    out = {}
+    for c in candidates:
+        finite, q = _integer_parameter(c.images(system))
+        out[id(c)] = (finite, q, generator(c, system))
+    return out
+
+
+def _declared_generators_match(system: System, candidates: Sequence[Symmetry], rng: random.Random,
+                               prepared: Prepared) -> list[bool]:
     """For each candidate with a declared ``vector``: whether it is d g / d eps at
     eps = 0, compared exactly mod p at a random point (eps as an extra variable
     of the program, so no symbolic derivative is built: a thousand landmarks
@@ -126,8 +140,8 @@ def _declared_generators_match(system: System, candidates: Sequence[Symmetry], r
     program = Program((*system.states, EPSILON), where=system.name)
     pairs = {}
     for c in declared:
-        finite, q = _integer_parameter(c.images(system))
-        pairs[id(c)] = ([program.add(e) for e in finite], [program.add(e) for e in generator(c, system)], q)
+        finite, q, field = prepared[id(c)]
+        pairs[id(c)] = ([program.add(e) for e in finite], [program.add(e) for e in field], q)
     evaluator = _evaluated(lambda: _AtIdentity(program, system.n + 1, rng), 16)
     if evaluator is None:
         return [c.vector is None for c in candidates]
@@ -151,7 +165,8 @@ def _integer_parameter(images: Sequence[sympy.Expr]) -> tuple[list[sympy.Expr], 
     the images and q."""
     q = 1
     # The distinct atoms first: a scene's images share a handful (cos(eps), ...).
-    atoms = set().union(*(image.atoms(sympy.sin, sympy.cos, sympy.tan, sympy.exp) for image in images))
+    atoms = set().union(*(image.atoms(sympy.sin, sympy.cos, sympy.tan, sympy.exp) for image in images
+                          if not image.is_Atom))
     for atom in atoms:
         for term in sympy.Add.make_args(sympy.expand(atom.args[0])):
             if term.has(EPSILON):
@@ -165,62 +180,72 @@ def _dot(gradient: dict[int, int], values: Sequence[int]) -> int:
     return sum(d * values[j] for j, d in gradient.items()) % PRIME
 
 
-def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Program, Callable[[TaylorEvaluator], list[bool]]]:
+def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prepared) -> tuple[Program, Callable, bytearray, bytearray]:
     """One program holding h, f and, per candidate, the composed functions to compare.
 
-    Returns the program and a function that, given an evaluator of it at a random
-    point, says which candidates pass every identity there.
+    Returns the program; a function that, given an evaluator of it at a random
+    point, says which candidates pass every identity there; the flags of the
+    nodes whose gradients those identities read (h, f, the images and the fields;
+    the composed functions are compared by value only); and the flags of the nodes
+    the real-point (ball) comparisons read: only identities through free values
+    (exp, log, atan2) are compared in balls, so only their nodes are evaluated there.
     """
     program = Program(system.states, where=system.name)
     f = [program.add(system.substitute_values(e)) for e in system.dynamics]
     h = [program.add(system.substitute_values(e)) for _, e in system.outputs]
-    after = dict(zip(system.states, f))
+    after = dict(enumerate(f))
     plans = []
     for symmetry in candidates:
-        finite, _ = _integer_parameter(symmetry.images(system))
+        finite, _, vector_field = prepared[id(symmetry)]
         images = [program.add(e) for e in finite]
-        field = [program.add(e) for e in generator(symmetry, system)]
-        moved = dict(zip(system.states, images))
+        field = [program.add(e) for e in vector_field]
+        moved, memo = dict(enumerate(images)), {}
         plan = {
             "images": images,
             "field": field,
-            "h_moved": [program.add(system.substitute_values(e), moved) for _, e in system.outputs],
-            "f_moved": [program.add(system.substitute_values(e), moved) for e in system.dynamics],
+            "h_moved": [program.compose(node, moved, memo) for node in h],
+            "f_moved": [program.compose(node, moved, memo) for node in f],
         }
         if system.time == "discrete":
-            plan["g_after"] = [program.add(e, after) for e in finite]
-            plan["v_after"] = [program.add(e, after) for e in generator(symmetry, system)]
+            memo = {}
+            plan["g_after"] = [program.compose(node, after, memo) for node in images]
+            plan["v_after"] = [program.compose(node, after, memo) for node in field]
         plans.append(plan)
 
-    def passes(evaluator: TaylorEvaluator, ball: BallTaylorEvaluator | None) -> list[bool]:
+    def passes(evaluator: TaylorEvaluator, ball: Callable[[], BallTaylorEvaluator | None]) -> list[bool]:
         value = lambda node: evaluator.coefficient(node, 0)[0]  # noqa: E731
         grad = lambda node: evaluator.coefficient(node, 0)[1]  # noqa: E731
         free = program.free_value.__getitem__
 
         def same(a: int, b: int) -> bool:
-            # Values of exp, log and atan2 are free random quantities mod p, so an
-            # identity through them is checked at a true real point instead: the
-            # difference's ball must contain zero (a non-zero analytic function
-            # is far from zero at a random real point).
+            # Exact mod p first. Values of exp, log and atan2 are free random
+            # quantities there: an identity that holds with them free holds for
+            # the true functions, but one that needs their relations (atan2 of a
+            # rotated point) fails mod p and is checked at a true real point
+            # instead: the difference's ball must contain zero (a non-zero analytic
+            # function is far from zero at a random real point).
+            if value(a) == value(b):
+                return True
             if not free(a) and not free(b):
-                return value(a) == value(b)
-            if ball is None:
                 return False
-            return (ball.coefficient(a, 0)[0] - ball.coefficient(b, 0)[0]).contains(0)
+            at = ball()
+            return at is not None and (at.coefficient(a, 0)[0] - at.coefficient(b, 0)[0]).contains(0)
 
         f_values = [value(i) for i in f]
         f_balls: list = []  # f at the real point, filled once on first need (n entries, n checks)
 
         def equivariant(g: int, fm: int) -> bool:
+            if not (_dot(grad(g), f_values) - value(fm)) % PRIME:
+                return True
             if not free(fm) and not free(g):
-                return not (_dot(grad(g), f_values) - value(fm)) % PRIME
-            if ball is None:
+                return False
+            at = ball()
+            if at is None:
                 return False
             if not f_balls:
-                f_balls.extend(ball.coefficient(i, 0)[0] for i in f)
-            at = f_balls
-            _, gradient = ball.coefficient(g, 0)
-            moved = sum((d * at[j] for j, d in gradient.items()), 0) - ball.coefficient(fm, 0)[0]
+                f_balls.extend(at.coefficient(i, 0)[0] for i in f)
+            _, gradient = at.coefficient(g, 0)
+            moved = sum((d * f_balls[j] for j, d in gradient.items()), 0) - at.coefficient(fm, 0)[0]
             return arb(moved).contains(0)
 
         out = []
@@ -243,7 +268,16 @@ def _verification(system: System, candidates: Sequence[Symmetry]) -> tuple[Progr
             out.append(ok)
         return out
 
-    return program, passes
+    needed = h + f + [i for plan in plans for i in plan["images"] + plan["field"]]
+    free = program.free_value
+    in_balls: list[int] = []
+    for plan in plans:
+        pairs = list(zip(h, plan["h_moved"]))
+        pairs += list(zip(plan["images"], plan["f_moved"])) if system.time == "continuous" else list(zip(plan["g_after"], plan["f_moved"]))
+        in_balls += [node for pair in pairs if free[pair[0]] or free[pair[1]] for node in pair]
+    if in_balls and system.time == "continuous":
+        in_balls += f  # the equivariance compares Dg(x) f(x) in balls
+    return program, passes, program.reaching(needed), program.reaching(in_balls)
 
 
 def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 1) -> list[bool]:
@@ -261,30 +295,41 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
         return []
     if system.time == "discrete":
         system = eliminate_previous_state(system)
-    program, passes = _verification(system, candidates)
+    prepared = _prepared(system, candidates)
+    program, passes, gradients, in_balls = _verification(system, candidates, prepared)
     rng = random.Random(seed)
     # A declared generator must be d g / d eps at 0 of the transformation it is named after.
-    result = _declared_generators_match(system, candidates, rng)
-    needs_ball = any(program.free_value)
+    result = _declared_generators_match(system, candidates, rng, prepared)
+    needs_ball = any(in_balls)
     for _ in range(points):
-        evaluator = _evaluated(lambda: TaylorEvaluator(program, system.n, rng, discrete=True), 32)
+        evaluator = _evaluated(lambda: TaylorEvaluator(program, system.n, rng, discrete=True), 32, gradients)
         if evaluator is None:
             return [False] * len(candidates)
-        # The identities through free values need a true real point; if every point
-        # tried is outside the model's domain they count as failed (a direction
-        # then stays unnamed, never wrongly named).
-        ball = _evaluated(lambda: BallTaylorEvaluator(program, system.n, rng, discrete=True), 8) if needs_ball else None
+        # The identities through free values that fail mod p need a true real
+        # point, evaluated on first need; if every point tried is outside the
+        # model's domain they count as failed (a direction then stays unnamed,
+        # never wrongly named).
+        made: list = []
+
+        def ball() -> BallTaylorEvaluator | None:
+            if not made:
+                made.append(_evaluated(lambda: BallTaylorEvaluator(program, system.n, rng, discrete=True), 8,
+                                       gradients, in_balls) if needs_ball else None)
+            return made[0]
+
         result = [a and b for a, b in zip(result, passes(evaluator, ball))]
     return result
 
 
-def _evaluated(make: Callable[[], TaylorEvaluator], attempts: int) -> TaylorEvaluator | None:
+def _evaluated(make: Callable[[], TaylorEvaluator], attempts: int, gradients: bytearray | None = None,
+               needed: bytearray | None = None) -> TaylorEvaluator | None:
     """An evaluator of the program at a point where nothing is singular (order 0),
-    or None after ``attempts`` points that all were."""
+    or None after ``attempts`` points that all were; ``gradients`` and ``needed``
+    as for :meth:`TaylorEvaluator.extend`."""
     for _ in range(attempts):
         evaluator = make()
         try:
-            evaluator.extend()
+            evaluator.extend(gradients, needed)
         except Redraw:
             continue
         return evaluator

@@ -31,6 +31,7 @@ __all__ = ["PRIME", "Redraw", "TaylorEvaluator", "FloatTaylorEvaluator", "BallTa
 
 Dual = tuple  # (value: int, gradient: dict[int, int])
 _ZERO: Dual = (0, {})
+_NO_GRADIENT: dict = _ZERO[1]
 
 
 class Redraw(ArithmeticError):
@@ -71,10 +72,14 @@ def sqrt_mod(a: int, p: int) -> int | None:
 
 
 def _reduce(value, grad: dict, p: int) -> Dual:
-    """Reduce mod p (p = 0: floating point, nothing to reduce)."""
+    """Reduce mod p (p = 0: floating point, nothing to reduce). An empty gradient
+    is the shared empty dict (gradients are never changed in place): a program of
+    millions of nodes, most without gradient, would hold as many empty dicts."""
     if p:
-        return (value % p, {c: d % p for c, d in grad.items() if d % p})
-    return (value, {c: d for c, d in grad.items() if d})
+        grad = {c: d % p for c, d in grad.items() if d % p}
+        return (value % p, grad or _NO_GRADIENT)
+    grad = {c: d for c, d in grad.items() if d}
+    return (value, grad or _NO_GRADIENT)
 
 
 def _scale(a: Dual, s, p: int) -> Dual:
@@ -223,14 +228,31 @@ class TaylorEvaluator:
             series[i].append(self._coefficient(i, op, args[i], k))
         self.order = k
 
-    def extend(self) -> None:
-        """Evaluate, at order 0, the nodes added to the program since the last call."""
+    def extend(self, gradients: bytearray | None = None, needed: bytearray | None = None) -> None:
+        """Evaluate, at order 0, the nodes added to the program since the last call.
+
+        ``gradients`` (flags per node, :meth:`Program.reaching`): the nodes whose
+        gradient is needed; the others get their value only (an empty gradient),
+        computed from their arguments' values -- most of the cost of a node is its
+        gradient. None: every node's gradient. ``needed``: the nodes evaluated at
+        all (with their arguments); the others are left at zero and must not be read.
+        """
         start = len(self.series)
         self._grow()
         ops, args = self.program.ops, self.program.args
         for i in range(start, len(ops)):
-            self.series[i].append(self._coefficient(i, ops[i], args[i], 0))
+            if needed is not None and not needed[i]:
+                self.series[i].append(_ZERO)
+            elif gradients is None or gradients[i]:
+                self.series[i].append(self._coefficient(i, ops[i], args[i], 0))
+            else:
+                self.series[i].append(self._coefficient(i, ops[i], args[i], 0, self._value))
         self.order = 0
+
+    def _value(self, node: int, k: int) -> Dual:
+        """A coefficient without its gradient (for nodes whose gradient is not needed)."""
+        s = self.series[node]
+        return (s[k][0], _NO_GRADIENT) if k < len(s) else _ZERO
 
     def _grow(self) -> None:
         while len(self.series) < len(self.program.ops):
@@ -246,12 +268,14 @@ class TaylorEvaluator:
 
     # The recurrences below are the classical ones for series arithmetic
     # (Knuth, TAOCP vol. 2, 4.7), applied to dual-number coefficients.
-    def _coefficient(self, i: int, op: Op, arg: tuple, k: int) -> Dual:
-        p, c = self.p, self.coefficient
+    def _coefficient(self, i: int, op: Op, arg: tuple, k: int, c=None) -> Dual:
+        """Coefficient k of node i; ``c`` reads the arguments' coefficients (default
+        :meth:`coefficient`; :meth:`_value` for a value without gradient)."""
+        p, c = self.p, c or self.coefficient
         if op is Op.STATE:
             j = arg[0]
             if k == 0:
-                return (self.point[j], {j: 1})
+                return (self.point[j], {j: 1} if c == self.coefficient else _NO_GRADIENT)
             return _scale(c(self.program.roots[j], k - 1), self._recip(k), p)
         if op is Op.INPUT:
             return (self._input(arg[0], k), {})
@@ -321,17 +345,17 @@ class TaylorEvaluator:
             acc = _combine([(_scale(mine[j], j * invk, p), c(a, k - j)) for j in range(1, k)], p) if k > 1 else _ZERO
             return _combine([(_linear([(1, c(a, k)), (-1, acc)], p), inv_a0)], p)
         if op is Op.ATAN2:
-            return self._atan2(i, arg, k)
+            return self._atan2(i, arg, k, c)
         raise AssertionError(op)
 
     def _inv_dual(self, a: Dual, node: int) -> Dual:
         inv = self._inv(a[0], node)
         return (inv, _scale(a, -inv * inv, self.p)[1])
 
-    def _atan2(self, i: int, arg: tuple, k: int) -> Dual:
+    def _atan2(self, i: int, arg: tuple, k: int, c) -> Dual:
         # theta = atan2(y, x):  theta' = q = (x y' - y x') / (x^2 + y^2),
         # so theta_k = q_{k-1} / k with q computed one order behind.
-        p, c = self.p, self.coefficient
+        p = self.p
         y, x = arg
         if k == 0:
             x0, y0 = c(x, 0), c(y, 0)

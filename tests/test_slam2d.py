@@ -126,3 +126,21 @@ def test_float_route_agrees_on_small_models(beacons):
     assert numeric.rank == exact.rank == system.n - LOST[beacons]
     if numeric.rank < system.n:
         assert float(numeric.details.split("gap ")[1].split(";")[0]) > 1e6
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+def test_landmark_outputs_are_the_parsed_expressions(time):
+    """slam2d builds each landmark's outputs by substituting into a template parsed
+    once; they must be exactly the expressions the parser makes from the written
+    formulas (landmarks whose names sort differently: 1, 2, 10, 12)."""
+    from observability.expressions import parse_expression
+    from observability.models.slam2d import _disparity, _projection
+
+    system = models.build("slam2d", {"landmarks": "12", "disparity": "true", "time": time})
+    names = {s.name: s for s in system.states} | {p.name: p for p in system.parameters}
+    outputs = dict(system.outputs)
+    previous = ("prev(cx)", "prev(cy)") if time == "discrete" else ("(cx - dt*cxdot)", "(cy - dt*cydot)")
+    for i in (1, 2, 10, 12):
+        assert outputs[f"hL{i}"] == parse_expression(_projection(f"L{i}x", f"L{i}y"), names, where="t", allow_prev=True)
+        assert outputs[f"dL{i}"] == parse_expression(_disparity(f"L{i}x", f"L{i}y", *previous), names, where="t",
+                                                     allow_prev=True)

@@ -22,6 +22,9 @@ constant-velocity model, c_{k-1} = c_k - dt*cdot_k.
 
 from __future__ import annotations
 
+import sympy
+
+from observability.expressions import parse_expression
 from observability.system import Motion, System, Time
 
 from .symmetries import planar_symmetries
@@ -51,6 +54,49 @@ def _disparity(px: str, py: str, previous_x: str, previous_y: str) -> str:
     dx, dy = f"(cx - {previous_x})", f"(cy - {previous_y})"
     baseline_times_distance = f"({dx}*({previous_y} - {py}) - ({previous_x} - {px})*{dy})"
     return f"f*({dx}**2 + {dy}**2)/{baseline_times_distance}"
+
+
+def _landmark_templates(disparity: bool, previous: tuple[str, str]) -> list[tuple[str, sympy.Expr]]:
+    """(output prefix, expression in the placeholders PX, PY) per output of a landmark,
+    parsed once: a thousand landmarks are then a thousand substitutions, not a
+    thousand parses (the parse is most of the cost of building a large model)."""
+    names = {name: sympy.Symbol(name) for name in ("cx", "cy", "cth", "cxdot", "cydot", "dt", "f", "PX", "PY")}
+    templates = [("hL", parse_expression(_projection("PX", "PY"), names, where="slam2d", allow_prev=True))]
+    if disparity:
+        templates.append(("dL", parse_expression(_disparity("PX", "PY", *previous), names, where="slam2d", allow_prev=True)))
+    return templates
+
+
+def _substitute(expr: sympy.Expr, mapping: dict, moving: set) -> sympy.Expr:
+    """``expr`` with symbols replaced, rebuilt as the parser builds it: products and
+    powers unevaluated (the parser writes a quotient as an unevaluated a * b**-1),
+    sums evaluated. xreplace would evaluate 1/depth, whose assumption queries cost
+    a millisecond per landmark. ``moving``: the subexpressions that contain a
+    replaced symbol (:func:`_moving`), computed once per template."""
+    if expr in mapping:
+        return mapping[expr]
+    if expr not in moving:
+        return expr
+    args = [_substitute(a, mapping, moving) for a in expr.args]
+    if isinstance(expr, (sympy.Mul, sympy.Pow)):
+        return expr.func(*args, evaluate=False)
+    return expr.func(*args)
+
+
+def _moving(expr: sympy.Expr, symbols: set) -> set:
+    """The subexpressions of ``expr`` that contain one of ``symbols``."""
+    found = set()
+
+    def walk(e: sympy.Expr) -> bool:
+        inside = e in symbols
+        for a in e.args:
+            inside = walk(a) or inside
+        if inside:
+            found.add(e)
+        return inside
+
+    walk(expr)
+    return found
 
 
 def slam2d(
@@ -89,18 +135,21 @@ def slam2d(
         previous = ("prev(cx)", "prev(cy)")
         inverse = {"cx": "cx - dt*cxdot", "cy": "cy - dt*cydot", "cth": "cth - dt*cthdot"}
         inverse |= {v: v for v in ("cxdot", "cydot", "cthdot")}
-    outputs: dict[str, str] = {}
+    outputs: dict[str, str | sympy.Expr] = {}
     for j in range(1, beacons + 1):
         outputs[f"hB{j}"] = _projection(f"B{j}x", f"B{j}y")
+    placeholders = sympy.Symbol("PX"), sympy.Symbol("PY")
+    templates = [(prefix, template, _moving(template, set(placeholders)))
+                 for prefix, template in _landmark_templates(disparity, previous)]
     for i in range(1, landmarks + 1):
         lx, ly = landmark_states(i)
-        dynamics[lx] = "0" if time == "continuous" else lx
-        dynamics[ly] = "0" if time == "continuous" else ly
+        point = sympy.Symbol(lx), sympy.Symbol(ly)
+        dynamics[lx] = sympy.Integer(0) if time == "continuous" else point[0]
+        dynamics[ly] = sympy.Integer(0) if time == "continuous" else point[1]
         if inverse is not None:
             inverse[lx], inverse[ly] = lx, ly
-        outputs[f"hL{i}"] = _projection(lx, ly)
-        if disparity:
-            outputs[f"dL{i}"] = _disparity(lx, ly, *previous)
+        for prefix, template, moving in templates:
+            outputs[f"{prefix}{i}"] = _substitute(template, dict(zip(placeholders, point)), moving)
     if not outputs:
         raise ValueError("slam2d needs at least one landmark or beacon to measure")
     parameters: dict[str, object] = {"f": f, "dt": None}
