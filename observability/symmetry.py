@@ -101,6 +101,7 @@ class _AtIdentity(TaylorEvaluator):
     def __init__(self, program: Program, n_states: int, rng: random.Random) -> None:
         super().__init__(program, n_states, rng, discrete=True)
         self.point[-1] = 0
+        self.differentiated = {n_states - 1}  # only d/d eps is read
 
     def _circle(self, angle: int) -> tuple[int, int]:
         return (0, 1) if angle == 0 else super()._circle(angle)
@@ -128,32 +129,30 @@ def _prepared(system: System, candidates: Sequence[Symmetry]) -> Prepared:
     return out
 
 
-def _declared_generators_match(system: System, candidates: Sequence[Symmetry], rng: random.Random,
-                               prepared: Prepared) -> list[bool]:
+def _declared_generators_match(system: System, candidates: Sequence[Symmetry], program: Program, plans: list[dict],
+                               rng: random.Random) -> list[bool]:
     """For each candidate with a declared ``vector``: whether it is d g / d eps at
-    eps = 0, compared exactly mod p at a random point (eps as an extra variable
-    of the program, so no symbolic derivative is built: a thousand landmarks
-    cost milliseconds). Candidates without a declared vector pass."""
-    declared = [c for c in candidates if c.vector is not None]
+    eps = 0, compared exactly mod p at a random point. The verification program
+    has eps as its last variable; it is evaluated here at eps = 0 on the image and
+    field nodes only (no symbolic derivative is built: ten thousand landmarks cost
+    a second). Candidates without a declared vector pass."""
+    declared = [(c, plan) for c, plan in zip(candidates, plans) if c.vector is not None]
     if not declared:
         return [True] * len(candidates)
-    program = Program((*system.states, EPSILON), where=system.name)
-    pairs = {}
-    for c in declared:
-        finite, q, field = prepared[id(c)]
-        pairs[id(c)] = ([program.add(e) for e in finite], [program.add(e) for e in field], q)
-    evaluator = _evaluated(lambda: _AtIdentity(program, system.n + 1, rng), 16)
+    needed = program.reaching([i for _, plan in declared for i in plan["images"] + plan["field"]])
+    evaluator = _evaluated(lambda: _AtIdentity(program, system.n + 1, rng), 16, needed=needed)
     if evaluator is None:
         return [c.vector is None for c in candidates]
     at = evaluator.coefficient
     out = []
-    for c in candidates:
+    for c, plan in zip(candidates, plans):
         if c.vector is None:
             out.append(True)
             continue
-        images, field, q = pairs[id(c)]
+        q = plan["q"]
         # Images were compiled with eps -> q eps (half angles): d/d eps picks up q.
-        out.append(all((at(g, 0)[1].get(system.n, 0) - q * at(v, 0)[0]) % PRIME == 0 for g, v in zip(images, field)))
+        out.append(all((at(g, 0)[1].get(system.n, 0) - q * at(v, 0)[0]) % PRIME == 0
+                       for g, v in zip(plan["images"], plan["field"])))
     return out
 
 
@@ -180,27 +179,31 @@ def _dot(gradient: dict[int, int], values: Sequence[int]) -> int:
     return sum(d * values[j] for j, d in gradient.items()) % PRIME
 
 
-def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prepared) -> tuple[Program, Callable, bytearray, bytearray]:
+def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prepared) -> tuple:
     """One program holding h, f and, per candidate, the composed functions to compare.
 
-    Returns the program; a function that, given an evaluator of it at a random
+    Returns the program; per candidate the nodes of its images, field and composed
+    functions; a function that, given an evaluator of it at a random
     point, says which candidates pass every identity there; the flags of the
     nodes whose gradients those identities read (h, f, the images and the fields;
     the composed functions are compared by value only); and the flags of the nodes
     the real-point (ball) comparisons read: only identities through free values
     (exp, log, atan2) are compared in balls, so only their nodes are evaluated there.
     """
-    program = Program(system.states, where=system.name)
+    # eps is the last variable: the finite check evaluates at a random eps, the
+    # declared-generator check at eps = 0 (_declared_generators_match).
+    program = Program((*system.states, EPSILON), where=system.name)
     f = [program.add(system.substitute_values(e)) for e in system.dynamics]
     h = [program.add(system.substitute_values(e)) for _, e in system.outputs]
     after = dict(enumerate(f))
     plans = []
     for symmetry in candidates:
-        finite, _, vector_field = prepared[id(symmetry)]
+        finite, q, vector_field = prepared[id(symmetry)]
         images = [program.add(e) for e in finite]
         field = [program.add(e) for e in vector_field]
         moved, memo = dict(enumerate(images)), {}
         plan = {
+            "q": q,
             "images": images,
             "field": field,
             "h_moved": [program.compose(node, moved, memo) for node in h],
@@ -231,7 +234,8 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
             at = ball()
             return at is not None and (at.coefficient(a, 0)[0] - at.coefficient(b, 0)[0]).contains(0)
 
-        f_values = [value(i) for i in f]
+        # eps's component of a gradient meets a zero: eps is a constant of the motion.
+        f_values = [value(i) for i in f] + [0]
         f_balls: list = []  # f at the real point, filled once on first need (n entries, n checks)
 
         def equivariant(g: int, fm: int) -> bool:
@@ -243,7 +247,7 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
             if at is None:
                 return False
             if not f_balls:
-                f_balls.extend(at.coefficient(i, 0)[0] for i in f)
+                f_balls.extend([*(at.coefficient(i, 0)[0] for i in f), 0])
             _, gradient = at.coefficient(g, 0)
             moved = sum((d * f_balls[j] for j, d in gradient.items()), 0) - at.coefficient(fm, 0)[0]
             return arb(moved).contains(0)
@@ -277,7 +281,7 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
         in_balls += [node for pair in pairs if free[pair[0]] or free[pair[1]] for node in pair]
     if in_balls and system.time == "continuous":
         in_balls += f  # the equivariance compares Dg(x) f(x) in balls
-    return program, passes, program.reaching(needed), program.reaching(in_balls)
+    return program, plans, passes, program.reaching(needed), program.reaching(in_balls)
 
 
 def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 1) -> list[bool]:
@@ -296,13 +300,13 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
     if system.time == "discrete":
         system = eliminate_previous_state(system)
     prepared = _prepared(system, candidates)
-    program, passes, gradients, in_balls = _verification(system, candidates, prepared)
+    program, plans, passes, gradients, in_balls = _verification(system, candidates, prepared)
     rng = random.Random(seed)
     # A declared generator must be d g / d eps at 0 of the transformation it is named after.
-    result = _declared_generators_match(system, candidates, rng, prepared)
+    result = _declared_generators_match(system, candidates, program, plans, rng)
     needs_ball = any(in_balls)
     for _ in range(points):
-        evaluator = _evaluated(lambda: TaylorEvaluator(program, system.n, rng, discrete=True), 32, gradients)
+        evaluator = _evaluated(lambda: TaylorEvaluator(program, system.n + 1, rng, discrete=True), 32, gradients)
         if evaluator is None:
             return [False] * len(candidates)
         # The identities through free values that fail mod p need a true real
@@ -313,7 +317,7 @@ def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, po
 
         def ball() -> BallTaylorEvaluator | None:
             if not made:
-                made.append(_evaluated(lambda: BallTaylorEvaluator(program, system.n, rng, discrete=True), 8,
+                made.append(_evaluated(lambda: BallTaylorEvaluator(program, system.n + 1, rng, discrete=True), 8,
                                        gradients, in_balls) if needs_ball else None)
             return made[0]
 

@@ -158,6 +158,7 @@ class TaylorEvaluator:
         self.point = [rng.randrange(p) for _ in range(n_states)] if p else []
         self.inputs: dict[tuple[int, int], int] = {}
         self.constants: dict[object, int] = {}  # values fixed before evaluation (a constraint's parameters)
+        self.differentiated: set[int] | None = None  # the states gradients are taken in (None: all)
         self.order = -1
 
     # ---------------------------------------------------------------- field
@@ -275,7 +276,8 @@ class TaylorEvaluator:
         if op is Op.STATE:
             j = arg[0]
             if k == 0:
-                return (self.point[j], {j: 1} if c == self.coefficient else _NO_GRADIENT)
+                tracked = c == self.coefficient and (self.differentiated is None or j in self.differentiated)
+                return (self.point[j], {j: 1} if tracked else _NO_GRADIENT)
             return _scale(c(self.program.roots[j], k - 1), self._recip(k), p)
         if op is Op.INPUT:
             return (self._input(arg[0], k), {})

@@ -33,16 +33,26 @@ def _product(*factors: sympy.Expr) -> sympy.Expr:
     return sympy.Mul(*factors, evaluate=False)
 
 
+def _offset(name: str, centre: sympy.Expr) -> sympy.Expr:
+    """name - centre, without the zero terms of the origin (half the nodes of a
+    ten-thousand-landmark scene's images)."""
+    return S(name) if centre == 0 else _sum(S(name), _product(-1, centre))
+
+
+def _shifted(centre: sympy.Expr, *terms: sympy.Expr) -> sympy.Expr:
+    return _sum(*terms) if centre == 0 else _sum(centre, *terms)
+
+
 def _rotate(x: str, y: str, about: tuple[sympy.Expr, sympy.Expr]) -> dict[str, sympy.Expr]:
-    dx, dy = _sum(S(x), _product(-1, about[0])), _sum(S(y), _product(-1, about[1]))
+    dx, dy = _offset(x, about[0]), _offset(y, about[1])
     return {
-        x: _sum(about[0], _product(_COS, dx), _product(_MINUS_SIN, dy)),
-        y: _sum(about[1], _product(_SIN, dx), _product(_COS, dy)),
+        x: _shifted(about[0], _product(_COS, dx), _product(_MINUS_SIN, dy)),
+        y: _shifted(about[1], _product(_SIN, dx), _product(_COS, dy)),
     }
 
 
 def _scale(names: Sequence[str], about: Sequence[sympy.Expr]) -> dict[str, sympy.Expr]:
-    return {n: _sum(a, _product(_GROW, _sum(S(n), _product(-1, a)))) for n, a in zip(names, about)}
+    return {n: _product(_GROW, S(n)) if a == 0 else _sum(a, _product(_GROW, _offset(n, a))) for n, a in zip(names, about)}
 
 
 def planar_symmetries(
