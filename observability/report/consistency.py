@@ -18,6 +18,7 @@ import numpy as np
 from ..codegen import FilterFunctions, filter_functions
 from ..errors import OptionError
 from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, nees
+from ..filters.batch import BatchFilter
 from ..parallel import Runner, run_tasks
 from ..system import System
 from .files import save_figure, write_text
@@ -79,40 +80,54 @@ class ConsistencyResult:
         return out
 
 
-def _one_run(functions: FilterFunctions, study: ConsistencyStudy, stream: np.random.SeedSequence) -> dict[str, np.ndarray]:
-    """One Monte Carlo run (a Dask task): the truth, the measurements and the NEES of every filter."""
-    rng = np.random.default_rng(stream)
+RUNS_PER_TASK = 10  # runs advanced together in one task (fixed: the numbers never depend on the workers)
+
+
+def _chunk(functions: FilterFunctions, study: ConsistencyStudy, streams: list) -> dict[str, np.ndarray]:
+    """A chunk of Monte Carlo runs (a Dask task): each run's truth and measurements
+    from its own stream, then each filter over all of them at once
+    (:class:`~observability.filters.batch.BatchFilter`, the run-by-run numbers).
+    Returns the NEES per filter, (runs, steps)."""
     F = np.array([[1.0, study.dt], [0.0, 1.0]])
     Q = np.diag([study.q_position, study.q_velocity])
     R = np.diag([study.r_position, study.r_odometry])
     P0 = np.diag(study.p0)
-    x = rng.multivariate_normal(study.x0, P0)
-    truth, ys = [], []
-    for _ in range(study.steps):
-        nxt = F @ x + rng.multivariate_normal(np.zeros(2), Q)
-        ys.append(np.array([nxt[0], nxt[0] - x[0]]) + rng.multivariate_normal(np.zeros(2), R))
-        truth.append(nxt)
-        x = nxt
+    truths, measurements = [], []
+    for stream in streams:
+        rng = np.random.default_rng(stream)
+        x = rng.multivariate_normal(study.x0, P0)
+        truth, ys = [], []
+        for _ in range(study.steps):
+            nxt = F @ x + rng.multivariate_normal(np.zeros(2), Q)
+            ys.append(np.array([nxt[0], nxt[0] - x[0]]) + rng.multivariate_normal(np.zeros(2), R))
+            truth.append(nxt)
+            x = nxt
+        truths.append(truth)
+        measurements.append(ys)
+    truth, y = np.array(truths), np.array(measurements)  # (runs, steps, 2)
+    runs = len(streams)
     out = {}
     for name, kind in FILTERS.items():
-        ekf = kind(functions, Q, R)
-        state = ekf.initial(study.x0, P0)
-        values = []
-        for y, true in zip(ys, truth):
-            state = ekf.update(ekf.predict(state), y).state
-            values.append(nees(true - state.x, state.P))
-        out[name] = np.array(values)
+        batch = BatchFilter(kind(functions, Q, R), runs)
+        X, P = np.tile(study.x0, (runs, 1)), np.repeat(P0[None], runs, axis=0)
+        values = np.empty((runs, study.steps))
+        for k in range(study.steps):
+            step = batch.step(X, P, np.zeros((runs, 0)), y[:, k], np.ones((runs, 2)), step=k + 1)
+            X, P = step.x, step.P
+            values[:, k] = [nees(truth[r, k] - X[r], P[r]) for r in range(runs)]
+        out[name] = values
     return out
 
 
 def run_consistency(study: ConsistencyStudy = ConsistencyStudy(), run: Runner | None = None) -> ConsistencyResult:
     """Monte Carlo of the three filters on the same simulated data, one Dask task per
-    run on ``run`` (an :func:`observability.parallel.engine`; default a local cluster).
-    Run i has the i-th stream spawned from the seed, whatever the number of workers."""
+    chunk of runs on ``run`` (an :func:`observability.parallel.engine`; default a local
+    cluster). Run i has the i-th stream spawned from the seed, whatever the number of
+    workers or the chunks."""
     streams = np.random.SeedSequence(study.seed).spawn(study.runs)
-    runs = run_tasks(_one_run, [(study, stream) for stream in streams], filter_functions(study.system()),
-                     "consistency Monte Carlo", run)
-    average = {name: np.mean([r[name] for r in runs], axis=0) for name in FILTERS}
+    chunks = [(study, streams[i:i + RUNS_PER_TASK]) for i in range(0, study.runs, RUNS_PER_TASK)]
+    results = run_tasks(_chunk, chunks, filter_functions(study.system()), "consistency Monte Carlo", run)
+    average = {name: np.concatenate([r[name] for r in results]).mean(axis=0) for name in FILTERS}
     return ConsistencyResult(study, average, chi2_bounds(2, study.runs))
 
 
