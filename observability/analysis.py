@@ -18,7 +18,7 @@ from .inverse import eliminate_previous_state
 from .methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from .restrictions import ConstraintSet
 from .randomized import randomized_rank
-from .budget import Undecided, with_budget
+from .budget import Undecided, paused_collection, with_budget
 from .symbolic import null_space, observability_rows, symbolic_rank
 from .symmetry import independent_basis, verify_all
 from .system import System
@@ -450,6 +450,13 @@ def analyze(
         The rank at a generic point of this set instead of a generic point
         (:func:`~observability.restrictions.parse_constraints`); random method only.
     """
+    with paused_collection():
+        return _analyze(system, method, seed, input_derivatives, max_order, budget, point, previous, directions,
+                        progress, where)
+
+
+def _analyze(system, method, seed, input_derivatives, max_order, budget, point, previous, directions, progress,
+             where) -> ObservabilityResult:
     if method not in METHODS:
         raise ModelError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if previous not in PREVIOUS_METHODS:

@@ -256,8 +256,7 @@ class TaylorEvaluator:
         return (s[k][0], _NO_GRADIENT) if k < len(s) else _ZERO
 
     def _grow(self) -> None:
-        while len(self.series) < len(self.program.ops):
-            self.series.append([])
+        self.series.extend([] for _ in range(len(self.program.ops) - len(self.series)))
 
     def coefficient(self, node: int, k: int) -> Dual:
         s = self.series[node]

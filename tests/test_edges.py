@@ -198,3 +198,26 @@ def test_a_budgeted_child_without_answer_is_undecided(work):
 
     with pytest.raises(Undecided, match="without an answer"):
         with_budget(work, seconds=5)
+
+
+def test_paused_collection_restores_the_collector():
+    """The analysis pauses Python's cyclic collector (budget.paused_collection) and
+    must give it back as it found it, also when the work raises, and not enable
+    it for a caller who had it disabled."""
+    import gc
+
+    from observability.budget import paused_collection
+
+    assert gc.isenabled()
+    with pytest.raises(RuntimeError):
+        with paused_collection():
+            assert not gc.isenabled()
+            raise RuntimeError("inside")
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        with paused_collection():
+            pass
+        assert not gc.isenabled()
+    finally:
+        gc.enable()

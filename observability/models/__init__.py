@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
+from observability.budget import paused_collection
 from observability.errors import ModelError
 from observability.expressions import parse_number
 from observability.system import System
@@ -126,7 +127,8 @@ def build(name: str, options: Mapping[str, str] | None = None) -> System:
         else:
             values[key] = parse_number(text, f"option {key}")
     try:
-        system = model.builder(**kwargs)
+        with paused_collection():  # a large model is a million acyclic sympy objects (budget.paused_collection)
+            system = model.builder(**kwargs)
     except ValueError as exc:  # the builders' own checks on option combinations
         raise ModelError(f"{name}: {exc}") from None
     unknown = [k for k in values if k not in {p.name for p in system.parameters}]
