@@ -279,11 +279,11 @@ class TaylorEvaluator:
                 return (self.point[j], {j: 1} if tracked else _NO_GRADIENT)
             return _scale(c(self.program.roots[j], k - 1), self._recip(k), p)
         if op is Op.INPUT:
-            return (self._input(arg[0], k), {})
+            return (self._input(arg[0], k), _NO_GRADIENT)
         if op is Op.CONST:
-            return (self._number(arg[0]), {})
+            return (self._number(arg[0]), _NO_GRADIENT)
         if op is Op.RANDOM:
-            return (self._random_constant(arg[0]), {})
+            return (self._random_constant(arg[0]), _NO_GRADIENT)
         if op is Op.ADD:
             return _linear([(1, c(a, k)) for a in arg], p)
         if op is Op.MUL:

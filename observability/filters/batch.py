@@ -20,7 +20,7 @@ import casadi
 import numpy as np
 
 from . import validation
-from .ekf import CloningEKF, FilterError, _Base
+from .ekf import CloningEKF, FilterError, _Base, _Buffered
 
 __all__ = ["BatchFilter", "BatchStep"]
 
@@ -45,7 +45,7 @@ class BatchStep:
 
 
 class _Mapped:
-    """A casadi Function mapped over ``runs``, called through its buffers.
+    """A casadi Function mapped over ``runs``, called through its buffers (:class:`_Buffered`).
 
     Inputs and outputs are numpy arrays with the runs first: casadi stores the
     mapped (rows, runs * cols) matrices column-major, which is the C order of
@@ -53,23 +53,14 @@ class _Mapped:
     matrices here are symmetric or vectors."""
 
     def __init__(self, function: casadi.Function, runs: int, shared: tuple[int, ...]):
-        mapped = function.map("batch", "serial", runs, list(shared), [])
-        self.buffer, self.evaluate = mapped.buffer()
-        self.inputs = [np.zeros(mapped.nnz_in(i)) for i in range(mapped.n_in())]
-        self.outputs = []
-        for j in range(function.n_out()):
-            rows, cols = function.size_out(j)
-            self.outputs.append(np.zeros((runs, cols, rows)))
-        for i, array in enumerate(self.inputs):
-            self.buffer.set_arg(i, memoryview(array))
-        for j, array in enumerate(self.outputs):
-            self.buffer.set_res(j, memoryview(array))
+        self.call = _Buffered(function.map("batch", "serial", runs, list(shared), []))
+        self.shapes = [(runs, *function.size_out(j)[::-1]) for j in range(function.n_out())]
 
     def __call__(self, *args: np.ndarray) -> list[np.ndarray]:
-        for array, value in zip(self.inputs, args):
+        for array, value in zip(self.call.inputs, args):
             array[:] = value.ravel()
-        self.evaluate()
-        return [out.copy() for out in self.outputs]
+        self.call.evaluate()
+        return [out.reshape(shape).copy() for out, shape in zip(self.call.outputs, self.shapes)]
 
 
 class BatchFilter:

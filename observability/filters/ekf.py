@@ -127,8 +127,6 @@ class _Base:
         self.n = len(functions.states)
         self.n_inputs = len(functions.inputs)
         self.w0 = np.zeros(n_w)
-        self._motion_call = _Buffered(functions["motion"])
-        self._measurement_call = _Buffered(functions["measurement"])
         if self.fused:  # built now, not inside the first step
             self._predict_call, self._update_call
 
@@ -148,6 +146,14 @@ class _Base:
         if state.joint is not None:
             validation.covariance(state.joint, "the joint covariance", state.joint.shape[0], where)
         return state
+
+    @functools.cached_property
+    def _motion_call(self) -> _Buffered:
+        return _Buffered(self.fn["motion"])
+
+    @functools.cached_property
+    def _measurement_call(self) -> _Buffered:
+        return _Buffered(self.fn["measurement"])
 
     def _motion(self, x: np.ndarray, u: np.ndarray):
         x_next, F, Fw = self._motion_call(x, u, self.w0, self.p)

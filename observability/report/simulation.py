@@ -222,7 +222,6 @@ def _run_batch(ekf, config: SimulationConfig, truth: np.ndarray, inputs: np.ndar
     alive = np.ones(runs, dtype=bool)
     batch = BatchFilter(ekf, runs)
     X, P = x0.copy(), np.repeat(P0[None], runs, axis=0)
-    columns = np.arange(runs)
 
     def gated(x_pred: np.ndarray, P_pred: np.ndarray, x_prev: np.ndarray) -> np.ndarray:
         # The gate's quantities: the predicted distance of the landmark from the line of
@@ -265,10 +264,10 @@ def _run_batch(ekf, config: SimulationConfig, truth: np.ndarray, inputs: np.ndar
             estimates[k - 1], covariances[k - 1] = X[0], [[a[0], b[0]], [b[0], d[0]]]
     elapsed = (time.perf_counter() - start) / (runs * steps)
     return [RunMetrics(*rows[:, r], refused[r], elapsed, estimates if keep and r == 0 else None,
-                       covariances if keep and r == 0 else None) for r in columns]
+                       covariances if keep and r == 0 else None) for r in range(runs)]
 
 
-def _inputs_of(config: SimulationConfig, run: int) -> tuple[Trajectory, np.ndarray, np.ndarray, np.ndarray]:
+def _run_data(config: SimulationConfig, run: int) -> tuple[Trajectory, np.ndarray, np.ndarray, np.ndarray]:
     """Run ``run``'s truth, initial estimate and measurements; the random streams
     depend only on (seed, run), so runs are reproducible one by one, whatever the
     batch or the process they are computed in."""
@@ -295,7 +294,7 @@ def simulate_runs(models: dict[tuple[int, bool], FilterFunctions], config: Simul
     Run 0, when present, keeps its estimates and covariances and its truth under
     (``"truth"``, None, None) for the figures.
     """
-    made = [_inputs_of(config, run) for run in runs]
+    made = [_run_data(config, run) for run in runs]
     truth = np.array([m[0].states for m in made])
     inputs = np.array([m[0].inputs for m in made])
     x0 = np.array([m[1] for m in made])
