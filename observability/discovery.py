@@ -1,22 +1,21 @@
 """Unobservable directions found automatically: polynomial vector fields by an exact ansatz.
 
 A direction v(x) is unobservable when O(x) v(x) = 0 for the observability matrix
-O at every point. With v polynomial of degree at most d in the states and the
-free parameters, v_i(x) = sum_m c_{i,m} m(x), the condition is linear in the
-unknown coefficients c: each independent row rho of O at a random point x_j
-gives one equation sum_i rho_i sum_m c_{i,m} m(x_j) = 0 (mod p). Enough random
-points pin down the space of such fields of degree <= d; a basis of it, brought
-back to rationals by rational reconstruction, is checked at fresh random points
-(O v = 0 there, exactly mod p) before it is kept. Degrees 0, 1, 2 are tried in
-turn (translations, then rotations and scalings, then quadratic fields) until
-the fields found span the null space, whose dimension the rank gives.
+O at every point. The fields of degree <= d in the states and the free
+parameters with that property form a vector space, found mod p by the reduced
+ansatz of :mod:`observability.nullfields` (unknowns only for the components in
+the free columns of O's echelon form, conditions at random points), then brought
+back to rationals by rational reconstruction and checked at a fresh random
+point (O v = 0 there, exactly mod p) before a field is kept. Degrees 0, 1, 2 are
+tried in turn (translations, then rotations and scalings, then quadratic fields)
+until the fields found span the null space, whose dimension the rank gives.
 
-The ansatz is tried first on the stronger conditions of a symmetry, L_v h = 0
-and v commuting with the dynamics ([f, v] = 0; v(F(x)) = DF(x) v(x) in discrete
-time), also linear in c: their solutions form a finite-dimensional algebra and
-give the simplest basis. Pointwise null fields fill in what symmetries do not
-span (they include every multiple phi(x) v(x) of a null field, so the basis
-kept is the one with the lowest degree and fewest terms).
+Among the fields of a degree, the symmetries come first: those commuting with
+the dynamics ([f, v] = 0; v(F(x)) = DF(x) v(x) in discrete time). They form a
+finite-dimensional algebra and give the simplest basis (a rotation, not a
+rotation plus multiples of translations); the other null fields, which include
+every multiple phi(x) v(x) of a null field, fill in what symmetries do not span,
+lowest degree and fewest terms first.
 
 The fields are then named from their structure (:func:`classify`): a constant
 field is a translation, a linear one with a diagonal part a scaling, with a
@@ -28,25 +27,24 @@ from __future__ import annotations
 import itertools
 import random
 from collections.abc import Sequence
+from math import isqrt
 
 import sympy
 
 from .echelon import ModularEchelon
-from .expansion import AllRows, expand_rows
+from .expansion import AllRows, Expansion, expand_rows, replay
 from .lie import step_input
 from .program import PRIME, Program
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["discover_directions", "classify", "observable_functions", "MAX_UNKNOWNS"]
+__all__ = ["discover_directions", "classify", "observable_functions", "rational_reconstruction", "MAX_UNKNOWNS"]
 
-#: Above this many unknown coefficients the ansatz of a degree is not tried.
+#: Above this many unknown coefficients (of the free components, or of an
+#: invariant function) the ansatz of a degree is not tried.
 MAX_UNKNOWNS = 4000
-#: Random points per ansatz at most (each gives as many equations as the rank);
-#: an ansatz left underdetermined yields fields that fail the check at a fresh
-#: point, so the cap bounds the work without admitting a wrong field.
+#: Random points per ansatz at most; a degree that would need more is not tried.
 MAX_POINTS = 200
-_HALF = int((PRIME // 2) ** 0.5)
 
 
 class _Recording(TaylorEvaluator):
@@ -61,42 +59,94 @@ class _Recording(TaylorEvaluator):
             self.constants[key] = super()._random_constant(key)
         return self.constants[key]
 
+    def _number(self, value) -> int:
+        if value.q % self.p == 0:
+            raise Redraw(-1, f"the denominator of the constant {value} is a multiple of the prime")
+        return super()._number(value)
+
     def variable_values(self, system: System) -> list[int]:
         """The states, then the free parameters, at the point; a free parameter
         the program does not involve gets a value all the same."""
-        return list(self.point) + [self.constants.get(q) or self.rng.randrange(1, PRIME) for q in system.free_parameters]
+        return list(self.point) + [self.constants.get(q) or self.rng.randrange(1, self.p) for q in system.free_parameters]
 
 
-def _rational(value: int) -> sympy.Rational | None:
+def rational_reconstruction(value: int, p: int = PRIME) -> sympy.Rational | None:
     """The rational a/b with |a|, |b| < sqrt(p/2) congruent to ``value`` mod p
     (Wang's rational reconstruction), or None."""
-    r0, r1, s0, s1 = PRIME, value % PRIME, 0, 1
-    while r1 > _HALF:
+    half = isqrt(p // 2)
+    r0, r1, s0, s1 = p, value % p, 0, 1
+    while r1 > half:
         q = r0 // r1
         r0, r1, s0, s1 = r1, r0 - q * r1, s1, s0 - q * s1
-    if s1 == 0 or abs(s1) > _HALF:
+    if s1 == 0 or abs(s1) > half:
         return None
     return sympy.Rational(r1, s1)
 
 
-def _point(system: System, orders: int, rng: random.Random, input_derivatives, previous):
-    """Rows of the observability matrix at a random point, reduced to a basis of
-    their span, and the values of the variables there."""
-    made: list[_Recording] = []
+class _Points:
+    """The observability matrix at random points, in reduced echelon form.
 
-    def make(program: Program, discrete: bool) -> _Recording:
-        made.append(_Recording(program, system.n, rng, input_degree=input_derivatives, discrete=discrete))
-        return made[-1]
+    The first point compiles the program (orders 0..``orders``, and the dynamics
+    when symmetries are sought); every further point evaluates that program
+    again at new random values (:func:`~observability.expansion.replay`).
+    """
 
-    sink = AllRows()
-    expand_rows(system, sink, make, max_order=orders, previous=previous, exhaustive=True)
-    echelon = ModularEchelon(system.n, PRIME)
-    for row in sink.rows:
-        echelon.add_row(row)
-    return list(echelon.pivot_rows.values()), made[-1].variable_values(system)
+    def __init__(self, system: System, orders: int, rng: random.Random, input_derivatives, previous: str,
+                 dynamics: bool) -> None:
+        self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
+        self.input_derivatives, self.dynamics = input_derivatives, dynamics
+        self.expansion: Expansion | None = None
+        self.dynamics_nodes: list[int] = []
+
+    def __call__(self, p: int) -> tuple:
+        """A random point mod ``p``: the variables' values, the echelon form
+        ``{pivot column: row}`` and, when symmetries are sought, the dynamics'
+        values and Jacobian there (the same evaluator, so that angles and inputs
+        agree) and, in discrete time, the image F(x): the fields of a
+        :class:`~observability.nullfields.KernelPoint`."""
+        system, n = self.system, self.system.n
+        discrete = system.time == "discrete"
+        if self.expansion is None:
+            made: list[_Recording] = []
+
+            def make(program: Program, discrete: bool) -> _Recording:
+                made.append(self._evaluator(program, p))
+                return made[-1]
+
+            sink = AllRows()
+            self.expansion = expand_rows(system, sink, make, max_order=self.orders, previous=self.previous,
+                                         exhaustive=True)
+            rows, evaluator = sink.rows, made[-1]
+            program = self.expansion.program
+            if self.dynamics and discrete:
+                steps = {u: step_input(u, 0) for u in system.inputs}
+                self.dynamics_nodes = [program.add(system.substitute_values(e).xreplace(steps)) for e in system.dynamics]
+                evaluator.extend()
+            elif self.dynamics:
+                self.dynamics_nodes = program.roots[:n]  # compiled first, as the states' derivatives
+        else:
+            evaluator = self._evaluator(self.expansion.program, p)
+            rows = replay(self.expansion, evaluator)
+        echelon = ModularEchelon(n, p)
+        for row in rows:
+            echelon.add_row(row)
+        values = evaluator.variable_values(system)
+        if not self.dynamics:
+            return values, echelon.pivot_rows
+        if not all(values):
+            raise Redraw(-1, "a variable is zero at the point")  # d m / d x_s = e_s m / x_s needs x_s != 0
+        at = [evaluator.coefficient(i, 0) for i in self.dynamics_nodes]
+        image = [v for v, _ in at] + values[n:] if discrete else None
+        return values, echelon.pivot_rows, [v for v, _ in at], [g for _, g in at], image
+
+    def _evaluator(self, program: Program, p: int) -> _Recording:
+        return _Recording(program, self.system.n, self.rng, input_degree=self.input_derivatives,
+                          discrete=self.system.time == "discrete", p=p)
 
 
 def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
+    """Exponent vectors of all monomials of degree <= ``degree`` in ``count``
+    variables, by increasing degree."""
     out = []
     for d in range(degree + 1):
         for combo in itertools.combinations_with_replacement(range(count), d):
@@ -104,17 +154,6 @@ def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
             for i in combo:
                 exponents[i] += 1
             out.append(tuple(exponents))
-    return out
-
-
-def _monomial_values(monomials, values) -> list[int]:
-    out = []
-    for exponents in monomials:
-        v = 1
-        for x, e in zip(values, exponents):
-            if e:
-                v = v * pow(x, e, PRIME) % PRIME
-        out.append(v)
     return out
 
 
@@ -128,90 +167,31 @@ def _field_at(field, mvals: list[int]) -> list[int]:
     return [sum(_mod(c) * mvals[k] for k, c in comp.items()) % PRIME for comp in field]
 
 
-def _polynomial(coefficients: dict, monomials, variables) -> sympy.Expr:
-    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, monomials[k]))) for k, c in coefficients.items()))
+def _monomial_values(exponents, values) -> list[int]:
+    out = []
+    for powers in exponents:
+        v = 1
+        for x, e in zip(values, powers):
+            if e:
+                v = v * pow(x, e, PRIME) % PRIME
+        out.append(v)
+    return out
 
 
-def _symmetry_point(system: System, rng: random.Random):
-    """At a random point: output gradients, the dynamics' values and Jacobian,
-    and the values of the variables (states, then free parameters)."""
-    continuous = system.time == "continuous"
-    program = Program(system.states, system.inputs if continuous else (), where=system.name)
-    steps = {} if continuous else {u: step_input(u, 0) for u in system.inputs}
-    f = [program.add(system.substitute_values(e).xreplace(steps)) for e in system.dynamics]
-    h = [program.add(system.substitute_values(e)) for _, e in system.outputs]
-    evaluator = _Recording(program, system.n, rng, discrete=True)
-    evaluator.extend()
-    at = evaluator.coefficient
-    return [at(i, 0)[1] for i in h], [at(i, 0) for i in f], evaluator.variable_values(system)
+def _polynomial(coefficients: dict, exponents, variables) -> sympy.Expr:
+    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, exponents[k]))) for k, c in coefficients.items()))
 
 
-def _symmetry_equations(system: System, monomials, rng: random.Random) -> list[dict[int, int]]:
-    """The conditions L_v h = 0 and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x)
-    (discrete) at one random point, linear in the coefficients of v."""
-    n, size = system.n, len(monomials)
-    gradients, dynamics, values = _symmetry_point(system, rng)
-    mvals = _monomial_values(monomials, values)
-    rows = [{j * size + k: g * mk % PRIME for j, g in gradient.items() for k, mk in enumerate(mvals) if mk} for gradient in gradients]
-    if system.time == "continuous":
-        inverse = [pow(x, -1, PRIME) if x else 0 for x in values[:n]]
-        # (D m . f)(x) for every monomial: the derivative along the flow.
-        along = [
-            sum(e * mk * inverse[s] * dynamics[s][0] for s, e in enumerate(exps[:n]) if e) % PRIME
-            for exps, mk in zip(monomials, mvals)
-        ]
-        images = None
-    else:
-        images = _monomial_values(monomials, [value for value, _ in dynamics] + values[n:])
-    for i in range(n):
-        row: dict[int, int] = {}
-        first = along if images is None else images
-        for k in range(size):
-            if first[k]:
-                row[i * size + k] = first[k]
-        for j, d in dynamics[i][1].items():
-            for k, mk in enumerate(mvals):
-                if mk:
-                    row[j * size + k] = (row.get(j * size + k, 0) - d * mk) % PRIME
-        rows.append({c: v for c, v in row.items() if v})
-    return rows
-
-
-def _pointwise_equations(system, monomials, rng, orders, input_derivatives, previous) -> list[dict[int, int]]:
-    """O(x) v(x) = 0 at one random point, linear in the coefficients of v."""
-    rows, values = _point(system, orders, rng, input_derivatives, previous)
-    mvals = _monomial_values(monomials, values)
-    size = len(monomials)
-    return [{i * size + k: r * mk % PRIME for i, r in row.items() for k, mk in enumerate(mvals) if mk} for row in rows]
-
-
-def _solutions(equations_at_a_point, unknowns: int, size: int, n: int) -> list[list[dict[int, sympy.Rational]]]:
-    """Rational fields solving the equations at enough random points (until two
-    points in a row add nothing, or ``MAX_POINTS``)."""
-    echelon = ModularEchelon(unknowns, PRIME)
-    stalled = points = 0
-    while stalled < 2 and echelon.rank < unknowns and points < MAX_POINTS:
-        points += 1
-        try:
-            rows = equations_at_a_point()
-        except Redraw:
-            continue
-        before = echelon.rank
-        for row in rows:
-            echelon.add_row(row)
-        stalled = stalled + 1 if echelon.rank == before else 0
-    fields = []
-    for vector in echelon.null_space():
-        field: list[dict[int, sympy.Rational]] = [{} for _ in range(n)]
-        for index, value in vector.items():
-            c = _rational(value)
-            if c is None:
-                break
-            if c:
-                field[index // size][index % size] = c
-        else:
-            fields.append(field)
-    return fields
+def _rational_field(row, n: int, size: int, p: int) -> list[dict[int, sympy.Rational]] | None:
+    """A coefficient row mod ``p`` (a numpy array) as rationals per state
+    ``{monomial: c}``, or None when a coefficient has no small rational preimage."""
+    field: list[dict[int, sympy.Rational]] = [{} for _ in range(n)]
+    for index in row.nonzero()[0]:
+        c = rational_reconstruction(int(row[index]), p)
+        if c is None:
+            return None
+        field[index // size][index % size] = c
+    return field
 
 
 def discover_directions(
@@ -226,51 +206,59 @@ def discover_directions(
 ) -> list[tuple[sympy.Expr, ...]]:
     """Polynomial fields (degree <= ``max_degree`` in the states and free
     parameters) spanning as much of the ``nullity``-dimensional null space as
-    such fields can, lowest degree and fewest terms first. Symmetries (L_v h = 0
-    and v commuting with the dynamics) are searched first, as they give the
-    simplest basis (a rotation, not a rotation plus multiples of translations);
-    where they do not span the null space, fields with O v = 0 pointwise fill in.
-    Each is checked at fresh random points; a model whose null space has no
+    such fields can, lowest degree and fewest terms first. Symmetries (fields
+    commuting with the dynamics) come first, as they give the simplest basis (a
+    rotation, not a rotation plus multiples of translations); where they do not
+    span the null space, other null fields fill in. Each is checked at a fresh
+    random point modulo the 61-bit prime; a model whose null space has no
     polynomial generator of that degree yields fewer fields (never a wrong one)."""
     if nullity <= 0:
         return []
+    # numpy is imported only when a search runs: a rank check does not need it.
+    from .nullfields import SMALL_PRIME, KernelSampler, null_fields
+
     rng = random.Random(seed)
     variables = list(system.states) + list(system.free_parameters)
     n = system.n
     found: list[tuple[sympy.Expr, ...]] = []
     span = ModularEchelon(n, PRIME)
-    probe_rows = probe = None
+    symmetries = previous == "inverse" or not system.uses_previous_state
+    points = _Points(system, orders, rng, input_derivatives, previous, symmetries)
+    probe = None
     for _ in range(8):
         try:
-            probe_rows, probe = _point(system, orders, rng, input_derivatives, previous)
+            probe = points(PRIME)
             break
         except Redraw:
             continue
     if probe is None:
         return []
-    ansatz = ["symmetry", "pointwise"] if previous == "inverse" or not system.uses_previous_state else ["pointwise"]
+    sampler = KernelSampler(n, nullity, lambda: points(SMALL_PRIME))
     for degree in range(max_degree + 1):
-        monomials = _monomials(len(variables), degree)
-        size = len(monomials)
-        if n * size > MAX_UNKNOWNS:
+        exponents = _monomials(len(variables), degree)
+        size = len(exponents)
+        if nullity * size > MAX_UNKNOWNS:
             break
-        for kind in ansatz:
-            if kind == "symmetry":
-                equations = lambda: _symmetry_equations(system, monomials, rng)  # noqa: E731
-            else:
-                equations = lambda: _pointwise_equations(  # noqa: E731
-                    system, monomials, rng, orders, input_derivatives, previous
-                )
-            fields = _solutions(equations, n * size, size, n)
-            fields.sort(key=lambda f: (max((sum(monomials[k]) for comp in f for k in comp), default=0), sum(map(len, f))))
-            at_probe = _monomial_values(monomials, probe)
-            for field in fields:
+        fields = null_fields(sampler, exponents, MAX_POINTS, symmetries)
+        if fields is None:
+            break
+        at_probe = _monomial_values(exponents, probe[0])
+        kinds = [True, False] if symmetries else [False]
+        for symmetric in kinds:
+            try:
+                candidates = fields.simplest(symmetric)
+            except Redraw:
+                return found
+            for row in candidates:
+                field = _rational_field(row, n, size, SMALL_PRIME)
+                if field is None:
+                    continue
                 v = _field_at(field, at_probe)
-                if any(sum(r * v[i] for i, r in row.items()) % PRIME for row in probe_rows):
+                if any(sum(r * v[i] for i, r in pivot_row.items()) % PRIME for pivot_row in probe[1].values()):
                     continue  # O(x) v(x) != 0 at a fresh point: not a null field
                 if not span.add_row({i: value for i, value in enumerate(v) if value}):
                     continue
-                vector = [_polynomial(comp, monomials, variables) for comp in field]
+                vector = [_polynomial(comp, exponents, variables) for comp in field]
                 # One sign convention for a line: the first component does not start with a minus.
                 first = next(e for e in vector if e != 0)
                 found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))
@@ -310,12 +298,18 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         return "unnamed direction", "not a polynomial field"
     if all(v.free_symbols.isdisjoint(states) for v in vector):
         return f"translation of {_listing(moved)}", "moves these states together"
-    polys = [sympy.Poly(v, *states) if v != 0 else None for v in vector]
-    if any(p is not None and p.total_degree() > 1 for p in polys):
-        return "unnamed direction", f"a field of degree {max(p.total_degree() for p in polys if p is not None)}"
+    terms = [sympy.Poly(v, *states).as_dict() if v != 0 else {} for v in vector]
+    if any(sum(powers) > 1 for t in terms for powers in t):
+        return "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}"
     n = len(states)
-    A = [[(polys[i].coeff_monomial(states[j]) if polys[i] is not None else 0) for j in range(n)] for i in range(n)]
-    b = [sympy.expand(vector[i] - sum(A[i][j] * states[j] for j in range(n))) for i in range(n)]
+    A = [[0] * n for _ in range(n)]
+    b = [sympy.Integer(0)] * n
+    for i, t in enumerate(terms):
+        for powers, c in t.items():
+            if any(powers):
+                A[i][powers.index(1)] = c
+            else:
+                b[i] = c
     off = [(i, j) for i in range(n) for j in range(n) if i != j and A[i][j] != 0]
     diagonal = [i for i in range(n) if A[i][i] != 0]
     if not off and diagonal:
@@ -375,8 +369,8 @@ def observable_functions(
     found: list[sympy.Expr] = []
     span = ModularEchelon(n, PRIME)
     for degree in range(1, max_degree + 1):
-        monomials = [m for m in _monomials(len(variables), degree) if any(m[:n])]
-        if len(monomials) > MAX_UNKNOWNS:
+        exponents = [m for m in _monomials(len(variables), degree) if any(m[:n])]
+        if len(exponents) > MAX_UNKNOWNS:
             break
 
         def gradients(values: list[int]) -> list[dict[int, int]]:
@@ -385,10 +379,10 @@ def observable_functions(
             if not all(values[:n]):
                 raise Redraw(-1, "a state is zero at the point")
             inverse = [pow(x, -1, PRIME) for x in values[:n]]
-            mvals = _monomial_values(monomials, values)
+            mvals = _monomial_values(exponents, values)
             return [
                 {s_: e * mk % PRIME * inverse[s_] % PRIME for s_, e in enumerate(exps[:n]) if e}
-                for exps, mk in zip(monomials, mvals)
+                for exps, mk in zip(exponents, mvals)
             ]
 
         def equations() -> list[dict[int, int]]:
@@ -399,9 +393,9 @@ def observable_functions(
                 for v in fields
             ]
 
-        echelon = ModularEchelon(len(monomials), PRIME)
+        echelon = ModularEchelon(len(exponents), PRIME)
         stalled = points = 0
-        while stalled < 2 and echelon.rank < len(monomials) and points < MAX_POINTS:
+        while stalled < 2 and echelon.rank < len(exponents) and points < MAX_POINTS:
             points += 1
             try:
                 rows = equations()
@@ -413,11 +407,11 @@ def observable_functions(
             stalled = stalled + 1 if echelon.rank == before else 0
         candidates = []
         for vector in echelon.null_space():
-            coefficients = {k: _rational(v) for k, v in vector.items()}
+            coefficients = {k: rational_reconstruction(v, PRIME) for k, v in vector.items()}
             if any(c is None for c in coefficients.values()):
                 continue
             candidates.append({k: c for k, c in coefficients.items() if c})
-        candidates.sort(key=lambda c: (max(sum(monomials[k]) for k in c), len(c)))
+        candidates.sort(key=lambda c: (max(sum(exponents[k]) for k in c), len(c)))
         try:
             values, fields = point()
         except Redraw:
@@ -433,7 +427,7 @@ def observable_functions(
                 continue  # not invariant at a fresh point: the ansatz was underdetermined
             if not span.add_row({s_: d for s_, d in gradient.items() if d}):
                 continue
-            found.append(_polynomial(coefficients, monomials, variables))
+            found.append(_polynomial(coefficients, exponents, variables))
             if len(found) == rank:
                 return tuple(found)
     return tuple(found)

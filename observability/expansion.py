@@ -22,7 +22,7 @@ from .program import Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["RowSink", "AllRows", "Expansion", "expand_rows", "map_is_dominant", "point_rank", "stopping_rule"]
+__all__ = ["replay", "RowSink", "AllRows", "Expansion", "expand_rows", "map_is_dominant", "point_rank", "stopping_rule"]
 
 Progress = Callable[[str], None]
 EvaluatorFactory = Callable[..., TaylorEvaluator]
@@ -66,6 +66,20 @@ class Expansion:
     output_roots: tuple[int, ...]
     complete: bool = True
     rule: str = ""
+
+
+def replay(expansion: Expansion, evaluator) -> list[dict[int, int]]:
+    """The rows of ``expansion`` (gradients, in its order) at the point of a
+    fresh ``evaluator`` on its program: the program is compiled once, and every
+    further point costs an evaluation only."""
+    if evaluator.discrete:
+        evaluator.extend()
+        return [evaluator.coefficient(node, 0)[1] for node in expansion.output_roots]
+    rows = []
+    for order in range(expansion.orders + 1):
+        evaluator.step()
+        rows.extend(evaluator.coefficient(node, order)[1] for node in expansion.output_roots)
+    return rows
 
 
 def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts: int = 4) -> int:

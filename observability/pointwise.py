@@ -28,7 +28,7 @@ from typing import Any
 import sympy
 
 from .analysis import ObservabilityResult
-from .discovery import _rational
+from .discovery import rational_reconstruction
 from .errors import ModelError
 from .expressions import parse_number
 from .randomized import randomized_rank
@@ -148,7 +148,7 @@ def _exact_null_space(system: System, residues, values) -> tuple[tuple[dict[str,
     for residue in residues:
         vector = {}
         for column, value in sorted(residue.items()):
-            rational = _rational(value)
+            rational = rational_reconstruction(value)
             if rational is None:
                 return (), "the null space is not given as numbers: its entries are too large to reconstruct"
             vector[column] = rational

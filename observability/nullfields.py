@@ -1,0 +1,324 @@
+"""Polynomial null fields of the observability matrix, by a reduced exact ansatz.
+
+A field v(x) is unobservable when O(x) v(x) = 0 at every point. Its unknown
+polynomial coefficients (degree <= D in the states and free parameters) enter
+those conditions linearly, but there are n times as many of them as monomials:
+1,800 for a 40-state model at degree 1, and a dense elimination of that size in
+Python is what made discovery slow.
+
+The null space of O at a generic point has the known dimension d = n - rank.
+In the reduced row echelon form of O(x) the d free columns P are the same at
+generic points, and every null vector is determined by its P-components:
+v = K(x) v_P with K(x)_P = identity. So a polynomial null field is fixed by the
+d polynomials v_P alone (d times as many unknowns as monomials, not n), subject
+to one condition: every other component, v_j(x) = sum_a K_ja(x) v_Pa(x), must
+itself be a polynomial of degree <= D. At N > M random points (M monomials) the
+values of a polynomial of degree <= D are exactly the vectors annihilated by
+the left null space L of the N x M monomial matrix, so the conditions are
+L diag(K_ja) Mon b_a = 0, linear in the coefficients b of v_P. Their null space
+is the space of null fields of degree <= D; the other components are then
+interpolated from their values.
+
+Symmetries among these fields are the ones commuting with the dynamics:
+[f, v] = 0 (v(F(x)) = DF(x) v(x) in discrete time). For a null field, [f, v] is
+again a null field (the observable functions are closed under L_f; in discrete
+time DF(x) v(x) and v(F(x)) are null vectors at F(x)), so it vanishes exactly
+when its P-components do: d more linear conditions on b per point, from the
+dynamics' values and Jacobian at the same points.
+
+The arithmetic is exact modulo the word-size prime ``SMALL_PRIME`` on numpy
+integer arrays (products below 2^62, matrix products split in 16-bit halves),
+so the elimination runs in C; the caller brings the fields back to rationals
+and checks each at a fresh point modulo the 61-bit prime.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .taylor import Redraw
+
+__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "null_fields", "rref"]
+
+#: The prime of the search (2^31 - 1): entries below 2^31 keep every product of
+#: two in int64; rational reconstruction recovers coefficients up to 2^15.
+SMALL_PRIME = (1 << 31) - 1
+#: How many more random points than needed are drawn before a null space is
+#: accepted: it must not shrink when these are added.
+CONFIRMING_POINTS = 2
+_P = SMALL_PRIME
+
+
+def _monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Monomials (rows of ``exponents``) at points (rows of ``values``) mod p:
+    points x monomials."""
+    out = np.ones((values.shape[0], exponents.shape[0]), dtype=np.int64)
+    for k, powers in enumerate(exponents):
+        for variable in np.flatnonzero(powers):
+            for _ in range(powers[variable]):
+                out[:, k] = out[:, k] * values[:, variable] % _P
+    return out
+
+
+def _matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a @ b mod p for entries in [0, p) (inner dimension below 2^15): b split
+    in 16-bit halves so that no sum of products leaves int64."""
+    high = (a @ (b >> 16)) % _P
+    return (high * 65536 + a @ (b & 0xFFFF)) % _P
+
+
+def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
+    """The reduced row echelon form mod p (leftmost pivots; zero rows dropped)
+    and the pivot columns."""
+    a = a % _P
+    rows, columns = a.shape
+    pivots: list[int] = []
+    r = 0
+    for c in range(columns):
+        if r == rows:
+            break
+        below = np.flatnonzero(a[r:, c])
+        if below.size == 0:
+            continue
+        i = r + int(below[0])
+        if i != r:
+            a[[r, i]] = a[[i, r]]
+        # Row r is zero left of c (those columns are done), so only columns c.. change.
+        a[r, c:] = a[r, c:] * pow(int(a[r, c]), -1, _P) % _P
+        column = a[:, c].copy()
+        column[r] = 0
+        hit = np.flatnonzero(column)
+        if hit.size:
+            a[hit, c:] = (a[hit, c:] - np.outer(column[hit], a[r, c:]) % _P) % _P
+        pivots.append(c)
+        r += 1
+    return a[:r], pivots
+
+
+def _null_space(a: np.ndarray) -> np.ndarray:
+    """A basis of {x : a x = 0} mod p, as rows."""
+    reduced, pivots = rref(a)
+    columns = a.shape[1]
+    free = [c for c in range(columns) if c not in set(pivots)]
+    basis = np.zeros((len(free), columns), dtype=np.int64)
+    for k, f in enumerate(free):
+        basis[k, f] = 1
+        basis[k, pivots] = (-reduced[:, f]) % _P
+    return basis
+
+
+@dataclass(frozen=True)
+class KernelPoint:
+    """What one random point gives: the variables' values (states, then free
+    parameters), the reduced echelon form of O there (``{pivot column: row}``)
+    and, when symmetries are sought, the dynamics' values and Jacobian rows
+    (``{column: value}``) and the variables' values at the image F(x) (discrete
+    time). All modulo ``SMALL_PRIME``."""
+
+    values: list[int]
+    pivots: dict[int, dict[int, int]]
+    dynamics: list[int] | None = None
+    jacobian: list[dict[int, int]] | None = None
+    image: list[int] | None = None
+
+
+class KernelSampler:
+    """Null spaces of the observability matrix at random points, all expressed
+    in the free coordinates of the first point drawn.
+
+    Parameters
+    ----------
+    n, nullity : int
+        States and generic nullity.
+    point : callable
+        Draws a random point: the fields of a :class:`KernelPoint`, in order;
+        may raise :class:`~observability.taylor.Redraw`.
+    """
+
+    def __init__(self, n: int, nullity: int, point: Callable[[], tuple]):
+        self.n, self.nullity, self._point = n, nullity, point
+        self.free: list[int] = []
+        self.others: list[int] = []
+        self.points: list[KernelPoint] = []
+        self._kernels: list[np.ndarray] = []  # per point: n x d, identity on the free rows
+
+    def draw(self, count: int) -> bool:
+        """Hold at least ``count`` points; False when the draws keep failing
+        (poles or points where the rank drops, at every try)."""
+        failures = 0
+        n, d = self.n, self.nullity
+        while len(self.points) < count:
+            if failures > 8 + count // 4:
+                return False
+            try:
+                point = KernelPoint(*self._point())
+            except Redraw:
+                failures += 1
+                continue
+            if len(point.pivots) != n - d:
+                failures += 1  # the rank drops there: the null space is larger
+                continue
+            free = [c for c in range(n) if c not in point.pivots]
+            if not self.points:
+                self.free, self.others = free, sorted(point.pivots)
+            # Null vectors: e_f - sum over pivots c of row_c[f] e_c, f free at this point.
+            kernel = np.zeros((n, d), dtype=np.int64)
+            kernel[free, range(d)] = 1
+            for c, row in point.pivots.items():
+                kernel[c] = [(-row.get(f, 0)) % _P for f in free]
+            if free != self.free:
+                reduced, pivots = rref(np.hstack([kernel[self.free], np.eye(d, dtype=np.int64)]))
+                if pivots[:d] != list(range(d)):
+                    failures += 1  # the reference coordinates do not parametrise the null space here
+                    continue
+                kernel = _matmul(kernel, reduced[:, d:])
+            self.points.append(point)
+            self._kernels.append(kernel)
+        return True
+
+    def kernels(self, count: int) -> np.ndarray:
+        """The first ``count`` kernels: count x n x d."""
+        return np.stack(self._kernels[:count])
+
+    def values(self, count: int) -> np.ndarray:
+        return np.array([p.values for p in self.points[:count]], dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class NullFields:
+    """The polynomial null fields of one degree, mod p.
+
+    ``space`` holds a basis of their free components' coefficients (rows of
+    d * M: component a of the free set, monomial m at a * M + m); ``symmetric``
+    the same for the fields among them commuting with the dynamics (None when
+    not sought). :meth:`expand` gives the full coefficient rows (state j,
+    monomial m at j * M + m)."""
+
+    space: np.ndarray
+    symmetric: np.ndarray | None
+    sampler: KernelSampler
+    exponents: np.ndarray
+    count: int
+
+    def expand(self, rows: np.ndarray) -> np.ndarray:
+        """Full coefficient rows of the fields whose free components are ``rows``:
+        the other components interpolated from their values K(x) v_P(x) at the
+        points (an exact solve, since these values are those of polynomials)."""
+        sampler, size = self.sampler, self.exponents.shape[0]
+        n, d, fields = sampler.n, sampler.nullity, rows.shape[0]
+        if not fields:
+            return np.zeros((0, n * size), dtype=np.int64)
+        mon = _monomial_values(self.exponents, sampler.values(self.count))
+        free_values = np.stack([_matmul(mon, rows[:, a * size:(a + 1) * size].T) for a in range(d)], axis=1)
+        values = _matmul_batched(sampler.kernels(self.count), free_values)  # points x n x fields
+        others = sampler.others
+        solved, pivots = rref(np.hstack([mon, values[:, others, :].reshape(self.count, -1)]))
+        if pivots[:size] != list(range(size)):
+            raise Redraw(-1, "the points do not determine polynomials of this degree")
+        coefficients = solved[:size, size:].reshape(size, len(others), fields)
+        out = np.zeros((fields, n, size), dtype=np.int64)
+        out[:, sampler.free, :] = rows.reshape(fields, d, size)
+        out[:, others, :] = coefficients.transpose(2, 1, 0)
+        return out.reshape(fields, n * size)
+
+
+    def simplest(self, symmetric: bool) -> list[np.ndarray]:
+        """The symmetric fields (or all) as full coefficient rows, simplest first:
+        the basis in reduced echelon form with the columns of low-degree
+        monomials first (a basis field keeps as few low-degree terms as it can),
+        ordered by degree, then number of terms."""
+        n, size = self.sampler.n, self.exponents.shape[0]
+        degrees = self.exponents.sum(axis=1)
+        column_degree = np.tile(degrees, n)
+        order = np.lexsort((np.arange(n * size), column_degree))
+        full = self.expand(self.symmetric if symmetric else self.space)
+        if not full.shape[0]:
+            return []
+        reduced, _ = rref(full[:, order])
+        rows = np.empty_like(reduced)
+        rows[:, order] = reduced
+        return sorted(rows, key=lambda row: (int(column_degree[row != 0].max()), int(np.count_nonzero(row))))
+
+
+def _matmul_batched(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    high = np.matmul(a, b >> 16) % _P
+    return (high * 65536 + np.matmul(a, b & 0xFFFF)) % _P
+
+
+def null_fields(sampler: KernelSampler, exponents: Sequence[tuple[int, ...]], max_points: int,
+                symmetries: bool) -> NullFields | None:
+    """The polynomial null fields of the given monomials (and, with
+    ``symmetries``, those commuting with the dynamics), from enough random
+    points that the conditions of ``CONFIRMING_POINTS`` more hold for all of
+    them. None when more than ``max_points`` points would be needed or the
+    points cannot be drawn."""
+    d, size = sampler.nullity, len(exponents)
+    if not sampler.draw(1):
+        return None
+    others = len(sampler.others)
+    table = np.array(exponents, dtype=np.int64).reshape(size, -1)
+    # Each point beyond the M that fix an interpolant gives one condition per other state.
+    count = size + -(-d * size // max(others, 1)) + CONFIRMING_POINTS
+    while True:
+        if count + CONFIRMING_POINTS > max_points or not sampler.draw(count + CONFIRMING_POINTS):
+            return None
+        conditions, old = _conditions(sampler, table, count + CONFIRMING_POINTS, count)
+        space = _null_space(conditions[old])
+        if not space.shape[0] or not _matmul(conditions[~old], space.T).any():
+            break  # the further points' conditions hold for every field found
+        count += CONFIRMING_POINTS
+    symmetric = None
+    if symmetries:
+        # Combinations of the fields found whose bracket with the dynamics vanishes.
+        combinations = _null_space(_matmul(_commuting(sampler, table, count), space.T))
+        symmetric = _matmul(combinations, space)
+    return NullFields(space, symmetric, sampler, table, count)
+
+
+def _conditions(sampler: KernelSampler, exponents: np.ndarray, count: int, first: int) -> tuple[np.ndarray, np.ndarray]:
+    """L diag(K_ja) Mon b_a = 0 for every state j outside the free set: rows
+    (j, row of L), columns (a, monomial); and which rows involve only the
+    ``first`` points."""
+    d, size = sampler.nullity, exponents.shape[0]
+    mon = _monomial_values(exponents, sampler.values(count))
+    annihilator = _null_space(mon.T)  # rows L: L . (values of a polynomial) = 0
+    others, rows = len(sampler.others), annihilator.shape[0]
+    if not rows or not others:
+        return np.zeros((0, d * size), dtype=np.int64), np.zeros(0, dtype=bool)
+    weights = sampler.kernels(count)[:, sampler.others, :]  # points x others x d
+    scaled = annihilator[None, None, :, :] * weights.transpose(1, 2, 0)[:, :, None, :] % _P
+    blocks = _matmul(scaled.reshape(-1, count), mon).reshape(others, d, rows, size)
+    old = np.tile(~annihilator[:, first:].any(axis=1), others)
+    return blocks.transpose(0, 2, 1, 3).reshape(others * rows, d * size), old
+
+
+def _commuting(sampler: KernelSampler, exponents: np.ndarray, count: int) -> np.ndarray:
+    """The P-components of [f, v] (of v(F(x)) - DF(x) v(x) in discrete time) at
+    the points, linear in b: d rows per point."""
+    n, d, size = sampler.n, sampler.nullity, exponents.shape[0]
+    points = sampler.points[:count]
+    values = sampler.values(count)
+    mon = _monomial_values(exponents, values)
+    if points[0].image is not None:
+        first = _monomial_values(exponents, np.array([p.image for p in points], dtype=np.int64))
+    else:
+        # D m . f = m * sum_s e_s f_s / x_s, per monomial.
+        ratio = np.zeros((count, exponents.shape[1]), dtype=np.int64)
+        for k, p in enumerate(points):
+            for s in range(n):
+                if p.dynamics[s] and p.values[s]:
+                    ratio[k, s] = p.dynamics[s] * pow(p.values[s], -1, _P) % _P
+        first = mon * (ratio @ exponents.T % _P) % _P
+    jacobian = np.zeros((count, d, n), dtype=np.int64)
+    for k, p in enumerate(points):
+        for a, j in enumerate(sampler.free):
+            for s, value in p.jacobian[j].items():
+                jacobian[k, a, s] = value % _P
+    mixing = _matmul_batched(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
+    identity = np.eye(d, dtype=np.int64)
+    rows = (identity[None, :, :, None] * first[:, None, None, :]
+            - mixing[:, :, :, None] * mon[:, None, None, :] % _P) % _P
+    return rows.reshape(count * d, d * size)
