@@ -214,9 +214,16 @@ def discover_directions(
     polynomial generator of that degree yields fewer fields (never a wrong one)."""
     if nullity <= 0:
         return []
-    # numpy is imported only when a search runs: a rank check does not need it.
-    from .nullfields import SMALL_PRIME, KernelSampler, null_fields
+    # numpy and its BLAS are loaded only when a search runs: a rank check needs neither.
+    from .nullfields import single_threaded
 
+    with single_threaded():
+        return _discover(system, nullity, orders, seed, max_degree, input_derivatives, previous)
+
+
+def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: int, input_derivatives,
+              previous: str) -> list[tuple[sympy.Expr, ...]]:
+    from .nullfields import SMALL_PRIME, KernelSampler, null_fields
     rng = random.Random(seed)
     variables = list(system.states) + list(system.free_parameters)
     n = system.n

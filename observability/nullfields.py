@@ -27,8 +27,8 @@ when its P-components do: d more linear conditions on b per point, from the
 dynamics' values and Jacobian at the same points.
 
 The arithmetic is exact modulo the word-size prime ``SMALL_PRIME`` on numpy
-integer arrays (products below 2^62, matrix products split in 16-bit halves),
-so the elimination runs in C; the caller brings the fields back to rationals
+arrays (products of two entries below 2^62 in int64; matrix products by the
+BLAS on 16-bit halves, exact in float64), so the elimination runs in C; the caller brings the fields back to rationals
 and checks each at a fresh point modulo the 61-bit prime.
 """
 
@@ -38,10 +38,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from .taylor import Redraw
 
-__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "null_fields", "rref"]
+__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "null_fields", "rref", "single_threaded"]
 
 #: The prime of the search (2^31 - 1): entries below 2^31 keep every product of
 #: two in int64; rational reconstruction recovers coefficients up to 2^15.
@@ -50,6 +51,12 @@ SMALL_PRIME = (1 << 31) - 1
 #: accepted: it must not shrink when these are added.
 CONFIRMING_POINTS = 2
 _P = SMALL_PRIME
+
+
+def single_threaded():
+    """A context in which the BLAS runs on one thread: the products here are
+    small, and BLAS threads would spin on them, doubling the CPU time."""
+    return threadpool_limits(1, "blas")
 
 
 def _monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -64,38 +71,74 @@ def _monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
 
 
 def _matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a @ b mod p for entries in [0, p) (inner dimension below 2^15): b split
-    in 16-bit halves so that no sum of products leaves int64."""
-    high = (a @ (b >> 16)) % _P
-    return (high * 65536 + a @ (b & 0xFFFF)) % _P
+    """a @ b mod p for entries in [0, p), also batched (leading axes), by the
+    BLAS in float64 and exactly: both factors split in 16-bit halves, every
+    product of halves below 2^32, so a sum of up to 2^21 of them is an integer
+    below 2^53, which float64 holds exactly; then 2^31 = 1 (mod 2^31 - 1)
+    recombines the four parts."""
+    a_high, a_low = (a >> 16).astype(np.float64), (a & 0xFFFF).astype(np.float64)
+    b_high, b_low = (b >> 16).astype(np.float64), (b & 0xFFFF).astype(np.float64)
+
+    def product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return np.matmul(x, y).astype(np.int64) % _P
+
+    high, low = product(a_high, b_high), product(a_low, b_low)
+    middle = (product(a_high, b_low) + product(a_low, b_high)) % _P
+    return (high * 2 + middle * 65536 + low) % _P  # 2^32 = 2 and 2^16 * 2^16 = 2^32 (mod p)
+
+
+#: Columns eliminated one at a time before the rest of the matrix is updated by
+#: one matrix product (blocked Gauss-Jordan).
+_PANEL = 32
 
 
 def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
     """The reduced row echelon form mod p (leftmost pivots; zero rows dropped)
-    and the pivot columns."""
+    and the pivot columns.
+
+    Blocked Gauss-Jordan: within a panel of columns, each pivot clears its
+    column from every other row (on the panel only), and the row operations are
+    recorded as Z, with the updated rows M a = (a with the panel's pivot rows
+    zeroed) + Z (their old values); the columns right of the panel then get
+    that update in one product. A row that becomes a pivot is zero on every
+    column already processed, so a step touches only columns from its own on."""
     a = a % _P
     rows, columns = a.shape
+    taken = np.zeros(rows, dtype=bool)
+    pivot_rows: list[int] = []
     pivots: list[int] = []
-    r = 0
-    for c in range(columns):
-        if r == rows:
-            break
-        below = np.flatnonzero(a[r:, c])
-        if below.size == 0:
-            continue
-        i = r + int(below[0])
-        if i != r:
-            a[[r, i]] = a[[i, r]]
-        # Row r is zero left of c (those columns are done), so only columns c.. change.
-        a[r, c:] = a[r, c:] * pow(int(a[r, c]), -1, _P) % _P
-        column = a[:, c].copy()
-        column[r] = 0
-        hit = np.flatnonzero(column)
-        if hit.size:
-            a[hit, c:] = (a[hit, c:] - np.outer(column[hit], a[r, c:]) % _P) % _P
-        pivots.append(c)
-        r += 1
-    return a[:r], pivots
+    start = 0
+    while start < columns and len(pivot_rows) < rows:
+        end = min(columns, start + _PANEL)
+        record = np.zeros((rows, end - start), dtype=np.int64)
+        panel_rows: list[int] = []
+        for c in range(start, end):
+            candidates = np.flatnonzero((a[:, c] != 0) & ~taken)
+            if not candidates.size:
+                continue
+            i, k = int(candidates[0]), len(panel_rows)
+            record[i, k] = 1
+            inverse = pow(int(a[i, c]), -1, _P)
+            a[i, c:end] = a[i, c:end] * inverse % _P
+            record[i, :k + 1] = record[i, :k + 1] * inverse % _P
+            factors = a[:, c].copy()
+            factors[i] = 0
+            block = a[:, c:end]
+            block -= np.outer(factors, block[i]) % _P
+            block %= _P
+            kept = record[:, :k + 1]
+            kept -= np.outer(factors, kept[i]) % _P
+            kept %= _P
+            taken[i] = True
+            panel_rows.append(i)
+            pivot_rows.append(i)
+            pivots.append(c)
+        if panel_rows and end < columns:
+            old = a[panel_rows, end:].copy()
+            a[panel_rows, end:] = 0
+            a[:, end:] = (a[:, end:] + _matmul(record[:, :len(panel_rows)], old)) % _P
+        start = end
+    return a[pivot_rows], pivots
 
 
 def _null_space(a: np.ndarray) -> np.ndarray:
@@ -213,7 +256,7 @@ class NullFields:
             return np.zeros((0, n * size), dtype=np.int64)
         mon = _monomial_values(self.exponents, sampler.values(self.count))
         free_values = np.stack([_matmul(mon, rows[:, a * size:(a + 1) * size].T) for a in range(d)], axis=1)
-        values = _matmul_batched(sampler.kernels(self.count), free_values)  # points x n x fields
+        values = _matmul(sampler.kernels(self.count), free_values)  # points x n x fields
         others = sampler.others
         solved, pivots = rref(np.hstack([mon, values[:, others, :].reshape(self.count, -1)]))
         if pivots[:size] != list(range(size)):
@@ -241,11 +284,6 @@ class NullFields:
         rows = np.empty_like(reduced)
         rows[:, order] = reduced
         return sorted(rows, key=lambda row: (int(column_degree[row != 0].max()), int(np.count_nonzero(row))))
-
-
-def _matmul_batched(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    high = np.matmul(a, b >> 16) % _P
-    return (high * 65536 + np.matmul(a, b & 0xFFFF)) % _P
 
 
 def null_fields(sampler: KernelSampler, exponents: Sequence[tuple[int, ...]], max_points: int,
@@ -317,7 +355,7 @@ def _commuting(sampler: KernelSampler, exponents: np.ndarray, count: int) -> np.
         for a, j in enumerate(sampler.free):
             for s, value in p.jacobian[j].items():
                 jacobian[k, a, s] = value % _P
-    mixing = _matmul_batched(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
+    mixing = _matmul(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
     identity = np.eye(d, dtype=np.int64)
     rows = (identity[None, :, :, None] * first[:, None, None, :]
             - mixing[:, :, :, None] * mon[:, None, None, :] % _P) % _P
