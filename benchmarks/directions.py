@@ -7,6 +7,9 @@ best of three warm runs after a cold one, as in ``peers.py``):
 * ours, rank only: ``analyze(system, directions=False)``;
 * ours, full: ``analyze(system)`` — rank, named directions, observable
   functions, and the proof where n <= 24;
+* ours, found: the same with the model's declared candidate symmetries
+  removed, so that every direction is found and named by the exact ansatz
+  (:mod:`observability.nullfields`);
 * symident (``pip install -e '.[bench]'``): ``detect`` on the same equations,
   which returns the rank and its symmetry generators.
 
@@ -32,9 +35,9 @@ OURS = r"""
 import json, sys, time
 from observability import models, analyze
 """ + TIMING + r"""
-name, options, full = sys.argv[1], json.loads(sys.argv[2]), sys.argv[3] == "full"
-system = models.build(name, options)
-solve = lambda: analyze(models.build(name, options), seed=1, directions=full)
+name, options, mode = sys.argv[1], json.loads(sys.argv[2]), sys.argv[3]
+build = lambda: models.build(name, options) if mode != "found" else models.build(name, options).replace(symmetries=())
+solve = lambda: analyze(build(), seed=1, directions=mode != "rank")
 rank, cold, warm = timed(lambda: solve().rank)
 result = solve()
 print(json.dumps({"rank": rank, "n": result.n_states, "cold": cold, "seconds": warm,
@@ -61,6 +64,7 @@ def cases(sizes: list[int]) -> list[tuple[str, str, dict[str, str]]]:
     out += [(f"slam2d-N{n}-M0", "slam2d", {"landmarks": str(n)}) for n in sizes]
     out += [("slam2d-N1-M1", "slam2d", {"beacons": "1"})]
     out += [(f"slam3d-M{m}", "slam3d", {"beacons": str(m)}) for m in (0, 1, 2, 3)]
+    out += [("slam3d-N9-M0", "slam3d", {"landmarks": "9"})]
     out += [("vins-euler", "vins", {"attitude": "euler"}), ("vins-quaternion", "vins", {"attitude": "quaternion"})]
     return out
 
@@ -68,14 +72,15 @@ def cases(sizes: list[int]) -> list[tuple[str, str, dict[str, str]]]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cap", type=float, default=60.0, help="seconds per tool and model (default 60)")
-    parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 100, 1000], help="slam2d landmarks")
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 17, 100, 1000], help="slam2d landmarks")
     args = parser.parse_args()
-    print("| model | n | rank | ours: rank only s | ours: full s | full / rank only | named (ours) | symident s | "
-          "symident / ours full | symident generators |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| model | n | rank | ours: rank only s | ours: full s | full / rank only | named (ours) | "
+          "ours, no declarations: s | found and named | symident s | symident / ours full | symident generators |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for label, name, options in cases(args.sizes):
         rank_only = run(OURS, [name, json.dumps(options), "rank"], args.cap)
         full = run(OURS, [name, json.dumps(options), "full"], args.cap)
+        found = run(OURS, [name, json.dumps(options), "found"], args.cap)
         with tempfile.NamedTemporaryFile("w", suffix=".json") as equations:
             json.dump(spec(name, options), equations)
             equations.flush()
@@ -85,8 +90,10 @@ def main() -> None:
         slower = f"{ours_s / rank_only['seconds']:.1f}" if ours_s and rank_only.get("seconds") else "-"
         named = "; ".join(full.get("named", [])) or ("-" if full["status"] == "ok" else full["status"])
         generators = "; ".join(peer.get("generators", [])) or ("-" if peer["status"] == "ok" else peer["status"])
+        found_names = "; ".join(found.get("named", [])) or ("-" if found["status"] == "ok" else found["status"])
+        found_s = "-" if found.get("seconds") is None else format(found["seconds"], ".3f")
         print(f"| {label} | {full.get('n', '-')} | {full.get('rank', '-')} | {rank_only.get('seconds') or 0:.4f} | "
-              f"{ours_s or 0:.4f} | {slower} | {named} | "
+              f"{ours_s or 0:.4f} | {slower} | {named} | {found_s} | {found_names} | "
               f"{'-' if peer.get('seconds') is None else format(peer['seconds'], '.3f')} | {ratio} | {generators} |")
 
 

@@ -11,7 +11,8 @@ import sympy
 
 from .notation import latex_text
 from .certificate import certify_rank
-from .discovery import classify, discover_directions, observable_functions
+from .discovery import classify, discover_directions
+from .invariants import observable_functions
 from .proof import PROOF_BUDGET, fields_are_symmetries
 from .errors import ModelError
 from .inverse import eliminate_previous_state
@@ -34,11 +35,6 @@ PROOFS = {
     "stated probability)",
     "numerical": "numerical (singular values in floating point; not a proof)",
 }
-
-#: Above this many states the observable functions are not searched: the
-#: ansatz of degree 2 has about (n + p)^2 / 2 unknowns, few equations per point,
-#: and a dense elimination, cubic in the unknowns.
-OBSERVABLE_FUNCTIONS_MAX_STATES = 12
 
 #: How many states or vector components ``--brief`` text shows.
 BRIEF_ITEMS = 8
@@ -103,10 +99,11 @@ class ObservabilityResult:
     as identities, or a full rank), "lower bound" (only the lower bound is
     certain; the upper one holds with ``error_probability``), "numerical" (the
     float method: no certificate); None when undecided.
-    ``observable_functions``: polynomial functions of the states that every
-    unobservable direction leaves unchanged (what the outputs still determine),
-    None when not computed (the directions unknown, or n above
-    ``OBSERVABLE_FUNCTIONS_MAX_STATES``).
+    ``observable_functions``: functions of the states that every unobservable
+    direction leaves unchanged (what the outputs still determine): polynomial
+    and rational invariants of degree <= 2 in the states, free parameters and
+    cosines and sines of angles (:mod:`observability.invariants`); None when not
+    computed (the directions unknown).
     """
 
     model: str
@@ -612,9 +609,10 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         proof = "lower bound"
     details += upper + (f"; {note}" if note else "")
     functions = None
-    if basis is not None and rank < n and n <= OBSERVABLE_FUNCTIONS_MAX_STATES:
+    if basis is not None and rank < n:
         found_functions = observable_functions(system, basis, rank, seed=seed or 0)
-        functions = tuple(str(sympy.factor(e)) for e in found_functions)
+        # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
+        functions = tuple(str(sympy.factor_terms(e)) for e in found_functions)
     observable_states: tuple[str, ...] | None
     if observable_columns is None:
         if basis is None:

@@ -38,7 +38,7 @@ from .program import PRIME, Program
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["discover_directions", "classify", "observable_functions", "rational_reconstruction", "MAX_UNKNOWNS"]
+__all__ = ["discover_directions", "classify", "rational_reconstruction", "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients (of the free components, or of an
 #: invariant function) the ansatz of a degree is not tried.
@@ -338,103 +338,3 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
         return f"rotation{about}", "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
-
-
-def observable_functions(
-    system: System,
-    generators: Sequence[Sequence[sympy.Expr]],
-    rank: int,
-    *,
-    seed: int = 0,
-    max_degree: int = 2,
-) -> tuple[sympy.Expr, ...]:
-    """Polynomial functions of the states (degree <= ``max_degree``, free
-    parameters as coefficients) left unchanged by every generator: dphi . v = 0.
-
-    When the generators span the null space these are exactly the polynomial
-    functions whose gradient lies in the row space: what the outputs determine
-    locally, i.e. what a filter can estimate. The same exact ansatz as for the
-    fields (linear in the coefficients, mod p at random points, rational
-    reconstruction); the functions kept are functionally independent (gradients
-    independent at a random point), lowest degree first, at most ``rank``, and
-    each is checked at a fresh point.
-    """
-    if not generators or rank == 0:
-        return ()
-    rng = random.Random(seed)
-    states = list(system.states)
-    variables = states + list(system.free_parameters)
-    n = system.n
-    program = Program(system.states, where=system.name)
-    nodes = [[program.add(e) for e in v] for v in generators]
-
-    def point() -> tuple[list[int], list[list[int]]]:
-        evaluator = _Recording(program, n, rng, discrete=True)
-        evaluator.extend()
-        return evaluator.variable_values(system), [[evaluator.coefficient(i, 0)[0] for i in v] for v in nodes]
-
-    found: list[sympy.Expr] = []
-    span = ModularEchelon(n, PRIME)
-    for degree in range(1, max_degree + 1):
-        exponents = [m for m in _monomials(len(variables), degree) if any(m[:n])]
-        if len(exponents) > MAX_UNKNOWNS:
-            break
-
-        def gradients(values: list[int]) -> list[dict[int, int]]:
-            """d m / d x_s = e_s m / x_s at the point, per monomial (states only;
-            a state value of 0 mod p would need a redraw, probability n / p)."""
-            if not all(values[:n]):
-                raise Redraw(-1, "a state is zero at the point")
-            inverse = [pow(x, -1, PRIME) for x in values[:n]]
-            mvals = _monomial_values(exponents, values)
-            return [
-                {s_: e * mk % PRIME * inverse[s_] % PRIME for s_, e in enumerate(exps[:n]) if e}
-                for exps, mk in zip(exponents, mvals)
-            ]
-
-        def equations() -> list[dict[int, int]]:
-            values, fields = point()
-            grads = gradients(values)
-            return [
-                {k: sum(d * v[s_] for s_, d in g.items()) % PRIME for k, g in enumerate(grads)}
-                for v in fields
-            ]
-
-        echelon = ModularEchelon(len(exponents), PRIME)
-        stalled = points = 0
-        while stalled < 2 and echelon.rank < len(exponents) and points < MAX_POINTS:
-            points += 1
-            try:
-                rows = equations()
-            except Redraw:
-                continue
-            before = echelon.rank
-            for row in rows:
-                echelon.add_row({k: v for k, v in row.items() if v})
-            stalled = stalled + 1 if echelon.rank == before else 0
-        candidates = []
-        for vector in echelon.null_space():
-            coefficients = {k: rational_reconstruction(v, PRIME) for k, v in vector.items()}
-            if any(c is None for c in coefficients.values()):
-                continue
-            candidates.append({k: c for k, c in coefficients.items() if c})
-        candidates.sort(key=lambda c: (max(sum(exponents[k]) for k in c), len(c)))
-        try:
-            values, fields = point()
-        except Redraw:
-            return tuple(found)
-        grads = gradients(values)
-        for coefficients in candidates:
-            gradient: dict[int, int] = {}
-            for k, c in coefficients.items():
-                factor = _mod(c)
-                for s_, d in grads[k].items():
-                    gradient[s_] = (gradient.get(s_, 0) + factor * d) % PRIME
-            if any(sum(gradient.get(s_, 0) * v[s_] for s_ in range(n)) % PRIME for v in fields):
-                continue  # not invariant at a fresh point: the ansatz was underdetermined
-            if not span.add_row({s_: d for s_, d in gradient.items() if d}):
-                continue
-            found.append(_polynomial(coefficients, exponents, variables))
-            if len(found) == rank:
-                return tuple(found)
-    return tuple(found)

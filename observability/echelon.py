@@ -10,7 +10,7 @@ elimination stays block-sparse and costs time linear in the number of landmarks.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 __all__ = ["ModularEchelon"]
 
@@ -23,11 +23,16 @@ class ModularEchelon:
     n_columns : int
     p : int
         A prime.
+    order : sequence of int, optional
+        A rank per column: the pivot of a new row is then its entry of lowest
+        rank, which makes the reduced form the canonical one for that column
+        order (instead of the one with the least fill-in).
     """
 
-    def __init__(self, n_columns: int, p: int) -> None:
+    def __init__(self, n_columns: int, p: int, order: Sequence[int] | None = None) -> None:
         self.n_columns = n_columns
         self.p = p
+        self.order = order
         self.pivot_rows: dict[int, dict[int, int]] = {}  # pivot column -> row (pivot entry 1)
         self.touching: dict[int, set[int]] = {}  # column -> pivot columns whose rows hold it
 
@@ -50,7 +55,10 @@ class ModularEchelon:
                         work.pop(c, None)
         if not work:
             return False
-        pivot = min(work, key=lambda c: (len(self.touching.get(c, ())), -c))
+        if self.order is not None:
+            pivot = min(work, key=self.order.__getitem__)
+        else:
+            pivot = min(work, key=lambda c: (len(self.touching.get(c, ())), -c))
         inv = pow(work[pivot], -1, p)
         new = {c: v * inv % p for c, v in work.items()}
         # Keep the form reduced: clear the new pivot column from stored rows.

@@ -42,7 +42,8 @@ from threadpoolctl import threadpool_limits
 
 from .taylor import Redraw
 
-__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "null_fields", "rref", "single_threaded"]
+__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "matmul", "monomial_values", "null_fields", "null_space",
+           "rref", "single_threaded"]
 
 #: The prime of the search (2^31 - 1): entries below 2^31 keep every product of
 #: two in int64; rational reconstruction recovers coefficients up to 2^15.
@@ -59,7 +60,7 @@ def single_threaded():
     return threadpool_limits(1, "blas")
 
 
-def _monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
+def monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Monomials (rows of ``exponents``) at points (rows of ``values``) mod p:
     points x monomials."""
     out = np.ones((values.shape[0], exponents.shape[0]), dtype=np.int64)
@@ -70,7 +71,7 @@ def _monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
     return out
 
 
-def _matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a @ b mod p for entries in [0, p), also batched (leading axes), by the
     BLAS in float64 and exactly: both factors split in 16-bit halves, every
     product of halves below 2^32, so a sum of up to 2^21 of them is an integer
@@ -136,12 +137,12 @@ def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
         if panel_rows and end < columns:
             old = a[panel_rows, end:].copy()
             a[panel_rows, end:] = 0
-            a[:, end:] = (a[:, end:] + _matmul(record[:, :len(panel_rows)], old)) % _P
+            a[:, end:] = (a[:, end:] + matmul(record[:, :len(panel_rows)], old)) % _P
         start = end
     return a[pivot_rows], pivots
 
 
-def _null_space(a: np.ndarray) -> np.ndarray:
+def null_space(a: np.ndarray) -> np.ndarray:
     """A basis of {x : a x = 0} mod p, as rows."""
     reduced, pivots = rref(a)
     columns = a.shape[1]
@@ -217,7 +218,7 @@ class KernelSampler:
                 if pivots[:d] != list(range(d)):
                     failures += 1  # the reference coordinates do not parametrise the null space here
                     continue
-                kernel = _matmul(kernel, reduced[:, d:])
+                kernel = matmul(kernel, reduced[:, d:])
             self.points.append(point)
             self._kernels.append(kernel)
         return True
@@ -254,9 +255,9 @@ class NullFields:
         n, d, fields = sampler.n, sampler.nullity, rows.shape[0]
         if not fields:
             return np.zeros((0, n * size), dtype=np.int64)
-        mon = _monomial_values(self.exponents, sampler.values(self.count))
-        free_values = np.stack([_matmul(mon, rows[:, a * size:(a + 1) * size].T) for a in range(d)], axis=1)
-        values = _matmul(sampler.kernels(self.count), free_values)  # points x n x fields
+        mon = monomial_values(self.exponents, sampler.values(self.count))
+        free_values = np.stack([matmul(mon, rows[:, a * size:(a + 1) * size].T) for a in range(d)], axis=1)
+        values = matmul(sampler.kernels(self.count), free_values)  # points x n x fields
         others = sampler.others
         solved, pivots = rref(np.hstack([mon, values[:, others, :].reshape(self.count, -1)]))
         if pivots[:size] != list(range(size)):
@@ -304,15 +305,15 @@ def null_fields(sampler: KernelSampler, exponents: Sequence[tuple[int, ...]], ma
         if count + CONFIRMING_POINTS > max_points or not sampler.draw(count + CONFIRMING_POINTS):
             return None
         conditions, old = _conditions(sampler, table, count + CONFIRMING_POINTS, count)
-        space = _null_space(conditions[old])
-        if not space.shape[0] or not _matmul(conditions[~old], space.T).any():
+        space = null_space(conditions[old])
+        if not space.shape[0] or not matmul(conditions[~old], space.T).any():
             break  # the further points' conditions hold for every field found
         count += CONFIRMING_POINTS
     symmetric = None
     if symmetries:
         # Combinations of the fields found whose bracket with the dynamics vanishes.
-        combinations = _null_space(_matmul(_commuting(sampler, table, count), space.T))
-        symmetric = _matmul(combinations, space)
+        combinations = null_space(matmul(_commuting(sampler, table, count), space.T))
+        symmetric = matmul(combinations, space)
     return NullFields(space, symmetric, sampler, table, count)
 
 
@@ -321,14 +322,14 @@ def _conditions(sampler: KernelSampler, exponents: np.ndarray, count: int, first
     (j, row of L), columns (a, monomial); and which rows involve only the
     ``first`` points."""
     d, size = sampler.nullity, exponents.shape[0]
-    mon = _monomial_values(exponents, sampler.values(count))
-    annihilator = _null_space(mon.T)  # rows L: L . (values of a polynomial) = 0
+    mon = monomial_values(exponents, sampler.values(count))
+    annihilator = null_space(mon.T)  # rows L: L . (values of a polynomial) = 0
     others, rows = len(sampler.others), annihilator.shape[0]
     if not rows or not others:
         return np.zeros((0, d * size), dtype=np.int64), np.zeros(0, dtype=bool)
     weights = sampler.kernels(count)[:, sampler.others, :]  # points x others x d
     scaled = annihilator[None, None, :, :] * weights.transpose(1, 2, 0)[:, :, None, :] % _P
-    blocks = _matmul(scaled.reshape(-1, count), mon).reshape(others, d, rows, size)
+    blocks = matmul(scaled.reshape(-1, count), mon).reshape(others, d, rows, size)
     old = np.tile(~annihilator[:, first:].any(axis=1), others)
     return blocks.transpose(0, 2, 1, 3).reshape(others * rows, d * size), old
 
@@ -339,9 +340,9 @@ def _commuting(sampler: KernelSampler, exponents: np.ndarray, count: int) -> np.
     n, d, size = sampler.n, sampler.nullity, exponents.shape[0]
     points = sampler.points[:count]
     values = sampler.values(count)
-    mon = _monomial_values(exponents, values)
+    mon = monomial_values(exponents, values)
     if points[0].image is not None:
-        first = _monomial_values(exponents, np.array([p.image for p in points], dtype=np.int64))
+        first = monomial_values(exponents, np.array([p.image for p in points], dtype=np.int64))
     else:
         # D m . f = m * sum_s e_s f_s / x_s, per monomial.
         ratio = np.zeros((count, exponents.shape[1]), dtype=np.int64)
@@ -355,7 +356,7 @@ def _commuting(sampler: KernelSampler, exponents: np.ndarray, count: int) -> np.
         for a, j in enumerate(sampler.free):
             for s, value in p.jacobian[j].items():
                 jacobian[k, a, s] = value % _P
-    mixing = _matmul(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
+    mixing = matmul(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
     identity = np.eye(d, dtype=np.int64)
     rows = (identity[None, :, :, None] * first[:, None, None, :]
             - mixing[:, :, :, None] * mon[:, None, None, :] % _P) % _P

@@ -29,13 +29,46 @@ MAX_REWRITE_CHARS = 20_000
 
 
 #: Entries up to this many characters are factored; longer ones only have common
-#: factors pulled out (multivariate factoring takes seconds on them).
+#: factors pulled out.
 MAX_FACTOR_CHARS = 400
 
 
 def tidy(expr: sympy.Expr) -> sympy.Expr:
-    """``expr`` factored when that is cheap, else with its common factors pulled out."""
-    return sympy.factor(expr) if len(str(expr)) <= MAX_FACTOR_CHARS else sympy.factor_terms(expr)
+    """``expr`` factored when it is short, else with its common factors pulled out.
+
+    The factoring is flint's (deterministic, in C) on the expression as a
+    rational function of its symbols and of its other atoms (sin(x), sqrt(y)
+    taken as variables): sympy's ``factor`` draws random evaluation points
+    (Wang's algorithm) and now and then ran for many minutes on a short entry.
+    """
+    if len(str(expr)) > MAX_FACTOR_CHARS:
+        return sympy.factor_terms(expr)
+    atoms = sorted(_opaque(expr), key=sympy.default_sort_key)
+    names = {a: sympy.Dummy() for a in atoms}
+    rational = expr.xreplace(names)
+    field = RationalFunctions(sorted(rational.free_symbols, key=sympy.default_sort_key))
+    try:
+        top, bottom = field.of(rational)
+    except (NotRational, ZeroDivisionError):
+        return sympy.factor_terms(expr)
+    back = {d: a for a, d in names.items()}
+
+    def product(poly) -> sympy.Expr:
+        constant, factors = poly.factor()
+        return sympy.Rational(int(constant.p), int(constant.q)) * sympy.Mul(
+            *(field.expression(f) ** e for f, e in factors))
+
+    return (product(top) / product(bottom)).xreplace(back)
+
+
+def _opaque(expr: sympy.Expr) -> set[sympy.Expr]:
+    """The subexpressions that are not rational in the symbols: function
+    applications and powers with non-integer exponents, outermost only."""
+    if expr.is_Atom:
+        return set()
+    if isinstance(expr, sympy.Function) or (expr.is_Pow and not expr.exp.is_Integer):
+        return {expr}
+    return set().union(*(_opaque(a) for a in expr.args))
 
 
 def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:

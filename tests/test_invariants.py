@@ -1,0 +1,87 @@
+"""Observable functions with angles and ratios (issue 17, item 3).
+
+Each reference is a hand derivation in the docstring; the checks are
+independent of the search: invariance by sympy's own differentiation and
+trigonometric simplification, independence by the rank of the functions'
+Jacobian at a random rational point."""
+
+import random
+
+import mpmath
+import sympy
+
+from observability import analyze, models
+
+
+def _functions(name, options):
+    system = models.build(name, options)
+    result = analyze(system, seed=1)
+    functions = [sympy.sympify(f, locals={s.name: s for s in system.states}) for f in result.observable_functions]
+    fields = [[sympy.sympify(d.vector.get(s.name, "0")) for s in system.states] for d in result.unobservable_directions]
+    return system, result, functions, fields
+
+
+def _invariant(phi, fields, states) -> bool:
+    gradient = [sympy.diff(phi, s) for s in states]
+    return all(sympy.simplify(sympy.expand_trig(sum(g * e for g, e in zip(gradient, v)))) == 0 for v in fields)
+
+
+def _jacobian_rank(functions, states) -> int:
+    rng = random.Random(4)
+    symbols = sorted(set().union(*(f.free_symbols for f in functions)), key=str)
+    point = {s: sympy.Rational(rng.randint(1, 40), rng.randint(1, 9)) for s in symbols}
+    rows = [[sympy.diff(f, s).xreplace(point).evalf(40) for s in states] for f in functions]
+    with mpmath.workdps(40):
+        values = mpmath.svd_r(mpmath.matrix(rows), compute_uv=False)
+        return sum(1 for v in values if v > max(values) * mpmath.mpf(10) ** -25)
+
+
+def _proportional(found, expected) -> bool:
+    return any(sympy.simplify(f / expected).is_number for f in found)
+
+
+def test_planar_slam_observable_functions_form_a_complete_set():
+    """slam2d with two landmarks (n = 10, rank 6): the outputs are bearings, so
+    translations, the rotation (cth shifts, positions and velocities turn) and
+    the scaling of lengths and velocities are lost. What stays: the turn rate
+    cthdot, and every vector in the body frame (velocity, landmark minus
+    camera, rotated by -cth) divided by the forward speed
+    u = cxdot cos(cth) + cydot sin(cth): 1 + 1 + 2 * 2 = 6 = rank functions,
+    independent, each unchanged along every lost direction."""
+    system, result, functions, fields = _functions("slam2d", {"landmarks": "2"})
+    assert len(functions) == result.rank == 6
+    assert all(_invariant(f, fields, system.states) for f in functions)
+    assert _jacobian_rank(functions, system.states) == 6
+    cxdot, cydot, cth, cthdot, L1x, L1y, cx, cy = sympy.symbols("cxdot cydot cth cthdot L1x L1y cx cy")
+    u = cxdot * sympy.cos(cth) + cydot * sympy.sin(cth)
+    assert cthdot in functions
+    assert _proportional(functions, (cxdot * sympy.sin(cth) - cydot * sympy.cos(cth)) / u)
+
+
+def test_a_beacon_makes_distances_to_it_observable_up_to_scale():
+    """With one beacon at (B1x, B1y) only the rotation and the scaling about it
+    remain (rank 8 of 10). Scalings about a centre that depends on parameters
+    still have semi-invariants of weight 1 (body-frame vectors from the beacon),
+    so 1 + 1 + 2 (camera) + 2 * 2 (landmarks) = 8 functions come out, ratios to
+    the forward speed."""
+    system, result, functions, fields = _functions("slam2d", {"landmarks": "2", "beacons": "1"})
+    assert len(functions) == result.rank == 8
+    assert all(_invariant(f, fields, system.states) for f in functions)
+    assert _jacobian_rank(functions, system.states) == 8
+    assert any("B1x" in str(f) for f in functions)
+
+
+def test_visual_inertial_euler_model_keeps_roll_pitch_and_body_velocity():
+    """3-D VINS with Euler angles and one feature (n = 12, rank 8): three
+    translations and the rotation about gravity are lost. Roll, pitch, the
+    vertical velocity vz, the feature's height pz - f1z are unchanged, and so is
+    the horizontal velocity in the yaw frame, vx cos(yaw) + vy sin(yaw) (a
+    rotation about the vertical turns (vx, vy) and shifts yaw alike): 8
+    independent functions."""
+    system, result, functions, fields = _functions("vins", {"attitude": "euler"})
+    assert len(functions) == result.rank == 8
+    assert all(_invariant(f, fields, system.states) for f in functions)
+    assert _jacobian_rank(functions, system.states) == 8
+    vx, vy, yaw, roll, pitch = sympy.symbols("vx vy yaw roll pitch")
+    assert roll in functions and pitch in functions
+    assert _proportional(functions, vx * sympy.cos(yaw) + vy * sympy.sin(yaw))
