@@ -25,9 +25,9 @@ skew-symmetric part a rotation; anything else is reported with its vector.
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from collections.abc import Sequence
-from math import isqrt
 
 import sympy
 
@@ -38,7 +38,7 @@ from .program import PRIME, Program
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["discover_directions", "classify", "rational_reconstruction", "MAX_UNKNOWNS"]
+__all__ = ["discover_directions", "classify", "primitive", "rational_reconstruction", "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients (of the free components, or of an
 #: invariant function) the ansatz of a degree is not tried.
@@ -73,7 +73,7 @@ class _Recording(TaylorEvaluator):
 def rational_reconstruction(value: int, p: int = PRIME) -> sympy.Rational | None:
     """The rational a/b with |a|, |b| < sqrt(p/2) congruent to ``value`` mod p
     (Wang's rational reconstruction), or None."""
-    half = isqrt(p // 2)
+    half = math.isqrt(p // 2)
     r0, r1, s0, s1 = p, value % p, 0, 1
     while r1 > half:
         q = r0 // r1
@@ -157,6 +157,16 @@ def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
     return out
 
 
+def primitive(parts: Sequence[dict]) -> list[dict]:
+    """Coefficient dictionaries scaled together to coprime integers (a rotation
+    about (6378137, 100003) reads (y - 100003, 6378137 - x), not (y/100003 - 1, ...))."""
+    values = [c for part in parts for c in part.values()]
+    if not values:
+        return list(parts)
+    scale = sympy.Rational(math.lcm(*(int(c.q) for c in values)), math.gcd(*(int(c.p) for c in values)))
+    return [{k: c * scale for k, c in part.items()} for part in parts]
+
+
 def _mod(c: sympy.Rational) -> int:
     return c.p * pow(c.q, -1, PRIME) % PRIME
 
@@ -182,16 +192,35 @@ def _polynomial(coefficients: dict, exponents, variables) -> sympy.Expr:
     return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, exponents[k]))) for k, c in coefficients.items()))
 
 
-def _rational_field(row, n: int, size: int, p: int) -> list[dict[int, sympy.Rational]] | None:
-    """A coefficient row mod ``p`` (a numpy array) as rationals per state
-    ``{monomial: c}``, or None when a coefficient has no small rational preimage."""
+def _rational_field(row: Sequence[int], n: int, size: int, p: int) -> list[dict[int, sympy.Rational]] | None:
+    """A coefficient row mod ``p`` as rationals per state ``{monomial: c}``, or
+    None when a coefficient has no small rational preimage."""
     field: list[dict[int, sympy.Rational]] = [{} for _ in range(n)]
-    for index in row.nonzero()[0]:
-        c = rational_reconstruction(int(row[index]), p)
-        if c is None:
-            return None
-        field[index // size][index % size] = c
+    for index, value in enumerate(row):
+        if value:
+            c = rational_reconstruction(int(value), p)
+            if c is None:
+                return None
+            field[index // size][index % size] = c
     return field
+
+
+def _by_pivot(fields, symmetric: bool) -> dict[int, object]:
+    """The simplest rows of a search mod another prime, by their pivot."""
+    if fields is None:
+        return {}
+    try:
+        rows = fields.simplest(symmetric)
+    except Redraw:
+        return {}
+    position = fields.positions()
+    return {int(position[row != 0].min()): row for row in rows}
+
+
+def _combined(first, second, p: int, q: int) -> list[int]:
+    """The residues mod p * q with the given residues mod p and mod q (Chinese remaindering)."""
+    inverse = pow(p, -1, q)
+    return [int(a) + p * ((int(b) - int(a)) * inverse % q) for a, b in zip(first, second)]
 
 
 def discover_directions(
@@ -223,7 +252,7 @@ def discover_directions(
 
 def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: int, input_derivatives,
               previous: str) -> list[tuple[sympy.Expr, ...]]:
-    from .nullfields import SMALL_PRIME, KernelSampler, null_fields
+    from .nullfields import SECOND_PRIME, SMALL_PRIME, KernelSampler, null_fields
     rng = random.Random(seed)
     variables = list(system.states) + list(system.free_parameters)
     n = system.n
@@ -241,6 +270,8 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
     if probe is None:
         return []
     sampler = KernelSampler(n, nullity, lambda: points(SMALL_PRIME))
+    # Drawn from only when a coefficient does not come back from the first prime alone.
+    second = KernelSampler(n, nullity, lambda: points(SECOND_PRIME), SECOND_PRIME)
     for degree in range(max_degree + 1):
         exponents = _monomials(len(variables), degree)
         size = len(exponents)
@@ -256,16 +287,26 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
                 candidates = fields.simplest(symmetric)
             except Redraw:
                 return found
+            position = fields.positions()
+            again: dict[int, object] | None = None  # the same canonical rows mod the second prime, by pivot
             for row in candidates:
-                field = _rational_field(row, n, size, SMALL_PRIME)
+                field = _rational_field(row.tolist(), n, size, SMALL_PRIME)
                 if field is None:
-                    continue
+                    if again is None:
+                        again = _by_pivot(null_fields(second, exponents, MAX_POINTS, symmetries), symmetric)
+                    other = again.get(int(position[row != 0].min()))
+                    if other is None:
+                        continue
+                    field = _rational_field(_combined(row, other, SMALL_PRIME, SECOND_PRIME), n, size,
+                                            SMALL_PRIME * SECOND_PRIME)
+                    if field is None:
+                        continue
                 v = _field_at(field, at_probe)
                 if any(sum(r * v[i] for i, r in pivot_row.items()) % PRIME for pivot_row in probe[1].values()):
                     continue  # O(x) v(x) != 0 at a fresh point: not a null field
                 if not span.add_row({i: value for i, value in enumerate(v) if value}):
                     continue
-                vector = [_polynomial(comp, exponents, variables) for comp in field]
+                vector = [_polynomial(comp, exponents, variables) for comp in primitive(field)]
                 # One sign convention for a line: the first component does not start with a minus.
                 first = next(e for e in vector if e != 0)
                 found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))

@@ -25,7 +25,7 @@ The conditions are linear in P's coefficients, and with the generators written
 out they are polynomial identities: v(P) - w_v P, reduced by c^2 + s^2 = 1 (s^2
 -> 1 - c^2; the ansatz uses only monomials of degree <= 1 in each s), must have
 no terms. Its coefficients are sparse linear forms in P's coefficients, solved
-mod a word-size prime (sparse elimination), brought back to rationals, and each
+mod 2^61 - 1 (sparse elimination), brought back to rationals, and each
 function is then checked exactly (the identity with rational coefficients) and
 kept if its gradient is independent of those kept at a random point (mod the
 61-bit prime): the functions reported are invariant and independent for
@@ -40,7 +40,7 @@ from collections.abc import Sequence
 
 import sympy
 
-from .discovery import rational_reconstruction
+from .discovery import primitive, rational_reconstruction
 from .echelon import ModularEchelon
 from .program import PRIME
 from .system import System
@@ -224,8 +224,9 @@ def _weight_choices(variables: _Variables, degree: int) -> list[tuple[sympy.Rati
     return sorted(itertools.product(*options), key=lambda ws: (sum(abs(w) for w in ws), ws))
 
 
-#: The prime of the search (the identities are then checked over the rationals).
-SEARCH_PRIME = (1 << 31) - 1
+#: The prime of the search: the 61-bit one, so that coefficients up to about 10^9
+#: come back by rational reconstruction (the identities are then checked over the rationals).
+SEARCH_PRIME = PRIME
 
 
 def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: int) -> tuple[sympy.Expr, ...]:
@@ -273,10 +274,10 @@ def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: in
                     gradient = _state_gradient(variables, numerator, denominator, exponents, at)
                     if not span.add_row(gradient):
                         continue
-                    function = _polynomial(numerator, exponents, symbols)
+                    function = _polynomial(primitive([numerator])[0], exponents, symbols)
                     if denominator is not None:
                         # Ratios are taken to the simplest semi-invariant of the same weights.
-                        function = function / _polynomial(denominator, exponents, symbols)
+                        function = function / _polynomial(primitive([denominator])[0], exponents, symbols)
                     found.append(variables.back(function))
                     if len(found) == rank:
                         return tuple(found)

@@ -42,16 +42,18 @@ from threadpoolctl import threadpool_limits
 
 from .taylor import Redraw
 
-__all__ = ["SMALL_PRIME", "KernelPoint", "KernelSampler", "NullFields", "matmul", "monomial_values", "null_fields", "null_space",
+__all__ = ["SMALL_PRIME", "SECOND_PRIME", "KernelPoint", "KernelSampler", "NullFields", "matmul", "monomial_values", "null_fields", "null_space",
            "rref", "single_threaded"]
 
-#: The prime of the search (2^31 - 1): entries below 2^31 keep every product of
-#: two in int64; rational reconstruction recovers coefficients up to 2^15.
+#: The primes of the search (below 2^31, so that every product of two entries
+#: fits in int64): 2^31 - 1 first; rational reconstruction recovers coefficients
+#: up to 2^15 from it, up to 2^30 from both (Chinese remaindering), which the
+#: caller asks for only when a coefficient does not come back from the first.
 SMALL_PRIME = (1 << 31) - 1
+SECOND_PRIME = 2147483629
 #: How many more random points than needed are drawn before a null space is
 #: accepted: it must not shrink when these are added.
 CONFIRMING_POINTS = 2
-_P = SMALL_PRIME
 
 
 def single_threaded():
@@ -60,32 +62,32 @@ def single_threaded():
     return threadpool_limits(1, "blas")
 
 
-def monomial_values(exponents: np.ndarray, values: np.ndarray) -> np.ndarray:
+def monomial_values(exponents: np.ndarray, values: np.ndarray, p: int = SMALL_PRIME) -> np.ndarray:
     """Monomials (rows of ``exponents``) at points (rows of ``values``) mod p:
     points x monomials."""
     out = np.ones((values.shape[0], exponents.shape[0]), dtype=np.int64)
     for k, powers in enumerate(exponents):
         for variable in np.flatnonzero(powers):
             for _ in range(powers[variable]):
-                out[:, k] = out[:, k] * values[:, variable] % _P
+                out[:, k] = out[:, k] * values[:, variable] % p
     return out
 
 
-def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def matmul(a: np.ndarray, b: np.ndarray, p: int = SMALL_PRIME) -> np.ndarray:
     """a @ b mod p for entries in [0, p), also batched (leading axes), by the
     BLAS in float64 and exactly: both factors split in 16-bit halves, every
     product of halves below 2^32, so a sum of up to 2^21 of them is an integer
-    below 2^53, which float64 holds exactly; then 2^31 = 1 (mod 2^31 - 1)
-    recombines the four parts."""
+    below 2^53, which float64 holds exactly; then the four parts are
+    recombined with 2^16 and 2^32 mod p."""
     a_high, a_low = (a >> 16).astype(np.float64), (a & 0xFFFF).astype(np.float64)
     b_high, b_low = (b >> 16).astype(np.float64), (b & 0xFFFF).astype(np.float64)
 
     def product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return np.matmul(x, y).astype(np.int64) % _P
+        return np.matmul(x, y).astype(np.int64) % p
 
     high, low = product(a_high, b_high), product(a_low, b_low)
-    middle = (product(a_high, b_low) + product(a_low, b_high)) % _P
-    return (high * 2 + middle * 65536 + low) % _P  # 2^32 = 2 and 2^16 * 2^16 = 2^32 (mod p)
+    middle = (product(a_high, b_low) + product(a_low, b_high)) % p
+    return (high * (2**32 % p) + middle * 65536 + low) % p
 
 
 #: Columns eliminated one at a time before the rest of the matrix is updated by
@@ -93,7 +95,7 @@ def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 _PANEL = 32
 
 
-def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
+def rref(a: np.ndarray, p: int = SMALL_PRIME) -> tuple[np.ndarray, list[int]]:
     """The reduced row echelon form mod p (leftmost pivots; zero rows dropped)
     and the pivot columns.
 
@@ -103,7 +105,7 @@ def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
     zeroed) + Z (their old values); the columns right of the panel then get
     that update in one product. A row that becomes a pivot is zero on every
     column already processed, so a step touches only columns from its own on."""
-    a = a % _P
+    a = a % p
     rows, columns = a.shape
     taken = np.zeros(rows, dtype=bool)
     pivot_rows: list[int] = []
@@ -119,17 +121,17 @@ def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
                 continue
             i, k = int(candidates[0]), len(panel_rows)
             record[i, k] = 1
-            inverse = pow(int(a[i, c]), -1, _P)
-            a[i, c:end] = a[i, c:end] * inverse % _P
-            record[i, :k + 1] = record[i, :k + 1] * inverse % _P
+            inverse = pow(int(a[i, c]), -1, p)
+            a[i, c:end] = a[i, c:end] * inverse % p
+            record[i, :k + 1] = record[i, :k + 1] * inverse % p
             factors = a[:, c].copy()
             factors[i] = 0
             block = a[:, c:end]
-            block -= np.outer(factors, block[i]) % _P
-            block %= _P
+            block -= np.outer(factors, block[i]) % p
+            block %= p
             kept = record[:, :k + 1]
-            kept -= np.outer(factors, kept[i]) % _P
-            kept %= _P
+            kept -= np.outer(factors, kept[i]) % p
+            kept %= p
             taken[i] = True
             panel_rows.append(i)
             pivot_rows.append(i)
@@ -137,20 +139,20 @@ def rref(a: np.ndarray) -> tuple[np.ndarray, list[int]]:
         if panel_rows and end < columns:
             old = a[panel_rows, end:].copy()
             a[panel_rows, end:] = 0
-            a[:, end:] = (a[:, end:] + matmul(record[:, :len(panel_rows)], old)) % _P
+            a[:, end:] = (a[:, end:] + matmul(record[:, :len(panel_rows)], old, p)) % p
         start = end
     return a[pivot_rows], pivots
 
 
-def null_space(a: np.ndarray) -> np.ndarray:
+def null_space(a: np.ndarray, p: int = SMALL_PRIME) -> np.ndarray:
     """A basis of {x : a x = 0} mod p, as rows."""
-    reduced, pivots = rref(a)
+    reduced, pivots = rref(a, p)
     columns = a.shape[1]
     free = [c for c in range(columns) if c not in set(pivots)]
     basis = np.zeros((len(free), columns), dtype=np.int64)
     for k, f in enumerate(free):
         basis[k, f] = 1
-        basis[k, pivots] = (-reduced[:, f]) % _P
+        basis[k, pivots] = (-reduced[:, f]) % p
     return basis
 
 
@@ -178,12 +180,14 @@ class KernelSampler:
     n, nullity : int
         States and generic nullity.
     point : callable
-        Draws a random point: the fields of a :class:`KernelPoint`, in order;
-        may raise :class:`~observability.taylor.Redraw`.
+        Draws a random point mod ``p``: the fields of a :class:`KernelPoint`,
+        in order; may raise :class:`~observability.taylor.Redraw`.
+    p : int
+        The prime.
     """
 
-    def __init__(self, n: int, nullity: int, point: Callable[[], tuple]):
-        self.n, self.nullity, self._point = n, nullity, point
+    def __init__(self, n: int, nullity: int, point: Callable[[], tuple], p: int = SMALL_PRIME):
+        self.n, self.nullity, self._point, self.p = n, nullity, point, p
         self.free: list[int] = []
         self.others: list[int] = []
         self.points: list[KernelPoint] = []
@@ -212,13 +216,13 @@ class KernelSampler:
             kernel = np.zeros((n, d), dtype=np.int64)
             kernel[free, range(d)] = 1
             for c, row in point.pivots.items():
-                kernel[c] = [(-row.get(f, 0)) % _P for f in free]
+                kernel[c] = [(-row.get(f, 0)) % self.p for f in free]
             if free != self.free:
-                reduced, pivots = rref(np.hstack([kernel[self.free], np.eye(d, dtype=np.int64)]))
+                reduced, pivots = rref(np.hstack([kernel[self.free], np.eye(d, dtype=np.int64)]), self.p)
                 if pivots[:d] != list(range(d)):
                     failures += 1  # the reference coordinates do not parametrise the null space here
                     continue
-                kernel = matmul(kernel, reduced[:, d:])
+                kernel = matmul(kernel, reduced[:, d:], self.p)
             self.points.append(point)
             self._kernels.append(kernel)
         return True
@@ -252,14 +256,14 @@ class NullFields:
         the other components interpolated from their values K(x) v_P(x) at the
         points (an exact solve, since these values are those of polynomials)."""
         sampler, size = self.sampler, self.exponents.shape[0]
-        n, d, fields = sampler.n, sampler.nullity, rows.shape[0]
+        n, d, fields, p = sampler.n, sampler.nullity, rows.shape[0], sampler.p
         if not fields:
             return np.zeros((0, n * size), dtype=np.int64)
-        mon = monomial_values(self.exponents, sampler.values(self.count))
-        free_values = np.stack([matmul(mon, rows[:, a * size:(a + 1) * size].T) for a in range(d)], axis=1)
-        values = matmul(sampler.kernels(self.count), free_values)  # points x n x fields
+        mon = monomial_values(self.exponents, sampler.values(self.count), p)
+        free_values = np.stack([matmul(mon, rows[:, a * size:(a + 1) * size].T, p) for a in range(d)], axis=1)
+        values = matmul(sampler.kernels(self.count), free_values, p)  # points x n x fields
         others = sampler.others
-        solved, pivots = rref(np.hstack([mon, values[:, others, :].reshape(self.count, -1)]))
+        solved, pivots = rref(np.hstack([mon, values[:, others, :].reshape(self.count, -1)]), p)
         if pivots[:size] != list(range(size)):
             raise Redraw(-1, "the points do not determine polynomials of this degree")
         coefficients = solved[:size, size:].reshape(size, len(others), fields)
@@ -272,19 +276,29 @@ class NullFields:
     def simplest(self, symmetric: bool) -> list[np.ndarray]:
         """The symmetric fields (or all) as full coefficient rows, simplest first:
         the basis in reduced echelon form with the columns of low-degree
-        monomials first (a basis field keeps as few low-degree terms as it can),
-        ordered by degree, then number of terms."""
-        n, size = self.sampler.n, self.exponents.shape[0]
-        degrees = self.exponents.sum(axis=1)
-        column_degree = np.tile(degrees, n)
-        order = np.lexsort((np.arange(n * size), column_degree))
+        monomials first (a basis field keeps as few low-degree terms as it can;
+        the form is canonical, so the same mod another prime), ordered by
+        degree, then number of terms."""
+        position = self.positions()
+        order = np.argsort(position)
         full = self.expand(self.symmetric if symmetric else self.space)
         if not full.shape[0]:
             return []
-        reduced, _ = rref(full[:, order])
+        reduced, _ = rref(full[:, order], self.sampler.p)
         rows = np.empty_like(reduced)
         rows[:, order] = reduced
+        column_degree = np.tile(self.exponents.sum(axis=1), self.sampler.n)
         return sorted(rows, key=lambda row: (int(column_degree[row != 0].max()), int(np.count_nonzero(row))))
+
+    def positions(self) -> np.ndarray:
+        """Each column's place in the order of :meth:`simplest` (by the degree of
+        its monomial, then by index); the pivot of a row there is its nonzero
+        column of lowest place."""
+        size = self.exponents.shape[0]
+        column_degree = np.tile(self.exponents.sum(axis=1), self.sampler.n)
+        position = np.empty(self.sampler.n * size, dtype=np.int64)
+        position[np.lexsort((np.arange(self.sampler.n * size), column_degree))] = np.arange(self.sampler.n * size)
+        return position
 
 
 def null_fields(sampler: KernelSampler, exponents: Sequence[tuple[int, ...]], max_points: int,
@@ -305,15 +319,15 @@ def null_fields(sampler: KernelSampler, exponents: Sequence[tuple[int, ...]], ma
         if count + CONFIRMING_POINTS > max_points or not sampler.draw(count + CONFIRMING_POINTS):
             return None
         conditions, old = _conditions(sampler, table, count + CONFIRMING_POINTS, count)
-        space = null_space(conditions[old])
-        if not space.shape[0] or not matmul(conditions[~old], space.T).any():
+        space = null_space(conditions[old], sampler.p)
+        if not space.shape[0] or not matmul(conditions[~old], space.T, sampler.p).any():
             break  # the further points' conditions hold for every field found
         count += CONFIRMING_POINTS
     symmetric = None
     if symmetries:
         # Combinations of the fields found whose bracket with the dynamics vanishes.
-        combinations = null_space(matmul(_commuting(sampler, table, count), space.T))
-        symmetric = matmul(combinations, space)
+        combinations = null_space(matmul(_commuting(sampler, table, count), space.T, sampler.p), sampler.p)
+        symmetric = matmul(combinations, space, sampler.p)
     return NullFields(space, symmetric, sampler, table, count)
 
 
@@ -321,15 +335,15 @@ def _conditions(sampler: KernelSampler, exponents: np.ndarray, count: int, first
     """L diag(K_ja) Mon b_a = 0 for every state j outside the free set: rows
     (j, row of L), columns (a, monomial); and which rows involve only the
     ``first`` points."""
-    d, size = sampler.nullity, exponents.shape[0]
-    mon = monomial_values(exponents, sampler.values(count))
-    annihilator = null_space(mon.T)  # rows L: L . (values of a polynomial) = 0
+    d, size, p = sampler.nullity, exponents.shape[0], sampler.p
+    mon = monomial_values(exponents, sampler.values(count), p)
+    annihilator = null_space(mon.T, p)  # rows L: L . (values of a polynomial) = 0
     others, rows = len(sampler.others), annihilator.shape[0]
     if not rows or not others:
         return np.zeros((0, d * size), dtype=np.int64), np.zeros(0, dtype=bool)
     weights = sampler.kernels(count)[:, sampler.others, :]  # points x others x d
-    scaled = annihilator[None, None, :, :] * weights.transpose(1, 2, 0)[:, :, None, :] % _P
-    blocks = matmul(scaled.reshape(-1, count), mon).reshape(others, d, rows, size)
+    scaled = annihilator[None, None, :, :] * weights.transpose(1, 2, 0)[:, :, None, :] % p
+    blocks = matmul(scaled.reshape(-1, count), mon, p).reshape(others, d, rows, size)
     old = np.tile(~annihilator[:, first:].any(axis=1), others)
     return blocks.transpose(0, 2, 1, 3).reshape(others * rows, d * size), old
 
@@ -337,27 +351,27 @@ def _conditions(sampler: KernelSampler, exponents: np.ndarray, count: int, first
 def _commuting(sampler: KernelSampler, exponents: np.ndarray, count: int) -> np.ndarray:
     """The P-components of [f, v] (of v(F(x)) - DF(x) v(x) in discrete time) at
     the points, linear in b: d rows per point."""
-    n, d, size = sampler.n, sampler.nullity, exponents.shape[0]
+    n, d, size, p = sampler.n, sampler.nullity, exponents.shape[0], sampler.p
     points = sampler.points[:count]
     values = sampler.values(count)
-    mon = monomial_values(exponents, values)
+    mon = monomial_values(exponents, values, p)
     if points[0].image is not None:
-        first = monomial_values(exponents, np.array([p.image for p in points], dtype=np.int64))
+        first = monomial_values(exponents, np.array([point.image for point in points], dtype=np.int64), p)
     else:
         # D m . f = m * sum_s e_s f_s / x_s, per monomial.
         ratio = np.zeros((count, exponents.shape[1]), dtype=np.int64)
-        for k, p in enumerate(points):
+        for k, point in enumerate(points):
             for s in range(n):
-                if p.dynamics[s] and p.values[s]:
-                    ratio[k, s] = p.dynamics[s] * pow(p.values[s], -1, _P) % _P
-        first = mon * (ratio @ exponents.T % _P) % _P
+                if point.dynamics[s] and point.values[s]:
+                    ratio[k, s] = point.dynamics[s] * pow(point.values[s], -1, p) % p
+        first = mon * (ratio @ exponents.T % p) % p
     jacobian = np.zeros((count, d, n), dtype=np.int64)
-    for k, p in enumerate(points):
+    for k, point in enumerate(points):
         for a, j in enumerate(sampler.free):
-            for s, value in p.jacobian[j].items():
-                jacobian[k, a, s] = value % _P
-    mixing = matmul(jacobian, sampler.kernels(count))  # points x d x d: (DF K)_P
+            for s, value in point.jacobian[j].items():
+                jacobian[k, a, s] = value % p
+    mixing = matmul(jacobian, sampler.kernels(count), p)  # points x d x d: (DF K)_P
     identity = np.eye(d, dtype=np.int64)
     rows = (identity[None, :, :, None] * first[:, None, None, :]
-            - mixing[:, :, :, None] * mon[:, None, None, :] % _P) % _P
+            - mixing[:, :, :, None] * mon[:, None, None, :] % p) % p
     return rows.reshape(count * d, d * size)

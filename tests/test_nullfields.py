@@ -115,3 +115,35 @@ def test_a_constant_that_the_search_prime_divides_does_not_break_the_search():
     (direction,) = result.unobservable_directions
     x, y = (sympy.sympify(direction.vector.get(s, "0")) for s in ("x", "y"))
     assert sympy.simplify(x + y) == 0 and x != 0
+
+
+def test_coefficients_beyond_the_first_prime_come_back_from_two(monkeypatch):
+    """h = x + 40000 y, g = z: the lost direction is (40000, -1, 0), whose
+    coefficient 40000 is above what rational reconstruction mod 2^31 - 1 can
+    return (|a|, |b| < 2^15); the same canonical field mod a second prime and
+    Chinese remaindering bring it back. The symbolic fallback is switched off,
+    so the direction can only come from the ansatz. Observable: x + 40000 y and
+    z (each has zero derivative along (40000, -1, 0))."""
+    from observability import analysis
+
+    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
+    system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"h": "x + 40000*y", "g": "z"})
+    result = analyze(system, seed=1)
+    (direction,) = result.unobservable_directions
+    assert direction.vector == {"x": "40000", "y": "-1"}
+    x, y, z = sympy.symbols("x y z")
+    assert {sympy.sympify(f) for f in result.observable_functions} == {x + 40000 * y, z}
+
+
+def test_a_rotation_about_a_far_centre_is_written_with_integers(monkeypatch):
+    """Range to a beacon at (6378137, 100003) from a unicycle: the lost direction
+    is the turn about the beacon, (y - 100003, 6378137 - x, -1) up to a factor;
+    it is reported with coprime integer coefficients (not divided by 100003)."""
+    from observability import analysis
+
+    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
+    system = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
+                    {"r": "(x - 6378137)**2 + (y - 100003)**2"}, inputs=["v", "w"])
+    (direction,) = analyze(system, seed=1).unobservable_directions
+    assert direction.name == "rotation about (x, y) = (6378137, 100003)"
+    assert direction.vector == {"x": "y - 100003", "y": "6378137 - x", "th": "-1"}
