@@ -12,6 +12,7 @@ import sympy
 from .notation import latex_text
 from .certificate import certify_rank
 from .discovery import classify, discover_directions
+from .atpoint import directions_at_a_point
 from .invariants import observable_functions
 from .proof import PROOF_BUDGET, fields_are_symmetries
 from .errors import ModelError
@@ -39,8 +40,10 @@ PROOFS = {
 #: How many states or vector components ``--brief`` text shows.
 BRIEF_ITEMS = 8
 
-#: Seconds the symbolic null space may take before directions are left out.
+#: CPU seconds the symbolic null space may take when asked for (``symbolic_directions``)
+#: and, by default, before the directions left are given as vectors at a point.
 DIRECTIONS_BUDGET = 20.0
+QUICK_DIRECTIONS_BUDGET = 2.0
 #: Above this many states the symbolic null space is not attempted: only named
 #: symmetries describe the unobservable directions.
 SYMBOLIC_NULL_SPACE_MAX_STATES = 24
@@ -73,13 +76,15 @@ class UnobservableDirection:
 
     def text(self, limit: int | None = None) -> str:
         """The name and the vector; with ``limit``, at most that many components
-        (then "... and K more")."""
+        (then "... and K more"); an unnamed direction with its description (what
+        it is, or the point its numbers belong to)."""
         items = list(self.vector.items())
         shown = items if limit is None else items[:limit]
         body = ", ".join(f"{k}: {v}" for k, v in shown)
         if len(shown) < len(items):
             body += f", ... and {len(items) - len(shown)} more"
-        return f"{self.name} {{{body}}}"
+        about = f" ({self.description})" if self.name == "unnamed direction" and self.description else ""
+        return f"{self.name} {{{body}}}{about}"
 
 
 @dataclass(frozen=True)
@@ -255,10 +260,14 @@ def _unobservable_directions(
     budget: float | None,
     seed: int,
     previous: str = "inverse",
+    symbolic: bool = False,
 ) -> tuple[tuple[UnobservableDirection, ...], list[list[sympy.Expr]] | None, str]:
     """Named symmetries first; then polynomial fields found by the exact ansatz
     (:mod:`observability.discovery`), named from their structure; then, for what
-    they leave, symbolic null vectors.
+    they leave, symbolic null vectors (n <= ``SYMBOLIC_NULL_SPACE_MAX_STATES``,
+    ``QUICK_DIRECTIONS_BUDGET`` seconds, or ``DIRECTIONS_BUDGET`` with
+    ``symbolic``) and, for what is still missing, vectors at a floating-point
+    point (:mod:`observability.atpoint`).
 
     Returns the directions, a basis of the null space when one is known, and a
     note for the details line.
@@ -277,35 +286,40 @@ def _unobservable_directions(
         named, unnamed = independent_basis(system, nullity, verified, extra=found, seed=seed)
         if len(named) + len(unnamed) == nullity:
             basis = [v for _, v in named] + [list(v) for v in unnamed]
-    if basis is None:
-        if system.n > SYMBOLIC_NULL_SPACE_MAX_STATES:
-            note = (
-                f"{nullity - len(named) - len(unnamed)} direction(s) without a polynomial generator of degree <= 2 "
-                f"and not computed symbolically (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
-            )
+    numeric: list[tuple[dict[str, str], str]] = []
+    if basis is None and system.n <= SYMBOLIC_NULL_SPACE_MAX_STATES:
+        # A symbolic null space, briefly unless asked for: small models get exact vectors cheaply.
+        limit = DIRECTIONS_BUDGET if symbolic else QUICK_DIRECTIONS_BUDGET
+        seconds = limit if budget is None else min(budget, limit)
+
+        def work() -> list[list[sympy.Expr]]:
+            matrix, _ = observability_rows(system, orders, input_derivatives, previous)
+            return null_space(matrix)
+
+        try:
+            symbolic_basis = with_budget(work, seconds=seconds)
+        except Undecided as exc:
+            note = f"symbolic null space not computed ({exc})"
         else:
-            seconds = DIRECTIONS_BUDGET if budget is None else min(budget, DIRECTIONS_BUDGET)
-
-            def work() -> list[list[sympy.Expr]]:
-                matrix, _ = observability_rows(system, orders, input_derivatives, previous)
-                return null_space(matrix)
-
-            try:
-                symbolic = with_budget(work, seconds=seconds)
-            except Undecided as exc:
-                note = f"{nullity - len(named) - len(unnamed)} direction(s) not found and not computed ({exc})"
+            if len(symbolic_basis) != nullity:
+                note = f"warning: symbolic null space has dimension {len(symbolic_basis)}, expected {nullity}"
             else:
-                if len(symbolic) != nullity:
-                    note = f"warning: symbolic null space has dimension {len(symbolic)}, expected {nullity}"
-                else:
-                    basis = symbolic
-                named, unnamed = independent_basis(
-                    system, nullity, verified, extra=[*(list(v) for v in unnamed), *symbolic], seed=seed
-                )
+                basis = symbolic_basis
+            named, unnamed = independent_basis(
+                system, nullity, verified, extra=[*(list(v) for v in unnamed), *symbolic_basis], seed=seed
+            )
+    elif basis is None and symbolic:
+        note = f"symbolic null space not computed (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
+    if basis is None and len(named) + len(unnamed) < nullity:
+        known = [v for _, v in named] + [list(v) for v in unnamed]
+        numeric, missing = directions_at_a_point(system, nullity - len(known), known, seed=seed,
+                                                 input_derivatives=input_derivatives, previous=previous)
+        note = "; ".join(x for x in (note, missing) if x)
     directions = [UnobservableDirection(s.name, _vector(system.states, v), s.description) for s, v in named]
     for v in unnamed:
         name, description = classify(v, system)
         directions.append(UnobservableDirection(name, _vector(system.states, v), description))
+    directions += [UnobservableDirection("unnamed direction", vector, description) for vector, description in numeric]
     return tuple(directions), basis, note
 
 
@@ -384,7 +398,7 @@ def _two_sided(
         return (n, lower.orders, lower.seed, lower.row_labels, tuple(range(n)), head + ", which is full",
                 ((), None, ""))
     found, basis, note = _unobservable_directions(system, n - lower.rank, lower.orders, input_derivatives, budget,
-                                                  lower.seed, previous)
+                                                  lower.seed, previous, symbolic=True)
     seconds = PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
     if basis is None or not fields_are_symmetries(system, basis, budget=seconds):
         return None
@@ -407,6 +421,7 @@ def analyze(
     directions: bool = True,
     progress: Callable[[str], None] | None = None,
     where: ConstraintSet | None = None,
+    symbolic_directions: bool = False,
 ) -> ObservabilityResult:
     """Decide whether ``system`` is locally (weakly) observable, and how not.
 
@@ -440,7 +455,13 @@ def analyze(
         inverse motion model or by carrying the previous state
         (:mod:`observability.inverse`).
     directions : bool
-        Compute the unobservable directions symbolically (when cheap).
+        Find and name the unobservable directions (declared candidates, then the
+        exact ansatz; what has no polynomial generator as vectors at a point).
+    symbolic_directions : bool
+        For directions without a polynomial generator, give a symbolic null
+        space up to 20 s of CPU (within ``budget``; n <= 24) instead of 2 s
+        before falling back to vectors at a point; the symbolic method always
+        does.
     progress : callable, optional
         Receives a status line after each order.
     where : ConstraintSet, optional
@@ -449,11 +470,11 @@ def analyze(
     """
     with paused_collection():
         return _analyze(system, method, seed, input_derivatives, max_order, budget, point, previous, directions,
-                        progress, where)
+                        progress, where, symbolic_directions)
 
 
 def _analyze(system, method, seed, input_derivatives, max_order, budget, point, previous, directions, progress,
-             where) -> ObservabilityResult:
+             where, symbolic_directions=False) -> ObservabilityResult:
     if method not in METHODS:
         raise ModelError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if previous not in PREVIOUS_METHODS:
@@ -592,7 +613,8 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         found, basis, note = precomputed
     elif rank < n and (directions or observable_columns is None):
         found, basis, note = _unobservable_directions(
-            system, n - rank, orders, input_derivatives, budget, seed or 0, previous
+            system, n - rank, orders, input_derivatives, budget, seed or 0, previous,
+            symbolic=symbolic_directions or method == "symbolic",
         )
     if method == "float":
         proof = "numerical"

@@ -179,6 +179,7 @@ def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
             previous=args.previous,
             progress=progress,
             where=constraint,
+            symbolic_directions=getattr(args, "symbolic_directions", False),
         )
     finally:
         clear_line()
@@ -467,6 +468,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="highest Lie order (default: the order that always suffices)")
     check.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
                        help="CPU time allowed for symbolic work before it is reported undecided (default 60)")
+    check.add_argument("--symbolic-directions", action="store_true",
+                       help="directions without a polynomial generator: a symbolic null space (n <= 24, up to 20 s "
+                            "of CPU) instead of their vectors at a point")
     check.set_defaults(func=_check)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
     _model_arguments(codegen)

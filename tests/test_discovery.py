@@ -5,7 +5,9 @@ directions come from the exact ansatz alone. References are hand derivations
 (in each docstring); the property test checks every reported field against the
 observability matrix built independently here with plain sympy."""
 
+import math
 import random
+import re
 
 import pytest
 import sympy
@@ -90,17 +92,55 @@ def test_a_quadratic_generator():
     assert found[0][0] == "unnamed direction" and _same_line(found[0][1], {"x": z**2, "z": -1})
 
 
-def test_no_polynomial_generator_is_reported_unnamed_with_its_vector():
+def test_no_polynomial_generator_is_reported_unnamed_with_its_vector_at_a_point(monkeypatch):
     """x' = 0, z' = 0, output x + exp(z): the null space is spanned by
     (exp(z), -1), and no polynomial field lies in it (v_x + exp(z) v_z = 0 has no
-    polynomial solution but 0); the symbolic null space reports it."""
+    polynomial solution but 0). Where no symbolic null space is tried (as for a
+    model of more than 24 states, forced here) the direction is given as numbers
+    at the point its description names: proportional to (exp(z0), -1) there, to
+    the six digits printed."""
+    from observability import analysis
+
+    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
     system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
-    result, found = _directions(system)
+    result = analyze(system, seed=1)
     assert result.rank == 1
-    (name, vector), = found
-    assert name == "unnamed direction"
+    (direction,) = result.unobservable_directions
+    assert direction.name == "unnamed direction"
+    z0 = float(re.search(r"z = ([-0-9.e]+)", direction.description).group(1))
+    x, z = (float(direction.vector[k]) for k in ("x", "z"))
+    assert abs(x / z + math.exp(z0)) < 1e-4 * math.exp(z0)
+
+
+def test_the_numbers_at_a_point_complete_the_fields_found(monkeypatch):
+    """y = x + exp(z) + w with x, z, w constant: rank 1, the null space is
+    {v : v_x + exp(z) v_z + v_w = 0}. The translation (1, 0, -1) is found by the
+    ansatz; the other direction has no polynomial generator and comes as numbers
+    at the point named: they satisfy the equation there (to the digits printed)
+    and are not a multiple of the translation."""
+    from observability import analysis
+
+    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
+    system = System(["x", "z", "w"], {"x": "0", "z": "0", "w": "0"}, {"y": "x + exp(z) + w"})
+    result = analyze(system, seed=2)
+    translation, numeric = result.unobservable_directions
+    assert translation.vector == {"x": "1", "w": "-1"}
+    assert numeric.name == "unnamed direction"
+    z0 = float(re.search(r"z = ([-0-9.e]+)", numeric.description).group(1))
+    v = [float(numeric.vector.get(k, "0")) for k in ("x", "z", "w")]
+    assert abs(v[0] + math.exp(z0) * v[1] + v[2]) < 1e-4 * (1 + math.exp(z0))
+    assert abs(v[1]) > 1e-3  # not along (1, 0, -1)
+
+
+def test_a_small_model_gets_its_symbolic_null_space():
+    """The same model as it is (n = 2): the brief symbolic null space gives the
+    field itself, (exp(z), -1) up to a factor."""
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
+    result = analyze(system, seed=1)
+    (direction,) = result.unobservable_directions
     z = sympy.Symbol("z")
-    assert _same_line(vector, {"x": sympy.exp(z), "z": -1})
+    assert direction.name == "unnamed direction"
+    assert _same_line({k: sympy.sympify(v) for k, v in direction.vector.items()}, {"x": sympy.exp(z), "z": -1})
 
 
 def _observability_matrix(system: System, orders: int) -> sympy.Matrix:
