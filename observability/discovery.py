@@ -189,7 +189,8 @@ def _monomial_values(exponents, values) -> list[int]:
 
 
 def _polynomial(coefficients: dict, exponents, variables) -> sympy.Expr:
-    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, exponents[k]))) for k, c in coefficients.items()))
+    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, exponents[k]) if e))
+                       for k, c in coefficients.items()))
 
 
 def _rational_field(row: Sequence[int], n: int, size: int, p: int) -> list[dict[int, sympy.Rational]] | None:
@@ -342,10 +343,10 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
     keep their own names."""
     states = list(system.states)
     moved = [s.name for s, v in zip(states, vector) if v != 0]
-    if any(not v.is_polynomial(*states) for v in vector):
-        return "unnamed direction", "not a polynomial field"
     if all(v.free_symbols.isdisjoint(states) for v in vector):
         return f"translation of {_listing(moved)}", "moves these states together"
+    if any(not v.is_polynomial(*states) for v in vector):
+        return "unnamed direction", "not a polynomial field"
     terms = [sympy.Poly(v, *states).as_dict() if v != 0 else {} for v in vector]
     if any(sum(powers) > 1 for t in terms for powers in t):
         return "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}"

@@ -141,8 +141,18 @@ def _monomials(count: int, degree: int, states: int, trig: range) -> list[tuple[
 Polynomial = dict  # {exponent tuple: coefficient}
 
 
-def _terms(expr: sympy.Expr, symbols) -> Polynomial:
-    return {powers: c for powers, c in sympy.Poly(expr, *symbols).terms() if c}
+def _terms(expr: sympy.Expr, index: dict[sympy.Symbol, int]) -> Polynomial:
+    """An expanded polynomial as ``{exponents: rational coefficient}``, read
+    term by term (a sympy Poly in hundreds of generators costs milliseconds)."""
+    out: Polynomial = {}
+    for monomial, c in sympy.expand(expr).as_coefficients_dict().items():
+        powers = [0] * len(index)
+        for factor, e in monomial.as_powers_dict().items():
+            if factor != 1:
+                powers[index[factor]] += int(e)
+        key = tuple(powers)
+        out[key] = out.get(key, 0) + sympy.Rational(c)
+    return {k: v for k, v in out.items() if v}
 
 
 def _reduce(poly: Polynomial, pairs: list[tuple[int, int]], one) -> Polynomial:
@@ -235,7 +245,8 @@ def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: in
     base = n + len(variables.system.free_parameters)
     trig = range(base, count)
     pairs = [(i, i + 1) for i in range(base, count, 2)]
-    exact = [[_terms(e, symbols) for e in field] for field in variables.fields]
+    index = {x: i for i, x in enumerate(symbols)}
+    exact = [[_terms(e, index) for e in field] for field in variables.fields]
     modular = [[{k: c.p * pow(c.q, -1, SEARCH_PRIME) % SEARCH_PRIME for k, c in comp.items()} for comp in field]
                for field in exact]
     found: list[sympy.Expr] = []
@@ -327,7 +338,8 @@ def _image(field, coefficients, exponents, weight, pairs) -> Polynomial:
 
 
 def _polynomial(coefficients, exponents, symbols) -> sympy.Expr:
-    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(symbols, exponents[k]))) for k, c in coefficients.items()))
+    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(symbols, exponents[k]) if e))
+                       for k, c in coefficients.items()))
 
 
 def _value_and_gradient(coefficients, exponents, values: list[int]) -> tuple[int, list[int]]:
