@@ -42,7 +42,7 @@ def directions_at_a_point(
     """
     import numpy as np
 
-    from .numeric import equilibrate, float_rank
+    from .numeric import CLEAR_GAP, equilibrate, float_rank
 
     rank = system.n - missing - len(known)
     if system.n > MAX_STATES:
@@ -51,9 +51,9 @@ def directions_at_a_point(
         at = float_rank(system, seed=seed, input_derivatives=input_derivatives, previous=previous)
     except (SingularModelError, Redraw) as exc:
         return [], f"{missing} direction(s) not found (no regular floating-point point: {exc})"
-    if at.rank != rank or at.observable_columns is None:
-        return [], (f"{missing} direction(s) not found (the floating-point rank at the point, {at.rank}, "
-                    f"does not clearly equal {rank})")
+    if at.rank != rank or at.gap < CLEAR_GAP:
+        return [], (f"{missing} direction(s) not found (at a floating-point point the rank is {at.rank} with a "
+                    f"gap of {at.gap:.3g}, not clearly the generic {rank})")
     scaled, scales = equilibrate(at.matrix)
     _, _, vt = np.linalg.svd(scaled)
     null = vt[rank:] * scales  # A v = 0 for v = scales * w, w a null vector of the equilibrated matrix
