@@ -34,6 +34,7 @@ certain. At most ``rank`` are kept, lowest degree and fewest terms first.
 
 from __future__ import annotations
 
+import heapq
 import itertools
 import random
 from collections.abc import Sequence
@@ -49,6 +50,8 @@ __all__ = ["observable_functions", "MAX_MONOMIALS"]
 
 #: Above this many monomials an ansatz degree is not tried.
 MAX_MONOMIALS = 1200
+#: Weight tuples tried per degree (one linear system each).
+MAX_WEIGHTS = 64
 
 
 def _angles(system: System) -> list[sympy.Symbol]:
@@ -231,7 +234,8 @@ def _weight_choices(variables: _Variables, degree: int) -> list[tuple[sympy.Rati
         for d in range(1, degree + 1):
             sums |= {sum(c) for c in itertools.combinations_with_replacement(set(weights), d)}
         options.append(sorted(sums, key=lambda w: (abs(w), w)))
-    return sorted(itertools.product(*options), key=lambda ws: (sum(abs(w) for w in ws), ws))
+    # Many scaling directions multiply the choices: the smallest total weights are tried, at most MAX_WEIGHTS.
+    return heapq.nsmallest(MAX_WEIGHTS, itertools.product(*options), key=lambda ws: (sum(abs(w) for w in ws), ws))
 
 
 #: The prime of the search: the 61-bit one, so that coefficients up to about 10^9
