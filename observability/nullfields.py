@@ -26,10 +26,11 @@ time DF(x) v(x) and v(F(x)) are null vectors at F(x)), so it vanishes exactly
 when its P-components do: d more linear conditions on b per point, from the
 dynamics' values and Jacobian at the same points.
 
-The arithmetic is exact modulo the word-size prime ``SMALL_PRIME`` on numpy
-arrays (products of two entries below 2^62 in int64; matrix products by the
-BLAS on 16-bit halves, exact in float64), so the elimination runs in C; the caller brings the fields back to rationals
-and checks each at a fresh point modulo the 61-bit prime.
+The arithmetic is exact modulo a prime below 2^31 on numpy arrays (products
+of two entries below 2^62 in int64; matrix products by the BLAS on 16-bit
+halves, exact in float64), so the elimination runs in C; the caller brings the
+fields back to rationals and checks each at a fresh point modulo the 61-bit
+prime.
 """
 
 from __future__ import annotations
@@ -42,8 +43,8 @@ from threadpoolctl import threadpool_limits
 
 from .taylor import Redraw
 
-__all__ = ["SMALL_PRIME", "SECOND_PRIME", "KernelPoint", "KernelSampler", "NullFields", "matmul", "monomial_values", "null_fields", "null_space",
-           "rref", "single_threaded"]
+__all__ = ["SMALL_PRIME", "SECOND_PRIME", "KernelPoint", "KernelSampler", "NullFields", "matmul", "monomial_values",
+           "null_fields", "null_space", "rref", "single_threaded"]
 
 #: The primes of the search (below 2^31, so that every product of two entries
 #: fits in int64): 2^31 - 1 first; rational reconstruction recovers coefficients
@@ -51,8 +52,8 @@ __all__ = ["SMALL_PRIME", "SECOND_PRIME", "KernelPoint", "KernelSampler", "NullF
 #: caller asks for only when a coefficient does not come back from the first.
 SMALL_PRIME = (1 << 31) - 1
 SECOND_PRIME = 2147483629
-#: How many more random points than needed are drawn before a null space is
-#: accepted: it must not shrink when these are added.
+#: How many random points beyond those needed are drawn before a null space is
+#: accepted: their conditions must hold for every field found.
 CONFIRMING_POINTS = 2
 
 
@@ -147,8 +148,8 @@ def rref(a: np.ndarray, p: int = SMALL_PRIME) -> tuple[np.ndarray, list[int]]:
 def null_space(a: np.ndarray, p: int = SMALL_PRIME) -> np.ndarray:
     """A basis of {x : a x = 0} mod p, as rows."""
     reduced, pivots = rref(a, p)
-    columns = a.shape[1]
-    free = [c for c in range(columns) if c not in set(pivots)]
+    columns, taken = a.shape[1], set(pivots)
+    free = [c for c in range(columns) if c not in taken]
     basis = np.zeros((len(free), columns), dtype=np.int64)
     for k, f in enumerate(free):
         basis[k, f] = 1
@@ -162,7 +163,7 @@ class KernelPoint:
     parameters), the reduced echelon form of O there (``{pivot column: row}``)
     and, when symmetries are sought, the dynamics' values and Jacobian rows
     (``{column: value}``) and the variables' values at the image F(x) (discrete
-    time). All modulo ``SMALL_PRIME``."""
+    time). All modulo the sampler's prime."""
 
     values: list[int]
     pivots: dict[int, dict[int, int]]
