@@ -52,6 +52,8 @@ __all__ = ["observable_functions", "MAX_MONOMIALS"]
 MAX_MONOMIALS = 1200
 #: Weight tuples tried per degree (one linear system each).
 MAX_WEIGHTS = 64
+#: Non-zero coefficients of the images v(m) above which a degree is not tried.
+MAX_ENTRIES = 200_000
 
 
 def _angles(system: System) -> list[sympy.Symbol]:
@@ -273,6 +275,8 @@ def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: in
                 rank_of[k] = position
             # v(m) for every generator and monomial, mod p: the same for every weight.
             images = [[_apply(field, powers, pairs, 1) for powers in exponents] for field in modular]
+            if sum(len(image) for field in images for image in field) > MAX_ENTRIES:
+                break  # generators with many terms: the sparse system would fill in beyond bounds
             for weights in _weight_choices(variables, degree):
                 if polynomial_only != all(w == 0 for w in weights):
                     continue
