@@ -38,7 +38,8 @@ from .program import PRIME, Program
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["discover_directions", "classify", "primitive", "rational_reconstruction", "MAX_UNKNOWNS"]
+__all__ = ["discover_directions", "classify", "monomials", "polynomial", "primitive", "rational_reconstruction",
+           "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients (of the free components, or of an
 #: invariant function) the ansatz of a degree is not tried.
@@ -144,7 +145,7 @@ class _Points:
                           discrete=self.system.time == "discrete", p=p)
 
 
-def _monomials(count: int, degree: int) -> list[tuple[int, ...]]:
+def monomials(count: int, degree: int) -> list[tuple[int, ...]]:
     """Exponent vectors of all monomials of degree <= ``degree`` in ``count``
     variables, by increasing degree."""
     out = []
@@ -188,7 +189,8 @@ def _monomial_values(exponents, values) -> list[int]:
     return out
 
 
-def _polynomial(coefficients: dict, exponents, variables) -> sympy.Expr:
+def polynomial(coefficients: dict, exponents, variables) -> sympy.Expr:
+    """sum of c * variables^exponents[k] over ``{k: c}``."""
     return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(variables, exponents[k]) if e))
                        for k, c in coefficients.items()))
 
@@ -274,7 +276,7 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
     # Drawn from only when a coefficient does not come back from the first prime alone.
     second = KernelSampler(n, nullity, lambda: points(SECOND_PRIME), SECOND_PRIME)
     for degree in range(max_degree + 1):
-        exponents = _monomials(len(variables), degree)
+        exponents = monomials(len(variables), degree)
         size = len(exponents)
         if nullity * size > MAX_UNKNOWNS:
             break
@@ -307,7 +309,7 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
                     continue  # O(x) v(x) != 0 at a fresh point: not a null field
                 if not span.add_row({i: value for i, value in enumerate(v) if value}):
                     continue
-                vector = [_polynomial(comp, exponents, variables) for comp in primitive(field)]
+                vector = [polynomial(comp, exponents, variables) for comp in primitive(field)]
                 # One sign convention for a line: the first component does not start with a minus.
                 first = next(e for e in vector if e != 0)
                 found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))

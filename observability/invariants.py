@@ -41,10 +41,11 @@ from collections.abc import Sequence
 
 import sympy
 
-from .discovery import primitive, rational_reconstruction
+from .discovery import monomials, polynomial, primitive, rational_reconstruction
 from .echelon import ModularEchelon
 from .program import PRIME
 from .system import System
+from .taylor import circle_point
 
 __all__ = ["observable_functions", "MAX_MONOMIALS"]
 
@@ -103,12 +104,8 @@ class _Variables:
         """Random values of the variables mod p, (cos, sin) on the unit circle."""
         values = [rng.randrange(1, p) for _ in range(self.n + len(self.system.free_parameters))]
         for _ in self.angles:
-            t = rng.randrange(1, p)
-            den = (1 + t * t) % p
-            if not den:
-                return None
-            inverse = pow(den, -1, p)
-            values += [(1 - t * t) * inverse % p, 2 * t * inverse % p]
+            sine, cosine = circle_point(rng, p)
+            values += [cosine, sine]
         return values if all(values) else None
 
     def scaling_weights(self, field: list[sympy.Expr]) -> list[sympy.Rational] | None:
@@ -130,17 +127,9 @@ def _monomials(count: int, degree: int, states: int, trig: range) -> list[tuple[
     """Monomials of degree 1..``degree`` that involve a state or an angle's
     (cos, sin) (those of parameters alone are constants), with each sine to a
     power <= 1 (a normal form modulo c^2 + s^2 = 1)."""
-    sines = set(trig[1::2])
-    out = []
-    for d in range(1, degree + 1):
-        for combo in itertools.combinations_with_replacement(range(count), d):
-            if any(i < states or i in trig for i in combo):
-                exponents = [0] * count
-                for i in combo:
-                    exponents[i] += 1
-                if all(exponents[i] <= 1 for i in sines):
-                    out.append(tuple(exponents))
-    return out
+    sines = trig[1::2]
+    return [m for m in monomials(count, degree)
+            if (any(m[:states]) or any(m[i] for i in trig)) and all(m[i] <= 1 for i in sines)]
 
 
 Polynomial = dict  # {exponent tuple: coefficient}
@@ -293,10 +282,10 @@ def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: in
                     gradient = _state_gradient(variables, numerator, denominator, exponents, at)
                     if not span.add_row(gradient):
                         continue
-                    function = _polynomial(primitive([numerator])[0], exponents, symbols)
+                    function = polynomial(primitive([numerator])[0], exponents, symbols)
                     if denominator is not None:
                         # Ratios are taken to the simplest semi-invariant of the same weights.
-                        function = function / _polynomial(primitive([denominator])[0], exponents, symbols)
+                        function = function / polynomial(primitive([denominator])[0], exponents, symbols)
                     found.append(variables.back(function))
                     if len(found) == rank:
                         return tuple(found)
@@ -343,11 +332,6 @@ def _image(field, coefficients, exponents, weight, pairs) -> Polynomial:
             out[term] = out.get(term, 0) + c * value
         out[exponents[k]] = out.get(exponents[k], 0) - weight * c
     return _reduce({k: v for k, v in out.items() if v}, pairs, sympy.Integer(1))
-
-
-def _polynomial(coefficients, exponents, symbols) -> sympy.Expr:
-    return sympy.Add(*(c * sympy.Mul(*(x**e for x, e in zip(symbols, exponents[k]) if e))
-                       for k, c in coefficients.items()))
 
 
 def _value_and_gradient(coefficients, exponents, values: list[int]) -> tuple[int, list[int]]:

@@ -71,6 +71,17 @@ def sqrt_mod(a: int, p: int) -> int | None:
     return r
 
 
+def circle_point(rng: random.Random, p: int) -> tuple[int, int]:
+    """A random point (sin, cos) of the unit circle mod p: (2t, 1 - t^2) / (1 + t^2)."""
+    while True:
+        t = rng.randrange(p)
+        den = (1 + t * t) % p
+        if den:
+            break
+    inv = pow(den, -1, p)
+    return 2 * t * inv % p, (1 - t * t) * inv % p
+
+
 def _reduce(value, grad: dict, p: int) -> Dual:
     """Reduce mod p (p = 0: floating point, nothing to reduce). An empty gradient
     is the shared empty dict (gradients are never changed in place): a program of
@@ -184,14 +195,7 @@ class TaylorEvaluator:
 
     def _circle(self, angle: int) -> tuple[int, int]:
         """(sin, cos) at order 0: a random rational point of the unit circle."""
-        p = self.p
-        while True:
-            t = self.rng.randrange(p)
-            den = (1 + t * t) % p
-            if den:
-                break
-        inv = pow(den, -1, p)
-        return 2 * t * inv % p, (1 - t * t) * inv % p
+        return circle_point(self.rng, self.p)
 
     def _exp0(self, a0: int) -> int:
         return self._random()  # exp of a generic value: an independent quantity

@@ -12,7 +12,7 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from observability import System, analyze, models
-from observability.discovery import _monomials, _Points
+from observability.discovery import monomials, _Points
 from observability.nullfields import SMALL_PRIME, KernelSampler, matmul, null_fields, rref
 
 P = SMALL_PRIME
@@ -61,7 +61,7 @@ def _spaces(system: System, degree: int):
     points = _Points(system, result.orders, random.Random(5), None, "inverse", True)
     sampler = KernelSampler(n, nullity, lambda: points(SMALL_PRIME))
     variables = list(system.states) + list(system.free_parameters)
-    fields = null_fields(sampler, _monomials(len(variables), degree), 400, True)
+    fields = null_fields(sampler, monomials(len(variables), degree), 400, True)
     return fields, len(variables)
 
 
