@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import sympy
 
+from .fractions import NotRational, factor_list
+
 __all__ = ["normal_form", "expanded_argument", "factored", "exponential_form", "split_log", "split_root"]
 
 #: Arguments larger than this (in operations) are not expanded or factored: the
@@ -61,14 +63,10 @@ def factored(expr: sympy.Expr) -> tuple[sympy.Rational, list[tuple[sympy.Expr, i
     (an irreducible radicand: nothing to split)."""
     if expr.is_Atom or not expr.free_symbols or not _small(expr) or not expr.is_rational_function():
         return None
-    numerator, denominator = sympy.fraction(sympy.together(expr))
     try:
-        cn, fn = sympy.factor_list(numerator)
-        cd, fd = sympy.factor_list(denominator)
-    except sympy.PolynomialError:
+        c, factors = factor_list(expr)
+    except (NotRational, ZeroDivisionError):
         return None
-    c = cn / cd
-    factors = [(f, e) for f, e in fn] + [(f, -e) for f, e in fd]
     if not c.is_Rational or c <= 0 or (c == 1 and len(factors) == 1 and factors[0][1] == 1):
         return None
     return c, factors

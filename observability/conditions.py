@@ -31,6 +31,7 @@ from .budget import Undecided, with_budget
 from .errors import ModelError
 from .expansion import stopping_rule
 from .expressions import parse_expression
+from .fractions import factor_list
 from .restrictions import _split, parse_constraints
 from .lie import lie_derivatives
 from .randomized import randomized_rank
@@ -105,7 +106,7 @@ def _candidates(system: System, seed: int, input_derivatives: int | None
     rational, meaning = rationalize(sympy.Matrix(rows).applyfunc(system.substitute_values))
     chosen = [labels.index(lower.row_labels[i]) for i in lower.independent_rows]
     numerator = _numerator(rational.extract(chosen, list(lower.pivot_columns)))
-    _, factors = sympy.factor_list(numerator)
+    _, factors = factor_list(numerator)
     factors = [f for f, _ in factors if f.free_symbols]
     if not everything:
         return [(f, False) for f in factors], meaning

@@ -371,14 +371,14 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
             group = ", ".join(states[i].name for i in diagonal)
             return f"the norm of ({group})", f"scales ({group}) together: only their direction is seen (a quaternion's norm)"
         weights = ", ".join(f"{states[i].name}: {A[i][i]}" for i in diagonal)
-        centre = [(states[i].name, sympy.simplify(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
+        centre = [(states[i].name, sympy.cancel(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
         about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
         return f"scaling{about}", f"scales the states with weights {weights}"
     if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
         pairs = sorted({(min(i, j), max(i, j)) for i, j in off})
         i, j = pairs[0]
         rate = A[j][i]
-        centre = (sympy.simplify(-b[j] / rate), sympy.simplify(b[i] / rate))
+        centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
         about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
         return f"rotation{about}", "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"

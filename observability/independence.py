@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import sympy
 
 from .atoms import MAX_ARGUMENT_OPS
+from .fractions import NotRational, factor_list
 from .program import Op, Program
 
 __all__ = ["Dependence", "dependence"]
@@ -57,8 +58,8 @@ def _irreducible(program: Program, node: int) -> sympy.Expr | None:
     if not expr.is_polynomial():
         return None
     try:
-        _, factors = sympy.factor_list(expr)
-    except sympy.PolynomialError:
+        _, factors = factor_list(expr)
+    except NotRational:
         return None
     if len(factors) != 1 or factors[0][1] != 1:
         return None

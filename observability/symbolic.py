@@ -26,6 +26,7 @@ from .lie import lie_derivatives
 from .atoms import normal_form
 from .budget import Undecided
 from .errors import UnsupportedExpressionError
+from .fractions import factor
 from .system import System
 
 __all__ = [
@@ -207,7 +208,7 @@ def _normalize(vector: list[sympy.Expr]) -> list[sympy.Expr]:
     nonzero = [e for e in entries if e != 0]
     if nonzero:
         divisor = sympy.gcd_list(nonzero)
-        entries = [sympy.factor(sympy.cancel(e / divisor)) for e in entries]
+        entries = [factor(sympy.cancel(e / divisor)) for e in entries]
         first = next(e for e in entries if e != 0)
         if first.could_extract_minus_sign():
             entries = [-e for e in entries]

@@ -18,7 +18,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 import sympy
 
-from ..fractions import NotRational, RationalFunctions
+from ..fractions import NotRational, RationalFunctions, factor
 from ..system import System
 
 __all__ = ["Rewriting", "rewriting", "tidy", "MAX_REWRITE_CHARS"]
@@ -34,41 +34,11 @@ MAX_FACTOR_CHARS = 400
 
 
 def tidy(expr: sympy.Expr) -> sympy.Expr:
-    """``expr`` factored when it is short, else with its common factors pulled out.
-
-    The factoring is flint's (deterministic, in C) on the expression as a
-    rational function of its symbols and of its other atoms (sin(x), sqrt(y)
-    taken as variables): sympy's ``factor`` draws random evaluation points
-    (Wang's algorithm) and now and then ran for many minutes on a short entry.
-    """
+    """``expr`` factored (deterministically, by flint: :func:`observability.fractions.factor`)
+    when it is short, else with its common factors pulled out."""
     if len(str(expr)) > MAX_FACTOR_CHARS:
         return sympy.factor_terms(expr)
-    atoms = sorted(_opaque(expr), key=sympy.default_sort_key)
-    names = {a: sympy.Dummy() for a in atoms}
-    rational = expr.xreplace(names)
-    field = RationalFunctions(sorted(rational.free_symbols, key=sympy.default_sort_key))
-    try:
-        top, bottom = field.of(rational)
-    except (NotRational, ZeroDivisionError):
-        return sympy.factor_terms(expr)
-    back = {d: a for a, d in names.items()}
-
-    def product(poly) -> sympy.Expr:
-        constant, factors = poly.factor()
-        return sympy.Rational(int(constant.p), int(constant.q)) * sympy.Mul(
-            *(field.expression(f) ** e for f, e in factors))
-
-    return (product(top) / product(bottom)).xreplace(back)
-
-
-def _opaque(expr: sympy.Expr) -> set[sympy.Expr]:
-    """The subexpressions that are not rational in the symbols: function
-    applications and powers with non-integer exponents, outermost only."""
-    if expr.is_Atom:
-        return set()
-    if isinstance(expr, sympy.Function) or (expr.is_Pow and not expr.exp.is_Integer):
-        return {expr}
-    return set().union(*(_opaque(a) for a in expr.args))
+    return factor(expr)
 
 
 def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
