@@ -148,18 +148,58 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
 
 
 def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous,
-               constraint=None, exhaustive: bool = False):
-    echelon = _RecordingEchelon(system.n, PRIME)
+               constraint=None, exhaustive: bool = False, dense: bool = False):
+    if dense:
+        from .densetaylor import DENSE_PRIME, DenseTaylorEvaluator  # numpy only where this route is taken
 
-    def make(program: Program, discrete: bool) -> TaylorEvaluator:
-        evaluator = TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
-        if constraint is not None:
-            constraint.place(evaluator, system)
-        return evaluator
+        echelon = _RecordingEchelon(system.n, DENSE_PRIME)
+
+        def make(program: Program, discrete: bool) -> TaylorEvaluator:
+            return DenseTaylorEvaluator(program, system.n, rng, input_degree=input_derivatives)
+    else:
+        echelon = _RecordingEchelon(system.n, PRIME)
+
+        def make(program: Program, discrete: bool) -> TaylorEvaluator:
+            evaluator = TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
+            if constraint is not None:
+                constraint.place(evaluator, system)
+            return evaluator
 
     expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous,
                             exhaustive=exhaustive)
     return echelon, expansion
+
+
+def _usable_point(system: System, rng: random.Random, *args, dense: bool = False):
+    """:func:`_one_point` at the first point drawn that hits no pole."""
+    attempts, limit = 0, _MAX_ATTEMPTS
+    while True:
+        try:
+            return _one_point(system, rng, *args, dense=dense)
+        except Redraw as exc:
+            attempts += 1
+            if exc.reason.startswith("square root"):
+                # each square root halves the chance that a point is usable
+                limit = _MAX_ATTEMPTS * 256
+            if attempts >= limit:
+                raise SingularModelError(
+                    f"{system.name}: every random point hits a singularity ({exc.reason} in {exc.source})"
+                ) from None
+
+
+#: The dense route (:mod:`observability.densetaylor`) is tried first on models
+#: of DENSE_STATES states that need many orders (at least DENSE_ORDERS states per
+#: output): there every gradient fills up. SLAM models, with an output or two
+#: per landmark and a few orders, keep the sparse dictionaries. A model that
+#: declares symmetries expects a deficient rank, which this route cannot settle.
+DENSE_STATES = range(12, 97)
+DENSE_ORDERS = 4
+
+
+def _dense_suits(system: System, max_order: int | None, constraint, exhaustive: bool) -> bool:
+    return (system.time == "continuous" and constraint is None and not exhaustive and system.n in DENSE_STATES
+            and not system.symmetry_source
+            and system.n >= DENSE_ORDERS * max(len(system.outputs), 1) and (max_order is None or max_order < 127))
 
 
 def randomized_rank(
@@ -175,6 +215,10 @@ def randomized_rank(
     exhaustive: bool = False,
 ) -> ModularRank:
     """Exact rank of the observability matrix at random points modulo 2^61 - 1.
+
+    A model with many states per output is first tried on the dense route
+    (:mod:`observability.densetaylor`, one point modulo a 28-bit prime), whose
+    answer is kept when it is a full rank (certain).
 
     Rows are added order by order until the rank reaches n, the stopping rule
     ends the growth (:func:`observability.expansion.stopping_rule`), or
@@ -215,22 +259,20 @@ def randomized_rank(
     best = None
     probability = 1.0
     draws = 0
+    args = (input_derivatives, max_order, progress, previous, constraint, exhaustive)
+    if _dense_suits(system, max_order, constraint, exhaustive):
+        from .densetaylor import Unsupported
+
+        try:
+            # Its own point, so that the points of the route below do not depend on whether this one ran.
+            echelon, expansion = _usable_point(system, random.Random(f"dense {seed}"), *args, dense=True)
+        except Unsupported:
+            pass
+        else:
+            if echelon.rank == system.n:  # certain for any prime; a lower rank is computed again below
+                return _result(system, seed, echelon, expansion, 0.0, 1)
     while draws < _MAX_DRAWS:
-        attempts, limit = 0, _MAX_ATTEMPTS
-        while True:
-            try:
-                echelon, expansion = _one_point(system, rng, input_derivatives, max_order, progress, previous,
-                                                constraint, exhaustive)
-                break
-            except Redraw as exc:
-                attempts += 1
-                if exc.reason.startswith("square root"):
-                    # each square root halves the chance that a point is usable
-                    limit = _MAX_ATTEMPTS * 256
-                if attempts >= limit:
-                    raise SingularModelError(
-                        f"{system.name}: every random point hits a singularity ({exc.reason} in {exc.source})"
-                    ) from None
+        echelon, expansion = _usable_point(system, rng, *args)
         draws += 1
         if best is None or echelon.rank > best[0].rank:
             best = (echelon, expansion)
@@ -245,6 +287,11 @@ def randomized_rank(
         if probability <= target:
             break
     echelon, expansion = best
+    return _result(system, seed, echelon, expansion, probability, draws)
+
+
+def _result(system: System, seed: int, echelon: _RecordingEchelon, expansion, probability: float, draws: int
+            ) -> ModularRank:
     rank = echelon.rank
     return ModularRank(
         rank=rank,
@@ -252,7 +299,7 @@ def randomized_rank(
         row_labels=tuple(expansion.row_labels),
         error_probability=probability,
         draws=draws,
-        prime=PRIME,
+        prime=echelon.p,
         seed=seed,
         observable_columns=tuple(echelon.determined_columns()),
         null_space=tuple(echelon.null_space()),
@@ -265,5 +312,3 @@ def randomized_rank(
         pivot_columns=tuple(echelon.pivot_rows),
         dependence=dependence(expansion.program, system.n if system.time == "continuous" else 0),
     )
-
-
