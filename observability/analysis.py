@@ -392,8 +392,8 @@ def _two_sided(
         if not proof.proven:
             return None
         certificate = f"{lower.dependence}; certified: {proof.how}"
-    head = (f"two-sided proof: rank {lower.rank} certain as a lower bound (a non-zero minor mod 2^61-1 at a random "
-            f"point, seed {lower.seed}; {certificate})")
+    head = (f"two-sided proof: rank {lower.rank} certain as a lower bound (a non-zero minor mod {lower.modulus} at a "
+            f"random point, seed {lower.seed}; {certificate})")
     if lower.rank == n:
         return (n, lower.orders, lower.seed, lower.row_labels, tuple(range(n)), head + ", which is full",
                 ((), None, ""))
@@ -430,7 +430,9 @@ def analyze(
     system : System
     method : {"random", "symbolic", "float"}
         ``random`` (default): exact rank modulo a 61-bit prime at random points,
-        with a stated error probability. ``symbolic``: the exact generic rank, by a
+        with a stated error probability (a model with many states per output is
+        first tried modulo a 28-bit prime, kept when the rank is full and so
+        certain: :mod:`observability.densetaylor`). ``symbolic``: the exact generic rank, by a
         two-sided proof (a certain lower bound at a point meeting an upper bound
         from generators verified as identities) or, where those bounds do not
         meet, by elimination over the rational-function field, "undecided" after
@@ -529,7 +531,7 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
             )
             if not proof.proven:
                 return undecided(
-                    f"rank {rank} of {n} mod 2^61-1 may be too high: {result.dependence}, and the certificate "
+                    f"rank {rank} of {n} mod {result.modulus} may be too high: {result.dependence}, and the certificate "
                     f"at a real point failed ({proof.how})",
                     orders=orders,
                 )
@@ -546,10 +548,11 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         observable_columns: tuple[int, ...] | None = result.observable_columns
         probability = result.error_probability
         if rank == n:
-            details = f"exact rank mod 2^61-1 at a random point (seed {seed}); a full rank is certain ({certificate})"
+            details = (f"exact rank mod {result.modulus} at a random point (seed {seed}); a full rank is certain "
+                       f"({certificate})")
         else:
             details = (
-                f"exact rank mod 2^61-1 at {result.draws} random point(s) (seed {seed}); rank {rank} certain as a "
+                f"exact rank mod {result.modulus} at {result.draws} random point(s) (seed {seed}); rank {rank} certain as a "
                 f"lower bound ({certificate})"
             )
             upper = (

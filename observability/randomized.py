@@ -97,6 +97,11 @@ class ModularRank:
     pivot_columns: tuple[int, ...] = ()
     dependence: Dependence | None = None
 
+    @property
+    def modulus(self) -> str:
+        """The prime as a report writes it: "2^61-1", or its digits (the dense route's)."""
+        return "2^61-1" if self.prime == PRIME else str(self.prime)
+
 
 class _RecordingEchelon(ModularEchelon):
     """An echelon form that remembers which rows raised the rank."""

@@ -94,6 +94,8 @@ def test_a_full_rank_is_proved_on_the_dense_route():
     result = randomized_rank(_chain(20), seed=0)
     assert (result.rank, result.error_probability, result.prime) == (20, 0.0, DENSE_PRIME)
     assert result.orders == 19 and len(result.independent_rows) == 20
+    verdict = analyze(_chain(20), seed=0)
+    assert verdict.observable and f"mod {DENSE_PRIME}" in verdict.details and "2^61" not in verdict.details
 
 
 def test_a_deficient_rank_is_computed_again_modulo_the_large_prime():
