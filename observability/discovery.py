@@ -276,10 +276,10 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
     # Drawn from only when a coefficient does not come back from the first prime alone.
     second = KernelSampler(n, nullity, lambda: points(SECOND_PRIME), SECOND_PRIME)
     for degree in range(max_degree + 1):
-        exponents = monomials(len(variables), degree)
-        size = len(exponents)
+        size = math.comb(len(variables) + degree, degree)  # counted before any is built: they may be millions
         if nullity * size > MAX_UNKNOWNS:
             break
+        exponents = monomials(len(variables), degree)
         fields = null_fields(sampler, exponents, MAX_POINTS, symmetries)
         if fields is None:
             break

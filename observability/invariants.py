@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import math
 import random
 from collections.abc import Sequence
 
@@ -93,8 +94,9 @@ class _Variables:
                 full += [sympy.expand(-s * components[index[a]]), sympy.expand(c * components[index[a]])]
             fields.append(full)
         self.fields = fields
-        self.supported = all(e.is_polynomial(*self.symbols) and e.free_symbols <= set(self.symbols)
-                             for v in fields for e in v)
+        known = set(self.symbols)
+        # is_polynomial() in its own symbols: given all of them (hundreds) it sympifies each, per component.
+        self.supported = all(e.free_symbols <= known and e.is_polynomial() for v in fields for e in v)
 
     def back(self, expr: sympy.Expr) -> sympy.Expr:
         """An expression in the search variables, in the states again."""
@@ -121,6 +123,17 @@ class _Variables:
                 return None
             weights.append(a)
         return weights or None
+
+
+def _monomial_count(count: int, degree: int, states: int, trig: range) -> int:
+    """How many monomials :func:`_monomials` gives, without building them: with
+    j of the A sines (each to the power 1), a monomial of degree <= ``degree`` - j
+    in the other variables; less those in the parameters alone (the constant included)."""
+    sines = len(trig) // 2
+    others = count - sines
+    parameters = count - states - len(trig)
+    total = sum(math.comb(sines, j) * math.comb(others + degree - j, degree - j) for j in range(min(sines, degree) + 1))
+    return total - math.comb(parameters + degree, degree)
 
 
 def _monomials(count: int, degree: int, states: int, trig: range) -> list[tuple[int, ...]]:
@@ -253,9 +266,9 @@ def _search(variables: _Variables, rank: int, rng: random.Random, max_degree: in
     # Polynomial invariants of every degree first, then ratios of semi-invariants.
     for polynomial_only in (True, False):
         for degree in range(1, max_degree + 1):
-            exponents = _monomials(count, degree, n, trig)
-            if not exponents or len(exponents) > MAX_MONOMIALS:
+            if not 0 < _monomial_count(count, degree, n, trig) <= MAX_MONOMIALS:
                 break
+            exponents = _monomials(count, degree, n, trig)
             degrees = [sum(e) for e in exponents]
             # Columns of low degree first: the canonical basis keeps as few low-degree terms as it can.
             order = sorted(range(len(exponents)), key=lambda k: (degrees[k], k))

@@ -110,3 +110,41 @@ def test_a_deficient_rank_is_computed_again_modulo_the_large_prime():
     assert 0 < result.error_probability <= 1e-9
     verdict = analyze(system, seed=0)
     assert verdict.rank == 16 and "z" not in verdict.observable_states
+
+
+def _random_polynomial_model(rng: random.Random) -> tuple[System, bool]:
+    """n in 12..15 states in a ring x_i' = x_(i+1) + random quadratic terms, half of
+    them with a last state decoupled from everything (z' = -z, read by nothing),
+    output x1."""
+    n = rng.randint(12, 15)
+    xs = [f"x{i}" for i in range(1, n + 1)]
+    seen = xs[:-1] if rng.random() < 0.5 else xs
+    dynamics = {}
+    for i, x in enumerate(seen):
+        terms = [seen[(i + 1) % len(seen)]] + [f"{rng.choice([-3, -2, -1, 1, 2, 3])}*{rng.choice(seen)}*{rng.choice(seen)}"
+                                               for _ in range(rng.randint(0, 2))]
+        dynamics[x] = " + ".join(terms)
+    dynamics.setdefault(xs[-1], f"-{xs[-1]}")
+    return System(xs, dynamics, {"y": "x1"}), len(seen) < n
+
+
+def test_the_dense_route_never_claims_a_full_rank_the_exact_route_denies():
+    """Soundness on 12 random ring models (half with a state nothing reads, so
+    rank n - 1 by construction): whenever the dense route proves a full rank,
+    the dictionary route modulo 2^61 - 1 (another point, another prime, other
+    code) finds it too, and every model with the decoupled state gets rank
+    n - 1 from the combined route."""
+    rng = random.Random(7)
+    proved, deficient = 0, 0
+    for _ in range(12):
+        system, decoupled = _random_polynomial_model(rng)
+        combined = randomized_rank(system, seed=1)
+        exact = randomized_rank(system, seed=1, exhaustive=True)  # every order, never the dense route
+        assert exact.prime == PRIME
+        if combined.prime == DENSE_PRIME:
+            assert combined.rank == exact.rank == system.n
+            proved += 1
+        if decoupled:
+            assert combined.rank == system.n - 1 and combined.prime == PRIME
+            deficient += 1
+    assert proved and deficient  # both cases were exercised
