@@ -74,6 +74,9 @@ class DenseTaylorEvaluator(TaylorEvaluator):
         self.sums = {i: np.array(a, dtype=np.intp) for i, (op, a) in enumerate(zip(program.ops, program.args))
                      if op is Op.ADD and len(a) != 2}
 
+    def extend(self, gradients=None, needed=None) -> None:
+        raise Unsupported("discrete time: the program grows order by order, which this table does not")
+
     def _number(self, value) -> int:
         if value.q % self.p == 0:
             raise Unsupported(f"the constant {value} has a denominator divisible by {self.p}")
