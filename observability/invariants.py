@@ -238,8 +238,31 @@ def _weight_choices(variables: _Variables, degree: int) -> list[tuple[sympy.Rati
         for d in range(1, degree + 1):
             sums |= {sum(c) for c in itertools.combinations_with_replacement(set(weights), d)}
         options.append(sorted(sums, key=lambda w: (abs(w), w)))
-    # Many scaling directions multiply the choices: the smallest total weights are tried, at most MAX_WEIGHTS.
-    return heapq.nsmallest(MAX_WEIGHTS, itertools.product(*options), key=lambda ws: (sum(abs(w) for w in ws), ws))
+    return _smallest(options, MAX_WEIGHTS)
+
+
+def _smallest(options: list[list[sympy.Rational]], count: int) -> list[tuple[sympy.Rational, ...]]:
+    """The ``count`` tuples of the product of ``options`` (each sorted by (|w|, w))
+    with the least (sum |w|, tuple), in that order, without enumerating the product:
+    ten scaling directions with five weights each make 5^10 tuples. Best first:
+    moving one index up never lowers the key, so a heap of the frontier pops
+    the tuples in order."""
+    def key(index: tuple[int, ...]) -> tuple:
+        ws = tuple(o[i] for o, i in zip(options, index))
+        return (sum(abs(w) for w in ws), ws)
+
+    start = (0,) * len(options)
+    frontier, seen, out = [(key(start), start)], {start}, []
+    while frontier and len(out) < count:
+        (_, ws), index = heapq.heappop(frontier)
+        out.append(ws)
+        for j in range(len(index)):
+            if index[j] + 1 < len(options[j]):
+                following = index[:j] + (index[j] + 1,) + index[j + 1:]
+                if following not in seen:
+                    seen.add(following)
+                    heapq.heappush(frontier, (key(following), following))
+    return out
 
 
 #: The prime of the search: the 61-bit one, so that coefficients up to about 10^9
