@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from .echelon import ModularEchelon
-from .lie import lie_derivatives, step_input
+from .lie import discrete_nodes, step_input
 from .program import Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
@@ -193,14 +193,14 @@ def _expand(system, sink, make_evaluator, program, max_order, progress, previous
 
     else:
         evaluator = make_evaluator(program, discrete=True)
-        blocks = lie_derivatives(system, previous=previous)
+        blocks = discrete_nodes(system, program, previous)
 
         def rows_of(order: int):
             block = next(blocks)
-            nodes = [program.add(row.expression) for row in block]
-            roots.extend(nodes)
+            program.roots.extend(node for _, node in block)
+            roots.extend(node for _, node in block)
             evaluator.extend()
-            return [(row.output, evaluator.coefficient(node, 0)[1]) for row, node in zip(block, nodes)]
+            return [(name, evaluator.coefficient(node, 0)[1]) for name, node in block]
 
     order = 0
     while True:

@@ -15,16 +15,18 @@ inverse motion model unless the caller chose otherwise).
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from typing import Any
 
 import sympy
 
 from .inverse import eliminate_previous_state
 from .expressions import is_previous, previous_of
+from .program import Program
 from .system import System
 
-__all__ = ["LieRow", "lie_derivative", "input_derivative", "step_input", "lie_derivatives"]
+__all__ = ["LieRow", "lie_derivative", "input_derivative", "step_input", "lie_derivatives", "discrete_nodes"]
 
 
 @dataclass(frozen=True)
@@ -70,33 +72,53 @@ def _continuous(system: System, input_derivatives: int | None) -> Iterator[list[
         order += 1
 
 
-def _discrete(system: System, previous: str) -> Iterator[list[LieRow]]:
+def _discrete(system: System, previous: str, compose: Callable[[sympy.Expr, dict], Any] | None = None,
+              leaf: Callable[[sympy.Symbol], Any] | None = None) -> Iterator[list[LieRow]]:
+    """h(F^k(x)) for k = 0, 1, ...: ``compose(expr, {symbol: value})`` substitutes
+    (sympy's xreplace by default; :func:`discrete_nodes` composes on a program's
+    nodes instead) and ``leaf(symbol)`` is a symbol's own value."""
+    compose = compose or (lambda expr, at: expr.xreplace(at))
+    leaf = leaf or (lambda symbol: symbol)
     F = [system.substitute_values(e) for e in system.dynamics]
-    x = list(system.states)
+    x = [leaf(s) for s in system.states]
     if previous == "augment" and system.uses_previous_state:
         # The unknown is z = x_{-1}: x_0 = F(z, u[-1]), and the output of step k
         # is h(x_k, x_{k-1}, u[k]) with x_k = F(x_{k-1}, u[k-1]). Each input
         # symbol is the one that really moved the state, so the output's own
         # input u[k] is the input of the next transition, not of the last one.
         outputs = [(name, system.substitute_values(e)) for name, e in system.outputs]
-        before = {u: step_input(u, -1) for u in system.inputs}
-        last, x = x, [fi.xreplace(dict(zip(system.states, x)) | before) for fi in F]
+        before = {u: leaf(step_input(u, -1)) for u in system.inputs}
+        last, x = x, [compose(fi, dict(zip(system.states, x)) | before) for fi in F]
     else:
         outputs = [(name, system.substitute_values(e)) for name, e in eliminate_previous_state(system).outputs]
         last = None
     k = 0
     while True:
-        inputs = {u: step_input(u, k) for u in system.inputs}
+        inputs = {u: leaf(step_input(u, k)) for u in system.inputs}
         for sym in {s for _, e in outputs for s in e.free_symbols if is_previous(s)}:
-            inputs[sym] = step_input(sympy.Symbol(previous_of(sym)), k - 1)
+            inputs[sym] = leaf(step_input(sympy.Symbol(previous_of(sym)), k - 1))
         at = dict(zip(system.states, x)) | inputs
         if last is not None:
             at |= dict(zip(system.previous_states, last))
-        yield [LieRow(name, k, expr.xreplace(at)) for name, expr in outputs]
-        last, x = x, [fi.xreplace(dict(zip(system.states, x)) | {u: step_input(u, k) for u in system.inputs}) for fi in F]
+        yield [LieRow(name, k, compose(expr, at)) for name, expr in outputs]
+        steps = {u: leaf(step_input(u, k)) for u in system.inputs}
+        last, x = x, [compose(fi, dict(zip(system.states, x)) | steps) for fi in F]
         if previous != "augment" or not system.uses_previous_state:
             last = None
         k += 1
+
+
+def discrete_nodes(system: System, program: Program, previous: str = "inverse") -> Iterator[list[tuple[str, int]]]:
+    """The discrete-time rows of :func:`lie_derivatives` as nodes of ``program``:
+    (output, node of h(F^k(x))) for k = 0, 1, ....
+
+    F is applied to the nodes of the previous step (:meth:`Program.compose_expression`),
+    never to a sympy expression: the sympy form of h(F^k(x)) is a tree whose size
+    doubles with k for a quadratic map, and a second analysis of the same model
+    compared such trees in sympy's cache for minutes.
+    """
+    for block in _discrete(system, previous, program.compose_expression, program.build):
+        yield [(row.output, row.expression) for row in block]
 
 
 def lie_derivatives(

@@ -332,6 +332,12 @@ class Program:
         composed with them (h(g(x)) from h and the nodes of g), sharing every
         subexpression, angles included, with what is already compiled.
         """
+        node = self.compose_expression(expr, bindings)
+        self.roots.append(node)
+        return node
+
+    def compose_expression(self, expr: sympy.Expr, bindings: dict[sympy.Symbol, int] | None = None) -> int:
+        """:meth:`add` without recording a root (an intermediate such as F(x_k))."""
         saved = self.bindings, self.expression_memo
         if bindings:
             self.bindings, self.expression_memo = bindings, {}
@@ -341,7 +347,6 @@ class Program:
             raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
         finally:
             self.bindings, self.expression_memo = saved
-        self.roots.append(node)
         return node
 
     def compose(self, node: int, states: dict[int, int], memo: dict[int, int]) -> int:
