@@ -32,10 +32,12 @@ import numpy as np
 from .program import Op, Program
 from .taylor import TaylorEvaluator
 
-__all__ = ["DENSE_PRIME", "MAX_TERMS", "DenseTaylorEvaluator", "Unsupported"]
+__all__ = ["DENSE_PRIME", "DENSE_SECOND_PRIME", "MAX_TERMS", "DenseTaylorEvaluator", "Unsupported", "supports"]
 
 #: The largest prime below 2^28: 128 (p - 1)^2 < 2^63.
 DENSE_PRIME = 268_435_399
+#: The next one down (the direction search's second prime, for Chinese remaindering).
+DENSE_SECOND_PRIME = 268_435_367
 #: Orders 0..MAX_TERMS-1 at most: a convolution sums at most this many products.
 MAX_TERMS = 128
 
@@ -45,6 +47,11 @@ _SUPPORTED = frozenset({Op.STATE, Op.INPUT, Op.CONST, Op.RANDOM, Op.ADD, Op.MUL,
 
 class Unsupported(Exception):
     """This program (or this many orders) is outside what the dense route covers."""
+
+
+def supports(program: Program) -> bool:
+    """Whether every operation of ``program`` is one the dense route evaluates."""
+    return all(op in _SUPPORTED for op in program.ops)
 
 
 class DenseTaylorEvaluator(TaylorEvaluator):
@@ -62,11 +69,12 @@ class DenseTaylorEvaluator(TaylorEvaluator):
     """
 
     def __init__(self, program: Program, n_states: int, rng: random.Random, *,
-                 input_degree: int | None = None) -> None:
-        unsupported = {op.name for op in program.ops if op not in _SUPPORTED}
-        if unsupported:
-            raise Unsupported(f"operations {sorted(unsupported)}")
-        super().__init__(program, n_states, rng, input_degree=input_degree, p=DENSE_PRIME)
+                 input_degree: int | None = None, p: int = DENSE_PRIME) -> None:
+        if not supports(program):
+            raise Unsupported(f"operations {sorted({op.name for op in program.ops if op not in _SUPPORTED})}")
+        if not 2 <= p <= DENSE_PRIME:
+            raise ValueError(f"the dense route works modulo a prime below 2^28, not {p}")
+        super().__init__(program, n_states, rng, input_degree=input_degree, p=p)
         self.width = n_states + 1
         self.capacity = 8
         self.table = np.zeros((len(program.ops), self.capacity, self.width), dtype=np.int64)

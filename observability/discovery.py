@@ -24,6 +24,7 @@ skew-symmetric part a rotation; anything else is reported with its vector.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import random
@@ -35,6 +36,7 @@ from .echelon import ModularEchelon
 from .expansion import AllRows, Expansion, expand_rows, replay
 from .lie import step_input
 from .program import PRIME, Program
+from .randomized import dense_suits
 from .system import System
 from .taylor import Redraw, TaylorEvaluator
 
@@ -48,12 +50,11 @@ MAX_UNKNOWNS = 4000
 MAX_POINTS = 200
 
 
-class _Recording(TaylorEvaluator):
-    """The exact evaluator, remembering the value it gave each free parameter."""
+class _Remembering:
+    """An evaluator that remembers the value it gave each free parameter (mixed
+    into the dictionary and the dense evaluators)."""
 
-    def __init__(self, *args, **kwargs) -> None:
-        super().__init__(*args, **kwargs)
-        self.constants: dict[object, int] = {}
+    constants: dict[object, int]
 
     def _random_constant(self, key: object) -> int:
         if key not in self.constants:
@@ -69,6 +70,19 @@ class _Recording(TaylorEvaluator):
         """The states, then the free parameters, at the point; a free parameter
         the program does not involve gets a value all the same."""
         return list(self.point) + [self.constants.get(q) or self.rng.randrange(1, self.p) for q in system.free_parameters]
+
+
+class _Recording(_Remembering, TaylorEvaluator):
+    """The exact evaluator with sparse gradients, remembering its parameters."""
+
+
+@functools.cache
+def _dense_recording() -> type:
+    """The dense evaluator (:mod:`observability.densetaylor`) remembering its
+    parameters; made on first use, so that numpy is loaded only then."""
+    from .densetaylor import DenseTaylorEvaluator
+
+    return type("_DenseRecording", (_Remembering, DenseTaylorEvaluator), {})
 
 
 def rational_reconstruction(value: int, p: int = PRIME) -> sympy.Rational | None:
@@ -93,9 +107,10 @@ class _Points:
     """
 
     def __init__(self, system: System, orders: int, rng: random.Random, input_derivatives, previous: str,
-                 dynamics: bool) -> None:
+                 dynamics: bool, dense: bool = False) -> None:
         self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
         self.input_derivatives, self.dynamics = input_derivatives, dynamics
+        self.dense = dense  # points mod a small prime on the dense evaluator (decided again once compiled)
         self.expansion: Expansion | None = None
         self.dynamics_nodes: list[int] = []
 
@@ -108,9 +123,9 @@ class _Points:
         system, n = self.system, self.system.n
         discrete = system.time == "discrete"
         if self.expansion is None:
-            made: list[_Recording] = []
+            made: list[TaylorEvaluator] = []
 
-            def make(program: Program, discrete: bool) -> _Recording:
+            def make(program: Program, discrete: bool) -> TaylorEvaluator:
                 made.append(self._evaluator(program, p))
                 return made[-1]
 
@@ -119,6 +134,10 @@ class _Points:
                                          exhaustive=True)
             rows, evaluator = sink.rows, made[-1]
             program = self.expansion.program
+            if self.dense:
+                from .densetaylor import supports
+
+                self.dense = supports(program)
             if self.dynamics and discrete:
                 steps = {u: step_input(u, 0) for u in system.inputs}
                 self.dynamics_nodes = [program.add(system.substitute_values(e).xreplace(steps)) for e in system.dynamics]
@@ -140,9 +159,14 @@ class _Points:
         image = [v for v, _ in at] + values[n:] if discrete else None
         return values, echelon.pivot_rows, [v for v, _ in at], [g for _, g in at], image
 
-    def _evaluator(self, program: Program, p: int) -> _Recording:
-        return _Recording(program, self.system.n, self.rng, input_degree=self.input_derivatives,
-                          discrete=self.system.time == "discrete", p=p)
+    def _evaluator(self, program: Program, p: int) -> TaylorEvaluator:
+        if self.dense and p != PRIME:
+            evaluator = _dense_recording()(program, self.system.n, self.rng, input_degree=self.input_derivatives, p=p)
+        else:
+            evaluator = _Recording(program, self.system.n, self.rng, input_degree=self.input_derivatives,
+                                   discrete=self.system.time == "discrete", p=p)
+        evaluator.constants = {}
+        return evaluator
 
 
 def monomials(count: int, degree: int) -> list[tuple[int, ...]]:
@@ -257,12 +281,19 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
               previous: str) -> list[tuple[sympy.Expr, ...]]:
     from .nullfields import SECOND_PRIME, SMALL_PRIME, KernelSampler, null_fields
     rng = random.Random(seed)
+    dense = dense_suits(system)
+    if dense:  # a model with dense gradients: its many points on the dense evaluator, below 2^28
+        from .densetaylor import DENSE_PRIME, DENSE_SECOND_PRIME
+
+        search_prime, second_prime = DENSE_PRIME, DENSE_SECOND_PRIME
+    else:
+        search_prime, second_prime = SMALL_PRIME, SECOND_PRIME
     variables = list(system.states) + list(system.free_parameters)
     n = system.n
     found: list[tuple[sympy.Expr, ...]] = []
     span = ModularEchelon(n, PRIME)
     symmetries = previous == "inverse" or not system.uses_previous_state
-    points = _Points(system, orders, rng, input_derivatives, previous, symmetries)
+    points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense)
     probe = None
     for _ in range(8):
         try:
@@ -272,9 +303,9 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
             continue
     if probe is None:
         return []
-    sampler = KernelSampler(n, nullity, lambda: points(SMALL_PRIME))
+    sampler = KernelSampler(n, nullity, lambda: points(search_prime), search_prime)
     # Drawn from only when a coefficient does not come back from the first prime alone.
-    second = KernelSampler(n, nullity, lambda: points(SECOND_PRIME), SECOND_PRIME)
+    second = KernelSampler(n, nullity, lambda: points(second_prime), second_prime)
     for degree in range(max_degree + 1):
         size = math.comb(len(variables) + degree, degree)  # counted before any is built: they may be millions
         if nullity * size > MAX_UNKNOWNS:
@@ -293,15 +324,15 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
             position = fields.positions()
             again: dict[int, object] | None = None  # the same canonical rows mod the second prime, by pivot
             for row in candidates:
-                field = _rational_field(row.tolist(), n, size, SMALL_PRIME)
+                field = _rational_field(row.tolist(), n, size, search_prime)
                 if field is None:
                     if again is None:
                         again = _by_pivot(null_fields(second, exponents, MAX_POINTS, symmetries), symmetric)
                     other = again.get(int(position[row != 0].min()))
                     if other is None:
                         continue
-                    field = _rational_field(_combined(row, other, SMALL_PRIME, SECOND_PRIME), n, size,
-                                            SMALL_PRIME * SECOND_PRIME)
+                    field = _rational_field(_combined(row, other, search_prime, second_prime), n, size,
+                                            search_prime * second_prime)
                     if field is None:
                         continue
                 v = _field_at(field, at_probe)

@@ -32,7 +32,7 @@ from .program import Op, Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["ModularRank", "randomized_rank"]
+__all__ = ["ModularRank", "randomized_rank", "dense_suits"]
 
 _ATOMS = (Op.TRIG, Op.EXP, Op.LOG, Op.ATAN2, Op.SQRT)
 _MAX_ATTEMPTS = 64
@@ -134,12 +134,22 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
     the extended vector field, whose atoms contribute through the chain rule;
     so D_0 = max height of h and D_{k+1} = 2 D_k + S. A gradient row has height
     at most 2 D_k, and a minor's numerator degree is at most the sum over its
-    rows. Discrete time: the height of each composed row is known exactly from
-    the program. Each square root may halve the chance of a usable point, so it
-    doubles the bound.
+    rows. A polynomial model (no atom, no denominator in f or h) is bounded far
+    more tightly: L_f g of a polynomial g of degree D has degree at most
+    D - 1 + m (m the largest degree of an f_i, inputs and parameters counted),
+    and the input terms dg/du^(j) u^(j+1) keep D, so D_k = D_0 + k max(m - 1, 0)
+    and a row, a gradient, has degree below D_k. Discrete time: the height of
+    each composed row is known exactly from the program. Each square root may
+    halve the chance of a usable point, so it doubles the bound.
     """
-    if system.time == "continuous":
-        field = sum(_height(program, r) for r in program.roots[: system.n])
+    dynamics = program.roots[: system.n]
+    if system.time == "continuous" and not any(op in _ATOMS for op in program.ops) and all(
+            program.heights[r][1] == 0 for r in [*dynamics, *out_roots]):
+        m = max((program.heights[r][0] for r in dynamics), default=0)
+        d = max((program.heights[r][0] for r in out_roots), default=0) + order * max(m - 1, 0)
+        bound = rank * max(d, 1)
+    elif system.time == "continuous":
+        field = sum(_height(program, r) for r in dynamics)
         field += sum(_height(program, i) for i, op in enumerate(program.ops) if op in _ATOMS)
         field += len(system.inputs)
         d = max((_height(program, r) for r in out_roots), default=0)
@@ -201,7 +211,8 @@ DENSE_STATES = range(12, 97)
 DENSE_ORDERS = 4
 
 
-def _dense_suits(system: System, max_order: int | None, constraint, exhaustive: bool) -> bool:
+def dense_suits(system: System, max_order: int | None = None, constraint=None, exhaustive: bool = False) -> bool:
+    """Whether :func:`randomized_rank` (and the direction search) try the dense route first."""
     return (system.time == "continuous" and constraint is None and not exhaustive and system.n in DENSE_STATES
             and not system.symmetry_source
             and system.n >= DENSE_ORDERS * max(len(system.outputs), 1) and (max_order is None or max_order < 127))
@@ -265,7 +276,7 @@ def randomized_rank(
     probability = 1.0
     draws = 0
     args = (input_derivatives, max_order, progress, previous, constraint, exhaustive)
-    if _dense_suits(system, max_order, constraint, exhaustive):
+    if dense_suits(system, max_order, constraint, exhaustive):
         from .densetaylor import Unsupported
 
         try:

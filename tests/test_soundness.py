@@ -162,13 +162,18 @@ BOUND_CASES = [
     (System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x"}, time="discrete"), 4),
     # The same with output x^2 (height 2, row bound 4): 4 + 4 = 8.
     (System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x**2"}, time="discrete"), 8),
-    # Continuous x' = 0, z' = 0, output x: D_0 = 1, one order: D_1 = 2 D_0 + 0 = 2;
-    # a (rank + 1) = 2 minor of rows of height at most 2 D_1: 2 * 2 * 2 = 8.
-    (System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x"}), 8),
+    # Continuous x' = 0, z' = 0, output 1/x (a rational function): D_0 = height 1,
+    # one order: D_1 = 2 D_0 + 0 = 2; a (rank + 1) = 2 minor of rows of height at
+    # most 2 D_1: 2 * 2 * 2 = 8.
+    (System(["x", "z"], {"x": "0", "z": "0"}, {"y": "1/x"}), 8),
+    # The same with output x, a polynomial model: a Lie derivative raises the
+    # degree by at most (degree of f) - 1, here none, so D_1 = D_0 = 1, and a
+    # 2 x 2 minor of gradient rows of degree below 1 is bounded by 2 * 1 = 2.
+    (System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x"}), 2),
 ]
 
 
-@pytest.mark.parametrize("system,bound", BOUND_CASES, ids=range(3))
+@pytest.mark.parametrize("system,bound", BOUND_CASES, ids=range(4))
 def test_error_bound_counts_a_minor_one_larger_than_the_rank(system, bound):
     result = analyze(system, seed=1, directions=False)
     assert result.rank == 1
