@@ -55,7 +55,8 @@ def supports(program: Program) -> bool:
 
 
 class DenseTaylorEvaluator(TaylorEvaluator):
-    """Online Taylor expansion, continuous time, with dense gradients mod :data:`DENSE_PRIME`.
+    """Online Taylor expansion, continuous time, with dense gradients mod ``p`` < 2^28
+    (:data:`DENSE_PRIME` unless another is given).
 
     The interface of :class:`~observability.taylor.TaylorEvaluator` that the
     row expansion uses: :meth:`step` and :meth:`coefficient` (a gradient as
@@ -76,8 +77,7 @@ class DenseTaylorEvaluator(TaylorEvaluator):
             raise ValueError(f"the dense route works modulo a prime below 2^28, not {p}")
         super().__init__(program, n_states, rng, input_degree=input_degree, p=p)
         self.width = n_states + 1
-        self.capacity = 8
-        self.table = np.zeros((len(program.ops), self.capacity, self.width), dtype=np.int64)
+        self.table = np.zeros((len(program.ops), 8, self.width), dtype=np.int64)  # grows with the orders
         self.cosines: dict[int, np.ndarray] = {}
         self.sums = {i: np.array(a, dtype=np.intp) for i, (op, a) in enumerate(zip(program.ops, program.args))
                      if op is Op.ADD and len(a) != 2}
@@ -103,7 +103,7 @@ class DenseTaylorEvaluator(TaylorEvaluator):
         if k >= MAX_TERMS:
             raise Unsupported(f"more than {MAX_TERMS} orders")
         if k >= self.capacity:
-            self._grow_to(min(2 * self.capacity, MAX_TERMS))
+            self._grow(min(2 * self.capacity, MAX_TERMS) - self.capacity)
         program, table = self.program, self.table
         constant = program.constant
         for i, (op, arg) in enumerate(zip(program.ops, program.args)):
@@ -112,12 +112,15 @@ class DenseTaylorEvaluator(TaylorEvaluator):
             self._coefficient_into(i, op, arg, k, table)
         self.order = k
 
-    def _grow_to(self, capacity: int) -> None:
-        extra = capacity - self.capacity
+    @property
+    def capacity(self) -> int:
+        """Orders the table holds."""
+        return self.table.shape[1]
+
+    def _grow(self, extra: int) -> None:
         self.table = np.concatenate([self.table, np.zeros((self.table.shape[0], extra, self.width), np.int64)], axis=1)
         for i, c in self.cosines.items():
             self.cosines[i] = np.concatenate([c, np.zeros((extra, self.width), np.int64)])
-        self.capacity = capacity
 
     def _leaf(self, value: int) -> np.ndarray:
         row = np.zeros(self.width, dtype=np.int64)

@@ -51,10 +51,8 @@ MAX_POINTS = 200
 
 
 class _Remembering:
-    """An evaluator that remembers the value it gave each free parameter (mixed
-    into the dictionary and the dense evaluators)."""
-
-    constants: dict[object, int]
+    """An evaluator that remembers the value it gave each free parameter in
+    ``constants`` (mixed into the dictionary and the dense evaluators)."""
 
     def _random_constant(self, key: object) -> int:
         if key not in self.constants:
@@ -165,7 +163,6 @@ class _Points:
         else:
             evaluator = _Recording(program, self.system.n, self.rng, input_degree=self.input_derivatives,
                                    discrete=self.system.time == "discrete", p=p)
-        evaluator.constants = {}
         return evaluator
 
 

@@ -72,13 +72,11 @@ def _continuous(system: System, input_derivatives: int | None) -> Iterator[list[
         order += 1
 
 
-def _discrete(system: System, previous: str, compose: Callable[[sympy.Expr, dict], Any] | None = None,
-              leaf: Callable[[sympy.Symbol], Any] | None = None) -> Iterator[list[LieRow]]:
-    """h(F^k(x)) for k = 0, 1, ...: ``compose(expr, {symbol: value})`` substitutes
-    (sympy's xreplace by default; :func:`discrete_nodes` composes on a program's
-    nodes instead) and ``leaf(symbol)`` is a symbol's own value."""
-    compose = compose or (lambda expr, at: expr.xreplace(at))
-    leaf = leaf or (lambda symbol: symbol)
+def _compositions(system: System, previous: str, compose: Callable[[sympy.Expr, dict], Any],
+                  leaf: Callable[[sympy.Symbol], Any]) -> Iterator[list[tuple[str, Any]]]:
+    """(output, h(F^k(x))) for k = 0, 1, ...: ``compose(expr, {symbol: value})``
+    substitutes (sympy's xreplace, or composition on a program's nodes) and
+    ``leaf(symbol)`` is a symbol's own value."""
     F = [system.substitute_values(e) for e in system.dynamics]
     x = [leaf(s) for s in system.states]
     if previous == "augment" and system.uses_previous_state:
@@ -100,7 +98,7 @@ def _discrete(system: System, previous: str, compose: Callable[[sympy.Expr, dict
         at = dict(zip(system.states, x)) | inputs
         if last is not None:
             at |= dict(zip(system.previous_states, last))
-        yield [LieRow(name, k, compose(expr, at)) for name, expr in outputs]
+        yield [(name, compose(expr, at)) for name, expr in outputs]
         steps = {u: leaf(step_input(u, k)) for u in system.inputs}
         last, x = x, [compose(fi, dict(zip(system.states, x)) | steps) for fi in F]
         if previous != "augment" or not system.uses_previous_state:
@@ -117,8 +115,7 @@ def discrete_nodes(system: System, program: Program, previous: str = "inverse") 
     doubles with k for a quadratic map, and a second analysis of the same model
     compared such trees in sympy's cache for minutes.
     """
-    for block in _discrete(system, previous, program.compose_expression, program.build):
-        yield [(row.output, row.expression) for row in block]
+    return _compositions(system, previous, program.compose_expression, program.build)
 
 
 def lie_derivatives(
@@ -145,4 +142,5 @@ def lie_derivatives(
     """
     if system.time == "continuous":
         return _continuous(system, input_derivatives)
-    return _discrete(system, previous)
+    blocks = _compositions(system, previous, lambda expr, at: expr.xreplace(at), lambda symbol: symbol)
+    return ([LieRow(name, k, expr) for name, expr in block] for k, block in enumerate(blocks))
