@@ -9,9 +9,14 @@ refuses with a clear reason) instead of hanging.
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import ctypes.util
 import gc
+import math
 import multiprocessing
 import os
+import resource
+import signal
 import time
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
@@ -25,7 +30,28 @@ class Undecided(Exception):
     """The symbolic route cannot decide (budget spent, or an algebraic function)."""
 
 
-def _child(conn: Any, func: Callable[..., Any], args: tuple) -> None:
+def _bound_self(seconds: float, parent: int) -> None:
+    """The child's own bounds, so that nothing outlives the command: it is killed
+    when its parent dies (Linux PR_SET_PDEATHSIG; the parent may be killed by a
+    timeout or the OOM killer before its polling loop stops the child), and the
+    kernel stops it after a little more CPU time than the budget (RLIMIT_CPU:
+    SIGXCPU at the soft limit, SIGKILL at the hard one)."""
+    limit = math.ceil(seconds) + 2
+    with contextlib.suppress(ValueError, OSError):
+        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
+    with contextlib.suppress(OSError, AttributeError):
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if os.getppid() != parent:  # the parent died before the request was made
+        os._exit(1)
+
+
+#: prctl option: the signal a process gets when its parent dies (linux/prctl.h).
+_PR_SET_PDEATHSIG = 1
+
+
+def _child(conn: Any, func: Callable[..., Any], args: tuple, seconds: float, parent: int) -> None:
+    _bound_self(seconds, parent)
     try:
         try:
             result = ("ok", func(*args))
@@ -64,7 +90,9 @@ def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
     The work runs in a forked child process so that it can really be stopped. The
     budget counts the child's CPU time, so the answer does not depend on how
     loaded the machine is; where CPU time cannot be read (no /proc), wall time
-    is used. The wall clock is capped at ``WALL_FACTOR`` times the budget.
+    is used. The wall clock is capped at ``WALL_FACTOR`` times the budget. The
+    child also bounds itself (:func:`_bound_self`): it dies with its parent and
+    past its CPU budget even if nobody is left to stop it.
     """
     if seconds is None:
         return func(*args)
@@ -72,7 +100,8 @@ def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
         raise ValueError(f"a budget must be a positive finite number of seconds, got {seconds}")
     context = multiprocessing.get_context("fork")
     parent, child = context.Pipe(duplex=False)
-    process = context.Process(target=_child, args=(child, func, args), daemon=True)
+    # Not daemonic: a budgeted step may start another (its child dies with it).
+    process = context.Process(target=_child, args=(child, func, args, seconds, os.getpid()))
     process.start()
     child.close()
     began = time.monotonic()

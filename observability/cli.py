@@ -156,10 +156,12 @@ def _restricted(system: System, args: argparse.Namespace, where: str | None = No
     return restricted, derivatives, None if constraint is None else constraint.on(restricted)
 
 
-def _analyze(system: System, args: argparse.Namespace) -> ObservabilityResult:
+def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None) -> ObservabilityResult:
+    """The verdict on ``system`` under the command's options (``prepared``: the
+    result of :func:`_restricted` when the caller already has it)."""
     from .analysis import analyze
 
-    system, input_derivatives, constraint = _restricted(system, args, getattr(args, "where", None))
+    system, input_derivatives, constraint = prepared or _restricted(system, args, getattr(args, "where", None))
     progress = status_line()
     point = None
     if args.method == "float" and getattr(args, "point", None):
@@ -230,12 +232,19 @@ def _check(args: argparse.Namespace) -> int:
         raise _UsageError("check needs a MODEL (a built-in name or a .toml file) or --all")
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)
-        result = _analyze(system, args)
+        # One prepared system (input profiles, set) for the verdict and the point alike.
+        prepared = _restricted(system, args, args.where)
+        result = _analyze(system, args, prepared)
         at_point = None
         if args.point is not None and args.method != "float":
             from .pointwise import rank_at_point
 
-            at_point = rank_at_point(system, _point(args.point) or {}, result, seed=args.seed or 0)
+            restricted, input_derivatives, constraint = prepared
+            at_point = rank_at_point(restricted, _point(args.point) or {}, result, seed=args.seed or 0,
+                                     input_derivatives=input_derivatives, previous=args.previous, where=constraint,
+                                     orders=args.orders)
+        elif args.orders is not None:
+            raise _UsageError("--orders applies to --point (the highest Lie order computed at the point)")
     if result.observable is None:
         code = EXIT_UNDECIDED
     else:
@@ -395,7 +404,8 @@ def _degenerate(args: argparse.Namespace) -> int:
                 continue
             for drop in r.rank_drops:
                 rank = f"rank {drop.rank}" if drop.rank is not None else (
-                    f"rank below {r.result.rank}" if drop.details.startswith("every maximal minor") else "undecided")
+                    f"rank below {r.result.rank}" if drop.details.startswith("every maximal minor") else
+                    "rank undecided")
                 named = f" ({drop.motion})" if drop.motion else ""
                 print(f"  {r.motion.name}: {rank} when {drop.condition}{named}")
             if r.rank_drops_note:
@@ -464,6 +474,9 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--point", default=None, metavar="NAME=VALUE,...",
                        help="also the rank at this point (exact values such as 1/2; names not given stay generic), "
                             "whether it is singular, and its null space as numbers when the point is fully given")
+    check.add_argument("--orders", type=_count, default=None, metavar="K",
+                       help="with --point: compute the rank there with Lie orders 0..K (default 2n-1, at most n+15); "
+                            "a rank that could still grow is reported as 'at least'")
     check.add_argument("--max-order", type=_count, default=None, metavar="K",
                        help="highest Lie order (default: the order that always suffices)")
     check.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",

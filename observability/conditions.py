@@ -13,6 +13,18 @@ Trigonometric entries enter through tan(a/2) (the exact map of
 reported with its meaning, but not decided (a constraint set must be solved
 rationally in the model's own variables).
 
+A set without a rational solution is reported as a certain rank drop only when
+every maximal minor of the orders 0..n-1 vanishes on it *and* the motion keeps
+it (the factor divides its own derivative along the flow, for every input):
+then the stopping rule holds on the set, and within n orders an order adds
+nothing unless the outputs' gradients all vanish there and the generic rank is
+full (checked). If the motion leaves the set, higher orders may raise the rank
+there (y = x^5/5 - 4x^3/3 + 4x, x' = 1: the order-1 row vanishes where
+x^2 = 2, the order-2 row does not): "undecided". A condition is dropped when
+its set has no real point (one variable: Sturm's count; several: a proven
+real zero from a sign change, or none from a sum of even powers), and says so
+when none was found.
+
 Small models only (``MAX_STATES``): the minor is a symbolic determinant, and the
 whole computation runs under a CPU budget.
 """
@@ -21,6 +33,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import random
 from dataclasses import dataclass
 from typing import Any
 
@@ -38,7 +51,7 @@ from .randomized import randomized_rank
 from .symbolic import _field_matrix, rationalize
 from .system import System
 
-__all__ = ["RankDrop", "rank_drops", "MAX_STATES"]
+__all__ = ["RankDrop", "rank_drops", "has_real_points", "MAX_STATES"]
 
 #: Above this many states the conditions are not attempted (a symbolic
 #: determinant of order r grows fast with r).
@@ -142,6 +155,68 @@ def _real_zeros(factor: sympy.Expr) -> str | None:
     return ", ".join(f"{v} = 0" for v in sorted(variables, key=str))
 
 
+def has_real_points(factor: sympy.Expr, seed: int = 0) -> bool | None:
+    """Whether the polynomial ``factor`` vanishes at some real point: True or False
+    when decided, None when not.
+
+    One variable: Sturm's count of real roots (exact). Several: a sign change
+    between two rational points proves a real zero on the segment between them
+    (intermediate values); a sum of positive even powers plus a positive constant
+    has none; otherwise undecided.
+    """
+    variables = sorted(factor.free_symbols, key=str)
+    if not variables:
+        return bool(factor == 0)
+    if len(variables) == 1:
+        return int(sympy.Poly(factor, *variables).count_roots()) > 0
+    if _real_zeros(factor) == "":
+        return False
+    rng = random.Random(seed)
+    signs = set()
+    for _ in range(400):
+        value = factor.xreplace({v: sympy.Rational(rng.randint(-40, 40), rng.randint(1, 8)) for v in variables})
+        if value == 0:
+            return True
+        signs.add(bool(value > 0))
+        if len(signs) == 2:
+            return True
+    return None
+
+
+def _hypersurface_is_invariant(system: System, factor: sympy.Expr) -> bool:
+    """Whether the motion keeps {factor = 0} for every input: factor divides
+    L_f factor (continuous time) or factor(F(x)) (discrete time)."""
+    f = [system.substitute_values(e) for e in system.dynamics]
+    if system.time == "continuous":
+        image = sum(sympy.diff(factor, x) * fx for x, fx in zip(system.states, f))
+    else:
+        image = factor.xreplace(dict(zip(system.states, f)))
+    numerator = sympy.numer(sympy.together(image))
+    if numerator == 0:
+        return True
+    if not numerator.is_polynomial(*numerator.free_symbols):
+        return False
+    generators = sorted(numerator.free_symbols | factor.free_symbols, key=str)
+    return sympy.rem(numerator, factor, *generators) == 0
+
+
+def _outputs_flat_on(system: System, factor: sympy.Expr) -> bool:
+    """Whether every output's gradient may vanish on {factor = 0} (each component
+    not shown to be off the factor's multiples): then the rank of the order-0 rows
+    there may be 0, and orders 0..n-1 may not reach a stall."""
+    generators = sorted(factor.free_symbols, key=str)
+    for _, h in system.outputs:
+        for x in system.states:
+            component = sympy.numer(sympy.together(system.substitute_values(sympy.diff(h, x))))
+            if component == 0:
+                continue
+            if not component.is_polynomial(*component.free_symbols):
+                return True
+            if sympy.rem(component, factor, *sorted(set(generators) | component.free_symbols, key=str)) != 0:
+                return False
+    return True
+
+
 def _equations(system: System, text: str) -> list[sympy.Expr] | None:
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     out = []
@@ -190,8 +265,10 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
     drops: list[RankDrop] = []
     for factor, divides_all in factors:
         zeros = _real_zeros(factor)
-        if zeros == "":
+        real = has_real_points(factor, seed)
+        if zeros == "" or real is False:
             continue  # no real point satisfies it
+        caveat = "" if real else " (the set may have no real points: none was found)"
         atoms = factor.free_symbols & set(meaning)
         text = str(factor.xreplace({a: sympy.Symbol(str(meaning[a])) for a in atoms}))
         equations = zeros or f"{text} = 0"
@@ -202,13 +279,19 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
         try:
             constraint, fixed = parse_constraints(system, equations)
         except ModelError as exc:
-            if divides_all:
+            if divides_all and _hypersurface_is_invariant(system, factor) and (
+                    generic.rank < system.n or not _outputs_flat_on(system, factor)):
                 drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
-                                      "every maximal minor vanishes on the set (each is divisible by the factor), "
-                                      f"so the rank is below {generic.rank} there (certain); its value is not "
-                                      f"computed: {exc}"))
+                                      "every maximal minor of the orders up to n - 1 vanishes on the set (each is "
+                                      "divisible by the factor) and the motion keeps the set, so the rank is below "
+                                      f"{generic.rank} there (certain); its value is not computed: {exc}{caveat}"))
+            elif divides_all:
+                drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
+                                      "not decided: every maximal minor of the orders up to n - 1 vanishes on the set, "
+                                      "but the motion leaves the set, so higher orders may raise the rank there "
+                                      f"({exc}){caveat}"))
             else:
-                drops.append(RankDrop(text, equations, None, None, f"not decided: {exc}"))
+                drops.append(RankDrop(text, equations, None, None, f"not decided: {exc}{caveat}"))
             continue
         if fixed or constraint is None:
             continue  # an input set to a number: the input profiles of the catalogue cover it
@@ -216,7 +299,8 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
         if on_set.rank is not None:
             if on_set.rank < generic.rank:
                 drops.append(RankDrop(text, equations, on_set.rank, _matching_motion(system, equations),
-                                      f"rank {on_set.rank} on the set: {on_set.details}"))
+                                      f"rank {on_set.rank} on the set: {on_set.details}{caveat}"))
         elif on_set.lower_bound is not None and on_set.lower_bound < generic.rank:
-            drops.append(RankDrop(text, equations, None, _matching_motion(system, equations), on_set.details))
+            drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
+                                  on_set.details + caveat))
     return drops, ""

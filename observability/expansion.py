@@ -82,12 +82,13 @@ def replay(expansion: Expansion, evaluator) -> list[dict[int, int]]:
     return rows
 
 
-def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts: int = 4) -> int:
+def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts: int = 4, constraint=None) -> int:
     """Rank mod p, at a random point, of the rows of expressions ``rows``: their
     values (``gradients=False``, each row a sequence of n expressions) or their
     gradients (each row one expression). The largest rank over the points tried
     (a point where something is singular is skipped); a rank found is a certain
-    lower bound on the generic rank."""
+    lower bound on the generic rank (with ``constraint``, on that set: the points
+    are drawn on it)."""
     rng = random.Random(seed)
     best = 0
     for _ in range(attempts):
@@ -99,6 +100,8 @@ def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts
         ]
         evaluator = TaylorEvaluator(program, system.n, rng, discrete=True)
         try:
+            if constraint is not None:
+                constraint.place(evaluator, system)
             evaluator.extend()
         except Redraw:
             continue
@@ -115,19 +118,25 @@ def point_rank(system: System, rows, *, gradients: bool, seed: int = 0, attempts
 
 
 @functools.lru_cache(maxsize=32)
-def map_is_dominant(system: System, seed: int = 0) -> bool:
-    """Whether the discrete-time map F is a local diffeomorphism at a generic point.
+def map_is_dominant(system: System, seed: int = 0, constraint=None) -> bool:
+    """Whether the discrete-time map F is a local diffeomorphism at a generic point
+    (of the set ``constraint``, when given).
 
-    Decided by the rank of its Jacobian at random points mod p: a full rank there
-    is a proof (a non-zero minor at a point is a non-zero polynomial); anything
-    else is answered False, which only makes the caller compute more orders.
-    Cached per system: every expansion at every random point asks it.
+    Decided by the rank of its Jacobian at random points mod p (drawn on the set):
+    a full rank there is a proof (a non-zero minor at a point is a non-zero
+    polynomial); anything else is answered False, which only makes the caller
+    compute more orders. On a set the test must be made on it: F(x, s) = (G(x) +
+    s x, s) is dominant, but not where s = 0 if G collapses. A full Jacobian at a
+    point of an invariant set S makes F restricted to S a local diffeomorphism of
+    S, which is what the stopping rule needs there. Cached per system and set:
+    every expansion at every random point asks it.
     """
     inputs = {u: step_input(u, 0) for u in system.inputs}
-    return point_rank(system, [f.xreplace(inputs) for f in system.dynamics], gradients=True, seed=seed) == system.n
+    jacobian = [f.xreplace(inputs) for f in system.dynamics]
+    return point_rank(system, jacobian, gradients=True, seed=seed, constraint=constraint) == system.n
 
 
-def stopping_rule(system: System, previous: str = "inverse") -> tuple[int, bool, str]:
+def stopping_rule(system: System, previous: str = "inverse", constraint=None) -> tuple[int, bool, str]:
     """(order that always suffices, whether a first order adding nothing ends it, rule in words).
 
     Continuous time, and discrete time with a dominant map: the codistribution
@@ -141,8 +150,9 @@ def stopping_rule(system: System, previous: str = "inverse") -> tuple[int, bool,
     """
     if system.time == "continuous":
         return system.n - 1, True, "continuous time: stop at the first order that adds nothing"
-    if map_is_dominant(system):
-        return system.n - 1, True, "discrete map of full Jacobian rank: stop at the first order that adds nothing"
+    if map_is_dominant(system, 0, constraint):
+        where = "" if constraint is None else " on the set"
+        return system.n - 1, True, f"discrete map of full Jacobian rank{where}: stop at the first order that adds nothing"
     return system.n, False, "discrete map of deficient Jacobian rank: every order up to n computed"
 
 
@@ -155,12 +165,15 @@ def expand_rows(
     progress: Progress | None = None,
     previous: str = "inverse",
     exhaustive: bool = False,
+    constraint=None,
 ) -> Expansion:
     """Feed the rows of orders 0, 1, ... into ``sink`` until the rank is final.
 
     ``make_evaluator(program, discrete=...)`` builds the evaluator at the point.
     ``max_order`` caps the orders (default: the order that always suffices, see
-    :func:`stopping_rule`); ``exhaustive`` computes every order up to it.
+    :func:`stopping_rule`); ``exhaustive`` computes every order up to it (or
+    to a full rank). ``constraint``: the set the evaluator's points lie on (the
+    discrete stopping rule is decided there).
 
     Raises
     ------
@@ -169,17 +182,17 @@ def expand_rows(
     """
     program = Program(system.states, system.inputs if system.time == "continuous" else (), where=system.name)
     try:
-        return _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive)
+        return _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive, constraint)
     except Redraw as exc:
         exc.source = program.source.get(exc.node, f"node {exc.node}")
         raise
 
 
-def _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive) -> Expansion:
+def _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive, constraint) -> Expansion:
     n = system.n
     labels: list[tuple[str, int]] = []
     roots: list[int] = []
-    sufficient, early_stop, rule = stopping_rule(system, previous)
+    sufficient, early_stop, rule = stopping_rule(system, previous, constraint)
     limit = sufficient if max_order is None else max_order
     if system.time == "continuous":
         for expr in system.dynamics:
@@ -211,7 +224,7 @@ def _expand(system, sink, make_evaluator, program, max_order, progress, previous
         if progress:
             progress(f"order {order}: rank {sink.rank}/{n}")
         grew = sink.rank > before
-        if not exhaustive and (sink.rank == n or (early_stop and not grew)):
+        if sink.rank == n or (not exhaustive and early_stop and not grew):
             return Expansion(order, tuple(labels), program, tuple(roots), True, rule)
         if order >= limit:
             complete = sink.rank == n or order >= sufficient or (early_stop and not grew)

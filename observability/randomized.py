@@ -163,7 +163,7 @@ def _degree_bound(program: Program, system: System, out_roots: list[int], rank: 
 
 
 def _one_point(system: System, rng: random.Random, input_derivatives: int | None, max_order: int | None, progress, previous,
-               constraint=None, exhaustive: bool = False, dense: bool = False):
+               constraint=None, exhaustive: bool = False, prime: int = PRIME, dense: bool = False):
     if dense:
         from .densetaylor import DENSE_PRIME, DenseTaylorEvaluator  # numpy only where this route is taken
 
@@ -172,16 +172,17 @@ def _one_point(system: System, rng: random.Random, input_derivatives: int | None
         def make(program: Program, discrete: bool) -> TaylorEvaluator:
             return DenseTaylorEvaluator(program, system.n, rng, input_degree=input_derivatives)
     else:
-        echelon = _RecordingEchelon(system.n, PRIME)
+        echelon = _RecordingEchelon(system.n, prime)
 
         def make(program: Program, discrete: bool) -> TaylorEvaluator:
-            evaluator = TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
+            evaluator = TaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete,
+                                        p=prime)
             if constraint is not None:
                 constraint.place(evaluator, system)
             return evaluator
 
     expansion = expand_rows(system, echelon, make, max_order=max_order, progress=progress, previous=previous,
-                            exhaustive=exhaustive)
+                            exhaustive=exhaustive, constraint=constraint)
     return echelon, expansion
 
 
@@ -229,6 +230,7 @@ def randomized_rank(
     previous: str = "inverse",
     constraint=None,
     exhaustive: bool = False,
+    prime: int = PRIME,
 ) -> ModularRank:
     """Exact rank of the observability matrix at random points modulo 2^61 - 1.
 
@@ -258,8 +260,12 @@ def randomized_rank(
         Draw the points on this set (the rank at a generic point of the set); the
         degree bound is multiplied by the degree of its parametrisation.
     exhaustive : bool
-        Compute every order up to the one that always suffices, without the
-        early stop (the rank at a special point may grow again after a stall).
+        Compute every order up to ``max_order`` (default: the one that always
+        suffices generically) or a full rank, without the early stop (the rank
+        at a special point may grow again after a stall).
+    prime : int
+        The modulus (2^61 - 1 by default; a point whose given values 2^61 - 1
+        divides is computed modulo another prime).
 
     Raises
     ------
@@ -275,8 +281,8 @@ def randomized_rank(
     best = None
     probability = 1.0
     draws = 0
-    args = (input_derivatives, max_order, progress, previous, constraint, exhaustive)
-    if dense_suits(system, max_order, constraint, exhaustive):
+    args = (input_derivatives, max_order, progress, previous, constraint, exhaustive, prime)
+    if prime == PRIME and dense_suits(system, max_order, constraint, exhaustive):
         from .densetaylor import Unsupported
 
         try:
@@ -299,7 +305,7 @@ def randomized_rank(
         bound = _degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
         if constraint is not None:
             bound *= constraint.degree
-        probability *= min(1.0, bound / PRIME)
+        probability *= min(1.0, bound / prime)
         if probability <= target:
             break
     echelon, expansion = best

@@ -34,6 +34,7 @@ from .system import System
 
 __all__ = [
     "InputProfile", "parse_profile", "with_input_profiles", "with_unknown_inputs", "ConstraintSet", "parse_constraints",
+    "solve_constraints",
     "UNKNOWN_INPUT_ORDER",
 ]
 
@@ -188,7 +189,11 @@ def _split(text: str) -> list[str]:
 
 
 def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
+    """Total degree of ``expr``'s numerator and denominator in ``symbols`` (0 for a
+    constant, also when no symbol is left: every variable was given)."""
     numerator, denominator = sympy.fraction(sympy.cancel(expr))
+    if not symbols:
+        return 0
     return max(sympy.Poly(numerator, *symbols).total_degree(), sympy.Poly(denominator, *symbols).total_degree())
 
 
@@ -243,6 +248,23 @@ class ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree, _invariant(system, dict(self.solution)))
 
+    def with_values(self, system: System, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> ConstraintSet:
+        """This set intersected with ``values`` (a point given on it), solved again.
+
+        Raises
+        ------
+        ModelError
+            The values put the point off the set, or leave it unsolvable.
+        """
+        equations = [s - value for s, value in values.items()]
+        for variable, g in self.solution:
+            equation = sympy.cancel((variable - g).xreplace(dict(values)))
+            if equation.free_symbols:
+                equations.append(equation)
+            elif equation != 0:
+                raise ModelError(f"--point {text}: the point is not on the set {self.text} ({variable} = {g})")
+        return solve_constraints(system, equations, f"{self.text}, {text}")
+
     def place(self, evaluator, system: System) -> None:
         """Move the evaluator's random point onto the set (states and parameter values)."""
         from .taylor import Redraw
@@ -251,7 +273,9 @@ class ConstraintSet:
         index = {s: i for i, s in enumerate(system.states)}
         solved = {v for v, _ in self.solution}
         value: dict[sympy.Symbol, int] = {s: evaluator.point[i] for s, i in index.items()}
-        for symbol in system.parameters:
+        # Parameters with a value were written into the solution when it was parsed;
+        # only the free ones are drawn (once per evaluator, shared with the program).
+        for symbol in system.free_parameters:
             if symbol not in solved:
                 value[symbol] = evaluator.constants.setdefault(symbol, evaluator.rng.randrange(1, p))
         for variable, expr in self.solution:
@@ -285,11 +309,16 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         if len(sides) != 2 or not sides[0].strip() or not sides[1].strip():
             raise ModelError(f"--where: {piece!r} is not an equation lhs = rhs")
         expr = parse_expression(f"({sides[0]}) - ({sides[1]})", names, where=f"--where {piece!r}")
+        # A parameter with a value is that value on the set too (x1 = a with a = 0 is x1 = 0).
+        expr = system.substitute_values(expr)
         if expr.free_symbols & inputs:
             if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
                 raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
             (u,) = expr.free_symbols
-            fixed_inputs[u.name] = str(sympy.solve(expr, u)[0])
+            value = str(sympy.solve(expr, u)[0])
+            if fixed_inputs.get(u.name, value) != value:
+                raise ModelError(f"--where: the input {u.name} is set to {fixed_inputs[u.name]} and to {value}")
+            fixed_inputs[u.name] = value
             continue
         if sympy.expand(expr) == 0:
             continue  # holds everywhere: the set is the whole space
@@ -298,6 +327,19 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         equations.append(expr)
     if not equations:
         return None, fixed_inputs
+    return solve_constraints(system, equations, text), fixed_inputs
+
+
+def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str) -> ConstraintSet:
+    """The set where every expression of ``equations`` (in states and parameters)
+    vanishes, solved rationally: each equation for a variable of degree 1 in it.
+
+    Raises
+    ------
+    ModelError
+        No unique rational solution, or a solved variable inside a
+        transcendental function.
+    """
     order = [s for s in (*system.states, *system.parameters)]
     chosen: list[sympy.Symbol] = []
     for expr in equations:
@@ -306,7 +348,7 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         if not candidates:
             raise ModelError(f"--where: cannot solve {expr} = 0 rationally for a state or parameter")
         chosen.append(candidates[0])
-    solutions = sympy.solve(equations, chosen, dict=True)
+    solutions = sympy.solve(list(equations), chosen, dict=True)
     others = [s for s in order if s not in chosen]
     if len(solutions) != 1 or set(solutions[0]) != set(chosen) or not all(
         v.is_rational_function(*others) and not (v.free_symbols & set(chosen)) for v in solutions[0].values()
@@ -325,7 +367,7 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
                     "variables that enter the model rationally (the engine draws transcendental values independently)"
                 )
     degree = 1 + max(_degree(v, others) for v in solution.values())
-    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution)), fixed_inputs
+    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution))
 
 
 def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr]) -> bool:

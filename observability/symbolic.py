@@ -222,13 +222,45 @@ def null_space(matrix: sympy.Matrix) -> list[list[sympy.Expr]]:
     indeterminates introduced for transcendental functions are mapped back.
     """
     rational, back = rationalize(matrix)
+    # tan(a/2) written back as sin(a)/(1 + cos(a)): the vector must compile again in
+    # the model's own angles (a half angle is refused), and a null vector may be scaled.
+    back = {t: _half_angle_in_full(e) for t, e in back.items()}
     basis = _field_matrix(rational).nullspace().to_Matrix()
     out = []
     for i in range(basis.rows):
         vector = _normalize(list(basis.row(i)))
         while any(e.free_symbols & set(back) for e in vector):  # atoms nested in atoms
             vector = [e.xreplace(back) for e in vector]
-        if back:
+        if any(e.has(sympy.sin, sympy.cos) for e in vector):
+            vector = _on_the_circle(vector)
+        elif back:
             vector = [sympy.simplify(e) for e in vector]
         out.append(vector)
     return out
+
+
+def _on_the_circle(vector: list[sympy.Expr]) -> list[sympy.Expr]:
+    """A null vector in sines and cosines scaled to polynomial entries in (sin a,
+    cos a) reduced by sin^2 + cos^2 = 1, without common factor: (2 s (1 + c),
+    -z ((1 + c)^2 - s^2)) becomes (s, -z c). No ``simplify``: it may rewrite an
+    angle into one the program refuses (x + z + pi/4)."""
+    angles = sorted({e.args[0] for v in vector for e in v.atoms(sympy.sin, sympy.cos)}, key=str)
+    subs, back, circle = {}, {}, []
+    for i, a in enumerate(angles):
+        sine, cosine = sympy.Dummy(f"s{i}"), sympy.Dummy(f"c{i}")
+        subs |= {sympy.sin(a): sine, sympy.cos(a): cosine}
+        back |= {sine: sympy.sin(a), cosine: sympy.cos(a)}
+        circle.append((sine, sine**2 + cosine**2 - 1))
+    entries = [e.xreplace(subs) for e in vector]
+    if any(e.has(sympy.sin, sympy.cos) for e in entries):
+        return vector  # an angle inside an angle: left as it is
+    entries = _normalize(entries)
+    for sine, relation in circle:
+        entries = [sympy.rem(sympy.expand(e), relation, sine) if e.has(sine) else e for e in entries]
+    return [e.xreplace(back) for e in _normalize(entries)]
+
+
+def _half_angle_in_full(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` with every tan(a/2) written as sin(a)/(1 + cos(a))."""
+    return expr.replace(lambda e: isinstance(e, sympy.tan),
+                        lambda e: sympy.sin(2 * e.args[0]) / (1 + sympy.cos(2 * e.args[0])))

@@ -52,7 +52,8 @@ def test_stationary_unicycle_on_the_circle_of_three_beacons():
         [s[f"b{i}x"] ** 2 + s[f"b{i}y"] ** 2, s[f"b{i}x"], s[f"b{i}y"], 1] for i in (1, 2, 3)]).det()
     factor = sympy.sympify(drop.factor, locals=s)
     assert sympy.expand(factor - circle) == 0 or sympy.expand(factor + circle) == 0
-    assert drop.rank is None and drop.details.startswith("every maximal minor vanishes")
+    assert drop.rank is None and drop.details.startswith("every maximal minor of the orders up to n - 1 vanishes")
+    assert "the motion keeps the set" in drop.details and "(certain)" in drop.details
 
 
 def test_one_dimensional_slam_with_a_beacon():
