@@ -203,7 +203,7 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     exact = None
     if final and lower.rank < system.n and not generic_names and not system.inputs and lower.dependence is None:
         exact = _exact_rank(system, lower.orders, values, input_derivatives, previous)
-    return _verdict(system, values, generic, lower, final, generic_names, exact)
+    return _verdict(system, values, generic, lower, final, generic_names, exact, previous)
 
 
 #: CPU seconds for the exact rank over Q at a fully given point.
@@ -227,7 +227,7 @@ def _exact_rank(system: System, orders: int, values, input_derivatives, previous
         return None
 
 
-def _verdict(system, values, generic, lower, final: bool, generic_names, exact: int | None = None) -> PointRank:
+def _verdict(system, values, generic, lower, final: bool, generic_names, exact: int | None, previous: str) -> PointRank:
     """The point's rank with what makes it certain (module docstring), its null space when final."""
     n = system.n
     modulus = lower.modulus
@@ -271,13 +271,14 @@ def _verdict(system, values, generic, lower, final: bool, generic_names, exact: 
             how += ("; the null space is not given as numbers: it depends on the "
                     + ("names drawn at random" if generic_names else "inputs") + " at the point")
         else:
-            null_space, note = _exact_null_space(system, lower.null_space, values, lower.prime)
+            null_space, note = _exact_null_space(system, lower.null_space, values, lower.prime, lower.orders, previous)
             how += f"; {note}"
     return PointRank({k.name: str(v) for k, v in values.items()}, generic_names, lower.rank, n, status, lower.orders,
                      probability, generic_rank, singular, null_space, how)
 
 
-def _exact_null_space(system: System, residues, values, prime: int) -> tuple[tuple[dict[str, str], ...], str]:
+def _exact_null_space(system: System, residues, values, prime: int, orders: int, previous: str
+                      ) -> tuple[tuple[dict[str, str], ...], str]:
     """The null vectors as rationals, checked in ball arithmetic at the point."""
     import numpy as np  # only here: a rank check does not need numpy
 
@@ -293,7 +294,8 @@ def _exact_null_space(system: System, residues, values, prime: int) -> tuple[tup
                 return (), "the null space is not given as numbers: its entries are too large to reconstruct"
             vector[column] = rational
         vectors.append(vector)
-    matrix = float_rank(system, point={k.name: float(v) for k, v in values.items()}).matrix
+    matrix = float_rank(system, point={k.name: float(v) for k, v in values.items()}, max_order=orders,
+                        previous=previous).matrix
     for vector in vectors:
         dense = np.array([float(vector.get(j, 0)) for j in range(system.n)])
         # Each row against the vector, relative to the sizes of their terms: rounding only.
