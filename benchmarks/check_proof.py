@@ -20,6 +20,7 @@ from the model's equations in the file.
 
 from __future__ import annotations
 
+import ast
 import json
 import sys
 
@@ -31,8 +32,55 @@ class Rejected(Exception):
     pass
 
 
+#: Functions a proof's expressions may call; nothing else is ever evaluated.
+_FUNCTIONS = {"sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan, "exp": sympy.exp, "log": sympy.log,
+              "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "Abs": sympy.Abs, "abs": sympy.Abs}
+_BINARY = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
+           ast.Div: lambda a, b: a / b, ast.Pow: lambda a, b: a**b}
+#: Bounds that keep a hostile file from hanging the checker (9**9**9**9).
+MAX_TEXT, MAX_NODES, MAX_EXPONENT = 200_000, 50_000, 1_000
+
+
 def _parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
-    return sympy.sympify(text, locals=dict(symbols))
+    """An expression of a proof file, read by walking its syntax tree: names of
+    the model, numbers, + - * / **, and the calls of ``_FUNCTIONS``. A proof is
+    something people receive from others, so nothing in it is executed
+    (``sympify`` would ``eval`` it)."""
+    if not isinstance(text, (str, int)) or isinstance(text, bool):
+        raise Rejected(f"an expression must be a string, got {type(text).__name__}")
+    text = str(text)
+    if len(text) > MAX_TEXT:
+        raise Rejected(f"an expression of {len(text)} characters (at most {MAX_TEXT})")
+    try:
+        tree = ast.parse(text.replace("^", "**"), mode="eval")
+    except (SyntaxError, ValueError, RecursionError):
+        raise Rejected(f"not an expression: {text[:80]!r}") from None
+    if sum(1 for _ in ast.walk(tree)) > MAX_NODES:
+        raise Rejected(f"an expression of more than {MAX_NODES} syntax nodes")
+    return _node(tree.body, symbols)
+
+
+def _node(node: ast.AST, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+        return sympy.Rational(str(node.value))
+    if isinstance(node, ast.Name) and node.id in symbols:
+        return symbols[node.id]
+    if isinstance(node, ast.Name) and node.id in ("pi", "E"):
+        return sympy.pi if node.id == "pi" else sympy.E
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        operand = _node(node.operand, symbols)
+        return -operand if isinstance(node.op, ast.USub) else operand
+    if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
+        left, right = _node(node.left, symbols), _node(node.right, symbols)
+        if isinstance(node.op, ast.Pow) and not (right.is_Rational and abs(right) <= MAX_EXPONENT):
+            raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
+        if isinstance(node.op, ast.Div) and right == 0:
+            raise Rejected("division by zero in an expression")
+        return _BINARY[type(node.op)](left, right)
+    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
+            and not node.keywords):
+        return _FUNCTIONS[node.func.id](*(_node(a, symbols) for a in node.args))
+    raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
 
 
 def _zero(expr: sympy.Expr) -> bool:
@@ -50,7 +98,7 @@ def check(proof: dict) -> str:
     model = proof["model"]
     symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
     x = [symbols[s] for s in model["states"]]
-    known = {symbols[p]: sympy.sympify(v) for p, v in model["parameters"].items() if v is not None}
+    known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
     f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
     outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
     n, rank = len(x), int(proof["rank"])

@@ -280,6 +280,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
         raise ModelFileError(f"{source}: 'time' must be \"continuous\" or \"discrete\", got {time!r}")
     states, state_vectors = _names(data, "states", source, required=True)
     inputs, input_vectors = _names(data, "inputs", source, required=False)
+    # An unknown input need not be listed among the inputs as well (scalar names).
+    inputs += [n for n in _names(data, "unknown_inputs", source, required=False)[0]
+               if n not in inputs and n not in input_vectors]
     raw_params = data.get("parameters", [])
     parameters: list[str] | dict[str, Any]
     parameter_vectors: dict[str, tuple[str, ...]] = {}

@@ -194,6 +194,13 @@ class System:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
         x = _symbols(states, "state")
+        inputs, unknown_inputs = list(inputs), [normal_name(str(n), "unknown input") for n in unknown_inputs]
+        twice = next((n for i, n in enumerate(unknown_inputs) if n in unknown_inputs[:i]), None)
+        if twice is not None:
+            raise ModelError(f"unknown input {twice!r} is listed twice")
+        # An unknown input is an input nobody measures: listing it among the inputs is optional.
+        listed = {str(i) for i in inputs}
+        inputs += [n for n in unknown_inputs if n not in listed]
         u = _symbols(inputs, "input")
         values: dict[sympy.Symbol, sympy.Expr] = dict(parameter_values)
         if isinstance(parameters, Mapping):
@@ -278,7 +285,7 @@ class System:
         if not all(isinstance(m, Motion) for m in motions):
             raise ModelError("motions must be Motion objects")
         object.__setattr__(self, "motions", motions)
-        unknown = [normal_name(str(n), "unknown input") for n in unknown_inputs]
+        unknown = unknown_inputs
         if unknown_input_order is not None and not unknown:
             raise ModelError("unknown_input_order is given but there are no unknown inputs")
         if unknown:

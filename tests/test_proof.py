@@ -202,3 +202,33 @@ def test_rational_identities_agree_with_cancel_and_reject_a_wrong_field(monkeypa
     # The expression route, forced, agrees on the good field.
     monkeypatch.setattr("observability.proof._rational_identities", lambda *args: None)
     assert _identities(system, [good]) is True
+
+
+def test_the_checker_executes_nothing_from_a_proof_file(tmp_path):
+    """A proof file comes from others: a payload in a parameter value, a dynamics
+    entry or a generator must be refused without running (the marker file is
+    never created), and 9**9**9**9 must be refused, not computed. sympify, which
+    the checker used, calls eval on all of these."""
+    checker = _checker()
+    proof = json.loads(json.dumps(proof_evidence(models.build("slam1.5d"), analyze(models.build("slam1.5d"), seed=4))))
+    marker = tmp_path / "PWNED"
+    payload = f'__import__("os").system("touch {marker}")'
+    places = [("model", "parameters", "f"), ("model", "dynamics", "c"), ("model", "outputs", "y2")]
+    for path in places:
+        tampered = json.loads(json.dumps(proof))
+        target = tampered
+        for key in path[:-1]:
+            target = target[key]
+        assert path[-1] in target
+        target[path[-1]] = payload
+        with pytest.raises(checker.Rejected, match="not allowed"):
+            checker.check(tampered)
+    tampered = json.loads(json.dumps(proof))
+    tampered["model"]["dynamics"]["c"] = "9**9**9**9"
+    with pytest.raises(checker.Rejected, match="exponent"):
+        checker.check(tampered)
+    tampered = json.loads(json.dumps(proof))
+    tampered["model"]["dynamics"]["c"] = "().__class__"
+    with pytest.raises(checker.Rejected, match="not allowed"):
+        checker.check(tampered)
+    assert not marker.exists()

@@ -251,14 +251,7 @@ def test_null_vectors_in_the_models_own_angles(output):
     (dg/dz, -dg/dx). The symbolic null vector was written in tan(x/2), which the
     program refuses to compile again; now it is written in sin and cos, and it
     must annihilate the gradient (checked here by sympy, trigsimp)."""
-    system = _model(f"""
-        states = ["x", "z"]
-        [dynamics]
-        x = "0"
-        z = "0"
-        [outputs]
-        y = "{output}"
-    """)
+    system = _planar("0", "0", output)
     x, z = system.states
     g = system.outputs[0][1]
     for method in ("random", "symbolic"):
@@ -270,21 +263,38 @@ def test_null_vectors_in_the_models_own_angles(output):
         assert sympy.simplify(sympy.expand_trig(sympy.diff(g, x) * v[0] + sympy.diff(g, z) * v[1])) == 0
 
 
+def _planar(fx, fz, y):
+    """States x, z with x' = fx, z' = fz and the output y."""
+    return _model(f"""
+        states = ["x", "z"]
+        [dynamics]
+        x = "{fx}"
+        z = "{fz}"
+        [outputs]
+        y = "{y}"
+    """)
+
+
+def _drifting(y1):
+    """x' = 1, z' = 0 with outputs y1 and y2 = z."""
+    return _model(f"""
+        states = ["x", "z"]
+        [dynamics]
+        x = "1"
+        z = "0"
+        [outputs]
+        y1 = "{y1}"
+        y2 = "z"
+    """)
+
+
 def test_a_condition_off_the_flow_is_not_a_certain_drop():
     """x' = 1, z' = 0, y1 = x^5/5 - 4x^3/3 + 4x, y2 = z: y1' = (x^2 - 2)^2
     vanishes where x^2 = 2, but y1'' = 4x(x^2 - 2) ... and y1''' = 4(3x^2 - 2) = 16
     there: the order-3 row restores the rank (y1 is strictly increasing, the
     system observable everywhere). The motion leaves x^2 = 2, so the drop must not
     be called certain."""
-    system = _model("""
-        states = ["x", "z"]
-        [dynamics]
-        x = "1"
-        z = "0"
-        [outputs]
-        y1 = "x**5/5 - 4*x**3/3 + 4*x"
-        y2 = "z"
-    """)
+    system = _drifting("x**5/5 - 4*x**3/3 + 4*x")
     x, z = system.states
     h = [x**5 / 5 - 4 * x**3 / 3 + 4 * x, z]
     assert _exact_rank([x, z], [1, 0], h, {x: sympy.sqrt(2), z: 1}, 3) == 2
@@ -295,15 +305,7 @@ def test_a_condition_off_the_flow_is_not_a_certain_drop():
 def test_a_condition_without_real_points_is_dropped():
     """y1 = x^3 - 3x^2 + 6x + z, y2 = z: y1' = 3((x - 1)^2 + 1) never vanishes
     on the reals, so there is no rank drop to report."""
-    system = _model("""
-        states = ["x", "z"]
-        [dynamics]
-        x = "1"
-        z = "0"
-        [outputs]
-        y1 = "x**3 - 3*x**2 + 6*x + z"
-        y2 = "z"
-    """)
+    system = _drifting("x**3 - 3*x**2 + 6*x + z")
     drops, note = rank_drops(system, analyze(system, seed=1), seed=1)
     assert (drops, note) == ([], "")
 
@@ -329,14 +331,7 @@ def test_property_point_rank_never_exceeds_the_exact_rank():
         f, h = [poly(), poly()], [poly()]
         if all(e == 0 for e in h) or not h[0].free_symbols:
             continue
-        system = _model(f"""
-            states = ["x", "z"]
-            [dynamics]
-            x = "{f[0]}"
-            z = "{f[1]}"
-            [outputs]
-            y = "{h[0]}"
-        """)
+        system = _planar(f[0], f[1], h[0])
         point = {x: rng.randint(-2, 2), z: rng.randint(-2, 2)}
         try:
             generic = analyze(system, seed=1, directions=False)
@@ -402,3 +397,47 @@ def _alive(pid):
             return stat.read().rsplit(")", 1)[1].split()[0] != "Z"
     except OSError:
         return False
+
+
+def test_an_unknown_input_need_not_be_listed_among_the_inputs():
+    """`unknown_inputs = ["a"]` alone, as the README shows it: p' = v, v' = a,
+    y = p. With the default polynomial model (a, a', a'' states, a''' = 0) the
+    chain y, y' = v, y'' = a, y''' = a', y'''' = a'' reads every state: rank 5;
+    listing `a` among the inputs as well gives the same system."""
+    alone = _model("""
+        states = ["p", "v"]
+        unknown_inputs = ["a"]
+        [dynamics]
+        p = "v"
+        v = "a"
+        [outputs]
+        y = "p"
+    """)
+    listed = _model("""
+        states = ["p", "v"]
+        inputs = ["a"]
+        unknown_inputs = ["a"]
+        [dynamics]
+        p = "v"
+        v = "a"
+        [outputs]
+        y = "p"
+    """)
+    assert [s.name for s in alone.states] == [s.name for s in listed.states] == ["p", "v", "a", "a_d1", "a_d2"]
+    assert analyze(alone, seed=1).rank == 5
+
+
+def test_an_input_set_twice_on_a_set_is_refused():
+    """`--where "u = 0, u = 1"` used to analyse u = 1."""
+    system = _model("""
+        states = ["x"]
+        inputs = ["u"]
+        [dynamics]
+        x = "u"
+        [outputs]
+        y = "x"
+    """)
+    from observability.errors import ModelError
+
+    with pytest.raises(ModelError, match="the input u is set to 0 and to 1"):
+        parse_constraints(system, "u = 0, u = 1")
