@@ -159,6 +159,8 @@ def with_unknown_inputs(system: System, unknown: Sequence[str], order: int = UNK
     for name in unknown:
         if name not in names:
             raise ModelError(f"unknown input {name!r} is not an input of {system.name} (inputs: {', '.join(names)})")
+        if not any(names[name] in e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))):
+            raise ModelError(f"unknown input {name!r} is not an input of {system.name}'s equations: it appears in none")
         chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, order + 1)]
         clash = [s.name for s in chain[1:] if s.name in taken]
         if clash:
