@@ -263,29 +263,22 @@ def test_null_vectors_in_the_models_own_angles(output):
         assert sympy.simplify(sympy.expand_trig(sympy.diff(g, x) * v[0] + sympy.diff(g, z) * v[1])) == 0
 
 
-def _planar(fx, fz, y):
-    """States x, z with x' = fx, z' = fz and the output y."""
+def _planar(fx, fz, *outputs):
+    """States x, z with x' = fx, z' = fz and the outputs y1, y2, ... (y alone for one)."""
+    names = ["y"] if len(outputs) == 1 else [f"y{i}" for i in range(1, len(outputs) + 1)]
+    table = "\n".join(f'{name} = "{y}"' for name, y in zip(names, outputs))
     return _model(f"""
         states = ["x", "z"]
         [dynamics]
         x = "{fx}"
         z = "{fz}"
         [outputs]
-        y = "{y}"
-    """)
+""" + table + "\n")
 
 
 def _drifting(y1):
     """x' = 1, z' = 0 with outputs y1 and y2 = z."""
-    return _model(f"""
-        states = ["x", "z"]
-        [dynamics]
-        x = "1"
-        z = "0"
-        [outputs]
-        y1 = "{y1}"
-        y2 = "z"
-    """)
+    return _planar("1", "0", y1, "z")
 
 
 def test_a_condition_off_the_flow_is_not_a_certain_drop():
@@ -362,7 +355,7 @@ def test_a_budgeted_child_dies_with_its_parent():
     parent = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     assert parent.stdout.readline().strip() == "started"
     children = []
-    for _ in range(200):
+    for _ in range(1200):
         children = _children(parent.pid)
         if children:
             break
@@ -370,7 +363,7 @@ def test_a_budgeted_child_dies_with_its_parent():
     assert children, "the budgeted child was not started"
     parent.send_signal(signal.SIGKILL)
     parent.wait()
-    for _ in range(200):
+    for _ in range(1200):
         if not any(_alive(pid) for pid in children):
             break
         time.sleep(0.05)
@@ -404,25 +397,15 @@ def test_an_unknown_input_need_not_be_listed_among_the_inputs():
     y = p. With the default polynomial model (a, a', a'' states, a''' = 0) the
     chain y, y' = v, y'' = a, y''' = a', y'''' = a'' reads every state: rank 5;
     listing `a` among the inputs as well gives the same system."""
-    alone = _model("""
-        states = ["p", "v"]
-        unknown_inputs = ["a"]
+    body = """
         [dynamics]
         p = "v"
         v = "a"
         [outputs]
         y = "p"
-    """)
-    listed = _model("""
-        states = ["p", "v"]
-        inputs = ["a"]
-        unknown_inputs = ["a"]
-        [dynamics]
-        p = "v"
-        v = "a"
-        [outputs]
-        y = "p"
-    """)
+    """
+    alone = _model('states = ["p", "v"]\nunknown_inputs = ["a"]\n' + body)
+    listed = _model('states = ["p", "v"]\ninputs = ["a"]\nunknown_inputs = ["a"]\n' + body)
     assert [s.name for s in alone.states] == [s.name for s in listed.states] == ["p", "v", "a", "a_d1", "a_d2"]
     assert analyze(alone, seed=1).rank == 5
 
