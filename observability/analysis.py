@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import random
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -24,6 +25,7 @@ from .budget import Undecided, paused_collection, with_budget
 from .symbolic import null_space, observability_rows, symbolic_rank
 from .symmetry import independent_basis, verify_all
 from .system import System
+from .unknown import compensated_symmetries, jet_rank
 
 __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 
@@ -35,6 +37,8 @@ PROOFS = {
     "lower bound": "lower bound (the rank is certainly not lower; a higher rank is excluded only with the "
     "stated probability)",
     "numerical": "numerical (singular values in floating point; not a proof)",
+    "randomized": "randomized (exact arithmetic mod p at a random point: wrong with at most the stated probability; "
+    "the unobservable directions shown are proven as identities)",
 }
 
 #: How many states or vector components ``--brief`` text shows.
@@ -130,6 +134,7 @@ class ObservabilityResult:
     observable_functions: tuple[str, ...] | None = None
     proof: str | None = None
     unknown_inputs: tuple[str, ...] = ()  # inputs modelled as states (observable_states says which are)
+    unknown_input_model: str = ""  # what is assumed of them, in words
     restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
 
     @property
@@ -161,13 +166,14 @@ class ObservabilityResult:
                 {u: u in self.observable_states for u in self.unknown_inputs}
                 if self.observable_states is not None else dict.fromkeys(self.unknown_inputs)
             ),
+            "unknown_input_model": self.unknown_input_model,
             "restriction": self.restriction,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
             "observable_functions": (
                 list(self.observable_functions) if self.observable_functions is not None else None
             ),
             "unobservable_states": (
-                list(self.unobservable_states) if self.rank is not None and self.observable_states is not None else None
+                list(self.unobservable_states) if self.observable is not None and self.observable_states is not None else None
             ),
             "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
             "singular_values": list(self.singular_values) if self.singular_values is not None else None,
@@ -176,7 +182,7 @@ class ObservabilityResult:
         }
 
     def verdict(self) -> str:
-        if self.rank is None:
+        if self.observable is None:
             return "undecided"
         return "observable" if self.observable else "NOT observable"
 
@@ -218,12 +224,15 @@ class ObservabilityResult:
 
         lines = [
             f"{self.model}: {self.verdict()}"
-            + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None else ""),
+            + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None
+               else f" (rank undecided, of {self.n_states})" if self.observable is not None else ""),
             f"  method: {self.method}; {self.details}",
         ]
         if self.restriction:
             lines.insert(1, f"  restricted to: {self.restriction}")
-        if self.rank is not None:
+        if self.unknown_input_model:
+            lines.append(f"  unknown inputs {', '.join(self.unknown_inputs)}: {self.unknown_input_model}")
+        if self.observable is not None:
             lines.append(f"  proof: {PROOFS.get(self.proof, self.proof)}")
             lines.append(f"  Lie orders used: 0..{self.orders}")
             lines.append(f"  observable states: {states(self.observable_states)}")
@@ -240,6 +249,96 @@ class ObservabilityResult:
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
+
+
+def arbitrary_inputs_verdict(system: System, seed: int | None, input_derivatives: int | None, max_order: int | None,
+                             budget: float | None, progress, start: float) -> ObservabilityResult:
+    """The verdict on a system whose unknown inputs may be any smooth function of
+    time (:mod:`observability.unknown`): observable from the rows of orders
+    0..2n (``max_order``), not observable only where a compensated symmetry
+    proves it, undecided in between."""
+    if seed is None:
+        seed = random.SystemRandom().randrange(2**32)
+    orders = 2 * system.n if max_order is None else max_order
+    jet = jet_rank(system, seed=seed, orders=orders, input_derivatives=input_derivatives, progress=progress)
+    targets, found = jet.targets, set(jet.observable)
+    common = dict(model=system.name, states=targets, method="random", seed=seed, orders=jet.orders,
+                  time=system.time, unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system))
+    how = (f"exact rank mod 2^61-1 of the output derivatives of orders 0..{jet.orders} at a random point "
+           f"(seed {seed}); wrong with probability <= {jet.error_probability:.1e} (Schwartz-Zippel)")
+    if jet.related_atoms:
+        return ObservabilityResult(rank=None, observable=None, error_probability=None, observable_states=None,
+                                   unobservable_directions=(), seconds=time.perf_counter() - start,
+                                   details=f"undecided: the model's transcendental terms are related ({jet.related_atoms}), "
+                                   "so a rank mod p at a point is not trusted with unknown inputs", **common)
+    if len(found) == len(targets):
+        return ObservabilityResult(
+            rank=len(targets), observable=True, error_probability=jet.error_probability, observable_states=targets,
+            unobservable_directions=(), seconds=time.perf_counter() - start, details=how, proof="randomized", **common)
+    fields, note = _compensated(system, budget)
+    moved = {system.states[i].name for f in fields for i, c in enumerate(f.vector) if c != 0}
+    moved |= {u for f in fields for u in f.moved_inputs}
+    span = _field_rank(fields, system)
+    directions = tuple(_compensated_direction(f, system) for f in fields)
+    classified = found | moved == set(targets)
+    rank = jet.rank if classified and jet.rank + span == len(targets) else None
+    listing = (f"at orders 0..{jet.orders} the outputs determine {jet.rank} of {len(targets)} directions ({how}); "
+               f"{span} independent compensated symmetries (proven) leave at most {len(targets) - span}")
+    if moved & found or not moved:
+        return ObservabilityResult(
+            rank=None, observable=None, error_probability=None, observable_states=None,
+            unobservable_directions=directions, seconds=time.perf_counter() - start,
+            details=(f"undecided: {listing}; observable: {_state_list(tuple(t for t in targets if t in found))}; "
+                     + ("the symmetries move states found observable (a wrong point?)" if moved & found else
+                        "no compensated symmetry of degree <= 1 proves the rest not observable"
+                        + (f" ({note})" if note else "") + "; more orders (--max-order) may show more")), **common)
+    unknown = [t for t in targets if t not in found | moved]
+    return ObservabilityResult(
+        rank=rank, observable=False, error_probability=jet.error_probability,
+        observable_states=tuple(t for t in targets if t in found) if classified else None,
+        unobservable_directions=directions, seconds=time.perf_counter() - start,
+        details=listing + ("" if rank is not None else f"; the rank is undecided between {jet.rank} (at these orders) "
+                           f"and {len(targets) - span}") + (f"; neither shown observable nor moved: "
+                                                          f"{_state_list(tuple(unknown))}" if unknown else ""),
+        proof="randomized", lower_bound=jet.rank if rank is None else None, **common)
+
+
+def _compensated(system: System, budget: float | None) -> tuple[list, str]:
+    """:func:`compensated_symmetries` within the CPU budget (none found when it runs out)."""
+    try:
+        return with_budget(compensated_symmetries, system, seconds=DIRECTIONS_BUDGET if budget is None
+                           else min(budget, DIRECTIONS_BUDGET))
+    except Undecided as exc:
+        return [], str(exc)
+
+
+def _field_rank(fields: list, system: System) -> int:
+    """The rank of the fields' state parts at a random rational point: a
+    certain lower bound on the generic rank of the fields with their
+    compensations, so states + inputs minus it bounds the rank from above."""
+    if not fields:
+        return 0
+    rng = random.Random(1)
+    at = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for s in system.states}
+    return sympy.Matrix([[c.xreplace(at) for c in f.vector] for f in fields]).rank()
+
+
+def _compensated_direction(field, system: System) -> UnobservableDirection:
+    name, description = classify(list(field.vector), system)
+    compensation = (f"; the unknown input{'s' if len(field.moved_inputs) > 1 else ''} "
+                    f"{', '.join(field.moved_inputs)} compensate{'s' if len(field.moved_inputs) == 1 else ''}"
+                    if field.moved_inputs else "")
+    return UnobservableDirection(name, _vector(system.states, list(field.vector)), description + compensation)
+
+
+def input_model(system: System) -> str:
+    """What the verdict assumes of the unknown inputs, in words ("" without any)."""
+    if not system.unknown_inputs:
+        return ""
+    if system.unknown_input_degree is None:
+        return "any smooth functions of time (no derivative assumed zero)"
+    return (f"polynomials in time of degree {system.unknown_input_degree} (an assumption: unknown_input_degree; "
+            "an input that may change arbitrarily can make fewer states observable)")
 
 
 def _state_list(names: tuple[str, ...] | None) -> str:
@@ -334,7 +433,8 @@ def _on_set(
     names = tuple(s.name for s in system.states)
     common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
                   unobservable_directions=(), time=system.time, row_labels=result.row_labels,
-                  unknown_inputs=system.unknown_inputs, restriction=f"the set {where.text}")
+                  unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system),
+                  restriction=f"the set {where.text}")
     rank = result.rank
     reason = ""
     if result.dependence is not None:
@@ -486,6 +586,10 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
     if input_derivatives is not None and input_derivatives < 0:
         raise ModelError(f"input_derivatives must be a non-negative integer, got {input_derivatives}")
     start = time.perf_counter()
+    if system.arbitrary_inputs:
+        if method != "random" or where is not None or point is not None:
+            system.require_known_inputs(f"the {method} method" + (" on a set" if where is not None else ""))
+        return arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start)
     if system.time == "discrete" and previous == "inverse":
         system = eliminate_previous_state(system, previous)
     if where is not None:
@@ -503,7 +607,7 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
             model=system.name, states=names, rank=None, observable=None, method=method, seed=seed,
             error_probability=None, orders=orders, observable_states=None, unobservable_directions=(),
             seconds=time.perf_counter() - start, details=f"undecided: {details}", time=system.time,
-            lower_bound=lower,
+            lower_bound=lower, unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system),
         )
 
     def truncated(rank: int, orders: int, rule: str, certain: bool) -> ObservabilityResult:
@@ -666,4 +770,5 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         observable_functions=functions,
         proof=proof,
         unknown_inputs=system.unknown_inputs,
+        unknown_input_model=input_model(system),
     )

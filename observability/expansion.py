@@ -180,6 +180,7 @@ def expand_rows(
     Redraw
         The point hit a pole; ``source`` names the expression.
     """
+    system.require_known_inputs("the observability matrix")
     program = Program(system.states, system.inputs if system.time == "continuous" else (), where=system.name)
     try:
         return _expand(system, sink, make_evaluator, program, max_order, progress, previous, exhaustive, constraint)

@@ -140,6 +140,7 @@ def lie_derivatives(
         For order k = 0, 1, 2, ...: one row per output, L_f^k h (continuous) or
         h(F^k(x)) (discrete), with known parameter values substituted.
     """
+    system.require_known_inputs("the Lie derivatives")
     if system.time == "continuous":
         return _continuous(system, input_derivatives)
     blocks = _compositions(system, previous, lambda expr, at: expr.xreplace(at), lambda symbol: symbol)

@@ -7,8 +7,8 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     states = ["x", "y", "th"]
     inputs = ["v", "w"]
     parameters = ["bx", "by"]         # or a table: [parameters] f = 20
-    unknown_inputs = ["w"]            # optional, continuous time: inputs nobody measures, estimated
-    unknown_input_order = 2           #   with their first 2 derivatives (a polynomial in time)
+    unknown_inputs = ["w"]            # optional, continuous time: inputs nobody measures (any smooth function of time)
+    unknown_input_degree = 2          #   optional: assume instead polynomials in time of degree 2 (stated in the verdict)
     [dynamics]                        # continuous: time derivatives; discrete: next-state values
     x = "v*cos(th)"
     y = "v*sin(th)"
@@ -82,7 +82,7 @@ MAX_VECTOR_SIZE = 10_000
 _VECTOR = re.compile(r"^(\w+)\[(\d+)\]$")
 
 _KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities",
-         "unknown_inputs", "unknown_input_order", "motions"}
+         "unknown_inputs", "unknown_input_degree", "motions"}
 
 
 def load_model(path: str | Path) -> System:
@@ -269,6 +269,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
+    if "unknown_input_order" in data:
+        raise ModelFileError(f"{source}: 'unknown_input_order' is now 'unknown_input_degree' (a polynomial model of the "
+                             "unknown inputs, an assumption); without it an unknown input may be any function of time")
     unknown = sorted(set(data) - _KEYS)
     if unknown:
         raise ModelFileError(f"{source}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(_KEYS))})")
@@ -323,9 +326,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
     unknown_inputs = [c for n in _names(data, "unknown_inputs", source, required=False)[0]
                       for c in input_vectors.get(n, (n,))]
     motions = _motions(data.get("motions", {}), input_vectors, source)
-    order = data.get("unknown_input_order")
-    if order is not None and (isinstance(order, bool) or not isinstance(order, int) or not 0 <= order <= 20):
-        raise ModelFileError(f"{source}: 'unknown_input_order' must be an integer from 0 to 20, got {order!r}")
+    degree = data.get("unknown_input_degree")
+    if degree is not None and (isinstance(degree, bool) or not isinstance(degree, int) or not 0 <= degree <= 20):
+        raise ModelFileError(f"{source}: 'unknown_input_degree' must be an integer from 0 to 20, got {degree!r}")
     quantities = _table(data, "quantities", source, required=False) or {}
     quantities = _entries(quantities, "quantities", source, names, vectors, expanded=vector_values)
     latex_names = dict(_table(data, "latex", source, required=False) or {})
@@ -349,7 +352,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
             latex_names=latex_names,
             quantities=quantities,
             unknown_inputs=unknown_inputs,
-            unknown_input_order=order,
+            unknown_input_degree=degree,
             motions=motions,
         )
     except ModelFileError as exc:

@@ -97,8 +97,10 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
     Raises
     ------
     ModelError
-        A motion whose equations or profiles do not fit the model (named).
+        A motion whose equations or profiles do not fit the model (named), or
+        unknown inputs that may be any function of time (a motion fixes inputs).
     """
+    system.require_known_inputs("the degenerate-motion scan")
     out: list[MotionResult] = []
     generic: ObservabilityResult | None = None
     for motion in motions if motions is not None else catalogue(system):

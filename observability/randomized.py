@@ -10,7 +10,7 @@ otherwise the caller certifies the rank at a real point
 deficient rank can be wrong: when a non-zero minor of
 degree at most D vanishes at the random point, which by the Schwartz-Zippel
 lemma happens with probability at most D / p. D is bounded from the degrees of
-the compiled expressions (see :func:`_degree_bound`); further independent points
+the compiled expressions (see :func:`degree_bound`); further independent points
 are drawn until the stated probability is below ``target``.
 
 Nothing is rounded: sin and cos of an argument take a rational point of the unit
@@ -32,7 +32,7 @@ from .program import Op, Program
 from .system import System
 from .taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["ModularRank", "randomized_rank", "dense_suits"]
+__all__ = ["ModularRank", "randomized_rank", "dense_suits", "degree_bound"]
 
 _ATOMS = (Op.TRIG, Op.EXP, Op.LOG, Op.ATAN2, Op.SQRT)
 _MAX_ATTEMPTS = 64
@@ -124,7 +124,7 @@ def _height(program: Program, node: int) -> int:
     return num + den
 
 
-def _degree_bound(program: Program, system: System, out_roots: list[int], rank: int, order: int) -> int:
+def degree_bound(program: Program, system: System, out_roots: list[int], rank: int, order: int) -> int:
     """Bound on the total degree of the numerator of any ``rank`` x ``rank`` minor.
 
     Continuous time: with every random quantity (states, parameters, input
@@ -302,7 +302,7 @@ def randomized_rank(
             probability = 0.0
             break
         # The rank is too low only if a minor one larger than it vanishes at the point.
-        bound = _degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
+        bound = degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
         if constraint is not None:
             bound *= constraint.degree
         probability *= min(1.0, bound / prime)
@@ -325,7 +325,7 @@ def _result(system: System, seed: int, echelon: _RecordingEchelon, expansion, pr
         seed=seed,
         observable_columns=tuple(echelon.determined_columns()),
         null_space=tuple(echelon.null_space()),
-        degree_bound=_degree_bound(
+        degree_bound=degree_bound(
             expansion.program, system, list(expansion.output_roots), min(rank + 1, system.n), expansion.orders
         ),
         complete=expansion.complete,

@@ -35,12 +35,7 @@ from .system import System
 __all__ = [
     "InputProfile", "parse_profile", "with_input_profiles", "with_unknown_inputs", "ConstraintSet", "parse_constraints",
     "solve_constraints",
-    "UNKNOWN_INPUT_ORDER",
 ]
-
-#: Default degree d of an unknown input's polynomial model: the input and its
-#: first two derivatives are unknowns (an unknown acceleration with unknown jerk).
-UNKNOWN_INPUT_ORDER = 2
 
 _DEGREE = re.compile(r"^degree\s*=\s*(\d+)$")
 
@@ -95,11 +90,12 @@ def with_input_profiles(
         An unknown input name; ``degree=K`` in discrete time; inputs left with
         different degrees (the engine bounds all inputs' derivatives alike).
     """
-    names = {u.name: u for u in system.inputs}
+    # An arbitrary unknown input has no profile: it is not known.
+    names = {u.name: u for u in system.inputs if u not in system.arbitrary_inputs}
     for key in profiles:
         if key not in names:
             raise ModelError(
-                f"--input {key}: not an input of {system.name} (inputs: {', '.join(names) or 'none'})"
+                f"--input {key}: not a known input of {system.name} (known inputs: {', '.join(names) or 'none'})"
             )
     chosen = {name: profiles.get(name, default) for name in names}
     zero = {names[n]: sympy.Integer(0) for n, p in chosen.items() if p and p.kind == "zero"}
@@ -135,23 +131,27 @@ def with_input_profiles(
     return restricted, input_derivatives
 
 
-def with_unknown_inputs(system: System, unknown: Sequence[str], order: int = UNKNOWN_INPUT_ORDER) -> System:
-    """The extended system in which the inputs ``unknown`` are states.
+def with_unknown_inputs(system: System, unknown: Sequence[str], degree: int | None) -> System:
+    """The system in which the inputs ``unknown`` are unknown.
 
-    Each unknown input w becomes the states w, w_d1, ..., w_d{order} with
-    w' = w_d1, ..., w_d{order}' = 0.
+    ``degree`` None: each may be any smooth function of time; the system keeps
+    it as an input and records it (:attr:`System.arbitrary_inputs`), and only
+    :mod:`observability.unknown` analyses it. ``degree`` K: each is a polynomial
+    in time of degree K (an assumption, stated with the verdict), and w becomes
+    the states w, w_d1, ..., w_dK with w' = w_d1, ..., w_dK' = 0.
 
     Raises
     ------
     ModelError
-        A name that is not an input, a discrete-time system, or a negative order.
+        A name that is not an input of the equations, a discrete-time system, a
+        negative degree, or a derivative's name already taken.
     """
     if not unknown:
         return system
     if system.time != "continuous":
         raise ModelError("unknown inputs are modelled in continuous time (their derivatives become states)")
-    if order < 0:
-        raise ModelError(f"the order of an unknown input's model must be >= 0, got {order}")
+    if degree is not None and degree < 0:
+        raise ModelError(f"the degree of an unknown input's polynomial model must be >= 0, got {degree}")
     names = {u.name: u for u in system.inputs}
     taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}
     states = list(system.states)
@@ -161,18 +161,23 @@ def with_unknown_inputs(system: System, unknown: Sequence[str], order: int = UNK
             raise ModelError(f"unknown input {name!r} is not an input of {system.name} (inputs: {', '.join(names)})")
         if not any(names[name] in e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))):
             raise ModelError(f"unknown input {name!r} is not an input of {system.name}'s equations: it appears in none")
-        chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, order + 1)]
+        if degree is None:
+            continue
+        chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, degree + 1)]
         clash = [s.name for s in chain[1:] if s.name in taken]
         if clash:
             raise ModelError(f"unknown input {name}: the name {clash[0]!r} of its derivative is already taken")
         states += chain
         dynamics += [*chain[1:], sympy.Integer(0)]
+    if degree is None:
+        return system.replace(unknown_inputs=(*system.unknown_inputs, *unknown), unknown_input_degree=None)
     return system.replace(
         states=states,
         dynamics=dynamics,
         inputs=[u for u in system.inputs if u.name not in unknown],
         symmetries=(),
         unknown_inputs=(*system.unknown_inputs, *unknown),
+        unknown_input_degree=degree,
     )
 
 

@@ -133,11 +133,14 @@ class System:
         documents (default: :func:`~observability.notation.latex_name`). Checked
         against a whitelist of safe LaTeX.
     unknown_inputs : sequence of str, optional
-        Continuous time: inputs nobody measures. Each becomes a state, with its
-        first ``unknown_input_order`` derivatives
+        Continuous time: inputs nobody measures. By default each may be any
+        smooth function of time (:mod:`observability.unknown` decides the rank);
+        with ``unknown_input_degree`` it is a polynomial in time of that degree,
+        an assumption: the input and its derivatives become states
         (:func:`~observability.restrictions.with_unknown_inputs`).
-    unknown_input_order : int
-        Degree of the polynomial-in-time model of each unknown input (default 2).
+    unknown_input_degree : int, optional
+        The degree of the polynomial-in-time model of each unknown input (None:
+        an arbitrary smooth input).
     motions : sequence of Motion, optional
         Motions that make sense for this model's kinematics, examined by
         :func:`~observability.motions.degenerate_motions` (checked when used).
@@ -171,6 +174,7 @@ class System:
     quantity_source: Any = field(default=(), compare=False, repr=False)
     unknown_inputs: tuple[str, ...] = ()
     motions: tuple[Motion, ...] = field(default=(), compare=False)
+    unknown_input_degree: int | None = None
 
     def __init__(
         self,
@@ -188,7 +192,7 @@ class System:
         latex_names: Mapping[str, str] | Iterable[tuple[str, str]] = (),
         quantities: Mapping[str, Any] | Iterable[tuple[Any, Any]] | Callable[[], Mapping[str, Any]] = (),
         unknown_inputs: Iterable[str] = (),
-        unknown_input_order: int | None = None,
+        unknown_input_degree: int | None = None,
         motions: Iterable[Motion] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
@@ -281,20 +285,19 @@ class System:
             known |= {q.name for q, _ in defined}
             object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
         object.__setattr__(self, "unknown_inputs", ())
+        object.__setattr__(self, "unknown_input_degree", None)
         motions = tuple(motions)
         if not all(isinstance(m, Motion) for m in motions):
             raise ModelError("motions must be Motion objects")
         object.__setattr__(self, "motions", motions)
         unknown = unknown_inputs
-        if unknown_input_order is not None and not unknown:
-            raise ModelError("unknown_input_order is given but there are no unknown inputs")
+        if unknown_input_degree is not None and not unknown:
+            raise ModelError("unknown_input_degree is given but there are no unknown inputs")
         if unknown:
-            from .restrictions import UNKNOWN_INPUT_ORDER, with_unknown_inputs  # restrictions builds Systems
+            from .restrictions import with_unknown_inputs  # restrictions builds Systems
 
-            extended = with_unknown_inputs(
-                self, unknown, UNKNOWN_INPUT_ORDER if unknown_input_order is None else unknown_input_order
-            )
-            for name in ("states", "dynamics", "inputs", "unknown_inputs", "symmetry_source"):
+            extended = with_unknown_inputs(self, unknown, unknown_input_degree)
+            for name in ("states", "dynamics", "inputs", "unknown_inputs", "unknown_input_degree", "symmetry_source"):
                 object.__setattr__(self, name, getattr(extended, name))
         # A callable is called (and its candidates validated) on first use: large
         # models have thousands of candidate components and most checks need none.
@@ -423,6 +426,33 @@ class System:
         return len(self.states)
 
     @property
+    def arbitrary_inputs(self) -> tuple[sympy.Symbol, ...]:
+        """The unknown inputs that may be any smooth function of time (no
+        polynomial model assumed): they stay inputs, unknown ones."""
+        if self.unknown_input_degree is not None:
+            return ()
+        return tuple(u for u in self.inputs if u.name in self.unknown_inputs)
+
+    def require_known_inputs(self, what: str) -> None:
+        """Refuse ``what`` (an analysis that takes every input as known) on a
+        system with arbitrary unknown inputs.
+
+        Raises
+        ------
+        ModelError
+            Naming the inputs and the two ways on: the generic rank, or a stated
+            polynomial model.
+        """
+        if self.arbitrary_inputs:
+            names = ", ".join(u.name for u in self.arbitrary_inputs)
+            raise ModelError(
+                f"{self.name}: {what} would treat {names} as known, but it may be any function of time "
+                "(unknown inputs are arbitrary by default): only the generic rank (`check` without --point, --where, "
+                "--conditions, --method float) decides that; give unknown_input_degree = K to assume polynomials "
+                "in time of degree K"
+            )
+
+    @property
     def output_names(self) -> tuple[str, ...]:
         return tuple(name for name, _ in self.outputs)
 
@@ -469,11 +499,13 @@ class System:
         }
         # States that already hold the unknown inputs: the names are only recorded.
         recorded = tuple(changes.pop("unknown_inputs", self.unknown_inputs))
+        degree = changes.pop("unknown_input_degree", self.unknown_input_degree)
         unknown = set(changes) - set(arguments)
         if unknown:
             raise TypeError(f"System.replace got unknown argument {sorted(unknown)[0]!r}")
         replaced = System(**(arguments | changes))
         object.__setattr__(replaced, "unknown_inputs", recorded)
+        object.__setattr__(replaced, "unknown_input_degree", degree if recorded else None)
         return replaced
 
     def with_values(self, **values: Any) -> System:

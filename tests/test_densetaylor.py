@@ -160,7 +160,7 @@ def test_the_polynomial_degree_bound_holds_and_stays_small():
     about 10^16, so one point mod 2^61 - 1 states the rank with probability
     below 1e-15."""
     from observability.expansion import AllRows, expand_rows
-    from observability.randomized import _degree_bound
+    from observability.randomized import degree_bound
 
     system = System(["x", "y"], {"x": "c*x*y + u", "y": "x - y**2"}, {"h": "x**2 + y"}, inputs=["u"], parameters=["c"])
     program = None
@@ -175,8 +175,8 @@ def test_the_polynomial_degree_bound_holds_and_stays_small():
         (row,) = block
         variables = sorted(row.expression.free_symbols | set(system.states), key=str)
         degree = max(sympy.Poly(sympy.diff(row.expression, x), *variables).total_degree() for x in system.states)
-        assert degree <= _degree_bound(program, system, [program.roots[2]], 1, k)
-    assert _degree_bound(program, system, [program.roots[2]], 1, 4) == 2 + 4 * 2
+        assert degree <= degree_bound(program, system, [program.roots[2]], 1, k)
+    assert degree_bound(program, system, [program.roots[2]], 1, 4) == 2 + 4 * 2
     chain = _chain(39, {"z": "z"})
     result = randomized_rank(chain, seed=0)
     assert (result.rank, result.degree_bound, result.draws) == (39, 1600, 1)

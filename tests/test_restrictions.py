@@ -50,7 +50,7 @@ def test_one_dimensional_visual_inertial_scale():
 
 def test_profiles_are_checked():
     toy = System(["p"], {"p": "u"}, {"y": "p"}, inputs=["u"])
-    with pytest.raises(ModelError, match="not an input"):
+    with pytest.raises(ModelError, match="not a known input"):
         with_input_profiles(toy, {"w": parse_profile("0", "w")})
     with pytest.raises(ModelError, match="zero, constant"):
         parse_profile("sometimes", "--input u")
@@ -61,17 +61,19 @@ def test_profiles_are_checked():
 
 
 def test_unknown_inputs_double_integrator():
-    """x' = v, v' = a with a unknown (a polynomial of degree 2 in time: a, a', a''
-    are states). Position sensor: y = x, y' = v, y'' = a, ... all observable.
-    Velocity sensor: y = v gives v, a, a', a'' but never x: x alone is lost."""
+    """x' = v, v' = a with a unknown, any smooth function of time (the default).
+    Position sensor: y = x, y' = v, y'' = a: x, v and a observable.
+    Velocity sensor: y = v, y' = a, y'' = a', ...: v and a, never x (x -> x + c
+    changes no output: a translation)."""
     position = System(["x", "v"], {"x": "v", "v": "a"}, {"y": "x"}, inputs=["a"], unknown_inputs=["a"])
-    assert position.states[2:] == tuple(position.states[2:]) and [s.name for s in position.states] == ["x", "v", "a", "a_d1", "a_d2"]
+    assert [s.name for s in position.states] == ["x", "v"] and position.unknown_input_degree is None
     result = analyze(position, seed=1)
-    assert result.observable and result.to_dict()["unknown_inputs"] == {"a": True}
+    assert result.observable and result.to_dict()["unknown_inputs"] == {"a": True} and result.orders == 2
     velocity = System(["x", "v"], {"x": "v", "v": "a"}, {"y": "v"}, inputs=["a"], unknown_inputs=["a"])
     result = analyze(velocity, seed=1)
-    assert result.rank == 4 and result.unobservable_states == ("x",)
+    assert result.rank == 2 and result.unobservable_states == ("x",)
     assert "unknown inputs: a observable" in result.text()
+    assert "any smooth functions of time" in result.text()
 
 
 def test_unknown_acceleration_of_a_target_by_range_and_bearing():
@@ -81,7 +83,7 @@ def test_unknown_acceleration_of_a_target_by_range_and_bearing():
     4 + 2 x 2). Seen by bearing only, the scale of everything is lost."""
     def target(outputs):
         return System(["px", "py", "vx", "vy"], {"px": "vx", "py": "vy", "vx": "ax", "vy": "ay"}, outputs,
-                      inputs=["ax", "ay"], unknown_inputs=["ax", "ay"], unknown_input_order=1)
+                      inputs=["ax", "ay"], unknown_inputs=["ax", "ay"], unknown_input_degree=1)
     both = analyze(target({"r": "sqrt(px**2 + py**2)", "b": "atan2(py, px)"}), seed=1)
     assert both.observable and both.n_states == 8
     bearing = analyze(target({"b": "atan2(py, px)"}), seed=1)

@@ -394,7 +394,7 @@ def _alive(pid):
 
 def test_an_unknown_input_need_not_be_listed_among_the_inputs():
     """`unknown_inputs = ["a"]` alone, as the README shows it: p' = v, v' = a,
-    y = p. With the default polynomial model (a, a', a'' states, a''' = 0) the
+    y = p. With a polynomial model of degree 2 (a, a', a'' states, a''' = 0) the
     chain y, y' = v, y'' = a, y''' = a', y'''' = a'' reads every state: rank 5;
     listing `a` among the inputs as well gives the same system."""
     body = """
@@ -404,8 +404,8 @@ def test_an_unknown_input_need_not_be_listed_among_the_inputs():
         [outputs]
         y = "p"
     """
-    alone = _model('states = ["p", "v"]\nunknown_inputs = ["a"]\n' + body)
-    listed = _model('states = ["p", "v"]\ninputs = ["a"]\nunknown_inputs = ["a"]\n' + body)
+    alone = _model('states = ["p", "v"]\nunknown_inputs = ["a"]\nunknown_input_degree = 2\n' + body)
+    listed = _model('states = ["p", "v"]\ninputs = ["a"]\nunknown_inputs = ["a"]\nunknown_input_degree = 2\n' + body)
     assert [s.name for s in alone.states] == [s.name for s in listed.states] == ["p", "v", "a", "a_d1", "a_d2"]
     assert analyze(alone, seed=1).rank == 5
 
