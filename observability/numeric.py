@@ -173,6 +173,35 @@ HIGH_PRECISION_DIGITS = 60
 HIGH_PRECISION_MAX_STATES = 40
 
 
+def _near(sigma: np.ndarray, threshold: float) -> bool:
+    """A singular value within a few orders of the threshold on either side
+    (rounding could have put it on the wrong side)."""
+    return bool(np.any((sigma > 1e-2 * threshold) & (sigma < 1e6 * threshold)))
+
+
+def _decided_in_balls(rows: list[list], n: int, zeroed: int) -> tuple:
+    """The rank of rows computed in balls (entries whose ball holds 0 set to 0):
+    double-precision SVD of the equilibrated matrix, confirmed at full
+    precision when the gap is unclear. Returns (rank, singular values,
+    threshold, gap, observable columns or None, note)."""
+    import mpmath
+
+    with mpmath.workdps(HIGH_PRECISION_DIGITS):
+        scaled, _ = equilibrate(np.array(rows, dtype=object)) if rows else (np.zeros((0, n)), None)
+        dense = np.array([[float(v) for v in row] for row in scaled], dtype=float).reshape(-1, n)
+    rank, sigma, threshold, gap, null = numeric_rank(dense)
+    note = (f"rows recomputed in {HIGH_PRECISION_DIGITS}-digit balls; {zeroed} entries zero within their error "
+            "bounds taken as 0 (cancellations that double precision leaves as rounding noise)") if zeroed else ""
+    if gap >= CLEAR_GAP and not _near(sigma, threshold):
+        return rank, sigma, threshold, gap, _observable(null, n, 1e-8), note
+    hp = high_precision_rank(rows, n, HIGH_PRECISION_DIGITS)
+    if hp[3] >= 1e20:
+        return hp[0], np.array(hp[1]), hp[2], hp[3], _observable(hp[4], n, 1e-15), (
+            f"{note}; " if note else "") + f"decided at {HIGH_PRECISION_DIGITS} digits"
+    return rank, sigma, threshold, gap, None, (f"{note}; " if note else "") + (
+        f"the gap stays unclear at {HIGH_PRECISION_DIGITS} digits: rank uncertain, observable states not claimed")
+
+
 def _observable(null: np.ndarray | list, n: int, tolerance: float) -> tuple[int, ...] | None:
     """States whose component vanishes in every null vector; None when some
     component is neither clearly zero nor clearly not."""
@@ -185,8 +214,10 @@ def _observable(null: np.ndarray | list, n: int, tolerance: float) -> tuple[int,
     return tuple(i for i in range(n) if sizes[i] < tolerance)
 
 
-def _replay_rows(system, program_values, inputs, rng, input_derivatives, previous, digits):
-    """All rows up to the order that always suffices, at the same point, in balls."""
+def _replay_rows(system, program_values, inputs, rng, input_derivatives, previous, digits, max_order=None):
+    """All rows up to the order that always suffices (or ``max_order``), at the
+    same point, in balls of ``digits`` digits: mpmath numbers, an entry whose
+    ball contains 0 set to 0; and how many such entries were not exact zeros."""
     from flint import ctx
 
     from .expansion import AllRows, stopping_rule
@@ -203,7 +234,8 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
                 input_degree=input_derivatives, discrete=discrete,
             )
 
-        expand_rows(system, sink, make, max_order=sufficient, previous=previous, exhaustive=True)
+        limit = sufficient if max_order is None else min(sufficient, max_order)
+        expand_rows(system, sink, make, max_order=limit, previous=previous, exhaustive=True)
     finally:
         ctx.prec = old
     import mpmath
@@ -212,8 +244,10 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
         mantissa, exponent = arb(x).mid().man_exp()
         return mpmath.mpf((int(mantissa), int(exponent)))
 
+    zeroed = sum(1 for row in sink.rows for v in row.values() if arb(v).contains(0) and not arb(v).is_zero())
     with mpmath.workdps(digits):
-        return [[mp(row[c]) if c in row else mpmath.mpf(0) for c in range(system.n)] for row in sink.rows]
+        return [[mp(row[c]) if c in row and not arb(row[c]).contains(0) else mpmath.mpf(0) for c in range(system.n)]
+                for row in sink.rows], zeroed
 
 
 def float_rank(
@@ -232,10 +266,15 @@ def float_rank(
     the exact route, in floating point (transcendental functions at their true
     values). Symbols missing from ``point`` (states, free parameters, inputs of
     earlier steps) and input coefficients get values drawn from N(0, 1) with
-    ``seed``. The rank is decided on the equilibrated matrix (scale-invariant);
-    a gap below ``CLEAR_GAP`` is re-examined with the rows recomputed at the same
-    point in 60-digit ball arithmetic; if it stays unclear, the observable states
-    are not claimed (``observable_columns`` is None).
+    ``seed``. Up to ``HIGH_PRECISION_MAX_STATES`` states the rank is decided on
+    the rows recomputed at the same point in 60-digit ball arithmetic, every
+    entry whose ball contains 0 set to 0: an exact cancellation (a conserved
+    output, L_f h = 0) leaves rounding residue in double precision, which the
+    equilibration (scale-invariant, needed for badly scaled models) would blow
+    up to unit size and count as rank. A gap below ``CLEAR_GAP`` is then
+    re-examined by a 60-digit SVD; if it stays unclear, the observable states
+    are not claimed (``observable_columns`` is None). Larger models keep the
+    double-precision decision and claim nothing on an unclear gap.
 
     Raises
     ------
@@ -264,28 +303,18 @@ def float_rank(
             continue
         rank, sigma, threshold, gap, null = sink.svd()
         observable = _observable(null, n, 1e-8)
-        # Unclear: a small gap, or a singular value within a few orders of the
-        # threshold on either side (rounding could have put it on the wrong side).
-        near = bool(np.any((sigma > 1e-2 * threshold) & (sigma < 1e6 * threshold)))
-        unclear = gap < CLEAR_GAP or near
         note = ""
-        if unclear and n <= HIGH_PRECISION_MAX_STATES:
+        if n <= HIGH_PRECISION_MAX_STATES:
             try:
-                rows = _replay_rows(
+                rows, zeroed = _replay_rows(
                     system, made[-1].values, made[-1].inputs, random.Random(seed), input_derivatives, previous,
-                    HIGH_PRECISION_DIGITS,
+                    HIGH_PRECISION_DIGITS, max_order,
                 )
-                hp = high_precision_rank(rows, n, HIGH_PRECISION_DIGITS)
             except Redraw:
-                hp = None
-            if hp is not None and hp[3] >= 1e20:
-                rank, sigma, threshold, gap = hp[0], np.array(hp[1]), hp[2], hp[3]
-                observable = _observable(hp[4], n, 1e-15)
-                note = f"double precision left the gap open; decided at {HIGH_PRECISION_DIGITS} digits"
-            else:
-                observable = None
-                note = "the gap stays unclear at 60 digits: rank uncertain, observable states not claimed"
-        elif unclear:
+                rows = None
+            if rows is not None:
+                rank, sigma, threshold, gap, observable, note = _decided_in_balls(rows, n, zeroed)
+        elif gap < CLEAR_GAP or _near(sigma, threshold):
             observable = None
             note = "unclear gap: observable states not claimed"
         return FloatRank(
