@@ -13,8 +13,13 @@ from the model's equations in the file.
   else to 30 significant digits, the entries evaluated to
   60 digits) and be non-zero.
 * Upper bound: each generator v satisfies L_v h = 0 for every output and
-  [f, v] = 0 (continuous) or v(F(x)) - DF(x) v(x) = 0 (discrete), shown by sympy's
-  simplification; the generators are independent at the point.
+  [f, v] + sum_u dv/du u' = 0 (continuous: a generator that depends on an input
+  moves with it) or v(F(x, u), u+) - DF(x, u) v(x, u) = 0 (discrete, u+ the next
+  step's input), shown by sympy's simplification; the generators are independent
+  at the point.
+* Nothing is taken on the file's word: n_states, the exact flag and the claim
+  must be what the model and the verified rank say, and the printed claim is
+  the one derived here.
 * Then r <= rank <= n - (number of generators) = r.
 """
 
@@ -96,12 +101,20 @@ def check(proof: dict) -> str:
     if proof.get("format") != "observability proof 1":
         raise Rejected(f"unknown format {proof.get('format')!r}")
     model = proof["model"]
-    symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
+    declared = [*model["states"], *model["inputs"], *model["parameters"]]
+    if not all(isinstance(name, str) and name.isidentifier() for name in declared) or len(set(declared)) != len(declared):
+        raise Rejected("the model's names are not distinct identifiers")
+    symbols = {name: sympy.Symbol(name) for name in declared}
     x = [symbols[s] for s in model["states"]]
     known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
     f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
     outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
-    n, rank = len(x), int(proof["rank"])
+    n, rank = len(x), proof["rank"]
+    if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
+        raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")
+    claim = f"the generic rank of the observability matrix of {model['name']} is {rank} of {n}"
+    if proof.get("claim") != claim:
+        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say ({claim!r})")
     lower = proof["lower_bound"]
     rows = [(str(o), int(k)) for o, k in lower["rows"]]
     columns = [symbols[c] for c in lower["columns"]]
@@ -109,8 +122,14 @@ def check(proof: dict) -> str:
         raise Rejected("the minor is not rank x rank with distinct rows and columns")
     orders = max((k for _, k in rows), default=0)
     point = lower["point"]
+    free = [p for p, v in model["parameters"].items() if v is None]
+    if sorted(point["states"]) != sorted(model["states"]) or sorted(point["parameters"]) != sorted(free):
+        raise Rejected("the point does not give exactly the states and the parameters without a value")
     values = {symbols[s]: sympy.Rational(v) for s, v in point["states"].items()}
     values |= {symbols[p]: sympy.Rational(v) for p, v in point["parameters"].items()}
+    steps = orders + 1
+    if sorted(point["inputs"]) != sorted(model["inputs"]) or any(len(v) < steps for v in point["inputs"].values()):
+        raise Rejected(f"the point does not give every input {steps} value(s)")
 
     # The functions whose gradients are the rows, order by order.
     functions: dict[tuple[str, int], sympy.Expr] = {}
@@ -143,9 +162,11 @@ def check(proof: dict) -> str:
         raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
     minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
     recorded = lower["minor"]
-    if all(e.is_Rational for e in minor):
+    if lower["exact"] is not all(e.is_Rational for e in minor):
+        raise Rejected(f"the file says the minor is {'' if lower['exact'] else 'not '}exact; its entries say otherwise")
+    if lower["exact"]:
         value = minor.det(method="bareiss")
-        if not lower["exact"] or value != sympy.Rational(recorded) or value == 0:
+        if value != sympy.Rational(recorded) or value == 0:
             raise Rejected(f"the minor is {value}, the file says {recorded}")
         how = "exactly"
     else:
@@ -163,6 +184,10 @@ def check(proof: dict) -> str:
     if len(generators) != n - rank:
         raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
     fields = []
+    # A generator may depend on the inputs: in continuous time the inputs move
+    # (u' enters the bracket), in discrete time the next step has its own input.
+    rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
+    following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
     for g in generators:
         v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
         fields.append(v)
@@ -171,14 +196,16 @@ def check(proof: dict) -> str:
                 raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
         for i, (vi, fi) in enumerate(zip(v, f)):
             if model["time"] == "continuous":
-                bracket = sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                           + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
             else:
-                bracket = vi.xreplace(dict(zip(x, f))) - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v))
+                bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
+                           - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
             if not _zero(bracket):
                 raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
     if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
         raise Rejected("the generators are not independent at the point")
-    return (f"accepted: {proof['claim']} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
+    return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
             "and independent)")
 
 

@@ -114,6 +114,10 @@ def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]]
     variables = set(system.states) | set(system.parameters)
     if not all(sympy.sympify(e).is_rational_function(*variables) for v in fields for e in v):
         return False
+    # A field that depends on an input moves with it (u' enters the bracket, and
+    # in discrete time the next step's input): the identities below hold u fixed.
+    if any(sympy.sympify(e).has(*system.inputs) for v in fields for e in v):
+        return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
     # Generically independent: a non-zero k x k minor at a random point mod p.

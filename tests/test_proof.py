@@ -232,3 +232,82 @@ def test_the_checker_executes_nothing_from_a_proof_file(tmp_path):
     with pytest.raises(checker.Rejected, match="not allowed"):
         checker.check(tampered)
     assert not marker.exists()
+
+
+def _pendulum_proof() -> dict:
+    """x1' = x2, x2' = -u*x1, h = u*x1**2 + x2**2 (issue 31's model): by hand
+    L_f h = u'*x1**2, whose gradient (2*u'*x1, 0) and h's (2*u*x1, 2*x2) are
+    independent where u'*x1*x2 != 0: rank 2. The tool's own proof."""
+    system = System(["x1", "x2"], {"x1": "x2", "x2": "-u*x1"}, {"h": "u*x1**2 + x2**2"}, inputs=["u"], name="pendulum")
+    return json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+
+
+def _tampered(proof: dict) -> list[tuple[str, dict]]:
+    """Edits a checker must refuse (issue 31 item 2), each with its name."""
+    def edit(change) -> dict:
+        copy = json.loads(json.dumps(proof))
+        change(copy)
+        return copy
+
+    def one_by_one(p):
+        # A 1 x 1 minor (dh/dx2 = 2*x2 at the point: a true non-zero entry) and a
+        # generator that depends on u: [f, v] = 0 with u held fixed, but u' moves it.
+        x2 = sympy.Rational(p["lower_bound"]["point"]["states"]["x2"])
+        p["rank"], p["claim"] = 1, p["claim"].replace("2 of 2", "1 of 2")
+        p["lower_bound"].update(rows=[["h", 0]], columns=["x2"], minor=str(2 * x2))
+        p["upper_bound"]["generators"] = [{"name": "flow", "vector": {"x1": "x2", "x2": "-u*x1"}}]
+
+    return [
+        ("input-dependent generator", edit(one_by_one)),
+        ("claim edited", edit(lambda p: p.update(claim=p["claim"].replace("2 of 2", "3 of 3")))),
+        ("n_states edited", edit(lambda p: p.update(n_states=3))),
+        ("rank edited", edit(lambda p: p.update(rank=3))),
+        ("exact flag edited", edit(lambda p: p["lower_bound"].update(exact=False))),
+        ("model renamed", edit(lambda p: p["model"].update(name="other"))),
+        ("dynamics edited", edit(lambda p: p["model"]["dynamics"].update(x2="-2*u*x1"))),
+        ("a state dropped from the point", edit(lambda p: p["lower_bound"]["point"]["states"].pop("x1"))),
+        ("an input value dropped", edit(lambda p: p["lower_bound"]["point"]["inputs"].update(u=["1"]))),
+        ("a state listed twice", edit(lambda p: p["model"].update(states=["x1", "x2", "x2"]))),
+    ]
+
+
+def test_the_checker_refuses_every_tampered_proof_and_accepts_the_genuine_one():
+    """A corpus of edited proofs (ranks, minors, generators with inputs, claims,
+    models): each is refused; the genuine proof is accepted with the claim the
+    checker derived (never the file's text)."""
+    checker = _checker()
+    proof = _pendulum_proof()
+    assert checker.check(proof) == ("accepted: the generic rank of the observability matrix of pendulum is 2 of 2 "
+                                    "(minor non-zero exactly; 0 generator(s) verified as identities and independent)")
+    for name, tampered in _tampered(proof):
+        with pytest.raises((checker.Rejected, KeyError, TypeError, ValueError)):
+            checker.check(tampered)
+            pytest.fail(f"accepted: {name}")
+
+
+def test_a_generator_that_depends_on_an_input_is_checked_with_the_input_moving():
+    """x1' = u*x2, x2' = 0, h = x2: rank 1 (by hand: every L_f^k h is 0 for
+    k >= 1), and the tool's proof (generator d/dx1) is accepted. The field
+    v = u*d/dx1 satisfies L_v h = 0 and [f, v] = 0 with u frozen, but with u
+    moving its bracket has the term u'*d/dx1: the checker must refuse it as a
+    generator (the rank happens to be right; the argument is not)."""
+    system = System(["x1", "x2"], {"x1": "u*x2", "x2": "0"}, {"h": "x2"}, inputs=["u"], name="drift")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=2))))
+    checker = _checker()
+    assert proof["rank"] == 1 and checker.check(proof).startswith("accepted")
+    proof["upper_bound"]["generators"] = [{"name": "moving", "vector": {"x1": "u"}}]
+    with pytest.raises(checker.Rejected, match="bracket"):
+        checker.check(proof)
+
+
+def test_the_engine_does_not_prove_an_upper_bound_with_a_field_that_moves_with_an_input():
+    """The engine's own identities held u fixed, as the checker did: v = u*d/dx1
+    on x1' = u*x2, x2' = 0, h = x2 passes L_v h = 0 and [f, v] = 0 with u frozen,
+    but u' d/dx1 is left over when u moves (hand computation). Refused; the
+    constant field d/dx1 is a symmetry and accepted."""
+    from observability.proof import fields_are_symmetries
+
+    system = System(["x1", "x2"], {"x1": "u*x2", "x2": "0"}, {"h": "x2"}, inputs=["u"])
+    u = sympy.Symbol("u")
+    assert not fields_are_symmetries(system, [[u, 0]])
+    assert fields_are_symmetries(system, [[1, 0]])
