@@ -453,8 +453,9 @@ def _on_set(
             seconds=time.perf_counter() - start, details=f"undecided: {reason}",
             lower_bound=None if result.dependence is not None else rank, **common,
         )
-    details = (f"exact rank mod 2^61-1 at {result.draws} random point(s) of the set (seed {result.seed}; the set "
-               f"is kept by the motion, so the stopping rule holds on it)")
+    why = ("the set is kept by the motion, so the stopping rule holds on it" if where.invariant else
+           "the motion leaves the set, but a full rank at its points is certain")
+    details = f"exact rank mod 2^61-1 at {result.draws} random point(s) of the set (seed {result.seed}; {why})"
     if rank < n:
         details += (f"; rank {rank} certain as a lower bound; too low with probability <= "
                     f"{result.error_probability:.1e} (Schwartz-Zippel, degree bound x {where.degree} for the set)")

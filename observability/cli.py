@@ -82,10 +82,51 @@ def _pages(text: str) -> float:
     return value
 
 
+def _seed(text: str) -> int:
+    """argparse type: a seed, an integer from 0 to 2^63 - 1 (what every random
+    generator used here accepts)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if not 0 <= value < 2**63:
+        raise argparse.ArgumentTypeError(f"a seed is an integer from 0 to 2^63 - 1, got {value}")
+    return value
+
+
+def _out_directory(text: str) -> Path:
+    """argparse type: a directory to write into, that exists or can be made
+    (checked before any work: no ancestor may be a file)."""
+    path = Path(text)
+    if text == "-":
+        raise argparse.ArgumentTypeError("a directory is expected, not '-' (these commands write several files)")
+    for ancestor in [path, *path.parents]:
+        if ancestor.exists():
+            if not ancestor.is_dir():
+                raise argparse.ArgumentTypeError(f"{ancestor} is a file, not a directory")
+            break
+    return path
+
+
+def _out_file(text: str) -> Path | None:
+    """argparse type: the file to write, or '-' (None) for standard output; its
+    folder must exist and the path must not be a folder (checked before any work)."""
+    if text == "-":
+        return None
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{path} is a directory; give a file name")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"the folder {path.parent} does not exist")
+    return path
+
+
 def _identifier(text: str) -> str:
-    """argparse type: a C identifier (base name of generated files and functions)."""
-    if not (text.isascii() and text.isidentifier()):
-        raise argparse.ArgumentTypeError(f"expected a C identifier (letters, digits, underscores), got {text!r}")
+    """argparse type: a C identifier that casadi accepts as a name (a letter
+    first, no double underscore) and short enough for a file name."""
+    if not (text.isascii() and text.isidentifier() and text[0].isalpha() and "__" not in text and len(text) <= 64):
+        raise argparse.ArgumentTypeError(
+            f"expected a name of at most 64 letters, digits and single underscores, starting with a letter, got {text!r}")
     return text
 
 
@@ -450,7 +491,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--all", action="store_true", help="check every built-in model and print a table")
     check.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
     check.add_argument("--method", choices=METHODS, default="random", help="rank method (default: random)")
-    check.add_argument("--seed", type=int, default=None, help="seed of the random point")
+    check.add_argument("--seed", type=_seed, default=None, help="seed of the random point")
     check.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
     check.add_argument("--previous", choices=PREVIOUS_METHODS, default="inverse",
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
@@ -487,7 +528,7 @@ def build_parser() -> argparse.ArgumentParser:
     check.set_defaults(func=_check)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
     _model_arguments(codegen)
-    codegen.add_argument("--out", required=True, type=Path, help="directory to write into")
+    codegen.add_argument("--out", required=True, type=_out_directory, help="directory to write into")
     codegen.add_argument("--noise", default=None, metavar="NAMES",
                          help="comma-separated states and inputs the process noise enters (default: every state)")
     codegen.add_argument("--dt", default="dt", help="time step (a number or a parameter name) for continuous models")
@@ -503,7 +544,7 @@ def build_parser() -> argparse.ArgumentParser:
         "  4 internal error (a bug)",
     )
     _model_arguments(latex)
-    latex.add_argument("--out", type=Path, default=None, help="file to write (default: stdout)")
+    latex.add_argument("--out", type=_out_file, default=None, help="file to write (default or '-': stdout)")
     latex.add_argument("--body-only", action="store_true",
                        help="only the matrix (arrays and definitions), for pasting into a paper")
     latex.add_argument("--orders", type=_count, default=None, metavar="K",
@@ -514,20 +555,20 @@ def build_parser() -> argparse.ArgumentParser:
     latex.add_argument("--max-pages", type=_pages, default=None, metavar="N",
                        help="bound on the matrix's size in pages (default 3); orders that would "
                             "exceed it are left out and said so; exit 3 when not even order 0 fits")
-    latex.add_argument("--seed", type=int, default=None, help="seed of the rank check and of random --point values")
+    latex.add_argument("--seed", type=_seed, default=None, help="seed of the rank check and of random --point values")
     latex.add_argument("--budget", type=_seconds, default=60.0, metavar="SECONDS",
                        help="CPU time allowed for the symbolic matrix (default 60); exit 3 when it does not fit")
     latex.set_defaults(func=_latex)
     reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
-    reproduce.add_argument("--out", type=Path, default=Path("reports"), help="directory of the reports (default: reports)")
+    reproduce.add_argument("--out", type=_out_directory, default=Path("reports"), help="directory of the reports (default: reports)")
     reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
     reproduce.add_argument("--runs", type=_positive, default=None, help="Monte Carlo runs of the simulation (default 50)")
     reproduce.set_defaults(func=_reproduce)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
-    consistency.add_argument("--out", type=Path, default=Path("reports"), help="directory of the report (default: reports)")
+    consistency.add_argument("--out", type=_out_directory, default=Path("reports"), help="directory of the report (default: reports)")
     consistency.add_argument("--runs", type=_positive, default=50, help="Monte Carlo runs (default 50)")
     consistency.add_argument("--steps", type=_positive, default=80, help="time steps per run (default 80)")
-    consistency.add_argument("--seed", type=int, default=7, help="seed of the Monte Carlo streams (default 7)")
+    consistency.add_argument("--seed", type=_seed, default=7, help="seed of the Monte Carlo streams (default 7)")
     for command in (reproduce, consistency):
         command.add_argument("--scheduler", default=None, metavar="ADDRESS",
                              help="run the Monte Carlo tasks on this Dask scheduler (default: a local cluster)")
@@ -539,7 +580,7 @@ def build_parser() -> argparse.ArgumentParser:
     _model_arguments(degenerate)
     degenerate.add_argument("--format", choices=("text", "json"), default="text",
                             help="a table for people, or {model, n_states, motions: [...]} for programs")
-    degenerate.add_argument("--seed", type=int, default=None, help="seed of the random points")
+    degenerate.add_argument("--seed", type=_seed, default=None, help="seed of the random points")
     degenerate.add_argument("--conditions", action="store_true",
                             help="also the polynomial conditions under which each input-profile motion's rank drops "
                                  "(common factors of the maximal minors; models with at most 8 states)")
@@ -560,6 +601,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return EXIT_BAD_INPUT
+        if getattr(args, "scheduler", None) is not None and getattr(args, "workers", None) is not None:
+            raise _UsageError("give --scheduler (a running cluster) or --workers (a local one), not both")
         return args.func(args)
     # Exit 2 only for errors raised on purpose about the input; anything else,
     # a ValueError from deep inside a library included, is a bug (exit 4).

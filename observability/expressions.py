@@ -76,6 +76,8 @@ VECTOR_FUNCTIONS: dict[str, tuple[tuple[int | str | None, ...], object]] = {
 
 #: The largest vector or matrix literal (entries), so a list cannot blow up.
 MAX_VECTOR_ENTRIES = 100_000
+#: The most scalar products one @ may take (its result is bounded as a literal is).
+MAX_PRODUCT_TERMS = 1_000_000
 
 
 def _shape(value: Value) -> str:
@@ -277,6 +279,9 @@ def parse_value(
                 raise fail(link, "@ multiplies a matrix and a vector or matrix; use * with a scalar")
             if left.shape[1] != right.shape[0]:
                 raise fail(link, f"@ of {_shape(left)} and {_shape(right)}: the shapes do not match")
+            if left.shape[0] * right.shape[1] > MAX_VECTOR_ENTRIES or left.shape[0] * left.shape[1] * right.shape[1] > MAX_PRODUCT_TERMS:
+                raise fail(link, f"@ of {_shape(left)} and {_shape(right)}: more than {MAX_VECTOR_ENTRIES} entries or "
+                           f"{MAX_PRODUCT_TERMS} products")
             return left * right
         if not isinstance(left, Matrix) and not isinstance(right, Matrix):
             binop = _BINARY.get(op)
@@ -321,7 +326,7 @@ def parse_value(
                     raise fail(node, f"{fname}: argument {i} is {_shape(arg)}, {wanted} is expected")
             if fname == "dot" and args[0].shape != args[1].shape:
                 raise fail(node, f"dot of {_shape(args[0])} and {_shape(args[1])}")
-            return function(*(list(a) if _is_vector(a) else a for a in args))
+            return function(*(list(a) if _is_vector(a) and shape != "matrix" else a for a, shape in zip(args, shapes)))
         if fname not in FUNCTIONS:
             allowed = ", ".join(sorted([*FUNCTIONS, *VECTOR_FUNCTIONS]))
             raise fail(node, f"function {fname!r} is not allowed (allowed: {allowed}, prev)")

@@ -57,6 +57,7 @@ from __future__ import annotations
 import re
 import stat
 import tomllib
+import unicodedata
 from pathlib import Path
 from typing import Any
 
@@ -64,7 +65,7 @@ import sympy
 
 from .errors import ModelError, ModelFileError
 from .expressions import parse_number, parse_value
-from .notation import component_latex, latex_name
+from .notation import component_latex, latex_name, validate_latex_name
 from .symmetry import EPSILON, Symmetry
 from .system import Motion, System
 
@@ -121,6 +122,7 @@ def _names(data: dict[str, Any], key: str, source: str, required: bool) -> tuple
     names: list[str] = []
     vectors: dict[str, tuple[str, ...]] = {}
     for v in value:
+        v = unicodedata.normalize("NFKC", v)  # as every scalar name is (System): "ｐ[2]" is p
         match = _VECTOR.match(v)
         if match and match.group(1).isidentifier():
             size = int(match.group(2))
@@ -302,6 +304,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
             for component, number in items:
                 if isinstance(number, bool) or not isinstance(number, (int, float, str)):
                     raise ModelFileError(f"{source}: parameters.{key} must be a number or a list of numbers, got {value!r}")
+                if component in parameters:
+                    raise ModelFileError(f"{source}: parameters: {component!r} is given twice (as a component of a "
+                                         "vector and on its own)")
                 parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
     else:
         parameters, parameter_vectors = _names(data, "parameters", source, required=False)
@@ -335,7 +340,8 @@ def parse_model(text: str, source: str = "<model>") -> System:
     for vector, components in (vector_names | vector_values).items():
         # A vector's components are typeset as its symbol with the index joined
         # to the subscript: c1_0 is c_{1,0} (sympy would print c_{1 0}).
-        base = latex_names.pop(vector, None) or latex_name(vector)
+        given = latex_names.pop(vector, None)
+        base = latex_name(vector) if given is None else validate_latex_name(given, f"{source}: latex.{vector}")
         latex_names = {c: component_latex(base, i) for i, c in enumerate(components)} | latex_names
     try:
         return System(

@@ -74,6 +74,9 @@ def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget
              ) -> tuple[ObservabilityResult, list[RankDrop], str]:
     profiles = {u: parse_profile(p, f"motion {motion.name!r}: input {u}") for u, p in motion.inputs.items()}
     constraint, fixed = (None, {}) if not motion.where else parse_constraints(system, motion.where)
+    both = sorted(set(profiles) & set(fixed))
+    if both:
+        raise ModelError(f"input {both[0]} is set by both the motion's inputs and its where")
     profiles |= {u: parse_profile(v, f"motion {motion.name!r}") for u, v in fixed.items()}
     restricted, derivatives = with_input_profiles(system, profiles)
     result = analyze(restricted, seed=seed, input_derivatives=derivatives,

@@ -103,10 +103,14 @@ def component_latex(vector: str, index: int) -> str:
     """The LaTeX of component ``index`` of a vector typeset as ``vector``: the
     index joins an existing subscript (``c_{1}`` -> ``c_{1,0}``), else becomes one
     (``\\mathbf{p}`` -> ``\\mathbf{p}_{0}``)."""
-    if vector.endswith("}") and "_{" in vector and vector.count("{") == vector.count("}"):
-        head, _, subscript = vector.rpartition("_{")
-        if subscript.count("{") == subscript.count("}") - 1:  # the subscript is the last group
-            return f"{head}_{{{subscript[:-1]},{index}}}"
+    if vector.endswith("}"):
+        depth = 0
+        for i in range(len(vector) - 1, -1, -1):  # the brace that opens the last group
+            depth += {"}": 1, "{": -1}.get(vector[i], 0)
+            if depth == 0:
+                break
+        if depth == 0 and i > 0 and vector[i - 1] == "_":  # the last group is a subscript (a_{b_{c}} too)
+            return f"{vector[:i - 1]}_{{{vector[i + 1:-1]},{index}}}"
     if len(vector) >= 3 and vector[-2] == "_" and vector[-1].isalnum():
         return f"{vector[:-2]}_{{{vector[-1]},{index}}}"
     return f"{vector}_{{{index}}}"

@@ -72,6 +72,8 @@ def engine(scheduler: str | None = None, workers: int | None = None, progress: b
 
     if workers is not None and workers < 1:
         raise OptionError(f"workers must be at least 1, got {workers}")
+    if workers is not None and scheduler is not None:
+        raise OptionError("give --scheduler (a running cluster) or --workers (a local one), not both")
     cluster = None
     try:
         if scheduler is None:

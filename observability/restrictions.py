@@ -63,6 +63,8 @@ def parse_profile(text: str, where: str) -> InputProfile:
         return InputProfile("zero")
     try:
         number = sympy.Rational(value)
+    except ZeroDivisionError:
+        raise ModelError(f"{where}: input profile {text!r} divides by zero") from None
     except (TypeError, ValueError):
         number = None
     if number is not None:

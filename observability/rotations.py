@@ -46,7 +46,8 @@ def cross(a: Vector, b: Vector) -> list[sympy.Expr]:
 
 
 def dot(a: Vector, b: Vector) -> sympy.Expr:
-    return sum((x * y for x, y in zip(a, b)), sympy.Integer(0))
+    # One Add of all the products: summing one by one rebuilds the sum each time (quadratic).
+    return sympy.Add(*(x * y for x, y in zip(a, b)))
 
 
 def quaternion_product(p: Vector, q: Vector) -> list[sympy.Expr]:

@@ -25,6 +25,7 @@ import sympy
 from flint import arb, fmpq
 
 from .program import PRIME, Op, Program
+from .errors import ModelError
 
 __all__ = ["PRIME", "Redraw", "TaylorEvaluator", "FloatTaylorEvaluator", "BallTaylorEvaluator", "sqrt_mod"]
 
@@ -413,7 +414,11 @@ class FloatTaylorEvaluator(TaylorEvaluator):
         return 1.0 / k
 
     def _number(self, value) -> float:
-        return float(value)
+        result = float(value)
+        if not math.isfinite(result):
+            raise ModelError(f"the number {sympy.N(value, 3)} in the model is beyond double precision: the float "
+                             "method cannot evaluate it (the default method is exact)")
+        return result
 
     def _inv(self, value: float, node: int) -> float:
         if value == 0 or not math.isfinite(value):
@@ -421,9 +426,13 @@ class FloatTaylorEvaluator(TaylorEvaluator):
         return 1.0 / value
 
     def _circle(self, angle: float) -> tuple[float, float]:
+        if not math.isfinite(angle):
+            raise Redraw(-1, "the sine of a value beyond double precision")
         return math.sin(angle), math.cos(angle)
 
     def _exp0(self, a0: float) -> float:
+        if a0 > 709:
+            raise Redraw(-1, "an exponential beyond double precision")
         return math.exp(a0)
 
     def _log0(self, a0: float) -> float:

@@ -42,7 +42,7 @@ def _model(tmp_path, states='["x"]', dynamics='x = "0"', output="x", name="m.tom
 def test_lookalike_names_are_one_name(tmp_path):
     """'ｘ' (fullwidth) is 'x' after NFKC, as Python's parser reads it."""
     path = _model(tmp_path, states='["x", "ｘ"]', dynamics='x = "0"\n"ｘ" = "0"')
-    _one_line_error(run("check", str(path)), "duplicate name 'x'")
+    _one_line_error(run("check", str(path)), "'x' is declared twice")
 
 
 def test_keyword_state_is_refused_at_the_declaration(tmp_path):

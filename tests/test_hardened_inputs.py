@@ -1,0 +1,140 @@
+"""Issue 31, items 4-7: adversarial and careless inputs get one clear line and
+exit 2 (never exit 4, a hang or a silently wrong verdict). References: the
+exit status and message the contract names, and hand derivations where a
+verdict is involved."""
+
+from __future__ import annotations
+
+import resource
+
+import pytest
+import sympy
+
+from observability.budget import with_budget
+from observability.cli import main
+from observability.modelfile import ModelFileError, parse_model
+from observability.notation import component_latex
+
+
+def _file(tmp_path, text: str, name: str = "m.toml") -> str:
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def _refused(capsys, argv: list[str], words: str) -> None:
+    """Exit 2, one line on stderr that contains ``words``, no traceback."""
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, (argv, code, err)
+    assert words in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+
+
+SCALAR = """states = ["x"]\ninputs = ["ax"]\n[dynamics]\nx = "ax"\n[outputs]\ny = "x"\n"""
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["check", "{m}", "--inputs", "1/0"], "divides by zero"),
+    (["check", "{m}", "--input", "ax=1/0"], "divides by zero"),
+    (["codegen", "{m}", "--name", "_x", "--out", "{d}"], "starting with a letter"),
+    (["codegen", "{m}", "--name", "__", "--out", "{d}"], "single underscores"),
+    (["codegen", "{m}", "--name", "a__b", "--out", "{d}"], "single underscores"),
+    (["codegen", "{m}", "--name", "a" * 300, "--out", "{d}"], "at most 64"),
+    (["codegen", "{m}", "--out", "-"], "not '-'"),
+    (["consistency", "--seed", "-5", "--out", "{d}"], "a seed is an integer from 0"),
+    (["consistency", "--workers", "1", "--scheduler", "tcp://127.0.0.1:9", "--out", "{d}"], "not both"),
+    (["consistency", "--out", "{m}/sub"], "is a file, not a directory"),
+])
+def test_one_line_and_exit_2(tmp_path, capsys, argv, words):
+    """Each was exit 4 (a ZeroDivisionError, casadi's name assertion, numpy's
+    negative seed) or failed only after the work (consistency --out under a
+    file: 10 s)."""
+    model = _file(tmp_path, SCALAR)
+    _refused(capsys, [a.format(m=model, d=tmp_path / "out") for a in argv], words)
+    assert not (tmp_path / "out").exists()
+
+
+def test_transpose_of_a_vector_is_a_row(tmp_path, capsys):
+    """transpose(p) of a 3-vector is a 1x3 matrix: not an output (was an
+    AttributeError, exit 4); transpose(p) @ p is the scalar |p|^2 (hand)."""
+    text = 'states = ["p[3]"]\n[dynamics]\np = "[0, 0, 0]"\n[outputs]\nz = "{z}"\n'
+    _refused(capsys, ["check", _file(tmp_path, text.format(z="transpose(p)"))], "1x3 matrix")
+    system = parse_model(text.format(z="(transpose(p) @ p)[0]"), "m.toml")
+    p = sympy.symbols("p_0 p_1 p_2")
+    assert sympy.expand(system.outputs[0][1] - sum(c**2 for c in p)) == 0
+
+
+def test_float_method_refuses_a_number_beyond_double_precision(tmp_path, capsys):
+    """y = x*cos(10**400): the float route cannot represent 10**400 (was "math
+    domain error", exit 4); the exact route is unaffected (rank 1: cos(10**400)
+    is a non-zero constant, so y determines x)."""
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x*cos(10**400)"\n')
+    _refused(capsys, ["check", model, "--method", "float"], "beyond double precision")
+    assert main(["check", model, "--seed", "1"]) == 0
+
+
+def test_a_parameter_given_twice_is_refused():
+    """`g = [0, 1]` declares g_0 and g_1; `g_0 = 3` as well was accepted, the
+    later winning (opposite verdicts by order)."""
+    body = '[dynamics]\nx = "g_0*x"\n[outputs]\ny = "x"\n'
+    for parameters in ('g = [0, 1]\ng_0 = 3\n', 'g_0 = 3\ng = [0, 1]\n'):
+        with pytest.raises(ModelFileError, match="given twice"):
+            parse_model('states = ["x"]\n[parameters]\n' + parameters + body, "m.toml")
+
+
+@pytest.mark.parametrize("motion, words", [
+    ('where = "ax = 1, ax = 2"', "set to 1 and to 2"),
+    ('inputs = {ax = "constant"}\nwhere = "ax = 0"', "set by both the motion's inputs and its where"),
+])
+def test_a_motion_that_sets_an_input_twice_is_refused(tmp_path, capsys, motion, words):
+    """The CLI refuses `--input ax=... --where "ax = ..."`; a motion did not."""
+    text = ('states = ["x", "v"]\ninputs = ["ax"]\n[dynamics]\nx = "v"\nv = "ax"\n[outputs]\ny = "x*v"\n'
+            f'[motions.twice]\n{motion}\n')
+    _refused(capsys, ["degenerate", _file(tmp_path, text)], words)
+
+
+def test_a_set_the_motion_leaves_is_not_called_kept(tmp_path, capsys):
+    """x' = y, y' = 0, h = x on x = y: (x - y)' = y - 0 = y, not zero on the set:
+    the motion leaves it. The rank there is 2 (h, L_f h = y: full), certain as
+    a full rank, but "the set is kept by the motion" was printed."""
+    model = _file(tmp_path, 'states = ["x", "y"]\n[dynamics]\nx = "y"\ny = "0"\n[outputs]\nh = "x"\n')
+    assert main(["check", model, "--where", "x = y", "--seed", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "rank 2 of 2" in out and "kept by the motion" not in out and "leaves the set" in out
+
+
+def test_vector_latex_overrides_and_names(tmp_path, capsys):
+    """A vector override with a nested subscript joins the index to it
+    (a_{b_{c}} -> a_{b_{c},0}, was a_{b_{c}}_{0}: "Double subscript"); an
+    empty override is refused for vectors as for scalars; a full-width vector
+    name is the ASCII one (NFKC, as scalar names are)."""
+    assert component_latex("a_{b_{c}}", 0) == "a_{b_{c},0}" and component_latex("c_{1}", 2) == "c_{1,2}"
+    text = 'states = ["p[2]"]\n[dynamics]\np = "[0, 0]"\n[outputs]\ny = "p[0] + p[1]**2"\n'
+    _refused(capsys, ["latex", _file(tmp_path, text + '[latex]\np = ""\n')], "non-empty")
+    wide = parse_model(text.replace('"p[2]"', '"\uff50[2]"'), "m.toml")
+    assert [s.name for s in wide.states] == ["p_0", "p_1"]
+
+
+def test_latex_out_dash_is_standard_output(tmp_path, capsys, monkeypatch):
+    """`--out -` wrote a file named '-'."""
+    monkeypatch.chdir(tmp_path)
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x**2"\n')
+    assert main(["latex", model, "--out", "-"]) == 0
+    assert capsys.readouterr().out.startswith("\\documentclass") and not (tmp_path / "-").exists()
+
+
+def _vector_model(size: int, output: str):
+    return parse_model(f'states = ["p[{size}]"]\n[dynamics]\np = "p"\n[outputs]\nz = "{output}"\n', "m.toml")
+
+
+def test_vector_models_are_read_in_bounded_work():
+    """dot(p, p) with 10,000 components took over 120 s (a quadratic sum): it
+    must now be read within 30 CPU seconds (the old cost was quadratic: 4,000
+    components took 32 s); an outer product transpose([p]) @ [p] of 1,000
+    components (10^6 entries) is refused before it is built."""
+    system = with_budget(_vector_model, 10_000, "dot(p, p)", seconds=30)
+    assert len(system.outputs[0][1].args) == 10_000
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with pytest.raises(ModelFileError, match="more than 100000 entries"):
+        _vector_model(1_000, "(transpose([p]) @ [p])[0, 0]")
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 200_000  # kB: nothing of 337 MB was built
