@@ -77,6 +77,7 @@ class Program:
     """
 
     def __init__(self, states: tuple[sympy.Symbol, ...], inputs: tuple[sympy.Symbol, ...] = (), where: str = "model") -> None:
+        self.states = tuple(states)
         self.kinds: dict[sympy.Symbol, tuple[Op, object]] = {s: (Op.STATE, i) for i, s in enumerate(states)}
         self.kinds.update({u: (Op.INPUT, j) for j, u in enumerate(inputs)})
         self.where = where

@@ -246,16 +246,23 @@ class ConstraintSet:
     invariant : bool
         Whether the motion keeps the set (then the generic stopping rule holds on
         it; otherwise higher orders could still raise the rank).
+    angles : tuple of (Symbol, Symbol, Symbol)
+        Angles v whose sine and cosine the equations use, with the symbols
+        (S, C) that stand for them in ``solution``: the point's (sin v, cos v)
+        is a random rational point of the unit circle, shared with the model's
+        sin(v) and cos(v) (:meth:`place`).
     """
 
     text: str
     solution: tuple[tuple[sympy.Symbol, sympy.Expr], ...]
     degree: int
     invariant: bool
+    angles: tuple[tuple[sympy.Symbol, sympy.Symbol, sympy.Symbol], ...] = ()
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
-        return ConstraintSet(self.text, self.solution, self.degree, _invariant(system, dict(self.solution)))
+        return ConstraintSet(self.text, self.solution, self.degree,
+                             _invariant(system, dict(self.solution), self.angles), self.angles)
 
     def with_values(self, system: System, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> ConstraintSet:
         """This set intersected with ``values`` (a point given on it), solved again.
@@ -265,6 +272,10 @@ class ConstraintSet:
         ModelError
             The values put the point off the set, or leave it unsolvable.
         """
+        given = sorted(v.name for v, _, _ in self.angles if v in values)
+        if given:
+            raise ModelError(f"--point {text}: {given[0]} is an angle of the set {self.text}, whose value is drawn on "
+                             "the unit circle; give the point without it")
         equations = [s - value for s, value in values.items()]
         for variable, g in self.solution:
             equation = sympy.cancel((variable - g).xreplace(dict(values)))
@@ -272,7 +283,8 @@ class ConstraintSet:
                 equations.append(equation)
             elif equation != 0:
                 raise ModelError(f"--point {text}: the point is not on the set {self.text} ({variable} = {g})")
-        return solve_constraints(system, equations, f"{self.text}, {text}")
+        trig = {sine: sympy.sin(v) for v, sine, _ in self.angles} | {cosine: sympy.cos(v) for v, _, cosine in self.angles}
+        return solve_constraints(system, [e.xreplace(trig) for e in equations], f"{self.text}, {text}")
 
     def place(self, evaluator, system: System) -> None:
         """Move the evaluator's random point onto the set (states and parameter values)."""
@@ -287,6 +299,11 @@ class ConstraintSet:
         for symbol in system.free_parameters:
             if symbol not in solved:
                 value[symbol] = evaluator.constants.setdefault(symbol, evaluator.rng.randrange(1, p))
+        from .taylor import circle_point
+
+        for angle, sine, cosine in self.angles:
+            value[sine], value[cosine] = circle_point(evaluator.rng, p)
+            evaluator.circles[angle] = (value[sine], value[cosine])
         for variable, expr in self.solution:
             try:
                 value[variable] = _mod(expr, value, p)
@@ -350,39 +367,126 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
         transcendental function.
     """
     order = [s for s in (*system.states, *system.parameters)]
+    equations, angles = _through_the_circle(equations, order)
+    circle = {v for v, _, _ in angles}
     chosen: list[sympy.Symbol] = []
     for expr in equations:
-        candidates = [s for s in order if s in expr.free_symbols and s not in chosen
+        candidates = [s for s in order if s in expr.free_symbols and s not in chosen and s not in circle
                       and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
         if not candidates:
             raise ModelError(f"--where: cannot solve {expr} = 0 rationally for a state or parameter")
         chosen.append(candidates[0])
     solutions = sympy.solve(list(equations), chosen, dict=True)
-    others = [s for s in order if s not in chosen]
+    others = [s for s in order if s not in chosen] + [x for _, sine, cosine in angles for x in (sine, cosine)]
     if len(solutions) != 1 or set(solutions[0]) != set(chosen) or not all(
         v.is_rational_function(*others) and not (v.free_symbols & set(chosen)) for v in solutions[0].values()
     ):
         raise ModelError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
     solution = solutions[0]
-    expressions = [*system.dynamics, *(e for _, e in system.outputs)]
-    for expr in expressions:
-        for atom in expr.atoms(sympy.Function, sympy.Pow):
-            if isinstance(atom, sympy.Pow) and atom.exp.is_Integer:
-                continue
-            inside = atom.free_symbols & set(chosen)
-            if inside:
-                raise ModelError(
-                    f"--where: {sorted(map(str, inside))[0]} appears inside {atom}; a constraint can fix only "
-                    "variables that enter the model rationally (the engine draws transcendental values independently)"
-                )
-    degree = 1 + max(_degree(v, others) for v in solution.values())
-    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution))
+    _check_atoms(system, chosen)
+    parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
+    degree = 1 + max(_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values())
+    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution, angles),
+                         angles)
 
 
-def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr]) -> bool:
-    """Whether the motion keeps the set x_i = g_i(others) (for every input)."""
+#: The circle parameter of the invariance check: (sin, cos) = (2t, 1 - t^2) / (1 + t^2).
+_T = sympy.Dummy("t")
+
+
+def _on_circle(expr: sympy.Expr, angles, parameters) -> sympy.Expr:
+    """``expr`` with each angle's (S, C) written through its circle parameter
+    (the degree of the point's coordinates in the random quantities)."""
+    return expr.xreplace({x: value for (_, sine, cosine), t in zip(angles, parameters)
+                          for x, value in ((sine, 2 * t / (1 + t**2)), (cosine, (1 - t**2) / (1 + t**2)))})
+
+
+def _through_the_circle(equations: Sequence[sympy.Expr], variables: Sequence[sympy.Symbol]):
+    """The equations with sin(v) and cos(v) of a state or parameter v replaced by
+    symbols S_v, C_v (a point of the unit circle), and the angles so replaced.
+
+    Raises
+    ------
+    ModelError
+        An angle that also enters an equation otherwise (v itself, or sin(2 v)).
+    """
+    angles: dict[sympy.Symbol, tuple[sympy.Symbol, sympy.Symbol]] = {}
+    for expr in equations:
+        for atom in expr.atoms(sympy.sin, sympy.cos):
+            if atom.args[0] in variables:
+                v = atom.args[0]
+                angles.setdefault(v, (sympy.Dummy(f"sin_{v}"), sympy.Dummy(f"cos_{v}")))
+    mapping = {f(v): x for v, pair in angles.items() for f, x in zip((sympy.sin, sympy.cos), pair)}
+    replaced = [e.xreplace(mapping) for e in equations]
+    for expr in replaced:
+        left = expr.free_symbols & set(angles)
+        if left or expr.atoms(sympy.sin, sympy.cos, sympy.tan):
+            raise ModelError(f"--where: {expr} = 0: an angle enters only as sin(v) and cos(v) of a state or "
+                             "parameter v (its point on the unit circle)")
+    return replaced, tuple((v, *pair) for v, pair in angles.items())
+
+
+def _check_atoms(system: System, chosen: Sequence[sympy.Symbol]) -> None:
+    """Refuse a solved variable inside a transcendental atom whose value the
+    engine draws independently and whose value reaches the rows; atan2 and log
+    whose values only enter through sums into the outputs (only their
+    derivatives, rational, reach the gradients) and square roots (computed from
+    their argument) may hold one.
+
+    Raises
+    ------
+    ModelError
+        Naming the variable and the atom.
+    """
+    from .independence import _value_matters  # the engine's own notion of "the value reaches a row"
+    from .program import Op, Program
+
+    program = Program(system.states, system.inputs if system.time == "continuous" else (), where=system.name)
+    for expr in system.dynamics:
+        program.add(system.substitute_values(expr))
+    for _, expr in system.outputs:
+        program.add(system.substitute_values(expr))
+    matters = _value_matters(program, system.n if system.time == "continuous" else 0)
+    depends: list[set] = []
+    for op, args in zip(program.ops, program.args):
+        if op is Op.STATE:
+            depends.append({system.states[args[0]]})
+        elif op is Op.RANDOM:
+            depends.append({args[0]} if isinstance(args[0], sympy.Symbol) else set())
+        elif op in (Op.INPUT, Op.CONST):
+            depends.append(set())
+        else:
+            depends.append(set().union(*(depends[a] for a in args)))
+    for i, (op, args) in enumerate(zip(program.ops, program.args)):
+        if op not in (Op.TRIG, Op.EXP, Op.LOG, Op.ATAN2):
+            continue
+        inside = depends[i] & set(chosen)
+        if inside and (op in (Op.TRIG, Op.EXP) or matters[i]):
+            variable = sorted(inside, key=str)[0]
+            kinds = {Op.TRIG: (sympy.sin, sympy.cos), Op.EXP: (sympy.exp,), Op.LOG: (sympy.log,),
+                     Op.ATAN2: (sympy.atan2,)}[op]
+            atom = next((a for e in (*system.dynamics, *(h for _, h in system.outputs)) for a in e.atoms(*kinds)
+                         if variable in a.free_symbols), "a transcendental function")
+            raise ModelError(
+                f"--where: {variable} appears inside {atom}, whose value reaches the matrix; a constraint can fix only "
+                "variables that enter the model rationally or through atan2 and log whose values only add to an "
+                "output (the engine draws transcendental values independently); constrain an angle through sin() "
+                "and cos() of it"
+            )
+
+
+def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr], angles=()) -> bool:
+    """Whether the motion keeps the set x_i = g_i(others) (for every input); an
+    angle's sine and cosine are differentiated as such, and the result checked
+    on the circle (t-parametrised): False when that cannot be shown."""
     states = list(system.states)
     f = [system.substitute_values(e) for e in system.dynamics]
+    trig = {sine: sympy.sin(v) for v, sine, _ in angles} | {cosine: sympy.cos(v) for v, _, cosine in angles}
+    solution = {v: g.xreplace(trig) for v, g in solution.items()}
+    circle = {sympy.sin(v): 2 * _T / (1 + _T**2) for v, _, _ in angles}
+    circle |= {sympy.cos(v): (1 - _T**2) / (1 + _T**2) for v, _, _ in angles}
+    if len(angles) > 1:
+        return False  # one circle parameter: a second angle is not checked here
     on_set = dict(solution)
     for variable, g in solution.items():
         if variable not in states:
@@ -392,6 +496,6 @@ def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr]) -> b
             change = sum(sympy.diff(residual, x) * fx for x, fx in zip(states, f))
         else:
             change = residual.xreplace(dict(zip(states, f)))
-        if sympy.cancel(sympy.together(change.xreplace(on_set))) != 0:
+        if sympy.cancel(sympy.together(change.xreplace(on_set).xreplace(circle))) != 0:
             return False
     return True

@@ -170,6 +170,7 @@ class TaylorEvaluator:
         self.point = [rng.randrange(p) for _ in range(n_states)] if p else []
         self.inputs: dict[tuple[int, int], int] = {}
         self.constants: dict[object, int] = {}  # values fixed before evaluation (a constraint's parameters)
+        self.circles: dict[sympy.Symbol, tuple] = {}  # (sin, cos) of an angle fixed by a constraint set
         self.differentiated: set[int] | None = None  # the states gradients are taken in (None: all)
         self.order = -1
 
@@ -197,6 +198,18 @@ class TaylorEvaluator:
     def _circle(self, angle: int) -> tuple[int, int]:
         """(sin, cos) at order 0: a random rational point of the unit circle."""
         return circle_point(self.rng, self.p)
+
+    def _fixed_circle(self, node: int) -> tuple | None:
+        """The point of the circle a constraint set chose for this angle (a state
+        or parameter leaf), or None."""
+        if not self.circles:
+            return None
+        op, args = self.program.ops[node], self.program.args[node]
+        if op is Op.STATE:
+            return self.circles.get(self.program.states[args[0]])
+        if op is Op.RANDOM:
+            return self.circles.get(args[0])
+        return None
 
     def _exp0(self, a0: int) -> int:
         return self._random()  # exp of a generic value: an independent quantity
@@ -320,7 +333,7 @@ class TaylorEvaluator:
             (a,) = arg
             if k == 0:
                 a0 = c(a, 0)
-                sine, cosine = self._circle(a0[0])
+                sine, cosine = self._fixed_circle(a) or self._circle(a0[0])
                 self.trig[i] = ([(sine, _scale(a0, cosine, p)[1])], [(cosine, _scale(a0, -sine, p)[1])])
             else:
                 sins, coss = self.trig[i]

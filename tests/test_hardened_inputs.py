@@ -138,3 +138,16 @@ def test_vector_models_are_read_in_bounded_work():
     with pytest.raises(ModelFileError, match="more than 100000 entries"):
         _vector_model(1_000, "(transpose([p]) @ [p])[0, 0]")
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 200_000  # kB: nothing of 337 MB was built
+
+
+def test_every_variable_given_to_a_set_or_a_motion(tmp_path, capsys):
+    """x' = v, v' = ax, y = x*v with x = 1, v = 2, ax = 0 (every variable given;
+    GeneratorsNeeded, exit 4, before): y = x v and y' = v^2 + x ax have the
+    gradients (v, x) = (2, 1) and (ax, 2 v) = (0, 4) there: rank 2, by hand."""
+    text = ('states = ["x", "v"]\ninputs = ["ax"]\n[dynamics]\nx = "v"\nv = "ax"\n[outputs]\ny = "x*v"\n'
+            '[motions.all]\nwhere = "x = 1, v = 2, ax = 0"\n')
+    model = _file(tmp_path, text)
+    assert main(["check", model, "--where", "x = 1, v = 2, ax = 0", "--seed", "1"]) == 0
+    assert "rank 2 of 2" in capsys.readouterr().out
+    assert main(["degenerate", model, "--seed", "1", "--format", "json"]) == 0
+    assert '"rank": 2' in capsys.readouterr().out

@@ -19,6 +19,7 @@ from observability import analyze, models, parse_model
 from observability.conditions import has_real_points, rank_drops
 from observability.pointwise import rank_at_point
 from observability.restrictions import parse_constraints, parse_profile, with_input_profiles
+from observability.errors import ModelError
 
 
 def _exact_rank(states, dynamics, outputs, point, orders, discrete=False):
@@ -420,7 +421,59 @@ def test_an_input_set_twice_on_a_set_is_refused():
         [outputs]
         y = "x"
     """)
-    from observability.errors import ModelError
 
     with pytest.raises(ModelError, match="the input u is set to 0 and to 1"):
         parse_constraints(system, "u = 0, u = 1")
+
+
+UNICYCLE = """
+    states = ["x", "y", "th", "lx", "ly"]
+    inputs = ["v", "w"]
+    [dynamics]
+    x = "v*cos(th)"
+    y = "v*sin(th)"
+    th = "w"
+    lx = "0"
+    ly = "0"
+    [outputs]
+    b = "atan2(ly - y, lx - x) - th"
+"""
+
+
+def test_a_set_through_an_angle_heading_at_the_landmark():
+    """Issue 24 item 9: a unicycle driving straight (w = 0) at its landmark,
+    (lx - x) sin(th) = (ly - y) cos(th), was refused ("no unique rational
+    solution"). The set is kept by the motion and the bearing stays 0, so every
+    L_f^k b has a gradient parallel to grad b there: rank 1. Reference: sympy's
+    Lie derivatives (w = 0) at a rational point of the set (th = 2 atan(1/2):
+    sin 4/5, cos 3/5; x = lx - (ly - y) cos/sin), orders 0..4."""
+    system = _model(UNICYCLE)
+    where = "w = 0, (lx - x)*sin(th) - (ly - y)*cos(th) = 0"
+    prepared, derivatives = with_input_profiles(system, {"w": parse_profile("0", "w")})
+    constraint, _ = parse_constraints(system, "(lx - x)*sin(th) - (ly - y)*cos(th) = 0")
+    result = analyze(prepared, seed=3, input_derivatives=derivatives, where=constraint.on(prepared))
+    assert result.rank == 1 and "kept by the motion" in result.details, where
+    x, y, th, lx, ly, v = sympy.symbols("x y th lx ly v")
+    f = {x: v * sympy.cos(th), y: v * sympy.sin(th), th: 0, lx: 0, ly: 0}
+    rows, level = [], sympy.atan2(ly - y, lx - x) - th
+    for _ in range(5):
+        rows.append([sympy.diff(level, s) for s in (x, y, th, lx, ly)])
+        level = sum(sympy.diff(level, s) * fs for s, fs in f.items())
+    point = {th: 2 * sympy.atan(sympy.Rational(1, 2)), y: 1, lx: 7, ly: 5, v: 3}
+    point[x] = 7 - (5 - 1) * sympy.Rational(3, 4)
+    exact = sympy.Matrix(rows).subs(point).applyfunc(sympy.simplify)
+    assert all(e.is_Rational for e in exact) and exact.rank() == 1
+
+
+def test_a_variable_inside_a_bearing_may_be_constrained_an_angle_only_through_its_circle():
+    """x = 0 on the unicycle: x sits inside atan2, whose value never reaches a
+    row (only its rational derivative does), so the set is accepted (was
+    refused); the motion leaves it, so the rank there is a lower bound
+    (undecided). th = 0 sets the angle inside cos(th), whose value matters:
+    refused, pointing to sin() and cos()."""
+    system = _model(UNICYCLE)
+    constraint, _ = parse_constraints(system, "x = 0")
+    result = analyze(system, seed=1, where=constraint)
+    assert result.rank is None and result.lower_bound == 2
+    with pytest.raises(ModelError, match=r"sin\(\) and cos\(\)"):
+        parse_constraints(system, "th = 0")
