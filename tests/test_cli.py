@@ -1,14 +1,13 @@
 """End to end: the installed console script, its output, and its exit codes."""
 
 import json
-import shutil
 import subprocess
 import sys
 
 import pytest
 
-SCRIPT = shutil.which("observability")
-pytestmark = pytest.mark.skipif(SCRIPT is None, reason="console script not installed (pip install -e .)")
+#: The command line, run by the interpreter running the tests (never whatever is on PATH).
+SCRIPT = [sys.executable, "-m", "observability"]
 
 KEYS = {
     "model", "states", "n_states", "rank", "observable", "method", "seed", "error_probability",
@@ -17,7 +16,7 @@ KEYS = {
 
 
 def run(*args, cwd=None):
-    return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+    return subprocess.run([*SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def test_check_all_prints_the_table():
@@ -48,7 +47,7 @@ def test_exit_code_and_json(model, code, rank, method):
 
 def test_python_dash_m_and_options():
     out = subprocess.run(
-        ["python", "-m", "observability", "check", "slam1.5d-beacon", "-o", "f=20", "--time", "discrete"],
+        [sys.executable, "-m", "observability", "check", "slam1.5d-beacon", "-o", "f=20", "--time", "discrete"],
         capture_output=True, text=True, timeout=120,
     )
     assert out.returncode == 0, out.stderr
@@ -158,7 +157,7 @@ def test_a_models_folder_in_the_working_directory_does_not_shadow_the_built_ins(
     live in observability.models, so `python -m observability` still finds them."""
     (tmp_path / "models").mkdir()
     (tmp_path / "models" / "__init__.py").write_text("BUILTINS = None\n")
-    out = subprocess.run(["python", "-m", "observability", "check", "slam1.5d"], capture_output=True, text=True,
+    out = subprocess.run([sys.executable, "-m", "observability", "check", "slam1.5d"], capture_output=True, text=True,
                          timeout=120, cwd=tmp_path)
     assert out.returncode == 1, out.stderr
     assert "NOT observable (rank 2 of 4)" in out.stdout
@@ -196,7 +195,7 @@ def test_parser_and_version_do_not_import_the_engine():
 
 def test_exit_status_survives_a_closed_pipe():
     """`check slam1.5d | head -c 1`: the reader leaves early; the status is still 1."""
-    out = subprocess.run(f"'{SCRIPT}' check slam1.5d | head -c 1 >/dev/null; echo ${{PIPESTATUS[0]}}",
+    out = subprocess.run(f"'{sys.executable}' -m observability check slam1.5d | head -c 1 >/dev/null; echo ${{PIPESTATUS[0]}}",
                          shell=True, executable="/bin/bash", capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "1", out.stderr
     assert "Traceback" not in out.stderr

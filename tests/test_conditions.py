@@ -2,8 +2,8 @@
 derivations and an independent determinant."""
 
 import json
-import shutil
 import subprocess
+import sys
 
 import sympy
 
@@ -81,12 +81,12 @@ def test_conditions_are_bounded():
 
 
 def test_cli_degenerate_conditions():
-    script = shutil.which("observability")
-    out = subprocess.run([script, "degenerate", "slam1.5d-beacon", "--conditions"], capture_output=True, text=True,
+    script = [sys.executable, "-m", "observability"]
+    out = subprocess.run([*script, "degenerate", "slam1.5d-beacon", "--conditions"], capture_output=True, text=True,
                          timeout=300)
     assert out.returncode == 0, out.stderr
     assert "generic: rank 3 when cdot = 0 (stationary)" in out.stdout
-    out = subprocess.run([script, "degenerate", "slam1.5d-beacon", "--conditions", "--format", "json"],
+    out = subprocess.run([*script, "degenerate", "slam1.5d-beacon", "--conditions", "--format", "json"],
                          capture_output=True, text=True, timeout=300)
     generic = json.loads(out.stdout)["motions"][0]
     assert {"condition": "f = 0", "rank": 0} in [{k: d[k] for k in ("condition", "rank")} for d in generic["rank_drops"]]

@@ -3,18 +3,18 @@ input is exit 2 with one line naming what is wrong, files are written completely
 or not at all and only where asked, and nothing reaches LaTeX unescaped."""
 
 import os
-import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-SCRIPT = shutil.which("observability")
-pytestmark = pytest.mark.skipif(SCRIPT is None, reason="console script not installed (pip install -e .)")
+#: The command line, run by the interpreter running the tests (never whatever is on PATH).
+SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def run(*args, cwd=None):
-    return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+    return subprocess.run([*SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def _one_line_error(out, *words):

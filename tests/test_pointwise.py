@@ -1,8 +1,8 @@
 """The rank at a given point (check --point): hand-derived references."""
 
 import json
-import shutil
 import subprocess
+import sys
 
 import pytest
 import sympy
@@ -10,7 +10,8 @@ import sympy
 from observability import ModelError, analyze, models
 from observability.pointwise import rank_at_point
 
-SCRIPT = shutil.which("observability")
+#: The command line, run by the interpreter running the tests (never whatever is on PATH).
+SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def test_full_point_gives_the_null_space_as_numbers():
@@ -51,21 +52,21 @@ def test_point_errors_name_the_problem():
 
 
 def test_cli_point_text_and_json():
-    out = subprocess.run([SCRIPT, "check", "slam1.5d-beacon", "--point", "cdot=0"], capture_output=True, text=True,
+    out = subprocess.run([*SCRIPT, "check", "slam1.5d-beacon", "--point", "cdot=0"], capture_output=True, text=True,
                          timeout=120)
     assert out.returncode == 0 and "rank 3 of 4 at the point cdot = 0" in out.stdout and "singular" in out.stdout
-    out = subprocess.run([SCRIPT, "check", "slam1.5d", "--point", "c=1,cdot=2,x_L2=3,d_L2=1/2,f=20", "--format",
+    out = subprocess.run([*SCRIPT, "check", "slam1.5d", "--point", "c=1,cdot=2,x_L2=3,d_L2=1/2,f=20", "--format",
                           "json"], capture_output=True, text=True, timeout=120)
     record = json.loads(out.stdout)["at_point"]
     assert record["rank"] == 2 and record["singular"] is False and len(record["null_space"]) == 2
-    bad = subprocess.run([SCRIPT, "check", "slam2d", "--point", "cth=1"], capture_output=True, text=True, timeout=120)
+    bad = subprocess.run([*SCRIPT, "check", "slam2d", "--point", "cth=1"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--point: cth appears inside" in bad.stderr
 
 
 def test_cli_float_method_evaluates_at_the_point():
     """With --method float the SVD is taken at the point itself, an angle
     included: slam2d keeps its four directions there (rank 4 of 8)."""
-    out = subprocess.run([SCRIPT, "check", "slam2d", "--method", "float", "--point", "cth=1,cx=0", "--format", "json"],
+    out = subprocess.run([*SCRIPT, "check", "slam2d", "--method", "float", "--point", "cth=1,cx=0", "--format", "json"],
                          capture_output=True, text=True, timeout=120)
     record = json.loads(out.stdout)
     assert out.returncode == 1 and record["rank"] == 4 and "at_point" not in record

@@ -63,8 +63,8 @@ def test_a_field_without_polynomial_generator_is_not_a_proof():
 # ---------------------------------------------------------------- item 2: a symbolic method that finishes
 import importlib.util  # noqa: E402
 import json  # noqa: E402
-import shutil  # noqa: E402
 import subprocess  # noqa: E402
+import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import sympy  # noqa: E402
@@ -159,18 +159,18 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
     checker run as a script; not written (exit 3) for a lower bound."""
-    script = shutil.which("observability")
+    script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
-    done = subprocess.run([script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
+    done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 1 and target.exists()  # 1: not observable, the proof written
-    check = subprocess.run(["python", str(ROOT / "benchmarks" / "check_proof.py"), str(target)],
+    check = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "check_proof.py"), str(target)],
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
     model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + exp(z)"\n')
     other = tmp_path / "none.json"
-    refused = subprocess.run([script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
+    refused = subprocess.run([*script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)
     assert refused.returncode == 3 and not other.exists() and "lower bound, not proven" in refused.stderr
 

@@ -2,8 +2,8 @@
 
 import json
 import math
-import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -23,7 +23,7 @@ KEYS = {
 @pytest.fixture(scope="module")
 def quick_reports(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports")
-    result = subprocess.run([shutil.which("observability") or "observability", "reproduce", "--quick", "--out", str(out)],
+    result = subprocess.run([sys.executable, "-m", "observability", "reproduce", "--quick", "--out", str(out)],
                             capture_output=True, text=True, timeout=600)
     assert result.returncode == 0, result.stderr
     return out
