@@ -82,7 +82,8 @@ def test_inverse_motion_model_inverts_the_motion():
     np.testing.assert_allclose(ff["g"](forward, u, w, p).full().ravel(), x, rtol=1e-12)
 
 
-@pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None, reason="no C compiler")
+@pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None and not os.environ.get("CI"),
+                    reason="no C compiler (under CI=1 this test runs, and fails without one)")
 def test_compiled_c_agrees_with_in_memory(tmp_path):
     system, noise = CASES["slam2d-disparity"]
     ff = filter_functions(system, noise)

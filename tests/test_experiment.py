@@ -2,7 +2,6 @@
 Dask determinism, and verdicts that follow the numbers."""
 
 import copy
-import math
 from dataclasses import replace
 
 import numpy as np
@@ -227,7 +226,6 @@ def test_a_smoke_run_draws_no_verdict():
     full = simulation_text(rows, config, sweep, False, {"conventional": 1e-4})
     assert "smoke" in quick and "no verdict is drawn" in quick
     assert "as Fig. 4 claims" not in quick and "as Fig. 4 claims? Yes" in full
-    assert math.isfinite(rows[1]["trace_ratio"])
 
 
 def test_a_run_is_the_same_alone_or_in_a_batch():
