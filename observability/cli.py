@@ -392,8 +392,9 @@ def _latex(args: argparse.Namespace) -> int:
 def _reproduce(args: argparse.Namespace) -> int:
     from .report.reproduce import reproduce
 
-    written = reproduce(args.out, quick=args.quick, runs=args.runs, scheduler=args.scheduler, workers=args.workers)
-    print(f"wrote {len(written)} files into {args.out}: " + ", ".join(p.name for p in written))
+    out = args.out or Path("reports-quick" if args.quick else "reports")  # a smoke run never lands on the full report
+    written = reproduce(out, quick=args.quick, runs=args.runs, scheduler=args.scheduler, workers=args.workers)
+    print(f"wrote {len(written)} files into {out}: " + ", ".join(p.name for p in written))
     return 0
 
 
@@ -560,7 +561,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="CPU time allowed for the symbolic matrix (default 60); exit 3 when it does not fit")
     latex.set_defaults(func=_latex)
     reproduce = sub.add_parser("reproduce", help="regenerate every report of the paper's analyses")
-    reproduce.add_argument("--out", type=_out_directory, default=Path("reports"), help="directory of the reports (default: reports)")
+    reproduce.add_argument("--out", type=_out_directory, default=None,
+                           help="directory of the reports (default: reports; reports-quick with --quick)")
     reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
     reproduce.add_argument("--runs", type=_positive, default=None, help="Monte Carlo runs of the simulation (default 50)")
     reproduce.set_defaults(func=_reproduce)

@@ -303,13 +303,16 @@ def _solve_inverse(system: System, noise: list[str]) -> list[sympy.Expr] | None:
 def write_c(functions: FilterFunctions, directory: str | Path, name: str = "filter_functions") -> dict[str, Path]:
     """Write C source, header and a small Python loader into ``directory``.
 
-    Files are written to a temporary name and renamed, so each is complete or absent.
+    Every C symbol carries ``name``: the functions are ``{name}_f``,
+    ``{name}_F_X``, ... and casadi's helpers ``{name}__...``, so several
+    generated models link into one program. Files are written to a temporary
+    name and renamed, so each is complete or absent.
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    generator = casadi.CodeGenerator(f"{name}.c", {"with_header": True})
-    for fn in functions.functions.values():
-        generator.add(fn)
+    generator = casadi.CodeGenerator(f"{name}.c", {"with_header": True, "prefix": f"{name}_"})
+    for key, fn in functions.functions.items():
+        generator.add(_renamed(fn, f"{name}_{key}"))
     with tempfile.TemporaryDirectory() as tmp:
         cwd = os.getcwd()
         os.chdir(tmp)
@@ -331,12 +334,18 @@ def write_c(functions: FilterFunctions, directory: str | Path, name: str = "filt
         f"    gcc -fPIC -shared -O2 {name}.c -o {name}.so\n"
         f'"""\nfrom pathlib import Path\n\nimport casadi\n\nHERE = Path(__file__).resolve().parent\n'
         f"NAMES = ({listing},)\n\n\ndef load(library=HERE / '{name}.so'):\n"
-        "    return {n: casadi.external(n, str(library)) for n in NAMES}\n"
+        f"    return {{n: casadi.external('{name}_' + n, str(library)) for n in NAMES}}\n"
     )
     loader.with_suffix(".tmp").write_text(text)
     os.replace(loader.with_suffix(".tmp"), loader)
     written["loader"] = loader
     return written
+
+
+def _renamed(fn: casadi.Function, name: str) -> casadi.Function:
+    """``fn`` under another name (its C symbol), same inputs and outputs."""
+    arguments = fn.sx_in() if fn.is_a("SXFunction") else fn.mx_in()
+    return casadi.Function(name, arguments, fn.call(arguments), fn.name_in(), fn.name_out())
 
 
 def compile_functions(functions: FilterFunctions, cache: str | Path | None = None) -> FilterFunctions:
@@ -363,6 +372,6 @@ def compile_functions(functions: FilterFunctions, cache: str | Path | None = Non
                           RuntimeWarning, stacklevel=2)
             return functions
         os.replace(partial, library)
-    loaded = {name: casadi.external(name, str(library)) for name in functions.functions}
+    loaded = {name: casadi.external(f"filter_functions_{name}", str(library)) for name in functions.functions}
     return FilterFunctions(loaded, functions.states, functions.inputs, functions.parameters, functions.outputs,
                            functions.noise, source=functions.source or functions.functions)

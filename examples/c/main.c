@@ -10,6 +10,8 @@
  * step earlier) and p = [f, dt, x_L1, d_L1] (the order `codegen` prints). The
  * program prints the measurement h and its Jacobian H_Xk as dense matrices.
  *
+ * Every C symbol carries the --name (default filter_functions): the function h is
+ * filter_functions_h, so several generated models link into one program.
  * Every generated function F has the same calling convention (CasADi):
  *   F_work(&n_arg, &n_res, &n_iw, &n_w)   sizes of the work arrays
  *   mem = F_checkout(); F(arg, res, iw, w, mem); F_release(mem);
@@ -88,8 +90,11 @@ int main(int argc, char **argv) {
         }
     }
     const casadi_real *inputs[3] = {values, values + 4, values + 8}; /* x, x_prev, p */
-    generated_function measurement = {"h", h, h_work, h_sparsity_out, h_checkout, h_release};
-    generated_function jacobian = {"H_Xk", H_Xk, H_Xk_work, H_Xk_sparsity_out, H_Xk_checkout, H_Xk_release};
+    generated_function measurement = {"h", filter_functions_h, filter_functions_h_work, filter_functions_h_sparsity_out,
+                                      filter_functions_h_checkout, filter_functions_h_release};
+    generated_function jacobian = {"H_Xk", filter_functions_H_Xk, filter_functions_H_Xk_work,
+                                   filter_functions_H_Xk_sparsity_out, filter_functions_H_Xk_checkout,
+                                   filter_functions_H_Xk_release};
     if (print_output(&measurement, inputs, 3) || print_output(&jacobian, inputs, 3)) {
         fprintf(stderr, "%s: evaluation failed\n", argv[0]);
         return 1;

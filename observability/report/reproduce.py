@@ -8,6 +8,8 @@ verdict on the paper from the numbers. Other files in the folder are left alone.
 
 from __future__ import annotations
 
+import json
+
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -37,7 +39,8 @@ def claims_text() -> str:
 
 def reproduce(out: Path, quick: bool = False, runs: int | None = None, progress: bool | None = None,
               scheduler: str | None = None, workers: int | None = None) -> list[Path]:
-    """Regenerate the reports into ``out``; ``quick`` is a smoke run (few, short runs, no verdict).
+    """Regenerate the reports into ``out``; ``quick`` is a smoke run (few, short runs, no verdict),
+    refused where a full report is (its summary.json says so).
 
     The Monte Carlo runs are Dask tasks: on a local cluster of ``workers`` processes
     (default: all cores), or on the running scheduler at ``scheduler``. Every option
@@ -45,6 +48,14 @@ def reproduce(out: Path, quick: bool = False, runs: int | None = None, progress:
     temporary directory first: on failure ``out`` is left as it was.
     """
     final = Path(out)
+    summary = final / "summary.json"
+    if quick and summary.is_file():
+        try:
+            full = json.loads(summary.read_text()).get("quick") is False
+        except (OSError, ValueError, AttributeError):
+            full = False
+        if full:
+            raise OptionError(f"{final} holds a full report; a smoke run (--quick) never replaces one: give another --out")
     if runs is not None and runs < 1:
         raise OptionError(f"runs must be at least 1, got {runs}")
     if workers is not None and workers < 1:
