@@ -34,6 +34,8 @@ __all__ = ["UnobservableDirection", "ObservabilityResult", "analyze", "METHODS"]
 PROOFS = {
     "proven": "proven (the rank is certain: a certified lower bound meets an upper bound from independent "
     "fields that annihilate the observability matrix as identities)",
+    "full rank": "proven (a full rank at a point, in exact arithmetic, is certain: the generic rank is never "
+    "lower than a rank at a point, nor above n)",
     "lower bound": "lower bound (the rank is certainly not lower; a higher rank is excluded only with the "
     "stated probability)",
     "numerical": "numerical (singular values in floating point; not a proof)",
@@ -233,8 +235,11 @@ class ObservabilityResult:
         if self.unknown_input_model:
             lines.append(f"  unknown inputs {', '.join(self.unknown_inputs)}: {self.unknown_input_model}")
         if self.observable is not None:
-            lines.append(f"  proof: {PROOFS.get(self.proof, self.proof)}")
+            proof = "full rank" if self.proof == "proven" and self.rank == self.n_states else self.proof
+            lines.append(f"  proof: {PROOFS.get(proof, proof)}")
             lines.append(f"  Lie orders used: 0..{self.orders}")
+            lines.append("  meaning: " + ("" if self.observable else "not ") + "locally weakly observable at generic "
+                         "points (Hermann & Krener's rank condition): a statement about nearby states, not a global one")
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
@@ -283,7 +288,7 @@ def arbitrary_inputs_verdict(system: System, seed: int | None, input_derivatives
     classified = found | moved == set(targets)
     rank = jet.rank if classified and jet.rank + span == len(targets) else None
     listing = (f"at orders 0..{jet.orders} the outputs determine {jet.rank} of {len(targets)} directions ({how}); "
-               f"{span} independent compensated symmetries (proven) leave at most {len(targets) - span}")
+               f"{_fields(span, 'compensated symmetry', 'compensated symmetries')} (proven) leave at most {len(targets) - span}")
     if moved & found or not moved:
         return ObservabilityResult(
             rank=None, observable=None, error_probability=None, observable_states=None,
@@ -329,6 +334,11 @@ def _compensated_direction(field, system: System) -> UnobservableDirection:
                     f"{', '.join(field.moved_inputs)} compensate{'s' if len(field.moved_inputs) == 1 else ''}"
                     if field.moved_inputs else "")
     return UnobservableDirection(name, _vector(system.states, list(field.vector)), description + compensation)
+
+
+def _fields(count: int, one: str = "field", many: str = "fields") -> str:
+    """'1 independent field', '2 independent fields'."""
+    return f"{count} independent {one if count == 1 else many}"
 
 
 def input_model(system: System) -> str:
@@ -503,8 +513,8 @@ def _two_sided(
     seconds = PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
     if basis is None or not fields_are_symmetries(system, basis, budget=seconds):
         return None
-    details = (f"{head} and as an upper bound ({n - lower.rank} generically independent fields annihilate the "
-               "matrix as identities, verified by exact rational-function arithmetic)")
+    details = (f"{head} and as an upper bound (the matrix is annihilated as identities by {_fields(n - lower.rank)}, "
+               "generically, verified by exact rational-function arithmetic)")
     return (lower.rank, lower.orders, lower.seed, lower.row_labels, lower.observable_columns, details,
             (found, basis, note))
 
@@ -734,7 +744,7 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         proof = "proven"
         # Both bounds are certain: no probability is left to state.
         probability = 0.0
-        upper = f"; rank {rank} proven from above: {n - rank} independent fields annihilate the matrix as identities"
+        upper = f"; rank {rank} proven from above: the matrix is annihilated as identities by {_fields(n - rank)}"
     else:
         proof = "lower bound"
     details += upper + (f"; {note}" if note else "")
@@ -743,6 +753,10 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         found_functions = observable_functions(system, basis, rank, seed=seed or 0)
         # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
         functions = tuple(str(sympy.factor_terms(e)) for e in found_functions)
+        if not functions and rank:
+            # None of low degree found: the outputs themselves are observable functions ("[]" read as "none").
+            functions = tuple(str(system.substitute_values(h)) for _, h in system.outputs
+                              if system.substitute_values(h).free_symbols & set(system.states))
     observable_states: tuple[str, ...] | None
     if observable_columns is None:
         if basis is None:

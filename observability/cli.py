@@ -8,6 +8,7 @@ line on stderr saying what and where), 3 undecided (symbolic budget spent),
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import contextlib
 import json
 import os
@@ -211,7 +212,7 @@ def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = 
         # The float method evaluates at the point itself, transcendental values included.
         point = {k: float(parse_number(v, f"--point {k}")) for k, v in (_point(args.point) or {}).items()}
     try:
-        return analyze(
+        result = analyze(
             system,
             method=args.method,
             seed=args.seed,
@@ -226,6 +227,11 @@ def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = 
         )
     finally:
         clear_line()
+    profiles = ([f"every input {args.inputs}"] if getattr(args, "inputs", None) else []) + list(getattr(args, "input", []))
+    if profiles:  # the profile is part of what was analysed, as a set is
+        inputs = "inputs: " + ", ".join(profiles)
+        result = dataclasses.replace(result, restriction=f"{inputs}; {result.restriction}" if result.restriction else inputs)
+    return result
 
 
 def _table(results: list[ObservabilityResult]) -> str:

@@ -112,3 +112,19 @@ def test_spatial_section_follows_the_rows():
     assert "Disparity never changes the rank of the 3-D model" in claims_markdown([], [], spatial=rows)
     mixed = claims_markdown([], [], spatial=[rows[0], rows[7]])
     assert "Disparity changes the rank of the 3-D model (slam3d-L1-B0)" in mixed
+
+
+def test_a_smoke_run_never_replaces_a_full_report(tmp_path, capsys):
+    """Issue 30 item 2: `reproduce --quick` (default --out reports) overwrote the
+    committed full reports. A directory whose summary.json says it is a full
+    report is refused before any work, and left as it was."""
+    from observability.cli import main
+
+    full = tmp_path / "reports"
+    full.mkdir()
+    (full / "summary.json").write_text('{"quick": false, "records": []}')
+    (full / "README.md").write_text("the full report")
+    assert main(["reproduce", "--quick", "--out", str(full)]) == 2
+    assert "never replaces" in capsys.readouterr().err
+    assert (full / "README.md").read_text() == "the full report"
+    assert sorted(p.name for p in full.iterdir()) == ["README.md", "summary.json"]
