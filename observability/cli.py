@@ -325,7 +325,7 @@ def _write_proof(system: System, result, args: argparse.Namespace) -> int | None
             print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
             return EXIT_UNDECIDED
     write_json(args.proof, evidence)
-    print(f"wrote the proof to {args.proof} (re-check it with: python benchmarks/check_proof.py {args.proof})",
+    print(f"wrote the proof to {args.proof} (re-check it with: observability verify-proof {args.proof})",
           file=sys.stderr)
     return None
 
@@ -418,6 +418,14 @@ def _consistency(args: argparse.Namespace) -> int:
     return 0
 
 
+def _verify_proof(args: argparse.Namespace) -> int:
+    from .proofcheck import verify  # sympy only: independent of the code that wrote the proof
+
+    accepted, line = verify(str(args.file))
+    print(line)
+    return EXIT_OBSERVABLE if accepted else EXIT_NOT_OBSERVABLE
+
+
 def _degenerate(args: argparse.Namespace) -> int:
     from .motions import degenerate_motions
 
@@ -506,7 +514,7 @@ def build_parser() -> argparse.ArgumentParser:
                        help="text for people, json for programs (one object, or a list with --all)")
     check.add_argument("--proof", type=Path, default=None, metavar="FILE",
                        help="write the proof of a proven verdict as JSON (the minor at an exact point, the generators "
-                            "and their identities), for benchmarks/check_proof.py; exit 3 when the verdict is not proven")
+                            "and their identities), for `observability verify-proof`; exit 3 when the verdict is not proven")
     check.add_argument("--brief", action="store_true",
                        help="text: at most 8 states or components per list ('... and K more'); JSON keeps everything")
     check.add_argument("--input-derivatives", type=_count, default=None, metavar="N",
@@ -583,6 +591,10 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_argument("--workers", type=_positive, default=None,
                              help="processes of the local Dask cluster (default: all cores)")
     consistency.set_defaults(func=_consistency)
+    verify = sub.add_parser(
+        "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")
+    verify.add_argument("file", type=Path, help="the proof file (JSON)")
+    verify.set_defaults(func=_verify_proof)
     degenerate = sub.add_parser(
         "degenerate", help="which motions lose observability: the rank on each motion of the model's catalogue")
     _model_arguments(degenerate)

@@ -13,7 +13,7 @@ A proven rank r of n rests on two facts (:mod:`observability.proof`):
   row of the matrix.
 
 :func:`proof_evidence` builds the artefact as plain JSON (expressions as sympy
-strings); ``benchmarks/check_proof.py`` re-derives the Lie derivatives and
+strings); ``observability verify-proof`` (:mod:`observability.proofcheck`) re-derives the Lie derivatives and
 re-checks both facts with sympy alone.
 
 The conventions the checker must share are :data:`CONVENTIONS` (also written

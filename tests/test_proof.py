@@ -117,7 +117,7 @@ def test_visual_inertial_models_are_proven(file, rank):
 
 # ---------------------------------------------------------------- item 3: proof artefacts
 def _checker():
-    spec = importlib.util.spec_from_file_location("check_proof", ROOT / "benchmarks" / "check_proof.py")
+    spec = importlib.util.spec_from_file_location("proofcheck", ROOT / "observability" / "proofcheck.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -131,7 +131,7 @@ PROVEN = [
 
 @pytest.mark.parametrize("system", PROVEN, ids=lambda s: s.name)
 def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
-    """benchmarks/check_proof.py (sympy only, no import of this package) re-derives
+    """observability/proofcheck.py (sympy only, no import of this package) re-derives
     the Lie derivatives, the minor at the exact point and the identities of the
     generators; one changed entry anywhere makes it reject."""
     checker = _checker()
@@ -158,13 +158,13 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
-    checker run as a script; not written (exit 3) for a lower bound."""
+    checker as `observability verify-proof`; not written (exit 3) for a lower bound."""
     script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
     done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 1 and target.exists()  # 1: not observable, the proof written
-    check = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "check_proof.py"), str(target)],
+    check = subprocess.run([sys.executable, "-m", "observability", "verify-proof", str(target)],
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
@@ -311,3 +311,32 @@ def test_the_engine_does_not_prove_an_upper_bound_with_a_field_that_moves_with_a
     u = sympy.Symbol("u")
     assert not fields_are_symmetries(system, [[u, 0]])
     assert fields_are_symmetries(system, [[1, 0]])
+
+
+def test_the_checker_imports_nothing_of_the_package():
+    """Independent of the code that wrote the proof: the checker's module
+    imports only the standard library, sympy and mpmath (read from its syntax
+    tree, not its behaviour)."""
+    import ast
+
+    tree = ast.parse((ROOT / "observability" / "proofcheck.py").read_text())
+    imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+    imported |= {node.module.split(".")[0] if node.module else "." for node in ast.walk(tree)
+                 if isinstance(node, ast.ImportFrom) and node.level == 0}
+    relative = [node for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.level > 0]
+    assert not relative and imported <= {"__future__", "ast", "json", "mpmath", "sympy"}, imported
+
+
+def test_verify_proof_command_refuses_an_unreadable_or_tampered_file(tmp_path, capsys):
+    """`observability verify-proof`: a missing file is exit 2 (one line); a file
+    that is not JSON, or nested beyond any proof, is rejected (exit 1), never a
+    traceback."""
+    from observability.cli import main
+
+    assert main(["verify-proof", str(tmp_path / "none.json")]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+    for text in ("not json", "[" * 100_000 + "]" * 100_000, '{"format": "observability proof 1"}'):
+        path = tmp_path / "p.json"
+        path.write_text(text)
+        assert main(["verify-proof", str(path)]) == 1
+        assert capsys.readouterr().out.startswith("rejected")

@@ -1,10 +1,11 @@
 """Re-check a proof written by `observability check MODEL --proof FILE`, with sympy alone.
 
-    python benchmarks/check_proof.py FILE        # exit 0: accepted, 1: rejected (with the reason)
+    observability verify-proof FILE     # exit 0: accepted, 1: rejected (with the reason)
 
-Nothing of the observability package is imported: the Lie derivatives, the minor,
-the identities and the independence of the generators are all recomputed here
-from the model's equations in the file.
+Nothing else of the observability package is imported (a test keeps it so): the
+Lie derivatives, the minor, the identities and the independence of the
+generators are all recomputed here from the model's equations in the file,
+independently of the code that wrote the proof.
 
 * Lower bound: the rows of order k are the gradients of L_f^k h (continuous time,
   inputs generic: u, u', u'', ... take the listed values) or of h(x_k, u_k) with
@@ -27,7 +28,6 @@ from __future__ import annotations
 
 import ast
 import json
-import sys
 
 import mpmath
 import sympy
@@ -44,6 +44,8 @@ _BINARY = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: l
            ast.Div: lambda a, b: a / b, ast.Pow: lambda a, b: a**b}
 #: Bounds that keep a hostile file from hanging the checker (9**9**9**9).
 MAX_TEXT, MAX_NODES, MAX_EXPONENT = 200_000, 50_000, 1_000
+#: The largest proof file read (characters).
+MAX_FILE = 20_000_000
 
 
 def _parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
@@ -209,22 +211,21 @@ def check(proof: dict) -> str:
             "and independent)")
 
 
-def main(argv: list[str]) -> int:
-    if len(argv) != 2:
-        print("usage: python benchmarks/check_proof.py PROOF.json", file=sys.stderr)
-        return 2
+def verify(path: str) -> tuple[bool, str]:
+    """(accepted, the line to print) for the proof file at ``path``.
+
+    Raises
+    ------
+    OSError
+        The file cannot be read.
+    """
+    with open(path, encoding="utf-8") as handle:
+        text = handle.read(MAX_FILE + 1)
+    if len(text) > MAX_FILE:
+        return False, f"rejected: a proof file of more than {MAX_FILE} characters"
     try:
-        with open(argv[1], encoding="utf-8") as handle:
-            proof = json.load(handle)
-        print(check(proof))
-        return 0
+        return True, check(json.loads(text))
     except Rejected as exc:
-        print(f"rejected: {exc}")
-        return 1
-    except (KeyError, TypeError, ValueError, sympy.SympifyError) as exc:
-        print(f"rejected: malformed proof ({type(exc).__name__}: {exc})")
-        return 1
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+        return False, f"rejected: {exc}"
+    except (KeyError, TypeError, ValueError, AttributeError, RecursionError, sympy.SympifyError) as exc:
+        return False, f"rejected: malformed proof ({type(exc).__name__}: {str(exc)[:200]})"
