@@ -194,12 +194,21 @@ def filter_functions(
         Discrete time, or continuous time (then discretized with ``dt`` and ``method``).
     noise : sequence of str, optional
         States and inputs that the process noise enters; default: every state.
+    dt : str or float
+        The time step of a continuous-time system: the name of a parameter (the
+        default "dt", added to the parameter vector p when new) or a number
+        (then p does not hold it; ``parameters`` lists what p holds).
 
     Raises
     ------
     ModelError
-        For a noise name that is neither a state nor an input.
+        For a noise name that is neither a state nor an input, or a numeric
+        ``dt`` while the system declares a free parameter named dt (the
+        parameter would stay in p, unused).
     """
+    if system.time == "continuous" and not isinstance(dt, str) and "dt" in {s.name for s in system.free_parameters}:
+        raise ModelError(f"{system.name} declares the parameter dt, but the time step is given as the number {dt}: "
+                         "give dt='dt' to use the parameter, or a value to the parameter instead")
     system = discretize(system, dt, method)
     states = [s.name for s in system.states]
     inputs = [u.name for u in system.inputs]

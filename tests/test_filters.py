@@ -363,3 +363,31 @@ def test_batched_runs_equal_the_run_by_run_filter(kind):
             states[i] = ekf.update(ekf.predict(states[i]), entries).state
             assert np.allclose(X[i], states[i].x, rtol=1e-12, atol=1e-12), (k, i)
             assert np.allclose(P[i], states[i].P, rtol=1e-12, atol=1e-15), (k, i)
+
+
+def test_an_update_whose_outputs_take_no_input_needs_no_input():
+    """Issue 30 item 4: update(state, y) required u even when nothing in the
+    update uses it. x+ = x + dt v + dt u, v+ = v, y = x - prev(x): the
+    conventional update has h and H only (no u): by hand, with P- = F P0 F^T + Q,
+    one update with u omitted equals the one with any u given."""
+    system = System(["x", "v"], {"x": "x + dt*v + dt*u", "v": "v"}, {"y": "x - prev(x)"}, inputs=["u"],
+                    parameters={"dt": 0.1}, time="discrete")
+    fns = filter_functions(system, ["x", "v"])
+    ekf = ConventionalEKF(fns, np.eye(2) * 0.01, np.eye(1))
+    predicted = ekf.predict(ekf.initial([0.0, 1.0], np.eye(2)), [0.3])
+    without = ekf.update(predicted, [0.5]).state
+    given = ekf.update(predicted, [0.5], [7.0]).state
+    np.testing.assert_array_equal(without.x, given.x)
+    np.testing.assert_array_equal(without.P, given.P)
+
+
+def test_a_numeric_time_step_with_a_parameter_named_dt_is_refused():
+    """A numeric dt while the system declares a free parameter dt would leave that
+    parameter in p, silently unused."""
+    from observability.errors import ModelError
+
+    system = System(["x"], {"x": "-k*x"}, {"y": "x"}, parameters=["k", "dt"])
+    with pytest.raises(ModelError, match="declares the parameter dt"):
+        filter_functions(system, dt=0.1)
+    assert filter_functions(system).parameters == ("k", "dt")
+    assert filter_functions(System(["x"], {"x": "-k*x"}, {"y": "x"}, parameters=["k"]), dt=0.1).parameters == ("k",)

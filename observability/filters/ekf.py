@@ -74,6 +74,12 @@ class Update:
     used: tuple[int, ...]
 
 
+def _depends_on(function, name: str) -> bool:
+    """Whether any output of the casadi ``function`` depends on its input ``name``."""
+    outputs = [function.name_out(j) for j in range(function.n_out())]
+    return function.nnz_in(name) > 0 and any(function.which_depends(name, outputs, 1, True))
+
+
 class _Buffered:
     """Calls a casadi Function through its buffer API: numpy arrays bound once,
     about 1 microsecond per call instead of tens (the casadi call from Python
@@ -199,7 +205,9 @@ class _Base:
         return new
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
-        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call)."""
+        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call).
+        ``u`` is needed only where the update uses the inputs (the generalized
+        EKF's G_w, G_X of an input-dependent inverse motion)."""
         return self._update_with(self._update_call, state, y, u)
 
     def _update_with(self, call: _Buffered, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
@@ -210,6 +218,8 @@ class _Base:
         measured, mask = np.zeros(m), np.zeros(m)
         measured[used], mask[used] = values, 1.0
         x_prev = state.x if state.x_prev is None else state.x_prev
+        if len(u) == 0 and not _depends_on(call.function, "u"):
+            u = np.zeros(self.n_inputs)  # the update does not use the inputs: none need be given
         u = self._inputs(u, state.step)
         x, P, innovation, S, *health = call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
         if len(used) < m:
