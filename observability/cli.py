@@ -375,9 +375,9 @@ def _latex(args: argparse.Namespace) -> int:
             text = with_budget(latex_document, system, result, args.body_only, args.orders, point, args.seed or 0,
                                args.max_pages, progress, seconds=args.budget)
         except Undecided as exc:
+            hint = "--orders K or a larger --budget" if args.point is not None else "--orders K or --point, or a larger --budget"
             print(f"observability: undecided: {system.name}: the symbolic matrix did not fit the budget ({exc}); "
-                  "try --orders K or --point, or a larger --budget; the rank verdict is `observability check`",
-                  file=sys.stderr)
+                  f"try {hint}; the rank verdict is `observability check`", file=sys.stderr)
             return EXIT_UNDECIDED
         except DoesNotFit as exc:
             print(f"observability: {exc}", file=sys.stderr)
