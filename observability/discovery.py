@@ -407,6 +407,31 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         i, j = pairs[0]
         rate = A[j][i]
         centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
+        in_pairs = {k for pair in pairs for k in pair}
+        turned = [states[k].name for k in range(n) if k not in in_pairs and b[k] != 0]
+        description = "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
+        description += f" and turns {_listing(turned)} with them" if turned else ""
+        axis = _axis([(states[p].name, states[q].name) for p, q in pairs], {x.name for x in states})
+        if axis and centre == (0, 0):
+            return f"rotation about the {axis}-axis", description
         about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
-        return f"rotation{about}", "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
+        return f"rotation{about}", description
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
+
+
+#: The axis a rotation of the components (i, j) of 3-vectors turns about.
+_AXES = {("0", "1"): "z", ("1", "2"): "x", ("0", "2"): "y"}
+
+
+def _axis(pairs: list[tuple[str, str]], names: set[str]) -> str | None:
+    """The axis when every pair is the same two components of a 3-vector state
+    (p_0, p_1 of p[3]: about z), as a vector model writes a yaw; else None."""
+    found = set()
+    for a, b in pairs:
+        base_a, _, i = a.rpartition("_")
+        base_b, _, j = b.rpartition("_")
+        three = {f"{base_a}_{k}" for k in range(3)} <= names and f"{base_a}_3" not in names
+        if not base_a or base_a != base_b or (i, j) not in _AXES or not three:
+            return None
+        found.add(_AXES[(i, j)])
+    return found.pop() if len(found) == 1 else None

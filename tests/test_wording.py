@@ -46,3 +46,19 @@ def test_counts_and_proofs_are_worded_as_computed():
     proof = next(line for line in full.splitlines() if line.strip().startswith("proof:"))
     assert "full rank" in proof and "fields" not in proof
     assert "meaning: locally weakly observable" in full
+
+
+def test_a_yaw_in_vector_notation_is_named_as_the_builtins_name_it():
+    """p[3], v[3] with p' = v, v' = 0, seen through |p|^2 and the height p_2:
+    turning p and v together about the z-axis changes neither (by hand), and is
+    named "rotation about the z-axis" (was "rotation about (p_0, p_1) = (0, 0)");
+    a unicycle's rotation names th as turned with the pairs (th moves too)."""
+    from observability.modelfile import parse_model
+
+    system = parse_model('states = ["p[3]", "v[3]"]\n[dynamics]\np = "v"\nv = "[0, 0, 0]"\n[outputs]\n'
+                         'r = "dot(p, p)"\nh = "p[2]"\n', "m.toml")
+    names = [d.name for d in analyze(system, seed=1).unobservable_directions]
+    assert names == ["rotation about the z-axis"]
+    unicycle = parse_model(UNICYCLE, "u.toml")
+    rotation = next(d for d in analyze(unicycle, seed=1).unobservable_directions if d.name.startswith("rotation"))
+    assert rotation.description.endswith("and turns th with them")

@@ -1,0 +1,95 @@
+"""Mutation testing of the safety-critical modules with mutmut (not in CI: hours).
+
+    pip install mutmut
+    python benchmarks/mutation.py [GROUP ...]      # default: every group; --list shows them
+
+Each group is a set of modules and the tests that guard them. For a group the
+script clones the repository (its committed state) into a temporary directory,
+writes mutmut's configuration there (the modules to mutate, those tests, no
+xdist), runs `mutmut run`, and prints the mutants killed and the survivors, each
+with its diff. A survivor is either killed by a new test or listed in
+``EQUIVALENT`` below with the reason it cannot change behaviour; the README
+states the score. mutmut (3.x) is used rather than hand-made mutants: it
+generates every operator, constant and argument mutation of a function and
+picks the tests that run it.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: group -> (modules to mutate, the tests that guard them)
+GROUPS: dict[str, tuple[list[str], list[str]]] = {
+    "latex-text": (["observability/notation.py"],
+                   ["tests/test_mutation_guards.py", "tests/test_latex.py", "tests/test_edges.py"]),
+    "parsing": (["observability/expressions.py", "observability/modelfile.py"],
+                ["tests/test_mutation_guards.py", "tests/test_modelfile.py", "tests/test_malformed_corpus.py",
+                 "tests/test_vectors.py", "tests/test_hardened_inputs.py", "tests/test_edges.py"]),
+    "probabilities": (["observability/randomized.py", "observability/expansion.py", "observability/densetaylor.py"],
+                      ["tests/test_mutation_guards.py", "tests/test_engine.py", "tests/test_densetaylor.py",
+                       "tests/test_soundness.py", "tests/test_special_points.py"]),
+    "proofs": (["observability/symmetry.py", "observability/proof.py", "observability/evidence.py",
+                "observability/proofcheck.py"],
+               ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py"]),
+    "files": (["observability/report/files.py"], ["tests/test_cli.py", "tests/test_edges.py"]),
+    "filters": (["observability/filters/fused.py", "observability/filters/validation.py"],
+                ["tests/test_filters.py", "tests/test_filter_validation.py", "tests/test_mutation_guards.py"]),
+}
+
+#: Survivors that cannot change behaviour, by mutmut's name -> why.
+EQUIVALENT: dict[str, str] = {}
+
+
+def _configuration(modules: list[str], tests: list[str]) -> str:
+    listing = lambda items: "[" + ", ".join(f'"{i}"' for i in items) + "]"  # noqa: E731 - a one-line formatter
+    return (
+        "\n[tool.mutmut]\n"
+        'source_paths = ["observability"]\n'
+        'also_copy = ["examples", "reports", "README.md", "benchmarks", "docs"]\n'
+        f"only_mutate = {listing(modules)}\n"
+        'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider"]\n'
+        f"pytest_add_cli_args_test_selection = {listing(tests)}\n"
+    )
+
+
+def run(group: str) -> int:
+    modules, tests = GROUPS[group]
+    with tempfile.TemporaryDirectory(prefix=f"mutation-{group}-") as tmp:
+        clone = Path(tmp) / "repo"
+        subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
+        with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
+            handle.write(_configuration(modules, tests))
+        subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2"], cwd=clone,
+                       stdout=subprocess.DEVNULL)
+        results = subprocess.run([sys.executable, "-m", "mutmut", "results"], cwd=clone, capture_output=True,
+                                 text=True).stdout
+        survivors = [line.split(":")[0].strip() for line in results.splitlines() if line.strip().endswith("survived")]
+        print(f"## {group}: {', '.join(modules)}")
+        print(results)
+        for name in survivors:
+            diff = subprocess.run([sys.executable, "-m", "mutmut", "show", name], cwd=clone, capture_output=True,
+                                  text=True).stdout
+            print(diff + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
+        return sum(name not in EQUIVALENT for name in survivors)
+
+
+def main(argv: list[str]) -> int:
+    if "--list" in argv:
+        for name, (modules, tests) in GROUPS.items():
+            print(f"{name}: {' '.join(modules)}  <- {' '.join(tests)}")
+        return 0
+    unknown = [g for g in argv if g not in GROUPS]
+    if unknown:
+        print(f"unknown group {unknown[0]!r} (groups: {', '.join(GROUPS)})", file=sys.stderr)
+        return 2
+    survivors = sum(run(group) for group in (argv or list(GROUPS)))
+    return 1 if survivors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
