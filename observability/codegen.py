@@ -46,7 +46,7 @@ from .errors import ModelError, UnsupportedExpressionError
 from .expressions import parse_number, prev
 from .system import System
 
-__all__ = ["FilterFunctions", "discretize", "filter_functions", "to_casadi", "compile_functions", "write_c"]
+__all__ = ["FilterFunctions", "angles_of", "discretize", "filter_functions", "to_casadi", "compile_functions", "write_c"]
 
 
 _UNARY = {
@@ -112,6 +112,22 @@ def to_casadi(expr: sympy.Expr, table: dict[sympy.Symbol, casadi.SX]) -> casadi.
     return walk(sympy.sympify(expr))
 
 
+def angles_of(system: System) -> tuple[str, ...]:
+    """The states and outputs that are angles: those the system declares, and
+    every output that is a sum of atan2(...) and angle states with coefficients
+    +-1, and constants (a bearing atan2(...) - th, a measured heading th)."""
+    angle_states = {s for s in system.states if s.name in system.angles}
+
+    def is_angle(term: sympy.Expr) -> bool:
+        coefficient, factor = term.as_coeff_Mul()
+        return abs(coefficient) == 1 and (isinstance(factor, sympy.atan2) or factor in angle_states)
+
+    bearings = [name for name, e in system.outputs
+                if any(is_angle(t) for t in sympy.Add.make_args(e))
+                and all(is_angle(t) or not (t.free_symbols & set(system.states)) for t in sympy.Add.make_args(e))]
+    return tuple(dict.fromkeys([*system.angles, *bearings]))
+
+
 def discretize(system: System, dt: sympy.Expr | float | str = "dt", method: str = "euler") -> System:
     """A discrete-time version of a continuous-time system.
 
@@ -161,6 +177,8 @@ class FilterFunctions:
     states, inputs, parameters, outputs : tuple[str, ...]
     noise : tuple[str, ...]
         The names of the states and inputs the process noise enters, in ``w`` order.
+    angles : tuple[str, ...]
+        States and outputs that are angles (:func:`angles_of`).
     source : dict or None
         For compiled functions, the in-memory Functions they were compiled from.
     """
@@ -174,6 +192,8 @@ class FilterFunctions:
     #: For compiled functions, the in-memory ones they were compiled from: the filters
     #: expand small models into one scalar graph per step from these (filters.fused).
     source: dict | None = None
+    #: States and outputs that are angles: innovations and estimates wrapped to (-pi, pi].
+    angles: tuple[str, ...] = ()
 
     def __getitem__(self, name: str) -> casadi.Function:
         return self.functions[name]
@@ -265,7 +285,8 @@ def filter_functions(
             "G_w": casadi.Function("G_w", motion_in, [casadi.densify(casadi.jacobian(x_back, w))], motion_names, ["G_w"]),
         }
     return FilterFunctions(
-        functions, tuple(states), tuple(inputs), tuple(q.name for q in params), tuple(out_names), tuple(noise)
+        functions, tuple(states), tuple(inputs), tuple(q.name for q in params), tuple(out_names), tuple(noise),
+        angles=angles_of(system),
     )
 
 
@@ -383,4 +404,4 @@ def compile_functions(functions: FilterFunctions, cache: str | Path | None = Non
         os.replace(partial, library)
     loaded = {name: casadi.external(f"filter_functions_{name}", str(library)) for name in functions.functions}
     return FilterFunctions(loaded, functions.states, functions.inputs, functions.parameters, functions.outputs,
-                           functions.noise, source=functions.source or functions.functions)
+                           functions.noise, source=functions.source or functions.functions, angles=functions.angles)

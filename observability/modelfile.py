@@ -9,6 +9,7 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     parameters = ["bx", "by"]         # or a table: [parameters] f = 20
     unknown_inputs = ["w"]            # optional, continuous time: inputs nobody measures (any smooth function of time)
     unknown_input_degree = 2          #   optional: assume instead polynomials in time of degree 2 (stated in the verdict)
+    angles = ["th"]                   # optional: states and outputs the filters wrap to (-pi, pi] (atan2 outputs always)
     [dynamics]                        # continuous: time derivatives; discrete: next-state values
     x = "v*cos(th)"
     y = "v*sin(th)"
@@ -83,7 +84,7 @@ MAX_VECTOR_SIZE = 10_000
 _VECTOR = re.compile(r"^(\w+)\[(\d+)\]$")
 
 _KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities",
-         "unknown_inputs", "unknown_input_degree", "motions"}
+         "unknown_inputs", "unknown_input_degree", "motions", "angles"}
 
 
 def load_model(path: str | Path) -> System:
@@ -331,6 +332,10 @@ def parse_model(text: str, source: str = "<model>") -> System:
     unknown_inputs = [c for n in _names(data, "unknown_inputs", source, required=False)[0]
                       for c in input_vectors.get(n, (n,))]
     motions = _motions(data.get("motions", {}), input_vectors, source)
+    angles = data.get("angles", [])
+    if not isinstance(angles, list) or not all(isinstance(a, str) for a in angles):
+        raise ModelFileError(f"{source}: 'angles' must be a list of state or output names, got {angles!r}")
+    angles = [c for a in angles for c in vector_names.get(a, (a,))]
     degree = data.get("unknown_input_degree")
     if degree is not None and (isinstance(degree, bool) or not isinstance(degree, int) or not 0 <= degree <= 20):
         raise ModelFileError(f"{source}: 'unknown_input_degree' must be an integer from 0 to 20, got {degree!r}")
@@ -360,6 +365,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
             unknown_inputs=unknown_inputs,
             unknown_input_degree=degree,
             motions=motions,
+            angles=angles,
         )
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None

@@ -141,6 +141,10 @@ class System:
     unknown_input_degree : int, optional
         The degree of the polynomial-in-time model of each unknown input (None:
         an arbitrary smooth input).
+    angles : sequence of str, optional
+        States and outputs that are angles: the filters wrap their innovations
+        and values to (-pi, pi] (outputs that are atan2(...) plus terms are
+        angles without being listed).
     motions : sequence of Motion, optional
         Motions that make sense for this model's kinematics, examined by
         :func:`~observability.motions.degenerate_motions` (checked when used).
@@ -175,6 +179,7 @@ class System:
     unknown_inputs: tuple[str, ...] = ()
     motions: tuple[Motion, ...] = field(default=(), compare=False)
     unknown_input_degree: int | None = None
+    angles: tuple[str, ...] = field(default=(), compare=False)
 
     def __init__(
         self,
@@ -194,6 +199,7 @@ class System:
         unknown_inputs: Iterable[str] = (),
         unknown_input_degree: int | None = None,
         motions: Iterable[Motion] = (),
+        angles: Iterable[str] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
@@ -290,6 +296,11 @@ class System:
         if not all(isinstance(m, Motion) for m in motions):
             raise ModelError("motions must be Motion objects")
         object.__setattr__(self, "motions", motions)
+        angle_names = tuple(normal_name(str(a), "angle") for a in angles)
+        unknown_angle = next((a for a in angle_names if a not in {s.name for s in x} and a not in output_names), None)
+        if unknown_angle is not None:
+            raise ModelError(f"angle {unknown_angle!r} is neither a state nor an output")
+        object.__setattr__(self, "angles", angle_names)
         unknown = unknown_inputs
         if unknown_input_degree is not None and not unknown:
             raise ModelError("unknown_input_degree is given but there are no unknown inputs")
@@ -496,6 +507,7 @@ class System:
             "latex_names": self.latex_names,
             "quantities": self.quantity_source,
             "motions": self.motions,
+            "angles": self.angles,
         }
         # States that already hold the unknown inputs: the names are only recorded.
         recorded = tuple(changes.pop("unknown_inputs", self.unknown_inputs))

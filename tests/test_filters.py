@@ -391,3 +391,43 @@ def test_a_numeric_time_step_with_a_parameter_named_dt_is_refused():
         filter_functions(system, dt=0.1)
     assert filter_functions(system).parameters == ("k", "dt")
     assert filter_functions(System(["x"], {"x": "-k*x"}, {"y": "x"}, parameters=["k"]), dt=0.1).parameters == ("k",)
+
+
+def test_a_bearing_near_pi_is_updated_by_its_small_difference():
+    """Issue 26 item 1: atan2 outputs are angles. A point at (-1, -0.01) seen at
+    the bearing pi - 0.01: the predicted bearing is -pi + atan(0.01), so the raw
+    difference is 2 pi - 0.01 - atan(0.01); the innovation must be its wrapped
+    value -0.01 - atan(0.01), and the update the EKF's with it (numpy here:
+    H = (-py, px)/(px^2 + py^2), S = H P H^T + R, K = P H^T / S)."""
+    system = System(["px", "py"], {"px": "px", "py": "py"}, {"b": "atan2(py, px)"}, time="discrete")
+    fns = filter_functions(system, ["px", "py"])
+    assert fns.angles == ("b",)
+    Q, R = np.eye(2) * 1e-4, np.eye(1) * 0.01
+    ekf = ConventionalEKF(fns, Q, R)
+    x, P = np.array([-1.0, -0.01]), np.eye(2) * 0.1
+    update = ekf.update(ekf.predict(ekf.initial(x, P)), [np.pi - 0.01])
+    nu = -0.01 - np.arctan(0.01)
+    np.testing.assert_allclose(update.innovation, [nu], rtol=1e-9)
+    P = P + Q
+    H = np.array([[-x[1], x[0]]]) / (x @ x)
+    K = P @ H.T / (H @ P @ H.T + R)
+    np.testing.assert_allclose(update.state.x, x + K.ravel() * nu, rtol=1e-9)
+
+
+def test_a_declared_angle_state_stays_in_its_interval():
+    """`angles = ["th"]`: th+ = th, y = th (an angle too) measured at -pi + 0.03
+    from th = pi - 0.01 with P = 1: the innovation is the wrapped 0.04, the
+    estimate pi - 0.01 + 0.04 K passes pi and is brought back by 2 pi."""
+    from observability.modelfile import parse_model
+
+    system = parse_model('time = "discrete"\nstates = ["th"]\nangles = ["th"]\n[dynamics]\nth = "th"\n'
+                         '[outputs]\ny = "th"\n', "m.toml")
+    fns = filter_functions(system, ["th"])
+    assert fns.angles == ("th", "y")  # y = th measures an angle
+    ekf = ConventionalEKF(fns, np.eye(1) * 1e-6, np.eye(1) * 1e-4)
+    state = ekf.update(ekf.predict(ekf.initial([np.pi - 0.01], np.eye(1))), [-np.pi + 0.03]).state
+    assert -np.pi < state.x[0] <= np.pi
+    # by hand: innovation -pi + 0.03 - (pi - 0.01) wrapped = 0.04; K = (1 + 1e-6) / (1 + 1e-6 + 1e-4)
+    K = (1 + 1e-6) / (1 + 1e-6 + 1e-4)
+    expected = np.pi - 0.01 + K * 0.04
+    np.testing.assert_allclose(state.x[0], expected - 2 * np.pi, rtol=1e-9)

@@ -68,6 +68,20 @@ def _health(M, *vectors):
     return casadi.if_else(casadi.fabs(total) < casadi.inf, smallest, -1)
 
 
+def _wrapped(values, flags: list[bool]):
+    """``values`` with the flagged entries (angles) brought to (-pi, pi]: an
+    innovation of a bearing near +-pi is its small difference, not 2 pi."""
+    if not any(flags):
+        return values
+    return casadi.vertcat(*(casadi.atan2(casadi.sin(values[i]), casadi.cos(values[i])) if flag else values[i]
+                            for i, flag in enumerate(flags)))
+
+
+def _angle_flags(functions: FilterFunctions) -> tuple[list[bool], list[bool]]:
+    """Which outputs and which states are angles."""
+    return ([o in functions.angles for o in functions.outputs], [s in functions.angles for s in functions.states])
+
+
 def _masked(mask, H, W, innovation):
     """The rows of H and the innovations of missing entries set to zero, and their
     block of W to the identity. ``if_else`` rather than a product with the mask: a
@@ -117,10 +131,11 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
         W = W + casadi.mtimes([H_prev, Gw, casadi.DM(Q), Gw.T, H_prev.T])
     if variant == "generalized-total":
         H = H + casadi.mtimes(H_prev, model["G_X"](x, u, w0, p))
-    H, W, innovation = _masked(mask, H, W, y - h)
+    output_angles, state_angles = _angle_flags(functions)
+    H, W, innovation = _masked(mask, H, W, _wrapped(y - h, output_angles))
     S = _symmetric(casadi.mtimes([H, P, H.T]) + W)
     K = casadi.solve(S, casadi.mtimes(H, P)).T  # S K^T = H P, P and S symmetric
-    x_new = x + casadi.mtimes(K, innovation)
+    x_new = _wrapped(x + casadi.mtimes(K, innovation), state_angles)
     A = casadi.DM.eye(n) - casadi.mtimes(K, H)
     P_new = _symmetric(casadi.mtimes([A, P, A.T]) + casadi.mtimes([K, W, K.T]))
     outputs, names = [x_new, P_new, innovation, S], ["x_new", "P_new", "innovation", "S"]
@@ -164,10 +179,11 @@ def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Fu
     n, m, n_p = len(functions.states), len(functions.outputs), len(functions.parameters)
     z, joint, y, mask, p = X.sym("z", 2 * n), X.sym("joint", 2 * n, 2 * n), X.sym("y", m), X.sym("mask", m), X.sym("p", n_p)
     h, H, H_prev = model["measurement"](z[:n], z[n:], p)
-    H, W, innovation = _masked(mask, casadi.horzcat(H, H_prev), casadi.DM(R), y - h)
+    output_angles, state_angles = _angle_flags(functions)
+    H, W, innovation = _masked(mask, casadi.horzcat(H, H_prev), casadi.DM(R), _wrapped(y - h, output_angles))
     S = _symmetric(casadi.mtimes([H, joint, H.T]) + W)
     K = casadi.solve(S, casadi.mtimes(H, joint)).T
-    z_new = z + casadi.mtimes(K, innovation)
+    z_new = _wrapped(z + casadi.mtimes(K, innovation), state_angles + state_angles)
     A = casadi.DM.eye(2 * n) - casadi.mtimes(K, H)
     joint_new = _symmetric(casadi.mtimes([A, joint, A.T]) + casadi.mtimes([K, W, K.T]))
     outputs, names = [z_new, joint_new, innovation, S], ["z_new", "joint_new", "innovation", "S"]
