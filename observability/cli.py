@@ -11,6 +11,7 @@ import argparse
 import dataclasses
 import contextlib
 import json
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -418,6 +419,46 @@ def _consistency(args: argparse.Namespace) -> int:
     return 0
 
 
+def _numbers(text: str | None, flag: str) -> dict[str, float]:
+    """``NAME=VALUE,...`` with exact-parsed finite numbers, as floats."""
+    from .expressions import parse_number
+
+    values = {}
+    for key, value in (_point(text) or {}).items():
+        number = float(parse_number(value, f"{flag} {key}"))
+        if not math.isfinite(number):
+            raise _UsageError(f"{flag} {key}: {value!r} is not a finite number")
+        values[key] = number
+    return values
+
+
+def _trajectory(args: argparse.Namespace) -> int:
+    from .analysis import analyze
+    from .trajectory import named_directions, windowed_observability
+
+    with _about(args.model):
+        system = resolve_model(args.model, _options(args.option), args.time)
+        parameters = _numbers(args.parameters, "--parameters")
+        result = analyze(system.with_values(**parameters) if parameters else system, seed=args.seed or 0)
+        windows = windowed_observability(
+            system, _numbers(args.initial, "--initial"), _numbers(args.input, "--input"), duration=args.duration,
+            window=args.window, dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters,
+            directions=named_directions(system, result.unobservable_directions, parameters),
+        )
+    if args.format == "json":
+        print(json.dumps({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
+                          "windows": [w.to_dict() for w in windows]}, indent=2))
+        return 0
+    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g} s, step {args.dt:g}")
+    for w in windows:
+        weakest = w.weakest[0]
+        aligned = max(weakest.alignment.items(), key=lambda kv: kv[1], default=None)
+        print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
+              + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
+              + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
+    return 0
+
+
 def _verify_proof(args: argparse.Namespace) -> int:
     from .proofcheck import verify  # sympy only: independent of the code that wrote the proof
 
@@ -591,6 +632,19 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_argument("--workers", type=_positive, default=None,
                              help="processes of the local Dask cluster (default: all cores)")
     consistency.set_defaults(func=_consistency)
+    trajectory = sub.add_parser(
+        "trajectory", help="observability along a simulated trajectory, window by window (how well, not only whether)")
+    _model_arguments(trajectory)
+    trajectory.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
+    trajectory.add_argument("--input", default=None, metavar="NAME=VALUE,...", help="constant inputs")
+    trajectory.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
+    trajectory.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
+    trajectory.add_argument("--duration", type=float, required=True, help="simulated time (s or steps)")
+    trajectory.add_argument("--window", type=float, required=True, help="length of each window")
+    trajectory.add_argument("--dt", type=float, default=1.0, help="integration step (RK4; 1 for a discrete map)")
+    trajectory.add_argument("--seed", type=_seed, default=None, help="seed of the rank check that names the directions")
+    trajectory.add_argument("--format", choices=("text", "json"), default="text")
+    trajectory.set_defaults(func=_trajectory)
     verify = sub.add_parser(
         "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")
     verify.add_argument("file", type=Path, help="the proof file (JSON)")

@@ -1,0 +1,91 @@
+"""Observability along a trajectory (issue 28). References: pybounds'
+mono-camera example by hand and by an independent central-difference
+implementation written here in numpy; a linear system's discrete
+observability Gramian."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from observability import System
+from observability.cli import main
+from observability.errors import ModelError
+from observability.trajectory import PRIOR, windowed_observability
+
+MONO = System(["g", "d"], {"g": "u", "d": "0"}, {"y": "g/d"}, inputs=["u"], name="mono")
+
+
+def test_the_mono_camera_loses_its_scale_without_motion():
+    """g' = u, d' = 0, y = g/d (pybounds). With u = 0 every row is
+    (1/d, -g/d^2), orthogonal to (g, d): rank 1, the weakest direction the
+    scaling g d/dg + d d/dd at the window's first state (|cos| > 0.999). With
+    u = 1 the rows turn: rank 2."""
+    still = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 0.0}, duration=1.0, window=0.5, dt=0.1,
+                                   noise=0.01)
+    for window in still:
+        v = np.array([window.weakest[0].vector["g"], window.weakest[0].vector["d"]])
+        assert window.rank == 1 and window.condition_number == float("inf")
+        assert abs(v @ np.array([2.0, 3.0])) / np.linalg.norm([2.0, 3.0]) > 0.999
+    moving = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 1.0}, duration=1.0, window=0.5, dt=0.1,
+                                    noise=0.01)
+    assert [w.rank for w in moving] == [2, 2]
+
+
+def _rk4(x: np.ndarray, u: float, dt: float) -> np.ndarray:
+    f = lambda s: np.array([u, 0.0])  # noqa: E731 - the mono-camera field
+    k1 = f(x)
+    k2 = f(x + dt / 2 * k1)
+    k3 = f(x + dt / 2 * k2)
+    k4 = f(x + dt * k3)
+    return x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def test_error_variances_equal_a_central_difference_implementation():
+    """pybounds' formula, written here: O by central differences of the
+    simulated outputs in the window's first state, F = O^T O / R, variance =
+    diag((F + lambda I)^-1), lambda the stated prior; equal to 1e-6."""
+    dt, steps, R = 0.1, 5, 0.01
+    window = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 1.0}, duration=0.5, window=0.5, dt=dt,
+                                    noise=R)[0]
+
+    def outputs(x0):
+        x, ys = np.array(x0, dtype=float), []
+        for _ in range(steps):
+            ys.append(x[0] / x[1])
+            x = _rk4(x, 1.0, dt)
+        return np.array(ys)
+
+    h = 1e-6
+    O = np.column_stack([(outputs(np.array([2.0, 3.0]) + h * e) - outputs(np.array([2.0, 3.0]) - h * e)) / (2 * h)
+                         for e in np.eye(2)])
+    F = O.T @ O / R
+    variance = np.diag(np.linalg.inv(F + PRIOR * np.eye(2)))
+    np.testing.assert_allclose([window.min_error_variance["g"], window.min_error_variance["d"]], variance, rtol=1e-6)
+
+
+def test_a_linear_system_has_its_gramian_as_fisher_information():
+    """x+ = A x, y = C x with R = 0.5: the window's Fisher information is the
+    discrete observability Gramian W = sum_k (A^k)^T C^T C A^k / R (k < 4):
+    its condition number and (W + lambda I)^-1 diagonal match the window's."""
+    A = np.array([[1.0, 0.2], [-0.1, 0.9]])
+    system = System(["a", "b"], {"a": "a + 0.2*b", "b": "-0.1*a + 0.9*b"}, {"y": "a"}, time="discrete")
+    window = windowed_observability(system, {"a": 1.0, "b": -2.0}, {}, duration=4, window=4, dt=1, noise=0.5)[0]
+    C = np.array([[1.0, 0.0]])
+    W = sum(np.linalg.matrix_power(A, k).T @ C.T @ C @ np.linalg.matrix_power(A, k) for k in range(4)) / 0.5
+    eigenvalues = np.linalg.eigvalsh(W)
+    assert window.rank == 2
+    np.testing.assert_allclose(window.condition_number, eigenvalues[-1] / eigenvalues[0], rtol=1e-9)
+    np.testing.assert_allclose(list(window.min_error_variance.values()),
+                               np.diag(np.linalg.inv(W + PRIOR * np.eye(2))), rtol=1e-9)
+
+
+def test_bad_trajectory_requests_are_one_line(tmp_path, capsys):
+    """A missing initial state, a window longer than the run: exit 2, one line."""
+    with pytest.raises(ModelError, match="no value for the state d"):
+        windowed_observability(MONO, {"g": 2.0}, {"u": 1.0}, duration=1, window=0.5, dt=0.1)
+    model = tmp_path / "mono.toml"
+    model.write_text('states = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n[outputs]\ny = "g/d"\n')
+    assert main(["trajectory", str(model), "--initial", "g=2,d=3", "--input", "u=1", "--duration", "0.5",
+                 "--window", "1", "--dt", "0.1"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
