@@ -26,7 +26,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: group -> (modules to mutate, the tests that guard them)
 GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "latex-text": (["observability/notation.py"],
-                   ["tests/test_mutation_guards.py", "tests/test_latex.py", "tests/test_edges.py"]),
+                   ["tests/test_mutation_guards.py", "tests/test_notation_exact.py", "tests/test_latex.py",
+                    "tests/test_edges.py"]),
     "parsing": (["observability/expressions.py", "observability/modelfile.py"],
                 ["tests/test_mutation_guards.py", "tests/test_modelfile.py", "tests/test_malformed_corpus.py",
                  "tests/test_vectors.py", "tests/test_hardened_inputs.py", "tests/test_edges.py"]),

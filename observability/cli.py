@@ -643,7 +643,7 @@ def build_parser() -> argparse.ArgumentParser:
     trajectory.add_argument("--window", type=float, required=True, help="length of each window")
     trajectory.add_argument("--dt", type=float, default=1.0, help="integration step (RK4; 1 for a discrete map)")
     trajectory.add_argument("--seed", type=_seed, default=None, help="seed of the rank check that names the directions")
-    trajectory.add_argument("--format", choices=("text", "json"), default="text")
+    trajectory.add_argument("--format", choices=("text", "json"), default="text", help="output format")
     trajectory.set_defaults(func=_trajectory)
     verify = sub.add_parser(
         "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")
