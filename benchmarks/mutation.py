@@ -74,8 +74,11 @@ def run(group: str) -> int:
         subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
         with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
             handle.write(_configuration(modules, tests))
-        subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2"], cwd=clone,
-                       stdout=subprocess.DEVNULL)
+        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2"], cwd=clone,
+                             capture_output=True, text=True)
+        if ran.returncode != 0:
+            print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
+            return 1
         results = subprocess.run([sys.executable, "-m", "mutmut", "results"], cwd=clone, capture_output=True,
                                  text=True).stdout
         survivors = [line.split(":")[0].strip() for line in results.splitlines() if line.strip().endswith("survived")]

@@ -682,7 +682,13 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         try:
             sym = with_budget(symbolic_rank, system, input_derivatives, max_order, previous, seconds=budget)
         except Undecided as exc:
-            return undecided(str(exc))
+            # The exact rank at a random point is cheap and, with independent atoms, a certain lower bound.
+            cheap = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
+                                    previous=previous)
+            certain = cheap.dependence is None
+            return undecided(f"{exc}" + (f"; rank at least {cheap.rank} (exact rank mod {cheap.modulus} at a random "
+                                         f"point, seed {cheap.seed}: a certain lower bound)" if certain else ""),
+                             lower=cheap.rank if certain else None, orders=cheap.orders)
         if not sym.complete and sym.rank < n:
             return truncated(sym.rank, sym.orders, sym.rule, True)
         rank, orders, labels, probability = sym.rank, sym.orders, sym.row_labels, 0.0
