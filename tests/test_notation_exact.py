@@ -15,6 +15,7 @@ from observability.notation import MAX_LATEX_NAME, component_latex, latex_name, 
     ("--point", "-{}-point"),    # no en-dash ligature
     ("---", "-{}-{}-"),          # the second pass breaks what the first left
     ("----", "-{}-{}-{}-"),
+    ("X-ray of XX", "X-ray of XX"),  # ordinary letters pass unchanged
 ])
 def test_latex_text_exactly(text, expected):
     assert latex_text(text) == expected
