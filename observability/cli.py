@@ -440,23 +440,41 @@ def _trajectory(args: argparse.Namespace) -> int:
         system = resolve_model(args.model, _options(args.option), args.time)
         parameters = _numbers(args.parameters, "--parameters")
         result = analyze(system.with_values(**parameters) if parameters else system, seed=args.seed or 0)
-        windows = windowed_observability(
-            system, _numbers(args.initial, "--initial"), _numbers(args.input, "--input"), duration=args.duration,
-            window=args.window, dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters,
-            directions=named_directions(system, result.unobservable_directions, parameters),
-        )
+        directions = named_directions(system, result.unobservable_directions, parameters)
+        profiles = {text: _numbers(text, "--input") for text in (args.input or [""])}
+        runs = {text: windowed_observability(
+            system, _numbers(args.initial, "--initial"), inputs, duration=args.duration, window=args.window,
+            dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
+        ) for text, inputs in profiles.items()}
+    if args.plot is not None:
+        from .report.trajectory_figure import variance_figure
+
+        variance_figure(runs, system.name, args.plot)
     if args.format == "json":
         print(json.dumps({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
-                          "windows": [w.to_dict() for w in windows]}, indent=2))
+                          "profiles": {text or "none": {"windows": [w.to_dict() for w in windows],
+                                                        "lost": list(_lost(windows))}
+                                       for text, windows in runs.items()}}, indent=2))
         return 0
-    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g} s, step {args.dt:g}")
-    for w in windows:
-        weakest = w.weakest[0]
-        aligned = max(weakest.alignment.items(), key=lambda kv: kv[1], default=None)
-        print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
-              + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
-              + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
+    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {args.dt:g}")
+    for text, windows in runs.items():
+        lost = _lost(windows)
+        print(f"inputs {text or '(none)'}: " + (f"loses {', '.join(lost)}" if lost else "loses no state"))
+        for w in windows:
+            weakest = w.weakest[0]
+            aligned = max(weakest.alignment.items(), key=lambda kv: kv[1], default=None)
+            print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
+                  + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
+                  + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
     return 0
+
+
+def _lost(windows) -> tuple[str, ...]:
+    """States whose minimum error variance keeps more than 1 % of the prior's
+    (1/PRIOR) in some window: the data hardly inform them there."""
+    from .trajectory import PRIOR
+
+    return tuple(dict.fromkeys(s for w in windows for s, v in w.min_error_variance.items() if v > 1e-2 / PRIOR))
 
 
 def _verify_proof(args: argparse.Namespace) -> int:
@@ -636,7 +654,8 @@ def build_parser() -> argparse.ArgumentParser:
         "trajectory", help="observability along a simulated trajectory, window by window (how well, not only whether)")
     _model_arguments(trajectory)
     trajectory.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
-    trajectory.add_argument("--input", default=None, metavar="NAME=VALUE,...", help="constant inputs")
+    trajectory.add_argument("--input", action="append", default=None, metavar="NAME=VALUE,...",
+                            help="constant inputs; give it several times to compare input profiles")
     trajectory.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
     trajectory.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
     trajectory.add_argument("--duration", type=float, required=True, help="simulated time (s or steps)")
@@ -644,6 +663,8 @@ def build_parser() -> argparse.ArgumentParser:
     trajectory.add_argument("--dt", type=float, default=1.0, help="integration step (RK4; 1 for a discrete map)")
     trajectory.add_argument("--seed", type=_seed, default=None, help="seed of the rank check that names the directions")
     trajectory.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    trajectory.add_argument("--plot", type=_out_file, default=None, metavar="FILE.png",
+                            help="the minimum error variance of each state over time, one panel per input profile")
     trajectory.set_defaults(func=_trajectory)
     verify = sub.add_parser(
         "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")

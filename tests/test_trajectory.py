@@ -89,3 +89,20 @@ def test_bad_trajectory_requests_are_one_line(tmp_path, capsys):
     assert main(["trajectory", str(model), "--initial", "g=2,d=3", "--input", "u=1", "--duration", "0.5",
                  "--window", "1", "--dt", "0.1"]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_comparing_input_profiles_names_what_each_loses(tmp_path, capsys):
+    """A planner's question: standing still (u = 0) loses the scale, so both g
+    and d keep most of the prior's variance; moving (u = 1) loses neither
+    (hand: rank 1 vs 2 above). The figure is written as a PNG."""
+    import json
+
+    model = tmp_path / "mono.toml"
+    model.write_text('states = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n[outputs]\ny = "g/d"\n')
+    figure = tmp_path / "mono.png"
+    assert main(["trajectory", str(model), "--initial", "g=2,d=3", "--input", "u=0", "--input", "u=1",
+                 "--duration", "1", "--window", "0.5", "--dt", "0.1", "--plot", str(figure), "--format", "json"]) == 0
+    profiles = json.loads(capsys.readouterr().out)["profiles"]
+    assert profiles["u=0"]["lost"] == ["g", "d"] and profiles["u=1"]["lost"] == []
+    assert [w["rank"] for w in profiles["u=0"]["windows"]] == [1, 1]
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
