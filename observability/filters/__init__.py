@@ -7,6 +7,7 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
+from .linearized import LinearizedObservability, linearized_observability
 from .montecarlo import monte_carlo
 
 __all__ = [
@@ -17,9 +18,11 @@ __all__ = [
     "FilterState",
     "GeneralizedEKF",
     "GeneralizedTotalEKF",
+    "LinearizedObservability",
     "Update",
     "chi2_bounds",
     "degree_of_observability",
+    "linearized_observability",
     "monte_carlo",
     "nees",
     "nis",
