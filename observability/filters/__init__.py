@@ -7,7 +7,8 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
-from .linearized import LinearizedObservability, linearized_observability
+from .constrained import ObservabilityConstrainedEKF, null_space_function
+from .linearized import LinearizedObservability, linearized_observability, observability_of
 from .montecarlo import monte_carlo
 
 __all__ = [
@@ -19,10 +20,13 @@ __all__ = [
     "GeneralizedEKF",
     "GeneralizedTotalEKF",
     "LinearizedObservability",
+    "ObservabilityConstrainedEKF",
     "Update",
     "chi2_bounds",
     "degree_of_observability",
     "linearized_observability",
+    "null_space_function",
+    "observability_of",
     "monte_carlo",
     "nees",
     "nis",

@@ -54,6 +54,8 @@ class FilterState:
         [x; x_prev; nu; nu_prev] for the colored-noise filter
     noise : the estimates of [nu; nu_prev], colored-noise filter only
     step : the number of predictions so far
+    prior : the prior estimate x_k|k-1 of the current step, observability-
+        constrained filter only (its null space is taken there)
     """
 
     x: np.ndarray
@@ -62,6 +64,7 @@ class FilterState:
     joint: np.ndarray | None = None
     step: int = 0
     noise: np.ndarray | None = None
+    prior: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["LinearizedObservability", "linearized_observability"]
+__all__ = ["LinearizedObservability", "linearized_observability", "observability_of"]
 
 #: Singular values below this fraction of the largest count as zero.
 TOLERANCE = 1e-9
@@ -67,19 +67,33 @@ def linearized_observability(functions: FilterFunctions, priors: Sequence[Sequen
     count = len(priors)
     if count < 1 or len(posteriors) != count - 1 or len(inputs) != count - 1:
         raise ValueError(f"need K priors and K - 1 posteriors and inputs, got {count}, {len(posteriors)}, {len(inputs)}")
-    n = len(functions.states)
     w0 = np.zeros(len(functions.noise))
-    phi, phi_previous = np.eye(n), None
-    rows = []
+    measurements, previous_measurements, transitions = [], [], []
     for k in range(count):
         previous = np.asarray(posteriors[k - 1] if k > 0 else priors[0], dtype=float)
         _, H, H_prev = (np.array(a) for a in functions["measurement"](np.asarray(priors[k], dtype=float), previous,
                                                                         parameters))
-        rows.append(H @ phi + (H_prev @ phi_previous if phi_previous is not None else 0))
+        measurements.append(H)
+        previous_measurements.append(H_prev)
         if k < count - 1:
-            F = np.array(functions["F_X"](np.asarray(posteriors[k], dtype=float), inputs[k], w0, parameters))
-            phi_previous, phi = phi, F @ phi
-    O = np.vstack(rows)
-    _, sigma, vt = np.linalg.svd(O)
+            transitions.append(np.array(functions["F_X"](np.asarray(posteriors[k], dtype=float), inputs[k], w0,
+                                                         parameters)))
+    return observability_of(measurements, transitions, previous_measurements)
+
+
+def observability_of(measurements: Sequence[np.ndarray], transitions: Sequence[np.ndarray],
+                     previous_measurements: Sequence[np.ndarray] | None = None) -> LinearizedObservability:
+    """The rank and null space of [H_0; H_1 Phi_0; H_2 Phi_1 Phi_0; ...] for
+    given Jacobians (those a filter used), with H'_k Phi_(k-2)...Phi_0 added
+    for outputs of the previous state."""
+    n = measurements[0].shape[1]
+    phi, phi_previous = np.eye(n), None
+    rows = []
+    for k, H in enumerate(measurements):
+        H_prev = previous_measurements[k] if previous_measurements is not None else None
+        rows.append(H @ phi + (H_prev @ phi_previous if H_prev is not None and phi_previous is not None else 0))
+        if k < len(transitions):
+            phi_previous, phi = phi, transitions[k] @ phi
+    _, sigma, vt = np.linalg.svd(np.vstack(rows))
     rank = int(np.sum(sigma > TOLERANCE * (sigma[0] if sigma.size else 0.0)))
     return LinearizedObservability(rank, n - rank, tuple(map(float, sigma)), vt[rank:])
