@@ -24,6 +24,7 @@ from .randomized import randomized_rank
 from .budget import Undecided, paused_collection, with_budget
 from .symbolic import null_space, observability_rows, symbolic_rank
 from .symmetry import independent_basis, verify_all
+from .squareroots import without_square_root_outputs
 from .system import System
 from .unknown import compensated_symmetries, jet_rank
 
@@ -607,6 +608,9 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         if method != "random":
             raise ModelError("a constraint set (--where) is analysed by the random method")
         return _on_set(system, where, seed, input_derivatives, max_order, previous, progress, start)
+    rewritten = ""
+    if method != "float":  # the float route evaluates the model as written, at its point
+        system, rewritten = without_square_root_outputs(system)
     states = system.states
     names = tuple(s.name for s in states)
     n = len(states)
@@ -753,7 +757,7 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         upper = f"; rank {rank} proven from above: the matrix is annihilated as identities by {_fields(n - rank)}"
     else:
         proof = "lower bound"
-    details += upper + (f"; {note}" if note else "")
+    details += upper + (f"; {note}" if note else "") + (f"; {rewritten}" if rewritten else "")
     functions = None
     if basis is not None and rank < n:
         found_functions = observable_functions(system, basis, rank, seed=seed or 0)

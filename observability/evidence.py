@@ -36,6 +36,7 @@ from .inverse import eliminate_previous_state
 from .lie import input_derivative, lie_derivatives, step_input
 from .proof import fields_are_symmetries
 from .randomized import randomized_rank
+from .squareroots import without_square_root_outputs
 from .system import System
 
 __all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
@@ -131,6 +132,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         )
     if system.time == "discrete" and system.uses_previous_state:
         system = eliminate_previous_state(system)
+    written = system
+    system, _ = without_square_root_outputs(system)  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
     if lower.rank != result.rank:
@@ -155,7 +158,9 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
             "parameters": {p.name: None for p in system.free_parameters}
             | {p.name: str(v) for p, v in system.parameter_values},
             "dynamics": {s.name: str(e) for s, e in zip(system.states, system.dynamics)},
-            "outputs": {name: str(e) for name, e in system.outputs},
+            "outputs": {name: str(e) for name, e in written.outputs},
+            # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
+            "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(system.outputs, written.outputs) if e != w},
         },
         "rank": result.rank,
         "n_states": result.n_states,

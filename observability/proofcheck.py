@@ -99,6 +99,19 @@ def _zero(expr: sympy.Expr) -> bool:
     return False
 
 
+def _is_root_of(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> bool:
+    """Whether ``output`` is a*sqrt(radicand) + b, a and b free of the states and
+    inputs, a != 0: then output and radicand carry the same rows wherever the
+    radicand is positive (each is a smooth function of the other, and so are
+    their derivatives along the motion)."""
+    terms = [t for t in sympy.Add.make_args(output) if t.free_symbols & variables]
+    if len(terms) != 1:
+        return False
+    coefficient, factor = terms[0].as_independent(*variables, as_Add=False)
+    return (coefficient != 0 and isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)
+            and sympy.expand(factor.base - radicand) == 0)
+
+
 def check(proof: dict) -> str:
     if proof.get("format") != "observability proof 1":
         raise Rejected(f"unknown format {proof.get('format')!r}")
@@ -111,6 +124,12 @@ def check(proof: dict) -> str:
     known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
     f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
     outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
+    variables = {symbols[v] for v in [*model["states"], *model["inputs"]]}
+    for name, text in model.get("analysed_outputs", {}).items():
+        radicand = _parse(text, symbols).xreplace(known)
+        if name not in outputs or not _is_root_of(outputs[name], radicand, variables):
+            raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with constant a != 0 and b")
+        outputs[name] = radicand  # the same rows wherever the radicand is positive
     n, rank = len(x), proof["rank"]
     if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
         raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")

@@ -340,3 +340,39 @@ def test_verify_proof_command_refuses_an_unreadable_or_tampered_file(tmp_path, c
         path.write_text(text)
         assert main(["verify-proof", str(path)]) == 1
         assert capsys.readouterr().out.startswith("rejected")
+
+
+SQRT_RANGE = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
+                    {"r": "sqrt((lx - x)**2 + (ly - y)**2)"}, inputs=["v", "w"], parameters=["lx", "ly"],
+                    name="sqrt-range unicycle")
+
+
+def test_a_range_written_with_a_square_root_is_proven():
+    """Issue 29 item 2: the unicycle ranging a known beacon (lx, ly) loses the
+    rotation about the beacon (hand: x -> lx + R(e)(x - lx), th -> th + e keeps
+    the range and commutes with the motion): rank 2 of 3. Written with sqrt it
+    was 'lower bound' (random) and 'undecided' (symbolic); the range carries
+    the rows of its square wherever it is positive, so both routes prove it,
+    and the proof file (with the square root and its radicand) is accepted by
+    the checker, which refuses an edited radicand."""
+    for method in ("random", "symbolic"):
+        result = analyze(SQRT_RANGE, method, seed=1)
+        assert result.rank == 2 and result.proof == "proven", (method, result.details)
+        assert "analysed through the radicand" in result.details
+    proof = json.loads(json.dumps(proof_evidence(SQRT_RANGE, analyze(SQRT_RANGE, seed=1))))
+    checker = _checker()
+    assert checker.check(proof).startswith("accepted")
+    proof["model"]["analysed_outputs"]["r"] = "(lx - x)**2 + 2*(ly - y)**2"
+    with pytest.raises(checker.Rejected, match="not a\\*sqrt"):
+        checker.check(proof)
+
+
+def test_a_square_root_inside_an_expression_is_not_rewritten():
+    """x*sqrt(1 + y**2) is not a*sqrt(g) + b with constant a: left as written."""
+    from observability.squareroots import without_square_root_outputs
+
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x*sqrt(1 + y**2)", "r": "2*sqrt(x**2 + 1) + 3"})
+    rewritten, note = without_square_root_outputs(system)
+    outputs = dict(rewritten.outputs)
+    assert str(outputs["h"]) == "x*sqrt(y**2 + 1)" and str(outputs["r"]) == "x**2 + 1"
+    assert "r = sqrt(x**2 + 1)" in note and "h =" not in note

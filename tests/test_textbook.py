@@ -103,9 +103,10 @@ def test_textbook_rank_and_directions(name, method):
 
 def test_range_only_square_root():
     """Range to one beacon, sqrt((x-bx)^2 + (y-by)^2): the same rotation about the
-    beacon is unobservable (rank 2). The randomized route handles the square root
-    exactly (a point where the radicand is a square mod p); the float route agrees;
-    the symbolic route says undecided rather than guessing."""
+    beacon is unobservable (rank 2). The range carries the rows of its square
+    wherever it is positive, so the exact routes analyse the radicand: both
+    random and symbolic prove rank 2 (the symbolic route was undecided before);
+    the float route, which evaluates the square root itself, agrees."""
     system = System(
         ["x", "y", "th"],
         {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
@@ -116,7 +117,7 @@ def test_range_only_square_root():
     assert analyze(system, "random", seed=3, directions=False).rank == 2
     assert analyze(system, "float", seed=3, directions=False).rank == 2
     symbolic = analyze(system, "symbolic")
-    assert symbolic.rank is None and "undecided" in symbolic.details
+    assert symbolic.rank == 2 and symbolic.proof == "proven"
 
 
 def test_input_derivatives_limit_matters():
