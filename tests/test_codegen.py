@@ -160,16 +160,22 @@ def test_hyperbolic_functions_pi_and_symbolic_powers_translate():
     assert float(f(0.7, 1.3)) == pytest.approx(float(expr.subs({x: 0.7, a: 1.3})), rel=1e-12)
 
 
-def test_c_example_program_matches_the_in_memory_functions(tmp_path):
-    """examples/c/main.c, compiled with the generated C, prints h and H_Xk; they
-    equal the in-memory casadi Functions at the same inputs, and the hand values:
-    h = f d (x - c) = [20*0.5*(0 - 1), 20*0.2*(3 - 1)] = [-10, 8],
-    H_Xk row 2 = [-f d_L2, 0, f d_L2, f (x_L2 - c)] = [-4, 0, 4, 40]."""
+def _compiler() -> str:
+    """The C compiler; under CI its absence fails the test, elsewhere skips it."""
     compiler = shutil.which("gcc") or shutil.which("cc")
     if compiler is None:
         if os.environ.get("CI"):
             pytest.fail("CI must compile the C example (gcc)")
         pytest.skip("no C compiler on this machine")
+    return compiler
+
+
+def test_c_example_program_matches_the_in_memory_functions(tmp_path):
+    """examples/c/main.c, compiled with the generated C, prints h and H_Xk; they
+    equal the in-memory casadi Functions at the same inputs, and the hand values:
+    h = f d (x - c) = [20*0.5*(0 - 1), 20*0.2*(3 - 1)] = [-10, 8],
+    H_Xk row 2 = [-f d_L2, 0, f d_L2, f (x_L2 - c)] = [-4, 0, 4, 40]."""
+    compiler = _compiler()
     functions = filter_functions(models.build("slam1.5d-beacon", {"time": "discrete"}), None)
     write_c(functions, tmp_path)
     example = Path(__file__).resolve().parents[1] / "examples" / "c" / "main.c"
@@ -198,11 +204,7 @@ def test_two_generated_models_link_into_one_program(tmp_path):
     Two models, generated under two names, compiled into one shared library
     (duplicate symbols would fail the link), each function loaded from it and
     equal to its in-memory Function."""
-    compiler = shutil.which("gcc") or shutil.which("cc")
-    if compiler is None:
-        if os.environ.get("CI"):
-            pytest.fail("CI must compile the C example (gcc)")
-        pytest.skip("no C compiler on this machine")
+    compiler = _compiler()
     first = filter_functions(models.build("slam1.5d-beacon", {"time": "discrete"}), None)
     second = filter_functions(models.build("slam2d", {"time": "discrete"}), None)
     write_c(first, tmp_path, "beacon")

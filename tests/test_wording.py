@@ -8,17 +8,7 @@ import json
 from observability import System, analyze
 from observability.cli import main
 
-UNICYCLE = """states = ["x", "y", "th", "lx", "ly"]
-inputs = ["v", "w"]
-[dynamics]
-x = "v*cos(th)"
-y = "v*sin(th)"
-th = "w"
-lx = "0"
-ly = "0"
-[outputs]
-b = "atan2(ly - y, lx - x) - th"
-"""
+from test_special_points import UNICYCLE  # the shared unicycle model text
 
 
 def test_an_input_profile_is_the_restriction_and_the_output_stays_observable(tmp_path, capsys):
