@@ -38,8 +38,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                 "observability/proofcheck.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py"]),
     "files": (["observability/report/files.py"], ["tests/test_cli.py", "tests/test_edges.py"]),
-    "filters": (["observability/filters/fused.py", "observability/filters/validation.py"],
-                ["tests/test_filters.py", "tests/test_filter_validation.py", "tests/test_mutation_guards.py"]),
+    "validation": (["observability/filters/validation.py"],
+                   ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
+    "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
+                      ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py"]),
 }
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
