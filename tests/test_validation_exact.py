@@ -82,3 +82,32 @@ def test_measurements_keep_the_available_entries():
         measurement([1.0, float("nan")], 2, "w")
     with pytest.raises(FilterError, match="measurement 0 must be a number or None"):
         measurement(["1", 2.0], 2, "w")
+
+
+def test_semi_definite_bounds_at_their_edges():
+    """The bound -1e-9 max(1, |M|max) itself passes (strict <), and it scales
+    with the largest entry: at 1000, an eigenvalue of -0.5e-6 passes."""
+    covariance([[1.0, 0.0], [0.0, -SYMMETRY_TOLERANCE]], "Q", 2, "w", definite=False)
+    covariance([[1000.0, 0.0], [0.0, -0.5e-6]], "Q", 2, "w", definite=False)
+    with pytest.raises(FilterError, match="not positive semi-definite"):
+        covariance([[1000.0, 0.0], [0.0, -2e-6]], "Q", 2, "w", definite=False)
+
+
+def test_a_measurement_entry_must_be_a_scalar():
+    """A list entry, a column of floats, strings that numpy would convert: each
+    refused at its position (the fast path for float vectors must not take them)."""
+    with pytest.raises(FilterError, match=r"^w: measurement 0 must be a number or None, got \[1.0, 2.0\]$"):
+        measurement([[1.0, 2.0], 3.0], 2, "w")
+    with pytest.raises(FilterError, match="measurement 0 must be a number or None"):
+        measurement(np.array([[1.0], [2.0]]), 2, "w")
+    with pytest.raises(FilterError, match="measurement 0 must be a number or None"):
+        measurement(["1", "2"], 2, "w")
+
+
+def test_what_a_step_hands_back_is_named_when_refused():
+    from observability.filters.validation import estimate
+
+    with pytest.raises(FilterError, match="^step 3: the state estimate is not finite$"):
+        estimate(np.array([np.nan]), np.eye(1), "step 3")
+    with pytest.raises(FilterError, match="^step 3: the covariance is not positive definite$"):
+        estimate(np.zeros(2), np.diag([1.0, -1.0]), "step 3")
