@@ -92,11 +92,17 @@ def run(group: str) -> int:
         if ran.returncode != 0:
             print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
             return 1
-        results = subprocess.run([sys.executable, "-m", "mutmut", "results"], cwd=clone, capture_output=True,
-                                 text=True).stdout
+        results = subprocess.run([sys.executable, "-m", "mutmut", "results", "--all", "true"], cwd=clone,
+                                 capture_output=True, text=True).stdout
+        counts: dict[str, int] = {}
+        for line in results.splitlines():
+            if ":" in line:
+                status = line.rsplit(":", 1)[1].strip()
+                counts[status] = counts.get(status, 0) + 1
+        print(f"## {group}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
         survivors = [line.split(":")[0].strip() for line in results.splitlines() if line.strip().endswith("survived")]
         print(f"## {group}: {', '.join(modules)}")
-        print(results)
+        print("\n".join(line for line in results.splitlines() if not line.strip().endswith("killed")))
         for name in survivors:
             diff = subprocess.run([sys.executable, "-m", "mutmut", "show", name], cwd=clone, capture_output=True,
                                   text=True).stdout

@@ -111,3 +111,11 @@ def test_what_a_step_hands_back_is_named_when_refused():
         estimate(np.array([np.nan]), np.eye(1), "step 3")
     with pytest.raises(FilterError, match="^step 3: the covariance is not positive definite$"):
         estimate(np.zeros(2), np.diag([1.0, -1.0]), "step 3")
+
+
+def test_an_infinite_covariance_is_named():
+    """Cholesky of [[inf]] succeeds with an infinite factor: caught by name."""
+    from observability.filters.validation import estimate
+
+    with pytest.raises(FilterError, match="^step 3: the covariance has entries that are not finite$"):
+        estimate(np.zeros(1), np.array([[np.inf]]), "step 3")
