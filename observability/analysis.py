@@ -138,6 +138,7 @@ class ObservabilityResult:
     proof: str | None = None
     unknown_inputs: tuple[str, ...] = ()  # inputs modelled as states (observable_states says which are)
     unknown_input_model: str = ""  # what is assumed of them, in words
+    unknown_parameters: tuple[str, ...] = ()  # unknown constants, states that never change
     restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
 
     @property
@@ -170,6 +171,10 @@ class ObservabilityResult:
                 if self.observable_states is not None else dict.fromkeys(self.unknown_inputs)
             ),
             "unknown_input_model": self.unknown_input_model,
+            "unknown_parameters": (
+                {c: c in self.observable_states for c in self.unknown_parameters}
+                if self.observable_states is not None else dict.fromkeys(self.unknown_parameters)
+            ),
             "restriction": self.restriction,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
             "observable_functions": (
@@ -246,6 +251,10 @@ class ObservabilityResult:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
             if self.observable_functions:
                 lines.append(f"  observable functions: {states(self.observable_functions)}")
+            if self.unknown_parameters and self.observable_states is not None:
+                lines.append("  unknown parameters: " + "; ".join(
+                    f"{c} {'identifiable' if c in self.observable_states else 'NOT identifiable'}"
+                    for c in self.unknown_parameters))
             if self.unknown_inputs and self.observable_states is not None:
                 lines.append("  unknown inputs: " + "; ".join(
                     f"{u} {'observable' if u in self.observable_states else 'NOT observable'}" for u in self.unknown_inputs
@@ -269,7 +278,8 @@ def arbitrary_inputs_verdict(system: System, seed: int | None, input_derivatives
     jet = jet_rank(system, seed=seed, orders=orders, input_derivatives=input_derivatives, progress=progress)
     targets, found = jet.targets, set(jet.observable)
     common = dict(model=system.name, states=targets, method="random", seed=seed, orders=jet.orders,
-                  time=system.time, unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system))
+                  time=system.time, unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
+                  unknown_input_model=input_model(system))
     how = (f"exact rank mod 2^61-1 of the output derivatives of orders 0..{jet.orders} at a random point "
            f"(seed {seed}); wrong with probability <= {jet.error_probability:.1e} (Schwartz-Zippel)")
     if jet.related_atoms:
@@ -444,7 +454,7 @@ def _on_set(
     names = tuple(s.name for s in system.states)
     common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
                   unobservable_directions=(), time=system.time, row_labels=result.row_labels,
-                  unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system),
+                  unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
                   restriction=f"the set {where.text}")
     rank = result.rank
     reason = ""
@@ -622,7 +632,7 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
             model=system.name, states=names, rank=None, observable=None, method=method, seed=seed,
             error_probability=None, orders=orders, observable_states=None, unobservable_directions=(),
             seconds=time.perf_counter() - start, details=f"undecided: {details}", time=system.time,
-            lower_bound=lower, unknown_inputs=system.unknown_inputs, unknown_input_model=input_model(system),
+            lower_bound=lower, unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
         )
 
     def truncated(rank: int, orders: int, rule: str, certain: bool) -> ObservabilityResult:
@@ -794,6 +804,6 @@ def _analyze(system, method, seed, input_derivatives, max_order, budget, point, 
         row_labels=labels,
         observable_functions=functions,
         proof=proof,
-        unknown_inputs=system.unknown_inputs,
+        unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
         unknown_input_model=input_model(system),
     )

@@ -10,6 +10,7 @@ Format (every key but ``states``, ``dynamics`` and ``outputs`` is optional)::
     unknown_inputs = ["w"]            # optional, continuous time: inputs nobody measures (any smooth function of time)
     unknown_input_degree = 2          #   optional: assume instead polynomials in time of degree 2 (stated in the verdict)
     angles = ["th"]                   # optional: states and outputs the filters wrap to (-pi, pi] (atan2 outputs always)
+    unknown_parameters = ["k"]        # optional: constants nobody knows (SI.jl's parameters): identifiable or not
     [dynamics]                        # continuous: time derivatives; discrete: next-state values
     x = "v*cos(th)"
     y = "v*sin(th)"
@@ -84,7 +85,7 @@ MAX_VECTOR_SIZE = 10_000
 _VECTOR = re.compile(r"^(\w+)\[(\d+)\]$")
 
 _KEYS = {"name", "time", "states", "inputs", "parameters", "dynamics", "outputs", "inverse", "description", "symmetries", "latex", "quantities",
-         "unknown_inputs", "unknown_input_degree", "motions", "angles"}
+         "unknown_inputs", "unknown_input_degree", "motions", "angles", "unknown_parameters"}
 
 
 def load_model(path: str | Path) -> System:
@@ -311,8 +312,9 @@ def parse_model(text: str, source: str = "<model>") -> System:
                 parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
     else:
         parameters, parameter_vectors = _names(data, "parameters", source, required=False)
-    declared = [*states, *inputs, *parameters]
-    vector_names = state_vectors | input_vectors | parameter_vectors
+    constants, constant_vectors = _names(data, "unknown_parameters", source, required=False)
+    declared = [*states, *inputs, *parameters, *constants]
+    vector_names = state_vectors | input_vectors | parameter_vectors | constant_vectors
     _check_declarations(declared, vector_names, source)
     names = {n: sympy.Symbol(n) for n in declared}
     vectors = {v: tuple(names[c] for c in cs) for v, cs in vector_names.items()}
@@ -366,6 +368,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
             unknown_input_degree=degree,
             motions=motions,
             angles=angles,
+            unknown_parameters=constants,
         )
     except ModelFileError as exc:
         raise ModelFileError(f"{source}: {exc}") from None

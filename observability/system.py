@@ -141,6 +141,10 @@ class System:
     unknown_input_degree : int, optional
         The degree of the polynomial-in-time model of each unknown input (None:
         an arbitrary smooth input).
+    unknown_parameters : sequence of str, optional
+        Constants nobody knows (SI.jl's "parameters"): each becomes a state
+        that never changes, and the verdict says which are identifiable.
+        ``parameters`` are known constants (symbolic or with a value).
     angles : sequence of str, optional
         States and outputs that are angles: the filters wrap their innovations
         and values to (-pi, pi] (outputs that are atan2(...) plus terms are
@@ -180,6 +184,7 @@ class System:
     motions: tuple[Motion, ...] = field(default=(), compare=False)
     unknown_input_degree: int | None = None
     angles: tuple[str, ...] = field(default=(), compare=False)
+    unknown_parameters: tuple[str, ...] = ()
 
     def __init__(
         self,
@@ -200,9 +205,23 @@ class System:
         unknown_input_degree: int | None = None,
         motions: Iterable[Motion] = (),
         angles: Iterable[str] = (),
+        unknown_parameters: Iterable[str] = (),
     ) -> None:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
+        constants = [normal_name(str(c), "unknown parameter") for c in unknown_parameters]
+        if constants:
+            clash = next((c for c in constants if c in {str(v) for v in states} or constants.count(c) > 1), None)
+            if clash is not None:
+                raise ModelError(f"unknown parameter {clash!r} is declared twice (or also as a state)")
+            # An unknown constant is a state that never changes: c' = 0, or c+ = c.
+            states = [*states, *constants]
+            still = {c: ("0" if time == "continuous" else c) for c in constants}
+            given = [c for c in constants if isinstance(dynamics, Mapping) and c in {str(k) for k in dynamics}]
+            if given:
+                raise ModelError(f"unknown parameter {given[0]!r} has dynamics given; it is a constant (c' = 0)")
+            dynamics = ({**dynamics, **still} if isinstance(dynamics, Mapping)
+                        else [*dynamics, *(still[c] for c in constants)])
         x = _symbols(states, "state")
         inputs, unknown_inputs = list(inputs), [normal_name(str(n), "unknown input") for n in unknown_inputs]
         twice = next((n for i, n in enumerate(unknown_inputs) if n in unknown_inputs[:i]), None)
@@ -301,6 +320,7 @@ class System:
         if unknown_angle is not None:
             raise ModelError(f"angle {unknown_angle!r} is neither a state nor an output")
         object.__setattr__(self, "angles", angle_names)
+        object.__setattr__(self, "unknown_parameters", tuple(constants))
         unknown = unknown_inputs
         if unknown_input_degree is not None and not unknown:
             raise ModelError("unknown_input_degree is given but there are no unknown inputs")
@@ -512,12 +532,15 @@ class System:
         # States that already hold the unknown inputs: the names are only recorded.
         recorded = tuple(changes.pop("unknown_inputs", self.unknown_inputs))
         degree = changes.pop("unknown_input_degree", self.unknown_input_degree)
+        constants = tuple(changes.pop("unknown_parameters", self.unknown_parameters))  # states already
         unknown = set(changes) - set(arguments)
         if unknown:
             raise TypeError(f"System.replace got unknown argument {sorted(unknown)[0]!r}")
         replaced = System(**(arguments | changes))
         object.__setattr__(replaced, "unknown_inputs", recorded)
         object.__setattr__(replaced, "unknown_input_degree", degree if recorded else None)
+        kept = {x.name for x in replaced.states}
+        object.__setattr__(replaced, "unknown_parameters", tuple(c for c in constants if c in kept))
         return replaced
 
     def with_values(self, **values: Any) -> System:
