@@ -111,6 +111,10 @@ def load_model(path: str | Path) -> System:
         text = data.decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelFileError(f"{path}: cannot read model file ({exc.__class__.__name__}: {exc})") from None
+    if path.suffix.lower() == ".jl":
+        from .sijl import parse_si_model  # a model pasted from StructuralIdentifiability.jl
+
+        return parse_si_model(text, source=str(path), name=path.stem)
     return parse_model(text, source=str(path))
 
 

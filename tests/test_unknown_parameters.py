@@ -40,3 +40,56 @@ def test_discrete_time_constants_and_refusals():
         System(["x"], {"x": "a*x", "a": "0"}, {"y": "x"}, unknown_parameters=["a"])
     with pytest.raises(ModelError, match="'a' is declared twice \\(or also as a state\\)"):
         System(["x", "a"], ["a*x", "0"], {"y": "x"}, unknown_parameters=["a"])
+
+
+TWO_COMPARTMENTS_JL = """using StructuralIdentifiability
+
+ode = @ODEmodel(
+    x1'(t) = -(a01 + a21) * x1(t) + a12 * x2(t) + u(t),   # the central compartment
+    x2'(t) = a21 * x1(t) - a12 * x2(t),
+    y(t) = x1(t)
+)
+assess_identifiability(ode)
+"""
+
+TWO_COMPARTMENTS_TOML = """states = ["x1", "x2"]
+inputs = ["u"]
+unknown_parameters = ["a01", "a12", "a21"]
+[dynamics]
+x1 = "-(a01 + a21)*x1 + a12*x2 + u"
+x2 = "a21*x1 - a12*x2"
+[outputs]
+y = "x1"
+"""
+
+
+def test_a_model_pasted_from_si_jl_is_the_same_model(tmp_path):
+    """SI.jl's README example (two compartments, input u): read from a .jl file
+    (x'(t) states, y(t) outputs, u(t) an input, bare names unknown constants)
+    it is the model written by hand in TOML: same states, unknowns and verdict
+    (rank 5 of 5: every rate locally identifiable)."""
+    from observability.modelfile import load_model
+
+    pasted = tmp_path / "two.jl"
+    pasted.write_text(TWO_COMPARTMENTS_JL)
+    system = load_model(pasted)
+    written = parse_model(TWO_COMPARTMENTS_TOML, "two.toml")
+    assert [s.name for s in system.states] == [s.name for s in written.states]
+    assert [u.name for u in system.inputs] == ["u"] and system.unknown_parameters == ("a01", "a12", "a21")
+    a, b = analyze(system, seed=1), analyze(written, seed=1)
+    assert a.rank == b.rank == 5 and a.to_dict()["unknown_parameters"] == b.to_dict()["unknown_parameters"]
+
+
+@pytest.mark.parametrize("text, words", [
+    ("x'(t) = -k*x(t)", "no @ODEmodel"),
+    ("@ODEmodel(x'(t) = -k*x(t), y = x(t))", r"'y' is neither x'\(t\)"),
+    ("@ODEmodel(x'(t) = -k*x(t), y(t) = __import__('os').system('true'))", "two.jl:"),
+    ("@ODEmodel(x'(t) = -k*x(t)", "never closed"),
+])
+def test_a_pasted_model_that_is_not_one_is_refused(tmp_path, text, words):
+    from observability.modelfile import ModelFileError, load_model
+
+    pasted = tmp_path / "two.jl"
+    pasted.write_text(text)
+    with pytest.raises(ModelFileError, match=words):
+        load_model(pasted)
