@@ -45,7 +45,8 @@ from .errors import ModelError
 from .expansion import stopping_rule
 from .expressions import parse_expression
 from .fractions import factor_list
-from .restrictions import _split, parse_constraints
+from .expressions import split_top_level
+from .restrictions import parse_constraints
 from .lie import lie_derivatives
 from .randomized import randomized_rank
 from .symbolic import _field_matrix, rationalize
@@ -220,7 +221,7 @@ def _outputs_flat_on(system: System, factor: sympy.Expr) -> bool:
 def _equations(system: System, text: str) -> list[sympy.Expr] | None:
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     out = []
-    for piece in _split(text):
+    for piece in split_top_level(text):
         sides = piece.split("=")
         if len(sides) != 2:
             return None

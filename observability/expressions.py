@@ -449,3 +449,19 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
         raise UnsupportedExpressionError(
             f"{where}: {name} is not supported (not analytic, or outside sin cos tan atan atan2 exp log sqrt tanh sinh cosh)"
         )
+
+
+def split_top_level(text: str) -> list[str]:
+    """``text`` split at the commas outside parentheses and brackets, each piece
+    stripped, empty pieces dropped (``--where "a = f(x, y), b = 0"``, the
+    equations of an ``@ODEmodel``)."""
+    parts, depth, current = [], 0, ""
+    for c in text:
+        depth += {"(": 1, ")": -1, "[": 1, "]": -1}.get(c, 0)
+        if c == "," and depth == 0:
+            parts.append(current)
+            current = ""
+        else:
+            current += c
+    parts.append(current)
+    return [p.strip() for p in parts if p.strip()]

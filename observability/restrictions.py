@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import sympy
 
 from .errors import ModelError
-from .expressions import parse_expression
+from .expressions import parse_expression, split_top_level
 from .system import System
 
 __all__ = [
@@ -183,20 +183,6 @@ def with_unknown_inputs(system: System, unknown: Sequence[str], degree: int | No
     )
 
 
-def _split(text: str) -> list[str]:
-    """``text`` split at the commas that are outside parentheses."""
-    parts, depth, current = [], 0, ""
-    for c in text:
-        depth += {"(": 1, ")": -1}.get(c, 0)
-        if c == "," and depth == 0:
-            parts.append(current)
-            current = ""
-        else:
-            current += c
-    parts.append(current)
-    return [p.strip() for p in parts if p.strip()]
-
-
 def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
     """Total degree of ``expr``'s numerator and denominator in ``symbols`` (0 for a
     constant, also when no symbol is left: every variable was given)."""
@@ -330,7 +316,7 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
     inputs = set(system.inputs)
     fixed_inputs: dict[str, str] = {}
     equations: list[sympy.Expr] = []
-    for piece in _split(text):
+    for piece in split_top_level(text):
         sides = piece.replace("==", "=").split("=")
         if len(sides) != 2 or not sides[0].strip() or not sides[1].strip():
             raise ModelError(f"--where: {piece!r} is not an equation lhs = rhs")

@@ -18,7 +18,7 @@ from __future__ import annotations
 import re
 
 from .errors import ModelError, ModelFileError
-from .expressions import CONSTANTS, FUNCTIONS
+from .expressions import CONSTANTS, FUNCTIONS, split_top_level
 from .system import System
 
 __all__ = ["parse_si_model"]
@@ -42,20 +42,6 @@ def _body(text: str, source: str) -> str:
     raise ModelFileError(f"{source}: the parenthesis of @ODEmodel( is never closed")
 
 
-def _equations(body: str) -> list[str]:
-    """The equations: the body split at the commas outside parentheses."""
-    parts, depth, current = [], 0, ""
-    for c in body:
-        depth += {"(": 1, ")": -1, "[": 1, "]": -1}.get(c, 0)
-        if c == "," and depth == 0:
-            parts.append(current)
-            current = ""
-        else:
-            current += c
-    parts.append(current)
-    return [p.strip() for p in parts if p.strip()]
-
-
 def parse_si_model(text: str, source: str = "<model>", name: str = "model") -> System:
     """The System of the ``@ODEmodel`` in ``text`` (module docstring).
 
@@ -68,7 +54,7 @@ def parse_si_model(text: str, source: str = "<model>", name: str = "model") -> S
     body = _body("\n".join(line.split("#", 1)[0] for line in text.splitlines()), source)
     dynamics: dict[str, str] = {}
     outputs: dict[str, str] = {}
-    for equation in _equations(body):
+    for equation in split_top_level(body):
         lhs, sep, rhs = equation.partition("=")
         if not sep or rhs.startswith("="):
             raise ModelFileError(f"{source}: {equation[:80]!r} is not an equation lhs = rhs")

@@ -28,7 +28,6 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
-import casadi
 import numpy as np
 
 from .codegen import discretize, filter_functions
