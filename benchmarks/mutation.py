@@ -37,6 +37,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "proofs": (["observability/symmetry.py", "observability/proof.py", "observability/evidence.py",
                 "observability/proofcheck.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py"]),
+    "checker": (["observability/proofcheck.py"], ["tests/test_proof.py"]),
     "files": (["observability/report/files.py"], ["tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
