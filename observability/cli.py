@@ -442,6 +442,12 @@ def _trajectory(args: argparse.Namespace) -> int:
         result = analyze(system.with_values(**parameters) if parameters else system, seed=args.seed or 0)
         directions = named_directions(system, result.unobservable_directions, parameters)
         profiles = {text: _numbers(text, "--input") for text in (args.input or [""])}
+        if args.inputs_csv is not None:
+            from .trajectory import inputs_from_csv
+
+            table = inputs_from_csv(args.inputs_csv.read_text(), str(args.inputs_csv))
+            profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
+                        for text, inputs in profiles.items()}
         runs = {text: windowed_observability(
             system, _numbers(args.initial, "--initial"), inputs, duration=args.duration, window=args.window,
             dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
@@ -656,6 +662,8 @@ def build_parser() -> argparse.ArgumentParser:
     trajectory.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
     trajectory.add_argument("--input", action="append", default=None, metavar="NAME=VALUE,...",
                             help="constant inputs; give it several times to compare input profiles")
+    trajectory.add_argument("--inputs-csv", type=Path, default=None, metavar="FILE",
+                            help="time-varying inputs: a CSV with a header t,<input>,..., each held until the next row")
     trajectory.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
     trajectory.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
     trajectory.add_argument("--duration", type=float, required=True, help="simulated time (s or steps)")

@@ -34,7 +34,7 @@ from .codegen import discretize, filter_functions
 from .errors import ModelError
 from .system import System
 
-__all__ = ["PRIOR", "Window", "WeakDirection", "windowed_observability", "named_directions"]
+__all__ = ["PRIOR", "Window", "WeakDirection", "windowed_observability", "named_directions", "inputs_from_csv"]
 
 #: The prior information lambda on every state: variances never exceed 1/lambda.
 PRIOR = 1e-6
@@ -207,3 +207,43 @@ def named_directions(system: System, directions, parameters: Mapping[str, float]
 
         found[d.name] = at
     return found
+
+
+def inputs_from_csv(text: str, source: str) -> dict[str, Callable[[float], float]]:
+    """Inputs from CSV text with a header ``t,u1,u2,...`` and rows of numbers:
+    each input held from its row's time to the next (zero-order hold), the
+    first row at t <= 0.
+
+    Raises
+    ------
+    ModelError
+        A missing t column, a value that is not a finite number, times not
+        increasing, or a first time after 0 -- naming the line.
+    """
+    import bisect
+    import csv
+    import math
+
+    rows = [r for r in csv.reader(text.splitlines()) if r and any(c.strip() for c in r)]
+    if not rows or [c.strip() for c in rows[0]][:1] != ["t"] or len(rows) < 2:
+        raise ModelError(f"{source}: a header 't,<input>,...' and at least one row are needed")
+    names = [c.strip() for c in rows[0][1:]]
+    table = []
+    for line, row in enumerate(rows[1:], start=2):
+        try:
+            values = [float(c) for c in row]
+        except ValueError:
+            raise ModelError(f"{source}: line {line}: not a number in {row!r}") from None
+        if len(values) != len(names) + 1 or not all(math.isfinite(v) for v in values):
+            raise ModelError(f"{source}: line {line}: {len(names) + 1} finite numbers expected")
+        if table and values[0] <= table[-1][0]:
+            raise ModelError(f"{source}: line {line}: times must increase")
+        table.append(values)
+    if table[0][0] > 0:
+        raise ModelError(f"{source}: the first time must be <= 0 (the inputs at t = 0)")
+    times = [r[0] for r in table]
+
+    def held(column: int) -> Callable[[float], float]:
+        return lambda t: table[max(bisect.bisect_right(times, t + 1e-12) - 1, 0)][column]
+
+    return {name: held(i + 1) for i, name in enumerate(names)}

@@ -106,3 +106,23 @@ def test_comparing_input_profiles_names_what_each_loses(tmp_path, capsys):
     assert profiles["u=0"]["lost"] == ["g", "d"] and profiles["u=1"]["lost"] == []
     assert [w["rank"] for w in profiles["u=0"]["windows"]] == [1, 1]
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_time_varying_inputs_from_a_csv_table():
+    """u = 0 until t = 1, then 1 (zero-order hold): standing still, the first two
+    windows lose the scale (rank 1); moving, the last two have rank 2, and the
+    window starting at t = 1 is the constant-u = 1 run's first window (the state
+    is still (2, 3) at t = 1: same condition number, to rounding)."""
+    from observability.trajectory import inputs_from_csv
+
+    table = inputs_from_csv("t,u\n0,0\n1,1\n", "u.csv")
+    assert table["u"](0.5) == 0 and table["u"](1.0) == 1 and table["u"](7) == 1
+    windows = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, table, duration=2.0, window=0.5, dt=0.1, noise=0.01)
+    assert [w.rank for w in windows] == [1, 1, 2, 2]
+    moving = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 1.0}, duration=0.5, window=0.5, dt=0.1,
+                                    noise=0.01)[0]
+    np.testing.assert_allclose(windows[2].condition_number, moving.condition_number, rtol=1e-9)
+    for bad, words in (("u\n0\n", "header"), ("t,u\n0,x\n", "not a number"), ("t,u\n0,0\n0,1\n", "increase"),
+                       ("t,u\n1,0\n", "first time")):
+        with pytest.raises(ModelError, match=words):
+            inputs_from_csv(bad, "u.csv")
