@@ -58,7 +58,9 @@ class WeakDirection:
 @dataclass(frozen=True)
 class Window:
     """One window: its time span, the rank and condition number of its Fisher
-    information, the minimum error variance per state, the weakest directions."""
+    information, Krener & Ide's local unobservability index (1 / its smallest
+    eigenvalue; inf when singular), the minimum error variance per state, the
+    weakest directions."""
 
     t0: float
     t1: float
@@ -66,9 +68,11 @@ class Window:
     condition_number: float
     min_error_variance: dict[str, float]
     weakest: tuple[WeakDirection, ...]
+    unobservability_index: float = float("inf")
 
     def to_dict(self) -> dict:
         return {"t0": self.t0, "t1": self.t1, "rank": self.rank, "condition_number": self.condition_number,
+                "unobservability_index": self.unobservability_index,
                 "min_error_variance": self.min_error_variance, "weakest": [w.to_dict() for w in self.weakest]}
 
 
@@ -185,7 +189,8 @@ def _window(O: np.ndarray, variances: np.ndarray, states: Sequence[str], t0: flo
         v = vectors[:, i]
         alignment = {name: float(abs(v @ d) / np.linalg.norm(d)) for name, d in named.items() if np.linalg.norm(d) > 0}
         weak.append(WeakDirection(dict(zip(states, map(float, v))), float(max(eigenvalues[i], 0.0)), alignment))
-    return Window(t0, t1, rank, condition, dict(zip(states, map(float, variance))), tuple(weak))
+    index = float(1 / eigenvalues[0]) if rank == len(states) and eigenvalues[0] > 0 else float("inf")
+    return Window(t0, t1, rank, condition, dict(zip(states, map(float, variance))), tuple(weak), index)
 
 
 def named_directions(system: System, directions, parameters: Mapping[str, float]) -> dict[str, Callable]:

@@ -76,6 +76,7 @@ def test_a_linear_system_has_its_gramian_as_fisher_information():
     eigenvalues = np.linalg.eigvalsh(W)
     assert window.rank == 2
     np.testing.assert_allclose(window.condition_number, eigenvalues[-1] / eigenvalues[0], rtol=1e-9)
+    np.testing.assert_allclose(window.unobservability_index, 1 / eigenvalues[0], rtol=1e-9)  # Krener & Ide
     np.testing.assert_allclose(list(window.min_error_variance.values()),
                                np.diag(np.linalg.inv(W + PRIOR * np.eye(2))), rtol=1e-9)
 
