@@ -133,10 +133,14 @@ def discretize(system: System, dt: sympy.Expr | float | str = "dt", method: str 
 
     ``method`` is ``"euler"`` (x + dt f) or ``"rk4"`` (classical Runge-Kutta with
     the input held over the step). ``dt`` is a number or the name of a parameter
-    (added to the parameters when new).
+    (added to the parameters when new); a number while the system declares a
+    free parameter dt is refused (that parameter would stay, unused).
     """
     if system.time == "discrete":
         return system
+    if not isinstance(dt, str) and "dt" in {s.name for s in system.free_parameters}:
+        raise ModelError(f"{system.name} declares the parameter dt, but the time step is given as the number {dt}: "
+                         "give dt='dt' to use the parameter, or a value to the parameter instead")
     if isinstance(dt, str):
         step = sympy.Symbol(dt) if dt.isidentifier() else parse_number(dt, "time step")
     else:
@@ -226,9 +230,6 @@ def filter_functions(
         ``dt`` while the system declares a free parameter named dt (the
         parameter would stay in p, unused).
     """
-    if system.time == "continuous" and not isinstance(dt, str) and "dt" in {s.name for s in system.free_parameters}:
-        raise ModelError(f"{system.name} declares the parameter dt, but the time step is given as the number {dt}: "
-                         "give dt='dt' to use the parameter, or a value to the parameter instead")
     system = discretize(system, dt, method)
     states = [s.name for s in system.states]
     inputs = [u.name for u in system.inputs]

@@ -112,6 +112,41 @@ def _is_root_of(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> boo
             and sympy.expand(factor.base - radicand) == 0)
 
 
+def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict) -> list:
+    """The generator's vector, once L_v h = 0 for every output and its bracket
+    with the dynamics vanish as identities (Rejected otherwise). A generator may
+    depend on the inputs: in continuous time the inputs move (u' enters the
+    bracket), in discrete time the next step has its own input."""
+    rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
+    following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
+    v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+    for name, h in outputs.items():
+        if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
+            raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
+    for i, (vi, fi) in enumerate(zip(v, f)):
+        if model["time"] == "continuous":
+            bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                       + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
+        else:
+            bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
+                       - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
+        if not _zero(bracket):
+            raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
+    return v
+
+
+def _claim(proof: dict, n: int) -> tuple[int, str]:
+    """The rank and the claim the file may make for a model of n states;
+    Rejected when its rank, n_states or claim text say anything else."""
+    rank = proof["rank"]
+    if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
+        raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")
+    claim = f"the generic rank of the observability matrix of {proof['model']['name']} is {rank} of {n}"
+    if proof.get("claim") != claim:
+        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say ({claim!r})")
+    return rank, claim
+
+
 def check(proof: dict) -> str:
     if proof.get("format") != "observability proof 1":
         raise Rejected(f"unknown format {proof.get('format')!r}")
@@ -130,12 +165,8 @@ def check(proof: dict) -> str:
         if name not in outputs or not _is_root_of(outputs[name], radicand, variables):
             raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with constant a != 0 and b")
         outputs[name] = radicand  # the same rows wherever the radicand is positive
-    n, rank = len(x), proof["rank"]
-    if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
-        raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")
-    claim = f"the generic rank of the observability matrix of {model['name']} is {rank} of {n}"
-    if proof.get("claim") != claim:
-        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say ({claim!r})")
+    n = len(x)
+    rank, claim = _claim(proof, n)
     lower = proof["lower_bound"]
     rows = [(str(o), int(k)) for o, k in lower["rows"]]
     columns = [symbols[c] for c in lower["columns"]]
@@ -204,26 +235,7 @@ def check(proof: dict) -> str:
     generators = proof["upper_bound"]["generators"]
     if len(generators) != n - rank:
         raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    fields = []
-    # A generator may depend on the inputs: in continuous time the inputs move
-    # (u' enters the bracket), in discrete time the next step has its own input.
-    rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
-    following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
-    for g in generators:
-        v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
-        fields.append(v)
-        for name, h in outputs.items():
-            if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
-                raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
-        for i, (vi, fi) in enumerate(zip(v, f)):
-            if model["time"] == "continuous":
-                bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
-                           + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
-            else:
-                bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
-                           - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
-            if not _zero(bracket):
-                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
+    fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
     if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
         raise Rejected("the generators are not independent at the point")
     return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "

@@ -212,6 +212,19 @@ def _at_point(entry: sympy.Expr, values: dict[sympy.Symbol, sympy.Expr], rng: ra
     return value if value.is_Rational else sympy.simplify(value)
 
 
+def _exact_at_point(system: System, orders: int, values, rng: random.Random, names) -> LatexMatrix | None:
+    """The matrix at the point from exact Taylor series (no symbolic Lie
+    derivative: a 13-state model in milliseconds); None when its rows are not
+    rational there (the symbolic route then takes over)."""
+    try:
+        by_order, shown = rows_at_point(system, orders, values, rng)
+    except NotRational:
+        return None
+    except Redraw as exc:
+        raise ObservabilityError(f"--point: the matrix is undefined at this point ({exc.reason})") from None
+    return _layout(system, by_order, names, None, shown, "")
+
+
 def _fits(glyphs: float, max_pages: float) -> bool:
     return glyphs <= _RAW_SLACK * max_pages * PAGE_WIDTH * LINES_PER_PAGE
 
@@ -255,14 +268,9 @@ def latex_matrix(
     values = {sympy.Symbol(k): v for k, v in (fixed or {}).items()}
     rng = random.Random(seed)
     if fixed is not None and system.time == "continuous":
-        try:  # exact Taylor series at the point: no symbolic Lie derivative (a 13-state model in milliseconds)
-            by_order, shown = rows_at_point(system, orders, values, rng)
-        except NotRational:
-            rng = random.Random(seed)
-        except Redraw as exc:
-            raise ObservabilityError(f"--point: the matrix is undefined at this point ({exc.reason})") from None
-        else:
-            return _layout(system, by_order, names, None, shown, "")
+        exact = _exact_at_point(system, orders, values, random.Random(seed), names)
+        if exact is not None:
+            return exact
     by_order: list[list[tuple[tuple[str, int], list[sympy.Expr]]]] = []
     omitted = ""
     for k, block in enumerate(lie_derivatives(system)):
