@@ -9,7 +9,7 @@ best of three warm runs after a cold one, as in ``peers.py``):
   functions, and the proof where n <= 24;
 * ours, found: the same with the model's declared candidate symmetries
   removed, so that every direction is found and named by the exact ansatz
-  (:mod:`observability.nullfields`);
+  (:mod:`observability.directions.nullfields`);
 * symident (``pip install -e '.[bench]'``): ``detect`` on the same equations,
   which returns the rank and its symmetry generators.
 

@@ -25,19 +25,19 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: group -> (modules to mutate, the tests that guard them)
 GROUPS: dict[str, tuple[list[str], list[str]]] = {
-    "latex-text": (["observability/notation.py"],
+    "latex-text": (["observability/model/notation.py"],
                    ["tests/test_mutation_guards.py", "tests/test_notation_exact.py", "tests/test_latex.py",
                     "tests/test_edges.py"]),
-    "parsing": (["observability/expressions.py", "observability/modelfile.py"],
+    "parsing": (["observability/model/expressions.py", "observability/model/modelfile.py"],
                 ["tests/test_mutation_guards.py", "tests/test_modelfile.py", "tests/test_malformed_corpus.py",
                  "tests/test_vectors.py", "tests/test_hardened_inputs.py", "tests/test_edges.py"]),
-    "probabilities": (["observability/randomized.py", "observability/expansion.py", "observability/densetaylor.py"],
+    "probabilities": (["observability/rank/randomized.py", "observability/engine/expansion.py", "observability/engine/densetaylor.py"],
                       ["tests/test_mutation_guards.py", "tests/test_engine.py", "tests/test_densetaylor.py",
                        "tests/test_soundness.py", "tests/test_special_points.py"]),
-    "proofs": (["observability/symmetry.py", "observability/proof.py", "observability/evidence.py",
-                "observability/proofcheck.py"],
+    "proofs": (["observability/directions/symmetry.py", "observability/rank/proof.py", "observability/report/proofs.py",
+                "observability/rank/proofcheck.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py"]),
-    "checker": (["observability/proofcheck.py"], ["tests/test_proof.py"]),
+    "checker": (["observability/rank/proofcheck.py"], ["tests/test_proof.py"]),
     "files": (["observability/report/files.py"], ["tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
@@ -50,13 +50,13 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
-    "observability.notation.x_validate_latex_name__mutmut_21":
+    "observability.model.notation.x_validate_latex_name__mutmut_21":
         "commands replaced by 'XXXX' instead of '': both leave plain letters, so the character and brace checks decide alike",
-    "observability.notation.x_component_latex__mutmut_14":
+    "observability.model.notation.x_component_latex__mutmut_14":
         "the scan to -2 instead of -1 can only add vector[-1], a closing brace, which never brings the depth to 0",
-    "observability.notation.x_component_latex__mutmut_18":
+    "observability.model.notation.x_component_latex__mutmut_18":
         "depth counted with the opposite sign: it crosses zero at the same brace",
-    "observability.notation.x_component_latex__mutmut_36":
+    "observability.model.notation.x_component_latex__mutmut_36":
         "i >= 0 instead of i > 0: at i = 0 it reads vector[-1], a closing brace, never '_'",
     "observability.filters.validation.x_vector__mutmut_5":
         "an empty list for size 0 then goes through _array: an equal empty vector (the shared one is an optimisation)",

@@ -3,7 +3,7 @@
 Not a test: run ``python benchmarks/normal_form.py [--repeat N]``. Each model is
 analysed (randomized rank, named directions) twice in the same process, runs
 interleaved: with the normal form (expanded arguments and factored radicands,
-:mod:`observability.atoms`, applied as expressions are compiled) and with both
+:mod:`observability.engine.atoms`, applied as expressions are compiled) and with both
 rules replaced by the identity, which is what the engine did before issue 9. The last column is the ratio
 (with / without); the planar family must stay within 1.10. The check of
 independence runs in both (it is part of every verdict now).
@@ -15,7 +15,7 @@ import argparse
 import time
 
 from observability import models
-import observability.program as program
+import observability.engine.program as program
 from observability import analyze
 
 CASES = [

@@ -20,8 +20,8 @@ from pathlib import Path
 
 from observability import analyze, models
 from observability.budget import Undecided, with_budget
-from observability.modelfile import load_model
-from observability.symbolic import symbolic_rank
+from observability.model.modelfile import load_model
+from observability.rank.symbolic import symbolic_rank
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "models"
 

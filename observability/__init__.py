@@ -12,17 +12,17 @@ import importlib
 # 562), so `observability --version` and the command line's parser do not pay
 # for sympy and the engine.
 _LOCATIONS = {
-    "analysis": ("METHODS", "ObservabilityResult", "UnobservableDirection", "analyze"),
+    "analysis.verdict": ("METHODS", "ObservabilityResult", "UnobservableDirection", "analyze"),
     "errors": ("ModelError", "ModelFileError", "ObservabilityError", "SingularModelError", "UnsupportedExpressionError"),
-    "expressions": ("parse_expression", "prev"),
-    "inverse": ("inverse_dynamics",),
-    "lie": ("lie_derivative", "lie_derivatives"),
-    "modelfile": ("load_model", "parse_model"),
-    "numeric": ("float_rank",),
-    "randomized": ("randomized_rank",),
-    "symbolic": ("generic_rank", "null_space", "observability_rows", "symbolic_rank"),
-    "symmetry": ("EPSILON", "Symmetry", "verify"),
-    "system": ("Motion", "System", "system"),
+    "model.expressions": ("parse_expression", "prev"),
+    "model.inverse": ("inverse_dynamics",),
+    "engine.lie": ("lie_derivative", "lie_derivatives"),
+    "model.modelfile": ("load_model", "parse_model"),
+    "rank.numeric": ("float_rank",),
+    "rank.randomized": ("randomized_rank",),
+    "rank.symbolic": ("generic_rank", "null_space", "observability_rows", "symbolic_rank"),
+    "directions.symmetry": ("EPSILON", "Symmetry", "verify"),
+    "model.system": ("Motion", "System", "system"),
 }
 _MODULE_OF = {name: module for module, names in _LOCATIONS.items() for name in names}
 

@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING
 from . import __version__
 from .budget import Undecided, with_budget
 from .errors import ObservabilityError
-from .methods import METHODS, PREVIOUS_METHODS
+from .model.methods import METHODS, PREVIOUS_METHODS
 from .progress import clear_line, status_line
 
 if TYPE_CHECKING:  # the engine (and sympy) is imported by the commands that use it
-    from .analysis import ObservabilityResult
-    from .system import System
+    from .analysis.verdict import ObservabilityResult
+    from .model.system import System
 
 __all__ = ["main"]
 
@@ -158,7 +158,7 @@ def _about(model: str | None):
 def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
     """A built-in model by name, or a model file by path, with options applied."""
     from . import models
-    from .modelfile import load_model
+    from .model.modelfile import load_model
 
     if time is not None:
         options = {**options, "time": time}
@@ -177,7 +177,7 @@ def resolve_model(model: str, options: dict[str, str], time: str | None = None) 
 def _restricted(system: System, args: argparse.Namespace, where: str | None = None):
     """The system under --inputs/--input and the constraint set of --where:
     (system, input derivatives, constraint set or None)."""
-    from .restrictions import parse_constraints, parse_profile, with_input_profiles
+    from .where.restrictions import parse_constraints, parse_profile, with_input_profiles
 
     profiles = {}
     for pair in args.input:
@@ -202,13 +202,13 @@ def _restricted(system: System, args: argparse.Namespace, where: str | None = No
 def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None) -> ObservabilityResult:
     """The verdict on ``system`` under the command's options (``prepared``: the
     result of :func:`_restricted` when the caller already has it)."""
-    from .analysis import analyze
+    from .analysis.verdict import analyze
 
     system, input_derivatives, constraint = prepared or _restricted(system, args, getattr(args, "where", None))
     progress = status_line()
     point = None
     if args.method == "float" and getattr(args, "point", None):
-        from .expressions import parse_number
+        from .model.expressions import parse_number
 
         # The float method evaluates at the point itself, transcendental values included.
         point = {k: float(parse_number(v, f"--point {k}")) for k, v in (_point(args.point) or {}).items()}
@@ -285,7 +285,7 @@ def _check(args: argparse.Namespace) -> int:
         result = _analyze(system, args, prepared)
         at_point = None
         if args.point is not None and args.method != "float":
-            from .pointwise import rank_at_point
+            from .where.points import rank_at_point
 
             restricted, input_derivatives, constraint = prepared
             at_point = rank_at_point(restricted, _point(args.point) or {}, result, seed=args.seed or 0,
@@ -312,7 +312,7 @@ def _check(args: argparse.Namespace) -> int:
 
 def _write_proof(system: System, result, args: argparse.Namespace) -> int | None:
     """``check --proof FILE``: None when written, EXIT_UNDECIDED when there is no proof to write."""
-    from .evidence import proof_evidence
+    from .report.proofs import proof_evidence
     from .report.files import write_json
 
     if result.proof != "proven":
@@ -362,7 +362,7 @@ def _point(text: str | None) -> dict[str, str] | None:
 
 
 def _latex(args: argparse.Namespace) -> int:
-    from .analysis import analyze
+    from .analysis.verdict import analyze
     from .report.files import write_text
     from .report.latex import DoesNotFit, latex_document
 
@@ -421,7 +421,7 @@ def _consistency(args: argparse.Namespace) -> int:
 
 def _numbers(text: str | None, flag: str) -> dict[str, float]:
     """``NAME=VALUE,...`` with exact-parsed finite numbers, as floats."""
-    from .expressions import parse_number
+    from .model.expressions import parse_number
 
     values = {}
     for key, value in (_point(text) or {}).items():
@@ -433,7 +433,7 @@ def _numbers(text: str | None, flag: str) -> dict[str, float]:
 
 
 def _trajectory(args: argparse.Namespace) -> int:
-    from .analysis import analyze
+    from .analysis.verdict import analyze
     from .trajectory import named_directions, windowed_observability
 
     with _about(args.model):
@@ -484,7 +484,7 @@ def _lost(windows) -> tuple[str, ...]:
 
 
 def _verify_proof(args: argparse.Namespace) -> int:
-    from .proofcheck import verify  # sympy only: independent of the code that wrote the proof
+    from .rank.proofcheck import verify  # sympy only: independent of the code that wrote the proof
 
     accepted, line = verify(str(args.file))
     print(line)
@@ -492,7 +492,7 @@ def _verify_proof(args: argparse.Namespace) -> int:
 
 
 def _degenerate(args: argparse.Namespace) -> int:
-    from .motions import degenerate_motions
+    from .where.motions import degenerate_motions
 
     with _about(args.model):
         system = resolve_model(args.model, _options(args.option), args.time)

@@ -1,6 +1,6 @@
 """The only bridge from sympy to casadi: the filter's functions from a System.
 
-From the same symbolic :class:`~observability.system.System` the rank test
+From the same symbolic :class:`~observability.model.system.System` the rank test
 analyses, :func:`filter_functions` builds named casadi Functions with named
 inputs and outputs:
 
@@ -43,8 +43,8 @@ import sympy
 
 from .budget import Undecided, with_budget
 from .errors import ModelError, UnsupportedExpressionError
-from .expressions import parse_number, prev
-from .system import System
+from .model.expressions import parse_number, prev
+from .model.system import System
 
 __all__ = ["FilterFunctions", "angles_of", "discretize", "filter_functions", "to_casadi", "compile_functions", "write_c"]
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from .codegen import discretize, filter_functions
 from .errors import ModelError
-from .system import System
+from .model.system import System
 
 __all__ = ["PRIOR", "Window", "WeakDirection", "windowed_observability", "named_directions", "inputs_from_csv"]
 
@@ -198,7 +198,7 @@ def named_directions(system: System, directions, parameters: Mapping[str, float]
     as functions of the state, evaluated exactly by sympy (no code generated)."""
     import sympy
 
-    from .expressions import parse_expression
+    from .model.expressions import parse_expression
 
     names = {q.name: q for q in (*system.states, *system.parameters)}
     values = {names[k]: v for k, v in parameters.items() if k in names} | dict(system.parameter_values)

@@ -14,8 +14,8 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.atoms import normal_form
-from observability.certificate import certify_rank
+from observability.engine.atoms import normal_form
+from observability.rank.certificate import certify_rank
 
 EQUAL_TO_X1 = {
     "exp-product": "x1 + exp(x1*(x2+1)) - exp(x1)*exp(x1*x2)",

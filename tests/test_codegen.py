@@ -14,7 +14,7 @@ from observability import models
 from observability import System
 from observability.codegen import compile_functions, discretize, filter_functions, write_c
 from observability.errors import ModelError
-from observability.expressions import prev
+from observability.model.expressions import prev
 
 CASES = {
     "slam1.5d-disparity": (models.build("slam1.5d-disparity", {"time": "discrete"}), ["cdot", "x_L2", "d_L2"]),

@@ -8,8 +8,8 @@ import sys
 import sympy
 
 from observability import analyze, models, parse_model
-from observability.conditions import rank_drops
-from observability.restrictions import parse_profile, with_input_profiles
+from observability.where.conditions import rank_drops
+from observability.where.restrictions import parse_profile, with_input_profiles
 
 UNICYCLE = '''
 name = "unicycle-3-beacons"
@@ -96,7 +96,7 @@ def test_real_zero_sets_of_sums_of_squares():
     """cxdot^2 + cydot^2 vanishes on the reals only where both do (the camera
     stands still: slam2d's condition, reported as two equations, not as
     "... = 0 = 0"); x^2 + 1 has no real zero (dropped); x*y - 1 is its own set."""
-    from observability.conditions import _real_zeros
+    from observability.where.conditions import _real_zeros
 
     x, y = sympy.symbols("cxdot cydot")
     assert _real_zeros(x**2 + y**2) == "cxdot = 0, cydot = 0"

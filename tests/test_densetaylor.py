@@ -9,11 +9,11 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.densetaylor import DENSE_PRIME, DenseTaylorEvaluator, Unsupported
-from observability.lie import lie_derivatives
-from observability.program import PRIME, Program
-from observability.randomized import randomized_rank
-from observability.taylor import TaylorEvaluator
+from observability.engine.densetaylor import DENSE_PRIME, DenseTaylorEvaluator, Unsupported
+from observability.engine.lie import lie_derivatives
+from observability.engine.program import PRIME, Program
+from observability.rank.randomized import randomized_rank
+from observability.engine.taylor import TaylorEvaluator
 
 
 def _compiled(system: System) -> tuple[Program, int]:
@@ -159,8 +159,8 @@ def test_the_polynomial_degree_bound_holds_and_stays_small():
     decoupled state (rank 39 of 40) the bound is 40 x 40 = 1,600 instead of
     about 10^16, so one point mod 2^61 - 1 states the rank with probability
     below 1e-15."""
-    from observability.expansion import AllRows, expand_rows
-    from observability.randomized import degree_bound
+    from observability.engine.expansion import AllRows, expand_rows
+    from observability.rank.randomized import degree_bound
 
     system = System(["x", "y"], {"x": "c*x*y + u", "y": "x - y**2"}, {"h": "x**2 + y"}, inputs=["u"], parameters=["c"])
     program = None
@@ -188,7 +188,7 @@ def test_directions_of_a_dense_model_come_from_the_dense_evaluator(monkeypatch):
     through a*b: by hand, the one lost direction is the scaling (a, b) ->
     (l a, b / l), with weights a: 1, b: -1. The direction search draws its many
     points on the dense evaluator (counted here), and still names it."""
-    from observability import discovery
+    from observability.directions import discovery
 
     made = []
     original = discovery._dense_recording

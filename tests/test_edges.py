@@ -134,7 +134,7 @@ def test_inverse_derivation_is_bounded(monkeypatch):
     """x+ = x + sin(x)/3 + u has no closed-form inverse; sympy would search for
     one without end. Under a budget (shortened here) the analysis refuses with
     a reason instead of hanging."""
-    import observability.inverse as inverse
+    import observability.model.inverse as inverse
     from observability import System, analyze
     from observability.errors import ModelError
 

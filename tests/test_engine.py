@@ -8,10 +8,10 @@ import pytest
 import sympy
 
 from observability import System
-from observability.echelon import ModularEchelon
-from observability.lie import lie_derivatives
-from observability.program import Program
-from observability.taylor import PRIME, TaylorEvaluator, sqrt_mod
+from observability.engine.echelon import ModularEchelon
+from observability.engine.lie import lie_derivatives
+from observability.engine.program import Program
+from observability.engine.taylor import PRIME, TaylorEvaluator, sqrt_mod
 
 
 def _mod(value: sympy.Rational) -> int:
@@ -113,7 +113,7 @@ def test_discrete_compositions_are_built_on_nodes_not_on_sympy_trees():
     import time
 
     from observability import analyze
-    from observability.expansion import AllRows, expand_rows
+    from observability.engine.expansion import AllRows, expand_rows
 
     system = System(list(RANDOM_MAP), RANDOM_MAP, {"y": "x16"}, parameters=["k1", "k2", "k3", "k4", "k5"],
                     time="discrete")

@@ -418,7 +418,7 @@ def test_a_declared_angle_state_stays_in_its_interval():
     """`angles = ["th"]`: th+ = th, y = th (an angle too) measured at -pi + 0.03
     from th = pi - 0.01 with P = 1: the innovation is the wrapped 0.04, the
     estimate pi - 0.01 + 0.04 K passes pi and is brought back by 2 pi."""
-    from observability.modelfile import parse_model
+    from observability.model.modelfile import parse_model
 
     system = parse_model('time = "discrete"\nstates = ["th"]\nangles = ["th"]\n[dynamics]\nth = "th"\n'
                          '[outputs]\ny = "th"\n', "m.toml")

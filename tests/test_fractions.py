@@ -1,11 +1,11 @@
-"""observability.fractions against sympy's own rational-function arithmetic."""
+"""observability.engine.fractions against sympy's own rational-function arithmetic."""
 
 import time
 
 import pytest
 import sympy
 
-from observability.fractions import NotRational, RationalFunctions, factor, factor_list
+from observability.engine.fractions import NotRational, RationalFunctions, factor, factor_list
 
 x, y, z = sympy.symbols("x y z")
 

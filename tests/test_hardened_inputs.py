@@ -13,8 +13,8 @@ import sympy
 
 from observability.budget import with_budget
 from observability.cli import main
-from observability.modelfile import ModelFileError, parse_model
-from observability.notation import component_latex
+from observability.model.modelfile import ModelFileError, parse_model
+from observability.model.notation import component_latex
 
 
 def _file(tmp_path, text: str, name: str = "m.toml") -> str:
@@ -138,7 +138,7 @@ def test_vector_models_are_read_in_bounded_work():
     with pytest.raises(ModelFileError, match="more than 100000 entries"):
         _vector_model(1_000, "(transpose([p]) @ [p])[0, 0]")
     # Its own peak, in a fresh interpreter (this worker's depends on the tests before).
-    child = ("import resource\nfrom observability.modelfile import ModelFileError, parse_model\n"
+    child = ("import resource\nfrom observability.model.modelfile import ModelFileError, parse_model\n"
              "try:\n    parse_model('states = [\"p[1000]\"]\\n[dynamics]\\np = \"p\"\\n[outputs]\\n"
              "z = \"(transpose([p]) @ [p])[0, 0]\"\\n', 'm.toml')\nexcept ModelFileError:\n    pass\n"
              "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")

@@ -93,7 +93,7 @@ def test_monomials_are_counted_before_they_are_built(monkeypatch):
     equals the enumeration on small cases; and on slam2d with 300 landmarks
     (608 variables, 185,000 monomials of degree 2) no list longer than the
     bound is ever built: each degree is skipped on its count."""
-    from observability import discovery, invariants
+    from observability.directions import discovery, invariants
 
     for count, states, trig in [(5, 3, range(5, 5)), (7, 3, range(3, 7)), (9, 2, range(5, 9)), (10, 4, range(6, 10))]:
         for degree in (1, 2, 3):
@@ -122,7 +122,7 @@ def test_many_scaling_directions_do_not_multiply_the_work():
     import time
 
     from observability import System
-    from observability.invariants import _smallest
+    from observability.directions.invariants import _smallest
 
     rng = random.Random(1)
     for _ in range(30):

@@ -15,12 +15,12 @@ import sympy
 
 from observability import analyze, models
 from observability.errors import ModelError, ModelFileError, ObservabilityError
-from observability.modelfile import parse_model
-from observability.notation import latex_name
+from observability.model.modelfile import parse_model
+from observability.model.notation import latex_name
 from observability.report.latex import DoesNotFit, latex_document, latex_matrix
 from observability.report.layout import PAGE_WIDTH, width
 from observability.report.quantities import rewriting
-from observability.symbolic import observability_rows
+from observability.rank.symbolic import observability_rows
 
 ENGINE = shutil.which("pdflatex")
 
@@ -261,7 +261,7 @@ def test_vector_model_file_compiles_with_its_quantities(tmp_path):
     point by the rewriting itself), and the document compiles."""
     from pathlib import Path
 
-    from observability.modelfile import load_model
+    from observability.model.modelfile import load_model
 
     system = load_model(Path(__file__).resolve().parent.parent / "examples" / "models" / "vins_quaternion.toml")
     tex = latex_document(system, analyze(system, seed=1, directions=False), orders=0)
@@ -311,7 +311,7 @@ def test_rows_at_a_point_equal_the_symbolic_matrix_there():
     """The exact Taylor route against sympy's Lie derivatives (observability_rows)
     at the same point, on a unicycle with a bearing (an angle on the unit circle,
     atan2 whose value never reaches a row, inputs with derivatives): equal."""
-    from observability.exactrows import rows_at_point
+    from observability.engine.exactrows import rows_at_point
 
     system = parse_model('states = ["x", "y", "th", "lx", "ly"]\ninputs = ["v", "w"]\n[dynamics]\nx = "v*cos(th)"\n'
                          'y = "v*sin(th)"\nth = "w"\nlx = "0"\nly = "0"\n[outputs]\nb = "atan2(ly - y, lx - x) - th"\n',

@@ -12,7 +12,7 @@ import numpy as np
 from observability import analyze
 from observability.codegen import filter_functions
 from observability.filters.linearized import linearized_observability, observability_of
-from observability.modelfile import parse_model
+from observability.model.modelfile import parse_model
 
 RANGE_BEARING = """
 name = "rangebearing2d"

@@ -8,7 +8,7 @@ import pytest
 import sympy
 
 from observability import analyze, models
-from observability.rotations import (
+from observability.model.rotations import (
     cross, dot, euler_rate, gibbs_rate, quaternion_product, quaternion_rate, rotation_from_euler, rotation_from_gibbs,
     rotation_from_quaternion, skew,
 )

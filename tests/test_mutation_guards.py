@@ -15,11 +15,11 @@ import sympy
 from observability import System, analyze
 from observability.codegen import filter_functions
 from observability.errors import ModelError
-from observability.expressions import parse_expression
+from observability.model.expressions import parse_expression
 from observability.filters import GeneralizedEKF
 from observability.filters.ekf import GeneralizedTotalEKF
-from observability.notation import latex_text
-from observability.program import PRIME
+from observability.model.notation import latex_text
+from observability.engine.program import PRIME
 
 #: The escapes LaTeX text needs for its ten special characters (the LaTeX
 #: companion's table), and the ligature break of "--".

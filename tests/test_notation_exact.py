@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from observability.errors import ModelError
-from observability.notation import MAX_LATEX_NAME, component_latex, latex_name, latex_text, validate_latex_name
+from observability.model.notation import MAX_LATEX_NAME, component_latex, latex_name, latex_text, validate_latex_name
 
 
 @pytest.mark.parametrize("text, expected", [

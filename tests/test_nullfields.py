@@ -1,4 +1,4 @@
-"""The reduced exact ansatz of observability.nullfields.
+"""The reduced exact ansatz of observability.directions.nullfields.
 
 The linear algebra is checked against sympy's exact matrices over GF(p) (an
 independent implementation); the spaces of null fields against hand-derived
@@ -12,8 +12,8 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from observability import System, analyze, models
-from observability.discovery import monomials, _Points
-from observability.nullfields import SMALL_PRIME, KernelSampler, matmul, null_fields, rref
+from observability.directions.discovery import monomials, _Points
+from observability.directions.nullfields import SMALL_PRIME, KernelSampler, matmul, null_fields, rref
 
 P = SMALL_PRIME
 
@@ -124,7 +124,7 @@ def test_coefficients_beyond_the_first_prime_come_back_from_two(monkeypatch):
     Chinese remaindering bring it back. The symbolic fallback is switched off,
     so the direction can only come from the ansatz. Observable: x + 40000 y and
     z (each has zero derivative along (40000, -1, 0))."""
-    from observability import analysis
+    from observability.analysis import verdict as analysis
 
     monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
     system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"h": "x + 40000*y", "g": "z"})
@@ -139,7 +139,7 @@ def test_a_rotation_about_a_far_centre_is_written_with_integers(monkeypatch):
     """Range to a beacon at (6378137, 100003) from a unicycle: the lost direction
     is the turn about the beacon, (y - 100003, 6378137 - x, -1) up to a factor;
     it is reported with coprime integer coefficients (not divided by 100003)."""
-    from observability import analysis
+    from observability.analysis import verdict as analysis
 
     monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
     system = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},

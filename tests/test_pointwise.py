@@ -8,7 +8,7 @@ import pytest
 import sympy
 
 from observability import ModelError, analyze, models
-from observability.pointwise import rank_at_point
+from observability.where.points import rank_at_point
 
 #: The command line, run by the interpreter running the tests (never whatever is on PATH).
 SCRIPT = [sys.executable, "-m", "observability"]

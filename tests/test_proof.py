@@ -68,9 +68,9 @@ from pathlib import Path  # noqa: E402
 
 import sympy  # noqa: E402
 
-from observability.evidence import proof_evidence  # noqa: E402
-from observability.modelfile import load_model  # noqa: E402
-from observability.symbolic import symbolic_rank  # noqa: E402
+from observability.report.proofs import proof_evidence  # noqa: E402
+from observability.model.modelfile import load_model  # noqa: E402
+from observability.rank.symbolic import symbolic_rank  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE_MODELS = ROOT / "examples" / "models"
@@ -117,7 +117,7 @@ def test_visual_inertial_models_are_proven(file, rank):
 # ---------------------------------------------------------------- item 3: proof artefacts
 def _checker():
     """The independent checker (its independence is tested by its imports below)."""
-    from observability import proofcheck
+    from observability.rank import proofcheck
 
     return proofcheck
 
@@ -130,7 +130,7 @@ PROVEN = [
 
 @pytest.mark.parametrize("system", PROVEN, ids=lambda s: s.name)
 def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
-    """observability/proofcheck.py (sympy only, no import of this package) re-derives
+    """observability/rank/proofcheck.py (sympy only, no import of this package) re-derives
     the Lie derivatives, the minor at the exact point and the identities of the
     generators; one changed entry anywhere makes it reject."""
     checker = _checker()
@@ -182,8 +182,8 @@ def test_rational_identities_agree_with_cancel_and_reject_a_wrong_field(monkeypa
     (0, e_z)/2 on the left, is a symmetry by hand (outputs R^T (L - c) are
     invariant under a common rotation); without its quaternion part the
     camera-frame coordinates change, so it is not."""
-    from observability.proof import _identities, _rational_identities
-    from observability.rotations import quaternion_product
+    from observability.rank.proof import _identities, _rational_identities
+    from observability.model.rotations import quaternion_product
 
     system = models.build("slam3d", {"beacons": "1"})
     S = sympy.Symbol
@@ -199,7 +199,7 @@ def test_rational_identities_agree_with_cancel_and_reject_a_wrong_field(monkeypa
     assert _rational_identities(system, [bad]) is False
     assert _identities(system, [bad]) is False
     # The expression route, forced, agrees on the good field.
-    monkeypatch.setattr("observability.proof._rational_identities", lambda *args: None)
+    monkeypatch.setattr("observability.rank.proof._rational_identities", lambda *args: None)
     assert _identities(system, [good]) is True
 
 
@@ -304,7 +304,7 @@ def test_the_engine_does_not_prove_an_upper_bound_with_a_field_that_moves_with_a
     on x1' = u*x2, x2' = 0, h = x2 passes L_v h = 0 and [f, v] = 0 with u frozen,
     but u' d/dx1 is left over when u moves (hand computation). Refused; the
     constant field d/dx1 is a symmetry and accepted."""
-    from observability.proof import fields_are_symmetries
+    from observability.rank.proof import fields_are_symmetries
 
     system = System(["x1", "x2"], {"x1": "u*x2", "x2": "0"}, {"h": "x2"}, inputs=["u"])
     u = sympy.Symbol("u")
@@ -318,7 +318,7 @@ def test_the_checker_imports_nothing_of_the_package():
     its syntax tree, not its behaviour; today: ast, json, mpmath, sympy)."""
     import ast
 
-    tree = ast.parse((ROOT / "observability" / "proofcheck.py").read_text())
+    tree = ast.parse((ROOT / "observability" / "rank" / "proofcheck.py").read_text())
     imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
     imported |= {node.module.split(".")[0] if node.module else "." for node in ast.walk(tree)
                  if isinstance(node, ast.ImportFrom) and node.level == 0}
@@ -368,7 +368,7 @@ def test_a_range_written_with_a_square_root_is_proven():
 
 def test_a_square_root_inside_an_expression_is_not_rewritten():
     """x*sqrt(1 + y**2) is not a*sqrt(g) + b with constant a: left as written."""
-    from observability.squareroots import without_square_root_outputs
+    from observability.model.squareroots import without_square_root_outputs
 
     system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x*sqrt(1 + y**2)", "r": "2*sqrt(x**2 + 1) + 3"})
     rewritten, note = without_square_root_outputs(system)

@@ -9,8 +9,8 @@ import pytest
 
 from observability import System, analyze, models
 from observability.errors import ModelError
-from observability.motions import degenerate_motions
-from observability.restrictions import parse_constraints, parse_profile, with_input_profiles
+from observability.where.motions import degenerate_motions
+from observability.where.restrictions import parse_constraints, parse_profile, with_input_profiles
 
 #: The command line, run by the interpreter running the tests (never whatever is on PATH).
 SCRIPT = [sys.executable, "-m", "observability"]

@@ -54,7 +54,7 @@ def test_rank_orders_and_null_space(name, rank, orders, directions, method, time
 def test_directions_really_annihilate_the_matrix():
     """Second route: the reported vectors, parsed back, are in the kernel of the symbolic O."""
     from observability import observability_rows
-    from observability.expressions import parse_expression
+    from observability.model.expressions import parse_expression
 
     system = models.build("slam1.5d-disparity")
     result = analyze(system, seed=1)

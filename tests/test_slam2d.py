@@ -24,7 +24,7 @@ import sympy
 from observability import models
 from observability.models.slam2d import slam2d
 from observability import System, analyze
-from observability.symmetry import EPSILON, Symmetry, generator, name_null_space, verify
+from observability.directions.symmetry import EPSILON, Symmetry, generator, name_null_space, verify
 
 LOST = {0: 4, 1: 2, 2: 0}
 
@@ -133,7 +133,7 @@ def test_landmark_outputs_are_the_parsed_expressions(time):
     """slam2d builds each landmark's outputs by substituting into a template parsed
     once; they must be exactly the expressions the parser makes from the written
     formulas (landmarks whose names sort differently: 1, 2, 10, 12)."""
-    from observability.expressions import parse_expression
+    from observability.model.expressions import parse_expression
     from observability.models.slam2d import _disparity, _projection
 
     system = models.build("slam2d", {"landmarks": "12", "disparity": "true", "time": time})

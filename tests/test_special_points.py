@@ -16,9 +16,9 @@ import pytest
 import sympy
 
 from observability import analyze, models, parse_model
-from observability.conditions import has_real_points, rank_drops
-from observability.pointwise import rank_at_point
-from observability.restrictions import parse_constraints, parse_profile, with_input_profiles
+from observability.where.conditions import has_real_points, rank_drops
+from observability.where.points import rank_at_point
+from observability.where.restrictions import parse_constraints, parse_profile, with_input_profiles
 from observability.errors import ModelError
 
 
@@ -146,7 +146,7 @@ def test_the_point_uses_the_prepared_system():
     used to be computed on the system with inputs, giving 4 and calling the
     proven generic rank too low."""
     path = os.path.join(os.path.dirname(__file__), "..", "examples", "models", "vio_planar.toml")
-    from observability.modelfile import load_model
+    from observability.model.modelfile import load_model
 
     system = load_model(path)
     restricted, derivatives = with_input_profiles(system, {}, parse_profile("zero", "--inputs"))

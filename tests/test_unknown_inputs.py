@@ -14,11 +14,11 @@ import sys
 import pytest
 import sympy
 
-from observability.analysis import analyze
+from observability.analysis.verdict import analyze
 from observability.errors import ModelError
-from observability.modelfile import ModelFileError, parse_model
-from observability.system import System
-from observability.unknown import compensated_symmetries
+from observability.model.modelfile import ModelFileError, parse_model
+from observability.model.system import System
+from observability.rank.unknown import compensated_symmetries
 
 
 def _target(outputs: dict, **options) -> System:

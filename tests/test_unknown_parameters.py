@@ -8,7 +8,7 @@ import pytest
 
 from observability import System, analyze
 from observability.errors import ModelError
-from observability.modelfile import parse_model
+from observability.model.modelfile import parse_model
 
 
 def test_a_decay_rate_is_identifiable():
@@ -68,7 +68,7 @@ def test_a_model_pasted_from_si_jl_is_the_same_model(tmp_path):
     (x'(t) states, y(t) outputs, u(t) an input, bare names unknown constants)
     it is the model written by hand in TOML: same states, unknowns and verdict
     (rank 5 of 5: every rate locally identifiable)."""
-    from observability.modelfile import load_model
+    from observability.model.modelfile import load_model
 
     pasted = tmp_path / "two.jl"
     pasted.write_text(TWO_COMPARTMENTS_JL)
@@ -87,7 +87,7 @@ def test_a_model_pasted_from_si_jl_is_the_same_model(tmp_path):
     ("@ODEmodel(x'(t) = -k*x(t)", "never closed"),
 ])
 def test_a_pasted_model_that_is_not_one_is_refused(tmp_path, text, words):
-    from observability.modelfile import ModelFileError, load_model
+    from observability.model.modelfile import ModelFileError, load_model
 
     pasted = tmp_path / "two.jl"
     pasted.write_text(text)

@@ -9,9 +9,9 @@ import pytest
 import sympy
 
 from observability import ModelFileError, System, analyze, models, parse_model
-from observability.expressions import parse_value
-from observability.modelfile import load_model
-from observability.rotations import vector
+from observability.model.expressions import parse_value
+from observability.model.modelfile import load_model
+from observability.model.rotations import vector
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "models"
 A, B = sympy.symbols("a_0:3"), sympy.symbols("b_0:3")

@@ -43,7 +43,7 @@ def test_a_yaw_in_vector_notation_is_named_as_the_builtins_name_it():
     turning p and v together about the z-axis changes neither (by hand), and is
     named "rotation about the z-axis" (was "rotation about (p_0, p_1) = (0, 0)");
     a unicycle's rotation names th as turned with the pairs (th moves too)."""
-    from observability.modelfile import parse_model
+    from observability.model.modelfile import parse_model
 
     system = parse_model('states = ["p[3]", "v[3]"]\n[dynamics]\np = "v"\nv = "[0, 0, 0]"\n[outputs]\n'
                          'r = "dot(p, p)"\nh = "p[2]"\n', "m.toml")

@@ -27,8 +27,8 @@ import casadi
 import numpy as np
 
 from ..codegen import FilterFunctions, to_casadi
-from ..expressions import parse_expression
-from ..system import System
+from ..model.expressions import parse_expression
+from ..model.system import System
 from .ekf import FilterError, FilterState, Update, _Base, _symmetric
 
 __all__ = ["ObservabilityConstrainedEKF", "null_space_function"]

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 from observability.budget import paused_collection
 from observability.errors import ModelError
-from observability.expressions import parse_number
-from observability.system import System
+from observability.model.expressions import parse_number
+from observability.model.system import System
 
 from .slam15d import slam15d, slam15d_beacon, slam15d_disparity
 from .slam2d import slam2d

@@ -19,7 +19,7 @@ system.
 
 from __future__ import annotations
 
-from observability.system import Motion, System, Time
+from observability.model.system import Motion, System, Time
 
 from .symmetries import line_symmetries
 

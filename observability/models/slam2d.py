@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import sympy
 
-from observability.expressions import parse_expression
-from observability.system import Motion, System, Time
+from observability.model.expressions import parse_expression
+from observability.model.system import Motion, System, Time
 
 from .symmetries import planar_symmetries
 

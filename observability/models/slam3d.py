@@ -5,7 +5,7 @@ The 3-D version of Manzoor & Muhammad (ROBIO 2013), Sec. IV: a camera with
 coordinates and M beacons (known points); optionally the disparity of every
 landmark. State: position c = (cx, cy, cz), velocity (cxdot, cydot, czdot),
 attitude quaternion q = (q0, q1, q2, q3) (body to world, scalar first, see
-observability.rotations), body angular velocity (wx, wy, wz), then the
+observability.model.rotations), body angular velocity (wx, wy, wz), then the
 landmarks (L1x, L1y, L1z, ...). Continuous time: c' = cdot, q' = q (0, w)/2,
 the rest constant; discrete time: one Euler step of the same (dt).
 
@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import sympy
 
-from observability.expressions import prev
-from observability.rotations import cross, dot, quaternion_rate, rotation_from_quaternion
-from observability.system import Motion, System, Time
+from observability.model.expressions import prev
+from observability.model.rotations import cross, dot, quaternion_rate, rotation_from_quaternion
+from observability.model.system import Motion, System, Time
 
 from .symmetries import spatial_symmetries
 

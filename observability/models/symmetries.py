@@ -1,7 +1,7 @@
 """Candidate symmetries of SLAM models: translations, rotations and scalings.
 
 They are candidates only: the analysis keeps a symmetry after verifying that the
-outputs are invariant and the dynamics equivariant (observability.symmetry).
+outputs are invariant and the dynamics equivariant (observability.directions.symmetry).
 Positions are (x, y) pairs of state or parameter names; velocities transform
 like position differences (rotated and scaled, never translated).
 """
@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import sympy
 
-from observability.symmetry import EPSILON, Symmetry
+from observability.directions.symmetry import EPSILON, Symmetry
 
 __all__ = ["planar_symmetries", "line_symmetries", "spatial_symmetries"]
 
@@ -169,7 +169,7 @@ def spatial_symmetries(
         t = tan(eps/2), turns points about a by R(r) and attitudes to r q; the
         generator is (b - a) x (p - a).
     """
-    from observability.rotations import quaternion_product, rotation_from_quaternion, skew
+    from observability.model.rotations import quaternion_product, rotation_from_quaternion, skew
 
     out: list[Symmetry] = []
     for k, axis in enumerate("xyz"):

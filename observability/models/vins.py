@@ -3,7 +3,7 @@
 Position p, velocity v (world), attitude (body to world) in one of four forms,
 K point features f_k (world), optionally the gyro and accelerometer biases bg,
 ba. The gyro wm and accelerometer am are known inputs: w = wm - bg,
-v' = R (am - ba) - (0, 0, g), attitude' from w (observability.rotations), the
+v' = R (am - ba) - (0, 0, g), attitude' from w (observability.model.rotations), the
 rest constant. Discrete time: one Euler step of the same (dt). Each feature is
 seen by normalised image coordinates (camera = IMU frame, optical axis z):
 p_c = R^T (f - p), u = p_c,x / p_c,z, v = p_c,y / p_c,z.
@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import sympy
 
-from observability.rotations import (
+from observability.model.rotations import (
     euler_rate, gibbs_rate, quaternion_rate, rotation_from_euler, rotation_from_gibbs, rotation_from_quaternion,
 )
-from observability.system import Motion, System, Time
+from observability.model.system import Motion, System, Time
 
 from .symmetries import spatial_symmetries
 

@@ -11,9 +11,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from .. import models
-from ..analysis import ObservabilityResult, analyze
-from ..symmetry import verify
-from ..system import System
+from ..analysis.verdict import ObservabilityResult, analyze
+from ..directions.symmetry import verify
+from ..model.system import System
 
 __all__ = ["Claim", "Modelling", "CLAIMS", "MODELLINGS", "ClaimRow", "claim_rows", "planar_rows", "spatial_rows",
            "claims_markdown"]

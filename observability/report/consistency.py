@@ -20,7 +20,7 @@ from ..errors import OptionError
 from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, nees
 from ..filters.batch import BatchFilter
 from ..parallel import Runner, run_tasks
-from ..system import System
+from ..model.system import System
 from .files import save_figure, write_text
 
 __all__ = ["ConsistencyStudy", "run_consistency", "write_consistency_report"]

@@ -5,7 +5,7 @@ row labels (output and Lie order), so labels always line up with the entries.
 The matrix is built order by order and shaped for a page:
 
 * entries are written in the model's named quantities where that is shorter
-  (:mod:`.quantities`), names as users write them (:mod:`observability.notation`);
+  (:mod:`.quantities`), names as users write them (:mod:`observability.model.notation`);
 * rows are grouped by output and columns by the outputs they enter, with rules
   between the groups, and an all-zero block is printed once as a bold 0 — the
   block sparsity of SLAM shows;
@@ -31,14 +31,14 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from ..analysis import ObservabilityResult, analyze
+from ..analysis.verdict import ObservabilityResult, analyze
 from ..errors import ObservabilityError
-from ..exactrows import NotRational, rows_at_point
-from ..expressions import parse_expression
-from ..lie import lie_derivatives
-from ..notation import latex_name, latex_text
-from ..system import System
-from ..taylor import Redraw
+from ..engine.exactrows import NotRational, rows_at_point
+from ..model.expressions import parse_expression
+from ..engine.lie import lie_derivatives
+from ..model.notation import latex_name, latex_text
+from ..model.system import System
+from ..engine.taylor import Redraw
 from .layout import COLUMN_GAP, LINES_PER_PAGE, PAGE_HEIGHT, PAGE_WIDTH, height, width
 from .quantities import rewriting, tidy
 
@@ -512,7 +512,7 @@ def latex_document(
 ) -> str:
     """A standalone, compilable document (or only the matrix) with the rank verdict.
 
-    ``result`` defaults to :func:`~observability.analysis.analyze` with seed 0; its
+    ``result`` defaults to :func:`~observability.analysis.verdict.analyze` with seed 0; its
     Lie orders decide how many rows are shown unless ``orders`` is given. ``point``,
     ``seed``, ``max_pages`` (default :data:`MAX_PAGES`) and ``progress`` are passed to :func:`latex_matrix`.
     """

@@ -18,8 +18,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 import sympy
 
-from ..fractions import NotRational, RationalFunctions, factor
-from ..system import System
+from ..engine.fractions import NotRational, RationalFunctions, factor
+from ..model.system import System
 
 __all__ = ["Rewriting", "rewriting", "tidy", "MAX_REWRITE_CHARS"]
 
@@ -34,7 +34,7 @@ MAX_FACTOR_CHARS = 400
 
 
 def tidy(expr: sympy.Expr) -> sympy.Expr:
-    """``expr`` factored (deterministically, by flint: :func:`observability.fractions.factor`)
+    """``expr`` factored (deterministically, by flint: :func:`observability.engine.fractions.factor`)
     when it is short, else with its common factors pulled out."""
     if len(str(expr)) > MAX_FACTOR_CHARS:
         return sympy.factor_terms(expr)
@@ -44,7 +44,7 @@ def tidy(expr: sympy.Expr) -> sympy.Expr:
 def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
     """``expr`` as a quotient of polynomials reduced modulo sin(a)^2 + cos(a)^2 = 1 for every angle a.
 
-    The arithmetic is python-flint's (:mod:`observability.fractions`), sines
+    The arithmetic is python-flint's (:mod:`observability.engine.fractions`), sines
     first in a lexicographic order so that division by s^2 + c^2 - 1 turns
     every even power of a sine into cosines.
     """

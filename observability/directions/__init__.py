@@ -1,0 +1,9 @@
+"""Stage 5, the directions: what is lost, named, and what is kept.
+
+Takes a System and the rank's nullity and gives the unobservable directions:
+declared symmetries verified (:mod:`.symmetry`), polynomial null fields found by
+an exact ansatz (:mod:`.nullfields`) and named from their structure
+(:mod:`.discovery`), the rest as vectors at a point (:mod:`.atpoint`),
+everything assembled in :mod:`.find`; and the observable functions, invariants
+of those directions (:mod:`.invariants`).
+"""

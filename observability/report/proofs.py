@@ -1,0 +1,180 @@
+"""Proof artefacts: what a skeptic needs to re-check a proven verdict without this tool.
+
+A proven rank r of n rests on two facts (:mod:`observability.rank.proof`):
+
+* **lower bound** — an r x r minor of the observability matrix is non-zero at
+  one point. The artefact names the rows (output, Lie order), the columns
+  (states), an exact rational point and the minor's value there (an exact
+  rational when the entries are rational functions; otherwise 40 significant
+  digits, with the point still exact);
+* **upper bound** — n - r vector fields, independent at that point, satisfy
+  L_v h = 0 for every output and [f, v] = 0 (continuous time) or
+  v(F(x)) = DF(x) v(x) (discrete time) as identities, so they annihilate every
+  row of the matrix.
+
+:func:`proof_evidence` builds the artefact as plain JSON (expressions as sympy
+strings); ``observability verify-proof`` (:mod:`observability.rank.proofcheck`) re-derives the Lie derivatives and
+re-checks both facts with sympy alone.
+
+The conventions the checker must share are :data:`CONVENTIONS` (also written
+into the artefact).
+"""
+
+from __future__ import annotations
+
+import random
+from typing import Any
+
+import mpmath
+import sympy
+
+from ..analysis.verdict import ObservabilityResult
+from ..budget import with_budget
+from ..errors import ObservabilityError
+from ..model.expressions import parse_expression
+from ..model.inverse import eliminate_previous_state
+from ..engine.lie import input_derivative, lie_derivatives, step_input
+from ..rank.proof import fields_are_symmetries
+from ..rank.randomized import randomized_rank
+from ..model.squareroots import without_square_root_outputs
+from ..model.system import System
+
+__all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
+
+EVIDENCE_FORMAT = "observability proof 1"
+#: The rows' definition the independent checker must share.
+CONVENTIONS = (
+    "In continuous time the row of order k is the gradient of L_f^k h, with the inputs "
+    "generic: input u and its derivatives u', u'', ... take the listed values in "
+    "order; in discrete time the row of order k is the gradient of h(x_k, u_k) with "
+    "x_0 = x and x_(k+1) = F(x_k, u_k), the input values listed by step. Outputs "
+    "that use the previous state are first rewritten with the inverse motion model "
+    "(the artefact records the rewritten outputs)."
+)
+#: CPU seconds for the symbolic rows and the exact minor of the artefact.
+EVIDENCE_BUDGET = 60.0
+_ATTEMPTS = 12
+
+
+def _rational(rng: random.Random) -> sympy.Rational:
+    return sympy.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 5))
+
+
+def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], input_derivatives, seed: int):
+    """The chosen minor at an exact random point: (point, value, exact)."""
+    wanted = set(rows)
+    highest = max(order for _, order in rows)
+    expressions: dict[tuple[str, int], sympy.Expr] = {}
+    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+        if k > highest:
+            break
+        for row in block:
+            if (row.output, row.order) in wanted:
+                expressions[(row.output, row.order)] = row.expression
+    states = [system.states[j] for j in columns]
+    matrix = sympy.Matrix([[sympy.diff(expressions[r], x) for x in states] for r in rows])
+    symbols = sorted(matrix.free_symbols | set(system.states), key=str)
+    rng = random.Random(seed)
+    for _ in range(_ATTEMPTS):
+        point = {s: _rational(rng) for s in symbols}
+        at = matrix.xreplace(point)
+        if any(e.has(sympy.zoo, sympy.nan) for e in at):
+            continue
+        if all(e.is_Rational for e in at):
+            value = at.det(method="bareiss")
+            if value != 0:
+                return point, str(value), True
+            continue
+        # Entries to 60 digits, then the determinant in mpmath at that precision
+        # (a symbolic determinant of transcendental numbers is far slower).
+        with mpmath.workdps(60):
+            value = mpmath.det(mpmath.matrix([[mpmath.mpf(str(sympy.N(e, 60))) for e in row] for row in at.tolist()]))
+            if abs(value) > mpmath.mpf("1e-25"):
+                return point, mpmath.nstr(value, 40), False
+    raise ObservabilityError(
+        f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
+    )
+
+
+def _point_json(system: System, point: dict, orders: int) -> dict[str, Any]:
+    values = {str(k): str(v) for k, v in point.items()}
+
+    def value(symbol: sympy.Symbol) -> str:
+        return values.get(str(symbol), "0")
+
+    inputs = {}
+    for u in system.inputs:
+        if system.time == "continuous":
+            inputs[u.name] = [value(input_derivative(u, j)) for j in range(orders + 1)]
+        else:
+            inputs[u.name] = [value(step_input(u, k)) for k in range(orders + 1)]
+    return {
+        "states": {s.name: value(s) for s in system.states},
+        "parameters": {s.name: value(s) for s in system.free_parameters},
+        "inputs": inputs,
+    }
+
+
+def proof_evidence(system: System, result: ObservabilityResult, budget: float | None = EVIDENCE_BUDGET) -> dict[str, Any]:
+    """The artefact of a proven verdict, as a JSON-ready dict.
+
+    Raises
+    ------
+    ObservabilityError
+        When the verdict is not proven (nothing to write), or when no exact
+        point with a non-zero minor is found.
+    Undecided
+        When the symbolic rows do not fit ``budget`` CPU seconds.
+    """
+    if result.proof != "proven" or result.rank is None:
+        raise ObservabilityError(
+            f"{system.name}: the verdict is not proven ({result.proof or 'undecided'}), so there is no proof to write"
+        )
+    if system.time == "discrete" and system.uses_previous_state:
+        system = eliminate_previous_state(system)
+    written = system
+    system, _ = without_square_root_outputs(system)  # as the verdict was decided
+    seed = result.seed if result.seed is not None else 0
+    lower = randomized_rank(system, seed=seed, max_order=result.orders)
+    if lower.rank != result.rank:
+        raise ObservabilityError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")
+    rows = [lower.row_labels[i] for i in lower.independent_rows]
+    columns = list(lower.pivot_columns)
+    point, minor, exact = with_budget(_minor, system, rows, columns, None, seed, seconds=budget)
+    names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
+    generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
+                  for d in result.unobservable_directions]
+    if result.rank < result.n_states and not fields_are_symmetries(system, [v for _, v in generators]):
+        raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
+    return {
+        "format": EVIDENCE_FORMAT,
+        "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
+        "conventions": CONVENTIONS,
+        "model": {
+            "name": system.name,
+            "time": system.time,
+            "states": [s.name for s in system.states],
+            "inputs": [u.name for u in system.inputs],
+            "parameters": {p.name: None for p in system.free_parameters}
+            | {p.name: str(v) for p, v in system.parameter_values},
+            "dynamics": {s.name: str(e) for s, e in zip(system.states, system.dynamics)},
+            "outputs": {name: str(e) for name, e in written.outputs},
+            # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
+            "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(system.outputs, written.outputs) if e != w},
+        },
+        "rank": result.rank,
+        "n_states": result.n_states,
+        "lower_bound": {
+            "rows": [[output, order] for output, order in rows],
+            "columns": [system.states[j].name for j in columns],
+            "point": _point_json(system, point, lower.orders),
+            "minor": minor,
+            "exact": exact,
+        },
+        "upper_bound": {
+            "generators": [{"name": name, "vector": {s.name: str(e) for s, e in zip(system.states, v)}}
+                           for name, v in generators],
+            "identities": "L_v h = 0 for every output h, and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x) "
+                          "(discrete), as identities in the states, inputs and parameters",
+        },
+    }

@@ -1,0 +1,127 @@
+"""Which motions lose observability: a catalogue of motions, each analysed exactly.
+
+A motion is a restriction of the system: equations on the states (``where``, a
+constraint set such as "cxdot = 0, cydot = 0") and/or profiles of the known
+inputs (``inputs``, such as {"v": "0"}). Models declare the motions that make
+sense for their kinematics (``System.motions``, ``[motions.NAME]`` tables in a
+model file); every model with inputs also gets the standard input profiles
+(all inputs zero, all constant, and each input alone zero). For each motion the
+rank at a generic point of the motion is computed (:func:`analyze` with the
+profile and the constraint set), with the directions lost beyond the generic
+ones: named when the motion is an input profile (the restricted system is a
+system like any other), counted on a constraint set (where the directions
+search does not apply).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from ..analysis.verdict import ObservabilityResult, analyze
+from .conditions import RankDrop, rank_drops
+from ..errors import ModelError
+from .restrictions import parse_constraints, parse_profile, with_input_profiles
+from ..model.system import Motion, System
+
+__all__ = ["MotionResult", "catalogue", "degenerate_motions"]
+
+
+@dataclass(frozen=True)
+class MotionResult:
+    """The verdict on one motion."""
+
+    motion: Motion
+    result: ObservabilityResult
+    lost_directions: tuple[str, ...]  # beyond the generic ones
+    generic_rank: int | None
+    rank_drops: tuple[RankDrop, ...] = ()  # where the rank falls further, on this motion
+    rank_drops_note: str = ""  # why the conditions were not (all) computed
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "motion": self.motion.name,
+            "where": self.motion.where,
+            "inputs": dict(self.motion.inputs),
+            "description": self.motion.description,
+            "rank": self.result.rank,
+            "n_states": self.result.n_states,
+            "verdict": self.result.verdict(),
+            "observable_states": list(self.result.observable_states) if self.result.observable_states is not None else None,
+            "lost_directions": list(self.lost_directions),
+            "details": self.result.details,
+            "rank_drops": [d.to_dict() for d in self.rank_drops],
+            "rank_drops_note": self.rank_drops_note,
+        }
+
+
+def catalogue(system: System) -> list[Motion]:
+    """The declared motions, then the standard input profiles (when there are inputs)."""
+    motions = [Motion("generic", description="any motion (the generic rank)")]
+    motions += list(system.motions)
+    names = [u.name for u in system.inputs]
+    if names:
+        motions.append(Motion("zero inputs", inputs={u: "0" for u in names}, description="every known input zero"))
+        motions.append(Motion("constant inputs", inputs={u: "constant" for u in names},
+                              description="every known input constant in time"))
+        if len(names) > 1:
+            motions += [Motion(f"{u} = 0", inputs={u: "0"}, description=f"the input {u} zero, the others generic")
+                        for u in names]
+    return motions
+
+
+def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget: float | None
+             ) -> tuple[ObservabilityResult, list[RankDrop], str]:
+    profiles = {u: parse_profile(p, f"motion {motion.name!r}: input {u}") for u, p in motion.inputs.items()}
+    constraint, fixed = (None, {}) if not motion.where else parse_constraints(system, motion.where)
+    both = sorted(set(profiles) & set(fixed))
+    if both:
+        raise ModelError(f"input {both[0]} is set by both the motion's inputs and its where")
+    profiles |= {u: parse_profile(v, f"motion {motion.name!r}") for u, v in fixed.items()}
+    restricted, derivatives = with_input_profiles(system, profiles)
+    result = analyze(restricted, seed=seed, input_derivatives=derivatives,
+                     where=None if constraint is None else constraint.on(restricted),
+                     directions=constraint is None)
+    if not conditions or constraint is not None:
+        return result, [], ""
+    drops, note = rank_drops(restricted, result, seed=seed, budget=budget, input_derivatives=derivatives)
+    return result, drops, note
+
+
+def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | None = None,
+                       conditions: bool = False, budget: float | None = 20.0) -> list[MotionResult]:
+    """Every motion of the catalogue (or ``motions``) analysed; the first is the generic one.
+
+    With ``conditions``, the motions that are input profiles (not constraint
+    sets) also get the polynomial conditions under which their rank drops
+    (:func:`~observability.where.conditions.rank_drops`, small models, ``budget`` CPU
+    seconds each).
+
+    Raises
+    ------
+    ModelError
+        A motion whose equations or profiles do not fit the model (named), or
+        unknown inputs that may be any function of time (a motion fixes inputs).
+    """
+    system.require_known_inputs("the degenerate-motion scan")
+    out: list[MotionResult] = []
+    generic: ObservabilityResult | None = None
+    for motion in motions if motions is not None else catalogue(system):
+        try:
+            result, drops, note = _analyse(system, motion, seed, conditions, budget)
+        except ModelError as exc:
+            raise ModelError(f"motion {motion.name!r}: {exc}") from None
+        if generic is None:
+            generic = result
+        lost: tuple[str, ...] = ()
+        if result.rank is not None and generic.rank is not None and result.rank < generic.rank:
+            extra = generic.rank - result.rank
+            known = {d.name for d in generic.unobservable_directions}
+            named = [d.name for d in result.unobservable_directions if d.name not in known]
+            if motion.where or len(named) != extra:
+                lost = (f"{extra} more direction(s)" + ("" if not named else f": {'; '.join(named)}")
+                        + ("" if not motion.where else " (not named on a constraint set)"),)
+            else:
+                lost = tuple(named)
+        out.append(MotionResult(motion, result, lost, generic.rank, tuple(drops), note))
+    return out

@@ -1,0 +1,487 @@
+"""The system under a restriction: an input profile, or inputs nobody measures.
+
+The generic rank answers "for almost every input". These transformations return
+a new :class:`System` (and, for profiles, the number of input derivatives the
+engine may use), so every method, every certificate and every direction search
+applies unchanged:
+
+* **input profiles** — ``zero``: the input is replaced by 0; ``constant``: the
+  input becomes a known constant (a parameter: in continuous time its
+  derivatives vanish, in discrete time it is the same at every step); a number:
+  that constant;
+  ``degree=K`` (continuous time): the input is a polynomial in time of degree
+  K, i.e. its derivatives above K vanish (the engine's ``input_derivatives``);
+* **unknown inputs** (:func:`with_unknown_inputs`) — an input nobody measures,
+  modelled over the analysis window as a polynomial in time of degree d: the
+  input and its first d derivatives become states (w' = w1, ..., w_d' = 0), the
+  extended-state construction of STRIKE-GOLDD's FISPO (Villaverde et al.,
+  "Full observability and estimation of unknown inputs, states and parameters
+  of nonlinear biological models", J. R. Soc. Interface 2019). The verdict then
+  says which states and which unknown inputs are observable.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import sympy
+
+from ..errors import ModelError
+from ..model.expressions import parse_expression, split_top_level
+from ..model.system import System
+
+__all__ = [
+    "InputProfile", "parse_profile", "with_input_profiles", "with_unknown_inputs", "ConstraintSet", "parse_constraints",
+    "solve_constraints",
+]
+
+_DEGREE = re.compile(r"^degree\s*=\s*(\d+)$")
+
+
+@dataclass(frozen=True)
+class InputProfile:
+    """How a known input behaves: ``kind`` is "zero", "constant" (constant in time,
+    its value generic), "value" (the constant ``value``) or "degree" (a polynomial
+    in time of degree ``degree``)."""
+
+    kind: str
+    degree: int | None = None
+    value: sympy.Rational | None = None
+
+    def __str__(self) -> str:
+        if self.kind == "degree":
+            return f"degree={self.degree}"
+        return str(self.value) if self.kind == "value" else self.kind
+
+
+def parse_profile(text: str, where: str) -> InputProfile:
+    """``zero`` (or ``0``), ``constant``, a number or ``degree=K`` as an :class:`InputProfile`."""
+    value = text.strip().lower()
+    if value in ("zero", "0"):
+        return InputProfile("zero")
+    try:
+        number = sympy.Rational(value)
+    except ZeroDivisionError:
+        raise ModelError(f"{where}: input profile {text!r} divides by zero") from None
+    except (TypeError, ValueError):
+        number = None
+    if number is not None:
+        return InputProfile("zero") if number == 0 else InputProfile("value", value=number)
+    if value == "constant":
+        return InputProfile("constant")
+    if m := _DEGREE.match(value):
+        return InputProfile("degree", int(m[1]))
+    raise ModelError(f"{where}: input profile must be zero, constant, a number or degree=K, got {text!r}")
+
+
+def with_input_profiles(
+    system: System, profiles: Mapping[str, InputProfile], default: InputProfile | None = None
+) -> tuple[System, int | None]:
+    """The system with the given inputs restricted, and the input derivatives to use.
+
+    ``profiles`` maps input names to profiles; ``default`` applies to every
+    other input (None: they stay generic). Returns the new system and the
+    ``input_derivatives`` argument for :func:`~observability.analysis.verdict.analyze`
+    (None: generic).
+
+    Raises
+    ------
+    ModelError
+        An unknown input name; ``degree=K`` in discrete time; inputs left with
+        different degrees (the engine bounds all inputs' derivatives alike).
+    """
+    # An arbitrary unknown input has no profile: it is not known.
+    names = {u.name: u for u in system.inputs if u not in system.arbitrary_inputs}
+    for key in profiles:
+        if key not in names:
+            raise ModelError(
+                f"--input {key}: not a known input of {system.name} (known inputs: {', '.join(names) or 'none'})"
+            )
+    chosen = {name: profiles.get(name, default) for name in names}
+    zero = {names[n]: sympy.Integer(0) for n, p in chosen.items() if p and p.kind == "zero"}
+    constant = {names[n]: p.value for n, p in chosen.items() if p and p.kind in ("constant", "value")}
+    remaining = {n: p for n, p in chosen.items() if not p or p.kind == "degree"}
+    degrees = {p.degree if p else None for p in remaining.values()}
+    if any(p and p.kind == "degree" for p in remaining.values()):
+        if system.time == "discrete":
+            raise ModelError("an input profile degree=K applies to continuous time; discrete time has zero and constant")
+        if len(degrees) > 1:
+            raise ModelError(
+                "inputs left with different profiles (" + ", ".join(f"{n}: {p or 'generic'}" for n, p in remaining.items())
+                + "): give every input that is neither zero nor constant the same degree=K"
+            )
+    input_derivatives = next(iter(degrees)) if remaining else None
+    if not zero and not constant:
+        return system, input_derivatives
+    dynamics = [e.xreplace(zero) for e in system.dynamics]
+    outputs = {name: e.xreplace(zero) for name, e in system.outputs}
+    inverse = None if system.inverse_dynamics is None else [e.xreplace(zero) for e in system.inverse_dynamics]
+    parameters = {p: None for p in system.parameters} | constant
+    restricted = system.replace(
+        dynamics=dynamics,
+        outputs=outputs,
+        inputs=[u for u in system.inputs if u not in zero and u not in constant],
+        parameters=parameters,
+        inverse_dynamics=inverse,
+        name=system.name + "[" + ", ".join(f"{n}={p}" for n, p in chosen.items() if p and p.kind != "degree") + "]",
+        symmetries=(),
+        quantities=(),
+        latex_names=[(k, v) for k, v in system.latex_names if k not in {u.name for u in zero}],
+    )
+    return restricted, input_derivatives
+
+
+def with_unknown_inputs(system: System, unknown: Sequence[str], degree: int | None) -> System:
+    """The system in which the inputs ``unknown`` are unknown.
+
+    ``degree`` None: each may be any smooth function of time; the system keeps
+    it as an input and records it (:attr:`System.arbitrary_inputs`), and only
+    :mod:`observability.rank.unknown` analyses it. ``degree`` K: each is a polynomial
+    in time of degree K (an assumption, stated with the verdict), and w becomes
+    the states w, w_d1, ..., w_dK with w' = w_d1, ..., w_dK' = 0.
+
+    Raises
+    ------
+    ModelError
+        A name that is not an input of the equations, a discrete-time system, a
+        negative degree, or a derivative's name already taken.
+    """
+    if not unknown:
+        return system
+    if system.time != "continuous":
+        raise ModelError("unknown inputs are modelled in continuous time (their derivatives become states)")
+    if degree is not None and degree < 0:
+        raise ModelError(f"the degree of an unknown input's polynomial model must be >= 0, got {degree}")
+    names = {u.name: u for u in system.inputs}
+    taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}
+    states = list(system.states)
+    dynamics = list(system.dynamics)
+    for name in unknown:
+        if name not in names:
+            raise ModelError(f"unknown input {name!r} is not an input of {system.name} (inputs: {', '.join(names)})")
+        if not any(names[name] in e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))):
+            raise ModelError(f"unknown input {name!r} is not an input of {system.name}'s equations: it appears in none")
+        if degree is None:
+            continue
+        chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, degree + 1)]
+        clash = [s.name for s in chain[1:] if s.name in taken]
+        if clash:
+            raise ModelError(f"unknown input {name}: the name {clash[0]!r} of its derivative is already taken")
+        states += chain
+        dynamics += [*chain[1:], sympy.Integer(0)]
+    if degree is None:
+        return system.replace(unknown_inputs=(*system.unknown_inputs, *unknown), unknown_input_degree=None)
+    return system.replace(
+        states=states,
+        dynamics=dynamics,
+        inputs=[u for u in system.inputs if u.name not in unknown],
+        symmetries=(),
+        unknown_inputs=(*system.unknown_inputs, *unknown),
+        unknown_input_degree=degree,
+    )
+
+
+def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
+    """Total degree of ``expr``'s numerator and denominator in ``symbols`` (0 for a
+    constant, also when no symbol is left: every variable was given)."""
+    numerator, denominator = sympy.fraction(sympy.cancel(expr))
+    if not symbols:
+        return 0
+    return max(sympy.Poly(numerator, *symbols).total_degree(), sympy.Poly(denominator, *symbols).total_degree())
+
+
+def _mod(expr: sympy.Expr, value: Mapping[sympy.Symbol, int], p: int) -> int:
+    """A rational expression evaluated modulo p (ZeroDivisionError at a pole)."""
+    if expr.is_Integer:
+        return int(expr) % p
+    if expr.is_Rational:
+        return expr.p * pow(expr.q, -1, p) % p
+    if expr.is_Symbol:
+        return value[expr]
+    if expr.is_Add:
+        return sum(_mod(a, value, p) for a in expr.args) % p
+    if expr.is_Mul:
+        out = 1
+        for a in expr.args:
+            out = out * _mod(a, value, p) % p
+        return out
+    if expr.is_Pow and expr.exp.is_Integer:
+        base = _mod(expr.base, value, p)
+        if expr.exp < 0 and base == 0:
+            raise ZeroDivisionError
+        return pow(base, int(expr.exp), p)
+    raise ValueError(f"not a rational expression: {expr}")
+
+
+@dataclass(frozen=True)
+class ConstraintSet:
+    """A set of states (and parameters) given by equations, solved rationally.
+
+    Attributes
+    ----------
+    text : str
+        The equations as given.
+    solution : tuple of (Symbol, Expr)
+        Each solved variable (a state or a parameter) as a rational function of
+        the others.
+    degree : int
+        1 + the highest degree of the solution's numerators and denominators: the
+        factor by which the Schwartz-Zippel degree bound grows on the set.
+    invariant : bool
+        Whether the motion keeps the set (then the generic stopping rule holds on
+        it; otherwise higher orders could still raise the rank).
+    angles : tuple of (Symbol, Symbol, Symbol)
+        Angles v whose sine and cosine the equations use, with the symbols
+        (S, C) that stand for them in ``solution``: the point's (sin v, cos v)
+        is a random rational point of the unit circle, shared with the model's
+        sin(v) and cos(v) (:meth:`place`).
+    """
+
+    text: str
+    solution: tuple[tuple[sympy.Symbol, sympy.Expr], ...]
+    degree: int
+    invariant: bool
+    angles: tuple[tuple[sympy.Symbol, sympy.Symbol, sympy.Symbol], ...] = ()
+
+    def on(self, system: System) -> ConstraintSet:
+        """The same set for ``system`` with restricted inputs (invariance re-decided)."""
+        return ConstraintSet(self.text, self.solution, self.degree,
+                             _invariant(system, dict(self.solution), self.angles), self.angles)
+
+    def with_values(self, system: System, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> ConstraintSet:
+        """This set intersected with ``values`` (a point given on it), solved again.
+
+        Raises
+        ------
+        ModelError
+            The values put the point off the set, or leave it unsolvable.
+        """
+        given = sorted(v.name for v, _, _ in self.angles if v in values)
+        if given:
+            raise ModelError(f"--point {text}: {given[0]} is an angle of the set {self.text}, whose value is drawn on "
+                             "the unit circle; give the point without it")
+        equations = [s - value for s, value in values.items()]
+        for variable, g in self.solution:
+            equation = sympy.cancel((variable - g).xreplace(dict(values)))
+            if equation.free_symbols:
+                equations.append(equation)
+            elif equation != 0:
+                raise ModelError(f"--point {text}: the point is not on the set {self.text} ({variable} = {g})")
+        trig = {sine: sympy.sin(v) for v, sine, _ in self.angles} | {cosine: sympy.cos(v) for v, _, cosine in self.angles}
+        return solve_constraints(system, [e.xreplace(trig) for e in equations], f"{self.text}, {text}")
+
+    def place(self, evaluator, system: System) -> None:
+        """Move the evaluator's random point onto the set (states and parameter values)."""
+        from ..engine.taylor import Redraw
+
+        p = evaluator.p
+        index = {s: i for i, s in enumerate(system.states)}
+        solved = {v for v, _ in self.solution}
+        value: dict[sympy.Symbol, int] = {s: evaluator.point[i] for s, i in index.items()}
+        # Parameters with a value were written into the solution when it was parsed;
+        # only the free ones are drawn (once per evaluator, shared with the program).
+        for symbol in system.free_parameters:
+            if symbol not in solved:
+                value[symbol] = evaluator.constants.setdefault(symbol, evaluator.rng.randrange(1, p))
+        from ..engine.taylor import circle_point
+
+        for angle, sine, cosine in self.angles:
+            value[sine], value[cosine] = circle_point(evaluator.rng, p)
+            evaluator.circles[angle] = (value[sine], value[cosine])
+        for variable, expr in self.solution:
+            try:
+                value[variable] = _mod(expr, value, p)
+            except ZeroDivisionError:
+                raise Redraw(-1, f"the constraint {variable} = {expr} has a pole at the random point") from None
+            if variable in index:
+                evaluator.point[index[variable]] = value[variable]
+            else:
+                evaluator.constants[variable] = value[variable]
+
+
+def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, dict[str, str]]:
+    """``--where "cxdot = 0, cydot = 0"``: the constraint set on states and
+    parameters, and the inputs it fixes (name -> value, as for ``--input``).
+
+    Raises
+    ------
+    ModelError
+        An equation that is not ``lhs = rhs``, an unknown symbol, an input that is
+        not set to a number, no rational solution, or a solved variable inside a
+        transcendental function (the engine draws such values independently).
+    """
+    names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
+    inputs = set(system.inputs)
+    fixed_inputs: dict[str, str] = {}
+    equations: list[sympy.Expr] = []
+    for piece in split_top_level(text):
+        sides = piece.replace("==", "=").split("=")
+        if len(sides) != 2 or not sides[0].strip() or not sides[1].strip():
+            raise ModelError(f"--where: {piece!r} is not an equation lhs = rhs")
+        expr = parse_expression(f"({sides[0]}) - ({sides[1]})", names, where=f"--where {piece!r}")
+        # A parameter with a value is that value on the set too (x1 = a with a = 0 is x1 = 0).
+        expr = system.substitute_values(expr)
+        if expr.free_symbols & inputs:
+            if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
+                raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
+            (u,) = expr.free_symbols
+            value = str(sympy.solve(expr, u)[0])
+            if fixed_inputs.get(u.name, value) != value:
+                raise ModelError(f"--where: the input {u.name} is set to {fixed_inputs[u.name]} and to {value}")
+            fixed_inputs[u.name] = value
+            continue
+        if sympy.expand(expr) == 0:
+            continue  # holds everywhere: the set is the whole space
+        if not expr.free_symbols:
+            raise ModelError(f"--where {piece!r}: the equation has no solution")
+        equations.append(expr)
+    if not equations:
+        return None, fixed_inputs
+    return solve_constraints(system, equations, text), fixed_inputs
+
+
+def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str) -> ConstraintSet:
+    """The set where every expression of ``equations`` (in states and parameters)
+    vanishes, solved rationally: each equation for a variable of degree 1 in it.
+
+    Raises
+    ------
+    ModelError
+        No unique rational solution, or a solved variable inside a
+        transcendental function.
+    """
+    order = [s for s in (*system.states, *system.parameters)]
+    equations, angles = _through_the_circle(equations, order)
+    circle = {v for v, _, _ in angles}
+    chosen: list[sympy.Symbol] = []
+    for expr in equations:
+        candidates = [s for s in order if s in expr.free_symbols and s not in chosen and s not in circle
+                      and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
+        if not candidates:
+            raise ModelError(f"--where: cannot solve {expr} = 0 rationally for a state or parameter")
+        chosen.append(candidates[0])
+    solutions = sympy.solve(list(equations), chosen, dict=True)
+    others = [s for s in order if s not in chosen] + [x for _, sine, cosine in angles for x in (sine, cosine)]
+    if len(solutions) != 1 or set(solutions[0]) != set(chosen) or not all(
+        v.is_rational_function(*others) and not (v.free_symbols & set(chosen)) for v in solutions[0].values()
+    ):
+        raise ModelError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
+    solution = solutions[0]
+    _check_atoms(system, chosen)
+    parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
+    degree = 1 + max(_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values())
+    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution, angles),
+                         angles)
+
+
+#: The circle parameter of the invariance check: (sin, cos) = (2t, 1 - t^2) / (1 + t^2).
+_T = sympy.Dummy("t")
+
+
+def _on_circle(expr: sympy.Expr, angles, parameters) -> sympy.Expr:
+    """``expr`` with each angle's (S, C) written through its circle parameter
+    (the degree of the point's coordinates in the random quantities)."""
+    return expr.xreplace({x: value for (_, sine, cosine), t in zip(angles, parameters)
+                          for x, value in ((sine, 2 * t / (1 + t**2)), (cosine, (1 - t**2) / (1 + t**2)))})
+
+
+def _through_the_circle(equations: Sequence[sympy.Expr], variables: Sequence[sympy.Symbol]):
+    """The equations with sin(v) and cos(v) of a state or parameter v replaced by
+    symbols S_v, C_v (a point of the unit circle), and the angles so replaced.
+
+    Raises
+    ------
+    ModelError
+        An angle that also enters an equation otherwise (v itself, or sin(2 v)).
+    """
+    angles: dict[sympy.Symbol, tuple[sympy.Symbol, sympy.Symbol]] = {}
+    for expr in equations:
+        for atom in expr.atoms(sympy.sin, sympy.cos):
+            if atom.args[0] in variables:
+                v = atom.args[0]
+                angles.setdefault(v, (sympy.Dummy(f"sin_{v}"), sympy.Dummy(f"cos_{v}")))
+    mapping = {f(v): x for v, pair in angles.items() for f, x in zip((sympy.sin, sympy.cos), pair)}
+    replaced = [e.xreplace(mapping) for e in equations]
+    for expr in replaced:
+        left = expr.free_symbols & set(angles)
+        if left or expr.atoms(sympy.sin, sympy.cos, sympy.tan):
+            raise ModelError(f"--where: {expr} = 0: an angle enters only as sin(v) and cos(v) of a state or "
+                             "parameter v (its point on the unit circle)")
+    return replaced, tuple((v, *pair) for v, pair in angles.items())
+
+
+def _check_atoms(system: System, chosen: Sequence[sympy.Symbol]) -> None:
+    """Refuse a solved variable inside a transcendental atom whose value the
+    engine draws independently and whose value reaches the rows; atan2 and log
+    whose values only enter through sums into the outputs (only their
+    derivatives, rational, reach the gradients) and square roots (computed from
+    their argument) may hold one.
+
+    Raises
+    ------
+    ModelError
+        Naming the variable and the atom.
+    """
+    from ..engine.independence import _value_matters  # the engine's own notion of "the value reaches a row"
+    from ..engine.program import Op, Program
+
+    program = Program(system.states, system.inputs if system.time == "continuous" else (), where=system.name)
+    for expr in system.dynamics:
+        program.add(system.substitute_values(expr))
+    for _, expr in system.outputs:
+        program.add(system.substitute_values(expr))
+    matters = _value_matters(program, system.n if system.time == "continuous" else 0)
+    depends: list[set] = []
+    for op, args in zip(program.ops, program.args):
+        if op is Op.STATE:
+            depends.append({system.states[args[0]]})
+        elif op is Op.RANDOM:
+            depends.append({args[0]} if isinstance(args[0], sympy.Symbol) else set())
+        elif op in (Op.INPUT, Op.CONST):
+            depends.append(set())
+        else:
+            depends.append(set().union(*(depends[a] for a in args)))
+    for i, (op, args) in enumerate(zip(program.ops, program.args)):
+        if op not in (Op.TRIG, Op.EXP, Op.LOG, Op.ATAN2):
+            continue
+        inside = depends[i] & set(chosen)
+        if inside and (op in (Op.TRIG, Op.EXP) or matters[i]):
+            variable = sorted(inside, key=str)[0]
+            kinds = {Op.TRIG: (sympy.sin, sympy.cos), Op.EXP: (sympy.exp,), Op.LOG: (sympy.log,),
+                     Op.ATAN2: (sympy.atan2,)}[op]
+            atom = next((a for e in (*system.dynamics, *(h for _, h in system.outputs)) for a in e.atoms(*kinds)
+                         if variable in a.free_symbols), "a transcendental function")
+            raise ModelError(
+                f"--where: {variable} appears inside {atom}, whose value reaches the matrix; a constraint can fix only "
+                "variables that enter the model rationally or through atan2 and log whose values only add to an "
+                "output (the engine draws transcendental values independently); constrain an angle through sin() "
+                "and cos() of it"
+            )
+
+
+def _invariant(system: System, solution: Mapping[sympy.Symbol, sympy.Expr], angles=()) -> bool:
+    """Whether the motion keeps the set x_i = g_i(others) (for every input); an
+    angle's sine and cosine are differentiated as such, and the result checked
+    on the circle (t-parametrised): False when that cannot be shown."""
+    states = list(system.states)
+    f = [system.substitute_values(e) for e in system.dynamics]
+    trig = {sine: sympy.sin(v) for v, sine, _ in angles} | {cosine: sympy.cos(v) for v, _, cosine in angles}
+    solution = {v: g.xreplace(trig) for v, g in solution.items()}
+    circle = {sympy.sin(v): 2 * _T / (1 + _T**2) for v, _, _ in angles}
+    circle |= {sympy.cos(v): (1 - _T**2) / (1 + _T**2) for v, _, _ in angles}
+    if len(angles) > 1:
+        return False  # one circle parameter: a second angle is not checked here
+    on_set = dict(solution)
+    for variable, g in solution.items():
+        if variable not in states:
+            continue  # a parameter relation holds at all times
+        residual = variable - g
+        if system.time == "continuous":
+            change = sum(sympy.diff(residual, x) * fx for x, fx in zip(states, f))
+        else:
+            change = residual.xreplace(dict(zip(states, f)))
+        if sympy.cancel(sympy.together(change.xreplace(on_set).xreplace(circle))) != 0:
+            return False
+    return True
