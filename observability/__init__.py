@@ -1,10 +1,34 @@
 """Nonlinear observability analysis: from a symbolic system to a verdict you can trust.
 
-The data flow is visible from the module list: :mod:`system` (the definition),
-:mod:`lie` (Lie derivatives), :mod:`program` and :mod:`taylor` (exact evaluation
-at random points), :mod:`echelon`, :mod:`randomized`, :mod:`symbolic`,
-:mod:`numeric` (the three ranks) and :mod:`analysis` (the verdict).
+The data flow is the order of :data:`STAGES`: the model (:mod:`.model`, the
+built-in ones in :mod:`.models`), the engine that turns it into exact numbers
+(:mod:`.engine`), the rank (:mod:`.rank`), the unobservable directions and
+observable functions (:mod:`.directions`), the verdict (:mod:`.analysis`),
+answers about motions, sets and points (:mod:`.where`), the casadi bridge
+(:mod:`.codegen`), the filters (:mod:`.filters`), observability along a
+trajectory (:mod:`.trajectory`), reports (:mod:`.report`) and the command line
+(:mod:`.cli`). A module imports only from its own stage or earlier ones
+(tests/test_layout.py checks it).
 """
+
+#: The stages in the order data flows through them; each string lists the
+#: top-level modules and subpackages of one stage. The first holds what every
+#: stage may use (errors, CPU budgets, progress lines, the task runner).
+STAGES = (
+    "errors budget progress parallel",
+    "model",
+    "models",
+    "engine",
+    "rank",
+    "directions",
+    "analysis",
+    "where",
+    "codegen",
+    "filters",
+    "trajectory",
+    "report",
+    "cli __main__",
+)
 
 import importlib
 
@@ -12,7 +36,10 @@ import importlib
 # 562), so `observability --version` and the command line's parser do not pay
 # for sympy and the engine.
 _LOCATIONS = {
-    "analysis.verdict": ("METHODS", "ObservabilityResult", "UnobservableDirection", "analyze"),
+    "analysis.verdict": ("analyze",),
+    "analysis.result": ("ObservabilityResult",),
+    "directions.find": ("UnobservableDirection",),
+    "model.methods": ("METHODS",),
     "errors": ("ModelError", "ModelFileError", "ObservabilityError", "SingularModelError", "UnsupportedExpressionError"),
     "model.expressions": ("parse_expression", "prev"),
     "model.inverse": ("inverse_dynamics",),
@@ -21,7 +48,8 @@ _LOCATIONS = {
     "rank.numeric": ("float_rank",),
     "rank.randomized": ("randomized_rank",),
     "rank.symbolic": ("generic_rank", "null_space", "observability_rows", "symbolic_rank"),
-    "directions.symmetry": ("EPSILON", "Symmetry", "verify"),
+    "model.symmetry": ("EPSILON", "Symmetry"),
+    "directions.symmetry": ("verify",),
     "model.system": ("Motion", "System", "system"),
 }
 _MODULE_OF = {name: module for module, names in _LOCATIONS.items() for name in names}

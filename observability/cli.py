@@ -26,7 +26,7 @@ from .model.methods import METHODS, PREVIOUS_METHODS
 from .progress import clear_line, status_line
 
 if TYPE_CHECKING:  # the engine (and sympy) is imported by the commands that use it
-    from .analysis.verdict import ObservabilityResult
+    from .analysis.result import ObservabilityResult
     from .model.system import System
 
 __all__ = ["main"]
@@ -177,26 +177,16 @@ def resolve_model(model: str, options: dict[str, str], time: str | None = None) 
 def _restricted(system: System, args: argparse.Namespace, where: str | None = None):
     """The system under --inputs/--input and the constraint set of --where:
     (system, input derivatives, constraint set or None)."""
-    from .where.restrictions import parse_constraints, parse_profile, with_input_profiles
+    from .where.restrict import restrict
 
     profiles = {}
     for pair in args.input:
         name, sep, value = pair.partition("=")
         if not sep or not name.strip():
             raise _UsageError(f"--input expects NAME=PROFILE (zero, constant, a number, degree=K), got {pair!r}")
-        profiles[name.strip()] = parse_profile(value, f"--input {name.strip()}")
-    constraint, fixed = (None, {}) if where is None else parse_constraints(system, where)
-    for name, value in fixed.items():
-        if name in profiles:
-            raise _UsageError(f"input {name} is set by both --input and --where")
-        profiles[name] = parse_profile(value, f"--where {name}")
-    default = parse_profile(args.inputs, "--inputs") if args.inputs else None
-    if (profiles or default) and args.input_derivatives is not None:
-        raise _UsageError("give input profiles (--inputs, --input) or --input-derivatives, not both")
-    if not profiles and default is None:
-        return system, args.input_derivatives, constraint
-    restricted, derivatives = with_input_profiles(system, profiles, default)
-    return restricted, derivatives, None if constraint is None else constraint.on(restricted)
+        profiles[name.strip()] = value
+    restricted = restrict(system, profiles, args.inputs, where, args.input_derivatives)
+    return restricted.system, restricted.input_derivatives, restricted.constraint
 
 
 def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None) -> ObservabilityResult:

@@ -9,7 +9,7 @@ import sympy
 
 from observability import analyze, models, parse_model
 from observability.where.conditions import rank_drops
-from observability.where.restrictions import parse_profile, with_input_profiles
+from observability.where.profiles import parse_profile, with_input_profiles
 
 UNICYCLE = '''
 name = "unicycle-3-beacons"

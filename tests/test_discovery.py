@@ -99,9 +99,9 @@ def test_no_polynomial_generator_is_reported_unnamed_with_its_vector_at_a_point(
     model of more than 24 states, forced here) the direction is given as numbers
     at the point its description names: proportional to (exp(z0), -1) there, to
     the six digits printed."""
-    from observability.analysis import verdict as analysis
+    from observability.directions import find
 
-    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
+    monkeypatch.setattr(find, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
     system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
     result = analyze(system, seed=1)
     assert result.rank == 1
@@ -118,9 +118,9 @@ def test_the_numbers_at_a_point_complete_the_fields_found(monkeypatch):
     ansatz; the other direction has no polynomial generator and comes as numbers
     at the point named: they satisfy the equation there (to the digits printed)
     and are not a multiple of the translation."""
-    from observability.analysis import verdict as analysis
+    from observability.directions import find
 
-    monkeypatch.setattr(analysis, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
+    monkeypatch.setattr(find, "SYMBOLIC_NULL_SPACE_MAX_STATES", 0)
     system = System(["x", "z", "w"], {"x": "0", "z": "0", "w": "0"}, {"y": "x + exp(z) + w"})
     result = analyze(system, seed=2)
     translation, numeric = result.unobservable_directions

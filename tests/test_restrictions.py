@@ -10,7 +10,8 @@ import pytest
 from observability import System, analyze, models
 from observability.errors import ModelError
 from observability.where.motions import degenerate_motions
-from observability.where.restrictions import parse_constraints, parse_profile, with_input_profiles
+from observability.where.profiles import parse_profile, with_input_profiles
+from observability.where.sets import parse_constraints
 
 #: The command line, run by the interpreter running the tests (never whatever is on PATH).
 SCRIPT = [sys.executable, "-m", "observability"]

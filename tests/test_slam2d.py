@@ -24,7 +24,8 @@ import sympy
 from observability import models
 from observability.models.slam2d import slam2d
 from observability import System, analyze
-from observability.directions.symmetry import EPSILON, Symmetry, generator, name_null_space, verify
+from observability.directions.symmetry import name_null_space, verify
+from observability.model.symmetry import EPSILON, Symmetry, generator
 
 LOST = {0: 4, 1: 2, 2: 0}
 

@@ -18,7 +18,8 @@ import sympy
 from observability import analyze, models, parse_model
 from observability.where.conditions import has_real_points, rank_drops
 from observability.where.points import rank_at_point
-from observability.where.restrictions import parse_constraints, parse_profile, with_input_profiles
+from observability.where.profiles import parse_profile, with_input_profiles
+from observability.where.sets import parse_constraints
 from observability.errors import ModelError
 
 

@@ -21,8 +21,7 @@ is expanded and a thousand landmarks cost a fraction of a second. Models list th
 from __future__ import annotations
 
 import random
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 import sympy
@@ -31,67 +30,12 @@ from flint import arb
 from ..engine.echelon import ModularEchelon
 from ..engine.program import Program
 from ..engine.taylor import PRIME, BallTaylorEvaluator, Redraw, TaylorEvaluator
+from ..model.symmetry import EPSILON, Symmetry, generator
 
-if TYPE_CHECKING:  # System holds Symmetry objects, so the import is one-way
+if TYPE_CHECKING:
     from ..model.system import System
 
-__all__ = ["EPSILON", "Symmetry", "generator", "verify", "verify_all", "name_null_space", "independent_basis"]
-
-#: The group parameter of a :class:`Symmetry` (the identity is eps = 0).
-EPSILON = sympy.Symbol("epsilon")
-
-
-@dataclass(frozen=True)
-class Symmetry:
-    """A candidate one-parameter symmetry.
-
-    Attributes
-    ----------
-    name : str
-        Short name, e.g. ``"translation x"``.
-    description : str
-        In words, e.g. ``"moves the camera and every landmark along x"``.
-    transformation : tuple[tuple[str, sympy.Expr], ...]
-        State name -> its image under g_eps, in states, parameters and
-        :data:`EPSILON`; states not listed are unchanged.
-    vector : tuple[tuple[str, sympy.Expr], ...] or None
-        The generator d g_eps / d eps at eps = 0, when the model states it (it is
-        verified like the transformation); derived by differentiation otherwise.
-    """
-
-    name: str
-    description: str
-    transformation: tuple[tuple[str, sympy.Expr], ...]
-    vector: tuple[tuple[str, sympy.Expr], ...] | None = None
-
-    @classmethod
-    def of(
-        cls,
-        name: str,
-        description: str,
-        transformation: Mapping[str, sympy.Expr],
-        vector: Mapping[str, sympy.Expr] | None = None,
-    ) -> Symmetry:
-        """Build from mappings state name -> image (and -> generator component)."""
-        pairs = tuple((str(k), sympy.S(v)) for k, v in transformation.items())
-        field = None if vector is None else tuple((str(k), sympy.S(v)) for k, v in vector.items())
-        return cls(name, description, pairs, field)
-
-    def images(self, system: System) -> list[sympy.Expr]:
-        """g_eps(x) for every state of ``system``, in state order, with the
-        system's parameter values substituted (a beacon at B1x = 3 moves the
-        rotation centre to 3, as in the outputs)."""
-        table = dict(self.transformation)
-        return [system.substitute_values(table.get(s.name, s)) for s in system.states]
-
-
-def generator(symmetry: Symmetry, system: System) -> list[sympy.Expr]:
-    """The infinitesimal generator d g_eps(x) / d eps at eps = 0, per state."""
-    if symmetry.vector is not None:
-        table = dict(symmetry.vector)
-        return [system.substitute_values(table.get(s.name, sympy.Integer(0))) for s in system.states]
-    return [sympy.diff(image, EPSILON).subs(EPSILON, 0) for image in symmetry.images(system)]
-
+__all__ = ["verify", "verify_all", "name_null_space", "independent_basis"]
 
 class _AtIdentity(TaylorEvaluator):
     """Exact evaluation at eps = 0 (the last state), where the atoms of eps take

@@ -68,7 +68,7 @@ import sympy
 from ..errors import ModelError, ModelFileError
 from .expressions import parse_number, parse_value
 from .notation import component_latex, latex_name, validate_latex_name
-from ..directions.symmetry import EPSILON, Symmetry
+from .symmetry import EPSILON, Symmetry
 from .system import Motion, System
 
 __all__ = ["load_model", "parse_model"]

@@ -20,7 +20,7 @@ import sympy
 from ..errors import ModelError
 from .notation import latex_name, latex_text, validate_latex_name
 from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
-from ..directions.symmetry import EPSILON, Symmetry
+from .symmetry import EPSILON, Symmetry
 
 __all__ = ["System", "Motion", "system", "prev"]
 
@@ -137,7 +137,7 @@ class System:
         smooth function of time (:mod:`observability.rank.unknown` decides the rank);
         with ``unknown_input_degree`` it is a polynomial in time of that degree,
         an assumption: the input and its derivatives become states
-        (:func:`~observability.where.restrictions.with_unknown_inputs`).
+        (:func:`~observability.model.unknowninputs.with_unknown_inputs`).
     unknown_input_degree : int, optional
         The degree of the polynomial-in-time model of each unknown input (None:
         an arbitrary smooth input).
@@ -325,7 +325,7 @@ class System:
         if unknown_input_degree is not None and not unknown:
             raise ModelError("unknown_input_degree is given but there are no unknown inputs")
         if unknown:
-            from ..where.restrictions import with_unknown_inputs  # restrictions builds Systems
+            from .unknowninputs import with_unknown_inputs  # it builds Systems
 
             extended = with_unknown_inputs(self, unknown, unknown_input_degree)
             for name in ("states", "dynamics", "inputs", "unknown_inputs", "unknown_input_degree", "symmetry_source"):

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import sympy
 
-from observability.directions.symmetry import EPSILON, Symmetry
+from observability.model.symmetry import EPSILON, Symmetry
 
 __all__ = ["planar_symmetries", "line_symmetries", "spatial_symmetries"]
 

@@ -256,7 +256,7 @@ def randomized_rank(
         this, or at most six points.
     progress : callable, optional
         Called with a short status line after every order.
-    constraint : observability.where.restrictions.ConstraintSet, optional
+    constraint : observability.where.sets.ConstraintSet, optional
         Draw the points on this set (the rank at a generic point of the set); the
         degree bound is multiplied by the degree of its parametrisation.
     exhaustive : bool

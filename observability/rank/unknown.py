@@ -60,7 +60,7 @@ from ..engine.expansion import expand_rows
 from ..engine.independence import dependence
 from ..engine.program import Program
 from .randomized import degree_bound
-from ..where.restrictions import with_unknown_inputs
+from ..model.unknowninputs import with_unknown_inputs
 from ..model.system import System
 from ..engine.taylor import PRIME, Redraw, TaylorEvaluator
 

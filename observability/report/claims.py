@@ -11,7 +11,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from .. import models
-from ..analysis.verdict import ObservabilityResult, analyze
+from ..analysis.result import ObservabilityResult
+from ..analysis.verdict import analyze
 from ..directions.symmetry import verify
 from ..model.system import System
 

@@ -31,7 +31,8 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from ..analysis.verdict import ObservabilityResult, analyze
+from ..analysis.result import ObservabilityResult
+from ..analysis.verdict import analyze
 from ..errors import ObservabilityError
 from ..engine.exactrows import NotRational, rows_at_point
 from ..model.expressions import parse_expression

@@ -28,7 +28,7 @@ from typing import Any
 import mpmath
 import sympy
 
-from ..analysis.verdict import ObservabilityResult
+from ..analysis.result import ObservabilityResult
 from ..budget import with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression

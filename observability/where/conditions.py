@@ -39,14 +39,15 @@ from typing import Any
 
 import sympy
 
-from ..analysis.verdict import ObservabilityResult, analyze
+from ..analysis.result import ObservabilityResult
+from ..analysis.verdict import analyze
 from ..budget import Undecided, with_budget
 from ..errors import ModelError
 from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_expression
 from ..engine.fractions import factor_list
 from ..model.expressions import split_top_level
-from .restrictions import parse_constraints
+from .sets import parse_constraints
 from ..engine.lie import lie_derivatives
 from ..rank.randomized import randomized_rank
 from ..rank.symbolic import _field_matrix, rationalize

@@ -18,10 +18,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ..analysis.verdict import ObservabilityResult, analyze
+from ..analysis.result import ObservabilityResult
+from ..analysis.verdict import analyze
 from .conditions import RankDrop, rank_drops
 from ..errors import ModelError
-from .restrictions import parse_constraints, parse_profile, with_input_profiles
+from .restrict import restrict
 from ..model.system import Motion, System
 
 __all__ = ["MotionResult", "catalogue", "degenerate_motions"]
@@ -72,19 +73,14 @@ def catalogue(system: System) -> list[Motion]:
 
 def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget: float | None
              ) -> tuple[ObservabilityResult, list[RankDrop], str]:
-    profiles = {u: parse_profile(p, f"motion {motion.name!r}: input {u}") for u, p in motion.inputs.items()}
-    constraint, fixed = (None, {}) if not motion.where else parse_constraints(system, motion.where)
-    both = sorted(set(profiles) & set(fixed))
-    if both:
-        raise ModelError(f"input {both[0]} is set by both the motion's inputs and its where")
-    profiles |= {u: parse_profile(v, f"motion {motion.name!r}") for u, v in fixed.items()}
-    restricted, derivatives = with_input_profiles(system, profiles)
-    result = analyze(restricted, seed=seed, input_derivatives=derivatives,
-                     where=None if constraint is None else constraint.on(restricted),
-                     directions=constraint is None)
-    if not conditions or constraint is not None:
+    restricted = restrict(system, motion.inputs, where=motion.where, what=f"motion {motion.name!r}: input",
+                          where_name=f"motion {motion.name!r}:", both=("the motion's inputs", "its where"))
+    result = analyze(restricted.system, seed=seed, input_derivatives=restricted.input_derivatives,
+                     where=restricted.constraint, directions=restricted.constraint is None)
+    if not conditions or restricted.constraint is not None:
         return result, [], ""
-    drops, note = rank_drops(restricted, result, seed=seed, budget=budget, input_derivatives=derivatives)
+    drops, note = rank_drops(restricted.system, result, seed=seed, budget=budget,
+                             input_derivatives=restricted.input_derivatives)
     return result, drops, note
 
 

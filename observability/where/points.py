@@ -40,7 +40,7 @@ import sympy
 from sympy import QQ
 from sympy.polys.matrices import DomainMatrix
 
-from ..analysis.verdict import ObservabilityResult
+from ..analysis.result import ObservabilityResult
 from ..directions.discovery import rational_reconstruction
 from ..errors import ModelError, SingularModelError
 from ..budget import Undecided, with_budget
@@ -48,7 +48,7 @@ from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_number
 from ..model.inverse import eliminate_previous_state
 from ..rank.randomized import randomized_rank
-from .restrictions import ConstraintSet, solve_constraints
+from .sets import ConstraintSet, solve_constraints
 from ..rank.symbolic import observability_rows
 from ..model.system import System
 from ..engine.taylor import PRIME

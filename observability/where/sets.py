@@ -1,28 +1,14 @@
-"""The system under a restriction: an input profile, or inputs nobody measures.
+"""Constraint sets: the rank at a generic point of a set given by equations.
 
-The generic rank answers "for almost every input". These transformations return
-a new :class:`System` (and, for profiles, the number of input derivatives the
-engine may use), so every method, every certificate and every direction search
-applies unchanged:
-
-* **input profiles** — ``zero``: the input is replaced by 0; ``constant``: the
-  input becomes a known constant (a parameter: in continuous time its
-  derivatives vanish, in discrete time it is the same at every step); a number:
-  that constant;
-  ``degree=K`` (continuous time): the input is a polynomial in time of degree
-  K, i.e. its derivatives above K vanish (the engine's ``input_derivatives``);
-* **unknown inputs** (:func:`with_unknown_inputs`) — an input nobody measures,
-  modelled over the analysis window as a polynomial in time of degree d: the
-  input and its first d derivatives become states (w' = w1, ..., w_d' = 0), the
-  extended-state construction of STRIKE-GOLDD's FISPO (Villaverde et al.,
-  "Full observability and estimation of unknown inputs, states and parameters
-  of nonlinear biological models", J. R. Soc. Interface 2019). The verdict then
-  says which states and which unknown inputs are observable.
+``--where "cxdot = 0, cydot = 0"`` names a set of states and parameters; each
+equation is solved rationally for one variable (an angle through the sine and
+cosine of it, on a rational point of the unit circle), and the random points of
+every rank method are drawn on the set (:meth:`ConstraintSet.place`). Whether
+the motion keeps the set decides whether the generic stopping rule holds on it.
 """
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -32,155 +18,7 @@ from ..errors import ModelError
 from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
 
-__all__ = [
-    "InputProfile", "parse_profile", "with_input_profiles", "with_unknown_inputs", "ConstraintSet", "parse_constraints",
-    "solve_constraints",
-]
-
-_DEGREE = re.compile(r"^degree\s*=\s*(\d+)$")
-
-
-@dataclass(frozen=True)
-class InputProfile:
-    """How a known input behaves: ``kind`` is "zero", "constant" (constant in time,
-    its value generic), "value" (the constant ``value``) or "degree" (a polynomial
-    in time of degree ``degree``)."""
-
-    kind: str
-    degree: int | None = None
-    value: sympy.Rational | None = None
-
-    def __str__(self) -> str:
-        if self.kind == "degree":
-            return f"degree={self.degree}"
-        return str(self.value) if self.kind == "value" else self.kind
-
-
-def parse_profile(text: str, where: str) -> InputProfile:
-    """``zero`` (or ``0``), ``constant``, a number or ``degree=K`` as an :class:`InputProfile`."""
-    value = text.strip().lower()
-    if value in ("zero", "0"):
-        return InputProfile("zero")
-    try:
-        number = sympy.Rational(value)
-    except ZeroDivisionError:
-        raise ModelError(f"{where}: input profile {text!r} divides by zero") from None
-    except (TypeError, ValueError):
-        number = None
-    if number is not None:
-        return InputProfile("zero") if number == 0 else InputProfile("value", value=number)
-    if value == "constant":
-        return InputProfile("constant")
-    if m := _DEGREE.match(value):
-        return InputProfile("degree", int(m[1]))
-    raise ModelError(f"{where}: input profile must be zero, constant, a number or degree=K, got {text!r}")
-
-
-def with_input_profiles(
-    system: System, profiles: Mapping[str, InputProfile], default: InputProfile | None = None
-) -> tuple[System, int | None]:
-    """The system with the given inputs restricted, and the input derivatives to use.
-
-    ``profiles`` maps input names to profiles; ``default`` applies to every
-    other input (None: they stay generic). Returns the new system and the
-    ``input_derivatives`` argument for :func:`~observability.analysis.verdict.analyze`
-    (None: generic).
-
-    Raises
-    ------
-    ModelError
-        An unknown input name; ``degree=K`` in discrete time; inputs left with
-        different degrees (the engine bounds all inputs' derivatives alike).
-    """
-    # An arbitrary unknown input has no profile: it is not known.
-    names = {u.name: u for u in system.inputs if u not in system.arbitrary_inputs}
-    for key in profiles:
-        if key not in names:
-            raise ModelError(
-                f"--input {key}: not a known input of {system.name} (known inputs: {', '.join(names) or 'none'})"
-            )
-    chosen = {name: profiles.get(name, default) for name in names}
-    zero = {names[n]: sympy.Integer(0) for n, p in chosen.items() if p and p.kind == "zero"}
-    constant = {names[n]: p.value for n, p in chosen.items() if p and p.kind in ("constant", "value")}
-    remaining = {n: p for n, p in chosen.items() if not p or p.kind == "degree"}
-    degrees = {p.degree if p else None for p in remaining.values()}
-    if any(p and p.kind == "degree" for p in remaining.values()):
-        if system.time == "discrete":
-            raise ModelError("an input profile degree=K applies to continuous time; discrete time has zero and constant")
-        if len(degrees) > 1:
-            raise ModelError(
-                "inputs left with different profiles (" + ", ".join(f"{n}: {p or 'generic'}" for n, p in remaining.items())
-                + "): give every input that is neither zero nor constant the same degree=K"
-            )
-    input_derivatives = next(iter(degrees)) if remaining else None
-    if not zero and not constant:
-        return system, input_derivatives
-    dynamics = [e.xreplace(zero) for e in system.dynamics]
-    outputs = {name: e.xreplace(zero) for name, e in system.outputs}
-    inverse = None if system.inverse_dynamics is None else [e.xreplace(zero) for e in system.inverse_dynamics]
-    parameters = {p: None for p in system.parameters} | constant
-    restricted = system.replace(
-        dynamics=dynamics,
-        outputs=outputs,
-        inputs=[u for u in system.inputs if u not in zero and u not in constant],
-        parameters=parameters,
-        inverse_dynamics=inverse,
-        name=system.name + "[" + ", ".join(f"{n}={p}" for n, p in chosen.items() if p and p.kind != "degree") + "]",
-        symmetries=(),
-        quantities=(),
-        latex_names=[(k, v) for k, v in system.latex_names if k not in {u.name for u in zero}],
-    )
-    return restricted, input_derivatives
-
-
-def with_unknown_inputs(system: System, unknown: Sequence[str], degree: int | None) -> System:
-    """The system in which the inputs ``unknown`` are unknown.
-
-    ``degree`` None: each may be any smooth function of time; the system keeps
-    it as an input and records it (:attr:`System.arbitrary_inputs`), and only
-    :mod:`observability.rank.unknown` analyses it. ``degree`` K: each is a polynomial
-    in time of degree K (an assumption, stated with the verdict), and w becomes
-    the states w, w_d1, ..., w_dK with w' = w_d1, ..., w_dK' = 0.
-
-    Raises
-    ------
-    ModelError
-        A name that is not an input of the equations, a discrete-time system, a
-        negative degree, or a derivative's name already taken.
-    """
-    if not unknown:
-        return system
-    if system.time != "continuous":
-        raise ModelError("unknown inputs are modelled in continuous time (their derivatives become states)")
-    if degree is not None and degree < 0:
-        raise ModelError(f"the degree of an unknown input's polynomial model must be >= 0, got {degree}")
-    names = {u.name: u for u in system.inputs}
-    taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}
-    states = list(system.states)
-    dynamics = list(system.dynamics)
-    for name in unknown:
-        if name not in names:
-            raise ModelError(f"unknown input {name!r} is not an input of {system.name} (inputs: {', '.join(names)})")
-        if not any(names[name] in e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))):
-            raise ModelError(f"unknown input {name!r} is not an input of {system.name}'s equations: it appears in none")
-        if degree is None:
-            continue
-        chain = [names[name]] + [sympy.Symbol(f"{name}_d{j}") for j in range(1, degree + 1)]
-        clash = [s.name for s in chain[1:] if s.name in taken]
-        if clash:
-            raise ModelError(f"unknown input {name}: the name {clash[0]!r} of its derivative is already taken")
-        states += chain
-        dynamics += [*chain[1:], sympy.Integer(0)]
-    if degree is None:
-        return system.replace(unknown_inputs=(*system.unknown_inputs, *unknown), unknown_input_degree=None)
-    return system.replace(
-        states=states,
-        dynamics=dynamics,
-        inputs=[u for u in system.inputs if u.name not in unknown],
-        symmetries=(),
-        unknown_inputs=(*system.unknown_inputs, *unknown),
-        unknown_input_degree=degree,
-    )
+__all__ = ["ConstraintSet", "parse_constraints", "solve_constraints"]
 
 
 def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:

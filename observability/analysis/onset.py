@@ -1,0 +1,61 @@
+"""The verdict at a generic point of a constraint set (``--where``)."""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+from ..model.system import System
+from ..model.unknowninputs import input_model
+from ..rank.randomized import randomized_rank
+from .result import ObservabilityResult
+
+if TYPE_CHECKING:  # the set is built by the where stage; the engine only calls its place()
+    from ..where.sets import ConstraintSet
+
+__all__ = ["rank_on_set"]
+
+
+def rank_on_set(
+    system: System, where: ConstraintSet, seed: int | None, input_derivatives: int | None, max_order: int | None,
+    previous: str, progress, start: float,
+) -> ObservabilityResult:
+    """The rank at a generic point of a constraint set: points drawn on the set."""
+    n = system.n
+    result = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
+                             progress=progress, previous=previous, constraint=where)
+    names = tuple(s.name for s in system.states)
+    common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
+                  unobservable_directions=(), time=system.time, row_labels=result.row_labels,
+                  unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
+                  restriction=f"the set {where.text}")
+    rank = result.rank
+    reason = ""
+    if result.dependence is not None:
+        # Without provably independent atoms even a full rank mod p needs the
+        # ball certificate, which does not draw its point on a set.
+        reason = (f"rank {rank} mod 2^61-1 on the set, but {result.dependence}; a ball-arithmetic "
+                  "certificate is not available on a constraint set")
+    elif not where.invariant and rank < n:
+        reason = (f"rank {rank} of {n} at points of the set (orders 0..{result.orders}), a lower bound: the motion "
+                  "leaves the set, so higher orders could still raise the rank")
+    elif not result.complete and rank < n:
+        reason = f"rank {rank} of {n} at orders 0..{result.orders} is a lower bound: the order limit was reached"
+    if reason:
+        return ObservabilityResult(
+            rank=None, observable=None, error_probability=None, observable_states=None,
+            seconds=time.perf_counter() - start, details=f"undecided: {reason}",
+            lower_bound=None if result.dependence is not None else rank, **common,
+        )
+    why = ("the set is kept by the motion, so the stopping rule holds on it" if where.invariant else
+           "the motion leaves the set, but a full rank at its points is certain")
+    details = f"exact rank mod 2^61-1 at {result.draws} random point(s) of the set (seed {result.seed}; {why})"
+    if rank < n:
+        details += (f"; rank {rank} certain as a lower bound; too low with probability <= "
+                    f"{result.error_probability:.1e} (Schwartz-Zippel, degree bound x {where.degree} for the set)")
+    return ObservabilityResult(
+        rank=rank, observable=rank == n, error_probability=result.error_probability,
+        observable_states=tuple(names[i] for i in result.observable_columns),
+        seconds=time.perf_counter() - start, details=details,
+        proof="proven" if rank == n else "lower bound", **common,
+    )

@@ -1,0 +1,211 @@
+"""The verdict as data: :class:`ObservabilityResult`, its text, JSON and LaTeX."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..directions.find import UnobservableDirection
+from ..model.notation import latex_text
+
+__all__ = ["ObservabilityResult", "PROOFS", "independent_fields", "state_list"]
+
+
+#: The proof statuses in words a reviewer would accept.
+PROOFS = {
+    "proven": "proven (the rank is certain: a certified lower bound meets an upper bound from independent "
+    "fields that annihilate the observability matrix as identities)",
+    "full rank": "proven (a full rank at a point, in exact arithmetic, is certain: the generic rank is never "
+    "lower than a rank at a point, nor above n)",
+    "lower bound": "lower bound (the rank is certainly not lower; a higher rank is excluded only with the "
+    "stated probability)",
+    "numerical": "numerical (singular values in floating point; not a proof)",
+    "randomized": "randomized (exact arithmetic mod p at a random point: wrong with at most the stated probability; "
+    "the unobservable directions shown are proven as identities)",
+}
+
+#: How many states or vector components ``--brief`` text shows.
+BRIEF_ITEMS = 8
+
+@dataclass(frozen=True)
+class ObservabilityResult:
+    """The outcome of :func:`analyze`.
+
+    ``rank`` and ``observable`` are None when the symbolic method could not decide
+    within its budget. ``error_probability`` bounds the chance that the verdict is
+    wrong (0 for the exact symbolic rank and for a full randomized rank; None for
+    the floating-point method, whose reliability is described by its gap).
+    ``observable_states`` is None when it is not known (the symbolic null space
+    was not computed), never an empty tuple that would read as "none".
+    ``lower_bound`` is a rank that is certain when the verdict is undecided
+    (e.g. the orders allowed were cut while the rank was still growing).
+    ``proof``: "proven" (the rank is certain from both sides: a certified lower
+    bound, and an upper bound from independent fields that annihilate the matrix
+    as identities, or a full rank), "lower bound" (only the lower bound is
+    certain; the upper one holds with ``error_probability``), "numerical" (the
+    float method: no certificate); None when undecided.
+    ``observable_functions``: functions of the states that every unobservable
+    direction leaves unchanged (what the outputs still determine): polynomial
+    and rational invariants of degree <= 2 in the states, free parameters and
+    cosines and sines of angles (:mod:`observability.directions.invariants`); None when not
+    computed (the directions unknown).
+    """
+
+    model: str
+    states: tuple[str, ...]
+    rank: int | None
+    observable: bool | None
+    method: str
+    seed: int | None
+    error_probability: float | None
+    orders: int | None
+    observable_states: tuple[str, ...] | None
+    unobservable_directions: tuple[UnobservableDirection, ...]
+    seconds: float
+    details: str
+    time: str = "continuous"
+    singular_values: tuple[float, ...] | None = None
+    row_labels: tuple[tuple[str, int], ...] = field(default=(), repr=False)
+    lower_bound: int | None = None
+    observable_functions: tuple[str, ...] | None = None
+    proof: str | None = None
+    unknown_inputs: tuple[str, ...] = ()  # inputs modelled as states (observable_states says which are)
+    unknown_input_model: str = ""  # what is assumed of them, in words
+    unknown_parameters: tuple[str, ...] = ()  # unknown constants, states that never change
+    restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
+
+    @property
+    def n_states(self) -> int:
+        return len(self.states)
+
+    @property
+    def unobservable_states(self) -> tuple[str, ...] | None:
+        if self.observable_states is None:
+            return None
+        return tuple(s for s in self.states if s not in self.observable_states)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (the CLI's ``--format json``)."""
+        return {
+            "model": self.model,
+            "time": self.time,
+            "states": list(self.states),
+            "n_states": self.n_states,
+            "rank": self.rank,
+            "observable": self.observable,
+            "method": self.method,
+            "seed": self.seed,
+            "error_probability": self.error_probability,
+            "orders": self.orders,
+            "rank_lower_bound": self.lower_bound,
+            "proof": self.proof,
+            "unknown_inputs": (
+                {u: u in self.observable_states for u in self.unknown_inputs}
+                if self.observable_states is not None else dict.fromkeys(self.unknown_inputs)
+            ),
+            "unknown_input_model": self.unknown_input_model,
+            "unknown_parameters": (
+                {c: c in self.observable_states for c in self.unknown_parameters}
+                if self.observable_states is not None else dict.fromkeys(self.unknown_parameters)
+            ),
+            "restriction": self.restriction,
+            "observable_states": list(self.observable_states) if self.observable_states is not None else None,
+            "observable_functions": (
+                list(self.observable_functions) if self.observable_functions is not None else None
+            ),
+            "unobservable_states": (
+                list(self.unobservable_states) if self.observable is not None and self.observable_states is not None else None
+            ),
+            "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
+            "singular_values": list(self.singular_values) if self.singular_values is not None else None,
+            "details": self.details,
+            "seconds": round(self.seconds, 6),
+        }
+
+    def verdict(self) -> str:
+        if self.observable is None:
+            return "undecided"
+        return "observable" if self.observable else "NOT observable"
+
+    def _repr_latex_(self) -> str:
+        """Jupyter: the verdict as display math."""
+        if self.rank is None:
+            return f"$\\text{{{latex_text(self.model)}: undecided}}$"
+        return (
+            f"$\\text{{{latex_text(self.model)}: {self.verdict()}}}\\quad \\operatorname{{rank}} \\mathcal{{O}} = "
+            f"{self.rank} \\text{{ of }} n = {self.n_states}$"
+        )
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the verdict and the directions as a table."""
+        import html
+
+        rows = [
+            ("verdict", self.verdict()),
+            ("rank", f"{self.rank} of {self.n_states}"),
+            ("method", f"{self.method}: {self.details}"),
+            ("observable states", state_list(self.observable_states)),
+        ]
+        rows += [(d.name, ", ".join(f"{k}: {v}" for k, v in d.vector.items())) for d in self.unobservable_directions]
+        body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in rows)
+        return f"<table><caption>{html.escape(self.model)}</caption>{body}</table>"
+
+    def __str__(self) -> str:
+        return self.text()
+
+    def text(self, brief: bool = False) -> str:
+        """The verdict in words; ``brief`` shortens long state lists and vectors
+        to their first components (JSON always keeps everything)."""
+        limit = BRIEF_ITEMS if brief else None
+
+        def states(names: tuple[str, ...] | None) -> str:
+            if brief and names is not None and len(names) > BRIEF_ITEMS:
+                return state_list(names[:BRIEF_ITEMS]) + f", ... and {len(names) - BRIEF_ITEMS} more"
+            return state_list(names)
+
+        lines = [
+            f"{self.model}: {self.verdict()}"
+            + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None
+               else f" (rank undecided, of {self.n_states})" if self.observable is not None else ""),
+            f"  method: {self.method}; {self.details}",
+        ]
+        if self.restriction:
+            lines.insert(1, f"  restricted to: {self.restriction}")
+        if self.unknown_input_model:
+            lines.append(f"  unknown inputs {', '.join(self.unknown_inputs)}: {self.unknown_input_model}")
+        if self.observable is not None:
+            proof = "full rank" if self.proof == "proven" and self.rank == self.n_states else self.proof
+            lines.append(f"  proof: {PROOFS.get(proof, proof)}")
+            lines.append(f"  Lie orders used: 0..{self.orders}")
+            lines.append("  meaning: " + ("" if self.observable else "not ") + "locally weakly observable at generic "
+                         "points (Hermann & Krener's rank condition): a statement about nearby states, not a global one")
+            lines.append(f"  observable states: {states(self.observable_states)}")
+            if not self.observable:
+                lines.append(f"  not observable: {states(self.unobservable_states)}")
+            if self.observable_functions:
+                lines.append(f"  observable functions: {states(self.observable_functions)}")
+            if self.unknown_parameters and self.observable_states is not None:
+                lines.append("  unknown parameters: " + "; ".join(
+                    f"{c} {'identifiable' if c in self.observable_states else 'NOT identifiable'}"
+                    for c in self.unknown_parameters))
+            if self.unknown_inputs and self.observable_states is not None:
+                lines.append("  unknown inputs: " + "; ".join(
+                    f"{u} {'observable' if u in self.observable_states else 'NOT observable'}" for u in self.unknown_inputs
+                ))
+        elif self.lower_bound is not None:
+            lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
+        for d in self.unobservable_directions:
+            lines.append(f"  unobservable direction: {d.text(limit)}")
+        return "\n".join(lines)
+
+
+def independent_fields(count: int, one: str = "field", many: str = "fields") -> str:
+    """'1 independent field', '2 independent fields'."""
+    return f"{count} independent {one if count == 1 else many}"
+
+
+def state_list(names: tuple[str, ...] | None) -> str:
+    """Names joined by commas; "none" for no name, "unknown" for None."""
+    if names is None:
+        return "unknown"
+    return ", ".join(names) or "none"
