@@ -106,43 +106,52 @@ def analyze(
         (:func:`~observability.where.sets.parse_constraints`); random method only.
     """
     with paused_collection():
-        _check_options(method, previous, max_order, input_derivatives)
-        start = time.perf_counter()
-        if system.arbitrary_inputs:
-            if method != "random" or where is not None or point is not None:
-                system.require_known_inputs(f"the {method} method" + (" on a set" if where is not None else ""))
-            return arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start)
-        if where is not None and method != "random":
-            raise ModelError("a constraint set (--where) is analysed by the random method")
-        prepared = prepare(system, previous, square_roots=method != "float" and where is None)
-        system = prepared.system
-        if where is not None:
-            return rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start)
-        evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress)
-        if evidence.rank is None:
-            return _undecided(system, method, evidence, start)
-        n, rank = system.n, evidence.rank
-        if found is None and rank < n and (directions or evidence.observable_columns is None):
-            found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
-                                            evidence.seed or 0, previous,
-                                            symbolic=symbolic_directions or method == "symbolic")
-        named, basis, note = found or ((), None, "")
-        proof, probability, upper = _proof_status(system, method, evidence, basis, budget)
-        details = evidence.details + upper + (f"; {note}" if note else "") + (
-            f"; {prepared.rewritten}" if prepared.rewritten else "")
-        observable_states = _observable_states(system, evidence, basis)
-        if observable_states is None:
-            details += "; observable states unknown"
-        return ObservabilityResult(
-            model=system.name, states=tuple(s.name for s in system.states), rank=rank, observable=rank == n,
-            method=method, seed=evidence.seed, error_probability=probability, orders=evidence.orders,
-            observable_states=observable_states, unobservable_directions=named,
-            seconds=time.perf_counter() - start, details=details, time=system.time,
-            singular_values=evidence.singular_values, row_labels=evidence.labels,
-            observable_functions=_functions(system, basis, rank, evidence.seed or 0), proof=proof,
-            unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
-            unknown_input_model=input_model(system),
-        )
+        return _verdict(system, method, seed, input_derivatives, max_order, budget, point, previous, directions,
+                        progress, where, symbolic_directions)
+
+
+def _verdict(system: System, method: str, seed: int | None, input_derivatives: int | None, max_order: int | None,
+             budget: float | None, point: Mapping[str, float] | None, previous: str, directions: bool,
+             progress: Callable[[str], None] | None, where: ConstraintSet | None,
+             symbolic_directions: bool) -> ObservabilityResult:
+    """The pipeline :func:`analyze` runs (arguments as there)."""
+    _check_options(method, previous, max_order, input_derivatives)
+    start = time.perf_counter()
+    if system.arbitrary_inputs:
+        if method != "random" or where is not None or point is not None:
+            system.require_known_inputs(f"the {method} method" + (" on a set" if where is not None else ""))
+        return arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start)
+    if where is not None and method != "random":
+        raise ModelError("a constraint set (--where) is analysed by the random method")
+    prepared = prepare(system, previous, square_roots=method != "float" and where is None)
+    system = prepared.system
+    if where is not None:
+        return rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start)
+    evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress)
+    if evidence.rank is None:
+        return _undecided(system, method, evidence, start)
+    n, rank = system.n, evidence.rank
+    if found is None and rank < n and (directions or evidence.observable_columns is None):
+        found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
+                                        evidence.seed or 0, previous,
+                                        symbolic=symbolic_directions or method == "symbolic")
+    named, basis, note = found or ((), None, "")
+    proof, probability, upper = _proof_status(system, method, evidence, basis, budget)
+    details = evidence.details + upper + (f"; {note}" if note else "") + (
+        f"; {prepared.rewritten}" if prepared.rewritten else "")
+    observable_states = _observable_states(system, evidence, basis)
+    if observable_states is None:
+        details += "; observable states unknown"
+    return ObservabilityResult(
+        model=system.name, states=tuple(s.name for s in system.states), rank=rank, observable=rank == n,
+        method=method, seed=evidence.seed, error_probability=probability, orders=evidence.orders,
+        observable_states=observable_states, unobservable_directions=named,
+        seconds=time.perf_counter() - start, details=details, time=system.time,
+        singular_values=evidence.singular_values, row_labels=evidence.labels,
+        observable_functions=_functions(system, basis, rank, evidence.seed or 0), proof=proof,
+        unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
+        unknown_input_model=input_model(system),
+    )
 
 
 def _check_options(method: str, previous: str, max_order: int | None, input_derivatives: int | None) -> None:

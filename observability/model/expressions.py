@@ -194,6 +194,191 @@ def parse_expression(
     return value
 
 
+class _Reader:
+    """The walk over one expression's syntax tree: every node kind it accepts,
+    refusing everything else with the column it is at."""
+
+    def __init__(self, text: str, names: Mapping[str, sympy.Symbol], where: str, allow_prev: bool,
+                 vectors: Mapping[str, tuple[sympy.Symbol, ...]]) -> None:
+        self.text = text
+        self.source = text.strip()
+        self.names = names
+        self.where = where
+        self.allow_prev = allow_prev
+        self.vectors = vectors
+
+    def fail(self, node: ast.AST, what: str) -> ModelFileError:
+        col = getattr(node, "col_offset", 0) + 1
+        return ModelFileError(f"{self.where}: {what} in {_short(self.text)} (column {col})")
+
+    def scalar(self, node: ast.AST, value: Value, what: str) -> sympy.Expr:
+        if isinstance(value, Matrix):
+            raise self.fail(node, f"{what} takes a scalar, got {_shape(value)}")
+        return value
+
+    def index(self, node: ast.AST, size: int, bound: bool = False) -> int:
+        """A literal index into ``size`` components, negative from the end as in
+        Python; ``bound``: a slice end, which may equal ``size``."""
+        negative = isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub)
+        inner = node.operand if negative else node
+        if not (isinstance(inner, ast.Constant) and type(inner.value) is int):
+            raise self.fail(node, "an index must be an integer literal")
+        i = -inner.value if negative else inner.value
+        if not -size <= i < size + bound:
+            raise self.fail(node, f"index {i} is out of range for {size} components")
+        return i + size if i < 0 else i
+
+    def subscript(self, node: ast.Subscript) -> Value:
+        value = self.walk(node.value)
+        if not isinstance(value, Matrix):
+            raise self.fail(node, "only a vector or a matrix can be indexed")
+        rows, cols = value.shape
+        key = node.slice
+        if isinstance(key, ast.Tuple):
+            if len(key.elts) != 2:
+                raise self.fail(node, "a matrix is indexed by two integers, M[i, j]")
+            return value[self.index(key.elts[0], rows), self.index(key.elts[1], cols)]
+        if cols != 1:
+            raise self.fail(node, f"{_shape(value)} is indexed by two integers, M[i, j]")
+        if isinstance(key, ast.Slice):
+            if key.step is not None:
+                raise self.fail(node, "a slice step is not allowed")
+            lo = 0 if key.lower is None else self.index(key.lower, rows)
+            hi = rows if key.upper is None else self.index(key.upper, rows, bound=True)
+            if hi <= lo:
+                raise self.fail(node, "an empty slice")
+            return value[lo:hi, 0]
+        return value[self.index(key, rows), 0]
+
+    def listing(self, node: ast.List) -> Matrix:
+        items = [self.walk(e) for e in node.elts]
+        if not items:
+            raise self.fail(node, "an empty list")
+        if all(not isinstance(v, Matrix) for v in items):
+            return Matrix(items)
+        if all(_is_vector(v) and v.shape == items[0].shape for v in items):
+            if len(items) * items[0].shape[0] > MAX_VECTOR_ENTRIES:
+                raise self.fail(node, f"a matrix of more than {MAX_VECTOR_ENTRIES} entries")
+            return Matrix([list(v) for v in items])
+        raise self.fail(node, "a list holds scalars (a vector) or vectors of one length (the rows of a matrix)")
+
+    def binary(self, link: ast.BinOp, left: Value, right: Value) -> Value:
+        op = type(link.op)
+        if op is ast.MatMult:
+            if not (isinstance(left, Matrix) and isinstance(right, Matrix)):
+                raise self.fail(link, "@ multiplies a matrix and a vector or matrix; use * with a scalar")
+            if left.shape[1] != right.shape[0]:
+                raise self.fail(link, f"@ of {_shape(left)} and {_shape(right)}: the shapes do not match")
+            if left.shape[0] * right.shape[1] > MAX_VECTOR_ENTRIES or left.shape[0] * left.shape[1] * right.shape[1] > MAX_PRODUCT_TERMS:
+                raise self.fail(link, f"@ of {_shape(left)} and {_shape(right)}: more than {MAX_VECTOR_ENTRIES} entries or "
+                           f"{MAX_PRODUCT_TERMS} products")
+            return left * right
+        if not isinstance(left, Matrix) and not isinstance(right, Matrix):
+            binop = _BINARY.get(op)
+            if binop is None:
+                hint = " (use ** for powers)" if op is ast.BitXor else ""
+                raise self.fail(link, f"operator {op.__name__} is not allowed{hint}")
+            return binop(left, right)
+        if op in (ast.Add, ast.Sub):
+            if not (isinstance(left, Matrix) and isinstance(right, Matrix) and left.shape == right.shape):
+                raise self.fail(link, f"{'sum' if op is ast.Add else 'difference'} of {_shape(left)} and {_shape(right)}")
+            return left + right if op is ast.Add else left - right
+        if op is ast.Mult:
+            if isinstance(left, Matrix) and isinstance(right, Matrix):
+                raise self.fail(link, "* of two vectors or matrices: use dot(), cross() or @")
+            return left * right
+        if op is ast.Div and not isinstance(right, Matrix):
+            return left / right
+        raise self.fail(link, f"operator {op.__name__} is not defined for {_shape(left)} and {_shape(right)}")
+
+    def call(self, node: ast.Call) -> Value:
+        if not isinstance(node.func, ast.Name):
+            raise self.fail(node, "only plain function calls are allowed")
+        fname = node.func.id
+        if node.keywords:
+            raise self.fail(node, f"keyword arguments to {fname} are not allowed")
+        if fname == "prev":
+            if not self.allow_prev:
+                raise self.fail(node, "prev() is only allowed in outputs of discrete-time models")
+            if len(node.args) != 1 or not isinstance(node.args[0], ast.Name):
+                raise self.fail(node, "prev() takes one state name")
+            arg = self.walk(node.args[0])
+            return Matrix([prev(a) for a in arg]) if isinstance(arg, Matrix) else prev(arg)
+        if fname in VECTOR_FUNCTIONS:
+            shapes, function = VECTOR_FUNCTIONS[fname]
+            if len(node.args) != len(shapes):
+                raise self.fail(node, f"{fname} takes {len(shapes)} argument{'s' if len(shapes) > 1 else ''}, got {len(node.args)}")
+            args = [self.walk(a) for a in node.args]
+            for i, (arg, shape) in enumerate(zip(args, shapes), 1):
+                wanted = "a matrix" if shape == "matrix" else "a vector" if shape is None else f"a vector of {shape} components"
+                ok = isinstance(arg, Matrix) if shape == "matrix" else _is_vector(arg) and shape in (None, arg.shape[0])
+                if not ok:
+                    raise self.fail(node, f"{fname}: argument {i} is {_shape(arg)}, {wanted} is expected")
+            if fname == "dot" and args[0].shape != args[1].shape:
+                raise self.fail(node, f"dot of {_shape(args[0])} and {_shape(args[1])}")
+            return function(*(list(a) if _is_vector(a) and shape != "matrix" else a for a, shape in zip(args, shapes)))
+        if fname not in FUNCTIONS:
+            allowed = ", ".join(sorted([*FUNCTIONS, *VECTOR_FUNCTIONS]))
+            raise self.fail(node, f"function {fname!r} is not allowed (allowed: {allowed}, prev)")
+        arity = _ARITY.get(fname, 1)
+        if len(node.args) != arity:
+            raise self.fail(node, f"{fname} takes {arity} argument{'s' if arity > 1 else ''}, got {len(node.args)}")
+        return FUNCTIONS[fname](*(self.scalar(node, self.walk(a), fname) for a in node.args))
+
+    def walk(self, node: ast.AST) -> Value:
+        if isinstance(node, ast.Expression):
+            return self.walk(node.body)
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
+                raise self.fail(node, f"{node.value!r} is not a number")
+            digits = ast.get_source_segment(self.source, node) or ""
+            if len(digits) > MAX_LITERAL_DIGITS:
+                raise self.fail(node, f"a number of more than {MAX_LITERAL_DIGITS} characters")
+            if isinstance(node.value, int):
+                return sympy.Integer(node.value)  # 0x10, 0b1, 0o7 and 1_000 as Python reads them
+            # The literal's own digits give the exact rational: 0.1 means 1/10.
+            mantissa, _, exponent = digits.replace("_", "").lower().partition("e")
+            if exponent and abs(int(exponent)) > MAX_LITERAL_DIGITS:
+                raise self.fail(node, f"the exponent of {digits} is beyond 10^{MAX_LITERAL_DIGITS}")
+            return sympy.Rational(mantissa) * sympy.Integer(10) ** int(exponent or 0)
+        if isinstance(node, ast.Name):
+            if node.id in self.names:
+                return self.names[node.id]
+            if node.id in self.vectors:
+                return Matrix(self.vectors[node.id])
+            if node.id in CONSTANTS:
+                return CONSTANTS[node.id]
+            raise self.fail(node, f"unknown symbol {node.id!r}")
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            base = self.scalar(node, self.walk(node.left), "**")
+            return _power(base, self.scalar(node, self.walk(node.right), "**"), lambda what: self.fail(node, what))
+        if isinstance(node, ast.BinOp):
+            # Long sums and products are left-deep chains: walk down the chain in
+            # a loop, so a thousand terms do not need a thousand stack frames.
+            chain = []
+            while isinstance(node, ast.BinOp) and not isinstance(node.op, ast.Pow):
+                chain.append(node)
+                node = node.left
+            value = self.walk(node)
+            for link in reversed(chain):
+                value = self.binary(link, value, self.walk(link.right))
+            return value
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            negative = False
+            while isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+                negative ^= isinstance(node.op, ast.USub)
+                node = node.operand
+            value = self.walk(node)
+            return -value if negative else value
+        if isinstance(node, ast.Call):
+            return self.call(node)
+        if isinstance(node, ast.List):
+            return self.listing(node)
+        if isinstance(node, ast.Subscript):
+            return self.subscript(node)
+        raise self.fail(node, f"{type(node).__name__} is not allowed")
+
+
 def parse_value(
     text: str,
     names: Mapping[str, sympy.Symbol],
@@ -215,181 +400,8 @@ def parse_value(
         raise ModelFileError(f"{where}: syntax error in {_short(text)} at column {getattr(exc, 'offset', 0)}: {getattr(exc, 'msg', exc)}") from None
     except (RecursionError, MemoryError):
         raise ModelFileError(f"{where}: expression nested too deeply") from None
-    source = text.strip()
-
-    def fail(node: ast.AST, what: str) -> ModelFileError:
-        col = getattr(node, "col_offset", 0) + 1
-        return ModelFileError(f"{where}: {what} in {_short(text)} (column {col})")
-
-    def scalar(node: ast.AST, value: Value, what: str) -> sympy.Expr:
-        if isinstance(value, Matrix):
-            raise fail(node, f"{what} takes a scalar, got {_shape(value)}")
-        return value
-
-    def index(node: ast.AST, size: int, bound: bool = False) -> int:
-        """A literal index into ``size`` components, negative from the end as in
-        Python; ``bound``: a slice end, which may equal ``size``."""
-        negative = isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub)
-        inner = node.operand if negative else node
-        if not (isinstance(inner, ast.Constant) and type(inner.value) is int):
-            raise fail(node, "an index must be an integer literal")
-        i = -inner.value if negative else inner.value
-        if not -size <= i < size + bound:
-            raise fail(node, f"index {i} is out of range for {size} components")
-        return i + size if i < 0 else i
-
-    def subscript(node: ast.Subscript) -> Value:
-        value = walk(node.value)
-        if not isinstance(value, Matrix):
-            raise fail(node, "only a vector or a matrix can be indexed")
-        rows, cols = value.shape
-        key = node.slice
-        if isinstance(key, ast.Tuple):
-            if len(key.elts) != 2:
-                raise fail(node, "a matrix is indexed by two integers, M[i, j]")
-            return value[index(key.elts[0], rows), index(key.elts[1], cols)]
-        if cols != 1:
-            raise fail(node, f"{_shape(value)} is indexed by two integers, M[i, j]")
-        if isinstance(key, ast.Slice):
-            if key.step is not None:
-                raise fail(node, "a slice step is not allowed")
-            lo = 0 if key.lower is None else index(key.lower, rows)
-            hi = rows if key.upper is None else index(key.upper, rows, bound=True)
-            if hi <= lo:
-                raise fail(node, "an empty slice")
-            return value[lo:hi, 0]
-        return value[index(key, rows), 0]
-
-    def listing(node: ast.List) -> Matrix:
-        items = [walk(e) for e in node.elts]
-        if not items:
-            raise fail(node, "an empty list")
-        if all(not isinstance(v, Matrix) for v in items):
-            return Matrix(items)
-        if all(_is_vector(v) and v.shape == items[0].shape for v in items):
-            if len(items) * items[0].shape[0] > MAX_VECTOR_ENTRIES:
-                raise fail(node, f"a matrix of more than {MAX_VECTOR_ENTRIES} entries")
-            return Matrix([list(v) for v in items])
-        raise fail(node, "a list holds scalars (a vector) or vectors of one length (the rows of a matrix)")
-
-    def binary(link: ast.BinOp, left: Value, right: Value) -> Value:
-        op = type(link.op)
-        if op is ast.MatMult:
-            if not (isinstance(left, Matrix) and isinstance(right, Matrix)):
-                raise fail(link, "@ multiplies a matrix and a vector or matrix; use * with a scalar")
-            if left.shape[1] != right.shape[0]:
-                raise fail(link, f"@ of {_shape(left)} and {_shape(right)}: the shapes do not match")
-            if left.shape[0] * right.shape[1] > MAX_VECTOR_ENTRIES or left.shape[0] * left.shape[1] * right.shape[1] > MAX_PRODUCT_TERMS:
-                raise fail(link, f"@ of {_shape(left)} and {_shape(right)}: more than {MAX_VECTOR_ENTRIES} entries or "
-                           f"{MAX_PRODUCT_TERMS} products")
-            return left * right
-        if not isinstance(left, Matrix) and not isinstance(right, Matrix):
-            binop = _BINARY.get(op)
-            if binop is None:
-                hint = " (use ** for powers)" if op is ast.BitXor else ""
-                raise fail(link, f"operator {op.__name__} is not allowed{hint}")
-            return binop(left, right)
-        if op in (ast.Add, ast.Sub):
-            if not (isinstance(left, Matrix) and isinstance(right, Matrix) and left.shape == right.shape):
-                raise fail(link, f"{'sum' if op is ast.Add else 'difference'} of {_shape(left)} and {_shape(right)}")
-            return left + right if op is ast.Add else left - right
-        if op is ast.Mult:
-            if isinstance(left, Matrix) and isinstance(right, Matrix):
-                raise fail(link, "* of two vectors or matrices: use dot(), cross() or @")
-            return left * right
-        if op is ast.Div and not isinstance(right, Matrix):
-            return left / right
-        raise fail(link, f"operator {op.__name__} is not defined for {_shape(left)} and {_shape(right)}")
-
-    def call(node: ast.Call) -> Value:
-        if not isinstance(node.func, ast.Name):
-            raise fail(node, "only plain function calls are allowed")
-        fname = node.func.id
-        if node.keywords:
-            raise fail(node, f"keyword arguments to {fname} are not allowed")
-        if fname == "prev":
-            if not allow_prev:
-                raise fail(node, "prev() is only allowed in outputs of discrete-time models")
-            if len(node.args) != 1 or not isinstance(node.args[0], ast.Name):
-                raise fail(node, "prev() takes one state name")
-            arg = walk(node.args[0])
-            return Matrix([prev(a) for a in arg]) if isinstance(arg, Matrix) else prev(arg)
-        if fname in VECTOR_FUNCTIONS:
-            shapes, function = VECTOR_FUNCTIONS[fname]
-            if len(node.args) != len(shapes):
-                raise fail(node, f"{fname} takes {len(shapes)} argument{'s' if len(shapes) > 1 else ''}, got {len(node.args)}")
-            args = [walk(a) for a in node.args]
-            for i, (arg, shape) in enumerate(zip(args, shapes), 1):
-                wanted = "a matrix" if shape == "matrix" else "a vector" if shape is None else f"a vector of {shape} components"
-                ok = isinstance(arg, Matrix) if shape == "matrix" else _is_vector(arg) and shape in (None, arg.shape[0])
-                if not ok:
-                    raise fail(node, f"{fname}: argument {i} is {_shape(arg)}, {wanted} is expected")
-            if fname == "dot" and args[0].shape != args[1].shape:
-                raise fail(node, f"dot of {_shape(args[0])} and {_shape(args[1])}")
-            return function(*(list(a) if _is_vector(a) and shape != "matrix" else a for a, shape in zip(args, shapes)))
-        if fname not in FUNCTIONS:
-            allowed = ", ".join(sorted([*FUNCTIONS, *VECTOR_FUNCTIONS]))
-            raise fail(node, f"function {fname!r} is not allowed (allowed: {allowed}, prev)")
-        arity = _ARITY.get(fname, 1)
-        if len(node.args) != arity:
-            raise fail(node, f"{fname} takes {arity} argument{'s' if arity > 1 else ''}, got {len(node.args)}")
-        return FUNCTIONS[fname](*(scalar(node, walk(a), fname) for a in node.args))
-
-    def walk(node: ast.AST) -> Value:
-        if isinstance(node, ast.Expression):
-            return walk(node.body)
-        if isinstance(node, ast.Constant):
-            if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
-                raise fail(node, f"{node.value!r} is not a number")
-            digits = ast.get_source_segment(source, node) or ""
-            if len(digits) > MAX_LITERAL_DIGITS:
-                raise fail(node, f"a number of more than {MAX_LITERAL_DIGITS} characters")
-            if isinstance(node.value, int):
-                return sympy.Integer(node.value)  # 0x10, 0b1, 0o7 and 1_000 as Python reads them
-            # The literal's own digits give the exact rational: 0.1 means 1/10.
-            mantissa, _, exponent = digits.replace("_", "").lower().partition("e")
-            if exponent and abs(int(exponent)) > MAX_LITERAL_DIGITS:
-                raise fail(node, f"the exponent of {digits} is beyond 10^{MAX_LITERAL_DIGITS}")
-            return sympy.Rational(mantissa) * sympy.Integer(10) ** int(exponent or 0)
-        if isinstance(node, ast.Name):
-            if node.id in names:
-                return names[node.id]
-            if node.id in vectors:
-                return Matrix(vectors[node.id])
-            if node.id in CONSTANTS:
-                return CONSTANTS[node.id]
-            raise fail(node, f"unknown symbol {node.id!r}")
-        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
-            base = scalar(node, walk(node.left), "**")
-            return _power(base, scalar(node, walk(node.right), "**"), lambda what: fail(node, what))
-        if isinstance(node, ast.BinOp):
-            # Long sums and products are left-deep chains: walk down the chain in
-            # a loop, so a thousand terms do not need a thousand stack frames.
-            chain = []
-            while isinstance(node, ast.BinOp) and not isinstance(node.op, ast.Pow):
-                chain.append(node)
-                node = node.left
-            value = walk(node)
-            for link in reversed(chain):
-                value = binary(link, value, walk(link.right))
-            return value
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            negative = False
-            while isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-                negative ^= isinstance(node.op, ast.USub)
-                node = node.operand
-            value = walk(node)
-            return -value if negative else value
-        if isinstance(node, ast.Call):
-            return call(node)
-        if isinstance(node, ast.List):
-            return listing(node)
-        if isinstance(node, ast.Subscript):
-            return subscript(node)
-        raise fail(node, f"{type(node).__name__} is not allowed")
-
     try:
-        result = walk(tree)
+        result = _Reader(text, names, where, allow_prev, vectors).walk(tree)
     except RecursionError:
         raise ModelFileError(f"{where}: expression nested too deeply") from None
     entries = list(result) if isinstance(result, Matrix) else [result]

@@ -9,7 +9,6 @@ names the offending item. The vocabulary (x, u, p, f, h) follows STRIKE-GOLDD.
 
 from __future__ import annotations
 
-import keyword
 import unicodedata
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -19,75 +18,14 @@ import sympy
 
 from ..errors import ModelError
 from .notation import latex_name, latex_text, validate_latex_name
-from .expressions import check_supported, is_previous, parse_expression, previous_of, prev
+from .expressions import check_supported, is_previous, previous_of, prev
 from .symmetry import EPSILON, Symmetry
+from .declarations import (declared_once, declared_outputs, declared_parameters, declared_symbols, normal_name, scalar,
+                           vector_items, with_constants, listed_inputs)
 
 __all__ = ["System", "Motion", "system", "prev"]
 
 Time = Literal["continuous", "discrete"]
-
-
-def normal_name(name: str, what: str) -> str:
-    """A declared name in NFKC form, as Python's parser reads identifiers (so
-    ``ｘ`` in an expression is ``x``); keywords are refused, since an expression
-    could not use them."""
-    if not isinstance(name, str) or not name.isidentifier():
-        raise ModelError(f"{what} name {name!r} is not an identifier")
-    normal = unicodedata.normalize("NFKC", name)
-    if keyword.iskeyword(normal) or normal in ("prev", "epsilon"):
-        raise ModelError(f"{what} name {name!r} is reserved (a Python keyword, prev or epsilon)")
-    return normal
-
-
-def _symbols(items: Iterable[Any], what: str) -> tuple[sympy.Symbol, ...]:
-    if isinstance(items, (str, sympy.Symbol)):
-        items = [items]
-    out = []
-    for item in items:
-        if isinstance(item, str):
-            out.append(sympy.Symbol(normal_name(item, what)))
-        elif isinstance(item, sympy.Symbol):
-            out.append(item)
-        else:
-            raise ModelError(f"{what} must be names or sympy Symbols, got {type(item).__name__} {item!r}")
-    return tuple(out)
-
-
-def _scalar(value: Any, where: str, names: Mapping[str, sympy.Symbol], allow_prev: bool) -> sympy.Expr:
-    if isinstance(value, str):
-        return parse_expression(value, names, where=where, allow_prev=allow_prev)
-    if isinstance(value, bool):
-        raise ModelError(f"{where}: expected a scalar expression, got a bool")
-    if isinstance(value, (int, float)):
-        return sympy.Rational(repr(value)) if isinstance(value, float) else sympy.Integer(value)
-    if isinstance(value, sympy.MatrixBase) or isinstance(value, (list, tuple)):
-        raise ModelError(f"{where}: expected a scalar expression, got a {type(value).__name__}")
-    if not isinstance(value, sympy.Expr):
-        raise ModelError(f"{where}: expected a scalar expression, got {type(value).__name__} {value!r}")
-    if value.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
-        raise ModelError(f"{where}: expression {value} is not finite")
-    floats = value.atoms(sympy.Float)
-    if floats:
-        # Exact arithmetic throughout: a float means the decimal it prints as
-        # (0.1 is 1/10), as in model files.
-        value = value.xreplace({f: sympy.Rational(str(f)) for f in floats})
-    return value
-
-
-def _vector_items(items: Iterable[tuple[Any, Any]], what: str, named: bool = True) -> Iterable[tuple[Any, Any]]:
-    """Entries with vector values expanded to scalars: a key that is a vector of
-    states (:func:`~observability.model.rotations.vector`) takes a column of the same
-    length; when ``named`` (outputs, quantities) a name key with a column value
-    gives ``name_0, name_1, ...``."""
-    for key, value in items:
-        if isinstance(key, sympy.MatrixBase):
-            if not (isinstance(value, sympy.MatrixBase) and value.shape == key.shape and key.shape[1] == 1):
-                raise ModelError(f"{what} given for the vector {list(key)}: expected a column of {key.shape[0]} expressions")
-            yield from zip(key, value)
-        elif named and isinstance(value, sympy.MatrixBase) and value.shape[1] == 1 and isinstance(key, str):
-            yield from ((f"{key}_{i}", e) for i, e in enumerate(value))
-        else:
-            yield key, value
 
 
 @dataclass(frozen=True)
@@ -210,118 +148,30 @@ class System:
         if time not in ("continuous", "discrete"):
             raise ModelError(f"time must be 'continuous' or 'discrete', got {time!r}")
         constants = [normal_name(str(c), "unknown parameter") for c in unknown_parameters]
-        if constants:
-            clash = next((c for c in constants if c in {str(v) for v in states} or constants.count(c) > 1), None)
-            if clash is not None:
-                raise ModelError(f"unknown parameter {clash!r} is declared twice (or also as a state)")
-            # An unknown constant is a state that never changes: c' = 0, or c+ = c.
-            states = [*states, *constants]
-            still = {c: ("0" if time == "continuous" else c) for c in constants}
-            given = [c for c in constants if isinstance(dynamics, Mapping) and c in {str(k) for k in dynamics}]
-            if given:
-                raise ModelError(f"unknown parameter {given[0]!r} has dynamics given; it is a constant (c' = 0)")
-            dynamics = ({**dynamics, **still} if isinstance(dynamics, Mapping)
-                        else [*dynamics, *(still[c] for c in constants)])
-        x = _symbols(states, "state")
-        inputs, unknown_inputs = list(inputs), [normal_name(str(n), "unknown input") for n in unknown_inputs]
-        twice = next((n for i, n in enumerate(unknown_inputs) if n in unknown_inputs[:i]), None)
-        if twice is not None:
-            raise ModelError(f"unknown input {twice!r} is listed twice")
-        # An unknown input is an input nobody measures: listing it among the inputs is optional.
-        listed = {str(i) for i in inputs}
-        inputs += [n for n in unknown_inputs if n not in listed]
-        u = _symbols(inputs, "input")
-        values: dict[sympy.Symbol, sympy.Expr] = dict(parameter_values)
-        if isinstance(parameters, Mapping):
-            p = _symbols(list(parameters), "parameter")
-            for sym, value in zip(p, parameters.values()):
-                if value is not None:
-                    values[sym] = _scalar(value, f"parameter {sym}", {}, False)
-        else:
-            p = _symbols(parameters, "parameter")
-        if not x:
-            raise ModelError("a system needs at least one state")
-        seen: dict[str, str] = {}
-        for kind, group in (("state", x), ("input", u), ("parameter", p)):
-            for sym in group:
-                if sym.name in seen:
-                    raise ModelError(f"duplicate name {sym.name!r} (declared as {seen[sym.name]} and {kind})")
-                seen[sym.name] = kind
-        for sym, value in values.items():
-            if sym not in p:
-                raise ModelError(f"value given for {sym}, which is not a declared parameter")
-            if not (isinstance(value, sympy.Expr) and value.is_number and value.is_finite):
-                raise ModelError(f"parameter {sym}: value {value!r} is not a finite number")
+        states, dynamics = with_constants(states, dynamics, constants, time)
+        x = declared_symbols(states, "state")
+        unknown = [normal_name(str(n), "unknown input") for n in unknown_inputs]
+        u = declared_symbols(listed_inputs(inputs, unknown), "input")
+        p, values = declared_parameters(parameters, parameter_values)
+        seen = declared_once(x, u, p, values)
         names = {s.name: s for s in (*x, *u, *p)}
-
         f = self._aligned(dynamics, x, names, "dynamics")
-        if not isinstance(outputs, Mapping) or not outputs:
-            raise ModelError("outputs must be a non-empty mapping from output name to expression")
-        h = []
-        output_names: set[str] = set()
-        for key, value in _vector_items(outputs.items(), "output"):
-            oname = normal_name(str(key), "output")
-            if oname in output_names:
-                raise ModelError(f"duplicate output name {oname!r} (names must differ after Unicode normalisation)")
-            output_names.add(oname)
-            expr = _scalar(value, f"output {oname}", names, time == "discrete")
-            h.append((oname, expr))
-
-        allowed = set(x) | set(u) | set(p)
-        prev_allowed = {prev(s) for s in (*x, *u)} if time == "discrete" else set()
-        for i, expr in enumerate(f):
-            self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
-        output_allowed = allowed | prev_allowed  # once: a union per output is quadratic in large models
-        for oname, expr in h:
-            self._check_symbols(expr, output_allowed, f"output {oname}", continuous=time == "continuous")
-
-        if values:
-            for where, expr in [*((f"dynamics of {xi}", fi) for xi, fi in zip(x, f)), *((f"output {n}", e) for n, e in h)]:
-                if expr.xreplace(values).has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
-                    given = ", ".join(f"{k}={v}" for k, v in values.items() if k in expr.free_symbols)
-                    raise ModelError(f"{where}: {expr} is undefined (division by zero) with {given}")
-
+        h = declared_outputs(outputs, names, time)
+        self._check_equations(f, h, x, u, p, values, time)
         g = None
         if inverse_dynamics is not None:
             if time != "discrete":
                 raise ModelError("inverse_dynamics is only meaningful for discrete-time systems")
             g = self._aligned(inverse_dynamics, x, names, "inverse_dynamics")
             for i, expr in enumerate(g):
-                self._check_symbols(expr, allowed, f"inverse_dynamics of {x[i]}")
-
-        object.__setattr__(self, "states", x)
-        object.__setattr__(self, "dynamics", f)
-        object.__setattr__(self, "outputs", tuple(h))
-        object.__setattr__(self, "inputs", u)
-        object.__setattr__(self, "parameters", p)
-        object.__setattr__(self, "parameter_values", tuple(sorted(values.items(), key=lambda kv: kv[0].name)))
-        object.__setattr__(self, "time", time)
-        object.__setattr__(self, "name", str(name))
-        object.__setattr__(self, "inverse_dynamics", g)
-        object.__setattr__(self, "description", str(description))
-        known = set(seen) | output_names
-        if callable(quantities):
-            object.__setattr__(self, "quantity_source", quantities)
-            # Names given for quantities are checked when the quantities are made.
-            object.__setattr__(self, "latex_names", self._latex_names(latex_names, None))
-        else:
-            defined = self._quantities(quantities, names, set(known))
-            object.__setattr__(self, "quantity_source", defined)
-            known |= {q.name for q, _ in defined}
-            object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
-        object.__setattr__(self, "unknown_inputs", ())
-        object.__setattr__(self, "unknown_input_degree", None)
-        motions = tuple(motions)
-        if not all(isinstance(m, Motion) for m in motions):
-            raise ModelError("motions must be Motion objects")
-        object.__setattr__(self, "motions", motions)
-        angle_names = tuple(normal_name(str(a), "angle") for a in angles)
-        unknown_angle = next((a for a in angle_names if a not in {s.name for s in x} and a not in output_names), None)
-        if unknown_angle is not None:
-            raise ModelError(f"angle {unknown_angle!r} is neither a state nor an output")
-        object.__setattr__(self, "angles", angle_names)
-        object.__setattr__(self, "unknown_parameters", tuple(constants))
-        unknown = unknown_inputs
+                self._check_symbols(expr, set(x) | set(u) | set(p), f"inverse_dynamics of {x[i]}")
+        for attribute, value in (("states", x), ("dynamics", f), ("outputs", h), ("inputs", u), ("parameters", p),
+                                 ("parameter_values", tuple(sorted(values.items(), key=lambda kv: kv[0].name))),
+                                 ("time", time), ("name", str(name)), ("inverse_dynamics", g),
+                                 ("description", str(description)), ("unknown_parameters", tuple(constants)),
+                                 ("unknown_inputs", ()), ("unknown_input_degree", None)):
+            object.__setattr__(self, attribute, value)
+        self._describe(quantities, latex_names, names, set(seen) | {n for n, _ in h}, motions, angles)
         if unknown_input_degree is not None and not unknown:
             raise ModelError("unknown_input_degree is given but there are no unknown inputs")
         if unknown:
@@ -336,12 +186,51 @@ class System:
         if not callable(symmetries):
             self._symmetries(symmetries, x, names)
 
+    def _check_equations(self, f, h, x, u, p, values, time: str) -> None:
+        """Every symbol declared (prev() only in discrete-time outputs), and no
+        expression undefined at the given parameter values."""
+        allowed = set(x) | set(u) | set(p)
+        for i, expr in enumerate(f):
+            self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
+        prev_allowed = {prev(s) for s in (*x, *u)} if time == "discrete" else set()
+        output_allowed = allowed | prev_allowed  # once: a union per output is quadratic in large models
+        for oname, expr in h:
+            self._check_symbols(expr, output_allowed, f"output {oname}", continuous=time == "continuous")
+        if values:
+            for where, expr in [*((f"dynamics of {xi}", fi) for xi, fi in zip(x, f)), *((f"output {n}", e) for n, e in h)]:
+                if expr.xreplace(values).has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+                    given = ", ".join(f"{k}={v}" for k, v in values.items() if k in expr.free_symbols)
+                    raise ModelError(f"{where}: {expr} is undefined (division by zero) with {given}")
+
+    def _describe(self, quantities, latex_names, names, known: set[str], motions, angles) -> None:
+        """Quantities, LaTeX names, motions and angles, each checked against the names declared."""
+        if callable(quantities):
+            object.__setattr__(self, "quantity_source", quantities)
+            # Names given for quantities are checked when the quantities are made.
+            object.__setattr__(self, "latex_names", self._latex_names(latex_names, None))
+        else:
+            defined = self._quantities(quantities, names, set(known))
+            object.__setattr__(self, "quantity_source", defined)
+            known |= {q.name for q, _ in defined}
+            object.__setattr__(self, "latex_names", self._latex_names(latex_names, known))
+        motions = tuple(motions)
+        if not all(isinstance(m, Motion) for m in motions):
+            raise ModelError("motions must be Motion objects")
+        object.__setattr__(self, "motions", motions)
+        angle_names = tuple(normal_name(str(a), "angle") for a in angles)
+        outputs = {n for n, _ in self.outputs}
+        unknown_angle = next((a for a in angle_names if a not in {s.name for s in self.states} and a not in outputs),
+                             None)
+        if unknown_angle is not None:
+            raise ModelError(f"angle {unknown_angle!r} is neither a state nor an output")
+        object.__setattr__(self, "angles", angle_names)
+
     @staticmethod
     def _aligned(values: Any, x: tuple[sympy.Symbol, ...], names: Mapping[str, sympy.Symbol], what: str):
         if isinstance(values, Mapping):
             by_name: dict[str, Any] = {}
             state_names = {s.name for s in x}
-            for key, value in _vector_items(values.items(), what, named=False):
+            for key, value in vector_items(values.items(), what, named=False):
                 kname = key.name if isinstance(key, sympy.Symbol) else unicodedata.normalize("NFKC", str(key))
                 if kname not in state_names:
                     raise ModelError(f"{what} given for {kname!r}, which is not a state")
@@ -358,18 +247,18 @@ class System:
             seq = list(values)
             if len(seq) != len(x):
                 raise ModelError(f"{what} has {len(seq)} entries but there are {len(x)} states")
-        return tuple(_scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
+        return tuple(scalar(v, f"{what} of {s}", names, False) for s, v in zip(x, seq))
 
     @staticmethod
     def _quantities(quantities: Any, names: Mapping[str, sympy.Symbol], taken: set[str]):
         items = quantities.items() if isinstance(quantities, Mapping) else quantities
         out: list[tuple[sympy.Symbol, sympy.Expr]] = []
-        for key, value in _vector_items(items, "quantity"):
+        for key, value in vector_items(items, "quantity"):
             qname = normal_name(key.name if isinstance(key, sympy.Symbol) else str(key), "quantity")
             if qname in taken:
                 raise ModelError(f"quantity {qname!r}: the name is already used by a state, input, parameter, output or quantity")
             taken.add(qname)
-            expr = _scalar(value, f"quantity {qname}", names, False)
+            expr = scalar(value, f"quantity {qname}", names, False)
             unknown = sorted(str(s) for s in expr.free_symbols if s.name not in names)
             if unknown:
                 raise ModelError(f"quantity {qname}: unknown symbol {unknown[0]!r}")
@@ -550,7 +439,7 @@ class System:
         for key, value in values.items():
             if key not in names:
                 raise ModelError(f"unknown parameter {key!r} (parameters: {', '.join(names) or 'none'})")
-            merged[names[key]] = _scalar(value, f"parameter {key}", {}, False)
+            merged[names[key]] = scalar(value, f"parameter {key}", {}, False)
         return self.replace(parameter_values=merged.items())
 
     def _repr_latex_(self) -> str:
