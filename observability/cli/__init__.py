@@ -1,0 +1,49 @@
+"""The ``observability`` command: thin wrappers over the library.
+
+Exit codes of ``check MODEL``: 0 observable, 1 not observable, 2 bad input (one
+line on stderr saying what and where), 3 undecided (symbolic budget spent),
+4 internal error (a bug: please report the line printed).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+
+from ..errors import ObservabilityError
+from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, UsageError
+from .parser import build_parser
+
+__all__ = ["main", "build_parser"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``observability`` console script."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_BAD_INPUT
+        if getattr(args, "scheduler", None) is not None and getattr(args, "workers", None) is not None:
+            raise UsageError("give --scheduler (a running cluster) or --workers (a local one), not both")
+        return args.func(args)
+    # Exit 2 only for errors raised on purpose about the input; anything else,
+    # a ValueError from deep inside a library included, is a bug (exit 4).
+    except (UsageError, ObservabilityError) as exc:
+        message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        print(f"observability: error: {message}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except BrokenPipeError:  # the reader (e.g. `| head`) closed the pipe: not an error
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
+        return EXIT_OBSERVABLE
+    except OSError as exc:  # a file that cannot be read or written
+        print(f"observability: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "), file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("observability: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - a bug must still not print a traceback to users
+        print(f"observability: internal error (please report): {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_INTERNAL

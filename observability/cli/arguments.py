@@ -1,0 +1,122 @@
+"""The command line's argument types and its usage error: each converter names
+the option and what it expects in one line (exit 2)."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from pathlib import Path
+
+__all__ = ["UsageError", "Parser", "EXIT_OBSERVABLE", "EXIT_NOT_OBSERVABLE", "EXIT_BAD_INPUT", "EXIT_UNDECIDED",
+           "EXIT_INTERNAL"]
+
+EXIT_OBSERVABLE, EXIT_NOT_OBSERVABLE, EXIT_BAD_INPUT, EXIT_UNDECIDED, EXIT_INTERNAL = 0, 1, 2, 3, 4
+
+
+class UsageError(Exception):
+    pass
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line instead of usage + message
+        raise UsageError(message)
+
+
+def count(text: str) -> int:
+    """argparse type: a non-negative integer."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {value}")
+    return value
+
+
+def positive(text: str) -> int:
+    """argparse type: a positive integer."""
+    value = count(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError("expected a positive integer, got 0")
+    return value
+
+
+def seconds(text: str) -> float:
+    """argparse type: a positive, finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not (0 < value < 1e7):
+        raise argparse.ArgumentTypeError(f"expected a positive, finite number of seconds below 1e7, got {text}")
+    return value
+
+
+def pages(text: str) -> float:
+    """argparse type: a positive number of pages, at most 1000."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of pages, got {text!r}") from None
+    if not (0 < value <= 1000):
+        raise argparse.ArgumentTypeError(f"expected a number of pages in (0, 1000], got {text}")
+    return value
+
+
+def seed_value(text: str) -> int:
+    """argparse type: a seed, an integer from 0 to 2^63 - 1 (what every random
+    generator used here accepts)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if not 0 <= value < 2**63:
+        raise argparse.ArgumentTypeError(f"a seed is an integer from 0 to 2^63 - 1, got {value}")
+    return value
+
+
+def out_directory(text: str) -> Path:
+    """argparse type: a directory to write into, that exists or can be made
+    (checked before any work: no ancestor may be a file)."""
+    path = Path(text)
+    if text == "-":
+        raise argparse.ArgumentTypeError("a directory is expected, not '-' (these commands write several files)")
+    for ancestor in [path, *path.parents]:
+        if ancestor.exists():
+            if not ancestor.is_dir():
+                raise argparse.ArgumentTypeError(f"{ancestor} is a file, not a directory")
+            break
+    return path
+
+
+def out_file(text: str) -> Path | None:
+    """argparse type: the file to write, or '-' (None) for standard output; its
+    folder must exist and the path must not be a folder (checked before any work)."""
+    if text == "-":
+        return None
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{path} is a directory; give a file name")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"the folder {path.parent} does not exist")
+    return path
+
+
+def identifier(text: str) -> str:
+    """argparse type: a C identifier that casadi accepts as a name (a letter
+    first, no double underscore) and short enough for a file name."""
+    if not (text.isascii() and text.isidentifier() and text[0].isalpha() and "__" not in text and len(text) <= 64):
+        raise argparse.ArgumentTypeError(
+            f"expected a name of at most 64 letters, digits and single underscores, starting with a letter, got {text!r}")
+    return text
+
+
+def model_options(pairs: Sequence[str]) -> dict[str, str]:
+    options: dict[str, str] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or not key or not value:
+            raise UsageError(f"-o expects key=value, got {pair!r}")
+        options[key] = value
+    return options

@@ -1,0 +1,416 @@
+"""The commands: thin wrappers from parsed options to the library and back to
+text, JSON or files, each returning its exit code."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import dataclasses
+import json
+import math
+import os
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..budget import Undecided, with_budget
+from ..errors import ObservabilityError
+from ..progress import clear_line, status_line
+from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError,
+                        model_options)
+
+if TYPE_CHECKING:  # the engine (and sympy) is imported by the commands that use it
+    from ..analysis.result import ObservabilityResult
+    from ..model.system import System
+
+
+@contextlib.contextmanager
+def _about(model: str | None):
+    """Errors raised while working on ``model`` name it (a file path or a built-in)."""
+    try:
+        yield
+    except ObservabilityError as exc:
+        text = str(exc)
+        if model and model not in text:
+            raise type(exc)(f"{model}: {text}") from None
+        raise
+
+
+def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
+    """A built-in model by name, or a model file by path, with options applied."""
+    from .. import models
+    from ..model.modelfile import load_model
+
+    if time is not None:
+        options = {**options, "time": time}
+    if model in models.BUILTINS:
+        return models.build(model, options)
+    path = Path(model)
+    if path.suffix.lower() == ".toml" or path.exists():
+        system = load_model(path)
+        if "time" in options:
+            if options.pop("time") != system.time:
+                raise UsageError(f"{path}: the model file is {system.time}-time; --time applies to built-in models")
+        return system.with_values(**options) if options else system
+    raise UsageError(f"unknown model {model!r}: not a built-in ({', '.join(models.BUILTINS)}) and no such file")
+
+
+def _restricted(system: System, args: argparse.Namespace, where: str | None = None):
+    """The system under --inputs/--input and the constraint set of --where:
+    (system, input derivatives, constraint set or None)."""
+    from ..where.restrict import restrict
+
+    profiles = {}
+    for pair in args.input:
+        name, sep, value = pair.partition("=")
+        if not sep or not name.strip():
+            raise UsageError(f"--input expects NAME=PROFILE (zero, constant, a number, degree=K), got {pair!r}")
+        profiles[name.strip()] = value
+    restricted = restrict(system, profiles, args.inputs, where, args.input_derivatives)
+    return restricted.system, restricted.input_derivatives, restricted.constraint
+
+
+def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None) -> ObservabilityResult:
+    """The verdict on ``system`` under the command's options (``prepared``: the
+    result of :func:`_restricted` when the caller already has it)."""
+    from ..analysis.verdict import analyze
+
+    system, input_derivatives, constraint = prepared or _restricted(system, args, getattr(args, "where", None))
+    progress = status_line()
+    point = None
+    if args.method == "float" and getattr(args, "point", None):
+        from ..model.expressions import parse_number
+
+        # The float method evaluates at the point itself, transcendental values included.
+        point = {k: float(parse_number(v, f"--point {k}")) for k, v in (_point(args.point) or {}).items()}
+    try:
+        result = analyze(
+            system,
+            method=args.method,
+            seed=args.seed,
+            input_derivatives=input_derivatives,
+            max_order=args.max_order,
+            budget=args.budget,
+            point=point,
+            previous=args.previous,
+            progress=progress,
+            where=constraint,
+            symbolic_directions=getattr(args, "symbolic_directions", False),
+        )
+    finally:
+        clear_line()
+    profiles = ([f"every input {args.inputs}"] if getattr(args, "inputs", None) else []) + list(getattr(args, "input", []))
+    if profiles:  # the profile is part of what was analysed, as a set is
+        inputs = "inputs: " + ", ".join(profiles)
+        result = dataclasses.replace(result, restriction=f"{inputs}; {result.restriction}" if result.restriction else inputs)
+    return result
+
+
+def _table(results: list[ObservabilityResult]) -> str:
+    header = ("model", "time", "n", "rank", "verdict", "orders", "unobservable directions", "seconds")
+    rows = [header]
+    for r in results:
+        directions = "; ".join(
+            str(d) if d.name == "unnamed direction" else d.name for d in r.unobservable_directions
+        ) or "-"
+        rows.append(
+            (
+                r.model,
+                r.time,
+                str(r.n_states),
+                "?" if r.rank is None else str(r.rank),
+                r.verdict(),
+                "?" if r.orders is None else str(r.orders),
+                directions,
+                f"{r.seconds:.3f}",
+            )
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def check_command(args: argparse.Namespace) -> int:
+    from .. import models
+    if args.all:
+        if args.model:
+            raise UsageError("give either MODEL or --all, not both")
+        results = []
+        times = [args.time] if args.time else ["continuous", "discrete"]
+        for name in models.BUILTINS:
+            for time in times:
+                system = models.build(name, {**model_options(args.option), "time": time})
+                results.append(_analyze(system, args))
+        if args.format == "json":
+            print(json.dumps([r.to_dict() for r in results], indent=2))
+        else:
+            print(_table(results))
+        return 0
+    if not args.model:
+        raise UsageError("check needs a MODEL (a built-in name or a .toml file) or --all")
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        # One prepared system (input profiles, set) for the verdict and the point alike.
+        prepared = _restricted(system, args, args.where)
+        result = _analyze(system, args, prepared)
+        at_point = None
+        if args.point is not None and args.method != "float":
+            from ..where.points import rank_at_point
+
+            restricted, input_derivatives, constraint = prepared
+            at_point = rank_at_point(restricted, _point(args.point) or {}, result, seed=args.seed or 0,
+                                     input_derivatives=input_derivatives, previous=args.previous, where=constraint,
+                                     orders=args.orders)
+        elif args.orders is not None:
+            raise UsageError("--orders applies to --point (the highest Lie order computed at the point)")
+    if result.observable is None:
+        code = EXIT_UNDECIDED
+    else:
+        code = EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
+    try:
+        if args.format == "json":
+            record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
+            print(json.dumps(record, indent=2), flush=True)
+        else:
+            print(result.text(args.brief) + ("\n" + at_point.text() if at_point is not None else ""), flush=True)
+    except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
+    if args.proof is not None:
+        return _write_proof(system, result, args) or code
+    return code
+
+
+def _write_proof(system: System, result, args: argparse.Namespace) -> int | None:
+    """``check --proof FILE``: None when written, EXIT_UNDECIDED when there is no proof to write."""
+    from ..report.proofs import proof_evidence
+    from ..report.files import write_json
+
+    if result.proof != "proven":
+        print(f"observability: no proof written to {args.proof}: the verdict is "
+              f"{result.proof or 'undecided'}, not proven", file=sys.stderr)
+        return EXIT_UNDECIDED
+    with _about(args.model):
+        try:
+            evidence = proof_evidence(system, result, budget=args.budget)
+        except Undecided as exc:
+            print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
+            return EXIT_UNDECIDED
+    write_json(args.proof, evidence)
+    print(f"wrote the proof to {args.proof} (re-check it with: observability verify-proof {args.proof})",
+          file=sys.stderr)
+    return None
+
+
+def codegen_command(args: argparse.Namespace) -> int:
+    from ..codegen import filter_functions, write_c
+
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        noise = [n.strip() for n in args.noise.split(",") if n.strip()] if args.noise else None
+        functions = filter_functions(system, noise, dt=args.dt, method=args.discretization)
+    written = write_c(functions, args.out, args.name)
+    print(f"{system.name}: wrote {', '.join(str(p) for p in written.values())}")
+    print(f"  functions: {', '.join(functions.functions)}")
+    if "g" not in functions.functions:
+        print("  no inverse motion model (g, G_X, G_w): none in closed form within its budget; the generalized EKF needs it")
+    print(f"  x = [{', '.join(functions.states)}], u = [{', '.join(functions.inputs)}], "
+          f"w = [{', '.join(functions.noise)}], p = [{', '.join(functions.parameters)}]")
+    return 0
+
+
+def _point(text: str | None) -> dict[str, str] | None:
+    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly)."""
+    if text is None:
+        return None
+    point = {}
+    for pair in filter(None, (p.strip() for p in text.split(","))):
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip() or not value.strip():
+            raise UsageError(f"--point expects name=value pairs separated by commas, got {pair!r}")
+        point[key.strip()] = value.strip()
+    return point
+
+
+def latex_command(args: argparse.Namespace) -> int:
+    from ..analysis.verdict import analyze
+    from ..report.files import write_text
+    from ..report.latex import DoesNotFit, latex_document
+
+    point = _point(args.point)
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        result = analyze(system, seed=args.seed or 0, budget=args.budget)
+        show = status_line()
+        progress = (lambda text: show(f"latex {system.name}: {text}")) if show else None
+        try:
+            text = with_budget(latex_document, system, result, args.body_only, args.orders, point, args.seed or 0,
+                               args.max_pages, progress, seconds=args.budget)
+        except Undecided as exc:
+            hint = "--orders K or a larger --budget" if args.point is not None else "--orders K or --point, or a larger --budget"
+            print(f"observability: undecided: {system.name}: the symbolic matrix did not fit the budget ({exc}); "
+                  f"try {hint}; the rank verdict is `observability check`", file=sys.stderr)
+            return EXIT_UNDECIDED
+        except DoesNotFit as exc:
+            print(f"observability: {exc}", file=sys.stderr)
+            return EXIT_UNDECIDED
+        finally:
+            clear_line()
+    if "left out:" in text:
+        omitted = next(line for line in text.splitlines() if "left out:" in line).lstrip("% ")
+        print(f"observability: note: {system.name}: {omitted}".replace("-{}-", "--"), file=sys.stderr)
+    if args.out is None:
+        print(text, end="")
+    else:
+        write_text(args.out, text)
+        print(f"wrote {args.out}")
+    return 0
+
+
+def reproduce_command(args: argparse.Namespace) -> int:
+    from ..report.reproduce import reproduce
+
+    out = args.out or Path("reports-quick" if args.quick else "reports")  # a smoke run never lands on the full report
+    written = reproduce(out, quick=args.quick, runs=args.runs, scheduler=args.scheduler, workers=args.workers)
+    print(f"wrote {len(written)} files into {out}: " + ", ".join(p.name for p in written))
+    return 0
+
+
+def consistency_command(args: argparse.Namespace) -> int:
+    from ..report.consistency import ConsistencyStudy, write_consistency_report
+
+    from ..parallel import engine
+
+    study = ConsistencyStudy(runs=args.runs, steps=args.steps, seed=args.seed)
+    with engine(args.scheduler, args.workers) as run:
+        summary = write_consistency_report(args.out, study, run)
+    for name, row in summary.items():
+        print(f"{name:26} mean NEES {row['mean_nees']:9.2f}  {row['verdict']}")
+    print(f"wrote {args.out / 'consistency.md'} and {args.out / 'consistency_nees.png'}")
+    return 0
+
+
+def _numbers(text: str | None, flag: str) -> dict[str, float]:
+    """``NAME=VALUE,...`` with exact-parsed finite numbers, as floats."""
+    from ..model.expressions import parse_number
+
+    values = {}
+    for key, value in (_point(text) or {}).items():
+        number = float(parse_number(value, f"{flag} {key}"))
+        if not math.isfinite(number):
+            raise UsageError(f"{flag} {key}: {value!r} is not a finite number")
+        values[key] = number
+    return values
+
+
+def trajectory_command(args: argparse.Namespace) -> int:
+    from ..analysis.verdict import analyze
+    from ..trajectory import named_directions, windowed_observability
+
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        parameters = _numbers(args.parameters, "--parameters")
+        result = analyze(system.with_values(**parameters) if parameters else system, seed=args.seed or 0)
+        directions = named_directions(system, result.unobservable_directions, parameters)
+        profiles = {text: _numbers(text, "--input") for text in (args.input or [""])}
+        if args.inputs_csv is not None:
+            from ..trajectory import inputs_from_csv
+
+            table = inputs_from_csv(args.inputs_csv.read_text(), str(args.inputs_csv))
+            profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
+                        for text, inputs in profiles.items()}
+        runs = {text: windowed_observability(
+            system, _numbers(args.initial, "--initial"), inputs, duration=args.duration, window=args.window,
+            dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
+        ) for text, inputs in profiles.items()}
+    if args.plot is not None:
+        from ..report.trajectory_figure import variance_figure
+
+        variance_figure(runs, system.name, args.plot)
+    if args.format == "json":
+        print(json.dumps({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
+                          "profiles": {text or "none": {"windows": [w.to_dict() for w in windows],
+                                                        "lost": list(_lost(windows))}
+                                       for text, windows in runs.items()}}, indent=2))
+        return 0
+    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {args.dt:g}")
+    for text, windows in runs.items():
+        lost = _lost(windows)
+        print(f"inputs {text or '(none)'}: " + (f"loses {', '.join(lost)}" if lost else "loses no state"))
+        for w in windows:
+            weakest = w.weakest[0]
+            aligned = max(weakest.alignment.items(), key=lambda kv: kv[1], default=None)
+            print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
+                  + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
+                  + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
+    return 0
+
+
+def _lost(windows) -> tuple[str, ...]:
+    """States whose minimum error variance keeps more than 1 % of the prior's
+    (1/PRIOR) in some window: the data hardly inform them there."""
+    from ..trajectory import PRIOR
+
+    return tuple(dict.fromkeys(s for w in windows for s, v in w.min_error_variance.items() if v > 1e-2 / PRIOR))
+
+
+def verify_proof_command(args: argparse.Namespace) -> int:
+    from ..rank.proofcheck import verify  # sympy only: independent of the code that wrote the proof
+
+    accepted, line = verify(str(args.file))
+    print(line)
+    return EXIT_OBSERVABLE if accepted else EXIT_NOT_OBSERVABLE
+
+
+def degenerate_command(args: argparse.Namespace) -> int:
+    from ..where.motions import degenerate_motions
+
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        rows = degenerate_motions(system, seed=args.seed or 0, conditions=args.conditions, budget=args.budget)
+    if args.format == "json":
+        print(json.dumps({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}, indent=2))
+        return 0
+    table = [("motion", "rank", "verdict", "lost beyond the generic directions", "observable states")]
+    for r in rows:
+        result = r.result
+        table.append((
+            r.motion.name,
+            f"{result.rank}/{result.n_states}" if result.rank is not None else f">={result.lower_bound}/{result.n_states}",
+            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})"),
+            "; ".join(r.lost_directions) or "-",
+            ", ".join(result.observable_states) if result.observable_states else "-",
+        ))
+    widths = [max(len(str(row[i])) for row in table) for i in range(len(table[0]))]
+    lines = ["  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip() for row in table]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    print(f"{system.name}: the rank at a generic point of each motion (n = {system.n})")
+    print("\n".join(lines))
+    for r in rows[1:]:
+        source = r.motion.where or ", ".join(f"{k}={v}" for k, v in r.motion.inputs.items())
+        print(f"  {r.motion.name}: {source}" + (f" — {r.motion.description}" if r.motion.description else ""))
+    if args.conditions:
+        print("where the rank drops below each motion's rank (common factors of the maximal minors):")
+        for r in rows:
+            if r.motion.where:
+                continue
+            for drop in r.rank_drops:
+                rank = f"rank {drop.rank}" if drop.rank is not None else (
+                    f"rank below {r.result.rank}" if drop.details.startswith("every maximal minor") else
+                    "rank undecided")
+                named = f" ({drop.motion})" if drop.motion else ""
+                print(f"  {r.motion.name}: {rank} when {drop.condition}{named}")
+            if r.rank_drops_note:
+                print(f"  {r.motion.name}: {r.rank_drops_note}")
+            elif not r.rank_drops:
+                print(f"  {r.motion.name}: none (the rank never drops on a hypersurface)")
+    return 0
+
+
+def models_command(args: argparse.Namespace) -> int:
+    from .. import models
+    width = max(len(name) for name in models.BUILTINS)
+    for name, model in models.BUILTINS.items():
+        options = ", ".join(model.options)
+        print(f"{name.ljust(width)}  {model.summary} (options: {options})")
+    return 0
