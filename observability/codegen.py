@@ -258,8 +258,26 @@ def filter_functions(
     out_names = [name for name, _ in system.outputs]
     y = casadi.vertcat(*(to_casadi(e.xreplace(values), table) for _, e in system.outputs))
     motion_in, motion_names = [x, u, w, p], ["x", "u", "w", "p"]
+    functions = _motion_and_measurement(x_next, y, x, x_prev, u, w, p)
+    inverse = _inverse(system, noise)
+    if inverse is not None:
+        x_back = casadi.vertcat(*(to_casadi(e.xreplace(values), table | _noise_table(noise, w)) for e in inverse))
+        functions |= {
+            "g": casadi.Function("g", motion_in, [x_back], motion_names, ["x_prev"]),
+            "G_X": casadi.Function("G_X", motion_in, [casadi.densify(casadi.jacobian(x_back, x))], motion_names, ["G_X"]),
+            "G_w": casadi.Function("G_w", motion_in, [casadi.densify(casadi.jacobian(x_back, w))], motion_names, ["G_w"]),
+        }
+    return FilterFunctions(
+        functions, tuple(states), tuple(inputs), tuple(q.name for q in params), tuple(out_names), tuple(noise),
+        angles=angles_of(system),
+    )
+
+
+def _motion_and_measurement(x_next, y, x, x_prev, u, w, p) -> dict[str, casadi.Function]:
+    """f, h and their Jacobians, one casadi Function each, and the fused calls a filter step makes."""
+    motion_in, motion_names = [x, u, w, p], ["x", "u", "w", "p"]
     meas_in, meas_names = [x, x_prev, p], ["x", "x_prev", "p"]
-    functions = {
+    return {
         "f": casadi.Function("f", motion_in, [x_next], motion_names, ["x_next"]),
         "F_X": casadi.Function("F_X", motion_in, [casadi.jacobian(x_next, x)], motion_names, ["F_X"]),
         "F_w": casadi.Function("F_w", motion_in, [casadi.jacobian(x_next, w)], motion_names, ["F_w"]),
@@ -277,18 +295,6 @@ def filter_functions(
             meas_names, ["y", "H_Xk", "H_Xk_1"],
         ),
     }
-    inverse = _inverse(system, noise)
-    if inverse is not None:
-        x_back = casadi.vertcat(*(to_casadi(e.xreplace(values), table | _noise_table(noise, w)) for e in inverse))
-        functions |= {
-            "g": casadi.Function("g", motion_in, [x_back], motion_names, ["x_prev"]),
-            "G_X": casadi.Function("G_X", motion_in, [casadi.densify(casadi.jacobian(x_back, x))], motion_names, ["G_X"]),
-            "G_w": casadi.Function("G_w", motion_in, [casadi.densify(casadi.jacobian(x_back, w))], motion_names, ["G_w"]),
-        }
-    return FilterFunctions(
-        functions, tuple(states), tuple(inputs), tuple(q.name for q in params), tuple(out_names), tuple(noise),
-        angles=angles_of(system),
-    )
 
 
 def _noise_symbols(noise: Sequence[str]) -> list[sympy.Symbol]:

@@ -134,6 +134,15 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
     the real-point (ball) comparisons read: only identities through free values
     (exp, log, atan2) are compared in balls, so only their nodes are evaluated there.
     """
+    program, f, h, plans = _composed(system, candidates, prepared)
+    passes = _checker(system, program, f, h, plans)
+    needed = h + f + [i for plan in plans for i in plan["images"] + plan["field"]]
+    return program, plans, passes, program.reaching(needed), _ball_nodes(system, program, f, h, plans)
+
+
+def _composed(system: System, candidates: Sequence[Symmetry], prepared: Prepared) -> tuple:
+    """The program of h and f and, per candidate, the nodes of its images, its
+    field and the composed functions h(g(x)), f(g(x)) (discrete time: g(F(x)), v(F(x)))."""
     # eps is the last variable: the finite check evaluates at a random eps, the
     # declared-generator check at eps = 0 (_declared_generators_match).
     program = Program((*system.states, EPSILON), where=system.name)
@@ -159,6 +168,12 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
             plan["v_after"] = [program.compose(node, after, memo) for node in field]
         plans.append(plan)
 
+    return program, f, h, plans
+
+
+def _checker(system: System, program: Program, f: list[int], h: list[int], plans: list[dict]) -> Callable:
+    """Given an evaluator at a random point (and a maker of the ball evaluator at a
+    real point), which candidates pass every identity there."""
     def passes(evaluator: TaylorEvaluator, ball: Callable[[], BallTaylorEvaluator | None]) -> list[bool]:
         value = lambda node: evaluator.coefficient(node, 0)[0]  # noqa: E731
         grad = lambda node: evaluator.coefficient(node, 0)[1]  # noqa: E731
@@ -216,7 +231,12 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
             out.append(ok)
         return out
 
-    needed = h + f + [i for plan in plans for i in plan["images"] + plan["field"]]
+    return passes
+
+
+def _ball_nodes(system: System, program: Program, f: list[int], h: list[int], plans: list[dict]) -> list[int]:
+    """The nodes the real-point comparisons read: only identities through free
+    values (exp, log, atan2) are compared in balls."""
     free = program.free_value
     in_balls: list[int] = []
     for plan in plans:
@@ -225,7 +245,7 @@ def _verification(system: System, candidates: Sequence[Symmetry], prepared: Prep
         in_balls += [node for pair in pairs if free[pair[0]] or free[pair[1]] for node in pair]
     if in_balls and system.time == "continuous":
         in_balls += f  # the equivariance compares Dg(x) f(x) in balls
-    return program, plans, passes, program.reaching(needed), in_balls
+    return in_balls
 
 
 def verify_all(system: System, candidates: Sequence[Symmetry], seed: int = 0, points: int = 1) -> list[bool]:

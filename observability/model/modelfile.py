@@ -294,28 +294,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
     # An unknown input need not be listed among the inputs as well (scalar names).
     inputs += [n for n in _names(data, "unknown_inputs", source, required=False)[0]
                if n not in inputs and n not in input_vectors]
-    raw_params = data.get("parameters", [])
-    parameters: list[str] | dict[str, Any]
-    parameter_vectors: dict[str, tuple[str, ...]] = {}
-    if isinstance(raw_params, dict):
-        parameters = {}
-        for key, value in raw_params.items():
-            if not key.isidentifier():
-                raise ModelFileError(f"{source}: parameters: {key!r} is not a valid name")
-            if isinstance(value, list) and 1 <= len(value) <= MAX_VECTOR_SIZE:
-                parameter_vectors[key] = _components(key, len(value))
-                items = list(zip(parameter_vectors[key], value))
-            else:
-                items = [(key, value)]
-            for component, number in items:
-                if isinstance(number, bool) or not isinstance(number, (int, float, str)):
-                    raise ModelFileError(f"{source}: parameters.{key} must be a number or a list of numbers, got {value!r}")
-                if component in parameters:
-                    raise ModelFileError(f"{source}: parameters: {component!r} is given twice (as a component of a "
-                                         "vector and on its own)")
-                parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
-    else:
-        parameters, parameter_vectors = _names(data, "parameters", source, required=False)
+    parameters, parameter_vectors = _parameters(data, source)
     constants, constant_vectors = _names(data, "unknown_parameters", source, required=False)
     declared = [*states, *inputs, *parameters, *constants]
     vector_names = state_vectors | input_vectors | parameter_vectors | constant_vectors
@@ -338,22 +317,10 @@ def parse_model(text: str, source: str = "<model>") -> System:
     unknown_inputs = [c for n in _names(data, "unknown_inputs", source, required=False)[0]
                       for c in input_vectors.get(n, (n,))]
     motions = _motions(data.get("motions", {}), input_vectors, source)
-    angles = data.get("angles", [])
-    if not isinstance(angles, list) or not all(isinstance(a, str) for a in angles):
-        raise ModelFileError(f"{source}: 'angles' must be a list of state or output names, got {angles!r}")
-    angles = [c for a in angles for c in vector_names.get(a, (a,))]
-    degree = data.get("unknown_input_degree")
-    if degree is not None and (isinstance(degree, bool) or not isinstance(degree, int) or not 0 <= degree <= 20):
-        raise ModelFileError(f"{source}: 'unknown_input_degree' must be an integer from 0 to 20, got {degree!r}")
+    angles, degree = _angles(data, vector_names, source), _degree(data, source)
     quantities = _table(data, "quantities", source, required=False) or {}
     quantities = _entries(quantities, "quantities", source, names, vectors, expanded=vector_values)
-    latex_names = dict(_table(data, "latex", source, required=False) or {})
-    for vector, components in (vector_names | vector_values).items():
-        # A vector's components are typeset as its symbol with the index joined
-        # to the subscript: c1_0 is c_{1,0} (sympy would print c_{1 0}).
-        given = latex_names.pop(vector, None)
-        base = latex_name(vector) if given is None else validate_latex_name(given, f"{source}: latex.{vector}")
-        latex_names = {c: component_latex(base, i) for i, c in enumerate(components)} | latex_names
+    latex_names = _latex_names(data, vector_names | vector_values, source)
     try:
         return System(
             states,
@@ -378,3 +345,56 @@ def parse_model(text: str, source: str = "<model>") -> System:
         raise ModelFileError(f"{source}: {exc}") from None
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
+
+
+def _parameters(data: dict, source: str) -> tuple[list[str] | dict[str, Any], dict[str, tuple[str, ...]]]:
+    """Known parameters: a list of names, or a table of values (a list of numbers is a vector)."""
+    raw_params = data.get("parameters", [])
+    if not isinstance(raw_params, dict):
+        return _names(data, "parameters", source, required=False)
+    parameters: dict[str, Any] = {}
+    parameter_vectors: dict[str, tuple[str, ...]] = {}
+    for key, value in raw_params.items():
+        if not key.isidentifier():
+            raise ModelFileError(f"{source}: parameters: {key!r} is not a valid name")
+        if isinstance(value, list) and 1 <= len(value) <= MAX_VECTOR_SIZE:
+            parameter_vectors[key] = _components(key, len(value))
+            items = list(zip(parameter_vectors[key], value))
+        else:
+            items = [(key, value)]
+        for component, number in items:
+            if isinstance(number, bool) or not isinstance(number, (int, float, str)):
+                raise ModelFileError(f"{source}: parameters.{key} must be a number or a list of numbers, got {value!r}")
+            if component in parameters:
+                raise ModelFileError(f"{source}: parameters: {component!r} is given twice (as a component of a "
+                                     "vector and on its own)")
+            parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
+    return parameters, parameter_vectors
+
+
+def _angles(data: dict, vector_names: dict[str, tuple[str, ...]], source: str) -> list[str]:
+    """The declared angles, vectors expanded to their components."""
+    angles = data.get("angles", [])
+    if not isinstance(angles, list) or not all(isinstance(a, str) for a in angles):
+        raise ModelFileError(f"{source}: 'angles' must be a list of state or output names, got {angles!r}")
+    return [c for a in angles for c in vector_names.get(a, (a,))]
+
+
+def _degree(data: dict, source: str) -> int | None:
+    """``unknown_input_degree``: an integer from 0 to 20, or None."""
+    degree = data.get("unknown_input_degree")
+    if degree is not None and (isinstance(degree, bool) or not isinstance(degree, int) or not 0 <= degree <= 20):
+        raise ModelFileError(f"{source}: 'unknown_input_degree' must be an integer from 0 to 20, got {degree!r}")
+    return degree
+
+
+def _latex_names(data: dict, vectors: dict[str, tuple[str, ...]], source: str) -> dict[str, str]:
+    """The [latex] table, with each vector's components typeset from its symbol."""
+    latex_names = dict(_table(data, "latex", source, required=False) or {})
+    for vector, components in vectors.items():
+        # A vector's components are typeset as its symbol with the index joined
+        # to the subscript: c1_0 is c_{1,0} (sympy would print c_{1 0}).
+        given = latex_names.pop(vector, None)
+        base = latex_name(vector) if given is None else validate_latex_name(given, f"{source}: latex.{vector}")
+        latex_names = {c: component_latex(base, i) for i, c in enumerate(components)} | latex_names
+    return latex_names

@@ -152,51 +152,10 @@ def slam2d(
             outputs[f"{prefix}{i}"] = _substitute(template, dict(zip(placeholders, point)), moving)
     if not outputs:
         raise ValueError("slam2d needs at least one landmark or beacon to measure")
-    parameters: dict[str, object] = {"f": f, "dt": None}
-    for j in range(1, beacons + 1):
-        parameters[f"B{j}x"] = None
-        parameters[f"B{j}y"] = None
-    # Reports write entries with landmarks and beacons in the camera frame
-    # (xbar ahead, ybar the depth) and the velocity in the camera frame.
-    latex_names = {"cx": "c_x", "cxdot": "\\dot{c}_x", "cy": "c_y", "cydot": "\\dot{c}_y", "cth": "\\theta",
-                   "cthdot": "\\dot{\\theta}", "vbar_x": "\\bar{v}_x", "vbar_y": "\\bar{v}_y"}
+    parameters: dict[str, object] = {"f": f, "dt": None} | {f"B{j}{c}": None for j in range(1, beacons + 1) for c in "xy"}
     points = [(f"L{i}", *landmark_states(i)) for i in range(1, landmarks + 1)]
     points += [(f"B{j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)]
-
-    def quantities() -> dict[str, str]:
-        # Made on first use (a report): parsing them costs as much as the outputs.
-        out = {"vbar_x": "cxdot*cos(cth) + cydot*sin(cth)", "vbar_y": "-cxdot*sin(cth) + cydot*cos(cth)"}
-        for point, px, py in points:
-            out[f"xbar_{point}"] = _projection(px, py).split("/")[0].removeprefix("f*")
-            out[f"ybar_{point}"] = _projection(px, py).split("/")[1]
-        return out
-
-    for point, px, py in points:
-        latex_names[px], latex_names[py] = f"x_{{{point}}}", f"y_{{{point}}}"
-        latex_names[f"h{point}"] = f"h_{{{point}}}"
-        if disparity and point.startswith("L"):
-            latex_names[f"d{point}"] = f"\\delta_{{{point}}}"
-        latex_names[f"xbar_{point}"], latex_names[f"ybar_{point}"] = f"\\bar{{x}}_{{{point}}}", f"\\bar{{y}}_{{{point}}}"
-    calleja = "Vidal-Calleja, Bryson, Sukkarieh, Sanfeliu, Andrade-Cetto, ICRA 2007"
-    motions = [
-        Motion("stationary", "cxdot = 0, cydot = 0, cthdot = 0",
-               description=f"the camera neither moves nor turns [{calleja}]"),
-        Motion("pure rotation", "cxdot = 0, cydot = 0", description="the camera turns in place: no parallax"),
-        Motion("straight line", "cthdot = 0", description="constant heading, constant velocity"),
-    ]
-    for point, px, py in points[:3]:
-        kind = "landmark" if point.startswith("L") else "beacon"
-        motions.append(Motion(f"towards {kind} {point[1:]}", f"cxdot*({py} - cy) - cydot*({px} - cx) = 0",
-                              description=f"the velocity points at {kind} {point[1:]} [{calleja}]"))
     label = f"slam2d-L{landmarks}-B{beacons}" + ("-disparity" if disparity else "")
-    def symmetries():
-        return planar_symmetries(
-            points=[("cx", "cy")] + [landmark_states(i) for i in range(1, landmarks + 1)],
-            velocities=[("cxdot", "cydot")],
-            headings=["cth"],
-            pivots=[(f"beacon {j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)],
-        )
-
     return System(
         states,
         dynamics,
@@ -208,8 +167,57 @@ def slam2d(
         description=f"planar monocular SLAM, {landmarks} landmark(s), {beacons} beacon(s)"
         + (", with disparity" if disparity else "")
         + f" [{CITATION}]",
-        symmetries=symmetries,
-        latex_names=latex_names,
-        quantities=quantities,
-        motions=motions,
+        symmetries=lambda: _symmetries(landmarks, beacons),
+        latex_names=_latex_names(points, disparity),
+        quantities=lambda: _quantities(points),
+        motions=_motions(points),
     )
+
+
+def _symmetries(landmarks: int, beacons: int):
+    """The candidates: translations, the rotation, the scale, and turns about each beacon."""
+    return planar_symmetries(
+        points=[("cx", "cy")] + [landmark_states(i) for i in range(1, landmarks + 1)],
+        velocities=[("cxdot", "cydot")],
+        headings=["cth"],
+        pivots=[(f"beacon {j}", f"B{j}x", f"B{j}y") for j in range(1, beacons + 1)],
+    )
+
+
+def _quantities(points: list[tuple[str, str, str]]) -> dict[str, str]:
+    """The velocity and each point in the camera frame (xbar ahead, ybar the
+    depth); made on first use (a report): parsing them costs as much as the outputs."""
+    out = {"vbar_x": "cxdot*cos(cth) + cydot*sin(cth)", "vbar_y": "-cxdot*sin(cth) + cydot*cos(cth)"}
+    for point, px, py in points:
+        out[f"xbar_{point}"] = _projection(px, py).split("/")[0].removeprefix("f*")
+        out[f"ybar_{point}"] = _projection(px, py).split("/")[1]
+    return out
+
+
+def _latex_names(points: list[tuple[str, str, str]], disparity: bool) -> dict[str, str]:
+    """How reports typeset the states, outputs and quantities."""
+    latex_names = {"cx": "c_x", "cxdot": "\\dot{c}_x", "cy": "c_y", "cydot": "\\dot{c}_y", "cth": "\\theta",
+                   "cthdot": "\\dot{\\theta}", "vbar_x": "\\bar{v}_x", "vbar_y": "\\bar{v}_y"}
+    for point, px, py in points:
+        latex_names[px], latex_names[py] = f"x_{{{point}}}", f"y_{{{point}}}"
+        latex_names[f"h{point}"] = f"h_{{{point}}}"
+        if disparity and point.startswith("L"):
+            latex_names[f"d{point}"] = f"\\delta_{{{point}}}"
+        latex_names[f"xbar_{point}"], latex_names[f"ybar_{point}"] = f"\\bar{{x}}_{{{point}}}", f"\\bar{{y}}_{{{point}}}"
+    return latex_names
+
+
+def _motions(points: list[tuple[str, str, str]]) -> list[Motion]:
+    """The motions the literature names as degenerate, for the degenerate-motion scan."""
+    calleja = "Vidal-Calleja, Bryson, Sukkarieh, Sanfeliu, Andrade-Cetto, ICRA 2007"
+    motions = [
+        Motion("stationary", "cxdot = 0, cydot = 0, cthdot = 0",
+               description=f"the camera neither moves nor turns [{calleja}]"),
+        Motion("pure rotation", "cxdot = 0, cydot = 0", description="the camera turns in place: no parallax"),
+        Motion("straight line", "cthdot = 0", description="constant heading, constant velocity"),
+    ]
+    for point, px, py in points[:3]:
+        kind = "landmark" if point.startswith("L") else "beacon"
+        motions.append(Motion(f"towards {kind} {point[1:]}", f"cxdot*({py} - cy) - cydot*({px} - cx) = 0",
+                              description=f"the velocity points at {kind} {point[1:]} [{calleja}]"))
+    return motions

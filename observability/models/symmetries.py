@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 import sympy
 
+from observability.model.rotations import quaternion_product, rotation_from_quaternion, skew
 from observability.model.symmetry import EPSILON, Symmetry
 
 __all__ = ["planar_symmetries", "line_symmetries", "spatial_symmetries"]
@@ -169,8 +170,6 @@ def spatial_symmetries(
         t = tan(eps/2), turns points about a by R(r) and attitudes to r q; the
         generator is (b - a) x (p - a).
     """
-    from observability.model.rotations import quaternion_product, rotation_from_quaternion, skew
-
     out: list[Symmetry] = []
     for k, axis in enumerate("xyz"):
         out.append(Symmetry.of(
@@ -180,41 +179,8 @@ def spatial_symmetries(
     origin = ("", (sympy.Integer(0),) * 3)
     centres = [origin, *((label, tuple(S(n) for n in triple)) for label, triple in pivots)]
     for label, centre in centres:
-        through = f" through {label}" if label else ""
         for axis in axes:
-            turn = _axis_rotation(axis)
-            generator = turn.diff(EPSILON).subs(EPSILON, 0)
-            images: dict[str, sympy.Expr] = {}
-            field: dict[str, sympy.Expr] = {}
-            c = sympy.Matrix(centre)
-            for triple in points:
-                vector = sympy.Matrix([S(n) for n in triple]) - c
-                images |= dict(zip(triple, c + turn * vector))
-                field |= dict(zip(triple, generator * vector))
-            for triple in velocities:
-                vector = sympy.Matrix([S(n) for n in triple])
-                images |= dict(zip(triple, turn * vector))
-                field |= dict(zip(triple, generator * vector))
-            half = [_HALF_COS, *(_HALF_SIN * a for a in _AXES[axis])]
-            for q in quaternions:
-                images |= dict(zip(q, quaternion_product(half, [S(n) for n in q])))
-                field |= dict(zip(q, quaternion_product([0, *(sympy.Rational(a, 2) for a in _AXES[axis])], [S(n) for n in q])))
-            t = sympy.tan(EPSILON / 2)
-            for triple in gibbs:
-                g = [S(n) for n in triple]
-                a = [t * e for e in _AXES[axis]]
-                across = (a[1] * g[2] - a[2] * g[1], a[2] * g[0] - a[0] * g[2], a[0] * g[1] - a[1] * g[0])
-                denominator = 1 - sum(ai * gi for ai, gi in zip(a, g))
-                images |= {n: (ai + gi + ci) / denominator for n, ai, gi, ci in zip(triple, a, g, across)}
-                e = _AXES[axis]
-                e_cross_g = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
-                e_dot_g = sum(ei * gi for ei, gi in zip(e, g))
-                field |= {n: (ei + ci + e_dot_g * gi) / 2 for n, ei, ci, gi in zip(triple, e, e_cross_g, g)}
-            if axis == "z":
-                images |= {y: _sum(S(y), EPSILON) for y in yaws}
-                field |= {y: 1 for y in yaws}
-            out.append(Symmetry.of(f"rotation about the {axis}-axis{through}",
-                                   f"turns the whole scene about the world {axis}-axis{through}", images, field))
+            out.append(_axis_rotation_symmetry(axis, label, centre, points, velocities, quaternions, gibbs, yaws))
         if scale:
             positions = [n for p in points for n in p]
             about = [a for _ in points for a in centre]
@@ -223,28 +189,81 @@ def spatial_symmetries(
             field = {n: S(n) - a for n, a in zip(positions, about)} | {n: S(n) for n in speeds}
             out.append(Symmetry.of(f"scale about {label}" if label else "scale",
                                    f"enlarges the whole scene about {label or 'the origin'} (velocities too)", images, field))
-    for label, first, second in lines:
-        a = sympy.Matrix([S(n) for n in first])
-        axis = sympy.Matrix([S(m) - S(n) for m, n in zip(second, first)])
-        r = [sympy.Integer(1), *(sympy.tan(EPSILON / 2) * e for e in axis)]
-        turn = rotation_from_quaternion(r, normalized=True)
-        images, field = {}, {}
-        for triple in points:
-            p = sympy.Matrix([S(n) for n in triple])
-            images |= dict(zip(triple, a + turn * (p - a)))
-            field |= dict(zip(triple, skew(axis) * (p - a)))
-        for triple in velocities:
-            v = sympy.Matrix([S(n) for n in triple])
-            images |= dict(zip(triple, turn * v))
-            field |= dict(zip(triple, skew(axis) * v))
-        for q in quaternions:
-            images |= dict(zip(q, quaternion_product(r, [S(n) for n in q])))
-            field |= dict(zip(q, quaternion_product([0, *(e / 2 for e in axis)], [S(n) for n in q])))
-        out.append(Symmetry.of(f"rotation about the line through {label}",
-                               f"turns the whole scene about the line through {label}, which stays in place",
-                               images, field))
+    out += [_line_rotation(label, first, second, points, velocities, quaternions) for label, first, second in lines]
     if quaternion_norm:
         for q in quaternions:
             out.append(Symmetry.of(f"the norm of ({', '.join(q)})", "scales the attitude quaternion, which only its direction matters",
                                    {n: _product(_GROW, S(n)) for n in q}, {n: S(n) for n in q}))
     return tuple(out)
+
+
+def _axis_rotation_symmetry(axis: str, label: str, centre: tuple, points, velocities, quaternions, gibbs, yaws
+                            ) -> Symmetry:
+    """The rotation by eps about the world ``axis`` through ``centre``: points
+    turn about it, velocities and attitudes (quaternions, Gibbs vectors) with it,
+    an Euler yaw grows by eps about z."""
+    through = f" through {label}" if label else ""
+    turn = _axis_rotation(axis)
+    generator = turn.diff(EPSILON).subs(EPSILON, 0)
+    images: dict[str, sympy.Expr] = {}
+    field: dict[str, sympy.Expr] = {}
+    c = sympy.Matrix(centre)
+    for triple in points:
+        vector = sympy.Matrix([S(n) for n in triple]) - c
+        images |= dict(zip(triple, c + turn * vector))
+        field |= dict(zip(triple, generator * vector))
+    for triple in velocities:
+        vector = sympy.Matrix([S(n) for n in triple])
+        images |= dict(zip(triple, turn * vector))
+        field |= dict(zip(triple, generator * vector))
+    half = [_HALF_COS, *(_HALF_SIN * a for a in _AXES[axis])]
+    for q in quaternions:
+        images |= dict(zip(q, quaternion_product(half, [S(n) for n in q])))
+        field |= dict(zip(q, quaternion_product([0, *(sympy.Rational(a, 2) for a in _AXES[axis])], [S(n) for n in q])))
+    for triple in gibbs:
+        moved, generated = _gibbs_rotation(axis, triple)
+        images |= moved
+        field |= generated
+    if axis == "z":
+        images |= {y: _sum(S(y), EPSILON) for y in yaws}
+        field |= {y: 1 for y in yaws}
+    return Symmetry.of(f"rotation about the {axis}-axis{through}",
+                       f"turns the whole scene about the world {axis}-axis{through}", images, field)
+
+
+def _gibbs_rotation(axis: str, triple: tuple[str, str, str]) -> tuple[dict, dict]:
+    """A Gibbs vector g under a world rotation by eps about ``axis`` (a, t = tan(eps/2)):
+    (t a + g + t a x g) / (1 - t a . g); its generator (a + a x g + (a . g) g) / 2."""
+    t = sympy.tan(EPSILON / 2)
+    g = [S(n) for n in triple]
+    a = [t * e for e in _AXES[axis]]
+    across = (a[1] * g[2] - a[2] * g[1], a[2] * g[0] - a[0] * g[2], a[0] * g[1] - a[1] * g[0])
+    denominator = 1 - sum(ai * gi for ai, gi in zip(a, g))
+    images = {n: (ai + gi + ci) / denominator for n, ai, gi, ci in zip(triple, a, g, across)}
+    e = _AXES[axis]
+    e_cross_g = (e[1] * g[2] - e[2] * g[1], e[2] * g[0] - e[0] * g[2], e[0] * g[1] - e[1] * g[0])
+    e_dot_g = sum(ei * gi for ei, gi in zip(e, g))
+    field = {n: (ei + ci + e_dot_g * gi) / 2 for n, ei, ci, gi in zip(triple, e, e_cross_g, g)}
+    return images, field
+
+
+def _line_rotation(label: str, first, second, points, velocities, quaternions) -> Symmetry:
+    """The rotation about the line through two known points (see :func:`spatial_symmetries`)."""
+    a = sympy.Matrix([S(n) for n in first])
+    axis = sympy.Matrix([S(m) - S(n) for m, n in zip(second, first)])
+    r = [sympy.Integer(1), *(sympy.tan(EPSILON / 2) * e for e in axis)]
+    turn = rotation_from_quaternion(r, normalized=True)
+    images, field = {}, {}
+    for triple in points:
+        p = sympy.Matrix([S(n) for n in triple])
+        images |= dict(zip(triple, a + turn * (p - a)))
+        field |= dict(zip(triple, skew(axis) * (p - a)))
+    for triple in velocities:
+        v = sympy.Matrix([S(n) for n in triple])
+        images |= dict(zip(triple, turn * v))
+        field |= dict(zip(triple, skew(axis) * v))
+    for q in quaternions:
+        images |= dict(zip(q, quaternion_product(r, [S(n) for n in q])))
+        field |= dict(zip(q, quaternion_product([0, *(e / 2 for e in axis)], [S(n) for n in q])))
+    return Symmetry.of(f"rotation about the line through {label}",
+                       f"turns the whole scene about the line through {label}, which stays in place", images, field)

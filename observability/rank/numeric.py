@@ -301,22 +301,9 @@ def float_rank(
         except Redraw as exc:
             last = exc
             continue
-        rank, sigma, threshold, gap, null = sink.svd()
-        observable = _observable(null, n, 1e-8)
-        note = ""
-        if n <= HIGH_PRECISION_MAX_STATES:
-            try:
-                rows, zeroed = _replay_rows(
-                    system, made[-1].values, made[-1].inputs, random.Random(seed), input_derivatives, previous,
-                    HIGH_PRECISION_DIGITS, max_order,
-                )
-            except Redraw:
-                rows = None
-            if rows is not None:
-                rank, sigma, threshold, gap, observable, note = _decided_in_balls(rows, n, zeroed)
-        elif gap < CLEAR_GAP or _near(sigma, threshold):
-            observable = None
-            note = "unclear gap: observable states not claimed"
+        rank, sigma, threshold, gap, observable, note = _decision(system, sink, made[-1], seed, input_derivatives,
+                                                                  previous, max_order)
+        null = sink.svd()[4]
         return FloatRank(
             rank=rank,
             orders=expansion.orders,
@@ -333,3 +320,25 @@ def float_rank(
             matrix=np.array(sink.rows, dtype=float),
         )
     raise SingularModelError(f"{system.name}: the observability matrix is singular at the point ({last.reason})")
+
+
+def _decision(system: System, sink, evaluator, seed, input_derivatives, previous, max_order) -> tuple:
+    """(rank, singular values, threshold, gap, observable columns, note): from
+    the double-precision rows, or, up to ``HIGH_PRECISION_MAX_STATES`` states,
+    from the same rows recomputed in balls with every zero-containing entry 0."""
+    n = system.n
+    rank, sigma, threshold, gap, null = sink.svd()
+    observable = _observable(null, n, 1e-8)
+    if n <= HIGH_PRECISION_MAX_STATES:
+        try:
+            rows, zeroed = _replay_rows(
+                system, evaluator.values, evaluator.inputs, random.Random(seed), input_derivatives, previous,
+                HIGH_PRECISION_DIGITS, max_order,
+            )
+        except Redraw:
+            rows = None
+        if rows is not None:
+            return _decided_in_balls(rows, n, zeroed)
+    elif gap < CLEAR_GAP or _near(sigma, threshold):
+        return rank, sigma, threshold, gap, None, "unclear gap: observable states not claimed"
+    return rank, sigma, threshold, gap, observable, ""

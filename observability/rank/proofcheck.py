@@ -148,23 +148,8 @@ def _claim(proof: dict, n: int) -> tuple[int, str]:
 
 
 def check(proof: dict) -> str:
-    if proof.get("format") != "observability proof 1":
-        raise Rejected(f"unknown format {proof.get('format')!r}")
-    model = proof["model"]
-    declared = [*model["states"], *model["inputs"], *model["parameters"]]
-    if not all(isinstance(name, str) and name.isidentifier() for name in declared) or len(set(declared)) != len(declared):
-        raise Rejected("the model's names are not distinct identifiers")
-    symbols = {name: sympy.Symbol(name) for name in declared}
-    x = [symbols[s] for s in model["states"]]
-    known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
-    f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
-    outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
-    variables = {symbols[v] for v in [*model["states"], *model["inputs"]]}
-    for name, text in model.get("analysed_outputs", {}).items():
-        radicand = _parse(text, symbols).xreplace(known)
-        if name not in outputs or not _is_root_of(outputs[name], radicand, variables):
-            raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with constant a != 0 and b")
-        outputs[name] = radicand  # the same rows wherever the radicand is positive
+    """The claim of ``proof`` if every part of it holds ("accepted: ..."); :class:`Rejected` otherwise."""
+    model, symbols, x, known, f, outputs = _model(proof)
     n = len(x)
     rank, claim = _claim(proof, n)
     lower = proof["lower_bound"]
@@ -183,7 +168,50 @@ def check(proof: dict) -> str:
     if sorted(point["inputs"]) != sorted(model["inputs"]) or any(len(v) < steps for v in point["inputs"].values()):
         raise Rejected(f"the point does not give every input {steps} value(s)")
 
-    # The functions whose gradients are the rows, order by order.
+    functions = _row_functions(model, symbols, x, f, outputs, orders, point, values)
+    missing = [r for r in rows if r not in functions]
+    if missing:
+        raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
+    minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
+    how = _minor_checked(minor, lower)
+    # The upper bound.
+    generators = proof["upper_bound"]["generators"]
+    if len(generators) != n - rank:
+        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
+    fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
+    if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
+        raise Rejected("the generators are not independent at the point")
+    return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
+            "and independent)")
+
+
+def _model(proof: dict) -> tuple:
+    """The model the proof is about, parsed: (model, symbols, states, known
+    parameter values, dynamics, outputs with radicands in place of square roots)."""
+    if proof.get("format") != "observability proof 1":
+        raise Rejected(f"unknown format {proof.get('format')!r}")
+    model = proof["model"]
+    declared = [*model["states"], *model["inputs"], *model["parameters"]]
+    if not all(isinstance(name, str) and name.isidentifier() for name in declared) or len(set(declared)) != len(declared):
+        raise Rejected("the model's names are not distinct identifiers")
+    symbols = {name: sympy.Symbol(name) for name in declared}
+    x = [symbols[s] for s in model["states"]]
+    known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
+    f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
+    outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
+    variables = {symbols[v] for v in [*model["states"], *model["inputs"]]}
+    for name, text in model.get("analysed_outputs", {}).items():
+        radicand = _parse(text, symbols).xreplace(known)
+        if name not in outputs or not _is_root_of(outputs[name], radicand, variables):
+            raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with constant a != 0 and b")
+        outputs[name] = radicand  # the same rows wherever the radicand is positive
+    return model, symbols, x, known, f, outputs
+
+
+def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, orders: int, point: dict,
+                   values: dict) -> dict[tuple[str, int], sympy.Expr]:
+    """The functions whose gradients are the rows, order by order (``values``
+    receives the input values of the point, by the symbols the functions use)."""
     functions: dict[tuple[str, int], sympy.Expr] = {}
     if model["time"] == "continuous":
         chains = {u: [symbols[u]] + [sympy.Dummy(f"{u}_d{j}") for j in range(1, orders + 2)] for u in model["inputs"]}
@@ -209,10 +237,11 @@ def check(proof: dict) -> str:
             for name, e in outputs.items():
                 functions[(name, k)] = e.xreplace(at)
             state = [fi.xreplace(at) for fi in f]
-    missing = [r for r in rows if r not in functions]
-    if missing:
-        raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
-    minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
+    return functions
+
+
+def _minor_checked(minor: sympy.Matrix, lower: dict) -> str:
+    """How the minor was found non-zero and equal to the recorded value ("exactly" or "to 60 digits")."""
     recorded = lower["minor"]
     if lower["exact"] is not all(e.is_Rational for e in minor):
         raise Rejected(f"the file says the minor is {'' if lower['exact'] else 'not '}exact; its entries say otherwise")
@@ -230,16 +259,7 @@ def check(proof: dict) -> str:
             if abs(value) < mpmath.mpf("1e-25") or abs(value - mpmath.mpf(recorded)) > abs(value) * mpmath.mpf("1e-30"):
                 raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
         how = "to 60 digits"
-
-    # The upper bound.
-    generators = proof["upper_bound"]["generators"]
-    if len(generators) != n - rank:
-        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
-    if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
-        raise Rejected("the generators are not independent at the point")
-    return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
-            "and independent)")
+    return how
 
 
 def verify(path: str) -> tuple[bool, str]:

@@ -278,29 +278,44 @@ def randomized_rank(
     rng = random.Random(seed)
     if system.time == "discrete" and previous == "inverse":
         eliminate_previous_state(system)  # fail early, before any point is drawn
+    args = (input_derivatives, max_order, progress, previous, constraint, exhaustive, prime)
+    if prime == PRIME and dense_suits(system, max_order, constraint, exhaustive):
+        full = _dense_full_rank(system, seed, args)
+        if full is not None:
+            return full
+    (echelon, expansion), probability, draws = _draw(system, rng, args, target)
+    return _result(system, seed, echelon, expansion, probability, draws)
+
+
+def _dense_full_rank(system: System, seed: int, args: tuple) -> ModularRank | None:
+    """The dense route's rank when it is full (certain for any prime); None otherwise."""
+    from ..engine.densetaylor import Unsupported
+
+    try:
+        # Its own point, so that the points of the main route do not depend on whether this one ran.
+        echelon, expansion = _usable_point(system, random.Random(f"dense {seed}"), *args, dense=True)
+    except Unsupported:
+        return None
+    if echelon.rank == system.n:  # a lower rank is computed again by the main route
+        return _result(system, seed, echelon, expansion, 0.0, 1)
+    return None
+
+
+def _draw(system: System, rng: random.Random, args: tuple, target: float) -> tuple[tuple, float, int]:
+    """Points drawn until the rank is full or the chance that it is too low is
+    at most ``target`` (at most ``_MAX_DRAWS``): the best point, that chance
+    (a product of Schwartz-Zippel bounds, one per independent point) and the number drawn."""
+    constraint, prime = args[4], args[6]
     best = None
     probability = 1.0
     draws = 0
-    args = (input_derivatives, max_order, progress, previous, constraint, exhaustive, prime)
-    if prime == PRIME and dense_suits(system, max_order, constraint, exhaustive):
-        from ..engine.densetaylor import Unsupported
-
-        try:
-            # Its own point, so that the points of the route below do not depend on whether this one ran.
-            echelon, expansion = _usable_point(system, random.Random(f"dense {seed}"), *args, dense=True)
-        except Unsupported:
-            pass
-        else:
-            if echelon.rank == system.n:  # certain for any prime; a lower rank is computed again below
-                return _result(system, seed, echelon, expansion, 0.0, 1)
     while draws < _MAX_DRAWS:
         echelon, expansion = _usable_point(system, rng, *args)
         draws += 1
         if best is None or echelon.rank > best[0].rank:
             best = (echelon, expansion)
         if best[0].rank == system.n:
-            probability = 0.0
-            break
+            return best, 0.0, draws
         # The rank is too low only if a minor one larger than it vanishes at the point.
         bound = degree_bound(expansion.program, system, list(expansion.output_roots), echelon.rank + 1, expansion.orders)
         if constraint is not None:
@@ -308,8 +323,7 @@ def randomized_rank(
         probability *= min(1.0, bound / prime)
         if probability <= target:
             break
-    echelon, expansion = best
-    return _result(system, seed, echelon, expansion, probability, draws)
+    return best, probability, draws
 
 
 def _result(system: System, seed: int, echelon: _RecordingEchelon, expansion, probability: float, draws: int

@@ -99,6 +99,12 @@ def write_figures(result: SweepResult, out: Path, gate: bool = True) -> list[str
     save_figure(fig, out / "fig4_covariance_and_error.png")
     plt.close(fig)
 
+    _nees_figure(plt, config, keys, runs, t, setting, out)
+    return ["fig3_trajectory.png", "fig4_covariance_and_error.png", "nees_position.png"]
+
+
+def _nees_figure(plt, config, keys: dict, runs: list, t: np.ndarray, setting: str, out: Path) -> None:
+    """nees_position.png: the average position NEES of each filter with the 95% bounds."""
     from ..filters import chi2_bounds
 
     lo, hi = chi2_bounds(2, config.runs)
@@ -116,4 +122,3 @@ def write_figures(result: SweepResult, out: Path, gate: bool = True) -> list[str
     fig.tight_layout()
     save_figure(fig, out / "nees_position.png")
     plt.close(fig)
-    return ["fig3_trajectory.png", "fig4_covariance_and_error.png", "nees_position.png"]
