@@ -32,11 +32,10 @@ from ..analysis.result import ObservabilityResult
 from ..budget import with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression
-from ..model.inverse import eliminate_previous_state
+from ..model.prepare import prepare
 from ..engine.lie import input_derivative, lie_derivatives, step_input
 from ..rank.proof import fields_are_symmetries
 from ..rank.randomized import randomized_rank
-from ..model.squareroots import without_square_root_outputs
 from ..model.system import System
 
 __all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
@@ -130,10 +129,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         raise ObservabilityError(
             f"{system.name}: the verdict is not proven ({result.proof or 'undecided'}), so there is no proof to write"
         )
-    if system.time == "discrete" and system.uses_previous_state:
-        system = eliminate_previous_state(system)
-    written = system
-    system, _ = without_square_root_outputs(system)  # as the verdict was decided
+    written = prepare(system, square_roots=False).system
+    system = prepare(written).system  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
     if lower.rank != result.rank:

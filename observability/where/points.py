@@ -46,7 +46,7 @@ from ..errors import ModelError, SingularModelError
 from ..budget import Undecided, with_budget
 from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_number
-from ..model.inverse import eliminate_previous_state
+from ..model.prepare import prepare
 from ..rank.randomized import randomized_rank
 from .sets import ConstraintSet, solve_constraints
 from ..rank.symbolic import observability_rows
@@ -163,8 +163,7 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
         exact number, a point off the set, or a variable that enters a
         transcendental function; a pole of the model at the point.
     """
-    if system.time == "discrete" and previous == "inverse":
-        system = eliminate_previous_state(system, previous)
+    system = prepare(system, previous, square_roots=False).system  # a radicand may vanish at the point
     used = set().union(*(e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))))
     symbols = {s.name: s for s in system.states} | {p.name: p for p in system.free_parameters if p in used}
     values: dict[sympy.Symbol, sympy.Rational] = {}
