@@ -111,10 +111,56 @@ def test_planar_slam_degenerate_motions():
     assert rows["generic"].result.rank == 4
     assert rows["stationary"].result.rank == 2 and rows["pure rotation"].result.rank == 2
     assert rows["towards landmark 1"].result.rank == 3
-    assert rows["towards landmark 1"].lost_directions == ("1 more direction(s) (not named on a constraint set)",)
+    assert len(rows["towards landmark 1"].lost_directions) == 1
+    assert len(rows["stationary"].lost_directions) == 2 and len(rows["pure rotation"].lost_directions) == 2
     assert rows["straight line"].result.rank == 4 and rows["straight line"].lost_directions == ()
     for row in rows.values():  # property: a motion never has a higher rank than the generic one
         assert row.result.rank <= 4
+
+
+@pytest.mark.parametrize("motion, equations, lost", [
+    ("towards landmark 1", "cxdot*(L1y - cy) - cydot*(L1x - cx) = 0", 1),
+    ("stationary", "cxdot = 0, cydot = 0, cthdot = 0", 2),
+])
+def test_directions_lost_on_a_set_are_null_there_and_new(motion, equations, lost):
+    """The directions `check --where` names beyond the generic four, checked
+    without the engine: slam2d's flow is explicit (c(t) = c + v t, th(t) = th +
+    w t, landmarks fixed), so a direction v is unobservable from a point x0 iff
+    d/de h(flow_t(x0 + e v(x0))) = 0 for all t (every Lie order at once). At a
+    random rational point of the set that derivative is evaluated to 50 digits at
+    several times; and the directions with the generic translations, rotation
+    and scale span 4 + lost dimensions there, exactly (the set's nullity). By
+    hand for the first: driving at the landmark keeps L - c(t) parallel to the
+    velocity, so scaling the speed leaves every bearing unchanged."""
+    import random
+
+    import sympy
+
+    system = models.build("slam2d")
+    constraint, _ = parse_constraints(system, equations)
+    result = analyze(system, seed=1, where=constraint)
+    assert result.rank == 8 - 4 - lost
+    beyond = [d for d in result.unobservable_directions if d.lost_on]
+    assert len(beyond) == lost and all(d.lost_on == equations for d in beyond)
+    names = {s.name: s for s in (*system.states, *system.parameters)}
+    t = sympy.Symbol("t")
+    S = names.__getitem__
+    flow = {S("cx"): S("cx") + S("cxdot") * t, S("cy"): S("cy") + S("cydot") * t, S("cth"): S("cth") + S("cthdot") * t}
+    rng = random.Random(5)
+    point = {s: sympy.Rational(rng.randint(-9, 9), rng.randint(1, 5)) for s in system.states}
+    point[S("f")] = sympy.Rational(7, 3)
+    for variable, expr in constraint.solution:
+        point[variable] = sympy.cancel(expr.xreplace(point))
+    vectors = [sympy.Matrix([sympy.sympify(d.vector.get(s.name, "0"), locals=names).xreplace(point)
+                             for s in system.states]) for d in result.unobservable_directions]
+    for _, h in system.outputs:
+        moving = h.xreplace(flow)
+        gradient = [sympy.diff(moving, s).xreplace(point) for s in system.states]
+        for v in vectors:
+            along = sum(g * c for g, c in zip(gradient, v))
+            for when in ("0.3", "0.7", "1.9"):
+                assert abs(sympy.N(along.xreplace({t: sympy.Rational(when)}), 50)) < 1e-40
+    assert sympy.Matrix.hstack(*vectors).rank() == 4 + lost
 
 
 def test_where_edges():

@@ -5,6 +5,8 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING
 
+from ..directions.find import UnobservableDirection, directions_on_set, unobservable_directions
+from ..model.expressions import parse_expression
 from ..model.system import System
 from ..model.unknowninputs import input_model
 from ..rank.randomized import randomized_rank
@@ -18,9 +20,11 @@ __all__ = ["rank_on_set"]
 
 def rank_on_set(
     system: System, where: ConstraintSet, seed: int | None, input_derivatives: int | None, max_order: int | None,
-    previous: str, progress, start: float,
+    previous: str, progress, start: float, directions: bool = True, budget: float | None = 60.0,
 ) -> ObservabilityResult:
-    """The rank at a generic point of a constraint set: points drawn on the set."""
+    """The rank at a generic point of a constraint set: points drawn on the set;
+    with ``directions``, the generic directions and those lost on the set beyond
+    them (:func:`~observability.directions.find.directions_on_set`)."""
     n = system.n
     result = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
                              progress=progress, previous=previous, constraint=where)
@@ -53,9 +57,30 @@ def rank_on_set(
     if rank < n:
         details += (f"; rank {rank} certain as a lower bound; too low with probability <= "
                     f"{result.error_probability:.1e} (Schwartz-Zippel, degree bound x {where.degree} for the set)")
+    if directions and rank < n:
+        found, note = _lost_on_set(system, where, rank, result, input_derivatives, budget, previous)
+        common["unobservable_directions"] = found
+        details += f"; {note}" if note else ""
     return ObservabilityResult(
         rank=rank, observable=rank == n, error_probability=result.error_probability,
         observable_states=tuple(names[i] for i in result.observable_columns),
         seconds=time.perf_counter() - start, details=details,
         proof="proven" if rank == n else "lower bound", **common,
     )
+
+
+def _lost_on_set(system: System, where: ConstraintSet, rank: int, result, input_derivatives: int | None,
+                 budget: float | None, previous: str) -> tuple[tuple[UnobservableDirection, ...], str]:
+    """The generic directions (null everywhere, so on the set too), then those
+    the set loses beyond them; a note on what is not named."""
+    generic = randomized_rank(system, seed=result.seed, input_derivatives=input_derivatives, previous=previous)
+    named, basis, note = unobservable_directions(system, system.n - generic.rank, generic.orders, input_derivatives,
+                                                 budget, result.seed, previous)
+    if basis is None:  # the named fields, without the vectors given as numbers at a point
+        names = {s.name: s for s in (*system.states, *system.parameters)}
+        basis = [[parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states]
+                 for d in named if d.name != "unnamed direction"]
+        named = tuple(d for d in named if d.name != "unnamed direction")
+    extras, missing = directions_on_set(system, where, system.n - rank, result.orders, basis, seed=result.seed,
+                                        input_derivatives=input_derivatives, previous=previous)
+    return named + extras, "; ".join(x for x in (note, missing) if x)

@@ -126,7 +126,8 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
     system = prepared.system
     if where is not None:
-        return rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start)
+        return rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start, directions,
+                           budget)
     evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress)
     if evidence.rank is None:
         return _undecided(system, method, evidence, start)

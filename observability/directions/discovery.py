@@ -105,8 +105,13 @@ class _Points:
     """
 
     def __init__(self, system: System, orders: int, rng: random.Random, input_derivatives, previous: str,
-                 dynamics: bool, dense: bool = False) -> None:
+                 dynamics: bool, dense: bool = False, constraint=None) -> None:
         self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
+        self.constraint = constraint
+        # On a set, the monomials are in the variables it does not solve for (its coordinates).
+        solved = set() if constraint is None else {v for v, _ in constraint.solution}
+        variables = (*system.states, *system.free_parameters)
+        self.coordinates = [i for i, v in enumerate(variables) if v not in solved]
         self.input_derivatives, self.dynamics = input_derivatives, dynamics
         self.dense = dense  # points mod a small prime on the dense evaluator (decided again once compiled)
         self.expansion: Expansion | None = None
@@ -150,7 +155,7 @@ class _Points:
             echelon.add_row(row)
         values = evaluator.variable_values(system)
         if not self.dynamics:
-            return values, echelon.pivot_rows
+            return [values[i] for i in self.coordinates], echelon.pivot_rows
         if not all(values):
             raise Redraw(-1, "a variable is zero at the point")  # d m / d x_s = e_s m / x_s needs x_s != 0
         at = [evaluator.coefficient(i, 0) for i in self.dynamics_nodes]
@@ -163,6 +168,8 @@ class _Points:
         else:
             evaluator = _Recording(program, self.system.n, self.rng, input_degree=self.input_derivatives,
                                    discrete=self.system.time == "discrete", p=p)
+        if self.constraint is not None:
+            self.constraint.place(evaluator, self.system)
         return evaluator
 
 
@@ -256,6 +263,7 @@ def discover_directions(
     max_degree: int = 2,
     input_derivatives: int | None = None,
     previous: str = "inverse",
+    constraint=None,
 ) -> list[tuple[sympy.Expr, ...]]:
     """Polynomial fields (degree <= ``max_degree`` in the states and free
     parameters) spanning as much of the ``nullity``-dimensional null space as
@@ -264,18 +272,25 @@ def discover_directions(
     rotation, not a rotation plus multiples of translations); where they do not
     span the null space, other null fields fill in. Each is checked at a fresh
     random point modulo the 61-bit prime; a model whose null space has no
-    polynomial generator of that degree yields fewer fields (never a wrong one)."""
+    polynomial generator of that degree yields fewer fields (never a wrong one).
+
+    With a ``constraint`` (:class:`~observability.where.sets.ConstraintSet`) the
+    fields are null at the points of the set (``nullity`` is the set's), every
+    point is drawn on it, and the fields are polynomials in the set's own
+    coordinates (the variables the set does not solve for), which are
+    independent on it: no field that merely vanishes on the set is returned.
+    Symmetries are not sought there."""
     if nullity <= 0:
         return []
     # numpy and its BLAS are loaded only when a search runs: a rank check needs neither.
     from .nullfields import single_threaded
 
     with single_threaded():
-        return _discover(system, nullity, orders, seed, max_degree, input_derivatives, previous)
+        return _discover(system, nullity, orders, seed, max_degree, input_derivatives, previous, constraint)
 
 
 def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: int, input_derivatives,
-              previous: str) -> list[tuple[sympy.Expr, ...]]:
+              previous: str, constraint=None) -> list[tuple[sympy.Expr, ...]]:
     from .nullfields import SECOND_PRIME, SMALL_PRIME, KernelSampler, null_fields
     rng = random.Random(seed)
     dense = dense_suits(system)
@@ -285,12 +300,14 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
         search_prime, second_prime = DENSE_PRIME, DENSE_SECOND_PRIME
     else:
         search_prime, second_prime = SMALL_PRIME, SECOND_PRIME
-    variables = list(system.states) + list(system.free_parameters)
+    solved = set() if constraint is None else {v for v, _ in constraint.solution}
+    variables = [v for v in (*system.states, *system.free_parameters) if v not in solved]
     n = system.n
     found: list[tuple[sympy.Expr, ...]] = []
     span = ModularEchelon(n, PRIME)
-    symmetries = previous == "inverse" or not system.uses_previous_state
-    points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense)
+    symmetries = constraint is None and (previous == "inverse" or not system.uses_previous_state)
+    points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense and constraint is None,
+                     constraint)
     probe = None
     for _ in range(8):
         try:

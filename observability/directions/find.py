@@ -8,6 +8,7 @@ vectors at a floating-point point (:mod:`.atpoint`).
 
 from __future__ import annotations
 
+import random
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -21,7 +22,7 @@ from .atpoint import directions_at_a_point
 from .discovery import classify, discover_directions
 from .symmetry import independent_basis, verify_all
 
-__all__ = ["UnobservableDirection", "components", "unobservable_directions", "DIRECTIONS_BUDGET"]
+__all__ = ["UnobservableDirection", "components", "unobservable_directions", "directions_on_set", "DIRECTIONS_BUDGET"]
 
 
 #: CPU seconds the symbolic null space may take when asked for (``symbolic_directions``)
@@ -47,14 +48,19 @@ class UnobservableDirection:
         The non-zero components, state name -> expression in the states.
     description : str
         The symmetry in words, when named.
+    lost_on : str
+        "" for a direction lost at generic points; the equations of a set for one
+        lost only at the points of that set (beyond the generic ones).
     """
 
     name: str
     vector: Mapping[str, str]
     description: str = ""
+    lost_on: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "vector": dict(self.vector), "description": self.description}
+        out = {"name": self.name, "vector": dict(self.vector), "description": self.description}
+        return out | ({"lost_on": self.lost_on} if self.lost_on else {})
 
     def __str__(self) -> str:
         return self.text()
@@ -69,7 +75,8 @@ class UnobservableDirection:
         if len(shown) < len(items):
             body += f", ... and {len(items) - len(shown)} more"
         about = f" ({self.description})" if self.name == "unnamed direction" and self.description else ""
-        return f"{self.name} {{{body}}}{about}"
+        where = f" (lost on the set {self.lost_on})" if self.lost_on else ""
+        return f"{self.name} {{{body}}}{about}{where}"
 
 
 def components(states: tuple[sympy.Symbol, ...], vector: list[sympy.Expr]) -> dict[str, str]:
@@ -146,3 +153,71 @@ def unobservable_directions(
         directions.append(UnobservableDirection(name, components(system.states, v), description))
     directions += [UnobservableDirection("unnamed direction", vector, description) for vector, description in numeric]
     return tuple(directions), basis, note
+
+
+def directions_on_set(system: System, constraint, nullity: int, orders: int, generic: list[list[sympy.Expr]],
+                      seed: int = 0, input_derivatives: int | None = None, previous: str = "inverse",
+                      ) -> tuple[tuple[UnobservableDirection, ...], str]:
+    """The directions lost at the points of a constraint set beyond ``generic``
+    (the generic null fields, which stay null there), and a note on what is missing.
+
+    ``nullity`` is the set's (n minus the rank at its generic point). The fields
+    come from the exact ansatz on the set (:func:`~.discovery.discover_directions`
+    with ``constraint``: polynomials in the set's own coordinates, each checked at
+    a fresh point of the set); named ones are preferred. A field is kept when it
+    is independent of ``generic`` and of the fields kept before at a random
+    rational point of the set, in exact rational arithmetic: independence at one
+    point is independence at the generic point of the set, so every direction
+    returned is certainly lost beyond the generic ones (as far as the rank is).
+    """
+    if nullity <= 0:
+        return (), ""
+    fields = discover_directions(system, nullity, orders, seed=seed, input_derivatives=input_derivatives,
+                                 previous=previous, constraint=constraint)
+    named = sorted(fields, key=lambda v: classify(list(v), system)[0] == "unnamed direction")
+    point = _rational_point_of(system, constraint, seed)
+    if point is None:
+        return (), "no rational point of the set found to compare the fields at"
+    rows = [[c.xreplace(point) for c in v] for v in generic]
+    values = [[c.xreplace(point) for c in v] for v in named]
+    if not all(e.is_Rational for row in (*rows, *values) for e in row):
+        return (), "the fields could not be compared at a rational point of the set"
+    rank = sympy.Matrix(rows).rank() if rows else 0
+    extras = []
+    for v, at in zip(named, values):
+        if rank == nullity:
+            break
+        if sympy.Matrix([*rows, at]).rank() > rank:
+            rows, rank = [*rows, at], rank + 1
+            extras.append(v)
+    found = []
+    for v in extras:
+        name, description = classify(list(v), system)
+        found.append(UnobservableDirection(name, components(system.states, list(v)), description, constraint.text))
+    missing = nullity - rank
+    note = f"{missing} direction(s) lost on the set have no polynomial generator of degree <= 2" if missing else ""
+    return tuple(found), note
+
+
+def _rational_point_of(system: System, constraint, seed: int) -> dict | None:
+    """A random rational point of the set: its coordinates drawn, the solved
+    variables computed, an angle's sine and cosine on the unit circle."""
+    rng = random.Random(f"set point {seed}")
+    solved = dict(constraint.solution)
+    for _ in range(20):
+        point = {v: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
+                 for v in (*system.states, *system.free_parameters) if v not in solved}
+        for angle, sine, cosine in constraint.angles:
+            t = sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
+            point[sine], point[cosine] = 2 * t / (1 + t**2), (1 - t**2) / (1 + t**2)
+            point[sympy.sin(angle)], point[sympy.cos(angle)] = point[sine], point[cosine]
+        try:
+            for variable, expr in solved.items():
+                value = sympy.cancel(expr.xreplace(point))
+                if not value.is_Rational:
+                    raise ZeroDivisionError
+                point[variable] = value
+        except ZeroDivisionError:
+            continue
+        return point | dict(system.parameter_values)
+    return None

@@ -76,7 +76,7 @@ def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget
     restricted = restrict(system, motion.inputs, where=motion.where, what=f"motion {motion.name!r}: input",
                           where_name=f"motion {motion.name!r}:", both=("the motion's inputs", "its where"))
     result = analyze(restricted.system, seed=seed, input_derivatives=restricted.input_derivatives,
-                     where=restricted.constraint, directions=restricted.constraint is None)
+                     where=restricted.constraint)
     if not conditions or restricted.constraint is not None:
         return result, [], ""
     drops, note = rank_drops(restricted.system, result, seed=seed, budget=budget,
@@ -113,11 +113,16 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
         if result.rank is not None and generic.rank is not None and result.rank < generic.rank:
             extra = generic.rank - result.rank
             known = {d.name for d in generic.unobservable_directions}
-            named = [d.name for d in result.unobservable_directions if d.name not in known]
-            if motion.where or len(named) != extra:
-                lost = (f"{extra} more direction(s)" + ("" if not named else f": {'; '.join(named)}")
-                        + ("" if not motion.where else " (not named on a constraint set)"),)
-            else:
-                lost = tuple(named)
+            beyond = [_compact(d) for d in result.unobservable_directions
+                      if (d.lost_on if motion.where else d.name not in known)]
+            lost = tuple(beyond) if len(beyond) == extra else (
+                f"{extra} more direction(s)" + ("" if not beyond else f": {'; '.join(beyond)}"),)
         out.append(MotionResult(motion, result, lost, generic.rank, tuple(drops), note))
     return out
+
+
+def _compact(direction) -> str:
+    """The name and at most four components (the motion's row says where it is lost)."""
+    items = list(direction.vector.items())
+    body = ", ".join(f"{k}: {v}" for k, v in items[:4]) + (f", ... and {len(items) - 4} more" if len(items) > 4 else "")
+    return f"{direction.name} {{{body}}}"
