@@ -17,7 +17,12 @@ the diagonal of (F + lambda I)^-1 with lambda = ``PRIOR`` (a prior of variance
 1/lambda on every state: a lost state shows that variance, not infinity). The
 weakest directions are F's eigenvectors of the smallest eigenvalues, each with
 its cosine to every unobservable direction the caller names (the analysis's
-symmetries at the window's first state).
+symmetries at the window's first state). Since a window may lose several
+directions at once, whose eigenvectors any rotation of the lost subspace
+equally represents, each window also gives, per named direction, the cosine
+between it and the window's numerical null space (the norm of its projection
+there, 1 when the window loses it entirely). Instead of simulating, a given
+state trajectory (sampled every ``dt``) may be analysed the same way.
 
 This is numerical (floating point) by nature: it answers "how well", which the
 exact rank cannot.
@@ -34,7 +39,8 @@ from .codegen import discretize, filter_functions
 from .errors import ModelError
 from .model.system import System
 
-__all__ = ["PRIOR", "Window", "WeakDirection", "windowed_observability", "named_directions", "inputs_from_csv"]
+__all__ = ["PRIOR", "Window", "WeakDirection", "windowed_observability", "named_directions", "inputs_from_csv",
+           "states_from_csv"]
 
 #: The prior information lambda on every state: variances never exceed 1/lambda.
 PRIOR = 1e-6
@@ -60,7 +66,8 @@ class Window:
     """One window: its time span, the rank and condition number of its Fisher
     information, Krener & Ide's local unobservability index (1 / its smallest
     eigenvalue; inf when singular), the minimum error variance per state, the
-    weakest directions."""
+    weakest directions, and per named direction the cosine between it and the
+    window's numerical null space (0 when the window loses no direction)."""
 
     t0: float
     t1: float
@@ -69,11 +76,13 @@ class Window:
     min_error_variance: dict[str, float]
     weakest: tuple[WeakDirection, ...]
     unobservability_index: float = float("inf")
+    in_null_space: dict[str, float] | None = None
 
     def to_dict(self) -> dict:
         return {"t0": self.t0, "t1": self.t1, "rank": self.rank, "condition_number": self.condition_number,
                 "unobservability_index": self.unobservability_index,
-                "min_error_variance": self.min_error_variance, "weakest": [w.to_dict() for w in self.weakest]}
+                "min_error_variance": self.min_error_variance, "weakest": [w.to_dict() for w in self.weakest],
+                "in_null_space": self.in_null_space or {}}
 
 
 def _inputs_at(system: System, inputs: Mapping[str, float | Callable[[float], float]], t: float) -> list[float]:
@@ -109,6 +118,7 @@ def windowed_observability(
     parameters: Mapping[str, float] | None = None,
     directions: Mapping[str, Callable[[np.ndarray], np.ndarray]] | None = None,
     weakest: int = 2,
+    states: Sequence[Sequence[float]] | None = None,
 ) -> list[Window]:
     """Observability of the window's first state, window by window (module docstring).
 
@@ -127,17 +137,24 @@ def windowed_observability(
         Named unobservable directions (a vector at a state) to align with.
     weakest : int
         How many weakest directions to report per window.
+    states : array of shape (steps + 1, n), optional
+        A given state trajectory, one row every ``dt`` from t = 0 (states in the
+        model's order), analysed instead of a simulation from ``initial`` (which
+        may then be empty). Each window's sensitivities are the map's Jacobians
+        at the given states: meaningful where the given path follows the model
+        within a window.
 
     Raises
     ------
     ModelError
         A missing or unknown state, input or parameter value, a non-positive
-        step, window or duration, or a window shorter than one step.
+        step, window or duration, a window shorter than one step, or a given
+        trajectory of the wrong shape, too short or not finite.
     """
     parameters = dict(parameters or {})
     if not (dt > 0 and window >= dt and duration >= window):
         raise ModelError(f"need 0 < dt <= window <= duration, got dt={dt}, window={window}, duration={duration}")
-    _checked(system, initial, inputs, parameters)
+    _checked(system, initial if states is None else {x.name: 0.0 for x in system.states}, inputs, parameters)
     if "dt" in {q.name for q in system.free_parameters}:
         parameters["dt"] = dt  # the model's own step parameter is the step
     step = "dt" if "dt" in parameters else dt
@@ -146,10 +163,12 @@ def windowed_observability(
     p = [parameters[name] for name in fns.parameters]
     variances = np.array([float(noise.get(o, 1.0)) if isinstance(noise, Mapping) else float(noise) for o in fns.outputs])
     steps, per_window = int(round(duration / dt)), int(round(window / dt))
-    x = np.array([float(initial[s]) for s in fns.states])
-    trajectory = [x]
-    for k in range(steps):
-        trajectory.append(np.array(fns["f"](trajectory[-1], _inputs_at(discrete, inputs, k * dt), [], p)).ravel())
+    if states is None:
+        trajectory = [np.array([float(initial[s]) for s in fns.states])]
+        for k in range(steps):
+            trajectory.append(np.array(fns["f"](trajectory[-1], _inputs_at(discrete, inputs, k * dt), [], p)).ravel())
+    else:
+        trajectory = list(_given(states, steps, len(fns.states)))
     windows = []
     for start in range(0, steps - per_window + 1, per_window):
         O = _sensitivities(fns, trajectory, discrete, inputs, p, dt, start, per_window)
@@ -178,8 +197,9 @@ def _window(O: np.ndarray, variances: np.ndarray, states: Sequence[str], t0: flo
     m = len(variances)
     weights = np.tile(1.0 / variances, O.shape[0] // m)
     fisher = O.T @ (weights[:, None] * O)
-    sigma = np.linalg.svd(np.sqrt(weights)[:, None] * O, compute_uv=False)
+    _, sigma, right = np.linalg.svd(np.sqrt(weights)[:, None] * O)
     rank = int(np.sum(sigma > RANK_TOLERANCE * (sigma[0] if sigma.size else 0.0)))
+    null = right[rank:].T  # an orthonormal basis of the numerical null space
     eigenvalues, vectors = np.linalg.eigh(fisher)
     condition = float(eigenvalues[-1] / eigenvalues[0]) if rank == len(states) and eigenvalues[0] > 0 else float("inf")
     variance = np.diag(np.linalg.inv(fisher + PRIOR * np.eye(len(states))))
@@ -190,7 +210,21 @@ def _window(O: np.ndarray, variances: np.ndarray, states: Sequence[str], t0: flo
         alignment = {name: float(abs(v @ d) / np.linalg.norm(d)) for name, d in named.items() if np.linalg.norm(d) > 0}
         weak.append(WeakDirection(dict(zip(states, map(float, v))), float(max(eigenvalues[i], 0.0)), alignment))
     index = float(1 / eigenvalues[0]) if rank == len(states) and eigenvalues[0] > 0 else float("inf")
-    return Window(t0, t1, rank, condition, dict(zip(states, map(float, variance))), tuple(weak), index)
+    lost = {name: float(np.linalg.norm(null.T @ d) / np.linalg.norm(d)) for name, d in named.items()
+            if np.linalg.norm(d) > 0}
+    return Window(t0, t1, rank, condition, dict(zip(states, map(float, variance))), tuple(weak), index, lost)
+
+
+def _given(states, steps: int, n: int) -> np.ndarray:
+    """A given state trajectory, checked: at least ``steps`` + 1 rows of ``n`` finite numbers."""
+    array = np.asarray(states, dtype=float)
+    if array.ndim != 2 or array.shape[1] != n:
+        raise ModelError(f"the state trajectory must have one column per state ({n}), got shape {array.shape}")
+    if array.shape[0] < steps + 1:
+        raise ModelError(f"the state trajectory has {array.shape[0]} rows; the duration needs {steps + 1}")
+    if not np.isfinite(array).all():
+        raise ModelError("the state trajectory holds a value that is not a finite number")
+    return array[: steps + 1]
 
 
 def named_directions(system: System, directions, parameters: Mapping[str, float]) -> dict[str, Callable]:
@@ -252,3 +286,44 @@ def inputs_from_csv(text: str, source: str) -> dict[str, Callable[[float], float
         return lambda t: table[max(bisect.bisect_right(times, t + 1e-12) - 1, 0)][column]
 
     return {name: held(i + 1) for i, name in enumerate(names)}
+
+
+def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[float, np.ndarray]:
+    """A given state trajectory from CSV text: a header ``t,<state>,...`` naming
+    every state (any order), rows at one constant step from t = 0. Returns the
+    step and the states in the model's order, one row per time.
+
+    Raises
+    ------
+    ModelError
+        A missing or unknown column, a value that is not a finite number, fewer
+        than two rows, a first time other than 0 or an uneven step -- naming the line.
+    """
+    import csv
+    import math
+
+    rows = [r for r in csv.reader(text.splitlines()) if r and any(c.strip() for c in r)]
+    header = [c.strip() for c in rows[0]] if rows else []
+    if header[:1] != ["t"] or len(rows) < 3:
+        raise ModelError(f"{source}: a header 't,<state>,...' and at least two rows are needed")
+    missing = [s for s in states if s not in header]
+    unknown = [c for c in header[1:] if c not in states]
+    if missing or unknown:
+        raise ModelError(f"{source}: " + (f"no column for the state {missing[0]}" if missing
+                                          else f"{unknown[0]!r} is not a state (states: {', '.join(states)})"))
+    table = []
+    for line, row in enumerate(rows[1:], start=2):
+        try:
+            values = [float(c) for c in row]
+        except ValueError:
+            raise ModelError(f"{source}: line {line}: not a number in {row!r}") from None
+        if len(values) != len(header) or not all(math.isfinite(v) for v in values):
+            raise ModelError(f"{source}: line {line}: {len(header)} finite numbers expected")
+        table.append(values)
+    times = np.array([r[0] for r in table])
+    step = times[1] - times[0]
+    if times[0] != 0 or not step > 0 or not np.allclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step):
+        bad = 2 if times[0] != 0 else 3 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))
+        raise ModelError(f"{source}: line {bad}: the times must start at 0 and advance by one constant step")
+    order = [header.index(s) for s in states]
+    return float(step), np.array([[r[i] for i in order] for r in table])

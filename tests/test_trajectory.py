@@ -127,3 +127,73 @@ def test_time_varying_inputs_from_a_csv_table():
                        ("t,u\n1,0\n", "first time")):
         with pytest.raises(ModelError, match=words):
             inputs_from_csv(bad, "u.csv")
+
+
+def _at_the_landmark_then_across(dt: float = 0.1) -> np.ndarray:
+    """slam2d states (cx, cxdot, cy, cydot, cth, cthdot, L1x, L1y), one row every
+    dt: 2 s driving straight at the landmark (5, 3) from (1, 1) while turning at
+    0.2 rad/s, then 2 s at the velocity (0.4, -0.3), which does not point at it.
+    Each segment follows the model's constant-velocity dynamics exactly."""
+    landmark, start = np.array([5.0, 3.0]), np.array([1.0, 1.0])
+    towards = (landmark - start) / np.linalg.norm(landmark - start) * 0.5
+    across = np.array([0.4, -0.3])
+    rows = []
+    for k in range(41):
+        t = k * dt
+        velocity = towards if k < 20 else across
+        position = start + towards * min(t, 2.0) + across * max(t - 2.0, 0.0)
+        rows.append([position[0], velocity[0], position[1], velocity[1], 0.3 + 0.2 * t, 0.2, *landmark])
+    return np.array(rows)
+
+
+def test_driving_at_a_landmark_loses_the_direction_degenerate_names():
+    """Issue 28's slam2d check. The degenerate-motion scan names what driving at
+    the landmark loses beyond the generic four (by hand: the speed along the line
+    of sight, as every bearing stays the same). On a given trajectory that does
+    so for 2 s and then turns away, the first window has rank 3 and that direction
+    lies in its numerical null space (cosine > 0.999); the second window is back
+    at the generic rank 4 and the direction is not lost there (cosine < 0.5).
+    The generic directions (translations, rotation, scale) are lost in both."""
+    from observability import analyze, models
+    from observability.trajectory import named_directions
+    from observability.where.motions import degenerate_motions
+
+    system = models.build("slam2d")
+    rows = {r.motion.name: r for r in degenerate_motions(system, seed=1)}
+    (lost,) = [d for d in rows["towards landmark 1"].result.unobservable_directions if d.lost_on]
+    generic = analyze(system, seed=1).unobservable_directions
+    directions = named_directions(system, [*generic, lost], {"f": 1.0})
+    windows = windowed_observability(system, {}, {}, duration=4.0, window=2.0, dt=0.1, parameters={"f": 1.0},
+                                     directions=directions, states=_at_the_landmark_then_across())
+    assert [w.rank for w in windows] == [3, 4]
+    assert windows[0].in_null_space[lost.name] > 0.999 and windows[1].in_null_space[lost.name] < 0.5
+    for d in generic:
+        assert windows[0].in_null_space[d.name] > 0.999 and windows[1].in_null_space[d.name] > 0.999
+
+
+def test_a_given_trajectory_is_analysed_as_the_simulated_one(tmp_path, capsys):
+    """The mono camera simulated from (2, 3) with u = 1, then given back as a
+    state trajectory (a CSV, columns in another order): the same windows to
+    rounding. Bad trajectories are one-line errors."""
+    import json
+
+    simulated = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 1.0}, duration=1.0, window=0.5, dt=0.1)
+    path = tmp_path / "states.csv"
+    path.write_text("t,d,g\n" + "".join(f"{k * 0.1:.10g},3,{2 + k * 0.1:.17g}\n" for k in range(11)))
+    model = tmp_path / "mono.toml"
+    model.write_text('states = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n[outputs]\ny = "g/d"\n')
+    assert main(["trajectory", str(model), "--states-csv", str(path), "--input", "u=1", "--window", "0.5",
+                 "--format", "json"]) == 0
+    given = json.loads(capsys.readouterr().out)["profiles"]["u=1"]["windows"]
+    assert [w["rank"] for w in given] == [w.rank for w in simulated] == [2, 2]
+    for w, s in zip(given, simulated):
+        np.testing.assert_allclose(w["condition_number"], s.condition_number, rtol=1e-7)
+    for text, words in (("t,g\n0,1\n0.1,2\n", "no column for the state d"), ("t,g,d,e\n0,1,2,3\n1,1,2,3\n", "not a state"),
+                        ("t,g,d\n0,1,2\n0.1,1,2\n0.3,1,2\n", "constant step"), ("t,g,d\n0,1,2\n0.1,x,2\n", "not a number")):
+        path.write_text(text)
+        assert main(["trajectory", str(model), "--states-csv", str(path), "--input", "u=1", "--window", "0.1"]) == 2
+        assert words in capsys.readouterr().err
+    assert main(["trajectory", str(model), "--states-csv", str(path), "--initial", "g=1,d=2", "--input", "u=1",
+                 "--window", "0.1"]) == 2
+    with pytest.raises(ModelError, match="rows"):
+        windowed_observability(MONO, {}, {"u": 1.0}, duration=1.0, window=0.5, dt=0.1, states=np.ones((3, 2)))

@@ -304,14 +304,13 @@ def _numbers(text: str | None, flag: str) -> dict[str, float]:
 
 
 def trajectory_command(args: argparse.Namespace) -> int:
-    from ..analysis.verdict import analyze
-    from ..trajectory import named_directions, windowed_observability
+    from ..trajectory import windowed_observability
 
     with _about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         parameters = _numbers(args.parameters, "--parameters")
-        result = analyze(system.with_values(**parameters) if parameters else system, seed=args.seed or 0)
-        directions = named_directions(system, result.unobservable_directions, parameters)
+        states, dt, duration = _trajectory_source(system, args)
+        result, directions = _trajectory_directions(system, parameters, args)
         profiles = {text: _numbers(text, "--input") for text in (args.input or [""])}
         if args.inputs_csv is not None:
             from ..trajectory import inputs_from_csv
@@ -320,8 +319,9 @@ def trajectory_command(args: argparse.Namespace) -> int:
             profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
                         for text, inputs in profiles.items()}
         runs = {text: windowed_observability(
-            system, _numbers(args.initial, "--initial"), inputs, duration=args.duration, window=args.window,
-            dt=args.dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
+            system, _numbers(args.initial, "--initial"), inputs, duration=duration, window=args.window,
+            dt=dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
+            states=states,
         ) for text, inputs in profiles.items()}
     if args.plot is not None:
         from ..report.trajectory_figure import variance_figure
@@ -333,7 +333,8 @@ def trajectory_command(args: argparse.Namespace) -> int:
                                                         "lost": list(_lost(windows))}
                                        for text, windows in runs.items()}}, indent=2))
         return 0
-    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {args.dt:g}")
+    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}")
+    generic = {d.name for d in result.unobservable_directions}
     for text, windows in runs.items():
         lost = _lost(windows)
         print(f"inputs {text or '(none)'}: " + (f"loses {', '.join(lost)}" if lost else "loses no state"))
@@ -343,7 +344,46 @@ def trajectory_command(args: argparse.Namespace) -> int:
             print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
                   + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
                   + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
+            beyond = [f"{k} ({v:.3f})" for k, v in (w.in_null_space or {}).items() if k not in generic and v > 0.99]
+            if beyond:
+                print(f"    lost beyond the generic directions (cosine with the window's null space): {', '.join(beyond)}")
     return 0
+
+
+def _trajectory_source(system: System, args: argparse.Namespace):
+    """(given states or None, step, duration): --initial simulates, --states-csv gives the path."""
+    if (args.initial is None) == (args.states_csv is None):
+        raise UsageError("give the initial state (--initial) or a state trajectory (--states-csv), one of them")
+    if args.states_csv is None:
+        if args.duration is None:
+            raise UsageError("--duration is needed with --initial")
+        return None, 1.0 if args.dt is None else args.dt, args.duration
+    from ..trajectory import states_from_csv
+
+    step, states = states_from_csv(args.states_csv.read_text(), str(args.states_csv), [s.name for s in system.states])
+    if args.dt is not None and not math.isclose(args.dt, step, rel_tol=1e-9):
+        raise UsageError(f"--dt {args.dt:g} differs from the step {step:g} of {args.states_csv}")
+    return states, step, (len(states) - 1) * step if args.duration is None else args.duration
+
+
+def _trajectory_directions(system: System, parameters: dict[str, float], args: argparse.Namespace):
+    """The generic verdict and the named directions to align with (with --degenerate,
+    those each degenerate motion loses beyond them, named "motion: direction")."""
+    from ..analysis.verdict import analyze
+    from ..trajectory import named_directions
+
+    valued = system.with_values(**parameters) if parameters else system
+    result = analyze(valued, seed=args.seed or 0)
+    directions = named_directions(system, result.unobservable_directions, parameters)
+    if args.degenerate:
+        from ..where.motions import degenerate_motions
+
+        for row in degenerate_motions(valued, seed=args.seed or 0)[1:]:
+            known = {d.name for d in result.unobservable_directions}
+            lost = [d for d in row.result.unobservable_directions if d.lost_on or d.name not in known]
+            named = named_directions(system, lost, parameters)
+            directions |= {f"{row.motion.name}: {name}": at for name, at in named.items()}
+    return result, directions
 
 
 def _lost(windows) -> tuple[str, ...]:

@@ -127,20 +127,26 @@ def build_parser() -> argparse.ArgumentParser:
     trajectory = sub.add_parser(
         "trajectory", help="observability along a simulated trajectory, window by window (how well, not only whether)")
     _model_arguments(trajectory)
-    trajectory.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
+    trajectory.add_argument("--initial", default=None, metavar="NAME=VALUE,...", help="the initial state (simulated)")
+    trajectory.add_argument("--states-csv", type=Path, default=None, metavar="FILE",
+                            help="a given state trajectory instead: a CSV with a header t,<every state>, rows at one step")
     trajectory.add_argument("--input", action="append", default=None, metavar="NAME=VALUE,...",
                             help="constant inputs; give it several times to compare input profiles")
     trajectory.add_argument("--inputs-csv", type=Path, default=None, metavar="FILE",
                             help="time-varying inputs: a CSV with a header t,<input>,..., each held until the next row")
     trajectory.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
     trajectory.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
-    trajectory.add_argument("--duration", type=float, required=True, help="simulated time (s or steps)")
+    trajectory.add_argument("--duration", type=float, default=None,
+                            help="simulated time (s or steps; default with --states-csv: the whole trajectory)")
     trajectory.add_argument("--window", type=float, required=True, help="length of each window")
-    trajectory.add_argument("--dt", type=float, default=1.0, help="integration step (RK4; 1 for a discrete map)")
+    trajectory.add_argument("--dt", type=float, default=None,
+                            help="integration step (RK4; default 1, a discrete map's; with --states-csv: its step)")
+    trajectory.add_argument("--degenerate", action="store_true",
+                            help="also align with the directions the degenerate-motion scan names for each motion")
     trajectory.add_argument("--seed", type=seed_value, default=None, help="seed of the rank check that names the directions")
     trajectory.add_argument("--format", choices=("text", "json"), default="text", help="output format")
     trajectory.add_argument("--plot", type=out_file, default=None, metavar="FILE.png",
-                            help="the minimum error variance of each state over time, one panel per input profile")
+                            help="each state's minimum error variance over time and as a heatmap, per input profile")
     trajectory.set_defaults(func=trajectory_command)
     verify = sub.add_parser(
         "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")
