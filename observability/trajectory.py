@@ -58,7 +58,9 @@ class WeakDirection:
     alignment: dict[str, float]
 
     def to_dict(self) -> dict:
-        return {"vector": self.vector, "information": self.information, "alignment": self.alignment}
+        # singular_value: of R^-1/2 O, the square root of the information (pybounds' and the issue's word).
+        return {"vector": self.vector, "information": self.information,
+                "singular_value": float(np.sqrt(self.information)), "alignment": self.alignment}
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,7 @@ def windowed_observability(
     directions: Mapping[str, Callable[[np.ndarray], np.ndarray]] | None = None,
     weakest: int = 2,
     states: Sequence[Sequence[float]] | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> list[Window]:
     """Observability of the window's first state, window by window (module docstring).
 
@@ -143,6 +146,8 @@ def windowed_observability(
         may then be empty). Each window's sensitivities are the map's Jacobians
         at the given states: meaningful where the given path follows the model
         within a window.
+    progress : callable, optional
+        Receives a status line after each window.
 
     Raises
     ------
@@ -170,7 +175,10 @@ def windowed_observability(
     else:
         trajectory = list(_given(states, steps, len(fns.states)))
     windows = []
-    for start in range(0, steps - per_window + 1, per_window):
+    starts = range(0, steps - per_window + 1, per_window)
+    for number, start in enumerate(starts, 1):
+        if progress is not None:
+            progress(f"window {number} of {len(starts)}")
         O = _sensitivities(fns, trajectory, discrete, inputs, p, dt, start, per_window)
         windows.append(_window(O, variances, fns.states, start * dt, (start + per_window) * dt, trajectory[start],
                                directions or {}, weakest))

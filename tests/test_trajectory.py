@@ -44,7 +44,8 @@ def _rk4(x: np.ndarray, u: float, dt: float) -> np.ndarray:
 def test_error_variances_equal_a_central_difference_implementation():
     """pybounds' formula, written here: O by central differences of the
     simulated outputs in the window's first state, F = O^T O / R, variance =
-    diag((F + lambda I)^-1), lambda the stated prior; equal to 1e-6."""
+    diag((F + lambda I)^-1), lambda the stated prior; equal to 1e-6. The weakest
+    direction's singular value is the smallest one of O / sqrt(R)."""
     dt, steps, R = 0.1, 5, 0.01
     window = windowed_observability(MONO, {"g": 2.0, "d": 3.0}, {"u": 1.0}, duration=0.5, window=0.5, dt=dt,
                                     noise=R)[0]
@@ -62,6 +63,8 @@ def test_error_variances_equal_a_central_difference_implementation():
     F = O.T @ O / R
     variance = np.diag(np.linalg.inv(F + PRIOR * np.eye(2)))
     np.testing.assert_allclose([window.min_error_variance["g"], window.min_error_variance["d"]], variance, rtol=1e-6)
+    smallest = np.linalg.svd(O / np.sqrt(R), compute_uv=False)[-1]
+    np.testing.assert_allclose(window.weakest[0].to_dict()["singular_value"], smallest, rtol=1e-5)
 
 
 def test_a_linear_system_has_its_gramian_as_fisher_information():

@@ -318,11 +318,13 @@ def trajectory_command(args: argparse.Namespace) -> int:
             table = inputs_from_csv(args.inputs_csv.read_text(), str(args.inputs_csv))
             profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
                         for text, inputs in profiles.items()}
+        show = status_line()
         runs = {text: windowed_observability(
             system, _numbers(args.initial, "--initial"), inputs, duration=duration, window=args.window,
             dt=dt, noise=_numbers(args.noise, "--noise") or 1.0, parameters=parameters, directions=directions,
-            states=states,
+            states=states, progress=None if show is None else (lambda line, text=text: show(f"{text}: {line}")),
         ) for text, inputs in profiles.items()}
+        clear_line()
     if args.plot is not None:
         from ..report.trajectory_figure import variance_figure
 
