@@ -47,6 +47,8 @@ from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_expression
 from ..engine.fractions import factor_list
 from ..model.expressions import split_top_level
+from .factors import in_angles, invariant_under, symmetry_fields
+from .minors import RationalRows, determinant, rational_rows
 from .sets import parse_constraints
 from ..engine.lie import lie_derivatives
 from ..rank.randomized import randomized_rank
@@ -109,6 +111,9 @@ def _candidates(system: System, seed: int, input_derivatives: int | None
     sufficient, _, _ = stopping_rule(system)
     n_rows = len(system.outputs) * (sufficient + 1)
     everything = math.comb(n_rows, r) * math.comb(system.n, r) <= MAX_MINORS
+    fast = rational_rows(system, sufficient if everything else lower.orders, input_derivatives)
+    if fast is not None:
+        return _candidates_in_flint(fast, lower, everything), fast.meaning
     wanted = {lower.row_labels[i] for i in lower.independent_rows}
     rows, labels = [], []
     for k, block in enumerate(lie_derivatives(system, input_derivatives)):
@@ -129,6 +134,23 @@ def _candidates(system: System, seed: int, input_derivatives: int | None
               for i in itertools.combinations(range(len(rows)), r) for j in itertools.combinations(range(system.n), r)]
     return [(f, all(sympy.rem(m, f, *sorted(f.free_symbols | m.free_symbols, key=str)) == 0 for m in minors))
             for f in factors], meaning
+
+
+def _candidates_in_flint(fast: RationalRows, lower, everything: bool) -> list[tuple[sympy.Expr, bool]]:
+    """:func:`_candidates` on the rows as flint fractions (:mod:`.minors`)."""
+    field = fast.field
+    chosen = [fast.labels.index(lower.row_labels[i]) for i in lower.independent_rows]
+    columns = list(lower.pivot_columns)
+    numerator = determinant(field, [[fast.rows[i][j] for j in columns] for i in chosen])
+    # factor_list normalises each factor (primitive, positive leading term) as the symbolic route does.
+    _, found = factor_list(field.expression(numerator))
+    factors = [(field.of(expr)[0], expr) for expr, _ in found if expr.free_symbols]
+    if not everything:
+        return [(expr, False) for _, expr in factors]
+    r, n = len(chosen), len(fast.rows[0])
+    minors = [determinant(field, [[fast.rows[i][j] for j in cols] for i in rows])
+              for rows in itertools.combinations(range(len(fast.rows)), r) for cols in itertools.combinations(range(n), r)]
+    return [(expr, all((m % poly).is_zero() for m in minors)) for poly, expr in factors]
 
 
 def _numerator(matrix: sympy.Matrix) -> sympy.Expr:
@@ -264,45 +286,60 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
         factors, meaning = with_budget(_candidates, system, seed, input_derivatives, seconds=budget)
     except Undecided as exc:
         return [], f"undecided: {exc}"
-    drops: list[RankDrop] = []
-    for factor, divides_all in factors:
-        zeros = _real_zeros(factor)
-        real = has_real_points(factor, seed)
-        if zeros == "" or real is False:
-            continue  # no real point satisfies it
-        caveat = "" if real else " (the set may have no real points: none was found)"
-        atoms = factor.free_symbols & set(meaning)
-        text = str(factor.xreplace({a: sympy.Symbol(str(meaning[a])) for a in atoms}))
-        equations = zeros or f"{text} = 0"
-        if atoms:
-            drops.append(RankDrop(text, equations, None, None, "not decided: the condition involves tan of half an "
-                                  "angle, and a constraint set is solved in the model's own variables"))
-            continue
-        try:
-            constraint, fixed = parse_constraints(system, equations)
-        except ModelError as exc:
-            if divides_all and _hypersurface_is_invariant(system, factor) and (
-                    generic.rank < system.n or not _outputs_flat_on(system, factor)):
-                drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
-                                      "every maximal minor of the orders up to n - 1 vanishes on the set (each is "
-                                      "divisible by the factor) and the motion keeps the set, so the rank is below "
-                                      f"{generic.rank} there (certain); its value is not computed: {exc}{caveat}"))
-            elif divides_all:
-                drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
-                                      "not decided: every maximal minor of the orders up to n - 1 vanishes on the set, "
-                                      "but the motion leaves the set, so higher orders may raise the rank there "
-                                      f"({exc}){caveat}"))
-            else:
-                drops.append(RankDrop(text, equations, None, None, f"not decided: {exc}{caveat}"))
-            continue
-        if fixed or constraint is None:
-            continue  # an input set to a number: the input profiles of the catalogue cover it
-        on_set = analyze(system, seed=seed, where=constraint, directions=False, input_derivatives=input_derivatives)
-        if on_set.rank is not None:
-            if on_set.rank < generic.rank:
-                drops.append(RankDrop(text, equations, on_set.rank, _matching_motion(system, equations),
-                                      f"rank {on_set.rank} on the set: {on_set.details}{caveat}"))
-        elif on_set.lower_bound is not None and on_set.lower_bound < generic.rank:
-            drops.append(RankDrop(text, equations, None, _matching_motion(system, equations),
-                                  on_set.details + caveat))
-    return drops, ""
+    # Verified symmetries keep the rank: a candidate they move is an artefact (.factors).
+    fields = symmetry_fields(system, generic.unobservable_directions) if generic.proof == "proven" else []
+    drops = [_decided(system, generic, factor, divides_all, meaning, seed, input_derivatives)
+             for factor, divides_all in factors
+             if not fields or invariant_under(system, factor, fields, meaning) is None]
+    # Decided conditions first (a rank on the set, or certainly below), then the undecided ones.
+    return sorted((d for d in drops if d is not None), key=lambda d: d.rank is None and "certain" not in d.details), ""
+
+
+def _decided(system: System, generic: ObservabilityResult, factor: sympy.Expr, divides_all: bool, meaning: dict,
+             seed: int, input_derivatives: int | None) -> RankDrop | None:
+    """The condition ``factor`` = 0 in the model's own variables (angles as
+    sin/cos where the factor allows), with the rank on its set where it can be
+    decided; None when it has no real point or the rank does not drop there."""
+    zeros = _real_zeros(factor)
+    real = has_real_points(factor, seed)
+    if zeros == "" or real is False:
+        return None  # no real point satisfies it
+    caveat = "" if real else " (the set may have no real points: none was found)"
+    atoms = factor.free_symbols & set(meaning)
+    trig = in_angles(factor, meaning) if atoms else None
+    text = str(trig if trig is not None else factor.xreplace({a: sympy.Symbol(str(meaning[a])) for a in atoms}))
+    equations = zeros or f"{text} = 0"
+    if atoms and trig is None:
+        return RankDrop(text, equations, None, None, "not decided: the condition involves tan of half an angle to an "
+                        "odd degree, and a constraint set is solved in the model's own variables")
+    try:
+        constraint, fixed = parse_constraints(system, equations)
+    except ModelError as exc:
+        return _unsolved(system, generic, factor, divides_all and not atoms, text, equations, exc, caveat)
+    if fixed or constraint is None:
+        return None  # an input set to a number: the input profiles of the catalogue cover it
+    on_set = analyze(system, seed=seed, where=constraint, directions=False, input_derivatives=input_derivatives)
+    if on_set.rank is not None:
+        if on_set.rank < generic.rank:
+            return RankDrop(text, equations, on_set.rank, _matching_motion(system, equations),
+                            f"rank {on_set.rank} on the set: {on_set.details}{caveat}")
+    elif on_set.lower_bound is not None and on_set.lower_bound < generic.rank:
+        return RankDrop(text, equations, None, _matching_motion(system, equations), on_set.details + caveat)
+    return None
+
+
+def _unsolved(system: System, generic: ObservabilityResult, factor: sympy.Expr, divides_all: bool, text: str,
+              equations: str, exc: ModelError, caveat: str) -> RankDrop:
+    """A condition whose set has no rational solution: certain only when every
+    maximal minor vanishes on it and the motion keeps it (module docstring)."""
+    if divides_all and _hypersurface_is_invariant(system, factor) and (
+            generic.rank < system.n or not _outputs_flat_on(system, factor)):
+        return RankDrop(text, equations, None, _matching_motion(system, equations),
+                        "every maximal minor of the orders up to n - 1 vanishes on the set (each is "
+                        "divisible by the factor) and the motion keeps the set, so the rank is below "
+                        f"{generic.rank} there (certain); its value is not computed: {exc}{caveat}")
+    if divides_all:
+        return RankDrop(text, equations, None, _matching_motion(system, equations),
+                        "not decided: every maximal minor of the orders up to n - 1 vanishes on the set, "
+                        f"but the motion leaves the set, so higher orders may raise the rank there ({exc}){caveat}")
+    return RankDrop(text, equations, None, None, f"not decided: {exc}{caveat}")
