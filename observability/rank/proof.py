@@ -21,6 +21,7 @@ import sympy
 from ..budget import Undecided, with_budget
 from ..engine.expansion import point_rank
 from ..engine.fractions import NotRational, RationalFunctions
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from .symbolic import rationalize
 from ..model.system import System
 
@@ -35,43 +36,59 @@ PROOF_MAX_STATES = 24
 
 
 def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool | None:
-    """The identities for a system and fields that are rational functions, in
-    python-flint's rational-function arithmetic (:mod:`observability.engine.fractions`:
-    sympy's ``cancel`` on expression trees is ten times slower on slam3d).
-    None when an expression is not rational, or in discrete time (then
+    """The identities in python-flint's rational-function arithmetic
+    (:mod:`observability.engine.fractions`: sympy's ``cancel`` on expression
+    trees is ten times slower on slam3d), with each angle whose sine and cosine
+    appear taken through T = tan(angle/2) (:mod:`observability.engine.halfangles`:
+    a change of coordinates, under which the bracket of two fields is the
+    bracket of their images, and L_v h is a scalar written in T). None when an
+    expression is not rational even so, or in discrete time (then
     :func:`_identities` decides by expressions)."""
     if system.time != "continuous":
         return None  # v(F(x)) needs composition: left to the expression route
-    symbols = [*system.states, *system.inputs, *system.parameters]
     f = [system.substitute_values(e) for e in system.dynamics]
     h = [system.substitute_values(e) for _, e in system.outputs]
     v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
-    field = RationalFunctions(symbols)
-    try:
-        f_, h_ = [field.of(e) for e in f], [field.of(e) for e in h]
-        v_all_ = [[field.of(e) for e in v] for v in v_all]
-    except NotRational:
+    angles = half_angles(system.states, [*f, *h, *(e for v in v_all for e in v)])
+    if angles is None:
         return None
-
-    def vanishes(terms) -> bool:
-        """Whether the sum of sign * a * b over the terms is zero."""
-        total = (field.zero, field.one)
-        for a, b, sign in terms:
-            product = field.multiply(a, b)
-            total = field.add(total, product if sign > 0 else field.negative(product))
-        return total[0].is_zero()
-
-    x = list(system.states)
-    for v_ in v_all_:
-        for hi in h_:
-            if not vanishes([(field.derivative(hi, xj), vj, 1) for xj, vj in zip(x, v_)]):
+    x = [angles.get(s, s) for s in system.states]
+    field = RationalFunctions([*x, *system.inputs, *system.parameters])
+    try:
+        f_ = [field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
+        v_all_ = [[field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
+        for v, v_ in zip(v_all, v_all_):
+            if not all(_annihilates(field, hi, system.states, x, v, v_, angles) for hi in h):
                 return False
+    except (NotRational, ZeroDivisionError):
+        return None
+    for v_ in v_all_:
         for vi, fi in zip(v_, f_):
             terms = [(field.derivative(vi, xj), fj, 1) for xj, fj in zip(x, f_)]
             terms += [(field.derivative(fi, xj), vj, -1) for xj, vj in zip(x, v_)]
-            if not vanishes(terms):
+            if not _vanishes(field, terms):
                 return False
     return True
+
+
+def _annihilates(field: RationalFunctions, h: sympy.Expr, states, x, v, v_, angles) -> bool:
+    """L_v h = 0: in the coordinates x when h is rational there; otherwise (atan2,
+    log) from h's gradient in the model's own coordinates, a scalar written in T."""
+    try:
+        h_ = field.of(in_half_angles(h, angles))
+    except NotRational:
+        rate = sum(sympy.diff(h, s) * e for s, e in zip(states, v))
+        return field.of(in_half_angles(rate, angles))[0].is_zero()
+    return _vanishes(field, [(field.derivative(h_, xj), vj, 1) for xj, vj in zip(x, v_)])
+
+
+def _vanishes(field: RationalFunctions, terms) -> bool:
+    """Whether the sum of sign * a * b over the terms is zero."""
+    total = (field.zero, field.one)
+    for a, b, sign in terms:
+        product = field.multiply(a, b)
+        total = field.add(total, product if sign > 0 else field.negative(product))
+    return total[0].is_zero()
 
 
 def _identities(system: System, fields: list[list[sympy.Expr]]) -> bool:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..engine.fractions import NotRational, RationalFunctions
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from ..engine.lie import input_derivative
 from ..model.system import System
 
@@ -40,30 +41,13 @@ class RationalRows:
     meaning: dict[sympy.Symbol, sympy.Expr]
 
 
-def _angles(system: System, expressions: list[sympy.Expr]) -> dict[sympy.Symbol, sympy.Symbol] | None:
-    """Each state inside sin/cos -> its T; None when a trig argument is not a state."""
-    angles: dict[sympy.Symbol, sympy.Symbol] = {}
-    for e in expressions:
-        for atom in e.atoms(sympy.sin, sympy.cos, sympy.tan):
-            if isinstance(atom, sympy.tan) or atom.args[0] not in system.states:
-                return None
-            angles.setdefault(atom.args[0], sympy.Dummy(f"T_{atom.args[0]}"))
-    return angles
-
-
-def _in_half_angles(expr: sympy.Expr, angles: dict[sympy.Symbol, sympy.Symbol]) -> sympy.Expr:
-    table = {sympy.sin(a): 2 * t / (1 + t**2) for a, t in angles.items()}
-    table |= {sympy.cos(a): (1 - t**2) / (1 + t**2) for a, t in angles.items()}
-    return expr.xreplace(table)
-
-
 def rational_rows(system: System, orders: int, input_derivatives: int | None) -> RationalRows | None:
     """The rows of orders 0..``orders`` (module docstring), or None when the model is not of the form handled."""
     if system.time != "continuous" or system.uses_previous_state:
         return None
     f = [system.substitute_values(e) for e in system.dynamics]
     outputs = [(name, system.substitute_values(e)) for name, e in system.outputs]
-    angles = _angles(system, [*f, *(h for _, h in outputs)])
+    angles = half_angles(system.states, [*f, *(h for _, h in outputs)])
     if angles is None:
         return None
     coordinates = [angles.get(x, x) for x in system.states]
@@ -71,8 +55,7 @@ def rational_rows(system: System, orders: int, input_derivatives: int | None) ->
     field = RationalFunctions([*coordinates, *system.free_parameters, *jets])
     try:
         # d coordinate / dt: an angle's T moves at (1 + T^2)/2 times the angle's rate.
-        speed = [field.of(sympy.cancel(_in_half_angles(fi * ((1 + angles[x] ** 2) / 2 if x in angles else 1), angles)))
-                 for x, fi in zip(system.states, f)]
+        speed = [field.of(sympy.cancel(angle_speed(x, fi, angles))) for x, fi in zip(system.states, f)]
         first = [(name, _first_order(system, h, f, angles, field, input_derivatives)) for name, h in outputs]
     except (NotRational, ZeroDivisionError):
         return None
@@ -87,11 +70,11 @@ def _first_order(system: System, h: sympy.Expr, f: list, angles: dict, field: Ra
     gradient = []
     for x in system.states:
         d = sympy.diff(h, x) * (2 / (1 + angles[x] ** 2) if x in angles else 1)
-        gradient.append(field.of(sympy.cancel(_in_half_angles(d, angles))))
+        gradient.append(field.of(sympy.cancel(in_half_angles(d, angles))))
     rate = sum(sympy.diff(h, x) * fi for x, fi in zip(system.states, f))
     if input_derivatives is None or input_derivatives >= 1:
         rate += sum(sympy.diff(h, u) * input_derivative(u, 1) for u in system.inputs)
-    return field.of(sympy.cancel(_in_half_angles(rate, angles))), gradient
+    return field.of(sympy.cancel(in_half_angles(rate, angles))), gradient
 
 
 def _expanded(system: System, first, speed, coordinates, field: RationalFunctions, orders: int,

@@ -1,0 +1,45 @@
+"""Angles through T = tan(angle/2): sines and cosines of a state as rational functions.
+
+sin(a) = 2T/(1 + T^2), cos(a) = (1 - T^2)/(1 + T^2), tan(a) = 2T/(1 - T^2), and
+a' = 2T'/(1 + T^2): a
+change of coordinates, a diffeomorphism away from a = pi, under which a model
+whose only transcendental functions of states are sines and cosines of states
+becomes rational, so exact rational-function arithmetic (python-flint) applies.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import sympy
+
+__all__ = ["half_angles", "in_half_angles", "angle_speed"]
+
+
+def half_angles(states: Sequence[sympy.Symbol], expressions: Iterable[sympy.Expr]
+                ) -> dict[sympy.Symbol, sympy.Symbol] | None:
+    """Each state inside sin, cos or tan -> its T (a new symbol); None when one
+    of them has an argument that is not a state."""
+    angles: dict[sympy.Symbol, sympy.Symbol] = {}
+    for e in expressions:
+        for atom in sympy.sympify(e).atoms(sympy.sin, sympy.cos, sympy.tan):
+            if atom.args[0] not in states:
+                return None
+            angles.setdefault(atom.args[0], sympy.Dummy(f"T_{atom.args[0]}"))
+    return angles
+
+
+def in_half_angles(expr: sympy.Expr, angles: dict[sympy.Symbol, sympy.Symbol]) -> sympy.Expr:
+    """``expr`` with sin(a), cos(a), tan(a) of each angle a written in its T."""
+    table = {sympy.sin(a): 2 * t / (1 + t**2) for a, t in angles.items()}
+    table |= {sympy.cos(a): (1 - t**2) / (1 + t**2) for a, t in angles.items()}
+    table |= {sympy.tan(a): 2 * t / (1 - t**2) for a, t in angles.items()}
+    return sympy.sympify(expr).xreplace(table)
+
+
+def angle_speed(state: sympy.Symbol, rate: sympy.Expr, angles: dict[sympy.Symbol, sympy.Symbol]) -> sympy.Expr:
+    """The component of a vector field along the coordinate of ``state``: T's is
+    (1 + T^2)/2 times the angle's ``rate``, in T; another state's is ``rate``."""
+    if state not in angles:
+        return in_half_angles(rate, angles)
+    return in_half_angles(rate * (1 + angles[state] ** 2) / 2, angles)
