@@ -29,14 +29,19 @@ def test_full_rank_is_proven():
     assert result.observable and result.proof == "proven"
 
 
-def test_pointwise_direction_that_does_not_commute_is_only_a_lower_bound():
-    """x' = x^2, z' = 0, output z: rank 1 of 2. The simplest null field d/dx
-    annihilates O pointwise but does not commute with x^2 d/dx ([f, v] = -2x),
-    so this route proves only the lower bound."""
+def test_a_null_field_that_does_not_commute_proves_the_rank_through_its_span():
+    """x' = x^2, z' = 0, output z: rank 1 of 2 (by hand: rows dz, then zeros).
+    The simplest null field d/dx does not commute with x^2 d/dx ([f, v] = -2x
+    d/dx), so it is no symmetry; but [f, v] lies in its span, so the span is
+    kept and the rank is proven (it was only a lower bound before the
+    invariant-span proof); the probability left is 0."""
+    from observability.rank.proof import fields_are_symmetries
+
     system = System(["x", "z"], {"x": "x**2", "z": "0"}, {"y": "z"})
     result = analyze(system, seed=1)
-    assert result.rank == 1 and result.proof == "lower bound"
-    assert result.error_probability > 0
+    assert result.rank == 1 and result.proof == "proven" and result.error_probability == 0.0
+    assert not fields_are_symmetries(system, [[sympy.Integer(1), sympy.Integer(0)]])
+    assert "whose span the dynamics keep" in result.details
 
 
 def test_float_is_numerical_and_symbolic_is_proven():
@@ -409,3 +414,35 @@ def test_identities_through_half_angles_agree_with_the_expression_route():
 
     assert by_expressions(fields) is True and by_expressions([wrong[3]]) is False
     assert _identities(system, fields) is True
+
+
+def test_an_invariant_span_proves_the_rank_when_no_field_is_a_symmetry(tmp_path):
+    """x1' = x2, x2' = 0, x3' = x3^3, y = x1 (by hand: rows (1, 0, 0), (0, 1, 0),
+    then zeros: rank 2, null direction d/dx3). d/dx3 is no symmetry ([f, e3] =
+    -3 x3^2 e3) and the degree <= 2 ansatz finds no symmetry (x3^3 d/dx3 is one,
+    of degree 3), so the proof is the span: L_e3 y = 0 and [f, e3] in span e3.
+    Both methods prove rank 2; the proof file is accepted by the independent
+    checker, and the same file with the generator d/dx2 (L_v y = 0 too, but
+    [f, e2] = -e1 leaves its span) is rejected, as the engine's check rejects it."""
+    from observability.rank.proof import fields_are_symmetries, spans_invariant_distribution
+
+    model = tmp_path / "cubic.toml"
+    model.write_text('name = "cubic"\nstates = ["x1", "x2", "x3"]\n[dynamics]\nx1 = "x2"\nx2 = "0"\nx3 = "x3**3"\n'
+                     '[outputs]\ny = "x1"\n')
+    system = load_model(model)
+    for method in ("random", "symbolic"):
+        result = analyze(system, seed=1, method=method)
+        assert (result.rank, result.proof, result.error_probability) == (2, "proven", 0.0)
+    e2, e3 = [[sympy.Integer(int(i == j)) for i in range(3)] for j in (1, 2)]
+    assert not fields_are_symmetries(system, [e3]) and spans_invariant_distribution(system, [e3])
+    assert not spans_invariant_distribution(system, [e2])
+    proof = tmp_path / "cubic.json"
+    assert subprocess.run([sys.executable, "-m", "observability", "check", str(model), "--seed", "1", "--proof",
+                           str(proof)], capture_output=True, text=True, timeout=300).returncode == 1
+    data = json.loads(proof.read_text())
+    assert data["upper_bound"]["kind"] == "invariant span"
+    checker = _checker()
+    assert checker.check(data).startswith("accepted")
+    data["upper_bound"]["generators"][0]["vector"] = {"x2": "1"}
+    with pytest.raises(checker.Rejected, match="leaves the span"):
+        checker.check(data)

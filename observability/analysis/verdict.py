@@ -28,7 +28,7 @@ from ..model.system import System
 from ..model.unknowninputs import input_model
 from ..rank.certificate import certify_rank
 from ..rank.evidence import EXACT, RankEvidence, float_evidence, random_evidence, symbolic_evidence
-from ..rank.proof import PROOF_BUDGET, fields_are_symmetries
+from ..rank.proof import PROOF_BUDGET, fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
 from .arbitrary import arbitrary_inputs_verdict
 from .onset import rank_on_set
@@ -203,10 +203,24 @@ def _proof_status(system: System, method: str, evidence: RankEvidence, basis, bu
     if method == "symbolic" or rank == n:
         return "proven", evidence.probability, evidence.upper
     seconds = PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
-    if basis is not None and fields_are_symmetries(system, basis, budget=seconds):
-        return "proven", 0.0, (f"; rank {rank} proven from above: the matrix is annihilated as identities by "
-                               f"{independent_fields(n - rank)}")
+    upper = _upper_bound(system, basis, seconds)
+    if upper:
+        return "proven", 0.0, f"; rank {rank} proven from above: {upper}"
     return "lower bound", evidence.probability, evidence.upper
+
+
+def _upper_bound(system: System, basis, seconds: float) -> str:
+    """How ``basis`` proves n - len(basis) from above, in words ("" when it does
+    not): as fields annihilating the matrix (symmetries), or as a distribution
+    the dynamics keep (:func:`~observability.rank.proof.spans_invariant_distribution`)."""
+    if basis is None:
+        return ""
+    if fields_are_symmetries(system, basis, budget=seconds):
+        return f"the matrix is annihilated as identities by {independent_fields(len(basis))}"
+    if spans_invariant_distribution(system, basis, budget=seconds):
+        return (f"the outputs are annihilated by {independent_fields(len(basis))} whose span the dynamics keep "
+                "([f, v] in the span, verified as identities), so every row is")
+    return ""
 
 
 def _functions(system: System, basis, rank: int, seed: int) -> tuple[str, ...] | None:
@@ -267,8 +281,8 @@ def two_sided_evidence(
     found = unobservable_directions(system, n - lower.rank, lower.orders, input_derivatives, budget, lower.seed,
                                     previous, symbolic=True)
     seconds = PROOF_BUDGET if budget is None else min(budget, PROOF_BUDGET)
-    if found[1] is None or not fields_are_symmetries(system, found[1], budget=seconds):
+    upper = _upper_bound(system, found[1], seconds)
+    if not upper:
         return None
-    details = (f"{head} and as an upper bound (the matrix is annihilated as identities by "
-               f"{independent_fields(n - lower.rank)}, generically, verified by exact rational-function arithmetic)")
+    details = f"{head} and as an upper bound ({upper}, generically, by exact rational-function arithmetic)"
     return RankEvidence(details=details, observable_columns=lower.observable_columns, **common), found

@@ -21,7 +21,7 @@ from typing import Any
 import flint
 import sympy
 
-__all__ = ["NotRational", "RationalFunctions", "factor", "factor_list", "opaque"]
+__all__ = ["NotRational", "RationalFunctions", "determinant", "solve", "factor", "factor_list", "opaque"]
 
 Fraction = tuple[Any, Any]  # (numerator, denominator), no common factor, denominator monic
 
@@ -160,3 +160,46 @@ def factor(expr: sympy.Expr) -> sympy.Expr:
         return sympy.factor_terms(expr)
     back = {d: a for a, d in names.items()}
     return (constant * sympy.Mul(*(f**e for f, e in factors))).xreplace(back)
+
+
+def determinant(field: RationalFunctions, matrix: list[list[tuple]]):
+    """The numerator of the determinant of a square matrix of fractions (Gaussian
+    elimination over the field, each entry cancelled by flint's gcd)."""
+    a = [list(row) for row in matrix]
+    size = len(a)
+    result = (field.one, field.one)
+    for k in range(size):
+        pivot = next((i for i in range(k, size) if not a[i][k][0].is_zero()), None)
+        if pivot is None:
+            return field.zero
+        if pivot != k:
+            a[k], a[pivot] = a[pivot], a[k]
+            result = field.negative(result)
+        result = field.multiply(result, a[k][k])
+        inverse = field.reduced(a[k][k][1], a[k][k][0])
+        for i in range(k + 1, size):
+            if a[i][k][0].is_zero():
+                continue
+            ratio = field.multiply(a[i][k], inverse)
+            a[i] = [field.add(a[i][j], field.negative(field.multiply(ratio, a[k][j]))) if j > k else a[i][j]
+                    for j in range(size)]
+    return result[0]
+
+
+def solve(field: RationalFunctions, matrix: list[list[tuple]], right: list[tuple]) -> list[tuple] | None:
+    """The solution c of matrix c = right (square, fractions) by Gaussian
+    elimination over the field; None when the matrix is singular."""
+    size = len(matrix)
+    a = [list(row) + [b] for row, b in zip(matrix, right)]
+    for k in range(size):
+        pivot = next((i for i in range(k, size) if not a[i][k][0].is_zero()), None)
+        if pivot is None:
+            return None
+        a[k], a[pivot] = a[pivot], a[k]
+        inverse = field.reduced(a[k][k][1], a[k][k][0])
+        a[k] = [field.multiply(e, inverse) for e in a[k]]
+        for i in range(size):
+            if i != k and not a[i][k][0].is_zero():
+                ratio = a[i][k]
+                a[i] = [field.add(e, field.negative(field.multiply(ratio, pk))) for e, pk in zip(a[i], a[k])]
+    return [row[size] for row in a]

@@ -20,12 +20,12 @@ import sympy
 
 from ..budget import Undecided, with_budget
 from ..engine.expansion import point_rank
-from ..engine.fractions import NotRational, RationalFunctions
+from ..engine.fractions import NotRational, RationalFunctions, solve
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from .symbolic import rationalize
 from ..model.system import System
 
-__all__ = ["fields_are_symmetries", "PROOF_BUDGET", "PROOF_MAX_STATES"]
+__all__ = ["fields_are_symmetries", "spans_invariant_distribution", "PROOF_BUDGET", "PROOF_MAX_STATES"]
 
 #: CPU seconds for checking the identities of the upper bound.
 PROOF_BUDGET = 10.0
@@ -123,6 +123,38 @@ def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]]
     fields = [list(v) for v in fields]
     if not fields:
         return True
+    if not _provable(system, fields):
+        return False
+    try:
+        return bool(with_budget(_identities, system, fields, seconds=budget))
+    except (Undecided, ValueError, TypeError):
+        return False
+
+
+def spans_invariant_distribution(system: System, fields: Sequence[Sequence[sympy.Expr]],
+                                 budget: float = PROOF_BUDGET) -> bool:
+    """Whether ``fields`` prove the upper bound n - len(fields) as a distribution:
+    generically independent, L_v h = 0 for every field and output, and their span
+    kept by the dynamics, [f, v_a] = sum_b c_ab v_b with rational c (for every
+    input), verified as identities. Then every row annihilates the span: by
+    induction L_v L_f^j h = L_f L_v L_f^(j-1) h - L_[f,v] L_f^(j-1) h = 0. This
+    proves more than :func:`fields_are_symmetries`: a basis of the null space
+    need not commute with f (x2' = x2^3: d/dx2 does not, its span is kept).
+    Continuous time only; False when it cannot be shown within ``budget``."""
+    fields = [list(v) for v in fields]
+    if not fields:
+        return True
+    if system.time != "continuous" or not _provable(system, fields):
+        return False
+    try:
+        return bool(with_budget(_closure, system, fields, seconds=budget))
+    except (Undecided, ValueError, TypeError):
+        return False
+
+
+def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    """The preconditions of both proofs: few enough states, rational fields free
+    of inputs, no previous-state form, generically independent."""
     if system.n > PROOF_MAX_STATES:
         return False
     # Independence is tested at a point where transcendental values are free
@@ -138,9 +170,63 @@ def fields_are_symmetries(system: System, fields: Sequence[Sequence[sympy.Expr]]
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
     # Generically independent: a non-zero k x k minor at a random point mod p.
-    if point_rank(system, fields, gradients=False, attempts=8) != len(fields):
+    return point_rank(system, fields, gradients=False, attempts=8) == len(fields)
+
+
+def _closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    """The identities of :func:`spans_invariant_distribution` in flint fractions
+    (half-angle coordinates as :func:`_rational_identities`): the coefficients
+    c_ab solved from k rows where the fields are independent, then every row
+    checked. False when an expression is not rational even so."""
+    f = [system.substitute_values(e) for e in system.dynamics]
+    h = [system.substitute_values(e) for _, e in system.outputs]
+    v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
+    angles = half_angles(system.states, [*f, *h, *(e for v in v_all for e in v)])
+    if angles is None:
         return False
+    x = [angles.get(s, s) for s in system.states]
+    field = RationalFunctions([*x, *system.inputs, *system.parameters])
     try:
-        return bool(with_budget(_identities, system, fields, seconds=budget))
-    except (Undecided, ValueError, TypeError):
+        f_ = [field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
+        v_all_ = [[field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
+        if not all(_annihilates(field, hi, system.states, x, v, v_, angles) for v, v_ in zip(v_all, v_all_) for hi in h):
+            return False
+    except (NotRational, ZeroDivisionError):
         return False
+    rows = _pivot_rows(field, v_all_)
+    if rows is None:
+        return False
+    square = [[v_[r] for v_ in v_all_] for r in rows]
+    for v_ in v_all_:
+        bracket = []
+        for vi, fi in zip(v_, f_):
+            total = (field.zero, field.one)
+            for xj, fj, vj in zip(x, f_, v_):
+                total = field.add(total, field.multiply(field.derivative(vi, xj), fj))
+                total = field.add(total, field.negative(field.multiply(field.derivative(fi, xj), vj)))
+            bracket.append(total)
+        c = solve(field, square, [bracket[r] for r in rows])
+        if c is None:
+            return False
+        for i, component in enumerate(bracket):
+            if not _vanishes(field, [(component, (field.one, field.one), 1),
+                                     *((cb, w[i], -1) for cb, w in zip(c, v_all_))]):
+                return False
+    return True
+
+
+def _pivot_rows(field: RationalFunctions, vectors: list[list[tuple]]) -> list[int] | None:
+    """k state indices where the k vectors are independent (as fractions: generically), by elimination."""
+    columns = [list(v) for v in vectors]
+    rows: list[int] = []
+    for k, column in enumerate(columns):
+        pivot = next((i for i, e in enumerate(column) if i not in rows and not e[0].is_zero()), None)
+        if pivot is None:
+            return None
+        rows.append(pivot)
+        inverse = field.reduced(column[pivot][1], column[pivot][0])
+        for later in columns[k + 1:]:
+            ratio = field.multiply(later[pivot], inverse)
+            for i in range(len(later)):
+                later[i] = field.add(later[i], field.negative(field.multiply(ratio, column[i])))
+    return rows

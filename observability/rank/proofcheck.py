@@ -135,6 +135,40 @@ def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: lis
     return v
 
 
+def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict,
+                   values: dict) -> list:
+    """The generators' vectors, once L_v h = 0 for every output and generator and
+    each bracket [f, v_a] is a combination of the generators with rational
+    coefficients, as identities (Rejected otherwise). The coefficients are
+    solved here from rows where the generators are independent at the point,
+    then every row is checked. Inputs are symbols (any value) and must not enter
+    the generators."""
+    vectors = []
+    for g in generators:
+        v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+        if any(e.has(*(symbols[u] for u in model["inputs"])) for e in v):
+            raise Rejected(f"generator {g['name']!r}: an invariant span needs generators free of inputs")
+        for name, h in outputs.items():
+            if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
+                raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
+        vectors.append(v)
+    basis = sympy.Matrix(vectors).T  # n x k
+    at_point = basis.xreplace(values)
+    _, pivots = at_point.T.rref()
+    rows = list(pivots)
+    if len(rows) != len(vectors):
+        raise Rejected("the generators are not independent at the point")
+    square = basis.extract(rows, list(range(len(vectors))))
+    for g, v in zip(generators, vectors):
+        bracket = [sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                   for vi, fi in zip(v, f)]
+        coefficients = square.LUsolve(sympy.Matrix([bracket[r] for r in rows]))
+        for i, component in enumerate(bracket):
+            if not _zero(component - sum(c * basis[i, b] for b, c in enumerate(coefficients))):
+                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of [f, v] leaves the span")
+    return vectors
+
+
 def _claim(proof: dict, n: int) -> tuple[int, str]:
     """The rank and the claim the file may make for a model of n states;
     Rejected when its rank, n_states or claim text say anything else."""
@@ -178,7 +212,13 @@ def check(proof: dict) -> str:
     generators = proof["upper_bound"]["generators"]
     if len(generators) != n - rank:
         raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
+    kind = proof["upper_bound"].get("kind", "symmetries")
+    if kind == "symmetries":
+        fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
+    elif kind == "invariant span" and model["time"] == "continuous":
+        fields = _verified_span(generators, model, symbols, known, x, f, outputs, values)
+    else:
+        raise Rejected(f"unknown kind of upper bound {kind!r} for {model['time']} time")
     if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
         raise Rejected("the generators are not independent at the point")
     return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "

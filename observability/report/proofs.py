@@ -34,12 +34,19 @@ from ..errors import ObservabilityError
 from ..model.expressions import parse_expression
 from ..model.prepare import prepare
 from ..engine.lie import input_derivative, lie_derivatives, step_input
-from ..rank.proof import fields_are_symmetries
+from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
 from ..model.system import System
 
 __all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
 
+#: What the generators satisfy, by kind of upper bound (the checker verifies it).
+IDENTITIES = {
+    "symmetries": "L_v h = 0 for every output h, and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x) (discrete), as "
+                  "identities in the states, inputs and parameters",
+    "invariant span": "L_v h = 0 for every output h and generator v, and [f, v] in the span of the generators with "
+                      "rational coefficients (continuous time), as identities in the states, inputs and parameters",
+}
 EVIDENCE_FORMAT = "observability proof 1"
 #: The rows' definition the independent checker must share.
 CONVENTIONS = (
@@ -141,8 +148,12 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
     names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
     generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
                   for d in result.unobservable_directions]
-    if result.rank < result.n_states and not fields_are_symmetries(system, [v for _, v in generators]):
-        raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
+    vectors = [v for _, v in generators]
+    kind = "symmetries"
+    if result.rank < result.n_states and not fields_are_symmetries(system, vectors):
+        if not spans_invariant_distribution(system, vectors):
+            raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
+        kind = "invariant span"
     return {
         "format": EVIDENCE_FORMAT,
         "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
@@ -171,7 +182,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         "upper_bound": {
             "generators": [{"name": name, "vector": {s.name: str(e) for s, e in zip(system.states, v)}}
                            for name, v in generators],
-            "identities": "L_v h = 0 for every output h, and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x) "
-                          "(discrete), as identities in the states, inputs and parameters",
+            "kind": kind,
+            "identities": IDENTITIES[kind],
         },
     }

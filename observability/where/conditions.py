@@ -45,10 +45,10 @@ from ..budget import Undecided, with_budget
 from ..errors import ModelError
 from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_expression
-from ..engine.fractions import factor_list
 from ..model.expressions import split_top_level
 from .factors import in_angles, invariant_under, symmetry_fields
-from .minors import RationalRows, determinant, rational_rows
+from ..engine.fractions import determinant, factor_list
+from .minors import RationalRows, rational_rows
 from .sets import parse_constraints
 from ..engine.lie import lie_derivatives
 from ..rank.randomized import randomized_rank

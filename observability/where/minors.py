@@ -27,7 +27,7 @@ from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from ..engine.lie import input_derivative
 from ..model.system import System
 
-__all__ = ["RationalRows", "rational_rows", "determinant"]
+__all__ = ["RationalRows", "rational_rows"]
 
 
 @dataclass(frozen=True)
@@ -109,27 +109,3 @@ def _along(g, gradient, speed, system: System, field: RationalFunctions, order: 
             d = field.derivative(g, input_derivative(u, j))
             total = field.add(total, field.multiply(d, field.of(input_derivative(u, j + 1))))
     return total
-
-
-def determinant(field: RationalFunctions, matrix: list[list[tuple]]):
-    """The numerator of the determinant of a square matrix of fractions (Gaussian
-    elimination over the field, each entry cancelled by flint's gcd)."""
-    a = [list(row) for row in matrix]
-    size = len(a)
-    result = (field.one, field.one)
-    for k in range(size):
-        pivot = next((i for i in range(k, size) if not a[i][k][0].is_zero()), None)
-        if pivot is None:
-            return field.zero
-        if pivot != k:
-            a[k], a[pivot] = a[pivot], a[k]
-            result = field.negative(result)
-        result = field.multiply(result, a[k][k])
-        inverse = field.reduced(a[k][k][1], a[k][k][0])
-        for i in range(k + 1, size):
-            if a[i][k][0].is_zero():
-                continue
-            ratio = field.multiply(a[i][k], inverse)
-            a[i] = [field.add(a[i][j], field.negative(field.multiply(ratio, a[k][j]))) if j > k else a[i][j]
-                    for j in range(size)]
-    return result[0]
