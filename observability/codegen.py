@@ -28,6 +28,8 @@ library and loads it back, or warns and keeps the in-memory Functions.
 
 from __future__ import annotations
 
+from typing import Any
+
 import hashlib
 import os
 import shutil
@@ -183,6 +185,10 @@ class FilterFunctions:
         The names of the states and inputs the process noise enters, in ``w`` order.
     angles : tuple[str, ...]
         States and outputs that are angles (:func:`angles_of`).
+    retract : callable or None
+        A manifold hook, x -> x: every filter applies it to each new estimate
+        (and clone), e.g. :func:`observability.filters.unit_norm` keeps a unit
+        quaternion on the sphere. Set it with ``dataclasses.replace(fns, retract=...)``.
     source : dict or None
         For compiled functions, the in-memory Functions they were compiled from.
     """
@@ -198,6 +204,8 @@ class FilterFunctions:
     source: dict | None = None
     #: States and outputs that are angles: innovations and estimates wrapped to (-pi, pi].
     angles: tuple[str, ...] = ()
+    #: The manifold hook (x -> x) the filters apply to every new estimate; None: none.
+    retract: Any = None
 
     def __getitem__(self, name: str) -> casadi.Function:
         return self.functions[name]

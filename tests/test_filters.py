@@ -431,3 +431,51 @@ def test_a_declared_angle_state_stays_in_its_interval():
     K = (1 + 1e-6) / (1 + 1e-6 + 1e-4)
     expected = np.pi - 0.01 + K * 0.04
     np.testing.assert_allclose(state.x[0], expected - 2 * np.pi, rtol=1e-9)
+
+
+def _attitude():
+    """A unit quaternion driven by a gyro (Euler step, which leaves the sphere),
+    seen through gravity in the body frame (R(q)^T e_z)."""
+    from observability import System
+
+    rate = {"q0": "-wx*q1 - wy*q2 - wz*q3", "q1": "wx*q0 + wz*q2 - wy*q3", "q2": "wy*q0 - wz*q1 + wx*q3",
+            "q3": "wz*q0 + wy*q1 - wx*q2"}
+    system = System(["q0", "q1", "q2", "q3"], {q: f"{q} + dt/2*({e})" for q, e in rate.items()},
+                    {"gx": "2*(q1*q3 - q0*q2)", "gy": "2*(q2*q3 + q0*q1)", "gz": "q0**2 - q1**2 - q2**2 + q3**2"},
+                    inputs=["wx", "wy", "wz"], parameters={"dt": 0.1}, time="discrete", name="attitude")
+    return filter_functions(system)
+
+
+def test_a_manifold_hook_keeps_a_unit_quaternion_on_the_sphere():
+    """Issue 26 item 1: unit_norm(fns, q-block) set as the functions' retract:
+    after every prediction and update the quaternion has norm 1 (to 1e-12), with
+    the conventional and the cloning filter alike (the clone too); without the
+    hook the Euler step and the additive updates leave the sphere (by hand:
+    |q + dt/2 Omega q| = |q| sqrt(1 + dt^2 |w|^2 / 4) > 1). The hook itself equals
+    the division written here, and refuses a name that is not a state."""
+    import dataclasses
+
+    from observability.filters import CloningEKF, unit_norm
+
+    fns = _attitude()
+    hooked = dataclasses.replace(fns, retract=unit_norm(fns, ("q0", "q1", "q2", "q3")))
+    rng = np.random.default_rng(2)
+    x = np.array([0.9, 0.1, -0.3, 0.2])
+    assert np.allclose(hooked.retract(x.copy()), x / np.linalg.norm(x), rtol=0, atol=1e-15)
+    Q, R = 1e-4 * np.eye(4), 1e-2 * np.eye(3)
+    for cls in (ConventionalEKF, CloningEKF):
+        plain, kept = cls(fns, Q, R), cls(hooked, Q, R)
+        a = b = None
+        for step in range(30):
+            u = [0.3, -0.2, 0.5]
+            a = plain.predict(a or plain.initial([1, 0, 0, 0], 1e-2 * np.eye(4)), u)
+            b = kept.predict(b or kept.initial([1, 0, 0, 0], 1e-2 * np.eye(4)), u)
+            assert abs(np.linalg.norm(b.x) - 1) < 1e-12
+            y = rng.normal([0, 0, 1], 0.1)
+            a, b = plain.update(a, y, u).state, kept.update(b, y, u).state
+            assert abs(np.linalg.norm(b.x) - 1) < 1e-12
+            if b.x_prev is not None and cls is CloningEKF:
+                assert abs(np.linalg.norm(b.x_prev) - 1) < 1e-12
+        assert abs(np.linalg.norm(a.x) - 1) > 1e-3
+    with pytest.raises(FilterError, match="not a state"):
+        unit_norm(fns, ("q0", "q9"))

@@ -9,6 +9,7 @@ from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
 from .constrained import ObservabilityConstrainedEKF, null_space_function
 from .linearized import LinearizedObservability, linearized_observability, observability_of
+from .manifolds import unit_norm
 from .montecarlo import monte_carlo
 
 __all__ = [
@@ -28,6 +29,7 @@ __all__ = [
     "null_space_function",
     "observability_of",
     "monte_carlo",
+    "unit_norm",
     "nees",
     "nis",
 ]

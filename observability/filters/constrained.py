@@ -90,7 +90,7 @@ class ObservabilityConstrainedEKF(_Base):
         """x = f(x, u, 0), P = Phi* P Phi*^T + F_w Q F_w^T."""
         u = self._inputs(u, state.step + 1)
         x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
-        x_next = _wrap(x_next.ravel(), self._state_angles)
+        x_next = self._on_manifold(_wrap(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
         N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
         F = _projected(F, N_k, N_next)
         if self.record:
@@ -114,7 +114,7 @@ class ObservabilityConstrainedEKF(_Base):
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = _wrap(values - h.ravel()[used], [self._output_angles[i] for i in used])
         K, S = self._gain(state.P, H, W, state.step)
-        x = _wrap(state.x + K @ innovation, self._state_angles)
+        x = self._on_manifold(_wrap(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
         new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step, prior=state.prior)
         if not np.all(np.isfinite(x)):
             raise FilterError(f"step {state.step} (update): the estimate is not finite")

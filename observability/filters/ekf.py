@@ -148,6 +148,12 @@ class _Base:
     def _inputs(self, u: Sequence[float], step: int) -> np.ndarray:
         return validation.vector(u, "the input u", self.n_inputs, f"step {step}")
 
+    def _on_manifold(self, x: np.ndarray, where: str) -> np.ndarray:
+        """``x`` through the model's manifold hook (``fn.retract``), checked; ``x`` itself without one."""
+        if self.fn.retract is None:
+            return x
+        return validation.vector(self.fn.retract(np.array(x, dtype=float)), "the retracted estimate", self.n, where)
+
     @staticmethod
     def _checked(state: FilterState, what: str) -> FilterState:
         where = f"step {state.step} ({what})"
@@ -202,7 +208,8 @@ class _Base:
         """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call)."""
         u = self._inputs(u, state.step + 1)
         x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
-        new = FilterState(x.ravel(), P, x_prev=state.x, step=state.step + 1)
+        x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
+        new = FilterState(x, P, x_prev=state.x, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
             self._checked(new, "prediction")
         return new
@@ -227,7 +234,8 @@ class _Base:
         x, P, innovation, S, *health = call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
-        new = FilterState(x.ravel(), P, x_prev=state.x_prev, step=state.step)
+        new = FilterState(self._on_manifold(x.ravel(), f"step {state.step} (update)"), P, x_prev=state.x_prev,
+                          step=state.step)
         if not (health and health[0][0, 0] > 0):
             try:
                 np.linalg.cholesky(S)  # the refusal test: S must be positive definite
@@ -287,7 +295,8 @@ class CloningEKF(_Base):
         u = self._inputs(u, state.step + 1)
         x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
         n = self.n
-        new = FilterState(x.ravel(), joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
+        x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
+        new = FilterState(x, joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):
             if not np.all(np.isfinite(new.x)) or not np.all(np.isfinite(joint)):
                 raise FilterError(f"step {new.step} (prediction): the prediction is not finite")
@@ -313,7 +322,9 @@ class CloningEKF(_Base):
                 np.linalg.cholesky(S)
             except np.linalg.LinAlgError:
                 raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
-        new = FilterState(z[:n], joint[:n, :n].copy(), x_prev=z[n:], joint=joint, step=state.step)
+        where = f"step {state.step} (update)"
+        new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
+                          joint=joint, step=state.step)
         if not (health and health[1][0, 0] > 0):
             validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, innovation.ravel(), S, tuple(used))
@@ -379,6 +390,7 @@ class ColoredNoiseEKF(_Base):
         if not np.all(np.isfinite(x)) or not np.all(np.isfinite(joint)):
             raise FilterError(f"step {state.step + 1} (prediction): the prediction is not finite")
         noise = np.concatenate([np.zeros(q), state.noise[:q]])
+        x = self._on_manifold(x, f"step {state.step + 1} (prediction)")
         new = FilterState(x, joint[:n, :n], x_prev=state.x, joint=joint, step=state.step + 1, noise=noise)
         validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
         return new
@@ -398,6 +410,8 @@ class ColoredNoiseEKF(_Base):
         nu = values - predicted[used]
         z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
         joint = self._joseph(state.joint, K, H_aug, W)
-        new = FilterState(z[:n], joint[:n, :n], x_prev=z[n : 2 * n], joint=joint, step=state.step, noise=z[2 * n :])
+        where = f"step {state.step} (update)"
+        new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n], x_prev=self._on_manifold(z[n : 2 * n], where),
+                          joint=joint, step=state.step, noise=z[2 * n :])
         validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, nu, S, tuple(used))
