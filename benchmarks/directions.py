@@ -33,10 +33,11 @@ from peers import TIMING, run, spec  # noqa: E402 - the shared harness of the pe
 
 OURS = r"""
 import json, sys, time
-from observability import models, analyze
+from observability import models, analyze, load_model
 """ + TIMING + r"""
 name, options, mode = sys.argv[1], json.loads(sys.argv[2]), sys.argv[3]
-build = lambda: models.build(name, options) if mode != "found" else models.build(name, options).replace(symmetries=())
+make = lambda: load_model(name) if name.endswith(".toml") else models.build(name, options)
+build = lambda: make() if mode != "found" else make().replace(symmetries=())
 solve = lambda: analyze(build(), seed=1, directions=mode != "rank")
 rank, cold, warm = timed(lambda: solve().rank)
 result = solve()
@@ -66,6 +67,9 @@ def cases(sizes: list[int]) -> list[tuple[str, str, dict[str, str]]]:
     out += [(f"slam3d-M{m}", "slam3d", {"beacons": str(m)}) for m in (0, 1, 2, 3)]
     out += [("slam3d-N9-M0", "slam3d", {"landmarks": "9"})]
     out += [("vins-euler", "vins", {"attitude": "euler"}), ("vins-quaternion", "vins", {"attitude": "quaternion"})]
+    # The same robot as a user writes it: three attitude forms, from files (examples/models).
+    models = Path(__file__).resolve().parents[1] / "examples" / "models"
+    out += [(f"file {stem}", str(models / f"{stem}.toml"), {}) for stem in ("vins_euler", "vins_quaternion", "vins_gibbs")]
     return out
 
 

@@ -119,9 +119,9 @@ def cases() -> list[tuple[str, str, dict[str, str]]]:
 
 
 def spec(name: str, options: dict[str, str]) -> dict:
-    """The model as plain strings, for the peers."""
-    from observability import models
-    system = models.build(name, options)
+    """The model as plain strings, for the peers (``name``: a built-in, or a model file's path)."""
+    from observability import load_model, models
+    system = load_model(name) if name.endswith(".toml") else models.build(name, options)
     used = set().union(*(e.free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))))
     return {
         "dynamics": {s.name: str(e) for s, e in zip(system.states, system.dynamics)},
