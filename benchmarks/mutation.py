@@ -38,7 +38,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                 "observability/rank/proofcheck.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py"]),
     "checker": (["observability/rank/proofcheck.py"], ["tests/test_proof.py"]),
-    "files": (["observability/report/files.py"], ["tests/test_cli.py", "tests/test_edges.py"]),
+    "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
@@ -50,6 +50,8 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    "observability.report.files.x_write_text__mutmut_14":
+        "encoding 'UTF-8' instead of 'utf-8': Python's codec names are case-insensitive, the same codec",
     "observability.model.notation.x_validate_latex_name__mutmut_21":
         "commands replaced by 'XXXX' instead of '': both leave plain letters, so the character and brace checks decide alike",
     "observability.model.notation.x_component_latex__mutmut_14":

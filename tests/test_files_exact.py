@@ -1,0 +1,101 @@
+"""report/files.py in process (the CLI tests run it in a subprocess, where
+mutation testing cannot see it): files are written completely or not at all,
+through links, beside their target, only where asked. Each test names the
+mutant it kills (issue 32)."""
+
+from __future__ import annotations
+
+import os
+import stat
+import tempfile
+
+import pytest
+
+from observability.errors import OptionError
+from observability.report import files
+
+
+def test_a_link_is_written_through_to_its_target(tmp_path):
+    """The link stays a link and its target gets the text (a mutant that forgets
+    the resolved path crashes; one that replaces the link leaves it a file)."""
+    target = tmp_path / "real.txt"
+    target.write_text("old")
+    link = tmp_path / "link.txt"
+    link.symlink_to(target)
+    assert files.write_text(link, "new") == target
+    assert link.is_symlink() and target.read_text() == "new"
+
+
+def test_a_path_that_is_not_a_regular_file_is_refused_by_name(tmp_path):
+    """A directory in the way: OptionError naming the path and why (a mutant
+    with an empty message fails), and nothing is written into it."""
+    folder = tmp_path / "report.txt"
+    folder.mkdir()
+    with pytest.raises(OptionError, match=r"report\.txt: exists and is not a regular file"):
+        files.write_text(folder, "x")
+    assert list(folder.iterdir()) == []
+
+
+def test_missing_parent_directories_are_made(tmp_path):
+    """a/b/c/out.json: every missing level is created (parents=True)."""
+    path = tmp_path / "a" / "b" / "c" / "out.json"
+    files.write_json(path, {"b": 1, "a": [2]})
+    assert path.read_text() == '{\n  "a": [\n    2\n  ],\n  "b": 1\n}\n'
+
+
+def test_the_temporary_file_is_beside_its_target_and_says_partial(tmp_path, monkeypatch):
+    """The bytes go first to '.<name>.XXXX.partial' in the target's own directory
+    (so the rename is atomic on one file system, and a killed process leaves a
+    file that says what it is), then replace the target with mode 0644; the
+    temporary file never survives."""
+    seen = []
+    original = tempfile.mkstemp
+
+    def recording(*args, **kwargs):
+        handle, name = original(*args, **kwargs)
+        seen.append(name)
+        return handle, name
+
+    monkeypatch.setattr(tempfile, "mkstemp", recording)
+    for writer, name, suffix in ((files.write_text, "a.txt", ".partial"), (files.write_bytes, "b.bin", ".partial")):
+        target = tmp_path / name
+        writer(target, "é" if writer is files.write_text else b"\x00\xff")
+        partial = seen[-1]
+        assert os.path.dirname(partial) == str(tmp_path)
+        assert os.path.basename(partial).startswith(f".{name}.") and partial.endswith(suffix)
+        assert not os.path.exists(partial)
+        assert stat.S_IMODE(target.stat().st_mode) == 0o644
+    assert (tmp_path / "a.txt").read_bytes() == "é".encode("utf-8")
+    assert (tmp_path / "b.bin").read_bytes() == b"\x00\xff"
+
+
+def test_text_is_utf8_whatever_the_locale(tmp_path):
+    """Written as UTF-8 even under the C locale with UTF-8 mode off (a fresh
+    interpreter: the default text encoding is then ASCII, which would fail on
+    these characters or write other bytes)."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "t.txt"
+    env = {k: v for k, v in os.environ.items() if not k.startswith("LC_") and k not in ("LANG", "PYTHONUTF8")}
+    env |= {"LC_ALL": "C", "LANG": "C", "PYTHONUTF8": "0"}
+    code = ("import sys; from observability.report import files; "
+            "files.write_text(sys.argv[1], '\\u03b8\\u0307 \\u2264 \\u03c0')")
+    done = subprocess.run([sys.executable, "-c", code, str(path)], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert path.read_bytes() == "\u03b8\u0307 \u2264 \u03c0".encode("utf-8")
+
+
+def test_a_failed_write_leaves_the_old_file_and_no_temporary_one(tmp_path):
+    """A write that fails half-way: the target keeps its old content, and the
+    directory holds nothing else."""
+    target = tmp_path / "keep.txt"
+    target.write_text("old")
+
+    def failing(path):
+        path.write_text("half")
+        raise RuntimeError("disk full")
+
+    with pytest.raises(RuntimeError):
+        files._atomic(target, failing, ".partial")
+    assert target.read_text() == "old" and [p.name for p in tmp_path.iterdir()] == ["keep.txt"]
