@@ -116,17 +116,28 @@ def to_casadi(expr: sympy.Expr, table: dict[sympy.Symbol, casadi.SX]) -> casadi.
 
 def angles_of(system: System) -> tuple[str, ...]:
     """The states and outputs that are angles: those the system declares, and
-    every output that is a sum of atan2(...) and angle states with coefficients
-    +-1, and constants (a bearing atan2(...) - th, a measured heading th)."""
+    every output that is a sum of at least one angle term -- atan2(...) or a
+    declared angle state, coefficient +-1 -- and other states with coefficient
+    +-1 and constants (a bearing atan2(...) - th, whether or not th is declared
+    an angle: the atan2 term jumps by 2 pi at its branch cut, so the output's
+    innovations must be wrapped)."""
     angle_states = {s for s in system.states if s.name in system.angles}
 
-    def is_angle(term: sympy.Expr) -> bool:
+    def term_kind(term: sympy.Expr) -> str:
         coefficient, factor = term.as_coeff_Mul()
-        return abs(coefficient) == 1 and (isinstance(factor, sympy.atan2) or factor in angle_states)
+        if not (term.free_symbols & set(system.states)):
+            return "constant"
+        if abs(coefficient) != 1:
+            return "other"
+        if isinstance(factor, sympy.atan2) or factor in angle_states:
+            return "angle"
+        return "state" if factor in system.states else "other"
 
-    bearings = [name for name, e in system.outputs
-                if any(is_angle(t) for t in sympy.Add.make_args(e))
-                and all(is_angle(t) or not (t.free_symbols & set(system.states)) for t in sympy.Add.make_args(e))]
+    bearings = []
+    for name, e in system.outputs:
+        kinds = [term_kind(t) for t in sympy.Add.make_args(system.substitute_values(e))]
+        if "angle" in kinds and "other" not in kinds:
+            bearings.append(name)
     return tuple(dict.fromkeys([*system.angles, *bearings]))
 
 

@@ -414,6 +414,29 @@ def test_a_bearing_near_pi_is_updated_by_its_small_difference():
     np.testing.assert_allclose(update.state.x, x + K.ravel() * nu, rtol=1e-9)
 
 
+def test_a_bearing_minus_an_undeclared_heading_is_an_angle():
+    """The README's own example: atan2(ly - y, lx - x) - th is a bearing (its
+    atan2 jumps by 2 pi at the branch cut) whether or not th is declared an
+    angle; it was wrapped only when th was declared, so a robot driving circles
+    with one landmark got 2 pi innovations (pose NEES in the hundreds). Sums with
+    a non-unit coefficient or another function of states are not angles. The
+    update by hand: from th = 0.02 at (0, 0), the landmark at (-1, 0.01) is
+    predicted at atan2(0.01, -1) - 0.02 = pi - atan(0.01) - 0.02; measured at
+    -pi + 0.01 the innovation is the wrapped 0.03 + atan(0.01), not it - 2 pi."""
+    from observability.codegen import angles_of
+
+    system = System(["x", "y", "th"], {"x": "x", "y": "y", "th": "th"},
+                    {"b": "atan2(ly - y, lx - x) - th", "c": "2*atan2(ly - y, lx - x)",
+                     "d": "atan2(ly - y, lx - x) + x**2", "e": "atan2(ly - y, lx - x) + x - 1"},
+                    parameters={"lx": -1, "ly": 0.01}, time="discrete")
+    assert angles_of(system) == ("b", "e")
+    fns = filter_functions(system, ["x", "y", "th"])
+    ekf = ConventionalEKF(fns, np.eye(3) * 1e-8, np.eye(4) * 0.01)
+    state = ekf.predict(ekf.initial([0.0, 0.0, 0.02], np.eye(3) * 0.1))
+    update = ekf.update(state, [-np.pi + 0.01, None, None, None])
+    np.testing.assert_allclose(update.innovation, [0.03 + np.arctan(0.01)], rtol=1e-9)
+
+
 def test_a_declared_angle_state_stays_in_its_interval():
     """`angles = ["th"]`: th+ = th, y = th (an angle too) measured at -pi + 0.03
     from th = pi - 0.01 with P = 1: the innovation is the wrapped 0.04, the
