@@ -99,3 +99,23 @@ def test_a_failed_write_leaves_the_old_file_and_no_temporary_one(tmp_path):
     with pytest.raises(RuntimeError):
         files._atomic(target, failing, ".partial")
     assert target.read_text() == "old" and [p.name for p in tmp_path.iterdir()] == ["keep.txt"]
+
+
+def test_a_figure_is_saved_as_a_png_beside_its_target(tmp_path, monkeypatch):
+    """save_figure: a PNG (its signature), at 110 dpi (a 2 x 1 inch figure is 220
+    x 110 pixels, read from the PNG header), through '.<name>.XXXX.partial.png'
+    beside the target, which does not survive."""
+    import struct
+
+    from matplotlib.figure import Figure
+
+    seen = []
+    original = tempfile.mkstemp
+    monkeypatch.setattr(tempfile, "mkstemp", lambda *a, **k: seen.append(k) or original(*a, **k))
+    figure = Figure(figsize=(2, 1))
+    figure.add_subplot().plot([0, 1], [1, 0])
+    path = files.save_figure(figure, tmp_path / "plot.png")
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and struct.unpack(">II", data[16:24]) == (220, 110)
+    assert seen[-1]["suffix"] == ".partial.png" and seen[-1]["prefix"] == ".plot.png." and seen[-1]["dir"] == tmp_path
+    assert [p.name for p in tmp_path.iterdir()] == ["plot.png"]
