@@ -141,3 +141,22 @@ def test_many_scaling_directions_do_not_multiply_the_work():
     assert result.rank == k and len(result.unobservable_directions) == k
     products = {sympy.expand(sympy.Symbol(f"a{i}") * sympy.Symbol(f"b{i}")) for i in range(k)}
     assert {sympy.expand(sympy.sympify(str(f))) for f in result.observable_functions} == products
+
+
+def test_complete_observable_functions_are_said_complete():
+    """slam1.5d: rank 2, functions cdot*d_L2 and d_L2*(c - x_L2); their Jacobian
+    in (c, cdot, x_L2, d_L2) has rank 2 by hand (rows (0, d, 0, cdot) and (d, 0,
+    -d, c - x)), the proven rank: complete. slam2d (angles inside sin/cos,
+    evaluated on the unit circle): complete too. A claimed rank above the
+    functions' transcendence degree gives no completeness claim (None), and an
+    unproven rank none either."""
+    from observability.analysis.verdict import _complete
+
+    for name in ("slam1.5d", "slam2d"):
+        system = models.build(name)
+        result = analyze(system, seed=1)
+        assert result.functions_complete is True, name
+        assert result.to_dict()["observable_functions_complete"] is True
+        assert _complete(system, result.observable_functions, result.rank + 1, "proven") is None
+        assert _complete(system, result.observable_functions, result.rank, "lower bound") is None
+    assert "(complete: their transcendence degree is the rank" in str(analyze(models.build("slam1.5d"), seed=1))

@@ -49,6 +49,11 @@ class ObservabilityResult:
     and rational invariants of degree <= 2 in the states, free parameters and
     cosines and sines of angles (:mod:`observability.directions.invariants`); None when not
     computed (the directions unknown).
+    ``functions_complete``: True when those functions have transcendence degree
+    equal to the rank (the rank of their Jacobian at a random rational point,
+    exact, equals a proven rank: every observable function is then algebraic
+    over them, so they determine it up to finitely many values); False when
+    that rank is lower (functions are missing); None when not decided.
     """
 
     model: str
@@ -73,6 +78,7 @@ class ObservabilityResult:
     unknown_input_model: str = ""  # what is assumed of them, in words
     unknown_parameters: tuple[str, ...] = ()  # unknown constants, states that never change
     restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
+    functions_complete: bool | None = None
 
     @property
     def n_states(self) -> int:
@@ -113,6 +119,7 @@ class ObservabilityResult:
             "observable_functions": (
                 list(self.observable_functions) if self.observable_functions is not None else None
             ),
+            "observable_functions_complete": self.functions_complete,
             "unobservable_states": (
                 list(self.unobservable_states) if self.observable is not None and self.observable_states is not None else None
             ),
@@ -183,7 +190,11 @@ class ObservabilityResult:
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
             if self.observable_functions:
-                lines.append(f"  observable functions: {states(self.observable_functions)}")
+                lines.append(f"  observable functions: {states(self.observable_functions)}" + {
+                    True: " (complete: their transcendence degree is the rank, so every observable function is "
+                          "algebraic over them)",
+                    False: " (incomplete: their transcendence degree is below the rank)", None: ""}[
+                    self.functions_complete])
             if self.unknown_parameters and self.observable_states is not None:
                 lines.append("  unknown parameters: " + "; ".join(
                     f"{c} {'identifiable' if c in self.observable_states else 'NOT identifiable'}"

@@ -12,6 +12,7 @@ observable functions; the observable states.
 
 from __future__ import annotations
 
+import random
 import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
@@ -22,6 +23,7 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import observable_functions
 from ..errors import ModelError
+from ..model.expressions import parse_expression
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -141,6 +143,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     details = evidence.details + upper + (f"; {note}" if note else "") + (
         f"; {prepared.rewritten}" if prepared.rewritten else "")
     observable_states = _observable_states(system, evidence, basis)
+    functions = _functions(system, basis, rank, evidence.seed or 0)
     if observable_states is None:
         details += "; observable states unknown"
     return ObservabilityResult(
@@ -149,7 +152,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         observable_states=observable_states, unobservable_directions=named,
         seconds=time.perf_counter() - start, details=details, time=system.time,
         singular_values=evidence.singular_values, row_labels=evidence.labels,
-        observable_functions=_functions(system, basis, rank, evidence.seed or 0), proof=proof,
+        observable_functions=functions, functions_complete=_complete(system, functions, rank, proof), proof=proof,
         unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
         unknown_input_model=input_model(system),
     )
@@ -234,6 +237,38 @@ def _functions(system: System, basis, rank: int, seed: int) -> tuple[str, ...] |
         outputs = (system.substitute_values(h) for _, h in system.outputs)
         functions = tuple(str(h) for h in outputs if h.free_symbols & set(system.states))
     return functions
+
+
+def _complete(system: System, functions: tuple[str, ...] | None, rank: int, proof: str) -> bool | None:
+    """Whether ``functions`` have transcendence degree ``rank``: the rank of
+    their Jacobian in the states at a random rational point, in exact
+    arithmetic, is a certain lower bound on it; every observable function's
+    differential lies in the observability codistribution, so a proven rank
+    bounds it from above. Equal: True. Below: False only when the Jacobian
+    rank at the point is itself certain to be generic -- not claimed, so None."""
+    if not functions or proof != "proven":
+        return None
+    names = {s.name: s for s in (*system.states, *system.parameters)}
+    try:
+        parsed = [parse_expression(f, names, where="observable function") for f in functions]
+    except ModelError:
+        return None
+    rng = random.Random(7)
+    angles = {a for f in parsed for t in f.atoms(sympy.sin, sympy.cos) for a in t.args[0].free_symbols}
+    for _ in range(5):
+        # An angle inside sin and cos takes a rational point of the unit circle
+        # (a real angle, exactly), so the angle must appear nowhere else.
+        circle = {}
+        for a in angles:
+            t = sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
+            circle |= {sympy.sin(a): 2 * t / (1 + t**2), sympy.cos(a): (1 - t**2) / (1 + t**2)}
+        point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
+                 for s in (*system.states, *system.free_parameters) if s not in angles} | dict(system.parameter_values)
+        jacobian = sympy.Matrix([[sympy.diff(f, x) for x in system.states] for f in parsed])
+        jacobian = jacobian.xreplace(circle).xreplace(point)
+        if all(e.is_Rational for e in jacobian):
+            return True if jacobian.rank() == rank else None
+    return None
 
 
 def _observable_states(system: System, evidence: RankEvidence, basis) -> tuple[str, ...] | None:
