@@ -50,6 +50,10 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    "observability.report.files.x_save_figure__mutmut_11":
+        "format=None: matplotlib takes the format from the temporary file's suffix, .partial.png: PNG all the same",
+    "observability.report.files.x_save_figure__mutmut_14": "no format: as mutant 11, PNG from the suffix",
+    "observability.report.files.x_save_figure__mutmut_17": "format 'PNG': matplotlib's format names are case-insensitive",
     "observability.report.files.x_write_text__mutmut_10":
         "encoding=None: the same bytes under the UTF-8 locale mutmut runs in; killed by "
         "test_text_is_utf8_whatever_the_locale, whose fresh interpreter under LC_ALL=C mutmut cannot trace "
