@@ -268,24 +268,12 @@ def inputs_from_csv(text: str, source: str) -> dict[str, Callable[[float], float
         increasing, or a first time after 0 -- naming the line.
     """
     import bisect
-    import csv
-    import math
 
-    rows = [r for r in csv.reader(text.splitlines()) if r and any(c.strip() for c in r)]
-    if not rows or [c.strip() for c in rows[0]][:1] != ["t"] or len(rows) < 2:
-        raise ModelError(f"{source}: a header 't,<input>,...' and at least one row are needed")
-    names = [c.strip() for c in rows[0][1:]]
-    table = []
-    for line, row in enumerate(rows[1:], start=2):
-        try:
-            values = [float(c) for c in row]
-        except ValueError:
-            raise ModelError(f"{source}: line {line}: not a number in {row!r}") from None
-        if len(values) != len(names) + 1 or not all(math.isfinite(v) for v in values):
-            raise ModelError(f"{source}: line {line}: {len(names) + 1} finite numbers expected")
-        if table and values[0] <= table[-1][0]:
+    header, table = _csv_table(text, source, "input", 1)
+    names = header[1:]
+    for line, (before, after) in enumerate(zip(table, table[1:]), start=3):
+        if after[0] <= before[0]:
             raise ModelError(f"{source}: line {line}: times must increase")
-        table.append(values)
     if table[0][0] > 0:
         raise ModelError(f"{source}: the first time must be <= 0 (the inputs at t = 0)")
     times = [r[0] for r in table]
@@ -307,18 +295,31 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
         A missing or unknown column, a value that is not a finite number, fewer
         than two rows, a first time other than 0 or an uneven step -- naming the line.
     """
-    import csv
-    import math
-
-    rows = [r for r in csv.reader(text.splitlines()) if r and any(c.strip() for c in r)]
-    header = [c.strip() for c in rows[0]] if rows else []
-    if header[:1] != ["t"] or len(rows) < 3:
-        raise ModelError(f"{source}: a header 't,<state>,...' and at least two rows are needed")
+    header, table = _csv_table(text, source, "state", 2)
     missing = [s for s in states if s not in header]
     unknown = [c for c in header[1:] if c not in states]
     if missing or unknown:
         raise ModelError(f"{source}: " + (f"no column for the state {missing[0]}" if missing
                                           else f"{unknown[0]!r} is not a state (states: {', '.join(states)})"))
+    times = np.array([r[0] for r in table])
+    step = times[1] - times[0]
+    if times[0] != 0 or not step > 0 or not np.allclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step):
+        bad = 2 if times[0] != 0 else 3 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))
+        raise ModelError(f"{source}: line {bad}: the times must start at 0 and advance by one constant step")
+    order = [header.index(s) for s in states]
+    return float(step), np.array([[r[i] for i in order] for r in table])
+
+
+def _csv_table(text: str, source: str, what: str, least: int) -> tuple[list[str], list[list[float]]]:
+    """A CSV table's header (first column t) and its rows of finite numbers, at
+    least ``least`` of them; ModelError naming the line otherwise."""
+    import csv
+    import math
+
+    rows = [r for r in csv.reader(text.splitlines()) if r and any(c.strip() for c in r)]
+    header = [c.strip() for c in rows[0]] if rows else []
+    if header[:1] != ["t"] or len(rows) < least + 1:
+        raise ModelError(f"{source}: a header 't,<{what}>,...' and at least {least} row(s) are needed")
     table = []
     for line, row in enumerate(rows[1:], start=2):
         try:
@@ -328,10 +329,4 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
         if len(values) != len(header) or not all(math.isfinite(v) for v in values):
             raise ModelError(f"{source}: line {line}: {len(header)} finite numbers expected")
         table.append(values)
-    times = np.array([r[0] for r in table])
-    step = times[1] - times[0]
-    if times[0] != 0 or not step > 0 or not np.allclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step):
-        bad = 2 if times[0] != 0 else 3 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))
-        raise ModelError(f"{source}: line {bad}: the times must start at 0 and advance by one constant step")
-    order = [header.index(s) for s in states]
-    return float(step), np.array([[r[i] for i in order] for r in table])
+    return header, table

@@ -46,6 +46,31 @@ def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool
     :func:`_identities` decides by expressions)."""
     if system.time != "continuous":
         return None  # v(F(x)) needs composition: left to the expression route
+    coordinates = _in_coordinates(system, fields)
+    if coordinates is None:
+        return None
+    field, x, f_, v_all_, annihilated = coordinates
+    if not annihilated:
+        return False
+    return all(component[0].is_zero() for v_ in v_all_ for component in _bracket(field, x, f_, v_))
+
+
+def _bracket(field: RationalFunctions, x: list, f_: list, v_: list) -> list:
+    """[f, v] = Dv f - Df v, component by component, as fractions."""
+    out = []
+    for vi, fi in zip(v_, f_):
+        total = (field.zero, field.one)
+        for xj, fj, vj in zip(x, f_, v_):
+            total = field.add(total, field.multiply(field.derivative(vi, xj), fj))
+            total = field.add(total, field.negative(field.multiply(field.derivative(fi, xj), vj)))
+        out.append(total)
+    return out
+
+
+def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | None:
+    """(field, coordinates, f, the fields, whether L_v h = 0 for every field and
+    output) as flint fractions in the coordinates with each angle through
+    T = tan(angle/2); None when an expression is not rational even so."""
     f = [system.substitute_values(e) for e in system.dynamics]
     h = [system.substitute_values(e) for _, e in system.outputs]
     v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
@@ -57,18 +82,11 @@ def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool
     try:
         f_ = [field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
         v_all_ = [[field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
-        for v, v_ in zip(v_all, v_all_):
-            if not all(_annihilates(field, hi, system.states, x, v, v_, angles) for hi in h):
-                return False
+        annihilated = all(_annihilates(field, hi, system.states, x, v, v_, angles)
+                          for v, v_ in zip(v_all, v_all_) for hi in h)
     except (NotRational, ZeroDivisionError):
         return None
-    for v_ in v_all_:
-        for vi, fi in zip(v_, f_):
-            terms = [(field.derivative(vi, xj), fj, 1) for xj, fj in zip(x, f_)]
-            terms += [(field.derivative(fi, xj), vj, -1) for xj, vj in zip(x, v_)]
-            if not _vanishes(field, terms):
-                return False
-    return True
+    return field, x, f_, v_all_, annihilated
 
 
 def _annihilates(field: RationalFunctions, h: sympy.Expr, states, x, v, v_, angles) -> bool:
@@ -178,33 +196,16 @@ def _closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
     (half-angle coordinates as :func:`_rational_identities`): the coefficients
     c_ab solved from k rows where the fields are independent, then every row
     checked. False when an expression is not rational even so."""
-    f = [system.substitute_values(e) for e in system.dynamics]
-    h = [system.substitute_values(e) for _, e in system.outputs]
-    v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
-    angles = half_angles(system.states, [*f, *h, *(e for v in v_all for e in v)])
-    if angles is None:
+    coordinates = _in_coordinates(system, fields)
+    if coordinates is None or not coordinates[4]:
         return False
-    x = [angles.get(s, s) for s in system.states]
-    field = RationalFunctions([*x, *system.inputs, *system.parameters])
-    try:
-        f_ = [field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
-        v_all_ = [[field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
-        if not all(_annihilates(field, hi, system.states, x, v, v_, angles) for v, v_ in zip(v_all, v_all_) for hi in h):
-            return False
-    except (NotRational, ZeroDivisionError):
-        return False
+    field, x, f_, v_all_, _ = coordinates
     rows = _pivot_rows(field, v_all_)
     if rows is None:
         return False
     square = [[v_[r] for v_ in v_all_] for r in rows]
     for v_ in v_all_:
-        bracket = []
-        for vi, fi in zip(v_, f_):
-            total = (field.zero, field.one)
-            for xj, fj, vj in zip(x, f_, v_):
-                total = field.add(total, field.multiply(field.derivative(vi, xj), fj))
-                total = field.add(total, field.negative(field.multiply(field.derivative(fi, xj), vj)))
-            bracket.append(total)
+        bracket = _bracket(field, x, f_, v_)
         c = solve(field, square, [bracket[r] for r in rows])
         if c is None:
             return False
