@@ -210,3 +210,11 @@ def test_three_attitude_forms_of_one_robot_agree():
     for stem, rank, n in (("vins_euler", 8, 12), ("vins_gibbs", 8, 12), ("vins_quaternion", 17, 22)):
         result = analyze(load_model(root / f"{stem}.toml"), seed=1)
         assert (result.rank, result.n_states, result.proof) == (rank, n, "proven"), stem
+    # The Gibbs vector turns with a yaw of the scene (nonlinearly: by hand the generator of a rotation by eps
+    # about z moves s by (e_z + e_z x s + (e_z . s) s)/2): named as the rotation, the attitude moving with it.
+    gibbs = analyze(load_model(root / "vins_gibbs.toml"), seed=1).unobservable_directions
+    (yaw,) = [d for d in gibbs if d.name.startswith("rotation")]
+    assert yaw.name == "rotation about the z-axis" and "moves s_0, s_1, s_2 with it" in yaw.description
+    s0, s1, s2 = sympy.symbols("s_0 s_1 s_2")
+    scale = sympy.sympify(yaw.vector["s_2"]) / (1 + s2**2)  # the field's multiple of the unit rotation
+    assert sympy.simplify(sympy.sympify(yaw.vector["s_0"]) - scale * (s0 * s2 - s1)) == 0

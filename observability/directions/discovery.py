@@ -396,7 +396,8 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         return "unnamed direction", "not a polynomial field"
     terms = [sympy.Poly(v, *states).as_dict() if v != 0 else {} for v in vector]
     if any(sum(powers) > 1 for t in terms for powers in t):
-        return "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}"
+        return _rotation_with_attitude(vector, terms, system) or (
+            "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}")
     n = len(states)
     A = [[0] * n for _ in range(n)]
     b = [sympy.Integer(0)] * n
@@ -434,6 +435,24 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
         return f"rotation{about}", description
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
+
+
+def _rotation_with_attitude(vector: Sequence[sympy.Expr], terms: list[dict], system: System) -> tuple[str, str] | None:
+    """A rotation of the states whose components are linear, which moves the
+    others nonlinearly (a Gibbs vector or another attitude turning with the
+    scene): named as the rotation, the others said to turn with it; None when
+    the linear part is not a rotation or the nonlinear components reach a state
+    of the rotation."""
+    nonlinear = {i for i, t in enumerate(terms) if any(sum(powers) > 1 for powers in t)}
+    states = list(system.states)
+    if any(states[i] in vector[j].free_symbols for j in range(len(vector)) if j not in nonlinear for i in nonlinear):
+        return None  # the linear part depends on the moved attitude: not a rotation of its own
+    linear = [v if i not in nonlinear else sympy.Integer(0) for i, v in enumerate(vector)]
+    name, description = classify(linear, system)
+    if not name.startswith("rotation"):
+        return None
+    moved = _listing([states[i].name for i in sorted(nonlinear)])
+    return name, f"{description}, and moves {moved} with it (an attitude turning with the scene)"
 
 
 #: The axis a rotation of the components (i, j) of 3-vectors turns about.
