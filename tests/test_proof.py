@@ -57,12 +57,30 @@ def test_large_models_say_lower_bound():
     assert result.rank == result.n_states - 4 and result.proof == "lower bound"
 
 
-def test_a_field_without_polynomial_generator_is_not_a_proof():
-    """x' = 0, z' = 0, output x + exp(z): the null field (exp(z), -1) is not
-    rational, so its independence is not proven here: "lower bound"."""
-    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"})
+def test_a_field_in_the_models_exponential_proves_the_rank():
+    """x' = 0, z' = 0, output x + exp(z): rank 1 (by hand: the only row is
+    (1, exp(z))), null field (exp(z), -1), no polynomial one. It is an identity
+    with E = exp(z) a variable (L_v y = E - E = 0, [f, v] = 0 as f = 0), and its
+    independence at a point with E free proves generic independence because the
+    exponent z has a non-zero gradient (Ax: exp(z) is transcendental over the
+    rational functions): proven (it was "lower bound"). The proof file is
+    accepted by the independent checker, which evaluates exp exactly; a field
+    with the sign of one component flipped is rejected. Exponents whose gradients
+    are dependent (z and 2z: exp(2z) = exp(z)^2) are not taken as independent."""
+    from observability.rank.proof import _independent_exponents
+
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + exp(z)"}, name="expo")
     result = analyze(system, seed=1)
-    assert result.rank == 1 and result.proof == "lower bound"
+    assert (result.rank, result.proof, result.error_probability) == (1, "proven", 0.0)
+    assert dict(result.unobservable_directions[0].vector) == {"x": "exp(z)", "z": "-1"}
+    data = proof_evidence(system, result)
+    checker = _checker()
+    assert checker.check(data).startswith("accepted")
+    data["upper_bound"]["generators"][0]["vector"] = {"x": "exp(z)", "z": "1"}
+    with pytest.raises(checker.Rejected, match="L_v y is not zero"):
+        checker.check(data)
+    z = sympy.Symbol("z")
+    assert _independent_exponents(system, [z]) and not _independent_exponents(system, [z, 2 * z])
 
 
 # ---------------------------------------------------------------- item 2: a symbolic method that finishes
@@ -162,7 +180,8 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
-    checker as `observability verify-proof`; not written (exit 3) for a lower bound."""
+    checker as `observability verify-proof`; not written (exit 3) for a lower bound
+    (x + sin(z): its null field (cos(z), -1) is not one the proofs handle)."""
     script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
     done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
@@ -172,7 +191,7 @@ def test_proof_file_from_the_command_line(tmp_path):
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
-    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + exp(z)"\n')
+    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sin(z)"\n')
     other = tmp_path / "none.json"
     refused = subprocess.run([*script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)

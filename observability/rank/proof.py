@@ -14,6 +14,7 @@ rank is proven.
 
 from __future__ import annotations
 
+import random
 from collections.abc import Sequence
 
 import sympy
@@ -49,55 +50,74 @@ def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool
     coordinates = _in_coordinates(system, fields)
     if coordinates is None:
         return None
-    field, x, f_, v_all_, annihilated = coordinates
+    field, derivative, f_, v_all_, annihilated = coordinates
     if not annihilated:
         return False
-    return all(component[0].is_zero() for v_ in v_all_ for component in _bracket(field, x, f_, v_))
+    return all(component[0].is_zero() for v_ in v_all_ for component in _bracket(field, derivative, f_, v_))
 
 
-def _bracket(field: RationalFunctions, x: list, f_: list, v_: list) -> list:
+def _bracket(field: RationalFunctions, derivative, f_: list, v_: list) -> list:
     """[f, v] = Dv f - Df v, component by component, as fractions."""
     out = []
     for vi, fi in zip(v_, f_):
         total = (field.zero, field.one)
-        for xj, fj, vj in zip(x, f_, v_):
-            total = field.add(total, field.multiply(field.derivative(vi, xj), fj))
-            total = field.add(total, field.negative(field.multiply(field.derivative(fi, xj), vj)))
+        for j, (fj, vj) in enumerate(zip(f_, v_)):
+            total = field.add(total, field.multiply(derivative(vi, j), fj))
+            total = field.add(total, field.negative(field.multiply(derivative(fi, j), vj)))
         out.append(total)
     return out
 
 
 def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | None:
-    """(field, coordinates, f, the fields, whether L_v h = 0 for every field and
+    """(field, derivative, f, the fields, whether L_v h = 0 for every field and
     output) as flint fractions in the coordinates with each angle through
-    T = tan(angle/2); None when an expression is not rational even so."""
+    T = tan(angle/2) and each exp(m) a variable E with dE = E dm (so an identity
+    found holds along E = exp(m)); ``derivative(a, j)`` is the total derivative
+    in the j-th coordinate. None when an expression is not rational even so."""
     f = [system.substitute_values(e) for e in system.dynamics]
     h = [system.substitute_values(e) for _, e in system.outputs]
     v_all = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
-    angles = half_angles(system.states, [*f, *h, *(e for v in v_all for e in v)])
+    everything = [*f, *h, *(e for v in v_all for e in v)]
+    angles = half_angles(system.states, everything)
     if angles is None:
         return None
     x = [angles.get(s, s) for s in system.states]
-    field = RationalFunctions([*x, *system.inputs, *system.parameters])
+    exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(sympy.exp)}, key=sympy.default_sort_key)
+    if any(a.args[0].has(sympy.exp) for a in exps):
+        return None  # exp inside exp: the chain rule below would miss the inner one
+    named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
+    field = RationalFunctions([*x, *named.values(), *system.inputs, *system.parameters])
+
+    def rational(e: sympy.Expr) -> tuple:
+        return field.of(in_half_angles(sympy.sympify(e).xreplace(named), angles))
+
     try:
-        f_ = [field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
-        v_all_ = [[field.of(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
-        annihilated = all(_annihilates(field, hi, system.states, x, v, v_, angles)
+        growth = [(named[a], field.multiply(field.of(named[a]), field.derivative(rational(a.args[0]), xj)))
+                  for a in exps for xj in x]
+
+        def derivative(a: tuple, j: int) -> tuple:
+            total = field.derivative(a, x[j])
+            for symbol, rate in growth[j::len(x)] if exps else ():
+                total = field.add(total, field.multiply(field.derivative(a, symbol), rate))
+            return total
+
+        f_ = [rational(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
+        v_all_ = [[rational(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
+        annihilated = all(_annihilates(field, derivative, rational, hi, system.states, v, v_)
                           for v, v_ in zip(v_all, v_all_) for hi in h)
     except (NotRational, ZeroDivisionError):
         return None
-    return field, x, f_, v_all_, annihilated
+    return field, derivative, f_, v_all_, annihilated
 
 
-def _annihilates(field: RationalFunctions, h: sympy.Expr, states, x, v, v_, angles) -> bool:
-    """L_v h = 0: in the coordinates x when h is rational there; otherwise (atan2,
-    log) from h's gradient in the model's own coordinates, a scalar written in T."""
+def _annihilates(field: RationalFunctions, derivative, rational, h: sympy.Expr, states, v, v_) -> bool:
+    """L_v h = 0: in the coordinates when h is rational there; otherwise (atan2,
+    log) from h's gradient in the model's own coordinates, a scalar written in them."""
     try:
-        h_ = field.of(in_half_angles(h, angles))
+        h_ = rational(h)
     except NotRational:
-        rate = sum(sympy.diff(h, s) * e for s, e in zip(states, v))
-        return field.of(in_half_angles(rate, angles))[0].is_zero()
-    return _vanishes(field, [(field.derivative(h_, xj), vj, 1) for xj, vj in zip(x, v_)])
+        return rational(sum(sympy.diff(h, s) * e for s, e in zip(states, v)))[0].is_zero()
+    return _vanishes(field, [(derivative(h_, j), vj, 1) for j, vj in enumerate(v_)])
 
 
 def _vanishes(field: RationalFunctions, terms) -> bool:
@@ -176,10 +196,19 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     if system.n > PROOF_MAX_STATES:
         return False
     # Independence is tested at a point where transcendental values are free
-    # quantities, which proves it only for rational fields; a field with exp,
-    # log, sin, ... (a null space without polynomial generator) proves nothing here.
+    # quantities: that proves it for rational fields, and for fields rational in
+    # exponentials exp(m_i) whose exponents' gradients are independent (then no
+    # non-trivial combination of the m_i is constant, and by Ax's theorem the
+    # exp(m_i) are algebraically independent over the rational functions, so a
+    # minor that is a non-zero polynomial in them cannot vanish identically).
+    # Other functions (log, sin, ...) in a field prove nothing here.
     variables = set(system.states) | set(system.parameters)
-    if not all(sympy.sympify(e).is_rational_function(*variables) for v in fields for e in v):
+    exps = {a for v in fields for e in v for a in sympy.sympify(e).atoms(sympy.exp)}
+    named = {a: sympy.Dummy() for a in exps}
+    if not all(sympy.sympify(e).xreplace(named).is_rational_function(*variables, *named.values())
+               for v in fields for e in v):
+        return False
+    if exps and not _independent_exponents(system, [a.args[0] for a in exps]):
         return False
     # A field that depends on an input moves with it (u' enters the bracket, and
     # in discrete time the next step's input): the identities below hold u fixed.
@@ -191,6 +220,22 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     return point_rank(system, fields, gradients=False, attempts=8) == len(fields)
 
 
+def _independent_exponents(system: System, exponents: list[sympy.Expr]) -> bool:
+    """Whether the exponents are rational in the states and parameters and their
+    gradients independent at a random rational point (exact: then they are as
+    functions, and no non-trivial rational combination of them is constant)."""
+    variables = [*system.states, *system.parameters]
+    if not all(m.is_rational_function(*variables) for m in exponents):
+        return False
+    rng = random.Random(11)
+    point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for s in variables}
+    try:
+        gradients = sympy.Matrix([[sympy.diff(m, s) for s in variables] for m in exponents]).xreplace(point)
+    except ZeroDivisionError:
+        return False
+    return all(e.is_Rational for e in gradients) and gradients.rank() == len(exponents)
+
+
 def _closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
     """The identities of :func:`spans_invariant_distribution` in flint fractions
     (half-angle coordinates as :func:`_rational_identities`): the coefficients
@@ -199,13 +244,13 @@ def _closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
     coordinates = _in_coordinates(system, fields)
     if coordinates is None or not coordinates[4]:
         return False
-    field, x, f_, v_all_, _ = coordinates
+    field, derivative, f_, v_all_, _ = coordinates
     rows = _pivot_rows(field, v_all_)
     if rows is None:
         return False
     square = [[v_[r] for v_ in v_all_] for r in rows]
     for v_ in v_all_:
-        bracket = _bracket(field, x, f_, v_)
+        bracket = _bracket(field, derivative, f_, v_)
         c = solve(field, square, [bracket[r] for r in rows])
         if c is None:
             return False
