@@ -236,3 +236,19 @@ def test_rank_drops_leaves_out_a_candidate_the_symmetry_moves(monkeypatch):
     monkeypatch.setattr(conditions, "invariant_under", lambda *args: None)
     rank_drops(straight, generic, seed=0)
     assert "ly - y = 0" in analysed
+
+
+def test_only_verified_symmetries_filter_the_candidates():
+    """The filter's argument needs symmetries (flows that keep the rank). A
+    verdict proven by an invariant span (x' = x^2, z' = 0, y = z: d/dx spans the
+    null space, [f, d/dx] = -2x d/dx, no symmetry) gives no field to filter with;
+    the bearing unicycle's rotation about the landmark ([f, v] = 0) is one."""
+    from observability import System
+    from observability.where.factors import symmetry_fields
+
+    spanned = System(["x", "z"], {"x": "x**2", "z": "0"}, {"y": "z"})
+    result = analyze(spanned, seed=1)
+    assert result.proof == "proven" and len(result.unobservable_directions) == 1
+    assert symmetry_fields(spanned, result.unobservable_directions) == []
+    bearing = parse_model(BEARING)
+    assert len(symmetry_fields(bearing, analyze(bearing, seed=1).unobservable_directions)) == 1

@@ -23,7 +23,6 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import observable_functions
 from ..errors import ModelError
-from ..model.expressions import parse_expression
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -152,7 +151,8 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         observable_states=observable_states, unobservable_directions=named,
         seconds=time.perf_counter() - start, details=details, time=system.time,
         singular_values=evidence.singular_values, row_labels=evidence.labels,
-        observable_functions=functions, functions_complete=_complete(system, functions, rank, proof), proof=proof,
+        observable_functions=None if functions is None else tuple(map(str, functions)),
+        functions_complete=_complete(system, functions, rank, proof), proof=proof,
         unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
         unknown_input_model=input_model(system),
     )
@@ -226,20 +226,20 @@ def _upper_bound(system: System, basis, seconds: float) -> str:
     return ""
 
 
-def _functions(system: System, basis, rank: int, seed: int) -> tuple[str, ...] | None:
+def _functions(system: System, basis, rank: int, seed: int) -> tuple[sympy.Expr, ...] | None:
     """The observable functions: invariants of the null-space basis; the outputs
     themselves when none of low degree is found ("[]" would read as "none")."""
     if basis is None or rank == system.n:
         return None
     # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
-    functions = tuple(str(sympy.factor_terms(e)) for e in observable_functions(system, basis, rank, seed=seed))
+    functions = tuple(sympy.factor_terms(e) for e in observable_functions(system, basis, rank, seed=seed))
     if not functions and rank:
         outputs = (system.substitute_values(h) for _, h in system.outputs)
-        functions = tuple(str(h) for h in outputs if h.free_symbols & set(system.states))
+        functions = tuple(h for h in outputs if h.free_symbols & set(system.states))
     return functions
 
 
-def _complete(system: System, functions: tuple[str, ...] | None, rank: int, proof: str) -> bool | None:
+def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: int, proof: str) -> bool | None:
     """Whether ``functions`` have transcendence degree ``rank``: the rank of
     their Jacobian in the states at a random rational point, in exact
     arithmetic, is a certain lower bound on it; every observable function's
@@ -248,11 +248,7 @@ def _complete(system: System, functions: tuple[str, ...] | None, rank: int, proo
     rank at the point is itself certain to be generic -- not claimed, so None."""
     if not functions or proof != "proven":
         return None
-    names = {s.name: s for s in (*system.states, *system.parameters)}
-    try:
-        parsed = [parse_expression(f, names, where="observable function") for f in functions]
-    except ModelError:
-        return None
+    parsed = [sympy.sympify(f) for f in functions]
     rng = random.Random(7)
     angles = {a for f in parsed for t in f.atoms(sympy.sin, sympy.cos) for a in t.args[0].free_symbols}
     for _ in range(5):

@@ -380,8 +380,8 @@ def _trajectory_directions(system: System, parameters: dict[str, float], args: a
     if args.degenerate:
         from ..where.motions import degenerate_motions
 
+        known = {d.name for d in result.unobservable_directions}
         for row in degenerate_motions(valued, seed=args.seed or 0)[1:]:
-            known = {d.name for d in result.unobservable_directions}
             lost = [d for d in row.result.unobservable_directions if d.lost_on or d.name not in known]
             named = named_directions(system, lost, parameters)
             directions |= {f"{row.motion.name}: {name}": at for name, at in named.items()}

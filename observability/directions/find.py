@@ -167,9 +167,10 @@ def directions_on_set(system: System, constraint, nullity: int, orders: int, gen
     a fresh point of the set); named ones are preferred. A field is kept when it
     is independent of ``generic`` and of the fields kept before at a random
     rational point of the set, in exact rational arithmetic: independence at one
-    point is independence at the generic point of the set, so every direction
-    returned is certainly lost beyond the generic ones (as far as the rank is).
-    """
+    point is independence at the generic point of the set, so no direction
+    returned is a combination of the generic ones. That each is null on the set
+    is checked at a fresh random point of it mod p (as the rank on a set is):
+    likely, not proven."""
     if nullity <= 0:
         return (), ""
     fields = discover_directions(system, nullity, orders, seed=seed, input_derivatives=input_derivatives,

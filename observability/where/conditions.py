@@ -287,7 +287,7 @@ def rank_drops(system: System, generic: ObservabilityResult, seed: int = 0, budg
     except Undecided as exc:
         return [], f"undecided: {exc}"
     # Verified symmetries keep the rank: a candidate they move is an artefact (.factors).
-    fields = symmetry_fields(system, generic.unobservable_directions) if generic.proof == "proven" else []
+    fields = symmetry_fields(system, generic.unobservable_directions)
     drops = [_decided(system, generic, factor, divides_all, meaning, seed, input_derivatives)
              for factor, divides_all in factors
              if not fields or invariant_under(system, factor, fields, meaning) is None]

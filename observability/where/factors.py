@@ -10,7 +10,8 @@ the factor's, exactly: c^d vanishes only at angle = pi, where T is undefined and
 where P(T) c^d tends to P's leading coefficient, not zero. Odd degrees keep T.
 
 The rank is the same at x and at its image under a symmetry of the system (a
-field v with L_v h = 0 and [v, f] = 0 for every input, verified as identities):
+field v with L_v h = 0 and [v, f] = 0 for every input, verified as identities
+here, whatever proved the verdict):
 its flow maps trajectories to trajectories with the same outputs and keeps the
 observability codistribution. So the set where the rank drops is a union of
 orbits, and each of its irreducible hypersurfaces F = 0 is invariant: F divides
@@ -25,8 +26,10 @@ import sympy
 from sympy.simplify.fu import TR8
 
 from ..engine.fractions import NotRational, RationalFunctions
+from ..engine.halfangles import angle_speed
 from ..model.expressions import parse_expression
 from ..model.system import System
+from ..rank.proof import fields_are_symmetries
 
 __all__ = ["in_angles", "symmetry_fields", "invariant_under"]
 
@@ -49,11 +52,15 @@ def in_angles(factor: sympy.Expr, meaning: dict[sympy.Symbol, sympy.Expr]) -> sy
 
 
 def symmetry_fields(system: System, directions) -> list[list[sympy.Expr]]:
-    """The named directions of a proven verdict as vectors in the states (the
-    verdict's generators, verified as symmetries); numbers at a point are not fields."""
+    """The named directions as vectors in the states when, together, they are
+    symmetries verified as identities (L_v h = 0, [f, v] = 0 for every input:
+    their flows keep the rank); [] otherwise. A verdict proven by an invariant
+    span gives null fields that need not be symmetries, and their flows need
+    not keep the rank, so they are not used; numbers at a point are not fields."""
     names = {s.name: s for s in (*system.states, *system.parameters)}
-    return [[system.substitute_values(parse_expression(d.vector.get(s.name, "0"), names, where=d.name))
-             for s in system.states] for d in directions if d.name != "unnamed direction" and not d.lost_on]
+    fields = [[system.substitute_values(parse_expression(d.vector.get(s.name, "0"), names, where=d.name))
+               for s in system.states] for d in directions if d.name != "unnamed direction" and not d.lost_on]
+    return fields if fields and fields_are_symmetries(system, fields) else []
 
 
 def invariant_under(system: System, factor: sympy.Expr, fields: list[list[sympy.Expr]],
@@ -66,8 +73,6 @@ def invariant_under(system: System, factor: sympy.Expr, fields: list[list[sympy.
     v_T = v_angle (1 + T^2)/2), the numerator of v(F) must be divisible by F."""
     angles = {m.args[0] * 2: t for t, m in meaning.items()}
     coordinates = [angles.get(x, x) for x in system.states]
-    table = {sympy.sin(a): 2 * t / (1 + t**2) for a, t in angles.items()}
-    table |= {sympy.cos(a): (1 - t**2) / (1 + t**2) for a, t in angles.items()}
     symbols = sorted(factor.free_symbols | {s for v in fields for c in v for s in c.free_symbols} | set(coordinates),
                      key=str)
     field = RationalFunctions([s for s in symbols if s not in angles])
@@ -77,8 +82,7 @@ def invariant_under(system: System, factor: sympy.Expr, fields: list[list[sympy.
         return None
     for index, vector in enumerate(fields):
         try:
-            parts = [field.of(sympy.cancel(c.xreplace(table) * ((1 + angles[x] ** 2) / 2 if x in angles else 1)))
-                     for x, c in zip(system.states, vector)]
+            parts = [field.of(angle_speed(x, c, angles)) for x, c in zip(system.states, vector)]
         except (NotRational, ZeroDivisionError):
             continue
         moved = (field.zero, field.one)
