@@ -281,12 +281,43 @@ def consistency_command(args: argparse.Namespace) -> int:
 
     from ..parallel import engine
 
-    study = ConsistencyStudy(runs=args.runs, steps=args.steps, seed=args.seed)
+    if args.study != "odometry":
+        return _slam_study(args)
+    study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=args.seed)
     with engine(args.scheduler, args.workers) as run:
         summary = write_consistency_report(args.out, study, run)
     for name, row in summary.items():
         print(f"{name:26} mean NEES {row['mean_nees']:9.2f}  {row['verdict']}")
     print(f"wrote {args.out / 'consistency.md'} and {args.out / 'consistency_nees.png'}")
+    return 0
+
+
+def _slam_study(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from ..parallel import engine
+    from ..report.slamstudy import STUDIES
+    from ..report.slamstudy_report import write_slam_study
+
+    if args.study == "slam2d-paper":
+        from ..report.slamstudy_report import write_paper_comparison
+
+        comparison = write_paper_comparison(args.out / args.study, args.runs or 3)
+        print(comparison.reading())
+        print(f"wrote {args.out / args.study / 'README.md'} and {args.out / args.study / 'summary.json'}")
+        return 0
+    base = STUDIES[args.study]
+    study = dataclasses.replace(base, runs=args.runs or base.runs, steps=args.steps or base.steps, seed=args.seed,
+                                window=min(base.window, args.steps or base.steps))
+    out = args.out / args.study
+    with engine(args.scheduler, args.workers) as run:
+        result = write_slam_study(out, study, run)
+    for r in result.records:
+        lo, hi = r["anees_bounds"]
+        print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f}  band [{lo:.2f}, {hi:.2f}]  in band "
+              f"{r['fraction_in_band']:.2f}  unobservable dim. {r['filter_unobservable_dimension']} "
+              f"(analysis {r['analysis_unobservable_dimension']})")
+    print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
     return 0
 
 

@@ -7,6 +7,7 @@ measurements that depend on the previous state, and the stochastic-cloning EKF;
 
 from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
+from .firstestimates import FirstEstimatesEKF, IdealEKF, static_states
 from .constrained import ObservabilityConstrainedEKF, null_space_function
 from .linearized import LinearizedObservability, linearized_observability, observability_of
 from .manifolds import unit_norm
@@ -18,6 +19,8 @@ __all__ = [
     "ConventionalEKF",
     "FilterError",
     "FilterState",
+    "FirstEstimatesEKF",
+    "IdealEKF",
     "GeneralizedEKF",
     "GeneralizedTotalEKF",
     "LinearizedObservability",
@@ -29,6 +32,7 @@ __all__ = [
     "null_space_function",
     "observability_of",
     "monte_carlo",
+    "static_states",
     "unit_norm",
     "nees",
     "nis",

@@ -29,6 +29,7 @@ import numpy as np
 from ..codegen import FilterFunctions, to_casadi
 from ..model.expressions import parse_expression
 from ..model.system import System
+from .manifolds import wrap_angles
 from .ekf import FilterError, FilterState, Update, _Base, _symmetric
 
 __all__ = ["ObservabilityConstrainedEKF", "null_space_function"]
@@ -53,14 +54,6 @@ def _projected(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:
     if N.shape[1] == 0:
         return A
     return A - (A @ N - target) @ np.linalg.pinv(N)
-
-
-def _wrap(values: np.ndarray, flags: Sequence[bool]) -> np.ndarray:
-    out = np.array(values, dtype=float)
-    for i, flag in enumerate(flags):
-        if flag:
-            out[i] = np.arctan2(np.sin(out[i]), np.cos(out[i]))
-    return out
 
 
 class ObservabilityConstrainedEKF(_Base):
@@ -90,7 +83,7 @@ class ObservabilityConstrainedEKF(_Base):
         """x = f(x, u, 0), P = Phi* P Phi*^T + F_w Q F_w^T."""
         u = self._inputs(u, state.step + 1)
         x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
-        x_next = self._on_manifold(_wrap(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
+        x_next = self._on_manifold(wrap_angles(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
         N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
         F = _projected(F, N_k, N_next)
         if self.record:
@@ -112,9 +105,9 @@ class ObservabilityConstrainedEKF(_Base):
             self.used.append(("H", state.step, H))
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
-        innovation = _wrap(values - h.ravel()[used], [self._output_angles[i] for i in used])
+        innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])
         K, S = self._gain(state.P, H, W, state.step)
-        x = self._on_manifold(_wrap(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
+        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
         new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step, prior=state.prior)
         if not np.all(np.isfinite(x)):
             raise FilterError(f"step {state.step} (update): the estimate is not finite")

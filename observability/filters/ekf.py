@@ -56,6 +56,8 @@ class FilterState:
     step : the number of predictions so far
     prior : the prior estimate x_k|k-1 of the current step, observability-
         constrained filter only (its null space is taken there)
+    first, first_prev : the first estimates of the current and previous
+        states, where the first-estimates filters take their Jacobians
     """
 
     x: np.ndarray
@@ -65,6 +67,8 @@ class FilterState:
     step: int = 0
     noise: np.ndarray | None = None
     prior: np.ndarray | None = None
+    first: np.ndarray | None = None
+    first_prev: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["LinearizedObservability", "linearized_observability", "observability_of"]
+__all__ = ["LinearizedObservability", "linearized_observability", "observability_of", "recorded_observability"]
 
 #: Singular values below this fraction of the largest count as zero.
 TOLERANCE = 1e-9
@@ -97,3 +97,27 @@ def observability_of(measurements: Sequence[np.ndarray], transitions: Sequence[n
     _, sigma, vt = np.linalg.svd(np.vstack(rows))
     rank = int(np.sum(sigma > TOLERANCE * (sigma[0] if sigma.size else 0.0)))
     return LinearizedObservability(rank, n - rank, tuple(map(float, sigma)), vt[rank:])
+
+
+def recorded_observability(used: Sequence[tuple[str, int, np.ndarray]], window: int | None = None) -> LinearizedObservability:
+    """The observability of the Jacobians a filter recorded (``used``: ("F", k,
+    Phi_k) for the step k -> k+1 and ("H", k, H_k), as the first-estimates and
+    observability-constrained filters keep them with ``record=True``), over the
+    first ``window`` measurement steps: [H_j0; H_j0+1 Phi_j0; ...].
+
+    Raises
+    ------
+    ValueError
+        When no measurement Jacobian was recorded, or a transition between two
+        recorded measurements is missing.
+    """
+    H = {k: m for kind, k, m in used if kind == "H"}
+    Phi = {k: m for kind, k, m in used if kind == "F"}
+    if not H:
+        raise ValueError("no measurement Jacobian was recorded (construct the filter with record=True)")
+    steps = sorted(H)[:window]
+    missing = [k for k in range(steps[0], steps[-1]) if k not in Phi]
+    if missing:
+        raise ValueError(f"no transition recorded for step {missing[0]} -> {missing[0] + 1}")
+    measurements = [H.get(k, np.zeros((0, H[steps[0]].shape[1]))) for k in range(steps[0], steps[-1] + 1)]
+    return observability_of(measurements, [Phi[k] for k in range(steps[0], steps[-1])])

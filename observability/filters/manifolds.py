@@ -16,7 +16,7 @@ import numpy as np
 
 from .validation import FilterError
 
-__all__ = ["unit_norm"]
+__all__ = ["unit_norm", "wrap_angles"]
 
 
 def unit_norm(functions, *blocks: Sequence[str]) -> Callable[[np.ndarray], np.ndarray]:
@@ -47,3 +47,12 @@ def unit_norm(functions, *blocks: Sequence[str]) -> Callable[[np.ndarray], np.nd
         return x
 
     return retract
+
+
+def wrap_angles(values: np.ndarray, flags: Sequence[bool]) -> np.ndarray:
+    """A copy of ``values`` with the entries flagged as angles wrapped to (-pi, pi]."""
+    out = np.array(values, dtype=float)
+    for i, flag in enumerate(flags):
+        if flag:
+            out[i] = np.arctan2(np.sin(out[i]), np.cos(out[i]))
+    return out

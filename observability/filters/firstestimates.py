@@ -1,0 +1,169 @@
+"""First-estimates Jacobians: the FEJ-EKF and the ideal EKF, for any model.
+
+The rule (Huang, Mourikis & Roumeliotis, "A first-estimates Jacobian EKF for
+improving SLAM consistency", ISER 2008; "Observability-based rules for designing
+consistent EKF SLAM estimators", IJRR 2010, sec. 5), stated for any model of the
+toolkit: every Jacobian takes each state at its *first estimate*, the same value
+in every Jacobian that contains it.
+
+* A state the motion leaves unchanged (``f_i = x_i``, a landmark) is one
+  quantity for the whole run: its first estimate is the initial one, x0.
+* A state that moves is a new quantity at each step: its first estimate at
+  step k is the prior x_k|k-1 (at step 0, x0).
+* H_k is taken at the first estimates x̄_k (h itself at the current estimate,
+  as the innovation needs the best one); outputs of the previous state take
+  x̄_k-1 for their H_Xk-1.
+* Phi_k is F_X at x̄_k with the process noise w̃_k that carries x̄_k to
+  x̄_k+1, f(x̄_k, u_k, w̃_k) = x̄_k+1 (a Gauss-Newton least-squares solve on
+  the moving states). For odometry models this is Huang's difference form:
+  in 2-D, d(p_k+1)/d(theta_k) = J C(theta) (d + w̃) = J (p̄_k+1 - p̄_k).
+  ``residuals`` records max |f(x̄_k, u_k, w̃_k) - x̄_k+1| per step.
+
+Why the null space is kept: let a symmetry flow phi_s of the model leave the
+outputs invariant, h(phi_s x) = h(x), and commute with the motion for every
+input and noise, f(phi_s x, u, w) = phi_s f(x, u, w) (body-frame noise, as
+odometry noise is; additive world-frame noise is not). Differentiating at
+s = 0 with N the generator: H(x) N(x) = 0 and F_X(x, u, w) N(x) = N(f(x, u, w)).
+With the points above, Phi_k N(x̄_k) = N(x̄_k+1) when the residual is zero, so
+H_j Phi_j-1 ... Phi_0 N(x̄_0) = H_j N(x̄_j) = 0 for every j: the filter's
+linearisation has every such direction in its null space, as the model has.
+A nonzero residual (noise that cannot carry x̄_k to x̄_k+1) voids the argument
+for that step; the residuals say so.
+
+:class:`IdealEKF` is the same filter with the true states as the points (and
+so the true noise as w̃): the reference the consistency study compares with.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import casadi
+import numpy as np
+
+from ..codegen import FilterFunctions
+from .ekf import FilterError, FilterState, Update, _Base, _symmetric
+from .manifolds import wrap_angles
+
+__all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states"]
+
+#: Gauss-Newton steps for the noise carrying x̄_k to x̄_k+1, and the residual at which it stops.
+CARRY_STEPS, CARRY_TOLERANCE = 20, 1e-12
+
+
+def static_states(functions: FilterFunctions) -> np.ndarray:
+    """Which states the motion leaves unchanged, f_i(x, u, w, p) = x_i, read
+    from the casadi graph (of the in-memory Functions for compiled ones). A
+    graph that cannot be read counts every state as moving."""
+    f = (functions.source or functions.functions)["f"]
+    if not f.is_a("SXFunction"):
+        return np.zeros(len(functions.states), dtype=bool)
+    arguments = f.sx_in()
+    x, x_next = arguments[0], f.call(arguments)[0]
+    return np.array([casadi.is_equal(x_next[i], x[i], 1) for i in range(x.shape[0])], dtype=bool)
+
+
+class FirstEstimatesEKF(_Base):
+    """The FEJ-EKF (module docstring): Jacobians at first estimates.
+
+    ``residuals`` holds (step, max |f(x̄_k, u, w̃) - x̄_k+1|); with ``record``,
+    ``used`` keeps ("F" or "H", step, matrix) for
+    :func:`~observability.filters.linearized.observability_of`.
+    """
+
+    fused = False
+    variant = "first-estimates"
+
+    def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = (),
+                 record: bool = False) -> None:
+        super().__init__(functions, Q, R, parameters)
+        self.static = static_states(functions)
+        self.record = record
+        self.residuals: list[tuple[int, float]] = []
+        self.used: list[tuple[str, int, np.ndarray]] = []
+        self._output_angles = [o in functions.angles for o in functions.outputs]
+        self._state_angles = [s in functions.angles for s in functions.states]
+
+    def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
+        base = super().initial(x0, P0)
+        return FilterState(base.x, base.P, first=self._point(0, base.x, base.x))
+
+    def _point(self, step: int, prior: np.ndarray, previous: np.ndarray) -> np.ndarray:
+        """x̄_step: the moving states at the prior, the static ones at their first estimate."""
+        return np.where(self.static, previous, prior)
+
+    def _carrying_noise(self, start: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, float]:
+        """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left."""
+        w = np.array(self.w0)
+        for _ in range(CARRY_STEPS):
+            x_next, _, Fw = self._motion_with(start, u, w)
+            r = wrap_angles(x_next - target, self._state_angles)
+            if np.max(np.abs(r), initial=0.0) < CARRY_TOLERANCE or Fw.size == 0:
+                break
+            w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
+        return w, float(np.max(np.abs(r), initial=0.0))
+
+    def _motion_with(self, x: np.ndarray, u: np.ndarray, w: np.ndarray):
+        x_next, F, Fw = self._motion_call(x, u, w, self.p)
+        return x_next.ravel(), F, Fw
+
+    def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
+        """x = f(x, u, 0), P = Phi P Phi^T + F_w Q F_w^T with Phi = F_X(x̄_k, u, w̃)."""
+        u = self._inputs(u, state.step + 1)
+        where = f"step {state.step + 1} (prediction)"
+        x_next, _, Fw = self._motion(state.x, u)
+        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
+        first = state.first if state.first is not None else state.x
+        first_next = self._point(state.step + 1, x_next, first)
+        w, residual = self._carrying_noise(first, u, first_next)
+        _, Phi, _ = self._motion_with(first, u, w)
+        self.residuals.append((state.step + 1, residual))
+        if self.record:
+            self.used.append(("F", state.step, Phi))
+        P = _symmetric(Phi @ state.P @ Phi.T + Fw @ self.Q @ Fw.T)
+        new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
+        return self._checked(new, "prediction")
+
+    def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
+        """The Joseph-form update with h at the estimate and H at the first estimates."""
+        values, used = self._select(y, state.step)
+        if not used:
+            return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        x_prev = state.x if state.x_prev is None else state.x_prev
+        first = state.first if state.first is not None else state.x
+        first_prev = first if state.first_prev is None else state.first_prev
+        h, _, _ = self._measurement(state.x, x_prev)
+        _, H, _ = self._measurement(first, first_prev)
+        if self.record:
+            self.used.append(("H", state.step, H))
+        H, W = H[used], self.R[np.ix_(used, used)]
+        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+        K, S = self._gain(state.P, H, W, state.step)
+        where = f"step {state.step} (update)"
+        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
+        if not np.all(np.isfinite(x)):
+            raise FilterError(f"{where}: the estimate is not finite")
+        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step,
+                          first=state.first, first_prev=state.first_prev)
+        return Update(self._checked(new, "update"), innovation, S, tuple(used))
+
+
+class IdealEKF(FirstEstimatesEKF):
+    """The EKF with every Jacobian at the true state (``truth[k]`` at step k),
+    Phi_k with the true noise (the one carrying truth[k] to truth[k+1]): not
+    a filter one can run on a robot, the reference for consistency studies
+    (Huang et al. 2010's "ideal EKF")."""
+
+    variant = "ideal"
+
+    def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, truth: Sequence[Sequence[float]],
+                 parameters: Sequence[float] = (), record: bool = False) -> None:
+        super().__init__(functions, Q, R, parameters, record)
+        self.truth = np.array(truth, dtype=float)
+        if self.truth.ndim != 2 or self.truth.shape[1] != self.n or not np.all(np.isfinite(self.truth)):
+            raise FilterError(f"IdealEKF setup: truth must be finite states of length {self.n}, one per step")
+
+    def _point(self, step: int, prior: np.ndarray, previous: np.ndarray) -> np.ndarray:
+        if step >= len(self.truth):
+            raise FilterError(f"step {step} (prediction): the ideal EKF has truth for steps 0..{len(self.truth) - 1} only")
+        return self.truth[step].copy()

@@ -1,0 +1,234 @@
+"""The FEJ-EKF and the ideal EKF (issue 26, items 2 and 4).
+
+References: Huang, Mourikis & Roumeliotis, "Observability-based rules for
+designing consistent EKF SLAM estimators" (IJRR 2010), sec. 5: for a robot with
+odometry, p_k+1 = p_k + C(th_k) d_k, th_k+1 = th_k + a_k, the first-estimates
+transition Jacobian is
+
+    Phi_R = [[I2, J (p̄_k+1 - p̄_k)], [0, 1]],  J = [[0, -1], [1, 0]],
+
+with p̄ the first estimates of the positions (the priors), and every
+measurement Jacobian takes each landmark at its first estimate. The 2-D SLAM
+model has three unobservable directions (two translations, one rotation); the
+standard EKF's linearisation keeps two, FEJ's three (their eqs. 28-35).
+The filter below is written again here with those hand formulas, in numpy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from observability import analyze
+from observability.codegen import filter_functions
+from observability.filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, IdealEKF,
+                                   ObservabilityConstrainedEKF, null_space_function, static_states)
+from observability.filters.linearized import linearized_observability, recorded_observability
+from observability.model.modelfile import parse_model
+
+ODOMETRY = """
+name = "odometry range-bearing"
+time = "discrete"
+states = ["x", "y", "th", "lx", "ly", "mx", "my"]
+inputs = ["v", "s", "om"]
+parameters = ["dt"]
+angles = ["th"]
+[dynamics]
+x = "x + dt*(v*cos(th) - s*sin(th))"
+y = "y + dt*(v*sin(th) + s*cos(th))"
+th = "th + dt*om"
+lx = "lx"
+ly = "ly"
+mx = "mx"
+my = "my"
+[outputs]
+r = "sqrt((lx - x)**2 + (ly - y)**2)"
+b = "atan2(ly - y, lx - x) - th"
+q = "sqrt((mx - x)**2 + (my - y)**2)"
+c = "atan2(my - y, mx - x) - th"
+"""
+DT = 1.0
+Q = np.diag([0.02, 0.02, 0.03]) ** 2
+R = np.diag([0.1, 0.05, 0.1, 0.05]) ** 2
+U = np.array([0.5, 0.0, 0.2])
+
+
+@pytest.fixture(scope="module")
+def model():
+    system = parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT)
+    return system, filter_functions(system, ["v", "s", "om"])
+
+
+def _simulate(fns, steps: int, seed: int):
+    rng = np.random.default_rng(seed)
+    truth = [np.array([0.0, 0.0, 0.3, 4.0, 2.0, -1.0, 3.0])]
+    for _ in range(steps):
+        truth.append(np.array(fns["f"](truth[-1], U, rng.multivariate_normal(np.zeros(3), Q), [])).ravel())
+    ys = [np.array(fns["h"](x, x, [])).ravel() + rng.multivariate_normal(np.zeros(4), R) for x in truth[1:]]
+    x0 = truth[0] + np.r_[0.0, 0.0, 0.0, rng.normal(0.0, 0.2, 4)]
+    return truth, ys, x0, np.diag([1e-8] * 3 + [0.04] * 4)
+
+
+def _wrap(a):
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+def _hand_fej(x0, P0, ys, steps):
+    """The FEJ-EKF with Huang's formulas, independent of casadi and of the model file."""
+    J = np.array([[0.0, -1.0], [1.0, 0.0]])
+    x, P, first = x0.copy(), P0.copy(), x0.copy()
+    out = []
+    for k in range(steps):
+        th = x[2]
+        C = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+        x_next = x.copy()
+        x_next[:2] = x[:2] + DT * C @ U[:2]
+        x_next[2] = _wrap(x[2] + DT * U[2])
+        first_next = np.r_[x_next[:3], first[3:]]
+        Phi = np.eye(7)
+        Phi[:2, 2] = J @ (first_next[:2] - first[:2])
+        G = np.zeros((7, 3))
+        G[:2, :2], G[2, 2] = DT * C, DT
+        P = Phi @ P @ Phi.T + G @ Q @ G.T
+        x, first = x_next, first_next
+        h, H = [], np.zeros((4, 7))
+        for i, j in ((0, 3), (2, 5)):
+            d_now, d_first = x[j:j + 2] - x[:2], first[j:j + 2] - first[:2]
+            rho, rho_first = np.hypot(*d_now), np.hypot(*d_first)
+            h += [rho, np.arctan2(d_now[1], d_now[0]) - x[2]]
+            H[i, :2], H[i, j:j + 2] = -d_first / rho_first, d_first / rho_first
+            H[i + 1, :2] = np.array([d_first[1], -d_first[0]]) / rho_first ** 2
+            H[i + 1, j:j + 2] = -H[i + 1, :2]
+            H[i + 1, 2] = -1.0
+        nu = ys[k] - np.array(h)
+        nu[1::2] = _wrap(nu[1::2])
+        S = H @ P @ H.T + R
+        K = P @ H.T @ np.linalg.inv(S)
+        A = np.eye(7) - K @ H
+        x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
+        x[2] = _wrap(x[2])
+        out.append((x.copy(), P.copy()))
+    return out
+
+
+def test_static_states_are_read_from_the_model(model):
+    _, fns = model
+    assert static_states(fns).tolist() == [False] * 3 + [True] * 4
+    noisy = filter_functions(model[0], ["x", "lx"])  # noise entering a landmark makes it move
+    assert static_states(noisy).tolist() == [False] * 3 + [False, True, True, True]
+
+
+def test_fej_equals_the_hand_written_filter(model):
+    """Estimates and covariances of 15 steps agree with Huang's formulas in numpy."""
+    _, fns = model
+    truth, ys, x0, P0 = _simulate(fns, 15, seed=4)
+    fej = FirstEstimatesEKF(fns, Q, R)
+    state, ours = fej.initial(x0, P0), []
+    for y in ys:
+        state = fej.update(fej.predict(state, U), y).state
+        ours.append((state.x, state.P))
+    for (x, P), (x_ref, P_ref) in zip(ours, _hand_fej(x0, P0, ys, 15)):
+        assert np.allclose(x, x_ref, atol=1e-10) and np.allclose(P, P_ref, atol=1e-12)
+    assert max(r for _, r in fej.residuals) < 1e-10  # the noise carries each first estimate to the next exactly
+
+
+def _nullities(model, steps=12, seed=2):
+    system, fns = model
+    result = analyze(system, seed=1)
+    truth, ys, x0, P0 = _simulate(fns, steps, seed)
+    N = null_space_function(system, result.unobservable_directions, fns)
+    filters = {"fej": FirstEstimatesEKF(fns, Q, R, record=True), "oc": ObservabilityConstrainedEKF(fns, Q, R, N, record=True),
+               "ideal": IdealEKF(fns, Q, R, truth, record=True)}
+    out = {}
+    for name, ekf in filters.items():
+        state = ekf.initial(x0, P0)
+        for y in ys:
+            state = ekf.update(ekf.predict(state, U), y).state
+        out[name] = recorded_observability(ekf.used).nullity
+    ekf, state, priors, posteriors = ConventionalEKF(fns, Q, R), None, [], []
+    state = ekf.initial(x0, P0)
+    for y in ys:
+        posteriors.append(state.x)
+        state = ekf.predict(state, U)
+        priors.append(state.x)
+        state = ekf.update(state, y).state
+    out["ekf"] = linearized_observability(fns, priors, posteriors[1:], [U] * (steps - 1)).nullity
+    return out, system.n - result.rank
+
+
+def test_fej_oc_and_ideal_keep_the_analysis_null_space_the_ekf_loses(model):
+    """Huang et al. 2010 sec. 4: nullity 2 for the standard EKF, 3 (the
+    analysis's n - rank) for FEJ, OC and the ideal EKF."""
+    nullity, analysis = _nullities(model)
+    assert analysis == 3
+    assert nullity == {"fej": 3, "oc": 3, "ideal": 3, "ekf": 2}
+
+
+def test_a_heading_across_pi_is_corrected_the_short_way(model):
+    """A bearing innovation of 2 pi - 0.02 is an innovation of -0.02: the heading
+    moves by about that much, not by 6.26."""
+    _, fns = model
+    fej = FirstEstimatesEKF(fns, Q, R)
+    x0 = np.array([0.0, 0.0, np.pi - 0.01, 4.0, 0.0, 0.0, 4.0])
+    state = fej.initial(x0, np.diag([0.01, 0.01, 0.01, 1e-6, 1e-6, 1e-6, 1e-6]))
+    h = np.array(fns["h"](x0, x0, [])).ravel()
+    y = h + np.array([0.0, 2 * np.pi - 0.02, 0.0, 2 * np.pi - 0.02])
+    new = fej.update(state, y).state
+    turned = _wrap(new.x[2] - x0[2])
+    assert 0.005 < abs(turned) < 0.03 and abs(new.x[2]) <= np.pi
+
+
+def test_the_ideal_filter_needs_truth_for_every_step(model):
+    _, fns = model
+    truth, ys, x0, P0 = _simulate(fns, 3, seed=1)
+    ideal = IdealEKF(fns, Q, R, truth[:2])
+    state = ideal.update(ideal.predict(ideal.initial(x0, P0), U), ys[0]).state
+    with pytest.raises(FilterError, match="truth for steps 0..1"):
+        ideal.predict(state, U)
+    with pytest.raises(FilterError, match="truth must be finite"):
+        IdealEKF(fns, Q, R, [[np.nan] * 7])
+
+
+def test_recorded_observability_needs_a_record(model):
+    _, fns = model
+    with pytest.raises(ValueError, match="record=True"):
+        recorded_observability(FirstEstimatesEKF(fns, Q, R).used)
+
+
+def test_the_study_command_writes_its_summary(tmp_path):
+    """`consistency --study slam2d-range-bearing` on a small instance: one record
+    per filter with the issue's keys, the dimensions of Huang et al. (2 for the
+    EKF, 3 for the others and the analysis), OC's residual at rounding level."""
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-range-bearing",
+                          "--runs", "2", "--steps", "15", "--workers", "1", "--out", str(tmp_path)],
+                         capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    folder = tmp_path / "slam2d-range-bearing"
+    records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
+    assert set(records) == {"ekf", "fej", "oc", "ideal"}
+    keys = {"filter", "anees_pose", "anees_bounds", "fraction_in_band", "rmse_position", "rmse_heading",
+            "filter_unobservable_dimension", "analysis_unobservable_dimension"}
+    assert all(keys <= set(r) for r in records.values())
+    assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "ideal": 3}
+    assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
+    assert records["oc"]["max_constraint_residual"] < 1e-9
+    lo, hi = records["ekf"]["anees_bounds"]
+    assert 0 < lo < 3 < hi  # the two-sided band of an average of 2 chi-square(3) draws contains 3
+    assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
+
+
+def test_on_the_paper_simulation_fej_and_oc_are_the_ekf():
+    """The paper's slam2d with 3 beacons is observable (reports/claims.md), its
+    landmark has process noise and its motion is linear: FEJ and OC take every
+    Jacobian where the EKF does, so their estimates agree to rounding."""
+    from observability.report.slamstudy_paper import compare_on_paper_simulation
+
+    comparison = compare_on_paper_simulation(runs=1)
+    assert comparison.analysis_unobservable_dimension == 0 and comparison.static_states == ()
+    assert comparison.transition_depends_on_state is False
+    assert comparison.max_difference_fej < 1e-9 and comparison.max_difference_oc < 1e-9
+    assert "FEJ and OC are the conventional EKF here" in comparison.reading()
