@@ -73,33 +73,61 @@ def _wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
-def _hand_fej(x0, P0, ys, steps):
-    """The FEJ-EKF with Huang's formulas, independent of casadi and of the model file."""
-    J = np.array([[0.0, -1.0], [1.0, 0.0]])
-    x, P, first = x0.copy(), P0.copy(), x0.copy()
+J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def _hand_H(point):
+    """Range and bearing Jacobians of both landmarks at ``point`` (by hand)."""
+    H = np.zeros((4, 7))
+    for i, j in ((0, 3), (2, 5)):
+        d = point[j:j + 2] - point[:2]
+        rho = np.hypot(*d)
+        H[i, :2], H[i, j:j + 2] = -d / rho, d / rho
+        H[i + 1, :2] = np.array([d[1], -d[0]]) / rho ** 2
+        H[i + 1, j:j + 2] = -H[i + 1, :2]
+        H[i + 1, 2] = -1.0
+    return H
+
+
+def _hand_N(x):
+    """Two translations and the rotation about the origin (Huang et al. 2010, eq. 30)."""
+    rotation = np.array([-x[1], x[0], 1.0, -x[4], x[3], -x[6], x[5]])
+    return np.column_stack([[1, 0, 0, 1, 0, 1, 0], [0, 1, 0, 0, 1, 0, 1], rotation]).astype(float)
+
+
+def _hand_filter(x0, P0, ys, steps, rule, truth=None):
+    """The EKF with Huang's formulas in numpy, independent of casadi and of the
+    model file, linearised by ``rule``: "fej" (first estimates, the difference
+    form of Phi), "ideal" (the truth, the difference form between true poses) or
+    "oc" (Phi at the posterior and H at the prior, projected onto
+    Phi N_k = N_k+1, H N_k = 0, N at the priors)."""
+    x, P, first = x0.copy(), P0.copy(), (truth[0] if rule == "ideal" else x0).copy()
+    prior = x0.copy()
     out = []
     for k in range(steps):
-        th = x[2]
-        C = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
-        x_next = x.copy()
-        x_next[:2] = x[:2] + DT * C @ U[:2]
-        x_next[2] = _wrap(x[2] + DT * U[2])
-        first_next = np.r_[x_next[:3], first[3:]]
+        C = np.array([[np.cos(x[2]), -np.sin(x[2])], [np.sin(x[2]), np.cos(x[2])]])
+        x_next = np.r_[x[:2] + DT * C @ U[:2], _wrap(x[2] + DT * U[2]), x[3:]]
+        first_next = truth[k + 1] if rule == "ideal" else np.r_[x_next[:3], first[3:]]
         Phi = np.eye(7)
-        Phi[:2, 2] = J @ (first_next[:2] - first[:2])
+        if rule == "oc":
+            Phi[:2, 2] = J @ (DT * C @ U[:2])
+            N_k, N_next = _hand_N(prior), _hand_N(x_next)
+            Phi = Phi - (Phi @ N_k - N_next) @ np.linalg.pinv(N_k)
+        else:
+            Phi[:2, 2] = J @ (first_next[:2] - first[:2])
         G = np.zeros((7, 3))
         G[:2, :2], G[2, 2] = DT * C, DT
         P = Phi @ P @ Phi.T + G @ Q @ G.T
-        x, first = x_next, first_next
-        h, H = [], np.zeros((4, 7))
-        for i, j in ((0, 3), (2, 5)):
-            d_now, d_first = x[j:j + 2] - x[:2], first[j:j + 2] - first[:2]
-            rho, rho_first = np.hypot(*d_now), np.hypot(*d_first)
-            h += [rho, np.arctan2(d_now[1], d_now[0]) - x[2]]
-            H[i, :2], H[i, j:j + 2] = -d_first / rho_first, d_first / rho_first
-            H[i + 1, :2] = np.array([d_first[1], -d_first[0]]) / rho_first ** 2
-            H[i + 1, j:j + 2] = -H[i + 1, :2]
-            H[i + 1, 2] = -1.0
+        x, first, prior = x_next, first_next, x_next
+        if rule == "oc":
+            N = _hand_N(x)
+            H = _hand_H(x) - _hand_H(x) @ N @ np.linalg.pinv(N)
+        else:
+            H = _hand_H(first)
+        h = []
+        for j in (3, 5):
+            d = x[j:j + 2] - x[:2]
+            h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
         nu = ys[k] - np.array(h)
         nu[1::2] = _wrap(nu[1::2])
         S = H @ P @ H.T + R
@@ -118,18 +146,25 @@ def test_static_states_are_read_from_the_model(model):
     assert static_states(noisy).tolist() == [False] * 3 + [False, True, True, True]
 
 
-def test_fej_equals_the_hand_written_filter(model):
-    """Estimates and covariances of 15 steps agree with Huang's formulas in numpy."""
-    _, fns = model
+@pytest.mark.parametrize("rule", ["fej", "ideal", "oc"])
+def test_each_filter_equals_the_hand_written_one(model, rule):
+    """Estimates and covariances of 15 steps agree with Huang's formulas in numpy
+    (the OC-EKF with its N written by hand, not taken from the analysis)."""
+    system, fns = model
     truth, ys, x0, P0 = _simulate(fns, 15, seed=4)
-    fej = FirstEstimatesEKF(fns, Q, R)
-    state, ours = fej.initial(x0, P0), []
+    if rule == "fej":
+        ekf = FirstEstimatesEKF(fns, Q, R)
+    elif rule == "ideal":
+        ekf = IdealEKF(fns, Q, R, truth)
+    else:
+        ekf = ObservabilityConstrainedEKF(fns, Q, R, null_space_function(system, analyze(system, seed=1).unobservable_directions, fns))
+    state, ours = ekf.initial(x0, P0), []
     for y in ys:
-        state = fej.update(fej.predict(state, U), y).state
+        state = ekf.update(ekf.predict(state, U), y).state
         ours.append((state.x, state.P))
-    for (x, P), (x_ref, P_ref) in zip(ours, _hand_fej(x0, P0, ys, 15)):
-        assert np.allclose(x, x_ref, atol=1e-10) and np.allclose(P, P_ref, atol=1e-12)
-    assert max(r for _, r in fej.residuals) < 1e-10  # the noise carries each first estimate to the next exactly
+    for (x, P), (x_ref, P_ref) in zip(ours, _hand_filter(x0, P0, ys, 15, rule, truth)):
+        assert np.allclose(x, x_ref, atol=1e-9) and np.allclose(P, P_ref, atol=1e-11)
+    assert max(r for _, r in ekf.residuals) < 1e-10  # carried exactly (FEJ, ideal); constraints met (OC)
 
 
 def _nullities(model, steps=12, seed=2):
