@@ -230,19 +230,23 @@ def test_recorded_observability_needs_a_record(model):
         recorded_observability(FirstEstimatesEKF(fns, Q, R).used)
 
 
-def test_the_study_command_writes_its_summary(tmp_path):
-    """`consistency --study slam2d-range-bearing` on a small instance: one record
-    per filter with the issue's keys, the dimensions of Huang et al. (2 for the
-    EKF, 3 for the others and the analysis), OC's residual at rounding level."""
-    import json
-    import subprocess
-    import sys
+def _serial(function, arguments, shared=None, label=""):
+    """A runner doing the tasks in this process, in order (the Dask engine's contract)."""
+    return [function(shared, *a) for a in arguments]
 
-    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-range-bearing",
-                          "--runs", "2", "--steps", "15", "--workers", "1", "--out", str(tmp_path)],
-                         capture_output=True, text=True, timeout=300)
-    assert out.returncode == 0, out.stderr
-    folder = tmp_path / "slam2d-range-bearing"
+
+def test_the_study_writes_its_summary(tmp_path):
+    """The study on a small instance (3 landmarks, 2 runs, 15 steps): one
+    record per filter with the issue's keys, the dimensions of Huang et al.
+    (2 for the EKF, 3 for the others and the analysis), OC's residual at
+    rounding level, the figures written."""
+    import json
+
+    from observability.report.slamstudy import SlamStudy
+    from observability.report.slamstudy_report import write_slam_study
+
+    folder = tmp_path / "study"
+    write_slam_study(folder, SlamStudy(landmarks=3, runs=2, steps=15, window=15), _serial)
     records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
     assert set(records) == {"ekf", "fej", "oc", "ideal"}
     keys = {"filter", "anees_pose", "anees_bounds", "fraction_in_band", "rmse_position", "rmse_heading",
@@ -254,6 +258,16 @@ def test_the_study_command_writes_its_summary(tmp_path):
     lo, hi = records["ekf"]["anees_bounds"]
     assert 0 < lo < 3 < hi  # the two-sided band of an average of 2 chi-square(3) draws contains 3
     assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
+    assert "| OC-EKF |" in (folder / "README.md").read_text()
+
+
+def test_the_study_command_checks_its_options_before_working(tmp_path):
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-range-bearing",
+                          "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2 and "runs must be at least 2" in out.stderr and not any(tmp_path.iterdir())
 
 
 def test_on_the_paper_simulation_fej_and_oc_are_the_ekf():

@@ -41,7 +41,7 @@ from ..model.notation import latex_name, latex_text
 from ..model.system import System
 from ..engine.taylor import Redraw
 from .layout import COLUMN_GAP, LINES_PER_PAGE, PAGE_HEIGHT, PAGE_WIDTH, height, width
-from .quantities import rewriting, tidy
+from .quantities import printed_size, rewriting, tidy
 
 __all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_PAGES"]
 
@@ -277,7 +277,7 @@ def latex_matrix(
     for k, block in enumerate(lie_derivatives(system)):
         if k > orders:
             break
-        if fixed is None and not _fits(sum(len(str(row.expression)) for row in block) * system.n, max_pages):
+        if fixed is None and not _fits(sum(printed_size(row.expression) for row in block) * system.n, max_pages):
             # Each entry of a gradient is of the order of the function's size;
             # stop before differentiating what could not be shown anyway.
             omitted = _omission(k, orders, max_pages)
@@ -288,7 +288,7 @@ def latex_matrix(
                 progress(f"Lie order {k} of {orders}, row {n + 1} of {len(block)}")
             gradient = [sympy.diff(row.expression, x) for x in system.states]
             rows.append(((row.output, row.order), gradient))
-        raw = sum(len(str(e)) for _, gradient in rows for e in gradient)
+        raw = sum(printed_size(e) for _, gradient in rows for e in gradient)
         if fixed is None and not _fits(raw, max_pages):
             omitted = _omission(k, orders, max_pages)
             break

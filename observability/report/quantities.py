@@ -21,7 +21,7 @@ import sympy
 from ..engine.fractions import NotRational, RationalFunctions, factor
 from ..model.system import System
 
-__all__ = ["Rewriting", "rewriting", "tidy", "MAX_REWRITE_CHARS"]
+__all__ = ["Rewriting", "rewriting", "tidy", "printed_size", "MAX_REWRITE_CHARS"]
 
 #: Entries longer than this (characters of their sympy form) are left as they are:
 #: the trigonometric reduction is a polynomial division whose cost grows with it.
@@ -33,10 +33,17 @@ MAX_REWRITE_CHARS = 20_000
 MAX_FACTOR_CHARS = 400
 
 
+def printed_size(expr: sympy.Expr) -> int:
+    """Characters of ``expr``'s sympy form, printed unordered: the same characters
+    as ``str`` in another term order, at a third of the cost (the ordering of
+    terms is most of the printer's time)."""
+    return len(sympy.sstr(expr, order="none"))
+
+
 def tidy(expr: sympy.Expr) -> sympy.Expr:
     """``expr`` factored (deterministically, by flint: :func:`observability.engine.fractions.factor`)
     when it is short, else with its common factors pulled out."""
-    if len(str(expr)) > MAX_FACTOR_CHARS:
+    if printed_size(expr) > MAX_FACTOR_CHARS:
         return sympy.factor_terms(expr)
     return factor(expr)
 
@@ -78,7 +85,7 @@ class Rewriting:
 
     def apply(self, entry: sympy.Expr) -> sympy.Expr:
         """``entry`` in terms of the quantities when that is shorter and equal; else ``entry``."""
-        if entry.is_number or len(str(entry)) > MAX_REWRITE_CHARS or not (entry.free_symbols & set(self.solution)):
+        if entry.is_number or printed_size(entry) > MAX_REWRITE_CHARS or not (entry.free_symbols & set(self.solution)):
             return tidy(entry)
         try:
             rewritten = _trig_reduce(entry.xreplace(self.solution))
@@ -98,13 +105,33 @@ class Rewriting:
         """The two agree at a random point (40 digits), with the quantities replaced by their definitions."""
         back = rewritten.xreplace(dict(self.definitions))
         symbols = sorted(entry.free_symbols | back.free_symbols, key=str)
-        rng = random.Random(str(entry))
+        rng = random.Random(sympy.sstr(entry, order="none"))
         point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 97)) for s in symbols}
         a = entry.xreplace(point).evalf(40)
         b = back.xreplace(point).evalf(40)
         if not (a.is_number and b.is_number) or a.has(sympy.zoo, sympy.nan) or b.has(sympy.zoo, sympy.nan):
             return False
         return abs(a - b) <= sympy.Float(10) ** -30 * (1 + abs(a))
+
+
+def _rank_at_a_point(matrix: sympy.Matrix, symbols: set) -> int:
+    """The rank of ``matrix`` at a fixed random point, 30 digits (a lower bound of
+    its generic rank, equal to it away from a proper subvariety). Which states
+    the rewriting eliminates is a choice of presentation: an unlucky point makes
+    it eliminate fewer, and every rewritten entry is still checked by
+    :meth:`Rewriting.apply`, so exactness is not needed here; sympy's symbolic
+    rank of the same matrix took 8 s on a quaternion model."""
+    rng = random.Random(len(matrix))
+    point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 97)) for s in sorted(symbols, key=str)}
+    values = matrix.xreplace(point).evalf(40)
+    if not all(v.is_number and v.is_finite for v in values):
+        return 0
+    import mpmath
+
+    with mpmath.workdps(40):
+        sigma = mpmath.svd_r(mpmath.matrix(values.tolist()), compute_uv=False) if values.rows and values.cols else []
+        sigma = sorted((abs(v) for v in sigma), reverse=True)
+        return sum(1 for v in sigma if v > mpmath.mpf(10) ** -30 * max(sigma[0], 1))
 
 
 def rewriting(system: System) -> Rewriting | None:
@@ -114,6 +141,7 @@ def rewriting(system: System) -> Rewriting | None:
     appearances = {x: sum(x in e.free_symbols for _, e in system.quantities) for x in system.states}
     order = sorted((x for x in system.states if appearances[x]), key=lambda x: (appearances[x], system.states.index(x)))
     equations = [e - q for q, e in system.quantities]
+    symbols = set().union(*(eq.free_symbols for eq in equations))
     chosen: list[sympy.Symbol] = []
     columns: list[list[sympy.Expr]] = []
     for x in order:
@@ -121,7 +149,7 @@ def rewriting(system: System) -> Rewriting | None:
         involved = set().union(*(c.free_symbols for c in column))
         if involved & (set(chosen) | {x}) or any(x in c.free_symbols for col in columns for c in col):
             continue  # the equations are not jointly linear in the chosen states and x
-        if sympy.Matrix([*columns, column]).T.rank(simplify=True) > len(chosen):
+        if _rank_at_a_point(sympy.Matrix([*columns, column]).T, symbols) > len(chosen):
             chosen.append(x)
             columns.append(column)
         if len(chosen) == len(equations):
@@ -131,7 +159,7 @@ def rewriting(system: System) -> Rewriting | None:
     coefficients = sympy.Matrix(columns).T  # equations x chosen states
     independent: list[int] = []
     for i in range(len(equations)):
-        if coefficients.extract([*independent, i], list(range(len(chosen)))).rank(simplify=True) > len(independent):
+        if _rank_at_a_point(coefficients.extract([*independent, i], list(range(len(chosen)))), symbols) > len(independent):
             independent.append(i)
     solved = sympy.solve([equations[i] for i in independent], chosen, dict=True)
     if len(solved) != 1:
