@@ -181,7 +181,7 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
     checker as `observability verify-proof`; not written (exit 3) for a lower bound
-    (x + sin(z): its null field (cos(z), -1) is not one the proofs handle)."""
+    (x + sqrt(z): its null field (2 sqrt(z), -1) is not one the proofs handle)."""
     script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
     done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
@@ -191,7 +191,7 @@ def test_proof_file_from_the_command_line(tmp_path):
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
-    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sin(z)"\n')
+    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sqrt(z)"\n')
     other = tmp_path / "none.json"
     refused = subprocess.run([*script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)
@@ -465,3 +465,37 @@ def test_an_invariant_span_proves_the_rank_when_no_field_is_a_symmetry(tmp_path)
     data["upper_bound"]["generators"][0]["vector"] = {"x2": "1"}
     with pytest.raises(checker.Rejected, match="leaves the span"):
         checker.check(data)
+
+
+@pytest.mark.parametrize("output,rank", [("x + sin(z)", 1), ("x*z + sin(z)", 1), ("x*cos(z) + y*sin(z)", 1)])
+def test_fields_in_sines_and_cosines_of_states_prove_the_rank(output, rank):
+    """Issue 29 item 1: x' = y' = z' = 0 and one output: rank 1 (by hand, its
+    only row is the output's gradient; every Lie derivative of higher order is
+    0). The null fields have cos(z), sin(z) in them ((cos z, 0, -1) for x + sin z):
+    proven now (it was "lower bound"). Reference: sympy's trigsimp of L_v y for
+    each direction, written here, and the fields' independence at a point; the
+    proof file is accepted by the independent checker."""
+    system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"y1": output}, name="trig")
+    result = analyze(system, seed=1)
+    assert (result.rank, result.proof, result.error_probability) == (rank, "proven", 0.0)
+    states = sympy.symbols("x y z")
+    h = sympy.sympify(output, locals={s.name: s for s in states})
+    vectors = [[sympy.sympify(d.vector.get(s.name, "0"), locals={t.name: t for t in states}) for s in states]
+               for d in result.unobservable_directions]
+    assert len(vectors) == 3 - rank
+    for v in vectors:
+        assert sympy.trigsimp(sum(sympy.diff(h, s) * c for s, c in zip(states, v))) == 0
+    at = {states[0]: sympy.Rational(1, 3), states[1]: sympy.Rational(2, 7), states[2]: sympy.Rational(1, 5)}
+    assert sympy.Matrix(vectors).xreplace(at).evalf(30).rank(iszerofunc=lambda e: abs(e) < 1e-25) == len(vectors)
+    assert _checker().check(proof_evidence(system, result)).startswith("accepted")
+
+
+def test_dependent_trigonometric_fields_prove_nothing():
+    """(cos z, -1) and twice it: one field, not two; a rank of n - 2 must not be
+    claimed from them (the exact rank at a point on the circle is 1)."""
+    from observability.rank.proof import fields_are_symmetries
+
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sin(z)"}, name="trig")
+    z = sympy.Symbol("z")
+    assert fields_are_symmetries(system, [[sympy.cos(z), -1]])
+    assert not fields_are_symmetries(system, [[sympy.cos(z), -1], [2 * sympy.cos(z), -2]])

@@ -201,12 +201,18 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     # non-trivial combination of the m_i is constant, and by Ax's theorem the
     # exp(m_i) are algebraically independent over the rational functions, so a
     # minor that is a non-zero polynomial in them cannot vanish identically).
-    # Other functions (log, sin, ...) in a field prove nothing here.
+    # Sines and cosines of states are rational in T = tan(angle/2); independence
+    # at one real point proves generic independence (the minor is then a non-zero
+    # analytic function), and at T rational the point is real with exact values.
+    # Other functions (log, sqrt, ...) in a field prove nothing here.
     variables = set(system.states) | set(system.parameters)
     exps = {a for v in fields for e in v for a in sympy.sympify(e).atoms(sympy.exp)}
     named = {a: sympy.Dummy() for a in exps}
-    if not all(sympy.sympify(e).xreplace(named).is_rational_function(*variables, *named.values())
-               for v in fields for e in v):
+    angles = half_angles(system.states, [e for v in fields for e in v])
+    if angles is None:
+        return False
+    if not all(in_half_angles(sympy.sympify(e).xreplace(named), angles).is_rational_function(
+               *variables, *angles.values(), *named.values()) for v in fields for e in v):
         return False
     if exps and not _independent_exponents(system, [a.args[0] for a in exps]):
         return False
@@ -216,8 +222,28 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
         return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
+    if angles:
+        return _independent_on_the_circle(system, fields, angles)
     # Generically independent: a non-zero k x k minor at a random point mod p.
     return point_rank(system, fields, gradients=False, attempts=8) == len(fields)
+
+
+def _independent_on_the_circle(system: System, fields: list[list[sympy.Expr]], angles: dict) -> bool:
+    """Whether fields with sines and cosines of states have rank k at a real point
+    with rational T = tan(angle/2) and rational other coordinates (exact; a few
+    points are tried, since one may lie on the minor's zero set)."""
+    rng = random.Random(17)
+    values = [*system.states, *system.parameters]
+    for _ in range(4):
+        point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for s in values}
+        point |= {t: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for t in angles.values()}
+        try:
+            matrix = sympy.Matrix([[in_half_angles(sympy.sympify(e), angles).xreplace(point) for e in v] for v in fields])
+        except ZeroDivisionError:
+            continue
+        if all(e.is_Rational for e in matrix) and matrix.rank() == len(fields):
+            return True
+    return False
 
 
 def _independent_exponents(system: System, exponents: list[sympy.Expr]) -> bool:
