@@ -41,6 +41,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
+    "first-estimates": (["observability/filters/firstestimates.py"],
+                        ["tests/test_firstestimates.py", "tests/test_linearized.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py"]),
 }

@@ -5,3 +5,31 @@ from hypothesis import settings
 settings.register_profile("default", deadline=None, max_examples=25, derandomize=True)
 settings.register_profile("thorough", deadline=None, max_examples=300)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
+
+
+def cli(*args, cwd=None):
+    """The command line run in this process: ``observability.cli.main(args)``,
+    its standard output and error captured, as a CompletedProcess. The same
+    entry point as ``python -m observability`` (whose ``__main__`` only calls it)
+    without a new interpreter's half second of imports; tests of the process
+    itself (the exit status through a pipe, what importing the parser loads)
+    still start one."""
+    import contextlib
+    import io
+    import subprocess
+
+    from observability.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    previous = os.getcwd()
+    try:
+        if cwd is not None:
+            os.chdir(cwd)
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main([str(a) for a in args])
+            except SystemExit as stop:  # argparse's usage errors and --help, --version
+                code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 2)
+    finally:
+        os.chdir(previous)
+    return subprocess.CompletedProcess(["observability", *map(str, args)], code, out.getvalue(), err.getvalue())

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import pytest
+from conftest import cli
 
 #: The command line, run by the interpreter running the tests (never whatever is on PATH).
 SCRIPT = [sys.executable, "-m", "observability"]
@@ -16,7 +17,8 @@ KEYS = {
 
 
 def run(*args, cwd=None):
-    return subprocess.run([*SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+    """The command in this process (conftest.cli); the tests of the process itself use SCRIPT."""
+    return cli(*args, cwd=cwd)
 
 
 def test_check_all_prints_the_table():

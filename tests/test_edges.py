@@ -8,13 +8,15 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import cli
 
 #: The command line, run by the interpreter running the tests (never whatever is on PATH).
 SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def run(*args, cwd=None):
-    return subprocess.run([*SCRIPT, *args], capture_output=True, text=True, timeout=300, cwd=cwd)
+    """The command in this process (conftest.cli); the tests of the process itself use SCRIPT."""
+    return cli(*args, cwd=cwd)
 
 
 def _one_line_error(out, *words):
