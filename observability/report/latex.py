@@ -23,6 +23,7 @@ checks the estimate on every built-in model.
 
 from __future__ import annotations
 
+import math
 import random
 import re
 from collections import Counter
@@ -54,6 +55,10 @@ _INLINE_WIDTH = 14
 #: Before simplifying an order, its raw entries (characters) may exceed a page's
 #: worth of glyphs by this factor; beyond it no simplification could make it fit.
 _RAW_SLACK = 6
+#: Above this many characters the common subexpressions are found without sympy's "basic" optimizations.
+_BASIC_CSE_CHARS = 20_000
+#: Lie derivatives longer than this are not differentiated for a symbolic document.
+_MAX_DIFFERENTIATED_CHARS = 30_000
 
 
 class DoesNotFit(ObservabilityError):
@@ -226,6 +231,30 @@ def _exact_at_point(system: System, orders: int, values, rng: random.Random, nam
     return _layout(system, by_order, names, None, shown, "")
 
 
+def _shared_size(by_order: list) -> int:
+    """Characters of the entries once their repeated subexpressions are named (the
+    layout names them, :func:`_abbreviations`): a 13-state visual-inertial model's
+    order-1 rows are 143,000 characters written out and 11,000 with their shared
+    parts named once."""
+    return _named_size([e for rows in by_order for _, gradient in rows for e in gradient])
+
+
+def _named_size(expressions: list[sympy.Expr]) -> int:
+    replacements, reduced = sympy.cse(expressions, optimizations=None, order="none")
+    return sum(printed_size(e) for e in reduced) + sum(printed_size(v) for _, v in replacements)
+
+
+def _worth_differentiating(expressions: list[sympy.Expr], n: int, max_pages: float) -> bool:
+    """Whether n gradients of the Lie derivatives could fit: written out, or with
+    their shared parts named when the expressions are small enough to be
+    differentiated in seconds (sympy's diff of a 140,000-character order-2 row of
+    a 13-state model takes over a minute)."""
+    raw = sum(printed_size(e) for e in expressions)
+    if _fits(raw * n, max_pages):
+        return True
+    return raw <= _MAX_DIFFERENTIATED_CHARS and _fits(_named_size(expressions) * n, max_pages)
+
+
 def _fits(glyphs: float, max_pages: float) -> bool:
     return glyphs <= _RAW_SLACK * max_pages * PAGE_WIDTH * LINES_PER_PAGE
 
@@ -277,7 +306,7 @@ def latex_matrix(
     for k, block in enumerate(lie_derivatives(system)):
         if k > orders:
             break
-        if fixed is None and not _fits(sum(printed_size(row.expression) for row in block) * system.n, max_pages):
+        if fixed is None and not _worth_differentiating([row.expression for row in block], system.n, max_pages):
             # Each entry of a gradient is of the order of the function's size;
             # stop before differentiating what could not be shown anyway.
             omitted = _omission(k, orders, max_pages)
@@ -289,21 +318,24 @@ def latex_matrix(
             gradient = [sympy.diff(row.expression, x) for x in system.states]
             rows.append(((row.output, row.order), gradient))
         raw = sum(printed_size(e) for _, gradient in rows for e in gradient)
-        if fixed is None and not _fits(raw, max_pages):
+        written_out = fixed is not None or _fits(raw, max_pages)
+        if not written_out and not _fits(_shared_size([*by_order, rows]), max_pages):
             omitted = _omission(k, orders, max_pages)
             break
+        # Rows that fit only with their shared parts named are left as they are: the
+        # layout names those parts, and factoring them would not make them fit.
         if fixed is not None:
             rows = [(label, [_checked(_at_point(e, values, rng), label, j, system) for j, e in enumerate(g)]) for label, g in rows]
-        elif rewrite is not None:
+        elif written_out and rewrite is not None:
             rows = [(label, [rewrite.apply(e) for e in g]) for label, g in rows]
-        else:
+        elif written_out:
             rows = [(label, [tidy(e) for e in g]) for label, g in rows]
         by_order.append(rows)
     while by_order:
         layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted)
         if layout.pages <= max_pages or fixed is not None:
             return layout
-        omitted = _omission(len(by_order) - 1, orders, max_pages)
+        omitted = _omission(len(by_order) - 1, orders, max_pages, layout.pages)
         by_order.pop()
     raise DoesNotFit(
         f"{system.name}: even the order-0 rows of the symbolic observability matrix do not fit {max_pages:g} "
@@ -311,10 +343,12 @@ def latex_matrix(
     )
 
 
-def _omission(first: int, orders: int, max_pages: float) -> str:
+def _omission(first: int, orders: int, max_pages: float, needed: float | None = None) -> str:
     which = f"Lie order {first}" if first == orders else f"Lie orders {first} to {orders}"
+    more = "" if needed is None or not math.isfinite(needed) else (
+        f" (with order {first} it takes about {needed:.1f} pages: --max-pages {math.ceil(needed)} typesets it)")
     return (
-        f"{which} left out: with them the symbolic matrix would not fit {max_pages:g} page(s). "
+        f"{which} left out: with them the symbolic matrix would not fit {max_pages:g} page(s){more}. "
         "The whole matrix can be typeset at an exact point (latex --point), or with fewer orders (--orders K)."
     )
 
@@ -384,7 +418,10 @@ def _abbreviations(
     then short ones (a sine, a square) and those used once written out again, so a
     reader meets a name only where it saves room."""
     temporary = (sympy.Dummy(f"t{i}") for i in range(10**6))
-    replacements, (reduced,) = sympy.cse(matrix, symbols=temporary, optimizations="basic")
+    # sympy's "basic" optimizations find a few more shared parts at a cost that grows
+    # fast (18 s of 20 on a 13-state model's order-1 rows): only for small matrices.
+    small = sum(printed_size(e) for e in matrix) <= _BASIC_CSE_CHARS
+    replacements, (reduced,) = sympy.cse(matrix, symbols=temporary, optimizations="basic" if small else None)
     inline: dict[sympy.Symbol, sympy.Expr] = {}
     kept: list[tuple[sympy.Symbol, sympy.Expr]] = []
     for name, value in replacements:
