@@ -3,7 +3,6 @@ input is exit 2 with one line naming what is wrong, files are written completely
 or not at all and only where asked, and nothing reaches LaTeX unescaped."""
 
 import os
-import subprocess
 import sys
 from pathlib import Path
 
