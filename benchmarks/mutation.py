@@ -52,6 +52,19 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
+       "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
+    **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
+       "depth 0 or 2 instead of 1: a static state's next value is the very node x[i], equal at any depth"
+       for k in (28, 29)},
+    **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_{k}":
+       "the stopping test on a residual already below 1e-12 (or with no noise): one more Gauss-Newton step moves w "
+       "by less than the residual, below every tolerance of the filter" for k in (17, 24, 26)},
+    **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_{k}":
+       "initial= of np.max on a residual vector that is never empty (the moving states of a model with states)"
+       for k in (19, 21, 23, 38, 40)},
+    "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_34":
+        "lstsq's rcond: None is numpy's default, the same cut-off",
     "observability.report.files.x_save_figure__mutmut_11":
         "format=None: matplotlib takes the format from the temporary file's suffix, .partial.png: PNG all the same",
     "observability.report.files.x_save_figure__mutmut_14": "no format: as mutant 11, PNG from the suffix",

@@ -119,3 +119,12 @@ def test_an_infinite_covariance_is_named():
 
     with pytest.raises(FilterError, match="^step 3: the covariance has entries that are not finite$"):
         estimate(np.zeros(1), np.array([[np.inf]]), "step 3")
+
+
+@pytest.mark.parametrize("definite", [True, False])
+def test_a_covariance_near_the_largest_float_is_read_without_overflow(definite):
+    """1.7e308 on the diagonal is finite, symmetric and positive definite: accepted
+    as it is (its symmetrisation used to overflow to infinity, and the
+    semi-definite check then raised numpy's LinAlgError: a traceback)."""
+    big = np.eye(2) * 1.7e308
+    assert np.array_equal(covariance(big, "Q", 2, "here", definite=definite), big)

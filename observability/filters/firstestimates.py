@@ -42,7 +42,7 @@ import casadi
 import numpy as np
 
 from ..codegen import FilterFunctions
-from .ekf import FilterError, FilterState, Update, _Base, _symmetric
+from .ekf import FilterError, FilterState, Update, _Base, _quiet, _symmetric
 from .manifolds import wrap_angles
 
 __all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states"]
@@ -107,6 +107,7 @@ class FirstEstimatesEKF(_Base):
         x_next, F, Fw = self._motion_call(x, u, w, self.p)
         return x_next.ravel(), F, Fw
 
+    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi P Phi^T + F_w Q F_w^T with Phi = F_X(x̄_k, u, w̃)."""
         u = self._inputs(u, state.step + 1)
@@ -124,6 +125,7 @@ class FirstEstimatesEKF(_Base):
         new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
         return self._checked(new, "prediction")
 
+    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """The Joseph-form update with h at the estimate and H at the first estimates."""
         values, used = self._select(y, state.step)
@@ -141,8 +143,6 @@ class FirstEstimatesEKF(_Base):
         K, S = self._gain(state.P, H, W, state.step)
         where = f"step {state.step} (update)"
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        if not np.all(np.isfinite(x)):
-            raise FilterError(f"{where}: the estimate is not finite")
         new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step,
                           first=state.first, first_prev=state.first_prev)
         return Update(self._checked(new, "update"), innovation, S, tuple(used))

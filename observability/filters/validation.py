@@ -57,15 +57,20 @@ def covariance(value, name: str, size: int, where: str, *, definite: bool = True
     scale = max(1.0, float(np.max(np.abs(array)))) if array.size else 1.0
     if np.max(np.abs(array - array.T), initial=0.0) > SYMMETRY_TOLERANCE * scale:
         raise FilterError(f"{where}: {name} is not symmetric (tolerance {SYMMETRY_TOLERANCE:g} relative)")
-    array = 0.5 * (array + array.T)
+    array = 0.5 * array + 0.5 * array.T  # halves first: entries near the largest float do not overflow
     if size:
         if definite:
             try:
                 np.linalg.cholesky(array)
             except np.linalg.LinAlgError:
                 raise FilterError(f"{where}: {name} is not positive definite") from None
-        elif np.min(np.linalg.eigvalsh(array)) < -SYMMETRY_TOLERANCE * scale:
-            raise FilterError(f"{where}: {name} is not positive semi-definite")
+        else:
+            try:
+                smallest = np.min(np.linalg.eigvalsh(array))
+            except np.linalg.LinAlgError:
+                raise FilterError(f"{where}: {name}: its eigenvalues cannot be computed (entries too large?)") from None
+            if smallest < -SYMMETRY_TOLERANCE * scale:
+                raise FilterError(f"{where}: {name} is not positive semi-definite")
     return array
 
 

@@ -1,0 +1,162 @@
+"""The first-estimates filters at their edges (issue 32: survivors of mutmut on
+filters/firstestimates.py, each killed here by an expectation from the module's
+contract: parameters reach the Jacobians, every refusal names its step, a
+missing measurement is skipped, outputs of the previous state take the first
+estimate of the previous state, the truth given to the ideal filter is checked)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import casadi
+import numpy as np
+import pytest
+
+from observability.codegen import filter_functions
+from observability.filters import FilterError, FilterState, FirstEstimatesEKF, IdealEKF, static_states
+from observability.model.modelfile import parse_model
+from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _simulate
+
+
+@pytest.fixture(scope="module")
+def odometry():
+    system = parse_model(ODOMETRY, "odometry.toml")  # dt stays a free parameter here
+    return filter_functions(system, ["v", "s", "om"])
+
+
+def test_a_graph_that_cannot_be_read_counts_every_state_as_moving(odometry):
+    f = odometry["f"]
+    arguments = f.mx_in()
+    opaque = casadi.Function("f", arguments, f.call(arguments))  # an MX graph: not read
+    flags = static_states(dataclasses.replace(odometry, functions={**odometry.functions, "f": opaque}))
+    assert flags.dtype == bool and flags.tolist() == [False] * 7
+
+
+def test_the_parameter_vector_reaches_every_jacobian(odometry):
+    """dt = 1 given at run time: the estimates of Huang's formulas with dt = 1."""
+    valued = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    truth, ys, x0, P0 = _simulate(valued, 8, seed=9)
+    fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0])
+    state = fej.initial(x0, P0)
+    for y, (x_ref, P_ref) in zip(ys, _hand_filter(x0, P0, ys, 8, "fej")):
+        state = fej.update(fej.predict(state, U), y).state
+        assert np.allclose(state.x, x_ref, atol=1e-9) and np.allclose(state.P, P_ref, atol=1e-11)
+    assert [k for k, _ in fej.residuals] == list(range(1, 9))  # the step each residual belongs to
+
+
+def _started(odometry, **kwargs):
+    fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0], **kwargs)
+    x0 = np.array([0.0, 0.0, 0.3, 4.0, 2.0, -1.0, 3.0])
+    return fej, fej.initial(x0, np.diag([0.01, 0.01, 0.01, 0.04, 0.04, 0.04, 0.04]))
+
+
+def test_refusals_name_their_step(odometry):
+    fej, state = _started(odometry)
+    state = fej.update(fej.predict(state, U), [4.0, 0.1, 3.0, 1.5]).state  # step 1
+    with pytest.raises(FilterError, match=r"^step 2: the input u"):
+        fej.predict(state, [np.inf, 0.0, 0.0])
+    with pytest.raises(FilterError, match=r"^step 1 \(update\)"):
+        fej.update(state, [np.nan, 0.1, 3.0, 1.5])
+    indefinite = dataclasses.replace(state, P=-np.eye(7))
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation covariance S is not positive definite"):
+        fej.update(indefinite, [4.0, 0.1, 3.0, 1.5])
+    huge = FirstEstimatesEKF(odometry, np.eye(3) * 1e308, R, parameters=[1.0])
+    with pytest.raises(FilterError, match=r"^step 2 \(prediction\)"):
+        huge.predict(dataclasses.replace(state, P=np.eye(7) * 1e308), U)
+
+
+def test_a_failing_manifold_hook_is_named_at_its_step(odometry):
+    broken = dataclasses.replace(odometry, retract=lambda x: x * np.nan)
+    fej, state = _started(broken)
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\)"):
+        fej.predict(state, U)
+    with pytest.raises(FilterError, match=r"^step 0 \(update\)"):
+        fej.update(state, [4.0, 0.1, 3.0, 1.5])
+
+
+def test_missing_measurements_are_skipped_alone(odometry):
+    """All missing: the same state back, an empty innovation; one landmark missing:
+    the update of the other alone, with its rows of H and its block of R (by hand:
+    S = H P H^T + R on rows 0, 1)."""
+    fej, state = _started(odometry)
+    state = fej.predict(state, U)
+    nothing = fej.update(state, [None] * 4)
+    assert nothing.state is state and nothing.innovation.shape == (0,) and nothing.S.shape == (0, 0) and nothing.used == ()
+    partial = fej.update(state, [4.0, 0.1, None, None])
+    _, H, _ = (np.array(a) for a in odometry["measurement"](state.first, state.first_prev, [1.0]))
+    assert partial.used == (0, 1)
+    assert np.allclose(partial.S, H[:2] @ state.P @ H[:2].T + R[:2, :2], atol=1e-12)
+    h = np.array(odometry["h"](state.x, state.x_prev, [1.0])).ravel()
+    assert np.allclose(partial.innovation, [4.0 - h[0], np.arctan2(np.sin(0.1 - h[1]), np.cos(0.1 - h[1]))])
+
+
+def test_states_carry_their_previous_and_first_estimates(odometry):
+    fej, start = _started(odometry)
+    predicted = fej.predict(start, U)
+    assert np.array_equal(predicted.x_prev, start.x) and np.array_equal(predicted.first_prev, start.first)
+    assert np.array_equal(predicted.first[3:], start.x[3:]) and np.array_equal(predicted.first[:3], predicted.x[:3])
+    updated = fej.update(predicted, [4.0, 0.1, 3.0, 1.5]).state
+    assert np.array_equal(updated.x_prev, predicted.x_prev) and np.array_equal(updated.first_prev, predicted.first_prev)
+    assert np.array_equal(updated.first, predicted.first)
+    assert fej.used == [] and IdealEKF(odometry, Q, R, [start.x], parameters=[1.0]).used == []  # record is off by default
+
+
+PREVIOUS = """
+name = "previous"
+time = "discrete"
+states = ["x", "l"]
+inputs = ["v"]
+[dynamics]
+x = "x + v"
+l = "l"
+[outputs]
+y = "l - x"
+q = "x*prev(x)"
+"""
+
+
+def test_an_output_of_the_previous_state_takes_its_first_estimate():
+    """q = x_k x_(k-1): its row in x_k is x_(k-1), taken at the first estimate of
+    the previous state (the prior of step k-1; at step 0 the initial estimate),
+    and q itself at the estimates. The filter by hand in the test, 6 steps."""
+    fns = filter_functions(parse_model(PREVIOUS, "p.toml"), ["v"])
+    Qv, Rq = np.array([[0.01]]), np.diag([0.04, 0.09])
+    fej = FirstEstimatesEKF(fns, Qv, Rq)
+    x0, P0 = np.array([1.0, 5.0]), np.diag([0.1, 0.5])
+    ys = [np.array([5.0 - (1.0 + 0.5 * k), (1.0 + 0.5 * k) * (0.5 + 0.5 * k)]) for k in range(1, 7)]
+    state = fej.initial(x0, P0)
+    x, P, x_prev, first, first_prev = x0.copy(), P0.copy(), x0.copy(), x0.copy(), x0.copy()
+    for y in ys:
+        state = fej.update(fej.predict(state, [0.5]), y).state
+        x_prev, first_prev = x.copy(), first.copy()
+        x = np.array([x[0] + 0.5, x[1]])
+        P = P + np.diag([0.01, 0.0])
+        first = np.array([x[0], first[1]])
+        H = np.array([[-1.0, 1.0], [first_prev[0], 0.0]])
+        nu = y - np.array([x[1] - x[0], x[0] * x_prev[0]])
+        S = H @ P @ H.T + Rq
+        K = P @ H.T @ np.linalg.inv(S)
+        A = np.eye(2) - K @ H
+        x, P = x + K @ nu, A @ P @ A.T + K @ Rq @ K.T
+        assert np.allclose(state.x, x, atol=1e-12) and np.allclose(state.P, P, atol=1e-12)
+
+
+def test_the_truth_of_the_ideal_filter_is_checked(odometry):
+    with pytest.raises(FilterError, match="truth must be finite states of length 7"):
+        IdealEKF(odometry, Q, R, [[0.0] * 6], parameters=[1.0])
+    with pytest.raises(FilterError, match="truth must be finite states of length 7"):
+        IdealEKF(odometry, Q, R, [0.0] * 7, parameters=[1.0])
+    ideal = IdealEKF(odometry, Q, R, [[0, 0, 0, 4, 2, -1, 3]], parameters=[1.0])
+    assert ideal.truth.dtype == float
+
+
+def test_a_filter_state_without_first_estimates_starts_from_its_estimate(odometry):
+    """A FilterState made by hand (no first estimates): the Jacobians at the
+    estimate itself, as the initial state's."""
+    fej, start = _started(odometry)
+    bare = FilterState(start.x, start.P)
+    a = fej.update(fej.predict(bare, U), [4.0, 0.1, 3.0, 1.5]).state
+    b = fej.update(fej.predict(start, U), [4.0, 0.1, 3.0, 1.5]).state
+    assert np.allclose(a.x, b.x, atol=1e-14) and np.allclose(a.P, b.P, atol=1e-14)
+    direct = fej.update(bare, [4.0, 0.1, 3.0, 1.5]).state
+    assert np.allclose(direct.x, fej.update(start, [4.0, 0.1, 3.0, 1.5]).state.x, atol=1e-14)
