@@ -181,7 +181,7 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
     checker as `observability verify-proof`; not written (exit 3) for a lower bound
-    (x + sqrt(z): its null field (2 sqrt(z), -1) is not one the proofs handle)."""
+    (x + sqrt(z + 1): its null field (1, -2 sqrt(z + 1)) is not one the proofs handle)."""
     script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
     done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
@@ -191,7 +191,7 @@ def test_proof_file_from_the_command_line(tmp_path):
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
-    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sqrt(z)"\n')
+    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sqrt(z + 1)"\n')
     other = tmp_path / "none.json"
     refused = subprocess.run([*script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)
@@ -499,3 +499,26 @@ def test_dependent_trigonometric_fields_prove_nothing():
     z = sympy.Symbol("z")
     assert fields_are_symmetries(system, [[sympy.cos(z), -1]])
     assert not fields_are_symmetries(system, [[sympy.cos(z), -1], [2 * sympy.cos(z), -2]])
+
+
+def test_a_field_in_the_square_root_of_a_state_proves_the_rank():
+    """x' = z' = 0, output x + sqrt(z): rank 1 (the row (1, 1/(2 sqrt z))), null
+    field (1, -2 sqrt(z)) (by hand: 1 - 2 sqrt(z)/(2 sqrt(z)) = 0). Found by the
+    symbolic null space in W = sqrt(z) (z = W^2: a change of variables on z > 0),
+    verified as identities there, independent at a rational W: proven (it was
+    "lower bound"); the proof file is accepted by the independent checker, the
+    field with half the z component is rejected. The symbolic method decides the
+    same rank (it refused the square root)."""
+    system = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z)"}, name="root")
+    result = analyze(system, seed=1)
+    assert (result.rank, result.proof, result.error_probability) == (1, "proven", 0.0)
+    z = sympy.Symbol("z", positive=True)
+    vector = sympy.sympify(result.unobservable_directions[0].vector["z"], locals={"z": z})
+    assert sympy.simplify(1 + sympy.diff(sympy.sqrt(z), z) * vector) == 0
+    data = proof_evidence(system, result)
+    checker = _checker()
+    assert checker.check(data).startswith("accepted")
+    data["upper_bound"]["generators"][0]["vector"] = {"x": "1", "z": "-sqrt(z)"}
+    with pytest.raises(checker.Rejected, match="L_v y is not zero"):
+        checker.check(data)
+    assert analyze(system, method="symbolic").rank == 1

@@ -1,4 +1,4 @@
-"""Angles through T = tan(angle/2): sines and cosines of a state as rational functions.
+"""Angles through T = tan(angle/2), rooted states through W = sqrt(z): rational coordinates.
 
 sin(a) = 2T/(1 + T^2), cos(a) = (1 - T^2)/(1 + T^2), tan(a) = 2T/(1 - T^2), and
 a' = 2T'/(1 + T^2): a
@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 
 import sympy
 
-__all__ = ["half_angles", "in_half_angles", "angle_speed"]
+__all__ = ["half_angles", "in_half_angles", "angle_speed", "square_roots", "in_square_roots", "root_speed"]
 
 
 def half_angles(states: Sequence[sympy.Symbol], expressions: Iterable[sympy.Expr]
@@ -43,3 +43,29 @@ def angle_speed(state: sympy.Symbol, rate: sympy.Expr, angles: dict[sympy.Symbol
     if state not in angles:
         return in_half_angles(rate, angles)
     return in_half_angles(rate * (1 + angles[state] ** 2) / 2, angles)
+
+
+def square_roots(states: Sequence[sympy.Symbol], expressions: Iterable[sympy.Expr]) -> dict[sympy.Symbol, sympy.Symbol]:
+    """Each state under a half-integer power (sqrt(z), z**(3/2)) -> its W, a new
+    positive symbol with z = W^2: a change of coordinates, a diffeomorphism on
+    z > 0 (where the square root is real and smooth), under which those powers
+    are rational."""
+    roots: dict[sympy.Symbol, sympy.Symbol] = {}
+    for e in expressions:
+        for power in sympy.sympify(e).atoms(sympy.Pow):
+            if power.base in states and power.exp.is_Rational and power.exp.q == 2:
+                roots.setdefault(power.base, sympy.Dummy(f"W_{power.base}", positive=True))
+    return roots
+
+
+def in_square_roots(expr: sympy.Expr, roots: dict[sympy.Symbol, sympy.Symbol]) -> sympy.Expr:
+    """``expr`` with each rooted state z written W^2 (so sqrt(z) is W)."""
+    return sympy.sympify(expr).xreplace({z: w**2 for z, w in roots.items()})
+
+
+def root_speed(state: sympy.Symbol, rate: sympy.Expr, roots: dict[sympy.Symbol, sympy.Symbol]) -> sympy.Expr:
+    """The component of a vector field along W for a rooted state (z' = 2 W W':
+    W' = z'/(2W)), in W; ``rate`` itself for another state."""
+    if state not in roots:
+        return in_square_roots(rate, roots)
+    return in_square_roots(rate, roots) / (2 * roots[state])

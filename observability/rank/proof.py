@@ -22,7 +22,7 @@ import sympy
 from ..budget import Undecided, with_budget
 from ..engine.expansion import point_rank
 from ..engine.fractions import NotRational, RationalFunctions, solve
-from ..engine.halfangles import angle_speed, half_angles, in_half_angles
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles, in_square_roots, root_speed, square_roots
 from .symbolic import rationalize
 from ..model.system import System
 
@@ -81,7 +81,15 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     angles = half_angles(system.states, everything)
     if angles is None:
         return None
-    x = [angles.get(s, s) for s in system.states]
+    # A state under a square root through W = sqrt(z) (z = W^2), as an angle through T.
+    roots = {z: w for z, w in square_roots(system.states, everything).items() if z not in angles}
+    x = [angles.get(s, roots.get(s, s)) for s in system.states]
+
+    def speed(state: sympy.Symbol, rate: sympy.Expr) -> sympy.Expr:
+        """A field's component along the state's coordinate (T for an angle, W for a rooted state)."""
+        if state in angles:
+            return angle_speed(state, in_square_roots(rate, roots), angles)
+        return root_speed(state, rate, roots)
     exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(sympy.exp)}, key=sympy.default_sort_key)
     if any(a.args[0].has(sympy.exp) for a in exps):
         return None  # exp inside exp: the chain rule below would miss the inner one
@@ -89,7 +97,7 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     field = RationalFunctions([*x, *named.values(), *system.inputs, *system.parameters])
 
     def rational(e: sympy.Expr) -> tuple:
-        return field.of(in_half_angles(sympy.sympify(e).xreplace(named), angles))
+        return field.of(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(named), roots), angles))
 
     try:
         growth = [(named[a], field.multiply(field.of(named[a]), field.derivative(rational(a.args[0]), xj)))
@@ -101,8 +109,8 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
                 total = field.add(total, field.multiply(field.derivative(a, symbol), rate))
             return total
 
-        f_ = [rational(angle_speed(s, e, angles)) for s, e in zip(system.states, f)]
-        v_all_ = [[rational(angle_speed(s, e, angles)) for s, e in zip(system.states, v)] for v in v_all]
+        f_ = [rational(speed(s, e)) for s, e in zip(system.states, f)]
+        v_all_ = [[rational(speed(s, e)) for s, e in zip(system.states, v)] for v in v_all]
         annihilated = all(_annihilates(field, derivative, rational, hi, system.states, v, v_)
                           for v, v_ in zip(v_all, v_all_) for hi in h)
     except (NotRational, ZeroDivisionError):
@@ -208,11 +216,14 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     variables = set(system.states) | set(system.parameters)
     exps = {a for v in fields for e in v for a in sympy.sympify(e).atoms(sympy.exp)}
     named = {a: sympy.Dummy() for a in exps}
-    angles = half_angles(system.states, [e for v in fields for e in v])
+    # Square roots of states likewise through W = sqrt(z), z = W^2, at rational W.
+    components = [e for v in fields for e in v]
+    angles = half_angles(system.states, components)
     if angles is None:
         return False
-    if not all(in_half_angles(sympy.sympify(e).xreplace(named), angles).is_rational_function(
-               *variables, *angles.values(), *named.values()) for v in fields for e in v):
+    roots = {z: w for z, w in square_roots(system.states, components).items() if z not in angles}
+    if not all(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(named), roots), angles).is_rational_function(
+               *variables, *angles.values(), *roots.values(), *named.values()) for e in components):
         return False
     if exps and not _independent_exponents(system, [a.args[0] for a in exps]):
         return False
@@ -222,23 +233,26 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
         return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
-    if angles:
-        return _independent_on_the_circle(system, fields, angles)
+    if angles or roots:
+        return _independent_on_the_circle(system, fields, angles, roots)
     # Generically independent: a non-zero k x k minor at a random point mod p.
     return point_rank(system, fields, gradients=False, attempts=8) == len(fields)
 
 
-def _independent_on_the_circle(system: System, fields: list[list[sympy.Expr]], angles: dict) -> bool:
-    """Whether fields with sines and cosines of states have rank k at a real point
-    with rational T = tan(angle/2) and rational other coordinates (exact; a few
-    points are tried, since one may lie on the minor's zero set)."""
+def _independent_on_the_circle(system: System, fields: list[list[sympy.Expr]], angles: dict, roots: dict) -> bool:
+    """Whether fields with sines and cosines of states, or square roots of
+    states, have rank k at a real point with rational T = tan(angle/2), rational
+    positive W = sqrt(z) and rational other coordinates (exact; a few points are
+    tried, since one may lie on the minor's zero set)."""
     rng = random.Random(17)
     values = [*system.states, *system.parameters]
     for _ in range(4):
         point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for s in values}
         point |= {t: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for t in angles.values()}
+        point |= {w: sympy.Rational(rng.randint(1, 97), rng.randint(1, 13)) for w in roots.values()}
         try:
-            matrix = sympy.Matrix([[in_half_angles(sympy.sympify(e), angles).xreplace(point) for e in v] for v in fields])
+            matrix = sympy.Matrix([[in_half_angles(in_square_roots(sympy.sympify(e), roots), angles).xreplace(point)
+                                    for e in v] for v in fields])
         except ZeroDivisionError:
             continue
         if all(e.is_Rational for e in matrix) and matrix.rank() == len(fields):

@@ -27,6 +27,7 @@ from ..engine.atoms import normal_form
 from ..budget import Undecided
 from ..errors import UnsupportedExpressionError
 from ..engine.fractions import factor
+from ..engine.halfangles import in_square_roots
 from ..model.system import System
 
 __all__ = [
@@ -114,10 +115,19 @@ def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, 
     Raises
     ------
     Undecided
-        When an entry contains a square root or another algebraic function.
+        When an entry contains a square root of anything but a symbol, or
+        another algebraic function.
     """
     atoms: dict[sympy.Expr, sympy.Symbol] = {}
     back: dict[sympy.Symbol, sympy.Expr] = {}
+    # A symbol under a half-integer power is written W^2 (W = its square root,
+    # positive) in every entry: a change of variables on z > 0, under which the
+    # generic rank and the null space are those of the rational matrix in W.
+    rooted = sorted({p.base for e in matrix for p in sympy.sympify(e).atoms(sympy.Pow)
+                     if isinstance(p.base, sympy.Symbol) and p.exp.is_Rational and p.exp.q == 2}, key=str)
+    roots = {z: sympy.Dummy(f"W{i}", positive=True) for i, z in enumerate(rooted)}
+    back |= {w: sympy.sqrt(z) for z, w in roots.items()}
+    matrix = matrix.applyfunc(lambda e: in_square_roots(e, roots)) if roots else matrix
 
     def atom(key: sympy.Expr, name: str, meaning: sympy.Expr) -> sympy.Symbol:
         if key not in atoms:

@@ -33,6 +33,7 @@ from ..budget import with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression
 from ..model.prepare import prepare
+from ..engine.halfangles import square_roots
 from ..engine.lie import input_derivative, lie_derivatives, step_input
 from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
@@ -81,8 +82,11 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], inpu
     matrix = sympy.Matrix([[sympy.diff(expressions[r], x) for x in states] for r in rows])
     symbols = sorted(matrix.free_symbols | set(system.states), key=str)
     rng = random.Random(seed)
+    # A symbol under a square root takes the square of a rational: the root is
+    # rational too (and real), so the minor stays exact.
+    rooted = square_roots(symbols, list(matrix))
     for _ in range(_ATTEMPTS):
-        point = {s: _rational(rng) for s in symbols}
+        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
         at = matrix.xreplace(point)
         if any(e.has(sympy.zoo, sympy.nan) for e in at):
             continue
