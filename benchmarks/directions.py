@@ -69,7 +69,7 @@ def cases(sizes: list[int]) -> list[tuple[str, str, dict[str, str]]]:
     out += [("vins-euler", "vins", {"attitude": "euler"}), ("vins-quaternion", "vins", {"attitude": "quaternion"})]
     # The same robot as a user writes it: three attitude forms, from files (examples/models).
     models = Path(__file__).resolve().parents[1] / "examples" / "models"
-    out += [(f"file {stem}", str(models / f"{stem}.toml"), {}) for stem in ("vins_euler", "vins_quaternion", "vins_gibbs")]
+    out += [(f"file {stem}", str(models / f"{stem}.toml"), {}) for stem in ("vins_euler", "vins_quaternion", "vins_gibbs", "quadrotor_vio")]
     return out
 
 

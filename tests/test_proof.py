@@ -51,10 +51,13 @@ def test_float_is_numerical_and_symbolic_is_proven():
 
 
 def test_large_models_say_lower_bound():
-    """Above 24 states the identities are not attempted: the verdict keeps its
-    certain lower bound and its stated probability, never a claimed proof."""
-    result = analyze(models.build("slam2d", {"landmarks": "10"}), seed=1)
+    """Above 40 states the identities are not attempted: the verdict keeps its
+    certain lower bound and its stated probability, never a claimed proof; at
+    40 (17 landmarks) the proof is made."""
+    result = analyze(models.build("slam2d", {"landmarks": "18"}), seed=1)
     assert result.rank == result.n_states - 4 and result.proof == "lower bound"
+    result = analyze(models.build("slam2d", {"landmarks": "17"}), seed=1)
+    assert result.rank == result.n_states - 4 and result.proof == "proven"
 
 
 def test_a_field_in_the_models_exponential_proves_the_rank():
