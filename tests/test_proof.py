@@ -525,3 +525,20 @@ def test_a_field_in_the_square_root_of_a_state_proves_the_rank():
     with pytest.raises(checker.Rejected, match="L_v y is not zero"):
         checker.check(data)
     assert analyze(system, method="symbolic").rank == 1
+
+
+def test_a_28_state_quadrotor_vio_is_proven_with_its_yaw_named():
+    """examples/models/quadrotor_vio.toml (IMU, biases, camera translation, three
+    features; 28 states): Hesch et al. (IEEE T-RO 2014) and Kelly & Sukhatme
+    (IJRR 2011) give four lost directions, the global position and the yaw, to
+    which the quaternion's norm (a gauge: R(q)/|q|^2) adds a fifth: rank 23,
+    proven now that the identities are attempted up to 40 states, the biases and
+    the camera translation observable; the yaw, which turns the quaternion's
+    components in pairs, is named as the built-ins name it."""
+    system = load_model(EXAMPLE_MODELS / "quadrotor_vio.toml")
+    result = analyze(system, seed=1)
+    assert (result.rank, result.proof) == (23, "proven")
+    names = sorted(d.name for d in result.unobservable_directions)
+    assert names[:1] == ["rotation about the z-axis"] and names[1] == "the norm of (q_0, q_1, q_2, q_3)"
+    assert sum(name.startswith("translation") for name in names) == 3
+    assert {f"{b}_{k}" for b in ("bg", "ba", "pc") for k in range(3)} <= set(result.observable_states)

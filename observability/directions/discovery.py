@@ -466,8 +466,15 @@ def _axis(pairs: list[tuple[str, str]], names: set[str]) -> str | None:
     for a, b in pairs:
         base_a, _, i = a.rpartition("_")
         base_b, _, j = b.rpartition("_")
+        if base_a and base_a == base_b and _quaternion(base_a, names):
+            continue  # the attitude quaternion turning with the scene (its components pair up, at half rate)
         three = {f"{base_a}_{k}" for k in range(3)} <= names and f"{base_a}_3" not in names
         if not base_a or base_a != base_b or (i, j) not in _AXES or not three:
             return None
         found.add(_AXES[(i, j)])
     return found.pop() if len(found) == 1 else None
+
+
+def _quaternion(base: str, names: set[str]) -> bool:
+    """Whether ``base`` is a 4-vector state (q_0..q_3 of q[4])."""
+    return {f"{base}_{k}" for k in range(4)} <= names and f"{base}_4" not in names
