@@ -252,7 +252,23 @@ def _worth_differentiating(expressions: list[sympy.Expr], n: int, max_pages: flo
     raw = sum(printed_size(e) for e in expressions)
     if _fits(raw * n, max_pages):
         return True
-    return raw <= _MAX_DIFFERENTIATED_CHARS and _fits(_named_size(expressions) * n, max_pages)
+    return raw <= _MAX_DIFFERENTIATED_CHARS and _fits_named(_named_size(expressions) * n, max_pages)
+
+
+def _gradients(system: System, block, k: int, orders: int, progress) -> list:
+    """((output, order), gradient) for each Lie derivative of ``block``."""
+    rows = []
+    for n, row in enumerate(block):
+        if progress:
+            progress(f"Lie order {k} of {orders}, row {n + 1} of {len(block)}")
+        rows.append(((row.output, row.order), [sympy.diff(row.expression, x) for x in system.states]))
+    return rows
+
+
+def _fits_named(characters: float, max_pages: float) -> bool:
+    """Named entries and their definitions are printed whole, with no slack for
+    what factoring would save: at most a page of characters per page."""
+    return characters <= max_pages * PAGE_WIDTH * LINES_PER_PAGE
 
 
 def _fits(glyphs: float, max_pages: float) -> bool:
@@ -311,15 +327,10 @@ def latex_matrix(
             # stop before differentiating what could not be shown anyway.
             omitted = _omission(k, orders, max_pages)
             break
-        rows = []
-        for n, row in enumerate(block):
-            if progress:
-                progress(f"Lie order {k} of {orders}, row {n + 1} of {len(block)}")
-            gradient = [sympy.diff(row.expression, x) for x in system.states]
-            rows.append(((row.output, row.order), gradient))
+        rows = _gradients(system, block, k, orders, progress)
         raw = sum(printed_size(e) for _, gradient in rows for e in gradient)
         written_out = fixed is not None or _fits(raw, max_pages)
-        if not written_out and not _fits(_shared_size([*by_order, rows]), max_pages):
+        if not written_out and not _fits_named(_shared_size([*by_order, rows]), max_pages):
             omitted = _omission(k, orders, max_pages)
             break
         # Rows that fit only with their shared parts named are left as they are: the
