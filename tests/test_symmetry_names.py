@@ -106,3 +106,14 @@ def test_continuous_equivariance_through_exp_is_checked():
     system = System(["x", "y"], {"x": "x**2", "y": "0"}, {"r": "y"}, symmetries=[bad, good])
     names = [d.name for d in analyze(system, seed=4).unobservable_directions]
     assert names == ["flow of x^2"]
+
+
+def test_a_field_that_shifts_some_states_and_scales_others_is_not_called_a_scaling():
+    """x + log(z), x' = z' = 0: the null field (1, -z) (by hand: 1 + (1/z)(-z) = 0)
+    shifts x and scales z; it was named "scaling" with x's shift left out."""
+    from observability import System, analyze
+
+    result = analyze(System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + log(z)"}, name="log"), seed=1)
+    (direction,) = result.unobservable_directions
+    assert direction.name == "scaling of z with translation of x"
+    assert dict(direction.vector) == {"x": "1", "z": "-z"}

@@ -417,6 +417,12 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
             group = ", ".join(states[i].name for i in diagonal)
             return f"the norm of ({group})", f"scales ({group}) together: only their direction is seen (a quaternion's norm)"
         weights = ", ".join(f"{states[i].name}: {A[i][i]}" for i in diagonal)
+        shifted = [states[i].name for i in range(n) if b[i] != 0 and A[i][i] == 0]
+        if shifted:
+            # Some states only shift while others scale (x + log(z): (1, -z)): not a scaling about a centre.
+            scaled = _listing([states[i].name for i in diagonal])
+            return (f"scaling of {scaled} with translation of {_listing(shifted)}",
+                    f"scales {scaled} with weights {weights} and shifts {_listing(shifted)}")
         centre = [(states[i].name, sympy.cancel(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
         about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
         return f"scaling{about}", f"scales the states with weights {weights}"
