@@ -63,8 +63,6 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_{k}":
        "initial= of np.max on a residual vector that is never empty (the moving states of a model with states)"
        for k in (19, 21, 23, 38, 40)},
-    "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_motion_with__mutmut_9":
-        "p left out of the buffered call: the buffer keeps the p bound by the _motion call that always precedes it",
     "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_34":
         "lstsq's rcond: None is numpy's default, the same cut-off",
     "observability.report.files.x_save_figure__mutmut_11":

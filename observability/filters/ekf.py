@@ -174,8 +174,9 @@ class _Base:
     def _measurement_call(self) -> _Buffered:
         return _Buffered(self.fn["measurement"])
 
-    def _motion(self, x: np.ndarray, u: np.ndarray):
-        x_next, F, Fw = self._motion_call(x, u, self.w0, self.p)
+    def _motion(self, x: np.ndarray, u: np.ndarray, w: np.ndarray | None = None):
+        """f, F_X and F_w at (x, u, w), the noise w zero unless given."""
+        x_next, F, Fw = self._motion_call(x, u, self.w0 if w is None else w, self.p)
         return x_next.ravel(), F, Fw
 
     def _measurement(self, x: np.ndarray, x_prev: np.ndarray):

@@ -96,16 +96,12 @@ class FirstEstimatesEKF(_Base):
         """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left."""
         w = np.array(self.w0)
         for _ in range(CARRY_STEPS):
-            x_next, _, Fw = self._motion_with(start, u, w)
+            x_next, _, Fw = self._motion(start, u, w)
             r = wrap_angles(x_next - target, self._state_angles)
             if np.max(np.abs(r), initial=0.0) < CARRY_TOLERANCE or Fw.size == 0:
                 break
             w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
         return w, float(np.max(np.abs(r), initial=0.0))
-
-    def _motion_with(self, x: np.ndarray, u: np.ndarray, w: np.ndarray):
-        x_next, F, Fw = self._motion_call(x, u, w, self.p)
-        return x_next.ravel(), F, Fw
 
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
@@ -117,7 +113,7 @@ class FirstEstimatesEKF(_Base):
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
         w, residual = self._carrying_noise(first, u, first_next)
-        _, Phi, _ = self._motion_with(first, u, w)
+        _, Phi, _ = self._motion(first, u, w)
         self.residuals.append((state.step + 1, residual))
         if self.record:
             self.used.append(("F", state.step, Phi))

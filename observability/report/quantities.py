@@ -16,6 +16,8 @@ from __future__ import annotations
 import random
 from collections.abc import Mapping
 from dataclasses import dataclass
+
+import mpmath
 import sympy
 
 from ..engine.fractions import NotRational, RationalFunctions, factor
@@ -126,8 +128,6 @@ def _rank_at_a_point(matrix: sympy.Matrix, symbols: set) -> int:
     values = matrix.xreplace(point).evalf(40)
     if not all(v.is_number and v.is_finite for v in values):
         return 0
-    import mpmath
-
     with mpmath.workdps(40):
         sigma = mpmath.svd_r(mpmath.matrix(values.tolist()), compute_uv=False) if values.rows and values.cols else []
         sigma = sorted((abs(v) for v in sigma), reverse=True)

@@ -15,6 +15,7 @@ once and given to every filter; runs are Dask tasks.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -96,12 +97,11 @@ def slam_model(study: SlamStudy) -> System:
 
 @dataclass(frozen=True)
 class Shared:
-    """What every task needs: the study, its functions and the analysis's null space."""
+    """What every task needs: the study, its functions and the analysis's null space N(x, p)."""
 
     study: SlamStudy
     functions: FilterFunctions
-    system: System
-    directions: tuple
+    null_space: Any
 
 
 def _simulate(study: SlamStudy, functions: FilterFunctions, rng: np.random.Generator):
@@ -143,10 +143,9 @@ def _initial_estimate(study: SlamStudy, start: np.ndarray, R: np.ndarray, rng: n
 
 def _filters(shared: Shared, truth: np.ndarray, record: bool) -> dict:
     Q, R = shared.study.noise()
-    N = null_space_function(shared.system, shared.directions, shared.functions)
     fns = shared.functions
     return {"ekf": ConventionalEKF(fns, Q, R), "fej": FirstEstimatesEKF(fns, Q, R, record=record),
-            "oc": ObservabilityConstrainedEKF(fns, Q, R, N, record=record),
+            "oc": ObservabilityConstrainedEKF(fns, Q, R, shared.null_space, record=record),
             "ideal": IdealEKF(fns, Q, R, truth, record=record)}
 
 
@@ -220,7 +219,7 @@ def run_slam_study(study: SlamStudy, run: Runner | None = None) -> SlamStudyResu
     system = slam_model(study)
     verdict = analyze(system, seed=study.seed)
     functions = filter_functions(system, ["v", "s", "om"])
-    shared = Shared(study, functions, system, tuple(verdict.unobservable_directions))
+    shared = Shared(study, functions, null_space_function(system, verdict.unobservable_directions, functions))
     streams = np.random.SeedSequence(study.seed).spawn(study.runs)
     tasks = [(streams[i:i + RUNS_PER_TASK], i) for i in range(0, study.runs, RUNS_PER_TASK)]
     runs = [r for chunk in run_tasks(_chunk, tasks, shared, f"{study.name} Monte Carlo", run) for r in chunk]
