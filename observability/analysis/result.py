@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..directions.find import UnobservableDirection
 from ..model.notation import latex_text
+
+if TYPE_CHECKING:
+    from .uniqueness import GlobalVerdict
 
 __all__ = ["ObservabilityResult", "PROOFS", "independent_fields", "state_list"]
 
@@ -79,6 +83,7 @@ class ObservabilityResult:
     unknown_parameters: tuple[str, ...] = ()  # unknown constants, states that never change
     restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
     functions_complete: bool | None = None
+    global_answer: GlobalVerdict | None = None  # check --global: which states are determined uniquely
 
     @property
     def n_states(self) -> int:
@@ -127,7 +132,14 @@ class ObservabilityResult:
             "singular_values": list(self.singular_values) if self.singular_values is not None else None,
             "details": self.details,
             "seconds": round(self.seconds, 6),
-        }
+        } | self._global_dict()
+
+    def _global_dict(self) -> dict[str, Any]:
+        if self.global_answer is None:
+            return {}
+        answer = self.global_answer.to_dict()
+        return {"globally_observable_states": answer["globally_observable_states"],
+                "only_locally_observable_states": answer["only_locally_observable_states"], "global": answer}
 
     def verdict(self) -> str:
         if self.observable is None:
@@ -189,6 +201,7 @@ class ObservabilityResult:
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
+            lines += self._global_lines(states)
             if self.observable_functions:
                 lines.append(f"  observable functions: {states(self.observable_functions)}" + {
                     True: " (complete: their transcendence degree is the rank, so every observable function is "
@@ -208,6 +221,20 @@ class ObservabilityResult:
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
+
+
+    def _global_lines(self, states: Callable[[tuple[str, ...] | None], str]) -> list[str]:
+        answer = self.global_answer
+        if answer is None:
+            return []
+        lines = [f"  globally observable (unique): {states(answer.globally)}"]
+        if answer.only_locally:
+            lines.append(f"  only locally observable (other states give the same outputs): {states(answer.only_locally)}")
+        if answer.undecided:
+            lines.append(f"  global answer undecided: {states(answer.undecided)}")
+        probability = "" if answer.error_probability is None else f"; error probability {answer.error_probability:.1e}"
+        lines.append(f"  global: {answer.details}{probability}")
+        return lines
 
 
 def independent_fields(count: int, one: str = "field", many: str = "fields") -> str:

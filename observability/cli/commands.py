@@ -164,6 +164,8 @@ def check_command(args: argparse.Namespace) -> int:
                                      orders=args.orders)
         elif args.orders is not None:
             raise UsageError("--orders applies to --point (the highest Lie order computed at the point)")
+        if getattr(args, "global_", False):
+            result = _global(prepared, result, args)
     if result.observable is None:
         code = EXIT_UNDECIDED
     else:
@@ -179,6 +181,18 @@ def check_command(args: argparse.Namespace) -> int:
     if args.proof is not None:
         return _write_proof(system, result, args) or code
     return code
+
+
+def _global(prepared: tuple, result: ObservabilityResult, args: argparse.Namespace) -> ObservabilityResult:
+    """``check --global``: the verdict with its global answer (on the system the verdict was computed for)."""
+    from ..analysis.uniqueness import global_observability
+
+    restricted, _, constraint = prepared
+    if constraint is not None or args.method == "float" or args.point is not None:
+        raise UsageError("--global answers for generic points of the model: not with --where, --point or the float "
+                         "method")
+    answer = global_observability(restricted, result, seed=args.seed or 0, budget=args.budget)
+    return dataclasses.replace(result, global_answer=answer)
 
 
 def _write_proof(system: System, result, args: argparse.Namespace) -> int | None:

@@ -73,6 +73,10 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--symbolic-directions", action="store_true",
                        help="directions without a polynomial generator: a symbolic null space (n <= 24, up to 20 s "
                             "of CPU) instead of their vectors at a point")
+    check.add_argument("--global", dest="global_", action="store_true",
+                       help="also which locally observable states are determined uniquely (globally) and which only "
+                            "up to finitely many values: field membership at a random point, with its error probability "
+                            "(continuous time, rational models; sines and cosines of states allowed)")
     check.set_defaults(func=check_command)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
     _model_arguments(codegen)
