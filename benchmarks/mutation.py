@@ -103,7 +103,7 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
         'source_paths = ["observability"]\n'
         'also_copy = ["examples", "reports", "README.md", "benchmarks", "docs"]\n'
         f"only_mutate = {listing(modules)}\n"
-        'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider"]\n'
+        'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider", "-m", "not fresh_interpreter"]\n'
         f"pytest_add_cli_args_test_selection = {listing(tests)}\n"
     )
 

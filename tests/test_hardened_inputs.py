@@ -128,6 +128,7 @@ def _vector_model(size: int, output: str):
     return parse_model(f'states = ["p[{size}]"]\n[dynamics]\np = "p"\n[outputs]\nz = "{output}"\n', "m.toml")
 
 
+@pytest.mark.fresh_interpreter
 def test_vector_models_are_read_in_bounded_work():
     """dot(p, p) with 10,000 components took over 120 s (a quadratic sum): it
     must now be read within 30 CPU seconds (the old cost was quadratic: 4,000

@@ -207,6 +207,7 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """
 
 
+@pytest.mark.fresh_interpreter
 def test_the_attacks_stay_below_one_gigabyte(tmp_path):
     """Peak resident memory of a fresh interpreter that ran every attack and 100
     mutated files: its own high-water mark, whatever ran before on this worker

@@ -181,6 +181,7 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
             checker.check(tampered)
 
 
+@pytest.mark.fresh_interpreter
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
     checker as `observability verify-proof`; not written (exit 3) for a lower bound
@@ -438,6 +439,7 @@ def test_identities_through_half_angles_agree_with_the_expression_route():
     assert _identities(system, fields) is True
 
 
+@pytest.mark.fresh_interpreter
 def test_an_invariant_span_proves_the_rank_when_no_field_is_a_symmetry(tmp_path):
     """x1' = x2, x2' = 0, x3' = x3^3, y = x1 (by hand: rows (1, 0, 0), (0, 1, 0),
     then zeros: rank 2, null direction d/dx3). d/dx3 is no symmetry ([f, e3] =

@@ -42,7 +42,7 @@ import flint
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..engine.halfangles import half_angles, in_half_angles
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from ..engine.lie import lie_derivatives
 from ..errors import ModelError
 from ..model.prepare import prepare
@@ -74,6 +74,9 @@ class GlobalVerdict:
         Chance that an answer is wrong (membership test plus the local verdict's).
     details : str
         The method, the orders used, and what guarantees the answer.
+    mirrors : tuple of str
+        Discrete symmetries verified exactly ("y -> -y"): each makes the states
+        it moves only locally observable with certainty, over the reals too.
     """
 
     globally: tuple[str, ...]
@@ -81,12 +84,13 @@ class GlobalVerdict:
     undecided: tuple[str, ...]
     error_probability: float | None
     details: str
+    mirrors: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {"globally_observable_states": list(self.globally),
                 "only_locally_observable_states": list(self.only_locally),
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
-                "details": self.details}
+                "details": self.details, "mirrors": list(self.mirrors)}
 
 
 def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0,
@@ -136,8 +140,36 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                f"{membership.range_bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate "
                f"every Lie derivative: certain); 'only locally' means other complex states share the outputs"
                f"{angle_note}")
-    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability, details)
+    only = tuple(s for s in local if not where[s])
+    mirrors = _mirrors(prepared, angles, only)
+    if mirrors:
+        details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
+                    + " leaves the outputs and the dynamics unchanged, as exact identities")
+    return GlobalVerdict(tuple(s for s in local if where[s]), only, (), probability, details, mirrors)
+
+
+def _mirrors(system: System, angles, only: tuple[str, ...]) -> tuple[str, ...]:
+    """Sign flips sigma (of one only-locally state, of all of them, of every
+    state) with h(sigma x) = h(x) and f(sigma x) = sigma f(x) for every input,
+    checked as rational identities (angles through tan(angle/2), where
+    angle -> -angle is T -> -T): x and sigma(x) then give the same outputs
+    for all time, a second real solution wherever sigma moves x."""
+    if not only:
+        return ()
+    coordinates = [angles.get(s, s) for s in system.states]
+    outputs = [in_half_angles(h, angles) for _, h in system.outputs]
+    speeds = [angle_speed(s, f, angles) for s, f in zip(system.states, system.dynamics)]
+    names = [s.name for s in system.states]
+    found = []
+    for flipped in dict.fromkeys([*((name,) for name in only), only, tuple(names)]):
+        flip = {coordinates[names.index(n)]: -coordinates[names.index(n)] for n in flipped}
+        sign = [-1 if n in flipped else 1 for n in names]
+        if all(sympy.cancel(h.xreplace(flip) - h) == 0 for h in outputs) and all(
+                sympy.cancel(v.xreplace(flip) - k * v) == 0 for v, k in zip(speeds, sign)):
+            found.append(", ".join(flipped) + " -> " + ", ".join(f"-{n}" for n in flipped))
+            if set(flipped) >= set(only):
+                break
+    return tuple(found)
 
 
 def _membership(generators, candidates, variables, free, error: float, seed: int):
@@ -177,7 +209,7 @@ def _generators(system: System, orders: dict[str, int]):
         if not expr.is_rational_function(*variables) or set(system.states) & set(angles) & expr.free_symbols:
             raise ModelError(f"--global: a Lie derivative is not rational in the states ({sympy.sstr(expr)[:80]}); "
                              "the test covers rational models, with sines and cosines of states")
-    return tuple(angles), coordinates, rows, variables, list(known)
+    return angles, coordinates, rows, variables, list(known)
 
 
 def _free_coordinates(generators, coordinates, variables, rank: int, seed: int) -> list[sympy.Symbol] | None:

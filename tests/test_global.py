@@ -1,0 +1,144 @@
+"""Global observability (`check --global`): unique or only locally, against independent answers.
+
+References: StructuralIdentifiability.jl's test suite (test/bodies/identifiability.jl at commit
+b7bff91634575095369190ca7d418fe41f98cac2, the :globally / :locally labels of assess_identifiability,
+which uses a different algorithm: input-output equations), and hand derivations in each docstring.
+"""
+
+from __future__ import annotations
+
+import pytest
+import sympy
+
+from observability import System, analyze
+from observability.analysis.uniqueness import global_observability
+from observability.errors import ModelError
+from observability.model.sijl import parse_si_model
+from observability.rank.membership import field_contains
+
+
+def _answer(system: System):
+    result = analyze(system, seed=5, directions=False)
+    return result, global_observability(system, result, seed=3)
+
+
+def _labels(system: System) -> dict[str, str]:
+    result, answer = _answer(system)
+    labels = {s: "nonidentifiable" for s in result.states}
+    labels |= {s: "globally" for s in answer.globally} | {s: "locally" for s in answer.only_locally}
+    assert not answer.undecided
+    return labels
+
+
+# (file line of the case, the model, SI.jl's labels of the states and parameters it tests)
+SI_CASES = [
+    (54, """x0'(t) = a * x0(t) - b * x0(t) * x1(t) + u(t), x1'(t) = c * x1(t) + d * x0(t) * x1(t), y(t) = x0(t)""",
+     {"a": "globally", "b": "nonidentifiable", "c": "globally", "d": "globally", "x0": "globally",
+      "x1": "nonidentifiable"}),
+    (80, """S'(t) = mu - bi * S(t) * I(t) - bw * S(t) * W(t) - mu * S(t) + a * R(t),
+     I'(t) = bw * S(t) * W(t) + bi * S(t) * I(t) - (gam + mu) * I(t), W'(t) = xi * (I(t) - W(t)),
+     R'(t) = gam * I(t) - (mu + a) * R(t), y(t) = k * I(t)""",
+     dict.fromkeys(["mu", "bi", "bw", "a", "xi", "gam", "k"], "globally")),
+    (100, """x1'(t) = -b * x1(t) + 1 / (c + x4(t)), x2'(t) = alpha * x1(t) - beta * x2(t),
+     x3'(t) = gama * x2(t) - delta * x3(t), x4'(t) = sigma * x4(t) * (gama * x2(t) - delta * x3(t)) / x3(t),
+     y(t) = x1(t)""",
+     {"b": "globally", "c": "globally", "alpha": "nonidentifiable", "beta": "locally", "delta": "locally",
+      "gama": "nonidentifiable"}),
+    (129, """x1'(t) = (1 + x1(t)^2) // 2, x2'(t) = (1 - x1(t)^2) // (1 + x1(t)^2),
+     y1(t) = 2 * x1(t) // (b * (1 + x1(t)^2)), y2(t) = x2(t)""",
+     {"b": "globally", "x1": "globally", "x2": "globally"}),
+    (148, """x1'(t) = -a1 * x1(t) + a21 * x2(t), x2'(t) = -a2 * x2(t) - a21 * x2(t), y1(t) = x1(t)""",
+     {"a1": "locally", "a2": "nonidentifiable", "a21": "nonidentifiable"}),
+    (166, """x1'(t) = -a1 * x1(t) + a21 * x2(t), x2'(t) = -a2 * x2(t) - a21 * x2(t) + u(t), y1(t) = x1(t)""",
+     {"a1": "locally", "a2": "locally", "a21": "globally"}),
+    (184, """x1'(t) = -(a21 + a31 + a01) * x1(t) + a12 * x2(t) + a13 * x3(t) + u(t), x2'(t) = a21 * x1(t) - a12 * x2(t),
+     x3'(t) = a31 * x1(t) - a13 * x3(t), y(t) = x1(t)""",
+     {"x1": "globally", "x2": "locally", "x3": "locally"}),
+    (203, """S'(t) = -b * S(t) * In(t) / N, E'(t) = b * S(t) * In(t) / N - nu * E(t), In'(t) = nu * E(t) - a * In(t),
+     y1(t) = In(t), y2(t) = N""",
+     {"b": "globally", "N": "globally", "In": "globally", "a": "locally", "nu": "locally", "S": "locally",
+      "E": "locally"}),
+]
+
+
+@pytest.mark.parametrize(("line", "body", "expected"), SI_CASES, ids=[f"line{c[0]}" for c in SI_CASES])
+def test_global_labels_match_structural_identifiability_jl(line, body, expected):
+    labels = _labels(parse_si_model(f"ode = @ODEmodel({body})", name=f"SI.jl identifiability.jl:{line}"))
+    assert {k: labels[k] for k in expected} == expected
+
+
+def test_square_without_motion_is_only_local_and_the_sign_flip_certifies_it():
+    """y = x**2 with x' = x**3: every Lie derivative is even in x (L h = 2 x^4, and x -> -x maps
+    x' = x^3 to its negative), so x and -x give the same outputs: only locally, certified by the flip."""
+    _, answer = _answer(System(["x"], ["x**3"], {"y": "x**2"}))
+    assert answer.only_locally == ("x",) and answer.mirrors == ("x -> -x",)
+
+
+def test_square_with_unit_speed_is_global():
+    """y = x**2, x' = 1: y' = 2x gives x itself, so x is unique."""
+    _, answer = _answer(System(["x"], ["1"], {"y": "x**2"}))
+    assert answer.globally == ("x",) and not answer.only_locally and not answer.mirrors
+
+
+def test_range_only_fix_with_two_beacons_has_the_mirror():
+    """Ranges to (0, 0) and (d, 0) from a fixed (x, y): r1^2 - r2^2 = 2 d x - d^2 gives x, then
+    y^2 = r1^2 - x^2 leaves the sign of y: the mirror across the beacons' line."""
+    system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
+                    parameters=["d"])
+    _, answer = _answer(system)
+    assert answer.globally == ("x",) and answer.only_locally == ("y",)
+    assert answer.mirrors == ("y -> -y",)
+
+
+def test_bearings_to_three_beacons_are_global():
+    """Tangents of the bearings to (0,0), (2,1), (3,-1): each is a line through the beacon, and
+    three lines in general position meet in one point, so (x, y) is unique."""
+    system = System(["x", "y"], ["0", "0"], {"b1": "y/x", "b2": "(y - 1)/(x - 2)", "b3": "(y + 1)/(x - 3)"})
+    _, answer = _answer(system)
+    assert answer.globally == ("x", "y")
+
+
+def test_two_bearings_from_a_moving_robot_with_heading():
+    """A unicycle with squared ranges to two beacons: the mirror (y, th) -> (-y, -th) maps th' = w
+    to -w for the same input, so it is no symmetry; the answer is global (angles modulo 2 pi)."""
+    system = System(["x", "y", "th"], ["v*cos(th)", "v*sin(th)", "w"],
+                    {"r1": "x**2 + y**2", "r2": "(x - 1)**2 + y**2"}, inputs=["v", "w"])
+    _, answer = _answer(system)
+    assert answer.globally == ("x", "y", "th") and "modulo 2 pi" in answer.details
+
+
+def test_membership_of_the_two_compartment_combinations():
+    """SI.jl identifiability.jl line 8: with y = x0, a01*a12, a01 + a12 + a21 and their ratio are
+    globally identifiable and a01 alone is not; the field of the Lie derivatives L^k x0, k <= 4."""
+    x0, x1, a01, a21, a12 = sympy.symbols("x0 x1 a01 a21 a12")
+    variables = [x0, x1, a01, a21, a12]
+    f = [-(a01 + a21) * x0 + a12 * x1, a21 * x0 - a12 * x1, 0, 0, 0]
+    rows = [x0]
+    for _ in range(4):
+        rows.append(sympy.expand(sum(sympy.diff(rows[-1], v) * fi for v, fi in zip(variables, f))))
+    tested = [a01 * a12, a01 + a12 + a21, (a01 + a12 + a21) / (a01 * a12), x0]
+    answer = field_contains(rows, tested, variables, seed=1)
+    assert answer.members == (True, True, True, True)
+    assert answer.error_probability <= 1.1e-6
+
+
+def test_a_bounded_truncation_would_miss_the_sign():
+    """The orders: with y = x**2 and x' = 1 the rank is full at order 0, and only order 1 (one past
+    the highest independent row) decides the sign; the field of order 0 alone does not contain x."""
+    x = sympy.Symbol("x")
+    assert field_contains([x**2], [x], [x], seed=2).members == (False,)
+    assert field_contains([x**2, 2 * x], [x], [x], seed=2).members == (True,)
+
+
+def test_discrete_time_is_refused():
+    system = System(["x"], ["x**2"], {"y": "x**2"}, time="discrete")
+    result = analyze(system, seed=1, directions=False)
+    with pytest.raises(ModelError, match="continuous time only"):
+        global_observability(system, result)
+
+
+def test_a_non_rational_model_is_refused():
+    system = System(["x"], ["1"], {"y": "exp(x)"})
+    result = analyze(system, seed=1, directions=False)
+    with pytest.raises(ModelError, match="not rational"):
+        global_observability(system, result)
