@@ -42,12 +42,13 @@ import flint
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..engine.halfangles import angle_speed, half_angles, in_half_angles
-from ..engine.lie import lie_derivatives
+from ..engine.jets import JetEquations, jet_equations
+from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
-from ..rank.membership import field_contains
+from ..rank.membership import groebner_contains, sampling_range
+from .rationalmodel import RationalModel, degree_bounds, rational_model
 
 if TYPE_CHECKING:
     from .result import ObservabilityResult
@@ -119,36 +120,64 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
     prepared = prepare(system).system
     orders = _orders(prepared, result.row_labels)
-    angles, coordinates, generators, variables, known = _generators(prepared, orders)
-    free = _free_coordinates(generators, coordinates, variables, result.rank, seed)
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
-    if free is None:
+    try:
+        decided = with_budget(_decide, prepared, orders, result.rank, local, error, seed, seconds=budget)
+    except Undecided as exc:
+        return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
+                             "Groebner basis at a point, the mirrors)")
+    if decided is None:
         return GlobalVerdict((), (), local, None, "undecided: the Jacobian of the Lie derivatives "
                              f"({used}) did not reach the verdict's rank {result.rank} at three random points")
-    index = {s.name: c for s, c in zip(prepared.states, coordinates)}
-    candidates = [index[name] for name in local]
-    try:
-        membership = with_budget(_membership, generators + known, candidates, variables, free, error, seed,
-                                 seconds=budget)
-    except Undecided as exc:
-        return GlobalVerdict((), (), local, None, f"undecided: the Groebner basis ({exc})")
-    where = dict(zip(local, membership.members))
-    probability = membership.error_probability + (result.error_probability or 0.0)
-    angle_note = (f"; angles {', '.join(a.name for a in angles)} through tan(angle/2): globally means modulo 2 pi"
-                  if angles else "")
+    members, bits, probability, angles, mirrors = decided
+    where = dict(zip(local, members))
+    angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
-               f"{membership.range_bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate "
-               f"every Lie derivative: certain); 'only locally' means other complex states share the outputs"
-               f"{angle_note}")
-    only = tuple(s for s in local if not where[s])
-    mirrors = _mirrors(prepared, angles, only)
+               f"{bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate every Lie "
+               f"derivative: certain), as polynomial equations in the states' derivatives (SIAN's form); 'only "
+               f"locally' means other complex states share the outputs{angle_note}")
     if mirrors:
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
-    return GlobalVerdict(tuple(s for s in local if where[s]), only, (), probability, details, mirrors)
+    probability += result.error_probability or 0.0
+    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
+                         probability, details, mirrors)
 
 
-def _mirrors(system: System, angles, only: tuple[str, ...]) -> tuple[str, ...]:
+def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str, ...], error: float, seed: int):
+    """The symbolic work, in one budgeted child: (members, range bits, error, angle names,
+    mirrors), or None when the Jacobian does not reach ``rank`` at the point."""
+    model = rational_model(system)
+    heights = [orders[name] for name, _ in system.outputs]
+    top = max(heights, default=0)
+    inputs = [input_derivative(u, j) for u in system.inputs for j in range(top + 1)]
+    known = [*system.free_parameters, *inputs]
+    bound = sampling_range(degree_bounds(model, heights, known), [(1, 0)] * len(local),
+                           len(model.coordinates) + len(known), error)
+    rng = random.Random(seed)
+    for _ in range(100):
+        point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
+        try:
+            jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
+            break
+        except ZeroDivisionError:  # a denominator vanishes there: such a point is one the theorem excludes
+            continue
+    else:
+        raise ModelError("--global: a denominator of the model vanishes at every random point")
+    free = _free_coordinates(jets, model.coordinates, rank)
+    if free is None:
+        return None
+    index = {s.name: c for s, c in zip(system.states, model.coordinates)}
+    targets = [index[name] - jets.values[index[name]] for name in local]
+    members = groebner_contains([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns,
+                                jets.saturation, targets)
+    only = tuple(s for s, member in zip(local, members) if not member)
+    # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
+    return members, bound.bit_length(), error / (1 - error), tuple(a.name for a in model.angles), \
+        _mirrors(system, model, only)
+
+
+def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
     """Sign flips sigma (of one only-locally state, of all of them, of every
     state) with h(sigma x) = h(x) and f(sigma x) = sigma f(x) for every input,
     checked as rational identities (angles through tan(angle/2), where
@@ -156,9 +185,7 @@ def _mirrors(system: System, angles, only: tuple[str, ...]) -> tuple[str, ...]:
     for all time, a second real solution wherever sigma moves x."""
     if not only:
         return ()
-    coordinates = [angles.get(s, s) for s in system.states]
-    outputs = [in_half_angles(h, angles) for _, h in system.outputs]
-    speeds = [angle_speed(s, f, angles) for s, f in zip(system.states, system.dynamics)]
+    coordinates, outputs, speeds = model.coordinates, model.outputs, model.speeds
     names = [s.name for s in system.states]
     found = []
     for flipped in dict.fromkeys([*((name,) for name in only), only, tuple(names)]):
@@ -170,10 +197,6 @@ def _mirrors(system: System, angles, only: tuple[str, ...]) -> tuple[str, ...]:
             if set(flipped) >= set(only):
                 break
     return tuple(found)
-
-
-def _membership(generators, candidates, variables, free, error: float, seed: int):
-    return field_contains(generators, candidates, variables, free, error=error, seed=seed)
 
 
 def _supported(system: System) -> None:
@@ -191,51 +214,29 @@ def _orders(system: System, labels: tuple[tuple[str, int], ...]) -> dict[str, in
     return {name: k + 1 for name, k in highest.items()}
 
 
-def _generators(system: System, orders: dict[str, int]):
-    """(angles, state coordinates, T, every variable, the known variables as generators), T rational."""
-    expressions = [*system.dynamics, *(h for _, h in system.outputs)]
-    angles = half_angles(system.states, expressions)
-    if angles is None:
-        raise ModelError("--global: a sine or cosine of something other than a state")
-    rows = []
-    for block in lie_derivatives(system):
-        rows += [in_half_angles(row.expression, angles) for row in block if row.order <= orders[row.output]]
-        if all(row.order >= orders[row.output] for row in block):
-            break
-    coordinates = [angles.get(s, s) for s in system.states]
-    known = sorted({s for e in rows for s in e.free_symbols} - set(coordinates), key=lambda s: s.name)
-    variables = [*coordinates, *known]
-    for expr in rows:
-        if not expr.is_rational_function(*variables) or set(system.states) & set(angles) & expr.free_symbols:
-            raise ModelError(f"--global: a Lie derivative is not rational in the states ({sympy.sstr(expr)[:80]}); "
-                             "the test covers rational models, with sines and cosines of states")
-    return angles, coordinates, rows, variables, list(known)
+def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.Symbol] | None:
+    """Coordinates whose values, adjoined to the field, make its transcendence
+    degree full. The jets' Jacobian has rank (number of jets) + rank of the Lie
+    derivatives' Jacobian, the state equations being triangular in the jets with
+    non-zero diagonal; where that rank is the verdict's, the completed matrix's
+    non-zero minor certifies the chosen coordinates."""
+    unknowns = list(jets.unknowns)
+    rows = [[_fmpq(sympy.diff(e, u).xreplace(jets.values)) for u in unknowns] for e in jets.equations]
+    derivatives = len(unknowns) - len(coordinates)
+    if _rank(rows, len(unknowns)) != derivatives + rank:
+        return None
+    free = []
+    for c in coordinates:
+        unit = [_fmpq(int(u == c)) for u in unknowns]
+        if _rank(rows + [unit], len(unknowns)) > _rank(rows, len(unknowns)):
+            rows.append(unit)
+            free.append(c)
+    return free
 
 
-def _free_coordinates(generators, coordinates, variables, rank: int, seed: int) -> list[sympy.Symbol] | None:
-    """States whose values, adjoined to the field, make it of full transcendence
-    degree: chosen where the Jacobian of T has the verdict's rank at an exact
-    rational point, so the completed matrix's non-zero minor certifies them."""
-    rng = random.Random(seed + 1)
-    jacobian = sympy.Matrix([[sympy.diff(g, c) for c in coordinates] for g in generators])
-    for _ in range(3):
-        point = {v: sympy.Rational(rng.randint(-997, 997), rng.randint(1, 97)) for v in variables}
-        try:
-            rows = [[flint.fmpq(int(sympy.Rational(e).p), int(sympy.Rational(e).q)) for e in row]
-                    for row in jacobian.xreplace(point).tolist()]
-        except (TypeError, ZeroDivisionError):  # a pole at the point: another point
-            continue
-        matrix = rows
-        if _rank(matrix, len(coordinates)) != rank:
-            continue
-        free = []
-        for j, c in enumerate(coordinates):
-            unit = [flint.fmpq(int(i == j)) for i in range(len(coordinates))]
-            if _rank(matrix + [unit], len(coordinates)) > _rank(matrix, len(coordinates)):
-                matrix = matrix + [unit]
-                free.append(c)
-        return free
-    return None
+def _fmpq(value) -> flint.fmpq:
+    value = sympy.Rational(value)
+    return flint.fmpq(int(value.p), int(value.q))
 
 
 def _rank(rows: list[list[flint.fmpq]], columns: int) -> int:

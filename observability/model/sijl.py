@@ -9,7 +9,7 @@
 SI.jl's conventions: ``x'(t) = ...`` defines a state, ``y(t) = ...`` an output,
 any other ``f(t)`` on a right-hand side is an input, and every bare name is an
 unknown constant (SI.jl's "parameter", here an ``unknown_parameter``). The text
-is only rewritten (``(t)`` dropped, ``^`` as ``**``, ``#`` comments removed) and
+is only rewritten (``(t)`` dropped, ``^`` as ``**``, Julia's rational ``//`` as ``/``, ``#`` comments removed) and
 then read by the same safe parser as model files: nothing is executed.
 """
 
@@ -69,7 +69,8 @@ def parse_si_model(text: str, source: str = "<model>", name: str = "model") -> S
                     - set(dynamics) - set(outputs))
 
     def plain(rhs: str) -> str:
-        return _OF_T.sub(r"\1", rhs).replace("^", "**")
+        # Julia's // is exact rational division (SI.jl writes 1 // 2), not floor division.
+        return _OF_T.sub(r"\1", rhs).replace("^", "**").replace("//", "/")
 
     dynamics = {k: plain(v) for k, v in dynamics.items()}
     outputs = {k: plain(v) for k, v in outputs.items()}

@@ -1,0 +1,74 @@
+"""A continuous-time model as rational functions of coordinates, and bounds on its Lie derivatives' degrees.
+
+Angles (states inside sin, cos, tan) become T = tan(angle/2), so a model whose
+only transcendental functions are those is rational; anything else is refused
+with the expression that is not.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy
+
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles
+from ..errors import ModelError
+from ..model.system import System
+
+__all__ = ["RationalModel", "rational_model", "degree_bounds"]
+
+
+@dataclass(frozen=True)
+class RationalModel:
+    """x' = speeds(x), y = outputs(x) in rational coordinates (an angle's is its T)."""
+
+    coordinates: tuple[sympy.Symbol, ...]
+    speeds: tuple[sympy.Expr, ...]
+    outputs: tuple[sympy.Expr, ...]
+    angles: tuple[sympy.Symbol, ...]
+
+
+def rational_model(system: System) -> RationalModel:
+    """``system`` (continuous time, parameter values substituted) in rational coordinates."""
+    dynamics = [system.substitute_values(f) for f in system.dynamics]
+    outputs = [system.substitute_values(h) for _, h in system.outputs]
+    angles = half_angles(system.states, [*dynamics, *outputs])
+    if angles is None:
+        raise ModelError("--global: a sine or cosine of something other than a state")
+    coordinates = tuple(angles.get(s, s) for s in system.states)
+    speeds = tuple(sympy.cancel(angle_speed(s, f, angles)) for s, f in zip(system.states, dynamics))
+    rewritten = tuple(sympy.cancel(in_half_angles(h, angles)) for h in outputs)
+    symbols = [*coordinates, *system.free_parameters, *system.inputs]
+    for expr in (*speeds, *rewritten):
+        if expr.free_symbols & set(angles) or not expr.is_rational_function(*symbols):
+            raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the states; the test covers "
+                             "rational models, with sines and cosines of states")
+    return RationalModel(coordinates, speeds, rewritten, tuple(angles))
+
+
+def degree_bounds(model: RationalModel, orders: Sequence[int], known: Sequence[sympy.Symbol]) -> list[tuple[int, int]]:
+    """Bounds on (numerator, denominator) degrees of L^k h_l, k <= orders[l], and (1, 0) for each known variable.
+
+    With f_i = A_i / B (B the product of the speeds' denominators, degree d_B,
+    deg A_i <= d_A) and the operator P^L = B L(P) (degree deg P + delta,
+    delta = max(d_A - 1, d_B), inputs' derivatives included), for
+    h = c / e: L(N / (e^a B^b)) = (N^L e B - a N e^L B - b N B^L e) / (e^(a+1) B^(b+2)),
+    so the numerator's degree grows by delta + d_e + d_B per order and the
+    denominator of L^k h is e^(k+1) B^(2k).
+    """
+    variables = [*model.coordinates, *known]
+    parts = [sympy.fraction(sympy.together(v)) for v in model.speeds]
+    d_b = sum(_degree(den, variables) for _, den in parts)
+    d_a = max((_degree(num, variables) + d_b - _degree(den, variables) for num, den in parts), default=0)
+    delta = max(d_a - 1, d_b, 0)
+    bounds = []
+    for h, k in zip(model.outputs, orders):
+        num, den = sympy.fraction(sympy.together(h))
+        d_c, d_e = _degree(num, variables), _degree(den, variables)
+        bounds += [(d_c + j * (delta + d_e + d_b), (j + 1) * d_e + 2 * j * d_b) for j in range(k + 1)]
+    return bounds + [(1, 0)] * len(known)
+
+
+def _degree(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> int:
+    return sympy.Poly(expr, *variables).total_degree() if expr.free_symbols else 0
