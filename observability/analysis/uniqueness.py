@@ -178,25 +178,35 @@ def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str,
 
 
 def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
-    """Sign flips sigma (of one only-locally state, of all of them, of every
-    state) with h(sigma x) = h(x) and f(sigma x) = sigma f(x) for every input,
-    checked as rational identities (angles through tan(angle/2), where
-    angle -> -angle is T -> -T): x and sigma(x) then give the same outputs
-    for all time, a second real solution wherever sigma moves x."""
+    """Discrete symmetries sigma among sign flips (of one only-locally state, of
+    all of them, of every state) and half-turns of only-locally angles
+    (a -> a + pi, T -> -1/T), with h(sigma x) = h(x) and f(sigma x) = D sigma f(x)
+    for every input, checked as rational identities: x and sigma(x) then give
+    the same outputs for all time, a second real solution wherever sigma moves x."""
     if not only:
         return ()
-    coordinates, outputs, speeds = model.coordinates, model.outputs, model.speeds
     names = [s.name for s in system.states]
+    angles = {s.name for s, c in zip(system.states, model.coordinates) if c != s}
+    candidates = [(group, "flip") for group in dict.fromkeys([*((n,) for n in only), only, tuple(names)])]
+    turning = tuple(n for n in only if n in angles)
+    candidates += [(group, "turn") for group in dict.fromkeys([*((n,) for n in turning), turning]) if group]
     found = []
-    for flipped in dict.fromkeys([*((name,) for name in only), only, tuple(names)]):
-        flip = {coordinates[names.index(n)]: -coordinates[names.index(n)] for n in flipped}
-        sign = [-1 if n in flipped else 1 for n in names]
-        if all(sympy.cancel(h.xreplace(flip) - h) == 0 for h in outputs) and all(
-                sympy.cancel(v.xreplace(flip) - k * v) == 0 for v, k in zip(speeds, sign)):
-            found.append(", ".join(flipped) + " -> " + ", ".join(f"-{n}" for n in flipped))
-            if set(flipped) >= set(only):
+    for group, kind in candidates:
+        if _is_symmetry(model, [names.index(n) for n in group], kind):
+            found.append(", ".join(group) + " -> " + ", ".join(f"-{n}" if kind == "flip" else f"{n} + pi" for n in group))
+            if kind == "flip" and set(group) >= set(only):
                 break
     return tuple(found)
+
+
+def _is_symmetry(model: RationalModel, moved: list[int], kind: str) -> bool:
+    """sigma negates (flip) or sends T to -1/T (turn) the coordinates ``moved``;
+    its Jacobian is diagonal: -1, or 1/T^2."""
+    coordinates = model.coordinates
+    image = {coordinates[i]: -coordinates[i] if kind == "flip" else -1 / coordinates[i] for i in moved}
+    factor = [(-1 if kind == "flip" else 1 / c**2) if i in moved else 1 for i, c in enumerate(coordinates)]
+    return all(sympy.cancel(h.xreplace(image) - h) == 0 for h in model.outputs) and all(
+        sympy.cancel(v.xreplace(image) - k * v) == 0 for v, k in zip(model.speeds, factor))
 
 
 def _supported(system: System) -> None:
