@@ -7,8 +7,12 @@ which uses a different algorithm: input-output equations), and hand derivations 
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 import sympy
+from conftest import cli
 
 from observability import System, analyze
 from observability.analysis.uniqueness import global_observability
@@ -192,3 +196,26 @@ def test_the_paper_s_camera_sees_the_heading_only_modulo_pi():
     _, answer = _answer(system)
     assert answer.only_locally == ("cth",) and answer.mirrors == ("cth -> cth + pi",)
     assert set(answer.globally) == {s.name for s in system.states} - {"cth"}
+
+
+def test_the_command_line_reports_the_mirror_in_json():
+    """`check --global --format json` on the README's example: the keys the README names."""
+
+    model = Path(__file__).resolve().parents[1] / "examples" / "models" / "range_fix_two_beacons.toml"
+    run = cli("check", model, "--global", "--format", "json", "--seed", "2")
+    assert run.returncode == 0, run.stderr
+    record = json.loads(run.stdout)
+    assert record["globally_observable_states"] == ["x"]
+    assert record["only_locally_observable_states"] == ["y"]
+    assert record["global"]["mirrors"] == ["y -> -y"] and record["global"]["error_probability"] < 1e-5
+
+
+def test_the_command_line_refuses_what_it_cannot_answer(tmp_path):
+    """Discrete time and a constraint set: one line, exit 2."""
+
+    model = tmp_path / "d.toml"
+    model.write_text('time = "discrete"\nstates = ["x"]\n[dynamics]\nx = "2*x"\n[outputs]\ny = "x**2"\n')
+    run = cli("check", model, "--global")
+    assert run.returncode == 2 and "continuous time only" in run.stderr and len(run.stderr.splitlines()) == 1
+    run = cli("check", "slam2d", "--global", "--where", "cxdot = 0")
+    assert run.returncode == 2 and "--where" in run.stderr
