@@ -197,7 +197,8 @@ class ObservabilityResult:
             lines.append(f"  proof: {PROOFS.get(proof, proof)}")
             lines.append(f"  Lie orders used: 0..{self.orders}")
             lines.append("  meaning: " + ("" if self.observable else "not ") + "locally weakly observable at generic "
-                         "points (Hermann & Krener's rank condition): a statement about nearby states, not a global one")
+                         "points (Hermann & Krener's rank condition): a statement about nearby states, not a global one"
+                         + ("" if self.global_answer is not None else " (check --global: which states are unique)"))
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
