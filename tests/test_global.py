@@ -219,3 +219,25 @@ def test_the_command_line_refuses_what_it_cannot_answer(tmp_path):
     assert run.returncode == 2 and "continuous time only" in run.stderr and len(run.stderr.splitlines()) == 1
     run = cli("check", "slam2d", "--global", "--where", "cxdot = 0")
     assert run.returncode == 2 and "--where" in run.stderr
+
+
+def test_observable_functions_get_their_global_answer_too():
+    """SI.jl identifiability.jl line 8 (two compartments, y = x0): a01 + a12 + a21 and a01*a12 are
+    :globally identifiable; a12*(x0 + x1) = y' + (a01 + a12 + a21) y is then unique as well."""
+    system = parse_si_model("ode = @ODEmodel(x0'(t) = -(a01 + a21) * x0(t) + a12 * x1(t), "
+                            "x1'(t) = a21 * x0(t) - a12 * x1(t), y(t) = x0(t))")
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3)
+    assert dict(answer.functions) == {"a01 + a12 + a21": True, "a01*a12": True, "a12*(x0 + x1)": True}
+
+
+def test_a_pair_known_only_as_a_pair_is_only_local():
+    """SI.jl identifiability.jl line 148: x1' = -a1 x1 + a21 x2, x2' = -(a2 + a21) x2, y = x1. By hand:
+    y'' + (a1 + a2 + a21) y' + a1 (a2 + a21) y = 0, so {a1, a2 + a21} is known only as an unordered
+    pair: a1 and a2 + a21 only locally (they may swap), and a21 x2 = y' + a1 y with them."""
+    system = parse_si_model("ode = @ODEmodel(x1'(t) = -a1 * x1(t) + a21 * x2(t), "
+                            "x2'(t) = -a2 * x2(t) - a21 * x2(t), y1(t) = x1(t))")
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3)
+    assert answer.globally == ("x1",) and answer.only_locally == ("a1",)
+    assert dict(answer.functions) == {"a2 + a21": False, "a21*x2": False}

@@ -27,6 +27,14 @@ class RationalModel:
     speeds: tuple[sympy.Expr, ...]
     outputs: tuple[sympy.Expr, ...]
     angles: tuple[sympy.Symbol, ...]
+    half_angles: tuple[tuple[sympy.Symbol, sympy.Symbol], ...] = ()  # (angle state, its T)
+
+    def rewrite(self, expr: sympy.Expr) -> sympy.Expr:
+        """A function of the states in these coordinates (refused when not rational there)."""
+        rewritten = sympy.cancel(in_half_angles(expr, dict(self.half_angles)))
+        if rewritten.free_symbols & {a for a, _ in self.half_angles} or not rewritten.is_rational_function():
+            raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the coordinates")
+        return rewritten
 
 
 def rational_model(system: System) -> RationalModel:
@@ -44,7 +52,7 @@ def rational_model(system: System) -> RationalModel:
         if expr.free_symbols & set(angles) or not expr.is_rational_function(*symbols):
             raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the states; the test covers "
                              "rational models, with sines and cosines of states")
-    return RationalModel(coordinates, speeds, rewritten, tuple(angles))
+    return RationalModel(coordinates, speeds, rewritten, tuple(angles), tuple(angles.items()))
 
 
 def degree_bounds(model: RationalModel, orders: Sequence[int], known: Sequence[sympy.Symbol]) -> list[tuple[int, int]]:

@@ -233,6 +233,9 @@ class ObservabilityResult:
             lines.append(f"  only locally observable (other states give the same outputs): {states(answer.only_locally)}")
         if answer.undecided:
             lines.append(f"  global answer undecided: {states(answer.undecided)}")
+        if answer.functions:
+            lines.append("  observable functions: " + "; ".join(
+                f"{f} {'unique' if unique else 'only locally'}" for f, unique in answer.functions))
         probability = "" if answer.error_probability is None else f"; error probability {answer.error_probability:.1e}"
         lines.append(f"  global: {answer.details}{probability}")
         return lines

@@ -48,6 +48,7 @@ from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import groebner_contains, sampling_range
+from ..model.expressions import parse_expression
 from .rationalmodel import RationalModel, degree_bounds, rational_model
 
 if TYPE_CHECKING:
@@ -78,6 +79,9 @@ class GlobalVerdict:
     mirrors : tuple of str
         Discrete symmetries verified exactly ("y -> -y"): each makes the states
         it moves only locally observable with certainty, over the reals too.
+    functions : tuple of (str, bool)
+        The verdict's observable functions (those not a state) and whether each
+        is globally observable (tested with the states, same probability).
     """
 
     globally: tuple[str, ...]
@@ -86,12 +90,13 @@ class GlobalVerdict:
     error_probability: float | None
     details: str
     mirrors: tuple[str, ...] = ()
+    functions: tuple[tuple[str, bool], ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {"globally_observable_states": list(self.globally),
                 "only_locally_observable_states": list(self.only_locally),
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
-                "details": self.details, "mirrors": list(self.mirrors)}
+                "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions)}
 
 
 def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0,
@@ -121,8 +126,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     prepared = prepare(system).system
     orders = _orders(prepared, result.row_labels)
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
+    functions = _functions(prepared, result)
     try:
-        decided = with_budget(_decide, prepared, orders, result.rank, local, error, seed, seconds=budget)
+        decided = with_budget(_decide, prepared, orders, result.rank, local, [f for _, f in functions], error, seed,
+                              seconds=budget)
     except Undecided as exc:
         return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
                              "Groebner basis at a point, the mirrors)")
@@ -131,6 +138,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                              f"({used}) did not reach the verdict's rank {result.rank} at three random points")
     members, bits, probability, angles, mirrors = decided
     where = dict(zip(local, members))
+    answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
                f"{bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate every Lie "
@@ -141,19 +149,36 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += result.error_probability or 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability, details, mirrors)
+                         probability, details, mirrors, answers)
 
 
-def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str, ...], error: float, seed: int):
-    """The symbolic work, in one budgeted child: (members, range bits, error, angle names,
-    mirrors), or None when the Jacobian does not reach ``rank`` at the point."""
+def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, sympy.Expr]]:
+    """The verdict's observable functions other than single states, read back by the
+    safe parser. Tested only under a proven rank: then they are invariants of a
+    verified null space, so algebraic over the outputs' field, as the test needs."""
+    if result.proof != "proven" or not result.observable_functions:
+        return []
+    names = {s.name: s for s in (*system.states, *system.parameters)}
+    parsed = [(text, parse_expression(text, names, where="observable function")) for text in result.observable_functions]
+    return [(text, f) for text, f in parsed if f not in system.states]
+
+
+def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str, ...], functions: list[sympy.Expr],
+            error: float, seed: int):
+    """The symbolic work, in one budgeted child: (members of the states, then of the functions,
+    range bits, error, angle names, mirrors), or None when the Jacobian does not reach ``rank``
+    at the point."""
     model = rational_model(system)
+    index = {s.name: c for s, c in zip(system.states, model.coordinates)}
+    tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
+    fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
     heights = [orders[name] for name, _ in system.outputs]
     top = max(heights, default=0)
     inputs = [input_derivative(u, j) for u in system.inputs for j in range(top + 1)]
     known = [*system.free_parameters, *inputs]
-    bound = sampling_range(degree_bounds(model, heights, known), [(1, 0)] * len(local),
-                           len(model.coordinates) + len(known), error)
+    variables = [*model.coordinates, *known]
+    degrees = [(_degree(n, variables), _degree(d, variables)) for n, d in fractions]
+    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
     rng = random.Random(seed)
     for _ in range(100):
         point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
@@ -167,11 +192,11 @@ def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str,
     free = _free_coordinates(jets, model.coordinates, rank)
     if free is None:
         return None
-    index = {s.name: c for s, c in zip(system.states, model.coordinates)}
-    targets = [index[name] - jets.values[index[name]] for name in local]
+    at = {c: jets.values[c] for c in model.coordinates} | {v: point[v] for v in known}
+    targets = [n * d.xreplace(at) - n.xreplace(at) * d for n, d in fractions]
     members = groebner_contains([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns,
                                 jets.saturation, targets)
-    only = tuple(s for s, member in zip(local, members) if not member)
+    only = tuple(s for s, member in zip(local, members[:len(local)]) if not member)
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
     return members, bound.bit_length(), error / (1 - error), tuple(a.name for a in model.angles), \
         _mirrors(system, model, only)
@@ -242,6 +267,10 @@ def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.
             rows.append(unit)
             free.append(c)
     return free
+
+
+def _degree(expr: sympy.Expr, variables) -> int:
+    return sympy.Poly(expr, *variables).total_degree() if expr.free_symbols else 0
 
 
 def _fmpq(value) -> flint.fmpq:
