@@ -48,6 +48,8 @@ from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import groebner_contains, sampling_range
+from ..rank.certificate import certify_rank
+from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .rationalmodel import RationalModel, degree_bounds, rational_model
 
@@ -124,7 +126,9 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     if not local:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
     prepared = prepare(system).system
-    orders = _orders(prepared, result.row_labels)
+    orders = _truncation(prepared, result.rank, seed)
+    if isinstance(orders, str):
+        return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
     functions = _functions(prepared, result)
     try:
@@ -241,8 +245,25 @@ def _supported(system: System) -> None:
     system.require_known_inputs("the global analysis")
 
 
+def _truncation(system: System, rank: int, seed: int) -> dict[str, int] | str:
+    """The orders of T (:func:`_orders`) from the independent rows at a random point, or
+    why they are not known: a rank there other than the verdict's, or rows whose
+    independence rests on related transcendental terms and is not certified."""
+    lower = randomized_rank(system, seed=seed)
+    if lower.rank != rank or not lower.complete:
+        return (f"the rank at a random point ({lower.rank}) is not the verdict's ({rank}), so the independent rows "
+                "are not known")
+    if lower.dependence is not None and not certify_rank(system, lower.orders, lower.independent_rows,
+                                                         lower.pivot_columns, seed=lower.seed).proven:
+        return "the independent rows could not be certified at a real point (related transcendental terms)"
+    return _orders(system, tuple(lower.row_labels[i] for i in lower.independent_rows))
+
+
 def _orders(system: System, labels: tuple[tuple[str, int], ...]) -> dict[str, int]:
-    """Output -> the highest Lie order T needs: one past its highest independent row."""
+    """Output -> the highest Lie order T needs: one past its highest independent row
+    (``labels``: the independent rows' (output, order), non-zero minor at a point, so
+    independent generically; their number is the generic rank, so they are a
+    transcendence basis)."""
     highest = {name: -1 for name, _ in system.outputs}
     for name, order in labels:
         highest[name] = max(highest.get(name, -1), order)
