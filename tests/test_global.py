@@ -308,3 +308,13 @@ def test_the_saturation_removes_the_solutions_on_a_pole():
     jets = jet_equations((x, z), (sympy.Integer(0), sympy.Integer(0)), (x / z, x**2 / z), (0, 0), (), point)
     assert groebner_contains(jets.equations, jets.unknowns, sympy.Integer(1), [x - 3]) == (False,)
     assert groebner_contains(jets.equations, jets.unknowns, jets.saturation, [x - 3]) == (True,)
+
+
+def test_a_function_with_a_known_parameter_and_its_square():
+    """Fixed (x, y), known d: with y = g = x^2 + y^2 - d x the observable function g is the output
+    itself, unique; with y = g^2 only g^2 is known, so g is known up to its sign: only locally.
+    No state is locally observable in either case: the functions are answered all the same."""
+    for output, unique in (("x**2 + y**2 - d*x", True), ("(x**2 + y**2 - d*x)**2", False)):
+        system = System(["x", "y"], ["0", "0"], {"r": output}, parameters=["d"])
+        _, answer = _answer(system)
+        assert dict(answer.functions) == {"-d*x + x**2 + y**2": unique} and not answer.globally

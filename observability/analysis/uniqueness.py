@@ -123,14 +123,14 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     local = tuple(result.observable_states or ())
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
-    if not local:
-        return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
     prepared = prepare(system).system
+    functions = _functions(prepared, result)
+    if not local and not functions:
+        return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
     orders = _truncation(prepared, result.rank, seed)
     if isinstance(orders, str):
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
-    functions = _functions(prepared, result)
     try:
         decided = with_budget(_decide, prepared, orders, result.rank, local, [f for _, f in functions], error, seed,
                               seconds=budget)
@@ -196,8 +196,11 @@ def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str,
     free = _free_coordinates(jets, model.coordinates, rank)
     if free is None:
         return None
-    at = {c: jets.values[c] for c in model.coordinates} | {v: point[v] for v in known}
-    targets = [n * d.xreplace(at) - n.xreplace(at) * d for n, d in fractions]
+    # The known variables are generators of the field: adjoined at their values, i.e. substituted.
+    given = {v: point[v] for v in known}
+    at = {c: jets.values[c] for c in model.coordinates}
+    targets = [n * d.xreplace(at) - n.xreplace(at) * d
+               for n, d in ((n.xreplace(given), d.xreplace(given)) for n, d in fractions)]
     members = groebner_contains([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns,
                                 jets.saturation, targets)
     only = tuple(s for s, member in zip(local, members[:len(local)]) if not member)
