@@ -160,6 +160,17 @@ def test_the_sampling_range_is_the_theorem_s():
     assert sampling_range([(2, 0), (1, 1)], [(1, 0), (1, 2)], 1, 1e-6) == 3 * 8**4 * 2 * 10**6
 
 
+def test_degree_bounds_are_the_formula_s_and_tight_where_they_can_be():
+    """By hand. x' = 1/(1 + y), y' = x*y, h = x/(y + 2): B = 1 + y (d_B = 1), numerators of f*B:
+    1 and x*y*(1 + y) (d_A = 3), delta = max(d_A - 1, d_B) = 2, d_c = d_e = 1, so L^j h is bounded by
+    (1 + 4j, 1 + 3j). x' = y**2, y' = 0, h = x: d_A = 2, delta = 1, bounds (1 + j, 0), and L h = y**2
+    has degree 2 = the bound: any smaller bound would be wrong."""
+    model = rational_model(System(["x", "y"], ["1/(1 + y)", "x*y"], {"h": "x/(y + 2)"}))
+    assert degree_bounds(model, [3], []) == [(1, 1), (5, 4), (9, 7), (13, 10)]
+    model = rational_model(System(["x", "y"], ["y**2", "0"], {"h": "x"}))
+    assert degree_bounds(model, [1], [sympy.Symbol("p")]) == [(1, 0), (2, 0), (1, 0)]
+
+
 def test_degree_bounds_of_the_lie_derivatives_hold():
     """The bounds against the true degrees of L^k h for a rational model (x' = 1/(1 + y),
     y' = x*y, h = x/(y + 2)), computed symbolically here."""
@@ -182,10 +193,23 @@ def test_discrete_time_is_refused():
 
 
 def test_a_non_rational_model_is_refused():
+    """exp(x); an angle that also appears outside its sine and cosine; a sine of a product; a
+    function with a bare angle: each refused, the message naming what."""
     system = System(["x"], ["1"], {"y": "exp(x)"})
     result = analyze(system, seed=1, directions=False)
-    with pytest.raises(ModelError, match="not rational"):
+    with pytest.raises(ModelError, match=r"^--global: exp\(x\) is not rational in the states"):
         global_observability(system, result)
+    system = System(["x", "th"], ["cos(th)", "1"], {"y": "x + th"})
+    with pytest.raises(ModelError, match=r"^--global: .*th.* is not rational in the states"):
+        rational_model(system)
+    system = System(["x", "y"], ["sin(x*y)", "1"], {"y1": "x"})
+    with pytest.raises(ModelError, match="^--global: a sine or cosine of something other than a state$"):
+        rational_model(system)
+    model = rational_model(System(["x", "th"], ["cos(th)", "1"], {"y": "x"}))
+    th = sympy.Symbol("th")
+    with pytest.raises(ModelError, match=r"^--global: th\*x is not rational in the coordinates$"):
+        model.rewrite(th * sympy.Symbol("x"))
+    assert model.rewrite(sympy.sin(th)).free_symbols == set(model.coordinates[1:])
 
 
 def test_the_paper_s_camera_sees_the_heading_only_modulo_pi():
@@ -290,9 +314,9 @@ def test_a_static_state_before_a_moving_one_keeps_the_moving_one_s_jets():
 
 
 def test_a_point_without_an_input_s_value_or_on_a_pole_is_refused():
-    x, u = sympy.symbols("x u")
-    with pytest.raises(ValueError, match="no value to u"):
-        jet_equations((x,), (u,), (x,), (1,), (u,), {x: sympy.Integer(1)})
+    x, u, p = sympy.symbols("x u p")
+    with pytest.raises(ValueError, match=r"^the point gives no value to p, u$"):
+        jet_equations((x,), (p * u,), (x,), (1,), (u,), {x: sympy.Integer(1)})
     with pytest.raises(ZeroDivisionError):
         jet_equations((x,), (1 / x,), (x,), (1,), (), {x: sympy.Integer(0)})
 
@@ -308,6 +332,7 @@ def test_the_saturation_removes_the_solutions_on_a_pole():
     jets = jet_equations((x, z), (sympy.Integer(0), sympy.Integer(0)), (x / z, x**2 / z), (0, 0), (), point)
     assert groebner_contains(jets.equations, jets.unknowns, sympy.Integer(1), [x - 3]) == (False,)
     assert groebner_contains(jets.equations, jets.unknowns, jets.saturation, [x - 3]) == (True,)
+    assert groebner_contains(jets.equations, jets.unknowns, z, [x - 3]) == (True,)  # degree 1 saturates too
 
 
 def test_a_function_with_a_known_parameter_and_its_square():
