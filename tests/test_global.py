@@ -15,7 +15,7 @@ import sympy
 from conftest import cli
 
 from observability import System, analyze
-from observability.analysis.uniqueness import global_observability
+from observability.analysis.uniqueness import GLOBAL_ERROR, _free_coordinates, global_observability
 from observability.errors import ModelError
 from observability.analysis.rationalmodel import degree_bounds, rational_model
 from observability.engine.jets import jet_equations
@@ -235,6 +235,10 @@ def test_the_command_line_reports_the_mirror_in_json():
     assert record["globally_observable_states"] == ["x"]
     assert record["only_locally_observable_states"] == ["y"]
     assert record["global"]["mirrors"] == ["y -> -y"] and record["global"]["error_probability"] < 1e-5
+    assert set(record["global"]) == {"globally_observable_states", "only_locally_observable_states", "undecided",
+                                     "error_probability", "details", "mirrors", "functions"}
+    assert record["global"]["undecided"] == [] and record["global"]["functions"] == {}
+    assert record["global"]["details"].startswith("field membership (Dong, Goodbrake, Harrington, Pogudin 2023")
 
 
 def test_the_command_line_refuses_what_it_cannot_answer(tmp_path):
@@ -343,3 +347,54 @@ def test_a_function_with_a_known_parameter_and_its_square():
         system = System(["x", "y"], ["0", "0"], {"r": output}, parameters=["d"])
         answer = global_observability(system, analyze(system, seed=5), seed=3, budget=None)
         assert dict(answer.functions) == {"-d*x + x**2 + y**2": unique} and not answer.globally
+
+
+def test_rational_functions_and_the_stated_probability():
+    """Fixed (x, z, w) seen through a = x/z + w: the observable function (w z + x)/z is the output,
+    unique; through a = (x/z)**2 only z/x up to its sign. The error probability is the test's
+    e / (1 - e) (the verdict is proven: nothing added)."""
+    for output, function, unique in (("x/z + w", "(w*z + x)/z", True), ("(x/z)**2", "z/x", False)):
+        states = ["x", "z", "w"] if "w" in output else ["x", "z"]
+        system = System(states, ["0"] * len(states), {"a": output})
+        answer = global_observability(system, analyze(system, seed=5), seed=3, budget=None)
+        assert dict(answer.functions) == {function: unique}
+        assert answer.error_probability == pytest.approx(GLOBAL_ERROR / (1 - GLOBAL_ERROR), rel=1e-12)
+
+
+def test_every_mirror_is_reported():
+    """Fixed (x, z) seen through x**2 and z**2: flipping x, z, or both keeps the outputs: three
+    mirrors. (x, w) with x' = w, w' = 0 and y = x**2: only flipping both keeps x' = w. A fixed angle
+    seen through cos(th)**2: th -> -th and th -> th + pi both keep it."""
+    _, answer = _answer(System(["x", "z"], ["0", "0"], {"a": "x**2", "b": "z**2"}))
+    assert answer.mirrors == ("x -> -x", "z -> -z", "x, z -> -x, -z")
+    _, answer = _answer(System(["x", "w"], ["w", "0"], {"y": "x**2"}))
+    assert answer.mirrors == ("x, w -> -x, -w",)
+    _, answer = _answer(System(["th"], ["0"], {"y": "cos(th)**2"}))
+    assert answer.only_locally == ("th",) and answer.mirrors == ("th -> -th", "th -> th + pi")
+
+
+def test_a_verdict_whose_rank_the_point_does_not_reach_is_undecided():
+    """A (wrong) verdict of rank 2 for y = x**2 + z**2 (rank 1): the independent rows at a point
+    cannot be the verdict's, so no truncation is claimed."""
+    import dataclasses
+
+    system = System(["x", "z"], ["0", "0"], {"y": "x**2 + z**2"})
+    result = dataclasses.replace(analyze(system, seed=5, directions=False), rank=2, observable_states=("x",))
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert answer.undecided == ("x",) and "is not the verdict's (2)" in answer.details
+
+
+def test_the_free_coordinates_complete_the_rank():
+    """Fixed (x, y) seen through y alone: the Jacobian row is (0, 1), so x (not y) completes it."""
+    x, y = sympy.symbols("x y")
+    jets = jet_equations((x, y), (sympy.Integer(0), sympy.Integer(0)), (y,), (1,), (),
+                         {x: sympy.Rational(1, 3), y: sympy.Rational(2, 7)})
+    assert _free_coordinates(jets, (x, y), 1) == [x]
+    assert _free_coordinates(jets, (x, y), 2) is None
+
+
+def test_the_sampling_range_of_a_square():
+    """y = x**2, x' = 0: T = {y, y'} with degree bounds (2, 0), (2, 0); x tested (1, 0); one
+    variable: D = 4 + 2 + 1 = 7, N = 3 * 7^4 * 10^6 = 7,203,000,000, 33 bits."""
+    _, answer = _answer(System(["x"], ["0"], {"y": "x**2"}))
+    assert "random integer point of 33 bits" in answer.details and (3 * 7**4 * 10**6).bit_length() == 33

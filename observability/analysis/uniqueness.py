@@ -48,7 +48,6 @@ from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import groebner_contains, sampling_range
-from ..rank.certificate import certify_rank
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .rationalmodel import RationalModel, degree_bounds, rational_model
@@ -124,6 +123,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
     prepared = prepare(system).system
+    model = rational_model(prepared)
     functions = _functions(prepared, result)
     if not local and not functions:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
@@ -132,8 +132,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
     try:
-        decided = with_budget(_decide, prepared, orders, result.rank, local, [f for _, f in functions], error, seed,
-                              seconds=budget)
+        decided = with_budget(_decide, prepared, model, orders, result.rank, local, [f for _, f in functions], error,
+                              seed, seconds=budget)
     except Undecided as exc:
         return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
                              "Groebner basis at a point, the mirrors)")
@@ -167,12 +167,11 @@ def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, s
     return [(text, f) for text, f in parsed if f not in system.states]
 
 
-def _decide(system: System, orders: dict[str, int], rank: int, local: tuple[str, ...], functions: list[sympy.Expr],
-            error: float, seed: int):
+def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: int, local: tuple[str, ...],
+            functions: list[sympy.Expr], error: float, seed: int):
     """The symbolic work, in one budgeted child: (members of the states, then of the functions,
     range bits, error, angle names, mirrors), or None when the Jacobian does not reach ``rank``
     at the point."""
-    model = rational_model(system)
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
@@ -226,8 +225,6 @@ def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tup
     for group, kind in candidates:
         if _is_symmetry(model, [names.index(n) for n in group], kind):
             found.append(", ".join(group) + " -> " + ", ".join(f"-{n}" if kind == "flip" else f"{n} + pi" for n in group))
-            if kind == "flip" and set(group) >= set(only):
-                break
     return tuple(found)
 
 
@@ -250,15 +247,14 @@ def _supported(system: System) -> None:
 
 def _truncation(system: System, rank: int, seed: int) -> dict[str, int] | str:
     """The orders of T (:func:`_orders`) from the independent rows at a random point, or
-    why they are not known: a rank there other than the verdict's, or rows whose
-    independence rests on related transcendental terms and is not certified."""
+    why they are not known: a rank there other than the verdict's. The model is
+    rational after tan(angle/2) (checked before), so its only transcendental terms
+    are sines and cosines of distinct states, independent atoms: a non-zero minor
+    mod p at the point makes those rows independent generically."""
     lower = randomized_rank(system, seed=seed)
     if lower.rank != rank or not lower.complete:
         return (f"the rank at a random point ({lower.rank}) is not the verdict's ({rank}), so the independent rows "
                 "are not known")
-    if lower.dependence is not None and not certify_rank(system, lower.orders, lower.independent_rows,
-                                                         lower.pivot_columns, seed=lower.seed).proven:
-        return "the independent rows could not be certified at a real point (related transcendental terms)"
     return _orders(system, tuple(lower.row_labels[i] for i in lower.independent_rows))
 
 
