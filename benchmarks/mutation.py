@@ -93,6 +93,53 @@ EQUIVALENT: dict[str, str] = {
     "observability.filters.validation.x_covariance__mutmut_34":
         "the scale of an empty (0 x 0) matrix bounds nothing: there are no entries",
     **{f"observability.filters.validation.x_measurement__mutmut_{k}": FAST for k in (7, 10, 11, 12, 16, 19, 20, 22)},
+    # The global analysis (2026-12-02).
+    "observability.engine.jets.x__total_derivative__mutmut_17":
+        "D negated: the j-th equation of each chain is (-1)^j times the right one, the same ideal, the same values",
+    **{f"observability.engine.jets.x_jet_equations__mutmut_{k}": "max of the orders with another default: orders is never empty (a System "
+       "has an output)" for k in (3, 5, 6)},
+    "observability.engine.jets.x_jet_equations__mutmut_21":
+        "one more jet per chain: no equation reaches order top + 1 (state chains stop at top - 1), so it never appears",
+    **{f"observability.engine.jets.x_jet_equations__mutmut_{k}": "the outputs' internal dummies: another name, or one more that is never used"
+       for k in (87, 90)},
+    "observability.engine.jets.x_jet_equations__mutmut_93":
+        "den*y + num: the output's internal unknown is -y throughout (its values solved from the same equations): "
+        "the same fibre",
+    "observability.engine.jets.x_jet_equations__mutmut_105": "the key of the output's chain is not read, only the chain itself",
+    "observability.engine.jets.x_jet_equations__mutmut_154": "no equation is the constant 1 (the point solves them all); a zero kept is harmless",
+    "observability.engine.jets.x__solve_linear__mutmut_9": "coeff's default exponent is 1",
+    "observability.engine.jets.x__solve_linear__mutmut_13": "the caller catches the ZeroDivisionError and draws another point: its text is never shown",
+    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "the saturation variable's name" for k in (2, 3, 4)},
+    "observability.rank.membership.x_groebner_contains__mutmut_10": "a constant saturation adds t = 1/c: a unit, the same ideal",
+    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "t*Q = -1 or 2: t is still Q's inverse up to a unit, the same saturation" for k in (13, 15)},
+    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "sympy's groebner works over the field of fractions of the domain it infers: QQ all the same"
+       for k in (20, 25)},
+    **{f"observability.analysis.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
+       for k in (10, 14, 15)},
+    **{f"observability.analysis.uniqueness.x__decide__mutmut_{k}": "max of the heights with another default: there is always an output"
+       for k in (15, 17, 18)},
+    "observability.analysis.uniqueness.x__decide__mutmut_26": "one more derivative per input among the known variables: only enlarges the sampling range",
+    "observability.analysis.uniqueness.x__decide__mutmut_54":
+        "an unseeded point: the point is not reported, and every point of the range carries the same guarantee",
+    **{f"observability.analysis.uniqueness.x__decide__mutmut_{k}": "reached only when a denominator vanishes at a random point of the range (less "
+       "likely than the stated error): the number of tries, and the message after 100 failures" for k in (56, 78, 79, 80, 81)},
+    "observability.analysis.uniqueness.x__decide__mutmut_109":
+        "the free coordinates adjoined at minus their values: another generic slice of the same fibre (free coordinates "
+        "are transcendental over the field), so the same membership",
+    **{f"observability.analysis.uniqueness.x__mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (19, 20)},
+    "observability.analysis.uniqueness.x__truncation__mutmut_3":
+        "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
+    **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
+    **{f"observability.analysis.uniqueness.x__degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
+       for k in (2, 5)},
+    "observability.analysis.uniqueness.x__degree__mutmut_4": "the degree of the first variable (1) for a non-constant: only enlarges the sampling range",
+    "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
+    "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13": "the expression's text cut at 81 characters instead of 80",
+    **{f"observability.analysis.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
+       for k in (13, 15, 26)},
+    "observability.analysis.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
+    **{f"observability.analysis.rationalmodel.x__degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
+       for k in (2, 5)},
     "observability.filters.validation.x_measurement__mutmut_43": "np.array of Python floats is float64 with or without dtype",
     "observability.filters.validation.x_measurement__mutmut_45": "idem",
 }

@@ -171,6 +171,17 @@ def test_degree_bounds_are_the_formula_s_and_tight_where_they_can_be():
     assert degree_bounds(model, [1], [sympy.Symbol("p")]) == [(1, 0), (2, 0), (1, 0)]
 
 
+def test_degree_bounds_with_denominators_in_the_speeds_and_two_outputs():
+    """By hand. x' = x**2/(1 + y), y' = y, outputs x and y: d_B = 1, d_A = max(2 + 1 - 1, 1 + 1) = 2,
+    delta = max(1, 1) = 1; for x (d_c = 1, d_e = 0): (1 + 2j, 2j); for y the same. x' = 1/(1 + x):
+    d_B = 1, d_A = 0 + 1 - 1 = 0, so delta = d_B = 1 and h = x gives (1 + 2j, 2j); indeed
+    L^2 x = -1/(1 + x)**3 has a denominator of degree 3 <= 4."""
+    model = rational_model(System(["x", "y"], ["x**2/(1 + y)", "y"], {"a": "x", "b": "y"}))
+    assert degree_bounds(model, [2, 1], []) == [(1, 0), (3, 2), (5, 4), (1, 0), (3, 2)]
+    model = rational_model(System(["x"], ["1/(1 + x)"], {"h": "x"}))
+    assert degree_bounds(model, [2], []) == [(1, 0), (3, 2), (5, 4)]
+
+
 def test_degree_bounds_of_the_lie_derivatives_hold():
     """The bounds against the true degrees of L^k h for a rational model (x' = 1/(1 + y),
     y' = x*y, h = x/(y + 2)), computed symbolically here."""
@@ -359,6 +370,9 @@ def test_rational_functions_and_the_stated_probability():
         answer = global_observability(system, analyze(system, seed=5), seed=3, budget=None)
         assert dict(answer.functions) == {function: unique}
         assert answer.error_probability == pytest.approx(GLOBAL_ERROR / (1 - GLOBAL_ERROR), rel=1e-12)
+    # The range for (x/z)**2 by hand: T = {a, a'} bounded by (2, 2), (4, 4); z/x tested (1, 1); two
+    # variables: D = (2 + 4 + 1) + 4 + 1 = 12, N = 3 * 12^5 * 10^6, 40 bits (39 without z/x's denominator).
+    assert "point of 40 bits" in answer.details and (3 * 12**5 * 10**6).bit_length() == 40
 
 
 def test_every_mirror_is_reported():
@@ -391,6 +405,10 @@ def test_the_free_coordinates_complete_the_rank():
                          {x: sympy.Rational(1, 3), y: sympy.Rational(2, 7)})
     assert _free_coordinates(jets, (x, y), 1) == [x]
     assert _free_coordinates(jets, (x, y), 2) is None
+    # x/y and 3x/(2y) at (1, 3): rows (-1, 1/3) and (-3, 1), dependent only with the 1/3 exact.
+    jets = jet_equations((x, y), (sympy.Integer(0), sympy.Integer(0)), (x / y, 3 * x / (2 * y)), (0, 0), (),
+                         {x: sympy.Integer(1), y: sympy.Integer(3)})
+    assert _free_coordinates(jets, (x, y), 1) == [x]
 
 
 def test_the_sampling_range_of_a_square():
