@@ -134,6 +134,10 @@ EQUIVALENT: dict[str, str] = {
        for k in (2, 5)},
     "observability.analysis.uniqueness.x__degree__mutmut_4": "the degree of the first variable (1) for a non-constant: only enlarges the sampling range",
     "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
+    **{f"observability.analysis.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
+       "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
+    "observability.analysis.uniqueness.x_global_observability__mutmut_2": "the API's default budget, 60 or 61 s (the CLI passes its own)",
+    "observability.analysis.uniqueness.x__truncation__mutmut_5": "an unseeded point for the rank: as mutant 3",
     "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13": "the expression's text cut at 81 characters instead of 80",
     **{f"observability.analysis.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
        for k in (13, 15, 26)},

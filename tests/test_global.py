@@ -15,7 +15,7 @@ import sympy
 from conftest import cli
 
 from observability import System, analyze
-from observability.analysis.uniqueness import GLOBAL_ERROR, _free_coordinates, global_observability
+from observability.analysis.uniqueness import GLOBAL_ERROR, GlobalVerdict, _free_coordinates, global_observability
 from observability.errors import ModelError
 from observability.analysis.rationalmodel import degree_bounds, rational_model
 from observability.engine.jets import jet_equations
@@ -36,6 +36,8 @@ def _labels(system: System, budget: float | None = None) -> dict[str, str] | Non
     answer = global_observability(system, result, seed=3, budget=budget)
     if answer.undecided:
         assert set(answer.undecided) == set(result.observable_states) and "budget" in answer.details
+        assert answer.details.startswith("undecided: ") and "(the Lie derivatives y 0.." in answer.details
+        assert not answer.globally and not answer.only_locally and answer.error_probability is None
         return None
     labels = {s: "nonidentifiable" for s in result.states}
     return labels | {s: "globally" for s in answer.globally} | {s: "locally" for s in answer.only_locally}
@@ -103,7 +105,7 @@ def test_range_only_fix_with_two_beacons_has_the_mirror():
                     parameters=["d"])
     _, answer = _answer(system)
     assert answer.globally == ("x",) and answer.only_locally == ("y",)
-    assert answer.mirrors == ("y -> -y",)
+    assert answer.mirrors == ("y -> -y",) and "the Lie derivatives r1 0..1, r2 0..1 (" in answer.details
 
 
 def test_bearings_to_three_beacons_are_global():
@@ -395,7 +397,22 @@ def test_a_verdict_whose_rank_the_point_does_not_reach_is_undecided():
     system = System(["x", "z"], ["0", "0"], {"y": "x**2 + z**2"})
     result = dataclasses.replace(analyze(system, seed=5, directions=False), rank=2, observable_states=("x",))
     answer = global_observability(system, result, seed=3, budget=None)
-    assert answer.undecided == ("x",) and "is not the verdict's (2)" in answer.details
+    assert answer == GlobalVerdict((), (), ("x",), None, "undecided: the rank at a random point (1) is not the "
+                                   "verdict's (2), so the independent rows are not known")
+
+
+def test_nothing_to_answer_and_an_undecided_local_verdict():
+    """y = x + z: no state locally observable and (directions off) no function: nothing to test.
+    A local verdict without a rank: every state it lists stays undecided, whatever else it says."""
+    import dataclasses
+
+    system = System(["x", "z"], ["0", "0"], {"y": "x + z"})
+    result = analyze(system, seed=5, directions=False)
+    assert global_observability(system, result, budget=None) == GlobalVerdict(
+        (), (), (), 0.0, "no state is locally observable")
+    result = dataclasses.replace(result, rank=None, observable_states=("x",))
+    assert global_observability(system, result, budget=None) == GlobalVerdict(
+        (), (), ("x",), None, "undecided: the local verdict did not decide the observable states")
 
 
 def test_the_free_coordinates_complete_the_rank():
