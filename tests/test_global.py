@@ -37,6 +37,7 @@ def _labels(system: System, budget: float | None = None) -> dict[str, str] | Non
     if answer.undecided:
         assert set(answer.undecided) == set(result.observable_states) and "budget" in answer.details
         assert answer.details.startswith("undecided: ") and "(the Lie derivatives y 0.." in answer.details
+        assert answer.details.endswith(", their field's Groebner basis at a point, the mirrors)")
         assert not answer.globally and not answer.only_locally and answer.error_probability is None
         return None
     labels = {s: "nonidentifiable" for s in result.states}
@@ -106,6 +107,8 @@ def test_range_only_fix_with_two_beacons_has_the_mirror():
     _, answer = _answer(system)
     assert answer.globally == ("x",) and answer.only_locally == ("y",)
     assert answer.mirrors == ("y -> -y",) and "the Lie derivatives r1 0..1, r2 0..1 (" in answer.details
+    assert answer.details.endswith("share the outputs; certain (over the reals too) for the states a mirror moves: "
+                                   "y -> -y leaves the outputs and the dynamics unchanged, as exact identities")
 
 
 def test_bearings_to_three_beacons_are_global():
@@ -113,7 +116,7 @@ def test_bearings_to_three_beacons_are_global():
     three lines in general position meet in one point, so (x, y) is unique."""
     system = System(["x", "y"], ["0", "0"], {"b1": "y/x", "b2": "(y - 1)/(x - 2)", "b3": "(y + 1)/(x - 3)"})
     _, answer = _answer(system)
-    assert answer.globally == ("x", "y")
+    assert answer.globally == ("x", "y") and answer.details.endswith("other complex states share the outputs")
 
 
 def test_two_bearings_from_a_moving_robot_with_heading():
@@ -383,6 +386,7 @@ def test_every_mirror_is_reported():
     seen through cos(th)**2: th -> -th and th -> th + pi both keep it."""
     _, answer = _answer(System(["x", "z"], ["0", "0"], {"a": "x**2", "b": "z**2"}))
     assert answer.mirrors == ("x -> -x", "z -> -z", "x, z -> -x, -z")
+    assert "moves: x -> -x, z -> -z, x, z -> -x, -z leaves" in answer.details
     _, answer = _answer(System(["x", "w"], ["w", "0"], {"y": "x**2"}))
     assert answer.mirrors == ("x, w -> -x, -w",)
     _, answer = _answer(System(["th"], ["0"], {"y": "cos(th)**2"}))
@@ -433,3 +437,16 @@ def test_the_sampling_range_of_a_square():
     variable: D = 4 + 2 + 1 = 7, N = 3 * 7^4 * 10^6 = 7,203,000,000, 33 bits."""
     _, answer = _answer(System(["x"], ["0"], {"y": "x**2"}))
     assert "random integer point of 33 bits" in answer.details and (3 * 7**4 * 10**6).bit_length() == 33
+
+
+def test_two_angles_are_named_and_the_local_verdict_s_probability_is_added():
+    """Two fixed angles seen through cos(a) and sin(b): both named in the details (unique modulo
+    2 pi or not); a local verdict with error probability 1e-3 adds it to the test's."""
+    import dataclasses
+
+    system = System(["a", "b"], ["0", "0"], {"y": "cos(a)", "z": "sin(b)"})
+    result = analyze(system, seed=5, directions=False)
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert "; angles a, b through tan(angle/2): globally means modulo 2 pi" in answer.details
+    answer = global_observability(system, dataclasses.replace(result, error_probability=1e-3), seed=3, budget=None)
+    assert answer.error_probability == pytest.approx(1e-3 + GLOBAL_ERROR / (1 - GLOBAL_ERROR), rel=1e-12)

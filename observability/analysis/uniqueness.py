@@ -137,9 +137,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     except Undecided as exc:
         return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
                              "Groebner basis at a point, the mirrors)")
-    if decided is None:
-        return GlobalVerdict((), (), local, None, "undecided: the Jacobian of the Lie derivatives "
-                             f"({used}) did not reach the verdict's rank {result.rank} at three random points")
+    if isinstance(decided, str):
+        return GlobalVerdict((), (), local, None, f"undecided: {decided}")
     members, bits, probability, angles, mirrors = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
@@ -170,8 +169,8 @@ def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, s
 def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: int, local: tuple[str, ...],
             functions: list[sympy.Expr], error: float, seed: int):
     """The symbolic work, in one budgeted child: (members of the states, then of the functions,
-    range bits, error, angle names, mirrors), or None when the Jacobian does not reach ``rank``
-    at the point."""
+    range bits, error, angle names, mirrors), or why not when the Jacobian does not reach
+    ``rank`` at the point."""
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
@@ -194,7 +193,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
         raise ModelError("--global: a denominator of the model vanishes at every random point")
     free = _free_coordinates(jets, model.coordinates, rank)
     if free is None:
-        return None
+        return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point"
     # The known variables are generators of the field: adjoined at their values, i.e. substituted.
     given = {v: point[v] for v in known}
     at = {c: jets.values[c] for c in model.coordinates}
