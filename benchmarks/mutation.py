@@ -132,7 +132,6 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
     **{f"observability.analysis.uniqueness.x__degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
        for k in (2, 5)},
-    "observability.analysis.uniqueness.x__degree__mutmut_4": "the degree of the first variable (1) for a non-constant: only enlarges the sampling range",
     "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
     **{f"observability.analysis.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
        "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
