@@ -283,6 +283,8 @@ def test_the_command_line_refuses_what_it_cannot_answer(tmp_path):
     assert run.returncode == 2 and "continuous time only" in run.stderr and len(run.stderr.splitlines()) == 1
     run = cli("check", "slam2d", "--global", "--where", "cxdot = 0")
     assert run.returncode == 2 and "--where" in run.stderr
+    run = cli("check", "--all", "--global")
+    assert run.returncode == 2 and "--global answers for one MODEL" in run.stderr
 
 
 def test_observable_functions_get_their_global_answer_too():

@@ -136,6 +136,8 @@ def check_command(args: argparse.Namespace) -> int:
     if args.all:
         if args.model:
             raise UsageError("give either MODEL or --all, not both")
+        if getattr(args, "global_", False):
+            raise UsageError("--global answers for one MODEL (its Groebner bases may take the whole budget each)")
         results = []
         times = [args.time] if args.time else ["continuous", "discrete"]
         for name in models.BUILTINS:
