@@ -137,7 +137,9 @@ EQUIVALENT: dict[str, str] = {
        "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
     "observability.analysis.uniqueness.x_global_observability__mutmut_2": "the API's default budget, 60 or 61 s (the CLI passes its own)",
     "observability.analysis.uniqueness.x__truncation__mutmut_5": "an unseeded point for the rank: as mutant 3",
-    "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13": "the expression's text cut at 81 characters instead of 80",
+    **{k: "the expression's text cut at 81 characters instead of 80" for k in (
+        "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13",
+        "observability.analysis.rationalmodel.x_rational_model__mutmut_47")},
     **{f"observability.analysis.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
        for k in (13, 15, 26)},
     "observability.analysis.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
