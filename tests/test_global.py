@@ -469,3 +469,17 @@ def test_two_angles_are_named_and_the_local_verdict_s_probability_is_added():
     assert "; angles a, b through tan(angle/2): globally means modulo 2 pi" in answer.details
     answer = global_observability(system, dataclasses.replace(result, error_probability=1e-3), seed=3, budget=None)
     assert answer.error_probability == pytest.approx(1e-3 + GLOBAL_ERROR / (1 - GLOBAL_ERROR), rel=1e-12)
+
+
+def test_driving_straight_keeps_the_mirror_that_turning_breaks(tmp_path):
+    """A unicycle ranged from beacons at (0, 0) and (1, 0): with w = 0 (`--input w=0`) the reflection
+    (y, th) -> (-y, -th) maps x' = v cos th, y' = v sin th, th' = 0 to themselves, so y and th are
+    only locally observable, certified; with a generic w it is no symmetry and all three are unique."""
+    model = tmp_path / "unicycle.toml"
+    model.write_text('states = ["x", "y", "th"]\ninputs = ["v", "w"]\n[dynamics]\nx = "v*cos(th)"\n'
+                     'y = "v*sin(th)"\nth = "w"\n[outputs]\nr1 = "sqrt(x**2 + y**2)"\nr2 = "sqrt((x - 1)**2 + y**2)"\n')
+    record = json.loads(cli("check", model, "--global", "--input", "w=0", "--format", "json", "--seed", "1").stdout)
+    assert record["globally_observable_states"] == ["x"] and record["only_locally_observable_states"] == ["y", "th"]
+    assert record["global"]["mirrors"] == ["y, th -> -y, -th"]
+    record = json.loads(cli("check", model, "--global", "--format", "json", "--seed", "1").stdout)
+    assert record["globally_observable_states"] == ["x", "y", "th"] and record["global"]["mirrors"] == []
