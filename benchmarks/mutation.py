@@ -130,8 +130,6 @@ EQUIVALENT: dict[str, str] = {
     "observability.analysis.uniqueness.x__truncation__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
     **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
-    **{f"observability.analysis.uniqueness.x__degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
-       for k in (2, 5)},
     "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
     **{f"observability.analysis.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
        "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
@@ -143,7 +141,7 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
        for k in (13, 15, 26)},
     "observability.analysis.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
-    **{f"observability.analysis.rationalmodel.x__degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
+    **{f"observability.analysis.rationalmodel.x_polynomial_degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
        for k in (2, 5)},
     "observability.filters.validation.x_measurement__mutmut_43": "np.array of Python floats is float64 with or without dtype",
     "observability.filters.validation.x_measurement__mutmut_45": "idem",

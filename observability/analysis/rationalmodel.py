@@ -16,7 +16,7 @@ from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from ..errors import ModelError
 from ..model.system import System
 
-__all__ = ["RationalModel", "rational_model", "degree_bounds"]
+__all__ = ["RationalModel", "rational_model", "degree_bounds", "polynomial_degree"]
 
 
 @dataclass(frozen=True)
@@ -67,16 +67,18 @@ def degree_bounds(model: RationalModel, orders: Sequence[int], known: Sequence[s
     """
     variables = [*model.coordinates, *known]
     parts = [sympy.fraction(sympy.together(v)) for v in model.speeds]
-    d_b = sum(_degree(den, variables) for _, den in parts)
-    d_a = max((_degree(num, variables) + d_b - _degree(den, variables) for num, den in parts), default=0)
+    d_b = sum(polynomial_degree(den, variables) for _, den in parts)
+    d_a = max((polynomial_degree(num, variables) + d_b - polynomial_degree(den, variables) for num, den in parts),
+              default=0)
     delta = max(d_a - 1, d_b, 0)
     bounds = []
     for h, k in zip(model.outputs, orders):
         num, den = sympy.fraction(sympy.together(h))
-        d_c, d_e = _degree(num, variables), _degree(den, variables)
+        d_c, d_e = polynomial_degree(num, variables), polynomial_degree(den, variables)
         bounds += [(d_c + j * (delta + d_e + d_b), (j + 1) * d_e + 2 * j * d_b) for j in range(k + 1)]
     return bounds + [(1, 0)] * len(known)
 
 
-def _degree(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> int:
+def polynomial_degree(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> int:
+    """Total degree of a polynomial in ``variables`` (0 for a constant)."""
     return sympy.Poly(expr, *variables).total_degree() if expr.free_symbols else 0

@@ -50,7 +50,7 @@ from ..model.system import System
 from ..rank.membership import groebner_contains, sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
-from .rationalmodel import RationalModel, degree_bounds, rational_model
+from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
 if TYPE_CHECKING:
     from .result import ObservabilityResult
@@ -179,7 +179,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     inputs = [input_derivative(u, j) for u in system.inputs for j in range(top + 1)]
     known = [*system.free_parameters, *inputs]
     variables = [*model.coordinates, *known]
-    degrees = [(_degree(n, variables), _degree(d, variables)) for n, d in fractions]
+    degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
     bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
     rng = random.Random(seed)
     for _ in range(100):
@@ -216,7 +216,7 @@ def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tup
     if not only:
         return ()
     names = [s.name for s in system.states]
-    angles = {s.name for s, c in zip(system.states, model.coordinates) if c != s}
+    angles = {a.name for a in model.angles}
     candidates = [(group, "flip") for group in dict.fromkeys([*((n,) for n in only), only, tuple(names)])]
     turning = tuple(n for n in only if n in angles)
     candidates += [(group, "turn") for group in dict.fromkeys([*((n,) for n in turning), turning]) if group]
@@ -286,10 +286,6 @@ def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.
             rows.append(unit)
             free.append(c)
     return free
-
-
-def _degree(expr: sympy.Expr, variables) -> int:
-    return sympy.Poly(expr, *variables).total_degree() if expr.free_symbols else 0
 
 
 def _fmpq(value) -> flint.fmpq:
