@@ -126,7 +126,7 @@ EQUIVALENT: dict[str, str] = {
     "observability.analysis.uniqueness.x__decide__mutmut_109":
         "the free coordinates adjoined at minus their values: another generic slice of the same fibre (free coordinates "
         "are transcendental over the field), so the same membership",
-    **{f"observability.analysis.uniqueness.x__mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (19, 20)},
+    **{f"observability.analysis.uniqueness.x__mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
     "observability.analysis.uniqueness.x__truncation__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
     **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
