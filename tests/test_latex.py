@@ -338,11 +338,12 @@ def test_named_subexpressions_equal_the_matrix():
     """The order-1 rows of the 13-state model are 143,000 characters written
     out; named (a_1, a_2, ...) they fit. Substituting the definitions back gives
     the matrix computed here by sympy, exactly at a random rational point."""
-    from observability.report.latex import _abbreviations
+    from observability.report.latex import _WIDE_ENTRY
+    from observability.report.subexpressions import abbreviations
 
     system = parse_model(VIO13, "vio13.toml")
     matrix = _vio13_order_one_rows(system)
-    replacements, reduced = _abbreviations(matrix, sympy.latex)
+    replacements, reduced = abbreviations(matrix, sympy.latex, _WIDE_ENTRY)
     assert len(replacements) > 10
     rng = random.Random(5)
     symbols = sorted(set().union(*(e.free_symbols for e in matrix)), key=str)

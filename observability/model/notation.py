@@ -17,14 +17,14 @@ the generated document run a command.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import sympy
 from sympy.printing.conventions import split_super_sub
 
 from ..errors import ModelError
 
-__all__ = ["latex_name", "component_latex", "latex_text", "validate_latex_name", "MAX_LATEX_NAME"]
+__all__ = ["latex_name", "component_latex", "latex_text", "validate_latex_name", "vector_names", "MAX_LATEX_NAME"]
 
 #: Longest accepted override, in characters.
 MAX_LATEX_NAME = 120
@@ -120,6 +120,17 @@ _SPECIAL = {
     "\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&", "#": r"\#",
     "^": r"\textasciicircum{}", "_": r"\_", "%": r"\%", "~": r"\textasciitilde{}",
 }
+
+
+def vector_names(names: Sequence[str]) -> dict[str, tuple[str, ...]]:
+    """The vectors among ``names`` as a model file declares them (``"p[3]"`` gives
+    ``p_0, p_1, p_2``, consecutive and in order): vector -> its components."""
+    found: dict[str, list[str]] = {}
+    for name in names:
+        match = re.fullmatch(r"(.+)_(\d+)", name)
+        if match and int(match.group(2)) == len(found.get(match.group(1), [])):
+            found.setdefault(match.group(1), []).append(name)
+    return {vector: tuple(parts) for vector, parts in found.items() if len(parts) > 1}
 
 
 def latex_text(text: str) -> str:

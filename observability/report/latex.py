@@ -6,9 +6,10 @@ The matrix is built order by order and shaped for a page:
 
 * entries are written in the model's named quantities where that is shorter
   (:mod:`.quantities`), names as users write them (:mod:`observability.model.notation`);
-* rows are grouped by output and columns by the outputs they enter, with rules
-  between the groups, and an all-zero block is printed once as a bold 0 — the
-  block sparsity of SLAM shows;
+* rows are grouped by output and columns by the outputs they enter (a vector
+  state's components together), with rules between the groups, and an all-zero
+  block is printed once as a bold 0 — the block sparsity of SLAM shows;
+* rotation matrices the model wrote stay R_ij (:mod:`.rotationnames`);
 * when entries are still too wide, repeated subexpressions are named (a_1, ...)
   and defined under the matrix, long definitions broken over lines;
 * a matrix wider or taller than a page is split into labelled blocks;
@@ -26,7 +27,6 @@ from __future__ import annotations
 import math
 import random
 import re
-from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -38,11 +38,13 @@ from ..errors import ObservabilityError
 from ..engine.exactrows import NotRational, rows_at_point
 from ..model.expressions import parse_expression
 from ..engine.lie import lie_derivatives
-from ..model.notation import latex_name, latex_text
+from ..model.notation import latex_name, latex_text, vector_names
 from ..model.system import System
 from ..engine.taylor import Redraw
 from .layout import COLUMN_GAP, LINES_PER_PAGE, PAGE_HEIGHT, PAGE_WIDTH, height, width
 from .quantities import printed_size, rewriting, tidy
+from .rotationnames import NamedRotation, name_rotations, named_rotations
+from .subexpressions import abbreviations, broken
 
 __all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_PAGES"]
 
@@ -50,13 +52,9 @@ __all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_P
 MAX_PAGES = 3
 #: An entry wider than this share of the page is shortened by naming subexpressions.
 _WIDE_ENTRY = PAGE_WIDTH / 3
-#: A named subexpression narrower than this (glyphs) is written out instead.
-_INLINE_WIDTH = 14
 #: Before simplifying an order, its raw entries (characters) may exceed a page's
 #: worth of glyphs by this factor; beyond it no simplification could make it fit.
 _RAW_SLACK = 6
-#: Above this many characters the common subexpressions are found without sympy's "basic" optimizations.
-_BASIC_CSE_CHARS = 20_000
 #: Lie derivatives longer than this are not differentiated for a symbolic document.
 _MAX_DIFFERENTIATED_CHARS = 30_000
 
@@ -133,7 +131,7 @@ class LatexMatrix:
         )
         lines = [f"\\begin{{array}}{{{spec}}}", " & " + " & ".join(self.column_labels[j] for j in columns) + " \\\\", "\\hline"]
         runs = _runs(groups)
-        row_runs = _runs([self.rows[i][0] for i in block.rows])
+        row_runs = _runs([_output_group(self.rows[i][0], [o for o, _ in self.rows]) for i in block.rows])
         for r_start, r_stop in row_runs:
             if r_start:
                 lines.append("\\hline")
@@ -162,6 +160,11 @@ def _runs(keys: Sequence[object]) -> list[tuple[int, int]]:
             runs.append((start, k))
             start = k
     return runs
+
+
+def _output_group(output: str, outputs: Sequence[str]) -> str:
+    """The vector ``output`` is a component of, or the output itself."""
+    return next((v for v, cs in vector_names(outputs).items() if output in cs), output)
 
 
 def _label(output: str, order: int, discrete: bool, names: Mapping[str, str]) -> str:
@@ -311,6 +314,8 @@ def latex_matrix(
     names = dict(system.latex_names)
     fixed = _point_values(system, point) if point is not None else None
     rewrite = rewriting(system) if fixed is None else None
+    rotations = named_rotations(system) if fixed is None else ()
+    with_rotations = name_rotations(rotations)
     values = {sympy.Symbol(k): v for k, v in (fixed or {}).items()}
     rng = random.Random(seed)
     if fixed is not None and system.time == "continuous":
@@ -328,22 +333,20 @@ def latex_matrix(
             omitted = _omission(k, orders, max_pages)
             break
         rows = _gradients(system, block, k, orders, progress)
+        if rewrite is None:
+            rows = [(label, [with_rotations(e) for e in g]) for label, g in rows]
         raw = sum(printed_size(e) for _, gradient in rows for e in gradient)
         written_out = fixed is not None or _fits(raw, max_pages)
         if not written_out and not _fits_named(_shared_size([*by_order, rows]), max_pages):
             omitted = _omission(k, orders, max_pages)
             break
-        # Rows that fit only with their shared parts named are left as they are: the
-        # layout names those parts, and factoring them would not make them fit.
         if fixed is not None:
             rows = [(label, [_checked(_at_point(e, values, rng), label, j, system) for j, e in enumerate(g)]) for label, g in rows]
-        elif written_out and rewrite is not None:
-            rows = [(label, [rewrite.apply(e) for e in g]) for label, g in rows]
-        elif written_out:
-            rows = [(label, [tidy(e) for e in g]) for label, g in rows]
+        else:
+            rows = _presented(rows, written_out, rewrite, rotations)
         by_order.append(rows)
     while by_order:
-        layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted)
+        layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted, rotations)
         if layout.pages <= max_pages or fixed is not None:
             return layout
         omitted = _omission(len(by_order) - 1, orders, max_pages, layout.pages)
@@ -352,6 +355,22 @@ def latex_matrix(
         f"{system.name}: even the order-0 rows of the symbolic observability matrix do not fit {max_pages:g} "
         "page(s); typeset it at an exact point (latex --point) or allow more pages (--max-pages)"
     )
+
+
+def _presented(rows, written_out: bool, rewrite, rotations: tuple[NamedRotation, ...]):
+    """Symbolic rows as they will be shown. Rows that fit only with their shared
+    parts named are left as they are: the layout names those parts, and
+    factoring them would not make them fit."""
+    with_rotations = name_rotations(rotations)
+    if rewrite is not None:
+        # The quantities first: a rotation's name would hide the states they are solved for.
+        present = (lambda e: with_rotations(rewrite.apply(e))) if written_out else with_rotations
+    elif written_out:
+        # Factoring multiplies out what the rotations' names hold together.
+        present = sympy.factor_terms if rotations else tidy
+    else:
+        return rows
+    return [(label, [present(e) for e in g]) for label, g in rows]
 
 
 def _omission(first: int, orders: int, max_pages: float, needed: float | None = None) -> str:
@@ -380,30 +399,40 @@ def _layout(
     rewrite,
     point: dict[sympy.Symbol, sympy.Expr] | None,
     omitted: str,
+    rotations: tuple[NamedRotation, ...] = (),
 ) -> LatexMatrix:
     # Output-major rows: the rows of one output together, so that its block shows.
+    # A vector output's components order by order (grad z, then grad L_f z), as a paper writes them.
     outputs = [o for o, _ in system.outputs]
-    labelled = sorted((r for rows in by_order for r in rows), key=lambda r: (outputs.index(r[0][0]), r[0][1]))
+    groups = list(dict.fromkeys(_output_group(o, outputs) for o in outputs))
+    labelled = sorted((r for rows in by_order for r in rows),
+                      key=lambda r: (groups.index(_output_group(r[0][0], outputs)), r[0][1], outputs.index(r[0][0])))
     labels = tuple(label for label, _ in labelled)
     matrix = sympy.Matrix([g for _, g in labelled])
     symbols = set().union(*(e.free_symbols for e in matrix)) | {s for s, _ in system.quantities}
     symbol_names = _symbol_names(symbols | set(system.states), names)
+    for rotation in rotations:
+        symbol_names.update(rotation.latex_names())
 
     def tex(expr: sympy.Expr) -> str:
         return sympy.latex(expr, symbol_names=symbol_names)
 
     definitions: list[tuple[str, str]] = []
+    quantities: list[tuple[sympy.Symbol, sympy.Expr]] = []
     if rewrite is not None:
         used = set().union(*(e.free_symbols for e in matrix))
-        definitions += [(tex(q), tex(e)) for q, e in system.quantities if q in used]
+        with_rotations = name_rotations(rotations)
+        quantities = [(q, with_rotations(e)) for q, e in system.quantities if q in used]
+        definitions += [(tex(q), tex(e)) for q, e in quantities]
+    used = set().union(*(e.free_symbols for e in matrix), *(e.free_symbols for _, e in quantities))
+    definitions += [_rotation_definition(r, tex, names) for r in rotations if used & set(r.replacements())]
     entries = [[tex(e) for e in row] for row in matrix.tolist()]
     if any(width(e) > _WIDE_ENTRY for row in entries for e in row):
-        replacements, matrix = _abbreviations(matrix, tex)
+        replacements, matrix = abbreviations(matrix, tex, _WIDE_ENTRY)
         symbol_names.update({name: f"a_{{{name.name[2:]}}}" for name, _ in replacements})
-        definitions += [(tex(name), _broken(value, tex)) for name, value in replacements]
+        definitions += [(tex(name), broken(value, tex)) for name, value in replacements]
         entries = [[tex(e) for e in row] for row in matrix.tolist()]
-    signature = [frozenset(labels[i][0] for i in range(len(labels)) if entries[i][j] != "0") for j in range(system.n)]
-    groups = tuple(n for n, (a, b) in enumerate(_runs(signature)) for _ in range(a, b))
+    groups = _column_groups(system, labels, entries)
     column_labels = tuple(symbol_names[x] for x in system.states)
     row_labels = tuple(_label(o, k, system.time == "discrete", names) for o, k in labels)
     declared = [*system.states, *system.inputs, *system.parameters]
@@ -422,74 +451,22 @@ def _layout(
     return LatexMatrix(**{**pieces.__dict__, "blocks": _blocks(pieces)})
 
 
-def _abbreviations(
-    matrix: sympy.Matrix, tex: Callable[[sympy.Expr], str]
-) -> tuple[list[tuple[sympy.Symbol, sympy.Expr]], sympy.Matrix]:
-    """Repeated subexpressions named a_1, a_2, ...: common subexpression elimination,
-    then short ones (a sine, a square) and those used once written out again, so a
-    reader meets a name only where it saves room."""
-    temporary = (sympy.Dummy(f"t{i}") for i in range(10**6))
-    # sympy's "basic" optimizations find a few more shared parts at a cost that grows
-    # fast (18 s of 20 on a 13-state model's order-1 rows): only for small matrices.
-    small = sum(printed_size(e) for e in matrix) <= _BASIC_CSE_CHARS
-    replacements, (reduced,) = sympy.cse(matrix, symbols=temporary, optimizations="basic" if small else None)
-    inline: dict[sympy.Symbol, sympy.Expr] = {}
-    kept: list[tuple[sympy.Symbol, sympy.Expr]] = []
-    for name, value in replacements:
-        value = value.xreplace(inline)
-        if width(tex(value)) <= _INLINE_WIDTH:
-            inline[name] = value
-        else:
-            kept.append((name, value))
-    reduced = reduced.xreplace(inline)
-    while True:
-        uses = Counter(s for e in reduced for s in e.free_symbols)
-        for _, value in kept:
-            uses.update(value.free_symbols)
-        once = {name: value for name, value in kept if uses[name] <= 1 and width(tex(value)) <= 2 * _INLINE_WIDTH}
-        if not once:
-            break
-        last = max(once, key=lambda n: [k for k, _ in kept].index(n))
-        value = once[last]
-        kept = [(n, v.xreplace({last: value})) for n, v in kept if n != last]
-        reduced = reduced.xreplace({last: value})
-    for entry in sorted({e for e in reduced if width(tex(e)) > _WIDE_ENTRY}, key=sympy.default_sort_key):
-        # Still too wide although nothing in it repeats: named on its own, its
-        # definition broken over lines.
-        name = next(temporary)
-        kept.append((name, entry))
-        reduced = reduced.xreplace({entry: name})
-    names = {old: sympy.Symbol(f"a_{i}") for i, (old, _) in enumerate(kept, 1)}
-    return [(names[n], v.xreplace(names)) for n, v in kept], reduced.xreplace(names)
+def _column_groups(system: System, labels, entries) -> tuple[int, ...]:
+    """The group of each column: a vector state's components together (the blocks
+    a paper writes, d z / d p), other states by the outputs they enter."""
+    vector_of = {c: v for v, cs in vector_names([x.name for x in system.states]).items() for c in cs}
+    key = [("vector", vector_of[x.name]) if x.name in vector_of else
+           ("outputs", frozenset(labels[i][0] for i in range(len(labels)) if entries[i][j] != "0"))
+           for j, x in enumerate(system.states)]
+    return tuple(n for n, (a, b) in enumerate(_runs(key)) for _ in range(a, b))
 
 
-def _broken(value: sympy.Expr, tex: Callable[[sympy.Expr], str]) -> str:
-    """A definition's value, a long sum (or a factor times a long sum) broken into
-    lines that fit the page."""
-    text = tex(value)
-    if width(text) <= PAGE_WIDTH - 8:
-        return text
-    if isinstance(value, sympy.Add):
-        return _lines(sympy.Add.make_args(value), tex, "", "")
-    sums = [f for f in sympy.Mul.make_args(value) if isinstance(f, sympy.Add)]
-    if not isinstance(value, sympy.Mul) or not sums:
-        return text
-    widest = max(sums, key=lambda f: len(str(f)))
-    return _lines(sympy.Add.make_args(widest), tex, tex(value / widest) + " \\Bigl(", " \\Bigr)")
-
-
-def _lines(terms: Sequence[sympy.Expr], tex: Callable[[sympy.Expr], str], opening: str, closing: str) -> str:
-    lines, current = [], opening
-    for n, term in enumerate(terms):
-        piece = tex(term)
-        signed = piece if n == 0 or piece.startswith("-") else "+ " + piece
-        if n and width(current + signed) > PAGE_WIDTH - 14:
-            lines.append(current)
-            current = signed if signed.startswith(("-", "+")) else "+ " + signed
-        else:
-            current = f"{current} {signed}".strip()
-    lines.append(current + closing)
-    return " \\\\\n  &\\quad ".join(lines)
+def _rotation_definition(rotation: NamedRotation, tex: Callable[[sympy.Expr], str], names) -> tuple[str, str]:
+    """``R`` and its entries as a matrix, to be read as ``R = R(q) = (...)``."""
+    rows = " \\\\ ".join(" & ".join(tex(rotation.matrix[i, j]) for j in range(3)) for i in range(3))
+    first = latex_name(f"{rotation.argument}_0", names)
+    argument = first[:-len("_{0}")] if first.endswith("_{0}") else latex_name(rotation.argument, names)
+    return rotation.label, f"R({argument}) = \\begin{{pmatrix}} {rows} \\end{{pmatrix}}"
 
 
 def _blocks(pieces: LatexMatrix) -> tuple[Block, ...]:
@@ -501,8 +478,12 @@ def _blocks(pieces: LatexMatrix) -> tuple[Block, ...]:
     ]
     column_blocks: list[list[int]] = [[]]
     for j, w in enumerate(widths):
-        if column_blocks[-1] and label_width + sum(widths[k] for k in column_blocks[-1]) + w > PAGE_WIDTH:
-            column_blocks.append([])
+        current = column_blocks[-1]
+        if current and label_width + sum(widths[k] for k in current) + w > PAGE_WIDTH:
+            # Break at the last change of group (a vector stays whole) when there is one.
+            cut = max((n for n in range(1, len(current)) if pieces.column_groups[current[n]] != pieces.column_groups[current[n - 1]]),
+                      default=len(current))
+            column_blocks[-1:] = [current[:cut], current[cut:]]
         column_blocks[-1].append(j)
     heights = [1.5 * max(height(e) for e in row) for row in pieces.entries]
     row_blocks: list[list[int]] = [[]]
