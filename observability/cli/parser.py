@@ -93,6 +93,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="exit status:\n  0 written (orders left out to fit --max-pages are said so on stderr)\n"
         "  2 bad input\n  3 the symbolic matrix did not fit --budget, or not even order 0 fits --max-pages\n"
+        "    (without --max-pages, order 0 may take up to 12 pages)\n"
         "  4 internal error (a bug)",
     )
     _model_arguments(latex)

@@ -28,7 +28,7 @@ import math
 import random
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy
 
@@ -46,10 +46,13 @@ from .quantities import printed_size, rewriting, tidy
 from .rotationnames import NamedRotation, name_rotations, named_rotations
 from .subexpressions import abbreviations, broken
 
-__all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_PAGES"]
+__all__ = ["LatexMatrix", "DoesNotFit", "latex_matrix", "latex_document", "MAX_PAGES", "ORDER_ZERO_PAGES"]
 
 #: Default bound on the size of the matrix part of a document, in pages.
 MAX_PAGES = 3
+#: Without an explicit bound, the order-0 rows are typeset even when they take
+#: more than MAX_PAGES (a 31-state visual-inertial model: 6 pages), up to this.
+ORDER_ZERO_PAGES = 12
 #: An entry wider than this share of the page is shortened by naming subexpressions.
 _WIDE_ENTRY = PAGE_WIDTH / 3
 #: Before simplifying an order, its raw entries (characters) may exceed a page's
@@ -285,6 +288,7 @@ def latex_matrix(
     seed: int = 0,
     max_pages: float = MAX_PAGES,
     progress: Callable[[str], None] | None = None,
+    order_zero_pages: float | None = None,
 ) -> LatexMatrix:
     """The observability matrix with Lie orders 0..``orders`` as LaTeX laid out for pages.
 
@@ -300,6 +304,9 @@ def latex_matrix(
         random integers drawn with ``seed``, listed in :attr:`LatexMatrix.point`.
     max_pages : float
         Bound on the estimated size.
+    order_zero_pages : float, optional
+        A larger bound for the order-0 rows alone: with it they are typeset
+        (and the higher orders left out, said so) where ``max_pages`` is too small.
     progress : callable, optional
         Called with a short status text as the work proceeds.
 
@@ -327,7 +334,8 @@ def latex_matrix(
     for k, block in enumerate(lie_derivatives(system)):
         if k > orders:
             break
-        if fixed is None and not _worth_differentiating([row.expression for row in block], system.n, max_pages):
+        bound = max(max_pages, order_zero_pages or 0) if k == 0 else max_pages
+        if fixed is None and not _worth_differentiating([row.expression for row in block], system.n, bound):
             # Each entry of a gradient is of the order of the function's size;
             # stop before differentiating what could not be shown anyway.
             omitted = _omission(k, orders, max_pages)
@@ -337,7 +345,7 @@ def latex_matrix(
             rows = [(label, [with_rotations(e) for e in g]) for label, g in rows]
         raw = sum(printed_size(e) for _, gradient in rows for e in gradient)
         written_out = fixed is not None or _fits(raw, max_pages)
-        if not written_out and not _fits_named(_shared_size([*by_order, rows]), max_pages):
+        if not written_out and not _fits_named(_shared_size([*by_order, rows]), bound):
             omitted = _omission(k, orders, max_pages)
             break
         if fixed is not None:
@@ -349,6 +357,8 @@ def latex_matrix(
         layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted, rotations)
         if layout.pages <= max_pages or fixed is not None:
             return layout
+        if len(by_order) == 1 and layout.pages <= (order_zero_pages or 0):
+            return replace(layout, omitted=_order_zero_only(layout.pages, orders, max_pages))
         omitted = _omission(len(by_order) - 1, orders, max_pages, layout.pages)
         by_order.pop()
     raise DoesNotFit(
@@ -371,6 +381,14 @@ def _presented(rows, written_out: bool, rewrite, rotations: tuple[NamedRotation,
     else:
         return rows
     return [(label, [present(e) for e in g]) for label, g in rows]
+
+
+def _order_zero_only(pages: float, orders: int, max_pages: float) -> str:
+    if not orders:
+        return ""
+    which = "Lie order 1" if orders == 1 else f"Lie orders 1 to {orders}"
+    return (f"{which} left out: the order-0 rows alone take about {pages:.1f} pages, more than {max_pages:g} "
+            "(typeset by default all the same). The whole matrix can be typeset at an exact point (latex --point).")
 
 
 def _omission(first: int, orders: int, max_pages: float, needed: float | None = None) -> str:
@@ -548,7 +566,8 @@ def latex_document(
     """
     result = result or analyze(system, seed=0)
     wanted = orders if orders is not None else (result.orders if result.orders is not None else 0)
-    pieces = latex_matrix(system, wanted, point=point, seed=seed, max_pages=max_pages or MAX_PAGES, progress=progress)
+    pieces = latex_matrix(system, wanted, point=point, seed=seed, max_pages=max_pages or MAX_PAGES, progress=progress,
+                          order_zero_pages=ORDER_ZERO_PAGES if max_pages is None else None)
     preface = _preface(pieces)
     if body_only:
         header = [
