@@ -43,6 +43,7 @@ from ..model.system import System
 from ..engine.taylor import Redraw
 from .layout import COLUMN_GAP, LINES_PER_PAGE, PAGE_HEIGHT, PAGE_WIDTH, height, width
 from .quantities import printed_size, rewriting, tidy
+from .latexpoint import at_point, checked, point_values
 from .rotationnames import NamedRotation, name_rotations, named_rotations
 from .subexpressions import abbreviations, broken
 
@@ -198,32 +199,6 @@ def _symbol_names(symbols: set[sympy.Symbol], names: Mapping[str, str]) -> dict[
     return out
 
 
-def _point_values(system: System, spec: Mapping[str, str]) -> dict[str, sympy.Expr]:
-    """The exact values of the point: the user's, checked, then random small integers (seeded)."""
-    names = {s.name: s for s in (*system.states, *system.inputs, *system.free_parameters)}
-    values: dict[str, sympy.Expr] = {}
-    for key, text in spec.items():
-        if key not in names:
-            raise ObservabilityError(
-                f"--point: {key!r} is not a state, input or free parameter of {system.name} "
-                f"(they are: {', '.join(names)})"
-            )
-        value = parse_expression(str(text), {}, where=f"--point {key}")
-        if not value.is_number or not value.is_finite:
-            raise ObservabilityError(f"--point {key}: {text!r} is not a finite number")
-        values[key] = value
-    return values
-
-
-def _at_point(entry: sympy.Expr, values: dict[sympy.Symbol, sympy.Expr], rng: random.Random) -> sympy.Expr:
-    angles = set().union(*(f.args[0].free_symbols for f in entry.atoms(sympy.sin, sympy.cos, sympy.tan)))
-    for s in sorted(entry.free_symbols - set(values), key=str):
-        # An angle at pi/6 keeps the entries exact and readable (sin = 1/2).
-        values[s] = sympy.pi / 6 if s in angles else sympy.Integer(rng.choice([-3, -2, -1, 1, 2, 3, 4, 5]))
-    value = entry.xreplace(values)
-    return value if value.is_Rational else sympy.simplify(value)
-
-
 def _exact_at_point(system: System, orders: int, values, rng: random.Random, names) -> LatexMatrix | None:
     """The matrix at the point from exact Taylor series (no symbolic Lie
     derivative: a 13-state model in milliseconds); None when its rows are not
@@ -319,7 +294,7 @@ def latex_matrix(
         or makes the matrix undefined.
     """
     names = dict(system.latex_names)
-    fixed = _point_values(system, point) if point is not None else None
+    fixed = point_values(system, point) if point is not None else None
     rewrite = rewriting(system) if fixed is None else None
     rotations = named_rotations(system) if fixed is None else ()
     with_rotations = name_rotations(rotations)
@@ -349,13 +324,22 @@ def latex_matrix(
             omitted = _omission(k, orders, max_pages)
             break
         if fixed is not None:
-            rows = [(label, [_checked(_at_point(e, values, rng), label, j, system) for j, e in enumerate(g)]) for label, g in rows]
+            rows = [(label, [checked(at_point(e, values, rng), label, j, system) for j, e in enumerate(g)]) for label, g in rows]
         else:
             rows = _presented(rows, written_out, rewrite, rotations)
         by_order.append(rows)
+    return _fitted(system, by_order, (names, rewrite, values if fixed is not None else None, omitted, rotations),
+                   orders, max_pages, order_zero_pages)
+
+
+def _fitted(system: System, by_order: list, layout_arguments: tuple, orders: int, max_pages: float,
+            order_zero_pages: float | None) -> LatexMatrix:
+    """The layout of the leading orders that fit ``max_pages`` (the order-0 rows
+    alone ``order_zero_pages``); a layout at a point is never cut."""
+    names, rewrite, point, omitted, rotations = layout_arguments
     while by_order:
-        layout = _layout(system, by_order, names, rewrite, values if fixed is not None else None, omitted, rotations)
-        if layout.pages <= max_pages or fixed is not None:
+        layout = _layout(system, by_order, names, rewrite, point, omitted, rotations)
+        if layout.pages <= max_pages or point is not None:
             return layout
         if len(by_order) == 1 and layout.pages <= (order_zero_pages or 0):
             return replace(layout, omitted=_order_zero_only(layout.pages, orders, max_pages))
@@ -399,15 +383,6 @@ def _omission(first: int, orders: int, max_pages: float, needed: float | None = 
         f"{which} left out: with them the symbolic matrix would not fit {max_pages:g} page(s){more}. "
         "The whole matrix can be typeset at an exact point (latex --point), or with fewer orders (--orders K)."
     )
-
-
-def _checked(entry: sympy.Expr, label: tuple[str, int], column: int, system: System) -> sympy.Expr:
-    if entry.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
-        raise ObservabilityError(
-            f"--point: the matrix is undefined at this point (row of {label[0]} at order {label[1]}, "
-            f"column {system.states[column]}); choose other values"
-        )
-    return entry
 
 
 def _layout(
