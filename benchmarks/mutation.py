@@ -44,6 +44,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "first-estimates": (["observability/filters/firstestimates.py"],
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
     "global": (["observability/analysis/uniqueness.py", "observability/analysis/rationalmodel.py",
+                "observability/analysis/generators.py",
                 "observability/engine/jets.py", "observability/rank/membership.py"], ["tests/test_global.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py"]),

@@ -269,7 +269,8 @@ def test_the_command_line_reports_the_mirror_in_json():
     assert record["only_locally_observable_states"] == ["y"]
     assert record["global"]["mirrors"] == ["y -> -y"] and record["global"]["error_probability"] < 1e-5
     assert set(record["global"]) == {"globally_observable_states", "only_locally_observable_states", "undecided",
-                                     "error_probability", "details", "mirrors", "functions"}
+                                     "error_probability", "details", "mirrors", "functions",
+                                     "functions_generate_the_field", "generation"}
     assert record["global"]["undecided"] == [] and record["global"]["functions"] == {}
     assert record["global"]["details"].startswith("field membership (Dong, Goodbrake, Harrington, Pogudin 2023")
 
@@ -387,13 +388,16 @@ def test_a_function_with_a_known_parameter_and_its_square():
 def test_rational_functions_and_the_stated_probability():
     """Fixed (x, z, w) seen through a = x/z + w: the observable function (w z + x)/z is the output,
     unique; through a = (x/z)**2 only z/x up to its sign. The error probability is the test's
-    e / (1 - e) (the verdict is proven: nothing added)."""
+    e / (1 - e) (the verdict is proven: nothing added), plus e for the second test (the function
+    generates the field: a and its derivatives, all a) where the function is unique; where it is
+    not, "does not generate" is certain and adds nothing."""
     for output, function, unique in (("x/z + w", "(w*z + x)/z", True), ("(x/z)**2", "z/x", False)):
         states = ["x", "z", "w"] if "w" in output else ["x", "z"]
         system = System(states, ["0"] * len(states), {"a": output})
         answer = global_observability(system, analyze(system, seed=5), seed=3, budget=None)
-        assert dict(answer.functions) == {function: unique}
-        assert answer.error_probability == pytest.approx(GLOBAL_ERROR / (1 - GLOBAL_ERROR), rel=1e-12)
+        assert dict(answer.functions) == {function: unique} and answer.generates_field is unique
+        expected = GLOBAL_ERROR / (1 - GLOBAL_ERROR) + (GLOBAL_ERROR if unique else 0.0)
+        assert answer.error_probability == pytest.approx(expected, rel=1e-12)
     # The range for (x/z)**2 by hand: T = {a, a'} bounded by (2, 2), (4, 4); z/x tested (1, 1); two
     # variables: D = (2 + 4 + 1) + 4 + 1 = 12, N = 3 * 12^5 * 10^6, 40 bits (39 without z/x's denominator).
     assert "point of 40 bits" in answer.details and (3 * 12**5 * 10**6).bit_length() == 40
@@ -483,3 +487,70 @@ def test_driving_straight_keeps_the_mirror_that_turning_breaks(tmp_path):
     assert record["global"]["mirrors"] == ["y, th -> -y, -th"]
     record = json.loads(cli("check", model, "--global", "--format", "json", "--seed", "1").stdout)
     assert record["globally_observable_states"] == ["x", "y", "th"] and record["global"]["mirrors"] == []
+
+
+TWO_COMPARTMENTS = ("ode = @ODEmodel(x0'(t) = -(a01 + a21) * x0(t) + a12 * x1(t), "
+                    "x1'(t) = a21 * x0(t) - a12 * x1(t), y(t) = x0(t))")
+
+
+def test_the_two_compartment_functions_generate_the_field():
+    """Issue 27 item 1. By hand (SI.jl identifiability.jl line 8): with s = a01 + a12 + a21 and
+    p = a01 a12, y' = a12 (x0 + x1) - s x0 and y'' = -s y' - p y, so every Lie derivative lies in
+    Q(x0, s, p, a12 (x0 + x1)): the printed functions generate the field the outputs determine
+    (SI.jl's identifiable functions, p and s, with the states' x0 and a12 (x0 + x1)). The error
+    probability adds this second membership test's bound to the first's and the verdict's."""
+    system = parse_si_model(TWO_COMPARTMENTS)
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert set(result.observable_functions) == {"x0", "a01 + a12 + a21", "a01*a12", "a12*(x0 + x1)"}
+    assert answer.generates_field is True and "lies in their field" in answer.generation
+    expected = (result.error_probability or 0.0) + GLOBAL_ERROR / (1 - GLOBAL_ERROR) + GLOBAL_ERROR
+    assert answer.error_probability == pytest.approx(expected, rel=1e-12)
+    assert "the observable functions generate the field" in result.__class__(**{**result.__dict__,
+                                                                                "global_answer": answer}).text()
+
+
+def test_a_square_in_place_of_a_generator_misses_the_second_derivative():
+    """The same model with p**2 printed instead of p: still transcendence degree 4, but p is not in
+    Q(x0, s, p^2, w) (p -> -p fixing x0, s, w is an automorphism: the four are independent), and
+    y'' = -s (w - s x0) - p x0 is linear in p: L^2 y is outside, certainly; y and y' = w - s x0
+    are inside."""
+    from observability.analysis.generators import generate_the_field
+    from observability.model.prepare import prepare
+
+    system = prepare(parse_si_model(TWO_COMPARTMENTS)).system
+    model = rational_model(system)
+    x0, x1, a01, a12, a21 = sympy.symbols("x0 x1 a01 a12 a21")
+    functions = [x0, a01 + a12 + a21, (a01 * a12) ** 2, a12 * (x0 + x1)]
+    found = generate_the_field(model, ["y"], [4], functions, 4, seed=1, error=1e-6)
+    assert found.generates is False and "L^2 y" in found.missing
+    assert "L^0 y" not in found.missing and "L^1 y" not in found.missing
+    whole = generate_the_field(model, ["y"], [4], [*functions[:2], a01 * a12, functions[3]], 4, seed=1, error=1e-6)
+    assert whole.generates is True and whole.missing == ()
+
+
+def test_generation_with_an_input_and_an_incomplete_list():
+    """x1' = u, x2' = 0, y = x1 + x2: rank 1; y' = u, y'' = u', so with the input's derivatives
+    adjoined K(u) = Q(u)(x1 + x2) and the printed x1 + x2 generates K. Its square does not:
+    x1 + x2 is not in Q(u)((x1 + x2)^2) (the sign), so L^0 y is outside, certainly, while L^1 y = u
+    is inside. The pair model
+    (line 148) prints functions only locally observable: they cannot generate the outputs' field
+    (certain, from the first test)."""
+    from observability.analysis.generators import generate_the_field
+
+    system = System(states=["x1", "x2"], inputs=["u"], dynamics={"x1": "u", "x2": "0"}, outputs={"y": "x1 + x2"})
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert result.observable_functions == ("x1 + x2",) and answer.generates_field is True
+    x1, x2, u = sympy.symbols("x1 x2 u")
+    found = generate_the_field(rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2, error=1e-6,
+                               inputs=[u])
+    assert found.missing == ("L^0 y",)  # L^1 y = u is a known variable
+    # y = u x1, x1' = 0: L y = u' x1 (the input's chain rule), outside Q(u, u')(x1^2) as u x1 is.
+    scaled = System(states=["x1"], inputs=["u"], dynamics={"x1": "0"}, outputs={"y": "u*x1"})
+    found = generate_the_field(rational_model(scaled), ["y"], [1], [x1 ** 2], 1, seed=2, error=1e-6, inputs=[u])
+    assert found.missing == ("L^0 y", "L^1 y")
+    pair = parse_si_model("ode = @ODEmodel(x1'(t) = -a1 * x1(t) + a21 * x2(t), "
+                          "x2'(t) = -a2 * x2(t) - a21 * x2(t), y1(t) = x1(t))")
+    answer = global_observability(pair, analyze(pair, seed=5), seed=3, budget=None)
+    assert answer.generates_field is False and "a2 + a21" in answer.generation

@@ -236,6 +236,10 @@ class ObservabilityResult:
         if answer.functions:
             lines.append("  observable functions: " + "; ".join(
                 f"{f} {'unique' if unique else 'only locally'}" for f, unique in answer.functions))
+        if answer.generation:
+            verdict = {True: "the observable functions generate", False: "the observable functions do not generate",
+                       None: "not known whether the observable functions generate"}[answer.generates_field]
+            lines.append(f"  {verdict} the field of globally observable functions: {answer.generation}")
         probability = "" if answer.error_probability is None else f"; error probability {answer.error_probability:.1e}"
         lines.append(f"  global: {answer.details}{probability}")
         return lines

@@ -50,6 +50,7 @@ from ..model.system import System
 from ..rank.membership import groebner_contains, sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
+from .generators import generate_the_field
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
 if TYPE_CHECKING:
@@ -83,6 +84,13 @@ class GlobalVerdict:
     functions : tuple of (str, bool)
         The verdict's observable functions (those not a state) and whether each
         is globally observable (tested with the states, same probability).
+    generates_field : bool or None
+        Whether the verdict's observable functions (states included) generate
+        the field of globally observable functions (:mod:`.generators`): False
+        is certain, True has the error probability (which includes this test);
+        None when not decided (``generation`` says why).
+    generation : str
+        The reason for ``generates_field``.
     """
 
     globally: tuple[str, ...]
@@ -92,12 +100,15 @@ class GlobalVerdict:
     details: str
     mirrors: tuple[str, ...] = ()
     functions: tuple[tuple[str, bool], ...] = ()
+    generates_field: bool | None = None
+    generation: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {"globally_observable_states": list(self.globally),
                 "only_locally_observable_states": list(self.only_locally),
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
-                "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions)}
+                "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions),
+                "functions_generate_the_field": self.generates_field, "generation": self.generation}
 
 
 def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0,
@@ -151,8 +162,39 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += result.error_probability or 0.0
+    generates, generation = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability, details, mirrors, answers)
+                         probability + (error if generates else 0.0), details, mirrors, answers, generates, generation)
+
+
+def _generation(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int],
+                where: dict[str, bool], answers: tuple[tuple[str, bool], ...], seed: int, error: float,
+                budget: float | None) -> tuple[bool | None, str]:
+    """Whether the verdict's observable functions generate the field the outputs
+    determine: each is globally observable, and every Lie derivative up to the
+    truncation lies in their field (:mod:`.generators`)."""
+    printed = tuple(result.observable_functions or ())
+    if not printed:  # full rank: the states themselves, whose answers are above
+        return None, ""
+    outside = [f for f in printed if f in where and not where[f]] + [f for f, unique in answers if not unique]
+    if outside:
+        return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine"
+    if result.functions_complete is not True:
+        return None, "their transcendence degree is not known to be the rank"
+    names = {s.name: s for s in (*system.states, *system.parameters)}
+    functions = [model.rewrite(parse_expression(text, names, where="observable function")) for text in printed]
+    outputs = [name for name, _ in system.outputs]
+    try:
+        found = with_budget(generate_the_field, model, outputs, [orders[o] for o in outputs], functions,
+                            result.rank, seed, error, system.free_parameters, system.inputs, seconds=budget)
+    except Undecided as exc:
+        return None, f"undecided: {exc}"
+    if isinstance(found, str):
+        return None, f"undecided: {found}"
+    if found.missing:
+        return False, f"{', '.join(found.missing)} not in their field (certain)"
+    return True, (f"every Lie derivative up to the truncation lies in their field (Thm 3.3 at a random point of "
+                  f"{found.bits} bits)")
 
 
 def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, sympy.Expr]]:
