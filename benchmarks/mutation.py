@@ -2,6 +2,7 @@
 
     pip install mutmut
     python benchmarks/mutation.py [GROUP ...]      # default: every group; --list shows them
+    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors)
 
 Each group is a set of modules and the tests that guard them. For a group the
 script clones the repository (its committed state) into a temporary directory,
@@ -30,7 +31,9 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                     "tests/test_edges.py"]),
     "parsing": (["observability/model/expressions.py", "observability/model/modelfile.py"],
                 ["tests/test_mutation_guards.py", "tests/test_modelfile.py", "tests/test_malformed_corpus.py",
-                 "tests/test_vectors.py", "tests/test_hardened_inputs.py", "tests/test_edges.py"]),
+                 "tests/test_vectors.py", "tests/test_hardened_inputs.py", "tests/test_edges.py",
+                 "tests/test_parser_messages.py", "tests/test_modelfile_messages.py", "tests/test_restrictions.py",
+                 "tests/test_unknown_inputs.py", "tests/test_unknown_parameters.py"]),
     "probabilities": (["observability/rank/randomized.py", "observability/engine/expansion.py", "observability/engine/densetaylor.py"],
                       ["tests/test_mutation_guards.py", "tests/test_engine.py", "tests/test_densetaylor.py",
                        "tests/test_soundness.py", "tests/test_special_points.py"]),
@@ -161,14 +164,16 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
     )
 
 
-def run(group: str) -> int:
+def run(group: str, only: list[str] | None = None) -> int:
+    """Mutate ``group``'s modules (``only``: just the mutants of these names, e.g. the
+    survivors of an earlier run, checked again after new tests)."""
     modules, tests = GROUPS[group]
     with tempfile.TemporaryDirectory(prefix=f"mutation-{group}-") as tmp:
         clone = Path(tmp) / "repo"
         subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
         with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
             handle.write(_configuration(modules, tests))
-        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2"], cwd=clone,
+        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2", *(only or [])], cwd=clone,
                              capture_output=True, text=True)
         if ran.returncode != 0:
             print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
@@ -196,11 +201,16 @@ def main(argv: list[str]) -> int:
         for name, (modules, tests) in GROUPS.items():
             print(f"{name}: {' '.join(modules)}  <- {' '.join(tests)}")
         return 0
+    only = None
+    if "--only" in argv:  # --only FILE: mutant names, one per line
+        at = argv.index("--only")
+        only = Path(argv[at + 1]).read_text(encoding="utf-8").split()
+        argv = argv[:at] + argv[at + 2:]
     unknown = [g for g in argv if g not in GROUPS]
     if unknown:
         print(f"unknown group {unknown[0]!r} (groups: {', '.join(GROUPS)})", file=sys.stderr)
         return 2
-    survivors = sum(run(group) for group in (argv or list(GROUPS)))
+    survivors = sum(run(group, only) for group in (argv or list(GROUPS)))
     return 1 if survivors else 0
 
 

@@ -397,7 +397,9 @@ def parse_value(
     try:
         tree = ast.parse(text.strip(), mode="eval")
     except (SyntaxError, ValueError) as exc:  # ValueError: a null byte
-        raise ModelFileError(f"{where}: syntax error in {_short(text)} at column {getattr(exc, 'offset', 0)}: {getattr(exc, 'msg', exc)}") from None
+        # Python gives offset 0 (or none) for an expression that ends too early: say so, not "column 0".
+        at = f"column {exc.offset}" if getattr(exc, "offset", None) else "its end"
+        raise ModelFileError(f"{where}: syntax error in {_short(text)} at {at}: {getattr(exc, 'msg', exc)}") from None
     except (RecursionError, MemoryError):
         raise ModelFileError(f"{where}: expression nested too deeply") from None
     try:
