@@ -12,12 +12,10 @@ observable functions; the observable states.
 
 from __future__ import annotations
 
-import random
 import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
-import flint
 import sympy
 
 from ..budget import paused_collection
@@ -33,6 +31,7 @@ from ..rank.evidence import EXACT, RankEvidence, float_evidence, random_evidence
 from ..rank.proof import PROOF_BUDGET, fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
 from .arbitrary import arbitrary_inputs_verdict
+from .completion import completed, jacobian_rank_at
 from .onset import rank_on_set
 from .result import ObservabilityResult, independent_fields
 
@@ -229,7 +228,8 @@ def _upper_bound(system: System, basis, seconds: float) -> str:
 
 def _functions(system: System, basis, rank: int, seed: int) -> tuple[sympy.Expr, ...] | None:
     """The observable functions: invariants of the null-space basis; the outputs
-    themselves when none of low degree is found ("[]" would read as "none")."""
+    themselves when none of low degree is found ("[]" would read as "none");
+    completed to the rank with the outputs' Lie derivatives (:mod:`.completion`)."""
     if basis is None or rank == system.n:
         return None
     # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
@@ -237,7 +237,7 @@ def _functions(system: System, basis, rank: int, seed: int) -> tuple[sympy.Expr,
     if not functions and rank:
         outputs = (system.substitute_values(h) for _, h in system.outputs)
         functions = tuple(h for h in outputs if h.free_symbols & set(system.states))
-    return functions
+    return completed(system, functions, rank, seed)
 
 
 def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: int, proof: str) -> bool | None:
@@ -249,26 +249,7 @@ def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: in
     rank at the point is itself certain to be generic -- not claimed, so None."""
     if not functions or proof != "proven":
         return None
-    parsed = [sympy.sympify(f) for f in functions]
-    rng = random.Random(7)
-    angles = {a for f in parsed for t in f.atoms(sympy.sin, sympy.cos) for a in t.args[0].free_symbols}
-    for _ in range(5):
-        # An angle inside sin and cos takes a rational point of the unit circle
-        # (a real angle, exactly), so the angle must appear nowhere else.
-        circle = {}
-        for a in angles:
-            t = sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
-            circle |= {sympy.sin(a): 2 * t / (1 + t**2), sympy.cos(a): (1 - t**2) / (1 + t**2)}
-        point = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13))
-                 for s in (*system.states, *system.free_parameters) if s not in angles} | dict(system.parameter_values)
-        jacobian = sympy.Matrix([[sympy.diff(f, x) for x in system.states] for f in parsed])
-        jacobian = jacobian.xreplace(circle).xreplace(point)
-        if all(e.is_Rational for e in jacobian):
-            # flint's exact rank: sympy's rational elimination took minutes on 36 x 40.
-            exact = flint.fmpq_mat(jacobian.rows, jacobian.cols,
-                                   [flint.fmpq(int(e.p), int(e.q)) for e in jacobian])
-            return True if exact.rank() == rank else None
-    return None
+    return True if jacobian_rank_at(system, [sympy.sympify(f) for f in functions], 7) == rank else None
 
 
 def _observable_states(system: System, evidence: RankEvidence, basis) -> tuple[str, ...] | None:

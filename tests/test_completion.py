@@ -1,0 +1,65 @@
+"""Observable functions completed to the rank with the outputs' Lie derivatives
+(issue 27 item 1: the degree <= 2 search misses longer generators and printed an
+incomplete list without saying so)."""
+
+from __future__ import annotations
+
+import sympy
+
+from observability import System, analyze
+from observability.analysis import completion
+from observability.analysis.completion import _coefficients, _completed, completed, jacobian_rank_at
+
+X1, X2, X3, U = sympy.symbols("x1 x2 x3 u")
+
+
+def _constants_seen_twice() -> System:
+    """Three constants, y1 = x1 + x2 and y2 = x1^3 x3 + x2^5: rank 2 (the two gradients are
+    independent, no derivative adds anything), and y2 is of degree 5, beyond the search."""
+    return System(["x1", "x2", "x3"], ["0", "0", "0"], {"y1": "x1 + x2", "y2": "x1**3*x3 + x2**5"})
+
+
+def test_a_long_output_completes_the_list():
+    result = analyze(_constants_seen_twice(), seed=3)
+    assert result.rank == 2 and result.proof == "proven"
+    assert result.observable_functions == ("x1 + x2", "x1**3*x3 + x2**5") and result.functions_complete is True
+
+
+def test_an_input_s_coefficient_completes_the_list():
+    """x1' = u x2^3 x3, x2, x3 constant, y = x1: y' = u x2^3 x3, so x2^3 x3 (the coefficient of the
+    known input) is observable; rank 2 of 3 (x2 and x3 only through x2^3 x3)."""
+    system = System(["x1", "x2", "x3"], ["u*x2**3*x3", "0", "0"], {"y": "x1"}, inputs=["u"])
+    result = analyze(system, seed=3)
+    assert result.rank == 2 and result.observable_functions == ("x1", "x2**3*x3")
+    assert result.functions_complete is True
+
+
+def test_nothing_short_enough_leaves_the_list_as_it_was(monkeypatch):
+    """With the length limit below y2's 16 characters nothing is added: the list stays x1 + x2,
+    whose completeness is not claimed."""
+    monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 10)
+    system = _constants_seen_twice()
+    assert _completed(system, (X1 + X2,), 2, seed=1) == (X1 + X2,)
+    monkeypatch.undo()
+    assert _completed(system, (X1 + X2,), 2, seed=1) == (X1 + X2, X1**3 * X3 + X2**5)
+    assert completed(system, (X1 + X2, X1 - X2), 2, seed=1) == (X1 + X2, X1 - X2)  # already at the rank
+
+
+def test_the_jacobian_rank_is_exact_on_the_circle():
+    """cos(th) and x: rank 2; sin^2 + cos^2 (identically 1): rank 0, exactly, because the angle
+    sits on a rational point of the unit circle; x*y and x*y + 1: rank 1."""
+    system = System(["x", "y", "th"], ["0", "0", "0"], {"o": "x"})
+    x, y, th = system.states
+    assert jacobian_rank_at(system, [sympy.cos(th), x], 4) == 2
+    assert jacobian_rank_at(system, [sympy.sin(th) ** 2 + sympy.cos(th) ** 2], 4) == 0
+    assert jacobian_rank_at(system, [x * y, x * y + 1], 4) == 1
+
+
+def test_coefficients_in_the_inputs():
+    """u^2 x1 + u x2 + x3 has the coefficients x1, x2, x3; sin(u) x1 is not polynomial in u: none;
+    a constant coefficient (u alone) is no function of the states."""
+    system = System(["x1", "x2", "x3"], ["0", "0", "0"], {"y": "x1"}, inputs=["u"])
+    assert set(_coefficients(U**2 * X1 + U * X2 + X3, system)) == {X1, X2, X3}
+    assert _coefficients(sympy.sin(U) * X1, system) == []
+    assert _coefficients(U + X1, system) == [X1]
+    assert _coefficients(X1 * X2, system) == [X1 * X2]
