@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 import sympy
 
-from observability.errors import ModelFileError
+from observability.errors import ModelError, ModelFileError
 from observability.model import modelfile
 from observability.model.modelfile import load_model, parse_model
 
@@ -39,6 +39,9 @@ REFUSED = [
                             "name, outputs, parameters, quantities, states, symmetries, time, unknown_input_degree, "
                             "unknown_inputs, unknown_parameters)"),
     ("name = 3\n" + BASE, "'name' must be a string, got 3"),
+    ("latex = 3\n" + BASE, "[latex] must be a table of name = \"expression\", got 3"),
+    ('states = ["p[2]"]\n[dynamics]\np = "[0, 0]"\n[outputs]\ny = "p[0]"\n[latex]\np = "\\\\input"\n',
+     "latex.p: LaTeX command \\input is not allowed in a name"),
     ("description = 3\n" + BASE, "'description' must be a string"),
     ("angles = 3\n" + BASE, "'angles' must be a list of state or output names, got 3"),
     ("angles = [1]\n" + BASE, "'angles' must be a list of state or output names, got [1]"),
@@ -57,7 +60,7 @@ REFUSED = [
 
 @pytest.mark.parametrize(("text", "message"), REFUSED, ids=[m[:30] for _, m in REFUSED])
 def test_each_refusal_is_one_line_naming_the_file(text, message):
-    with pytest.raises(ModelFileError) as caught:
+    with pytest.raises(ModelError) as caught:  # ModelFileError, or ModelError for a name's LaTeX
         parse_model(text, "m.toml")
     assert str(caught.value).startswith("m.toml: " + message), str(caught.value)
     assert "\n" not in str(caught.value)
@@ -77,6 +80,11 @@ def test_defaults_and_boundaries_that_are_accepted():
     text = BASE + '[symmetries.s]\nx = "x + epsilon"\n[motions.m]\ninputs = { u = "0" }\n'
     system = parse_model(text, "m.toml")
     assert [s.description for s in system.symmetries] == [""] and system.motions[0].description == ""
+    described = parse_model(text + 'description = "stands still"\n', "m.toml")
+    assert described.motions[0].description == "stands still"
+    angles = parse_model('angles = ["e", "y"]\nstates = ["e[3]"]\n[dynamics]\ne = "[0, 0, 0]"\n[outputs]\n'
+                         'y = "e[0]"\n', "m.toml")
+    assert angles.angles == ("e_0", "e_1", "e_2", "y")  # a vector's components, a scalar as itself
     vector = parse_model('states = ["x"]\n[parameters]\nk = [2]\n[dynamics]\nx = "k_0"\n[outputs]\ny = "x"\n', "m.toml")
     assert dict(vector.parameter_values) == {sympy.Symbol("k_0"): 2}
 

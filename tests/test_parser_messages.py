@@ -33,6 +33,14 @@ REFUSED = [
     ("[p, p][0, 3]", "index 3 is out of range for 3 components in '[p, p][0, 3]' (column 11)"),
     ("[p, p][2, 0]", "index 2 is out of range for 2 components in '[p, p][2, 0]' (column 8)"),
     ("x + []", "an empty list in 'x + []' (column 5)"),
+    # Away from column 1, so that a message given no node (column 1) is caught.
+    ("y + x[0]", "only a vector or a matrix can be indexed in 'y + x[0]' (column 5)"),
+    ("y + p[0, 1, 2]", "a matrix is indexed by two integers, M[i, j] in 'y + p[0, 1, 2]' (column 5)"),
+    ("y + [p, p][0]", "a 2x3 matrix is indexed by two integers, M[i, j] in 'y + [p, p][0]' (column 5)"),
+    ("y + p[::2]", "a slice step is not allowed in 'y + p[::2]' (column 5)"),
+    ("y + p[2:1]", "an empty slice in 'y + p[2:1]' (column 5)"),
+    ("p[-1:1]", "an empty slice in 'p[-1:1]' (column 1)"),
+    ("y * [p, x]", "a list holds scalars (a vector) or vectors of one length (the rows of a matrix) in 'y * [p, x]' (column 5)"),
     ("[p, x]", "a list holds scalars (a vector) or vectors of one length (the rows of a matrix) in '[p, x]' (column 1)"),
     ("[p, p[:2]]", "a list holds scalars (a vector) or vectors of one length (the rows of a matrix) in '[p, p[:2]]' (column 1)"),
     ("x**pi", "the exponent pi is not a rational number in 'x**pi' (column 1)"),
@@ -97,7 +105,7 @@ def test_slices_and_indices_select_the_components_they_name():
 
     assert list(value("p[:2]")) == [P[0], P[1]] and list(value("p[1:]")) == [P[1], P[2]]
     assert list(value("p[0:3]")) == list(P) and list(value("p[-2:]")) == [P[1], P[2]]
-    assert value("p[-1]") == P[2] and value("[p, [x, y, 1]][1, 2]") == 1 and value("[p, p][1, 0]") == P[0]
+    assert value("p[-1]") == P[2] and value("p[-3]") == P[0] and value("[p, [x, y, 1]][1, 2]") == 1 and value("[p, p][1, 0]") == P[0]
     assert value("[p, p]").shape == (2, 3) and value("[x, y]").shape == (2, 1)
 
 
