@@ -545,3 +545,57 @@ def test_a_28_state_quadrotor_vio_is_proven_with_its_yaw_named():
     assert names[:1] == ["rotation about the z-axis"] and names[1] == "the norm of (q_0, q_1, q_2, q_3)"
     assert sum(name.startswith("translation") for name in names) == 3
     assert {f"{b}_{k}" for b in ("bg", "ba", "pc") for k in range(3)} <= set(result.observable_states)
+
+
+def _edited(proof: dict, change) -> dict:
+    copy = json.loads(json.dumps(proof))
+    change(copy)
+    return copy
+
+
+def test_each_refusal_of_the_checker_says_what_is_wrong():
+    """The checker's reasons word for word (issue 32: its refusals were checked only as refusals,
+    and 139 mutants of proofcheck.py survived, mostly messages and bounds). The pendulum's point is
+    x1 = 7/2, x2 = -8, u = -2/3, u' = -2; with x2' = -2*u*x1 instead, by hand L_f h = u'*x1**2 -
+    2*u*x1*x2 and the minor on rows (h, 0), (h, 1), columns x2, x1 is
+    (-16)(-74/3) - (-14/3)(14/3) = 3748/9 (the genuine one: (-16)(-14) = 224)."""
+    checker = _checker()
+    proof = _pendulum_proof()
+    pendulum = "the generic rank of the observability matrix of pendulum is"
+    cases = [
+        (lambda p: p.update(format="x"), "unknown format 'x'"),
+        (lambda p: p["upper_bound"].update(kind="other"), "unknown kind of upper bound 'other' for continuous time"),
+        (lambda p: p["lower_bound"].update(rows=[["h", 0], ["g", 0]]),
+         "row ('g', 0) is not a row of the observability matrix"),
+        (lambda p: p["lower_bound"].update(columns=["x2", "x2"]),
+         "the minor is not rank x rank with distinct rows and columns"),
+        (lambda p: (p.update(rank=1, claim=f"{pendulum} 1 of 2"),
+                    p["lower_bound"].update(rows=[["h", 0]], columns=["x2"], minor="-16")),
+         "0 generators cannot bound the rank of 2 states by 1"),
+        (lambda p: p["model"]["dynamics"].update(x1="x2 +"), "not an expression: 'x2 +'"),
+        (lambda p: p["model"]["dynamics"].update(x1="__import__('os')"),
+         "not allowed in a proof's expression: \"__import__('os')\""),
+        (lambda p: p["model"]["dynamics"].update(x1="x2**1001"), "an exponent must be a number of size at most 1000, got 1001"),
+        (lambda p: p["model"]["dynamics"].update(x1="x2/0"), "division by zero in an expression"),
+        (lambda p: p["model"]["dynamics"].update(x1="x2" + " " * 199_999), "an expression of 200001 characters (at most 200000)"),
+        (lambda p: p["model"]["dynamics"].update(x2="-2*u*x1"), "the minor is 3748/9, the file says 224"),
+        (lambda p: p["lower_bound"].update(minor="225"), "the minor is 224, the file says 225"),
+        (lambda p: p["lower_bound"].update(exact=False), "the file says the minor is not exact; its entries say otherwise"),
+        (lambda p: p.update(rank=3), "rank 3 of n_states 2 does not fit the model's 2 states"),
+        (lambda p: p.update(n_states=3), "rank 2 of n_states 3 does not fit the model's 2 states"),
+        (lambda p: p.update(claim=f"{pendulum} 3 of 3"),
+         f"the claim '{pendulum} 3 of 3' is not what the file's rank and model say ('{pendulum} 2 of 2')"),
+        (lambda p: p["lower_bound"]["point"]["states"].pop("x1"),
+         "the point does not give exactly the states and the parameters without a value"),
+        (lambda p: p["lower_bound"]["point"]["inputs"].update(u=["1"]), "the point does not give every input 2 value(s)"),
+        (lambda p: p["model"].update(states=["x1", "x2", "x2"]), "the model's names are not distinct identifiers"),
+    ]
+    for change, reason in cases:
+        with pytest.raises(checker.Rejected) as caught:
+            checker.check(_edited(proof, change))
+        assert str(caught.value) == reason
+    # At the bounds: an exponent of 1000 and an expression of 200,000 characters are read.
+    for change in (lambda p: p["model"]["dynamics"].update(x1="x2**1000 - x2**1000 + x2"),
+                   lambda p: p["model"]["dynamics"].update(x1="x2" + " " * 199_998)):
+        assert checker.check(_edited(proof, change)) == (f"accepted: {pendulum} 2 of 2 (minor non-zero exactly; "
+                                                         "0 generator(s) verified as identities and independent)")
