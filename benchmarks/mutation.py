@@ -63,7 +63,17 @@ EQUIVALENT: dict[str, str] = {
        for k in (5, 8, 11)},
     "observability.model.expressions.x_split_top_level__mutmut_5":
         "depth counted with the opposite sign: it is zero at exactly the same characters, so the same commas split",
-    "observability.model.modelfile.x__latex_names__mutmut_7": "required=None: as falsy as False",
+    **{f"observability.model.modelfile.{name}": "required=None: as falsy as False"
+       for name in ("x__latex_names__mutmut_7", "x_parse_model__mutmut_62", "x_parse_model__mutmut_75",
+                    "x_parse_model__mutmut_96", "x_parse_model__mutmut_183", "x_parse_model__mutmut_240",
+                    "x_parse_model__mutmut_282", "x__parameters__mutmut_12")},
+    "observability.model.modelfile.x_load_model__mutmut_15":
+        "the read after the size check takes one byte past the limit to see a file that grew after stat(); "
+        "two bytes see it as well",
+    "observability.model.modelfile.x_load_model__mutmut_17":
+        "the message of a file that grew between stat() and read(): a race no test can order (the size check "
+        "before it is tested word for word)",
+    "observability.model.modelfile.x_load_model__mutmut_21": "codec names are case-insensitive: UTF-8 is utf-8",
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
