@@ -80,7 +80,7 @@ REFUSED = [
 ]
 
 
-@pytest.mark.parametrize(("text", "message"), REFUSED, ids=[t[:20] for t, _ in REFUSED])
+@pytest.mark.parametrize(("text", "message"), REFUSED, ids=[f"refusal{i}" for i in range(len(REFUSED))])
 def test_each_refusal_says_what_where_and_at_which_column(text, message):
     with pytest.raises(ModelFileError) as caught:
         parse_value(text, NAMES, where="m.toml: outputs.y", vectors=VECTORS)
