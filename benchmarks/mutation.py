@@ -74,6 +74,8 @@ EQUIVALENT: dict[str, str] = {
         "the message of a file that grew between stat() and read(): a race no test can order (the size check "
         "before it is tested word for word)",
     "observability.model.modelfile.x_load_model__mutmut_21": "codec names are case-insensitive: UTF-8 is utf-8",
+    "observability.model.modelfile.x_parse_model__mutmut_239":
+        "the source of a second read of unknown_inputs: the first read, with the source, refuses a bad value first",
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":

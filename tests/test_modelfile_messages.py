@@ -12,6 +12,7 @@ from observability.model import modelfile
 from observability.model.modelfile import load_model, parse_model
 
 BASE = 'states = ["x"]\ninputs = ["u"]\n[dynamics]\nx = "u"\n[outputs]\ny = "x"\n'
+VECTOR = 'time = "discrete"\nstates = ["p[2]"]\n[dynamics]\np = "p"\n[outputs]\ny = "p[0]"\n'
 
 REFUSED = [
     ('inputs = ["u"]\n[dynamics]\nx = "u"\n[outputs]\ny = "x"\n', "missing required key 'states'"),
@@ -47,6 +48,8 @@ REFUSED = [
     (BASE + "[inverse]\nx = \"x +\"\n", "inverse.x: syntax error in 'x +' at its end: invalid syntax"),
     (BASE + "[symmetries.s]\nx = \"x +\"\n", "symmetries.s.x: syntax error in 'x +' at its end: invalid syntax"),
     (BASE + "[quantities]\nq = \"x +\"\n", "quantities.q: syntax error in 'x +' at its end: invalid syntax"),
+    (VECTOR + '[symmetries.s]\np = "[p_0, p_1, epsilon]"\n', "symmetries.s.p: p[2] is given a vector of 3 components"),
+    (VECTOR + '[inverse]\np = "[p_0, p_1, 0]"\n', "inverse.p: p[2] is given a vector of 3 components"),
     ('states = ["x"]\n[dynamics]\nx = "prev(x)"\n[outputs]\ny = "x"\n',
      "dynamics.x: prev() is only allowed in outputs of discrete-time models in 'prev(x)' (column 1)"),
     ("latex = 3\n" + BASE, "[latex] must be a table of name = \"expression\", got 3"),
