@@ -13,8 +13,8 @@ Those entries are then replaced in the matrix by symbols ``R_{ij}``, defined
 once under it.
 
 The replacement is exact by construction — a subexpression equal to ``c r_ij``
-becomes ``c R_ij`` with ``R_ij := r_ij`` — and :func:`restore` undoes it, which
-the tests compare with the matrix at random rational points.
+becomes ``c R_ij`` with ``R_ij := r_ij``; the tests put a hand-typed rotation
+back and compare with the matrix at random rational points.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from ..model import rotations
 from ..model.notation import vector_names
 from ..model.system import System
 
-__all__ = ["NamedRotation", "named_rotations", "name_rotations", "restore"]
+__all__ = ["NamedRotation", "named_rotations", "name_rotations"]
 
 #: Fewest entries of a formula found in the model for it to count as written.
 _MIN_FOUND = 3
@@ -127,11 +127,3 @@ def name_rotations(named: tuple[NamedRotation, ...]) -> Callable[[sympy.Expr], s
         return result
 
     return rewrite
-
-
-def restore(expr: sympy.Expr, named: tuple[NamedRotation, ...]) -> sympy.Expr:
-    """The expression with each R_ij replaced by the entry it names."""
-    values: dict[sympy.Symbol, sympy.Expr] = {}
-    for rotation in named:
-        values.update(rotation.replacements())
-    return expr.xreplace(values)
