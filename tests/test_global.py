@@ -390,7 +390,7 @@ def test_rational_functions_and_the_stated_probability():
     unique; through a = (x/z)**2 only z/x up to its sign. The error probability is the test's
     e / (1 - e) (the verdict is proven: nothing added), plus e for the second test (the function
     generates the field: a and its derivatives, all a) where the function is unique; where it is
-    not, "does not generate" is certain and adds nothing."""
+    not, "does not generate" follows from the first test alone and adds nothing."""
     for output, function, unique in (("x/z + w", "(w*z + x)/z", True), ("(x/z)**2", "z/x", False)):
         states = ["x", "z", "w"] if "w" in output else ["x", "z"]
         system = System(states, ["0"] * len(states), {"a": output})

@@ -20,12 +20,12 @@ from __future__ import annotations
 import random
 from collections.abc import Sequence
 
-import flint
 import sympy
 
 from ..budget import Undecided, with_budget
 from ..engine.lie import lie_derivatives
 from ..model.system import System
+from ..rank.membership import exact_rank
 
 __all__ = ["completed", "jacobian_rank_at", "MAX_COMPLETION_CHARS", "COMPLETION_BUDGET"]
 
@@ -59,7 +59,7 @@ def jacobian_rank_at(system: System, functions: Sequence[sympy.Expr], seed: int,
         values = jacobian.xreplace(circle).xreplace(point)
         if all(e.is_Rational for e in values):
             # flint's exact rank: sympy's rational elimination took minutes on 36 x 40.
-            return flint.fmpq_mat(values.rows, values.cols, [flint.fmpq(int(e.p), int(e.q)) for e in values]).rank()
+            return exact_rank(values.tolist(), values.cols)
     return None
 
 

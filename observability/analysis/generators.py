@@ -16,10 +16,9 @@ Q(g) (Mueller-Quade and Steinwandt's: num_i(x) den_i(a) - num_i(a) den_i(x),
 saturated at the denominators) at a random integer point a, with coordinates
 adjoined at their values until the transcendence degree is full.
 
-The answers are one-sided: a Lie derivative outside Q(g) is reported so with
-certainty (f in Q(g) lies in that ideal at every point where the denominators
-do not vanish), "inside" has error probability at most ``error`` (the sampling
-range of :func:`~observability.rank.membership.sampling_range`).
+Either answer may be wrong at a bad point, with probability at most ``error``
+(the sampling range of :func:`~observability.rank.membership.sampling_range`);
+the caller adds it to the verdict's error probability.
 """
 
 from __future__ import annotations
@@ -28,11 +27,10 @@ import random
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import flint
 import sympy
 
-from ..engine.lie import input_derivative
-from ..rank.membership import groebner_contains, sampling_range
+from ..engine.lie import input_derivative, lie_derivative
+from ..rank.membership import completing_columns, exact_rank, groebner_contains, sampling_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
 __all__ = ["FieldGeneration", "generate_the_field"]
@@ -43,7 +41,7 @@ class FieldGeneration:
     """Whether Q(g) holds every Lie derivative up to the truncation orders."""
 
     generates: bool
-    missing: tuple[str, ...]  # the Lie derivatives outside Q(g), as "L^k y" (certain)
+    missing: tuple[str, ...]  # the Lie derivatives found outside Q(g), as "L^k y"
     bits: int  # of the sampling range
 
 
@@ -55,32 +53,11 @@ def _lie_derivatives(model: RationalModel, orders: Sequence[int],
         current = h
         for j in range(k + 1):
             found.append((j, current))
-            step = sum(sympy.diff(current, x) * v for x, v in zip(model.coordinates, model.speeds))
+            step = lie_derivative(current, model.speeds, model.coordinates)
             step += sum(sympy.diff(current, input_derivative(u, i)) * input_derivative(u, i + 1)
                         for u in inputs for i in range(j + 1))
             current = sympy.cancel(step)
     return found
-
-
-def _completion(jacobian: list[list[flint.fmpq]], n: int) -> list[int]:
-    """Coordinates whose differentials complete the rows to rank n (greedy, exact)."""
-    rows = list(jacobian)
-
-    def rank(m):
-        return flint.fmpq_mat(len(m), n, [e for r in m for e in r]).rank() if m else 0
-
-    chosen = []
-    for i in range(n):
-        unit = [flint.fmpq(int(i == j)) for j in range(n)]
-        if rank(rows + [unit]) > rank(rows):
-            rows.append(unit)
-            chosen.append(i)
-    return chosen
-
-
-def _fmpq(value: sympy.Expr) -> flint.fmpq:
-    value = sympy.Rational(value)
-    return flint.fmpq(int(value.p), int(value.q))
 
 
 def generate_the_field(model: RationalModel, names: Sequence[str], orders: Sequence[int],
@@ -110,10 +87,11 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     given = {v: point[v] for v in known}
     generators = [(n.xreplace(given), d.xreplace(given)) for n, d in generators]
     tested = [(n.xreplace(given), d.xreplace(given)) for n, d in tested]
-    jacobian = [[_fmpq(sympy.diff(n / d, c).xreplace(point)) for c in coordinates] for n, d in generators]
-    if flint.fmpq_mat(len(jacobian), len(coordinates), [e for r in jacobian for e in r]).rank() != rank:
+    jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in generators]
+    if exact_rank(jacobian, len(coordinates)) != rank:
         return f"the functions' Jacobian does not reach the rank {rank} at the random point"
-    adjoined = [coordinates[i] - point[coordinates[i]] for i in _completion(jacobian, len(coordinates))]
+    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
+    adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
     equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
     saturation = sympy.Mul(*(d for _, d in generators))
     targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]

@@ -38,7 +38,6 @@ import random
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-import flint
 import sympy
 
 from ..budget import Undecided, with_budget
@@ -47,7 +46,7 @@ from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
-from ..rank.membership import groebner_contains, sampling_range
+from ..rank.membership import completing_columns, exact_rank, groebner_contains, sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .generators import generate_the_field
@@ -86,9 +85,9 @@ class GlobalVerdict:
         is globally observable (tested with the states, same probability).
     generates_field : bool or None
         Whether the verdict's observable functions (states included) generate
-        the field of globally observable functions (:mod:`.generators`): False
-        is certain, True has the error probability (which includes this test);
-        None when not decided (``generation`` says why).
+        the field of globally observable functions (:mod:`.generators`), with the
+        error probability (which includes this test); None when not decided
+        (``generation`` says why).
     generation : str
         The reason for ``generates_field``.
     """
@@ -162,25 +161,27 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += result.error_probability or 0.0
-    generates, generation = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
+    generates, generation, tested = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability + (error if generates else 0.0), details, mirrors, answers, generates, generation)
+                         probability + (error if tested else 0.0), details, mirrors, answers, generates, generation)
 
 
 def _generation(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int],
                 where: dict[str, bool], answers: tuple[tuple[str, bool], ...], seed: int, error: float,
-                budget: float | None) -> tuple[bool | None, str]:
+                budget: float | None) -> tuple[bool | None, str, bool]:
     """Whether the verdict's observable functions generate the field the outputs
     determine: each is globally observable, and every Lie derivative up to the
-    truncation lies in their field (:mod:`.generators`)."""
+    truncation lies in their field (:mod:`.generators`); the reason; and whether
+    that second membership test decided it (its error probability is then added:
+    a random point may err either way)."""
     printed = tuple(result.observable_functions or ())
     if not printed:  # full rank: the states themselves, whose answers are above
-        return None, ""
+        return None, "", False
     outside = [f for f in printed if f in where and not where[f]] + [f for f, unique in answers if not unique]
     if outside:
-        return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine"
+        return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine", False
     if result.functions_complete is not True:
-        return None, "their transcendence degree is not known to be the rank"
+        return None, "their transcendence degree is not known to be the rank", False
     names = {s.name: s for s in (*system.states, *system.parameters)}
     functions = [model.rewrite(parse_expression(text, names, where="observable function")) for text in printed]
     outputs = [name for name, _ in system.outputs]
@@ -188,13 +189,13 @@ def _generation(system: System, model: RationalModel, result: ObservabilityResul
         found = with_budget(generate_the_field, model, outputs, [orders[o] for o in outputs], functions,
                             result.rank, seed, error, system.free_parameters, system.inputs, seconds=budget)
     except Undecided as exc:
-        return None, f"undecided: {exc}"
+        return None, f"undecided: {exc}", False
     if isinstance(found, str):
-        return None, f"undecided: {found}"
+        return None, f"undecided: {found}", False
+    at = f"(Thm 3.3 at a random point of {found.bits} bits)"
     if found.missing:
-        return False, f"{', '.join(found.missing)} not in their field (certain)"
-    return True, (f"every Lie derivative up to the truncation lies in their field (Thm 3.3 at a random point of "
-                  f"{found.bits} bits)")
+        return False, f"{', '.join(found.missing)} not in their field {at}", True
+    return True, f"every Lie derivative up to the truncation lies in their field {at}", True
 
 
 def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, sympy.Expr]]:
@@ -317,25 +318,8 @@ def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.
     non-zero diagonal; where that rank is the verdict's, the completed matrix's
     non-zero minor certifies the chosen coordinates."""
     unknowns = list(jets.unknowns)
-    rows = [[_fmpq(sympy.diff(e, u).xreplace(jets.values)) for u in unknowns] for e in jets.equations]
+    rows = [[sympy.diff(e, u).xreplace(jets.values) for u in unknowns] for e in jets.equations]
     derivatives = len(unknowns) - len(coordinates)
-    if _rank(rows, len(unknowns)) != derivatives + rank:
+    if exact_rank(rows, len(unknowns)) != derivatives + rank:
         return None
-    free = []
-    for c in coordinates:
-        unit = [_fmpq(int(u == c)) for u in unknowns]
-        if _rank(rows + [unit], len(unknowns)) > _rank(rows, len(unknowns)):
-            rows.append(unit)
-            free.append(c)
-    return free
-
-
-def _fmpq(value) -> flint.fmpq:
-    value = sympy.Rational(value)
-    return flint.fmpq(int(value.p), int(value.q))
-
-
-def _rank(rows: list[list[flint.fmpq]], columns: int) -> int:
-    if not rows:
-        return 0
-    return flint.fmpq_mat(len(rows), columns, [e for row in rows for e in row]).rank()
+    return [unknowns[j] for j in completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates])]

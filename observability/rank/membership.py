@@ -30,9 +30,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import flint
 import sympy
 
-__all__ = ["sampling_range", "groebner_contains"]
+__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns"]
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -59,3 +60,29 @@ def groebner_contains(equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.
         relations.append(t * saturation - 1)
     basis = sympy.groebner(relations, t, *unknowns, order="grevlex", domain="QQ")
     return tuple(basis.reduce(sympy.expand(target))[1] == 0 for target in targets)
+
+
+def _matrix(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> flint.fmpq_mat:
+    entries = [sympy.Rational(e) for row in rows for e in row]
+    return flint.fmpq_mat(len(rows), columns, [flint.fmpq(int(e.p), int(e.q)) for e in entries])
+
+
+def exact_rank(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> int:
+    """The rank of a matrix of rationals, exactly (flint)."""
+    return _matrix(rows, columns).rank() if rows else 0
+
+
+def completing_columns(rows: Sequence[Sequence[sympy.Expr]], columns: int, candidates: Sequence[int]) -> list[int]:
+    """Candidate columns whose unit rows, added greedily, each raise the rank of
+    ``rows``: the variables to adjoin at their values for a full transcendence
+    degree (a non-zero minor of the completed matrix certifies the choice)."""
+    current = [list(row) for row in rows]
+    rank = exact_rank(current, columns)
+    chosen = []
+    for j in candidates:
+        unit = [int(i == j) for i in range(columns)]
+        if exact_rank([*current, unit], columns) > rank:
+            current.append(unit)
+            rank += 1
+            chosen.append(j)
+    return chosen

@@ -135,7 +135,8 @@ class LatexMatrix:
         )
         lines = [f"\\begin{{array}}{{{spec}}}", " & " + " & ".join(self.column_labels[j] for j in columns) + " \\\\", "\\hline"]
         runs = _runs(groups)
-        row_runs = _runs([_output_group(self.rows[i][0], [o for o, _ in self.rows]) for i in block.rows])
+        group = _output_groups([o for o, _ in self.rows])
+        row_runs = _runs([group[self.rows[i][0]] for i in block.rows])
         for r_start, r_stop in row_runs:
             if r_start:
                 lines.append("\\hline")
@@ -166,9 +167,10 @@ def _runs(keys: Sequence[object]) -> list[tuple[int, int]]:
     return runs
 
 
-def _output_group(output: str, outputs: Sequence[str]) -> str:
-    """The vector ``output`` is a component of, or the output itself."""
-    return next((v for v, cs in vector_names(outputs).items() if output in cs), output)
+def _output_groups(outputs: Sequence[str]) -> dict[str, str]:
+    """Each output -> the vector it is a component of, or itself."""
+    vector_of = {c: v for v, cs in vector_names(outputs).items() for c in cs}
+    return {o: vector_of.get(o, o) for o in outputs}
 
 
 def _label(output: str, order: int, discrete: bool, names: Mapping[str, str]) -> str:
@@ -397,9 +399,10 @@ def _layout(
     # Output-major rows: the rows of one output together, so that its block shows.
     # A vector output's components order by order (grad z, then grad L_f z), as a paper writes them.
     outputs = [o for o, _ in system.outputs]
-    groups = list(dict.fromkeys(_output_group(o, outputs) for o in outputs))
+    group = _output_groups(outputs)
+    groups = list(dict.fromkeys(group.values()))
     labelled = sorted((r for rows in by_order for r in rows),
-                      key=lambda r: (groups.index(_output_group(r[0][0], outputs)), r[0][1], outputs.index(r[0][0])))
+                      key=lambda r: (groups.index(group[r[0][0]]), r[0][1], outputs.index(r[0][0])))
     labels = tuple(label for label, _ in labelled)
     matrix = sympy.Matrix([g for _, g in labelled])
     symbols = set().union(*(e.free_symbols for e in matrix)) | {s for s, _ in system.quantities}

@@ -69,24 +69,23 @@ def _key(expr: sympy.Expr) -> sympy.Expr | None:
     return -primitive if primitive.could_extract_minus_sign() else primitive
 
 
-def _subexpressions(expressions: Iterable[sympy.Expr], symbols: set[sympy.Symbol]) -> set[sympy.Expr]:
-    """Keys of the sums and products in ``expressions`` whose symbols are among ``symbols``."""
+def _subexpressions(expressions: Iterable[sympy.Expr]) -> set[sympy.Expr]:
+    """The sums, products, sines and cosines in ``expressions`` (each once)."""
     found = set()
     for expr in expressions:
-        for node in sympy.preorder_traversal(expr):
-            if isinstance(node, (sympy.Add, sympy.Mul, sympy.cos, sympy.sin)) and node.free_symbols <= symbols:
-                found.add(_key(node))
+        found.update(node for node in sympy.preorder_traversal(expr)
+                     if isinstance(node, (sympy.Add, sympy.Mul, sympy.cos, sympy.sin)))
     return found
 
 
 def named_rotations(system: System) -> tuple[NamedRotation, ...]:
     """The rotation matrices the model's outputs and dynamics are written with."""
-    expressions = [*(h for _, h in system.outputs), *system.dynamics]
+    nodes = _subexpressions([*(h for _, h in system.outputs), *system.dynamics])
     found: list[NamedRotation] = []
     by_name = {x.name: x for x in system.states}
     for name, components in vector_names([x.name for x in system.states]).items():
         argument = tuple(by_name[c] for c in components)
-        present = _subexpressions(expressions, set(argument))
+        present = {_key(node) for node in nodes if node.free_symbols <= set(argument)}
         for formula, matrix in _candidates(argument):
             keys = [_key(e) for e in matrix]
             if sum(k is not None and k in present for k in keys) >= _MIN_FOUND:
