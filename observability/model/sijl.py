@@ -11,10 +11,17 @@ any other ``f(t)`` on a right-hand side is an input, and every bare name is an
 unknown constant (SI.jl's "parameter", here an ``unknown_parameter``). The text
 is only rewritten (``(t)`` dropped, ``^`` as ``**``, Julia's rational ``//`` as ``/``, ``#`` comments removed) and
 then read by the same safe parser as model files: nothing is executed.
+
+Names that are legal in Julia but reserved here (Python keywords such as
+``lambda``, and ``prev`` and ``epsilon``, which model files use for the previous
+state and the machine epsilon) get a trailing underscore (``lambda_``, as many as
+needed to be new), so that a model from SI.jl's benchmarks (SEIRT's ``lambda``,
+SEIR 34's ``epsilon``) is read as written; the verdict uses the renamed names.
 """
 
 from __future__ import annotations
 
+import keyword
 import re
 
 from ..errors import ModelError, ModelFileError
@@ -27,6 +34,20 @@ _STATE = re.compile(r"^([A-Za-z_]\w*)\s*'\s*\(\s*t\s*\)$")
 _OUTPUT = re.compile(r"^([A-Za-z_]\w*)\s*\(\s*t\s*\)$")
 _OF_T = re.compile(r"\b([A-Za-z_]\w*)\s*\(\s*t\s*\)")
 _NAME = re.compile(r"\b([A-Za-z_]\w*)\b(?!\s*\()")
+_WORD = re.compile(r"\b[A-Za-z_]\w*\b")
+_RESERVED = ("prev", "epsilon")
+
+
+def _unreserved(body: str) -> str:
+    """``body`` with every reserved name renamed with trailing underscores (module docstring)."""
+    words = set(_WORD.findall(body))
+    renamed = {}
+    for word in sorted(w for w in words if keyword.iskeyword(w) or w in _RESERVED):
+        new = word + "_"
+        while new in words or new in renamed.values():
+            new += "_"
+        renamed[word] = new
+    return _WORD.sub(lambda m: renamed.get(m[0], m[0]), body) if renamed else body
 
 
 def _body(text: str, source: str) -> str:
@@ -51,7 +72,7 @@ def parse_si_model(text: str, source: str = "<model>", name: str = "model") -> S
         No ``@ODEmodel``, an equation that is neither ``x'(t) = ...`` nor
         ``y(t) = ...``, or anything the model-file parser refuses, with ``source``.
     """
-    body = _body("\n".join(line.split("#", 1)[0] for line in text.splitlines()), source)
+    body = _unreserved(_body("\n".join(line.split("#", 1)[0] for line in text.splitlines()), source))
     dynamics: dict[str, str] = {}
     outputs: dict[str, str] = {}
     for equation in split_top_level(body):
