@@ -204,15 +204,16 @@ def test_exit_status_survives_a_closed_pipe():
 
 
 def test_brief_text_and_complete_json():
-    """slam2d with 50 landmarks: the rotation moves 105 components; --brief shows
-    8 and says how many more, the JSON keeps all of them."""
-    out = run("check", "slam2d", "-o", "landmarks=50", "--brief", "--seed", "1")
+    """slam2d with 10 landmarks: the rotation moves 25 components (cx, cxdot, cy,
+    cydot, cth and 2 per landmark); --brief shows 8 and says how many more, the
+    JSON keeps all of them."""
+    out = run("check", "slam2d", "-o", "landmarks=10", "--brief", "--seed", "1")
     assert out.returncode == 1, out.stderr
     rotation = next(line for line in out.stdout.splitlines() if "rotation" in line)
-    assert "... and 97 more" in rotation
-    data = json.loads(run("check", "slam2d", "-o", "landmarks=50", "--format", "json", "--seed", "1").stdout)
+    assert "... and 17 more" in rotation
+    data = json.loads(run("check", "slam2d", "-o", "landmarks=10", "--format", "json", "--seed", "1").stdout)
     vector = next(d["vector"] for d in data["unobservable_directions"] if d["name"].startswith("rotation"))
-    assert len(vector) == 105
+    assert len(vector) == 25
 
 
 def test_every_subcommand_option_has_help_text():

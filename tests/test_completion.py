@@ -78,3 +78,16 @@ def test_the_st_model_of_structural_identifiability_jl_gets_a_complete_list():
     assert result.rank == 10 and result.proof == "proven"
     assert len(result.observable_functions) == 10 and result.functions_complete is True
     assert {"Dd", "T", "R + S"} <= set(result.observable_functions)
+
+
+def test_functions_can_be_left_out_without_changing_the_verdict():
+    """``functions=False`` (tables, reports, LaTeX) skips the observable functions
+    only: slam2d with one landmark keeps rank 4 of 8 (translations, rotation and
+    scale: Manzoor & Muhammad's planar model) and its four named directions."""
+    from observability import analyze, models
+
+    system = models.build("slam2d")
+    full, lean = analyze(system, seed=1), analyze(system, seed=1, functions=False)
+    assert full.observable_functions and lean.observable_functions is None and lean.functions_complete is None
+    assert lean.rank == full.rank == 4 and lean.proof == full.proof == "proven"
+    assert [d.name for d in lean.unobservable_directions] == [d.name for d in full.unobservable_directions]

@@ -58,6 +58,7 @@ def analyze(
     progress: Callable[[str], None] | None = None,
     where: ConstraintSet | None = None,
     symbolic_directions: bool = False,
+    functions: bool = True,
 ) -> ObservabilityResult:
     """Decide whether ``system`` is locally (weakly) observable, and how not.
 
@@ -100,6 +101,11 @@ def analyze(
         space up to 20 s of CPU (within ``budget``; n <= 24) instead of 2 s
         before falling back to vectors at a point; the symbolic method always
         does.
+    functions : bool
+        Find the observable functions (invariants of the directions, completed to
+        the rank; up to seconds on a 16-state model). False leaves
+        ``observable_functions`` None: for callers that need the rank and the
+        directions only (tables, reports, LaTeX).
     progress : callable, optional
         Receives a status line after each order.
     where : ConstraintSet, optional
@@ -108,13 +114,13 @@ def analyze(
     """
     with paused_collection():
         return _verdict(system, method, seed, input_derivatives, max_order, budget, point, previous, directions,
-                        progress, where, symbolic_directions)
+                        progress, where, symbolic_directions, functions)
 
 
 def _verdict(system: System, method: str, seed: int | None, input_derivatives: int | None, max_order: int | None,
              budget: float | None, point: Mapping[str, float] | None, previous: str, directions: bool,
              progress: Callable[[str], None] | None, where: ConstraintSet | None,
-             symbolic_directions: bool) -> ObservabilityResult:
+             symbolic_directions: bool, functions: bool) -> ObservabilityResult:
     """The pipeline :func:`analyze` runs (arguments as there)."""
     _check_options(method, previous, max_order, input_derivatives)
     start = time.perf_counter()
@@ -142,7 +148,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     details = evidence.details + upper + (f"; {note}" if note else "") + (
         f"; {prepared.rewritten}" if prepared.rewritten else "")
     observable_states = _observable_states(system, evidence, basis)
-    functions = _functions(system, basis, rank, evidence.seed or 0)
+    functions = _functions(system, basis, rank, evidence.seed or 0) if functions else None
     if observable_states is None:
         details += "; observable states unknown"
     return ObservabilityResult(

@@ -70,9 +70,11 @@ def _restricted(system: System, args: argparse.Namespace, where: str | None = No
     return restricted.system, restricted.input_derivatives, restricted.constraint
 
 
-def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None) -> ObservabilityResult:
+def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = None,
+             functions: bool = True) -> ObservabilityResult:
     """The verdict on ``system`` under the command's options (``prepared``: the
-    result of :func:`_restricted` when the caller already has it)."""
+    result of :func:`_restricted` when the caller already has it; ``functions``:
+    whether the observable functions are wanted)."""
     from ..analysis.verdict import analyze
 
     system, input_derivatives, constraint = prepared or _restricted(system, args, getattr(args, "where", None))
@@ -96,6 +98,7 @@ def _analyze(system: System, args: argparse.Namespace, prepared: tuple | None = 
             progress=progress,
             where=constraint,
             symbolic_directions=getattr(args, "symbolic_directions", False),
+            functions=functions,
         )
     finally:
         clear_line()
@@ -143,7 +146,8 @@ def check_command(args: argparse.Namespace) -> int:
         for name in models.BUILTINS:
             for time in times:
                 system = models.build(name, {**model_options(args.option), "time": time})
-                results.append(_analyze(system, args))
+                # The text table has no column for the observable functions; JSON keeps them.
+                results.append(_analyze(system, args, functions=args.format == "json"))
         if args.format == "json":
             print(json.dumps([r.to_dict() for r in results], indent=2))
         else:
@@ -256,7 +260,7 @@ def latex_command(args: argparse.Namespace) -> int:
     point = _point(args.point)
     with _about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
-        result = analyze(system, seed=args.seed or 0, budget=args.budget)
+        result = analyze(system, seed=args.seed or 0, budget=args.budget, functions=False)
         show = status_line()
         progress = (lambda text: show(f"latex {system.name}: {text}")) if show else None
         try:
@@ -422,7 +426,7 @@ def _trajectory_directions(system: System, parameters: dict[str, float], args: a
     from ..trajectory import named_directions
 
     valued = system.with_values(**parameters) if parameters else system
-    result = analyze(valued, seed=args.seed or 0)
+    result = analyze(valued, seed=args.seed or 0, functions=False)
     directions = named_directions(system, result.unobservable_directions, parameters)
     if args.degenerate:
         from ..where.motions import degenerate_motions

@@ -45,10 +45,10 @@ def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool
     appear taken through T = tan(angle/2) (:mod:`observability.engine.halfangles`:
     a change of coordinates, under which the bracket of two fields is the
     bracket of their images, and L_v h is a scalar written in T). None when an
-    expression is not rational even so, or in discrete time (then
-    :func:`_identities` decides by expressions)."""
+    expression is not rational even so (then :func:`_identities` decides by
+    expressions). In discrete time: :func:`_map_identities`."""
     if system.time != "continuous":
-        return None  # v(F(x)) needs composition: left to the expression route
+        return _map_identities(system, fields)
     coordinates = _in_coordinates(system, fields)
     if coordinates is None:
         return None
@@ -56,6 +56,35 @@ def _rational_identities(system: System, fields: list[list[sympy.Expr]]) -> bool
     if not annihilated:
         return False
     return all(component[0].is_zero() for v_ in v_all_ for component in _bracket(field, derivative, f_, v_))
+
+
+def _map_identities(system: System, fields: list[list[sympy.Expr]]) -> bool | None:
+    """In discrete time, L_v h = 0 and v(F(x)) = DF(x) v(x) for every field, in
+    flint's rational-function arithmetic over the states, inputs and parameters
+    (the composition v(F(x)) is formed on expressions, then converted; sympy's
+    ``cancel`` on the composed quaternion map took seconds); None when an
+    expression is not rational (angles, roots, exponentials: the expression
+    route decides)."""
+    states = list(system.states)
+    field = RationalFunctions([*states, *system.inputs, *system.parameters])
+    f = [system.substitute_values(e) for e in system.dynamics]
+    at_next = dict(zip(states, f))
+    try:
+        maps = [field.of(e) for e in f]
+        outputs = [field.of(system.substitute_values(e)) for _, e in system.outputs]
+        for v in fields:
+            v = [system.substitute_values(sympy.sympify(e)) for e in v]
+            v_ = [field.of(e) for e in v]
+            for h in outputs:
+                if not _vanishes(field, [(field.derivative(h, x), vj, 1) for x, vj in zip(states, v_)]):
+                    return False
+            for vi, fi in zip(v, maps):
+                moved = [(field.of(vi.xreplace(at_next)), (field.one, field.one), 1)]
+                if not _vanishes(field, moved + [(field.derivative(fi, x), vj, -1) for x, vj in zip(states, v_)]):
+                    return False
+    except (NotRational, ZeroDivisionError):
+        return None
+    return True
 
 
 def _bracket(field: RationalFunctions, derivative, f_: list, v_: list) -> list:

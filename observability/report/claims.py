@@ -79,7 +79,8 @@ def claim_rows(
             if modelling.only_for and claim.model not in modelling.only_for:
                 continue
             system = modelling.build(claim.model)
-            rows.append(ClaimRow(claim, modelling, analyze(system, seed=seed, previous=modelling.previous)))
+            rows.append(ClaimRow(claim, modelling, analyze(system, seed=seed, previous=modelling.previous,
+                                                            functions=False)))
     return rows
 
 
@@ -89,7 +90,7 @@ def planar_rows(seed: int = 0, landmarks: int = 1) -> list[ObservabilityResult]:
     for beacons in (0, 1, 2):
         for disparity in ("false", "true"):
             system = models.build("slam2d", {"landmarks": str(landmarks), "beacons": str(beacons), "disparity": disparity})
-            out.append(analyze(system, seed=seed))
+            out.append(analyze(system, seed=seed, functions=False))
     return out
 
 
@@ -97,7 +98,7 @@ def spatial_rows(seed: int = 0, landmarks: int = 1) -> list[ObservabilityResult]
     """The 3-D model (slam3d) with 0 to 3 beacons, without and with disparity."""
     return [
         analyze(models.build("slam3d", {"landmarks": str(landmarks), "beacons": str(beacons), "disparity": disparity}),
-                seed=seed)
+                seed=seed, functions=False)
         for beacons in (0, 1, 2, 3) for disparity in ("false", "true")
     ]
 

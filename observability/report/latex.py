@@ -542,7 +542,7 @@ def latex_document(
     Lie orders decide how many rows are shown unless ``orders`` is given. ``point``,
     ``seed``, ``max_pages`` (default :data:`MAX_PAGES`) and ``progress`` are passed to :func:`latex_matrix`.
     """
-    result = result or analyze(system, seed=0)
+    result = result or analyze(system, seed=0, functions=False)
     wanted = orders if orders is not None else (result.orders if result.orders is not None else 0)
     pieces = latex_matrix(system, wanted, point=point, seed=seed, max_pages=max_pages or MAX_PAGES, progress=progress,
                           order_zero_pages=ORDER_ZERO_PAGES if max_pages is None else None)

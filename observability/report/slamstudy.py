@@ -217,7 +217,7 @@ def run_slam_study(study: SlamStudy, run: Runner | None = None) -> SlamStudyResu
     from ..analysis.verdict import analyze
 
     system = slam_model(study)
-    verdict = analyze(system, seed=study.seed)
+    verdict = analyze(system, seed=study.seed, functions=False)
     functions = filter_functions(system, ["v", "s", "om"])
     shared = Shared(study, functions, null_space_function(system, verdict.unobservable_directions, functions))
     streams = np.random.SeedSequence(study.seed).spawn(study.runs)

@@ -88,7 +88,7 @@ def compare_on_paper_simulation(config: SimulationConfig = SimulationConfig(), r
     values = {"f": config.f} | {f"B{j}{c}": v for j, b in enumerate(config.beacons[:count], 1)
                                                   for c, v in zip("xy", b)}
     system = _paper_system(count).with_values(**values)
-    verdict = analyze(system, seed=config.seed)
+    verdict = analyze(system, seed=config.seed, functions=False)
     functions = filter_functions(system.with_values(dt=config.dt), NOISE)
     Q, P0 = process_noise(config), np.diag(config.initial_sigma() ** 2)
     R = np.diag([config.projective_variance] * (count + 1))

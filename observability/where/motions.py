@@ -76,7 +76,7 @@ def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget
     restricted = restrict(system, motion.inputs, where=motion.where, what=f"motion {motion.name!r}: input",
                           where_name=f"motion {motion.name!r}:", both=("the motion's inputs", "its where"))
     result = analyze(restricted.system, seed=seed, input_derivatives=restricted.input_derivatives,
-                     where=restricted.constraint)
+                     where=restricted.constraint, functions=False)
     if not conditions or restricted.constraint is not None:
         return result, [], ""
     drops, note = rank_drops(restricted.system, result, seed=seed, budget=budget,
