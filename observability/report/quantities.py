@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import mpmath
 import sympy
 
-from ..engine.fractions import NotRational, RationalFunctions, factor
+from ..engine.fractions import NotRational, RationalFunctions, common_factors_pulled, factor
 from ..model.system import System
 
 __all__ = ["Rewriting", "rewriting", "tidy", "printed_size", "MAX_REWRITE_CHARS"]
@@ -75,7 +75,10 @@ def _trig_reduce(expr: sympy.Expr) -> sympy.Expr:
         top, bottom = top % relation, bottom % relation
     top, bottom = field.reduced(top, bottom)
     back = {v: k for k, v in forward.items()}
-    return tidy(field.expression(top) / field.expression(bottom)).xreplace(back)
+    quotient = field.expression(top) / field.expression(bottom)
+    if printed_size(quotient) <= MAX_FACTOR_CHARS:
+        return factor(quotient).xreplace(back)
+    return (common_factors_pulled(field, top) / common_factors_pulled(field, bottom)).xreplace(back)
 
 
 @dataclass(frozen=True)
