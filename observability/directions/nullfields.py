@@ -55,6 +55,11 @@ SECOND_PRIME = 2147483629
 #: How many random points beyond those needed are drawn before a null space is
 #: accepted: their conditions must hold for every field found.
 CONFIRMING_POINTS = 2
+#: Draws per point needed that may end on the square root of a non-square mod p
+#: before the search gives up: each root of the model is a square at a random
+#: point with probability 1/2, so a model with two roots keeps one draw in four
+#: (uwb range with a bias and a landmark: 15 of 20 draws redrawn).
+NON_SQUARE_DRAWS = 16
 
 
 def single_threaded():
@@ -197,15 +202,18 @@ class KernelSampler:
     def draw(self, count: int) -> bool:
         """Hold at least ``count`` points; False when the draws keep failing
         (poles or points where the rank drops, at every try)."""
-        failures = 0
+        failures = non_squares = 0
         n, d = self.n, self.nullity
         while len(self.points) < count:
-            if failures > 8 + count // 4:
+            if failures > 8 + count // 4 or non_squares > NON_SQUARE_DRAWS * (count + 2):
                 return False
             try:
                 point = KernelPoint(*self._point())
-            except Redraw:
-                failures += 1
+            except Redraw as exc:
+                if exc.reason.startswith("square root"):
+                    non_squares += 1  # expected half the time per root: not a sign of a bad model
+                else:
+                    failures += 1
                 continue
             if len(point.pivots) != n - d:
                 failures += 1  # the rank drops there: the null space is larger

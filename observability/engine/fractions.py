@@ -24,7 +24,7 @@ import sympy
 from sympy.core.mul import _keep_coeff
 
 __all__ = ["NotRational", "RationalFunctions", "determinant", "solve", "factor", "factor_list", "opaque",
-           "common_factors_pulled"]
+           "common_factors_pulled", "AlgebraicFunctions"]
 
 Fraction = tuple[Any, Any]  # (numerator, denominator), no common factor, denominator monic
 
@@ -107,6 +107,34 @@ class RationalFunctions:
             sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*(s**e for s, e in zip(self.symbols, monomial) if e))
             for monomial, c in poly.terms()
         ))
+
+
+class AlgebraicFunctions(RationalFunctions):
+    """Fractions over Q(symbols)[W_1, ..., W_k] / (W_i^2 - g_i): square roots of
+    polynomials g_i (:meth:`relate`), every numerator and denominator reduced
+    modulo the relations, so that a fraction is zero exactly when its numerator
+    is. The W_i are the first symbols (lexicographically largest), so dividing
+    by W_i^2 - g_i lowers their degrees below 2; those leading monomials are
+    coprime, so the relations are a Groebner basis and the remainder a normal
+    form. Each g_i is to be squarefree and not a square (a factored radicand),
+    so the ideal is prime: a numerator with zero normal form vanishes wherever
+    W_i^2 = g_i. Without relations, the rational functions."""
+
+    def __init__(self, symbols: Sequence[sympy.Symbol]) -> None:
+        super().__init__(symbols)
+        self.relations: list[Any] = []
+
+    def relate(self, radicands: dict[sympy.Symbol, Fraction]) -> None:
+        """W^2 = g for each W -> g (a polynomial: NotRational for a quotient)."""
+        for w, (top, bottom) in radicands.items():
+            if not bottom.is_constant():
+                raise NotRational(w)
+            self.relations.append(self.gens[w] ** 2 - top / bottom.leading_coefficient())
+
+    def reduced(self, top: Any, bottom: Any) -> Fraction:
+        for relation in self.relations:
+            top, bottom = top % relation, bottom % relation
+        return super().reduced(top, bottom)
 
 
 def common_factors_pulled(field: RationalFunctions, poly: Any) -> sympy.Expr:

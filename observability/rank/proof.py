@@ -21,7 +21,7 @@ import sympy
 
 from ..budget import Undecided, with_budget
 from ..engine.expansion import point_rank
-from ..engine.fractions import NotRational, RationalFunctions, solve
+from ..engine.fractions import AlgebraicFunctions, NotRational, RationalFunctions, solve
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles, in_square_roots, root_speed, square_roots
 from .symbolic import rationalize
 from ..model.system import System
@@ -125,18 +125,24 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     if any(a.args[0].has(sympy.exp) for a in exps):
         return None  # exp inside exp: the chain rule below would miss the inner one
     named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
-    field = RationalFunctions([*x, *named.values(), *system.inputs, *system.parameters])
+    powers, radicands = _radicals(everything, roots)
+    field = AlgebraicFunctions([*radicands, *x, *named.values(), *system.inputs, *system.parameters])
 
     def rational(e: sympy.Expr) -> tuple:
-        return field.of(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(named), roots), angles))
+        return field.of(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named), roots),
+                                       angles))
 
     try:
+        field.relate({w: rational(g) for w, g in radicands.items()})
+        # d exp(m) = exp(m) dm, and d sqrt(g) = dg / (2 sqrt(g)): per atom, its rate along each coordinate.
         growth = [(named[a], field.multiply(field.of(named[a]), field.derivative(rational(a.args[0]), xj)))
                   for a in exps for xj in x]
+        growth += [(w, rational(sympy.diff(in_half_angles(in_square_roots(g, roots), angles), xj) / (2 * w)))
+                   for w, g in radicands.items() for xj in x]
 
         def derivative(a: tuple, j: int) -> tuple:
             total = field.derivative(a, x[j])
-            for symbol, rate in growth[j::len(x)] if exps else ():
+            for symbol, rate in growth[j::len(x)]:
                 total = field.add(total, field.multiply(field.derivative(a, symbol), rate))
             return total
 
@@ -147,6 +153,21 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     except (NotRational, ZeroDivisionError):
         return None
     return field, derivative, f_, v_all_, annihilated
+
+
+def _radicals(expressions: list[sympy.Expr], roots: dict) -> tuple[dict, dict]:
+    """Square roots of anything but a rooted state (a range sqrt((lx - x)^2 + ...)):
+    each radicand g gets a variable W with W^2 = g, the identities being decided
+    modulo those relations (:class:`~observability.engine.fractions.AlgebraicFunctions`).
+    An identity found so holds on either branch of every root, so on the real one
+    wherever g > 0. Returns (each power g^(k/2) -> W^k, each W -> g)."""
+    bases = sorted({p.base for e in expressions for p in sympy.sympify(e).atoms(sympy.Pow)
+                    if p.exp.is_Rational and p.exp.q == 2 and p.base not in roots}, key=sympy.default_sort_key)
+    radicands = {sympy.Dummy(f"R{i}"): g for i, g in enumerate(bases)}
+    by_base = {g: w for w, g in radicands.items()}
+    powers = {p: by_base[p.base] ** int(p.exp.p) for e in expressions for p in sympy.sympify(e).atoms(sympy.Pow)
+              if p.base in by_base and p.exp.is_Rational and p.exp.q == 2}
+    return powers, radicands
 
 
 def _annihilates(field: RationalFunctions, derivative, rational, h: sympy.Expr, states, v, v_) -> bool:

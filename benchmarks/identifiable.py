@@ -1,0 +1,138 @@
+"""Observable functions against StructuralIdentifiability.jl's identifiable functions.
+
+SI.jl's benchmark (``benchmarking/IdentifiableFunctions/results/<model>/``) stores,
+for each model, the ``@ODEmodel`` (``<model>.jl``), the generators of the field of
+identifiable functions of states and parameters that ``find_identifiable_functions``
+returned (``result_(normalforms, 2)_with_states``), and its time
+(``timings_...``, ``id_total``, seconds on SI.jl's machine). For each model this
+script reads the same ``.jl`` file, runs the full verdict (rank, directions,
+observable functions, proof) in this process, and compares, at a random rational
+point with exact arithmetic:
+
+* trdeg: the rank of the Jacobian of SI.jl's generators (their transcendence
+  degree) against our rank, and our functions' (``complete`` when it is the rank);
+* closure: whether our functions and SI.jl's have the same algebraic closure (the
+  Jacobian of both lists together has the rank of each);
+* field: whether each of our functions lies in SI.jl's field and each of SI.jl's
+  generators in ours (Dong, Goodbrake, Harrington and Pogudin's membership test,
+  :mod:`observability.rank.membership`, at a random integer point of the sampling
+  range for error probability 1/100 per direction), under a CPU budget. SI.jl's
+  field is that of the *globally* identifiable functions; ours may list functions
+  that are only locally observable (SEIRT: alpha and lambda, which a mirror swaps,
+  where SI.jl gives alpha*lambda and alpha + lambda): then ours are not in SI.jl's
+  field although both have the same algebraic closure.
+
+Not a test, and SI.jl's code is not part of this repository: fetch its repository
+and point the script at the results folder::
+
+    python benchmarks/identifiable.py PATH/TO/benchmarking/IdentifiableFunctions/results [--budget 20] [MODEL ...]
+
+SI.jl's times were measured on its maintainers' machine (2023), ours here: the
+ratio says how far apart the two are, not which machine is faster.
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import sys
+import time
+from pathlib import Path
+
+import sympy
+
+from observability import analyze
+from observability.analysis.completion import jacobian_rank_at
+from observability.analysis.rationalmodel import polynomial_degree
+from observability.budget import Undecided, with_budget
+from observability.errors import ObservabilityError
+from observability.model.expressions import parse_expression, split_top_level
+from observability.model.sijl import _unreserved, parse_si_model
+from observability.rank.membership import completing_columns, groebner_contains, sampling_range
+
+RESULT = "result_(normalforms, 2)_with_states"
+TIMINGS = "timings_(normalforms, 2)_with_states"
+
+
+def _generators(text: str, names: dict[str, sympy.Symbol], source: str) -> list[sympy.Expr]:
+    """SI.jl's printed list ``Frac{...}[a, b//c, ...]`` as expressions, by the safe parser."""
+    body = _unreserved(text[text.index("[", text.index("}")) + 1:text.rindex("]")])
+    return [parse_expression(item.replace("//", "/").replace("^", "**"), names, where=source)
+            for item in split_top_level(body) if item.strip()]
+
+
+def _contained(generators: list[sympy.Expr], tested: list[sympy.Expr], coordinates: list[sympy.Symbol],
+               seed: int) -> tuple[bool, ...]:
+    """Each of ``tested`` (algebraic over Q(generators)) in Q(generators), at a random
+    point of the sampling range for error 1/100 (:mod:`observability.rank.membership`)."""
+    pairs = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in generators]
+    targets = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
+    degree = lambda pair: (polynomial_degree(pair[0], coordinates), polynomial_degree(pair[1], coordinates))  # noqa: E731
+    bound = sampling_range([degree(p) for p in pairs], [degree(p) for p in targets], len(coordinates), 0.01)
+    rng = random.Random(seed)
+    while True:
+        point = {c: sympy.Integer(rng.randint(-bound, bound)) for c in coordinates}
+        if all(d.xreplace(point) != 0 for _, d in (*pairs, *targets)):
+            break
+    jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in pairs]
+    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
+    equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in pairs]
+    equations += [coordinates[i] - point[coordinates[i]] for i in free]
+    saturation = sympy.Mul(*(d for _, d in pairs))
+    return groebner_contains(equations, coordinates, saturation,
+                             [n * d.xreplace(point) - n.xreplace(point) * d for n, d in targets])
+
+
+def compare(folder: Path, budget: float) -> dict[str, object]:
+    """One model's row of the table (see the module docstring)."""
+    name = folder.name
+    system = parse_si_model((folder / f"{name}.jl").read_text(), str(folder), name=name)
+    names = {s.name: s for s in system.states}
+    theirs = _generators((folder / RESULT).read_text(), names, f"{folder}/{RESULT}")
+    start = time.perf_counter()
+    result = analyze(system, seed=1)
+    seconds = time.perf_counter() - start
+    ours = [parse_expression(f, names, where="our function") for f in (result.observable_functions or ())]
+    if result.observable:
+        ours = list(system.states)
+    row: dict[str, object] = {"model": name, "n": system.n, "rank": result.rank, "proof": result.proof,
+                              "ours": seconds, "listed": len(ours), "theirs_listed": len(theirs)}
+    row["trdeg_theirs"] = jacobian_rank_at(system, theirs, 7)
+    row["trdeg_ours"] = jacobian_rank_at(system, ours, 7)
+    row["closure"] = jacobian_rank_at(system, ours + theirs, 7) == row["trdeg_ours"] == row["trdeg_theirs"]
+    timings = dict(line.split(", ") for line in (folder / TIMINGS).read_text().splitlines()[1:] if ", " in line)
+    row["si_jl"] = float(timings.get("id_total", "nan"))
+    coordinates = list(system.states)
+    for key, generators, tested in (("ours_in_theirs", theirs, ours), ("theirs_in_ours", ours, theirs)):
+        try:
+            row[key] = all(with_budget(_contained, generators, tested, coordinates, 3, seconds=budget))
+        except (Undecided, ZeroDivisionError, sympy.PolynomialError) as exc:
+            row[key] = f"? ({str(exc)[:40]})"
+    return row
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", type=Path, help="SI.jl's benchmarking/IdentifiableFunctions/results folder")
+    parser.add_argument("models", nargs="*", help="folder names (default: every folder with a result)")
+    parser.add_argument("--budget", type=float, default=20.0, help="CPU seconds per membership direction")
+    args = parser.parse_args(argv)
+    folders = [args.results / m for m in args.models] or sorted(
+        p for p in args.results.iterdir() if (p / RESULT).exists() and (p / f"{p.name}.jl").exists())
+    print("| model | n | rank | proof | trdeg SI.jl | trdeg ours (listed) | same closure | ours in SI.jl's field "
+          "| SI.jl's in ours | ours s | SI.jl s | SI.jl / ours |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for folder in folders:
+        try:
+            r = compare(folder, args.budget)
+        except (ObservabilityError, ValueError) as exc:
+            print(f"| {folder.name} | refused: {str(exc)[:80]} |")
+            continue
+        print(f"| {r['model']} | {r['n']} | {r['rank']} | {r['proof']} | {r['trdeg_theirs']} | {r['trdeg_ours']} "
+              f"({r['listed']}) | {r['closure']} | {r['ours_in_theirs']} | {r['theirs_in_ours']} | {r['ours']:.2f} "
+              f"| {r['si_jl']:.2f} | {r['si_jl'] / r['ours']:.1f} |", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
