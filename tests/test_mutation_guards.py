@@ -135,3 +135,109 @@ def test_the_generalized_update_uses_w_in_its_joseph_term(kind, H):
     np.testing.assert_allclose(state.P, [[P_plus]], rtol=1e-12)
     wrong = (1 - K * H) ** 2 * P_minus + K * K * r
     assert abs(P_plus - wrong) > 0.05 * P_plus  # the mutant's value is far from the reference
+
+
+def test_degree_bounds_and_probabilities_by_hand():
+    """The Schwartz-Zippel bound D and the stated probability D/p, p = 2^61 - 1,
+    counted by hand from the heights (numerator + denominator degree) of
+    engine.program: a leaf 1 + 0, 1/x 0 + 1, a product adds heights, a sum
+    x + 1 is 1 + 0, exp(a) and sqrt(a) add 1 to a's numerator. Each model has a
+    second state z (z' = 0, z+ = 0) the output never sees, so the rank is 1 and
+    the bound is for a 2 x 2 minor.
+
+    * x' = u/x, y = x (one input): S = height(u/x) = 2, plus 1 per input = 3;
+      D_0 = 1, D_1 = 2 D_0 + S = 5; D = 2 x 2 x 5 = 20.
+    * x' = 1/x, y = exp(x): S = 1 + height(exp(x)) = 1 + 2 = 3; D_0 = 2,
+      D_1 = 7; D = 2 x 2 x 7 = 28.
+    * x' = 1/x, y = sqrt(x + 1): the same 28, doubled for the root (a point is
+      usable only where the radicand is a square mod p): 56.
+    * discrete, x+ = x^2, z+ = 0, y = x: the map is singular, so orders 0..2
+      (n) are computed; rows x, x^2, x^4 of heights 1, 2, 4, each gradient
+      twice that: the two largest, 8 + 4 = 12 (the two smallest would give 6)."""
+    from observability.rank.randomized import PRIME, randomized_rank
+
+    cases = [
+        (System(["x", "z"], {"x": "u/x", "z": "0"}, {"y": "x"}, inputs=["u"]), 1, 20),
+        (System(["x", "z"], {"x": "1/x", "z": "0"}, {"y": "exp(x)"}), 1, 28),
+        (System(["x", "z"], {"x": "1/x", "z": "0"}, {"y": "sqrt(x + 1)"}), 1, 56),
+        (System(["x", "z"], {"x": "x**2", "z": "0"}, {"y": "x"}, time="discrete"), 2, 12),
+    ]
+    for system, orders, bound in cases:
+        result = randomized_rank(system, seed=1)
+        assert (result.rank, result.orders, result.degree_bound) == (1, orders, bound)
+        assert result.error_probability == bound / PRIME
+
+
+def _chain(m: int) -> System:
+    """x1' = x2, ..., x_(m-1)' = x_m, x_m' = 1/x1, y = x1, and z' = 0 (unseen)."""
+    dynamics = {f"x{i}": f"x{i + 1}" for i in range(1, m)} | {f"x{m}": "1/x1", "z": "0"}
+    return System([*(f"x{i}" for i in range(1, m + 1)), "z"], dynamics, {"y": "x1"})
+
+
+def test_points_are_drawn_until_the_stated_probability_is_small_and_it_is_their_product():
+    """By hand, for the chain of m states (S = m: m - 1 heights 1 and 1/x1): D_0 = 1,
+    D_k = 2 D_(k-1) + S = 2^k (1 + m) - m. m = 24: rank 24 of 25, orders 0..24 (the
+    last adds nothing), D = 25 x 2 x (2^24 x 25 - 24) = 20,971,518,800: D/p = 9.1e-9
+    is above the target 1e-9, so a second, independent point is drawn and the
+    probability is (D/p)^2. m = 60: D/p > 1, so every draw states probability 1
+    (min(1, D/p)), all six draws are made and the verdict keeps probability 1. A
+    full rank needs one point and states 0."""
+    from observability.rank.randomized import PRIME, randomized_rank
+
+    result = randomized_rank(_chain(24), seed=1)
+    bound = 25 * 2 * (2**24 * 25 - 24)
+    assert (result.rank, result.orders, result.degree_bound, result.draws) == (24, 24, bound, 2)
+    assert result.error_probability == (bound / PRIME) ** 2
+    result = randomized_rank(_chain(60), seed=1)
+    assert (result.rank, result.draws, result.error_probability) == (60, 6, 1.0)
+    assert result.degree_bound == 61 * 2 * (2**60 * 61 - 60)
+    full = randomized_rank(System(["x"], {"x": "1/x"}, {"y": "x"}), seed=1)
+    assert (full.rank, full.draws, full.error_probability) == (1, 1, 0.0)
+
+
+def test_singular_points_are_redrawn_a_bounded_number_of_times(monkeypatch):
+    """sin(x)^2 + cos(x)^2 - 1 is zero at every point (sympy leaves it as written;
+    the engine's sine and cosine lie on the unit circle exactly): 1/that is a pole
+    everywhere, so after 64 draws the model is refused with the reason; under a
+    square root it is a root of zero everywhere, and since roots of non-squares are
+    expected half the time per root, 64 x 256 = 16,384 draws are made first."""
+    import observability.rank.randomized as randomized
+    from observability.errors import SingularModelError
+
+    calls = []
+    real = randomized._one_point
+    monkeypatch.setattr(randomized, "_one_point", lambda *a, **k: calls.append(1) or real(*a, **k))
+    for output, draws, reason in (("1/(sin(x)**2 + cos(x)**2 - 1)", 64, "division by zero"),
+                                  ("sqrt(sin(x)**2 + cos(x)**2 - 1)", 64 * 256, "square root of a non-square or of zero")):
+        calls.clear()
+        system = System(["x"], {"x": "1"}, {"y": output}, name="circle")
+        with pytest.raises(SingularModelError, match=rf"^circle: every random point hits a singularity \({reason}"):
+            randomized.randomized_rank(system, seed=1)
+        assert len(calls) == draws
+
+
+def test_the_random_route_keeps_its_options_and_its_seed():
+    """y = x1 + u x2, x1' = u, x2' = 0: y = x1 + u x2 has gradient (1, u) and
+    y' = u + u' x2 has (0, u'): rank 2 for a generic input, 1 for a constant one
+    (input_derivatives=0). The same seed gives the same point, so the same null
+    vector; the stopping rule is stated; the dense route is taken from 12 states
+    with at least 4 per output (12 with 3 outputs, not with 4) and below Lie order
+    127, and a full rank there keeps the seed and one draw, modulo its 28-bit prime."""
+    from observability.rank.randomized import dense_suits, randomized_rank
+    from observability.engine.densetaylor import DENSE_PRIME
+
+    system = System(["x1", "x2"], {"x1": "u", "x2": "0"}, {"y": "x1 + u*x2"}, inputs=["u"])
+    assert randomized_rank(system, seed=1).rank == 2 and randomized_rank(system, seed=1, input_derivatives=0).rank == 1
+    unseen = System(["x", "z"], {"x": "1/x", "z": "0"}, {"y": "x"})
+    first, again = randomized_rank(unseen, seed=1), randomized_rank(unseen, seed=1)
+    assert first.null_space == again.null_space == ({1: 1},)
+    assert first.rule == "continuous time: stop at the first order that adds nothing"
+
+    def squares(n: int, outputs: int) -> System:
+        return System([f"x{i}" for i in range(n)], {f"x{i}": f"x{(i + 1) % n}**2" for i in range(n)},
+                      {f"y{j}": f"x{j}" for j in range(outputs)})
+
+    assert dense_suits(squares(12, 3)) and not dense_suits(squares(12, 4))
+    assert dense_suits(squares(12, 3), max_order=126) and not dense_suits(squares(12, 3), max_order=127)
+    dense = randomized_rank(squares(12, 1), seed=1)
+    assert (dense.rank, dense.seed, dense.draws, dense.prime, dense.error_probability) == (12, 1, 1, DENSE_PRIME, 0.0)
