@@ -44,6 +44,7 @@ class RationalFunctions:
         self.symbols = list(symbols)
         self.context = flint.fmpq_mpoly_ctx.get(tuple(f"v{i}" for i in range(len(self.symbols))), "lex")
         self.gens = dict(zip(self.symbols, self.context.gens()))
+        self.positions = {symbol: i for i, symbol in enumerate(self.symbols)}
         self._unit = (0,) * len(self.symbols)
         self.one = self.context.from_dict({self._unit: 1})
         self.zero = self.context.from_dict({})
@@ -78,6 +79,8 @@ class RationalFunctions:
             raise ZeroDivisionError("a denominator vanishes")
         if top.is_zero():
             return self.zero, self.one
+        if bottom.is_one():  # a polynomial: nothing to cancel (most entries of a proof)
+            return top, bottom
         common = top.gcd(bottom)
         if not common.is_one():
             top, bottom = top / common, bottom / common
@@ -85,17 +88,25 @@ class RationalFunctions:
         return (top / lead, bottom / lead) if lead != 1 else (top, bottom)
 
     def add(self, a: Fraction, b: Fraction) -> Fraction:
+        if a[0].is_zero():
+            return b
+        if b[0].is_zero():
+            return a
         common = a[1].gcd(b[1])
         return self.reduced(a[0] * (b[1] / common) + b[0] * (a[1] / common), a[1] / common * b[1])
 
     def multiply(self, a: Fraction, b: Fraction) -> Fraction:
+        if a[0].is_zero() or b[0].is_zero():
+            return self.zero, self.one
         return self.reduced(a[0] * b[0], a[1] * b[1])
 
     def negative(self, a: Fraction) -> Fraction:
         return -a[0], a[1]
 
     def derivative(self, a: Fraction, symbol: sympy.Symbol) -> Fraction:
-        i = self.symbols.index(symbol)
+        i = self.positions.get(symbol)
+        if i is None:
+            raise ValueError(f"{symbol} is not a variable of the field")
         top, bottom = a[0].derivative(i), a[1].derivative(i)
         if bottom.is_zero():
             return self.reduced(top, a[1])
