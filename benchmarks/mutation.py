@@ -76,6 +76,28 @@ EQUIVALENT: dict[str, str] = {
     "observability.model.modelfile.x_load_model__mutmut_21": "codec names are case-insensitive: UTF-8 is utf-8",
     "observability.model.modelfile.x_parse_model__mutmut_239":
         "the source of a second read of unknown_inputs: the first read, with the source, refuses a bad value first",
+    **{f"observability.rank.randomized.x_degree_bound__mutmut_{k}":
+       "the default of max over a non-empty sequence (a System has a state and an output) is never used"
+       for k in (16, 18, 20, 24, 26, 28, 66, 68, 73)},
+    **{f"observability.rank.randomized.x__one_point__mutmut_{k}":
+       "a default never used: every caller passes exhaustive and dense" for k in (1, 2)},
+    "observability.rank.randomized.x__one_point__mutmut_26":
+        "the discrete flag only makes a discrete evaluator refuse Lie orders (a guard); the expansion never asks",
+    **{f"observability.rank.randomized.x__one_point__mutmut_{k}": "progress only receives status lines"
+       for k in (44, 52)},
+    "observability.rank.randomized.x_dense_suits__mutmut_21":
+        "the dense route needs n >= 12 (DENSE_STATES), above 4 x 2: with 0 or 1 outputs both bounds hold",
+    **{f"observability.rank.randomized.x_randomized_rank__mutmut_{k}":
+       "eliminate_previous_state here only refuses early; the expansion calls it again for every previous-state "
+       "method but 'augment', with the same message" for k in (2, 3, 14, 15, 16, 18, 19)},
+    **{f"observability.rank.randomized.x_randomized_rank__mutmut_{k}":
+       "the seed drawn when none is given: any range gives a seed, and it is reported" for k in (8, 9, 10)},
+    "observability.rank.randomized.x__dense_full_rank__mutmut_9":
+        "the dense route answers only a full rank, the same at every point, and reports nothing else of the point",
+    "observability.rank.randomized.x__draw__mutmut_21":
+        "of two points of the same rank either is a generic witness; the probability is the product over all draws",
+    "observability.rank.randomized.x__draw__mutmut_52":
+        "a product of bounds exactly equal to the target: one draw more or less only at that equality",
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":

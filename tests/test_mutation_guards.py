@@ -241,3 +241,47 @@ def test_the_random_route_keeps_its_options_and_its_seed():
     assert dense_suits(squares(12, 3), max_order=126) and not dense_suits(squares(12, 3), max_order=127)
     dense = randomized_rank(squares(12, 1), seed=1)
     assert (dense.rank, dense.seed, dense.draws, dense.prime, dense.error_probability) == (12, 1, 1, DENSE_PRIME, 0.0)
+
+
+def test_what_the_random_route_reports_beside_the_rank():
+    """Hand cases for the rest of a random rank's record.
+
+    * The chain of 3 (x1' = x2, x2' = x3, x3' = 1/x1, z unseen): rows y, y', y''
+      raise the rank, y''' does not: independent rows (0, 1, 2).
+    * x' = 1/x, y = x cut at Lie order 0 (z unseen): D_0 = 1, so D = 2 x 2 x 1 = 4;
+      with two unseen states (rank 1 of 3) the reported bound is for a 2 x 2 minor:
+      D_1 = 2 + 1 = 3, D = 2 x 2 x 3 = 12.
+    * Planar SLAM (rank 4 of 8): the same seed gives the same point, so the same
+      null vectors; modulo another prime the rank is still 4 (the evaluator and the
+      echelon must share the modulus, or the dependencies are lost).
+    * x1..x12 a chain read through y = x1 + u z: the rows x_(k+1) + u^(k) z give 13
+      for a generic input and 12 for a constant one (z only beside x1), on the dense
+      route as on the sparse one.
+    * x_i' = x_(i+1)^2 around a ring of 12, y = x0: full rank generically, rank 1 on
+      x1 = 0 (every row beyond y carries the factor x1): the dense route, which
+      cannot draw on a set, must not answer there, nor at Lie order 127.
+    * y = z atan(x): the atan enters non-additively, so its value is not free and the
+      rank is certified by balls, not claimed exact."""
+    from observability import models
+    from observability.rank.randomized import PRIME, randomized_rank
+    from observability.where.sets import parse_constraints
+
+    assert randomized_rank(_chain(3), seed=1).independent_rows == (0, 1, 2)
+    cut = randomized_rank(System(["x", "z"], {"x": "1/x", "z": "0"}, {"y": "x"}), seed=1, max_order=0)
+    assert (cut.rank, cut.orders, cut.degree_bound) == (1, 0, 4)
+    two = randomized_rank(System(["x", "z1", "z2"], {"x": "1/x", "z1": "0", "z2": "0"}, {"y": "x"}), seed=1)
+    assert (two.rank, two.orders, two.degree_bound) == (1, 1, 12)
+    slam = models.build("slam2d")
+    first, again = randomized_rank(slam, seed=1), randomized_rank(slam, seed=1)
+    assert first.null_space == again.null_space and len(first.null_space) == 4
+    other = randomized_rank(slam, seed=1, prime=2147483647)
+    assert (other.rank, other.prime) == (4, 2147483647)
+    dynamics = {f"x{i}": f"x{i + 1}" for i in range(1, 12)} | {"x12": "0", "z": "0"}
+    read = System([*(f"x{i}" for i in range(1, 13)), "z"], dynamics, {"y": "x1 + u*z"}, inputs=["u"])
+    assert randomized_rank(read, seed=1).rank == 13 and randomized_rank(read, seed=1, input_derivatives=0).rank == 12
+    ring = System([f"x{i}" for i in range(12)], {f"x{i}": f"x{(i + 1) % 12}**2" for i in range(12)}, {"y": "x0"})
+    on_set, _ = parse_constraints(ring, "x1 = 0")
+    assert (randomized_rank(ring, seed=1, constraint=on_set).rank, randomized_rank(ring, seed=1).rank) == (1, 12)
+    assert randomized_rank(ring, seed=1, max_order=127).prime == PRIME
+    atan = randomized_rank(System(["x", "z", "w"], {"x": "1", "z": "0", "w": "0"}, {"y": "z*atan(x)"}), seed=1)
+    assert atan.dependence.reason == "the atan2 in atan(x) enters the model non-additively"
