@@ -285,3 +285,19 @@ def test_what_the_random_route_reports_beside_the_rank():
     assert randomized_rank(ring, seed=1, max_order=127).prime == PRIME
     atan = randomized_rank(System(["x", "z", "w"], {"x": "1", "z": "0", "w": "0"}, {"y": "z*atan(x)"}), seed=1)
     assert atan.dependence.reason == "the atan2 in atan(x) enters the model non-additively"
+
+
+def test_on_a_set_the_bound_grows_by_the_degree_of_its_parametrisation():
+    """x' = 1/x, z' = 0, y = x on the set x = z (solved for x: x is z, degree 1, so
+    the set's degree is 1 + 1 = 2): the points are (z, z) with z random, every
+    entry of the matrix a rational function of z of twice the degree, so the
+    probability is 2 D / p with D = 2 x 2 x 3 = 12 for the 2 x 2 minor (rank 1)."""
+    from observability.rank.randomized import PRIME, randomized_rank
+    from observability.where.sets import parse_constraints
+
+    system = System(["x", "z"], {"x": "1/x", "z": "0"}, {"y": "x"})
+    on_set, _ = parse_constraints(system, "z = x")
+    assert on_set.degree == 2
+    result = randomized_rank(system, seed=1, constraint=on_set)
+    assert (result.rank, result.degree_bound, result.draws) == (1, 12, 1)
+    assert result.error_probability == 2 * 12 / PRIME
