@@ -301,3 +301,18 @@ def test_on_a_set_the_bound_grows_by_the_degree_of_its_parametrisation():
     result = randomized_rank(system, seed=1, constraint=on_set)
     assert (result.rank, result.degree_bound, result.draws) == (1, 12, 1)
     assert result.error_probability == 2 * 12 / PRIME
+
+
+def test_an_atan_is_free_only_where_its_value_never_reaches_a_gradient():
+    """The value of atan(.) is drawn as a free random number; that is exact only
+    where no gradient contains it. x' = atan(x), y = x (continuous): y' = atan(x)
+    and y'' = atan(x)/(1 + x^2), whose gradient holds the value: not free. Discrete,
+    y = x + atan(z), z+ = z, x+ = x (second output z): every row is x + atan(z) or
+    z, their gradients (1, 1/(1 + z^2)) and (0, 1) hold no value of an atan: free,
+    and the rank is exact."""
+    from observability.rank.randomized import randomized_rank
+
+    inside = randomized_rank(System(["x", "z"], {"x": "atan(x)", "z": "0"}, {"y": "x"}), seed=1)
+    assert inside.dependence.reason == "the atan2 in atan(x) enters the model non-additively"
+    beside = System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x + atan(z)", "y2": "z"}, time="discrete")
+    assert randomized_rank(beside, seed=1).dependence is None
