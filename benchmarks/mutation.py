@@ -81,8 +81,9 @@ EQUIVALENT: dict[str, str] = {
        for k in (16, 18, 20, 24, 26, 28, 66, 68, 73)},
     **{f"observability.rank.randomized.x__one_point__mutmut_{k}":
        "a default never used: every caller passes exhaustive and dense" for k in (1, 2)},
-    "observability.rank.randomized.x__one_point__mutmut_26":
-        "the discrete flag only makes a discrete evaluator refuse Lie orders (a guard); the expansion never asks",
+    **{f"observability.rank.randomized.x__one_point__mutmut_{k}":
+       "the discrete flag only makes a discrete evaluator refuse Lie orders (a guard); the expansion never asks"
+       for k in (26, 32)},
     **{f"observability.rank.randomized.x__one_point__mutmut_{k}": "progress only receives status lines"
        for k in (44, 52)},
     "observability.rank.randomized.x_dense_suits__mutmut_21":
