@@ -191,7 +191,8 @@ def test_independent_checker_accepts_every_proof_and_rejects_tampering(system):
 def test_proof_file_from_the_command_line(tmp_path):
     """`check --proof FILE`: written for a proven verdict and accepted by the
     checker as `observability verify-proof`; not written (exit 3) for a lower bound
-    (x + sqrt(z + 1): its null field (1, -2 sqrt(z + 1)) is not one the proofs handle)."""
+    (x + atan(z) exp(z): its null field (1, -1/(atan(z) exp(z))') holds an atan, which
+    no proof handles; x + sqrt(z + 1), the example before, is proven now)."""
     script = [sys.executable, "-m", "observability"]
     target = tmp_path / "proof.json"
     done = subprocess.run([*script, "check", "slam1.5d", "--seed", "1", "--proof", str(target)],
@@ -201,7 +202,7 @@ def test_proof_file_from_the_command_line(tmp_path):
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == 0 and check.stdout.startswith("accepted")
     model = tmp_path / "exp.toml"
-    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + sqrt(z + 1)"\n')
+    model.write_text('states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + atan(z)*exp(z)"\n')
     other = tmp_path / "none.json"
     refused = subprocess.run([*script, "check", str(model), "--proof", str(other)], capture_output=True, text=True,
                              timeout=300)
@@ -676,3 +677,34 @@ def test_square_roots_of_polynomials_reduce_modulo_their_relation():
     other = AlgebraicFunctions([W, x])
     with pytest.raises(NotRational):
         other.relate({W: other.of(1 / x)})
+
+
+def test_fields_with_roots_of_polynomials_prove_the_rank():
+    """Null vectors with the root as a free variable W, then W = sqrt(g) put back.
+
+    * y = x + sqrt(z + 1), x and z constant: dy = dx + dz / (2 sqrt(z + 1)), so the
+      field (1, -2 sqrt(z + 1)) annihilates it: rank 1 of 2, proven, and its proof
+      file accepted by the independent checker (its exact point must keep z + 1 > 0:
+      a negative radicand made the minor complex, exit 4, before).
+    * A static range with a bias, y = sqrt(x^2 + y^2) + b: the rotation (y, -x, 0)
+      and (rho, 0, -x) (rho the range: d rho = (x dx + y dy)/rho) annihilate
+      dy = (x/rho, y/rho, 1): rank 1 of 3, proven.
+    * Independence is decided modulo W^2 = x^2 + y^2: (W, 0, -x) and (x^2 + y^2, 0,
+      -x W) = W (W, 0, -x) are dependent, though not as vectors in a free W; with
+      the rotation the first is independent."""
+    from observability.model.modelfile import parse_model
+    from observability.rank.proof import _provable
+
+    inside = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z + 1)"}, name="inside")
+    result = analyze(inside, seed=1)
+    assert (result.rank, result.proof) == (1, "proven")
+    assert [dict(d.vector) for d in result.unobservable_directions] == [{"x": "1", "z": "-2*sqrt(z + 1)"}]
+    assert _checker().check(json.loads(json.dumps(proof_evidence(inside, result)))).startswith("accepted")
+    static = parse_model('states = ["x", "y", "b"]\n[dynamics]\nx = "0"\ny = "0"\nb = "0"\n'
+                         '[outputs]\nr = "sqrt(x**2 + y**2) + b"\n', "uwb.toml")
+    assert (analyze(static, seed=1).rank, analyze(static, seed=1).proof) == (1, "proven")
+    x, y, _ = static.states
+    W = sympy.sqrt(x**2 + y**2)
+    zero = sympy.Integer(0)
+    assert _provable(static, [[W, zero, -x], [y, -x, zero]])
+    assert not _provable(static, [[W, zero, -x], [x**2 + y**2, zero, -x * W]])

@@ -126,20 +126,25 @@ def unobservable_directions(
 
         def work() -> list[list[sympy.Expr]]:
             matrix, _ = observability_rows(system, orders, input_derivatives, previous)
-            return null_space(matrix)
+            return null_space(matrix, free_roots=True)
 
         try:
             symbolic_basis = with_budget(work, seconds=seconds)
         except Undecided as exc:
             note = f"symbolic null space not computed ({exc})"
         else:
-            if len(symbolic_basis) != nullity:
+            radicals = any(_has_radical(e) for v in symbolic_basis for e in v)
+            if len(symbolic_basis) != nullity and not radicals:
                 note = f"warning: symbolic null space has dimension {len(symbolic_basis)}, expected {nullity}"
-            else:
+            elif not radicals:
                 basis = symbolic_basis
             named, unnamed = independent_basis(
                 system, nullity, verified, extra=[*(list(v) for v in unnamed), *symbolic_basis], seed=seed
             )
+            if radicals and len(named) + len(unnamed) == nullity:
+                # Null vectors with roots taken as free variables: null, but independent
+                # only where checked (at a random point, with the roots' true values).
+                basis = [v for _, v in named] + [list(v) for v in unnamed]
     elif basis is None and symbolic:
         note = f"symbolic null space not computed (n > {SYMBOLIC_NULL_SPACE_MAX_STATES})"
     if basis is None and len(named) + len(unnamed) < nullity:
@@ -153,6 +158,12 @@ def unobservable_directions(
         directions.append(UnobservableDirection(name, components(system.states, v), description))
     directions += [UnobservableDirection("unnamed direction", vector, description) for vector, description in numeric]
     return tuple(directions), basis, note
+
+
+def _has_radical(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` holds a square root of something other than a symbol."""
+    return any(p.exp.is_Rational and p.exp.q == 2 and not p.base.is_Symbol
+               for p in sympy.sympify(expr).atoms(sympy.Pow))
 
 
 def directions_on_set(system: System, constraint, nullity: int, orders: int, generic: list[list[sympy.Expr]],

@@ -274,8 +274,12 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     if angles is None:
         return False
     roots = {z: w for z, w in square_roots(system.states, components).items() if z not in angles}
-    if not all(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(named), roots), angles).is_rational_function(
-               *variables, *angles.values(), *roots.values(), *named.values()) for e in components):
+    powers, radicands = _radicals(components, roots)
+    if radicands and exps:
+        return False
+    if not all(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named), roots),
+                              angles).is_rational_function(
+               *variables, *angles.values(), *roots.values(), *named.values(), *radicands) for e in components):
         return False
     if exps and not _independent_exponents(system, [a.args[0] for a in exps]):
         return False
@@ -285,6 +289,8 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
         return False
     if system.time == "discrete" and system.uses_previous_state:
         return False  # identities in the previous-state form are not derived here
+    if radicands:
+        return _independent_with_radicals(system, fields, angles, roots, powers, radicands)
     if angles or roots:
         return _independent_on_the_circle(system, fields, angles, roots)
     # Generically independent: a non-zero k x k minor at a random point mod p.
@@ -310,6 +316,36 @@ def _independent_on_the_circle(system: System, fields: list[list[sympy.Expr]], a
         if all(e.is_Rational for e in matrix) and matrix.rank() == len(fields):
             return True
     return False
+
+
+def _independent_with_radicals(system: System, fields: list[list[sympy.Expr]], angles: dict, roots: dict,
+                               powers: dict, radicands: dict) -> bool:
+    """Whether fields holding square roots of polynomials (W^2 = g) have rank k
+    over the field Q(x)[W]/(W^2 - g) (a field: each g is a factored radicand, not a
+    square), by elimination with every zero test on a normal form: a non-zero
+    k x k minor there is non-zero wherever the roots are real, generically."""
+    def coordinates(e: sympy.Expr) -> sympy.Expr:
+        return in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers), roots), angles)
+
+    field = AlgebraicFunctions([*radicands, *angles.values(), *roots.values(), *system.states, *system.parameters])
+    try:
+        field.relate({w: field.of(coordinates(g)) for w, g in radicands.items()})
+        rows = [[field.of(coordinates(e)) for e in v] for v in fields]
+    except (NotRational, ZeroDivisionError, ValueError):
+        return False
+    rank = 0
+    for column in range(system.n):
+        pivot = next((i for i in range(rank, len(rows)) if not rows[i][column][0].is_zero()), None)
+        if pivot is None:
+            continue
+        rows[rank], rows[pivot] = rows[pivot], rows[rank]
+        inverse = field.reduced(rows[rank][column][1], rows[rank][column][0])
+        for i in range(rank + 1, len(rows)):
+            if not rows[i][column][0].is_zero():
+                ratio = field.multiply(rows[i][column], inverse)
+                rows[i] = [field.add(a, field.negative(field.multiply(ratio, b))) for a, b in zip(rows[i], rows[rank])]
+        rank += 1
+    return rank == len(fields)
 
 
 def _independent_exponents(system: System, exponents: list[sympy.Expr]) -> bool:

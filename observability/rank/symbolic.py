@@ -106,11 +106,16 @@ def observability_rows(system: System, orders: int, input_derivatives: int | Non
     return sympy.Matrix(rows), tuple(labels)
 
 
-def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, sympy.Expr]]:
+def rationalize(matrix: sympy.Matrix, free_roots: bool = False) -> tuple[sympy.Matrix, dict[sympy.Symbol, sympy.Expr]]:
     """Map the entries into a field of rational functions (see module docstring).
 
     Returns the rational matrix and, for each new indeterminate, the function it
-    stands for (so results can be mapped back).
+    stands for (so results can be mapped back). ``free_roots``: each square root
+    of a polynomial that is not a symbol becomes an indeterminate W as well
+    (g^(k/2) is W^k), forgetting W^2 = g. Never for a rank (the rank over
+    Q(x, W) may exceed the true one); for null vectors it is sound, since an
+    identity in a free W holds at W = sqrt(g), but the null space found may be
+    smaller than the true one (:func:`null_space`).
 
     Raises
     ------
@@ -155,6 +160,10 @@ def rationalize(matrix: sympy.Matrix) -> tuple[sympy.Matrix, dict[sympy.Symbol, 
         expr = expr.replace(lambda e: isinstance(e, sympy.exp), exponential)
         expr = expr.replace(lambda e: isinstance(e, sympy.log), lambda e: atom(e, "L", e))
         expr = expr.replace(lambda e: isinstance(e, (sympy.atan2, sympy.atan)), lambda e: atom(e, "A", e))
+        if free_roots:
+            expr = expr.replace(
+                lambda e: isinstance(e, sympy.Pow) and e.exp.is_Rational and e.exp.q == 2,
+                lambda e: atom(("sqrt", e.base), "R", sympy.sqrt(e.base)) ** int(e.exp.p))
         for node in sympy.preorder_traversal(expr):
             if isinstance(node, sympy.Pow) and not node.exp.is_Integer:
                 raise Undecided(f"the symbolic rank does not handle the algebraic function {node}")
@@ -225,13 +234,16 @@ def _normalize(vector: list[sympy.Expr]) -> list[sympy.Expr]:
     return entries
 
 
-def null_space(matrix: sympy.Matrix) -> list[list[sympy.Expr]]:
+def null_space(matrix: sympy.Matrix, free_roots: bool = False) -> list[list[sympy.Expr]]:
     """A basis of the right null space over the rational-function field.
 
     Each vector is scaled to polynomial entries without common factor; the
     indeterminates introduced for transcendental functions are mapped back.
+    ``free_roots`` (:func:`rationalize`): square roots of polynomials are taken as
+    free indeterminates; the vectors returned are then null vectors (exactly),
+    possibly fewer than the nullity and dependent once the roots are put back.
     """
-    rational, back = rationalize(matrix)
+    rational, back = rationalize(matrix, free_roots)
     # tan(a/2) written back as sin(a)/(1 + cos(a)): the vector must compile again in
     # the model's own angles (a half angle is refused), and a null vector may be scaled.
     back = {t: _half_angle_in_full(e) for t, e in back.items()}

@@ -88,7 +88,8 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], inpu
     for _ in range(_ATTEMPTS):
         point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
         at = matrix.xreplace(point)
-        if any(e.has(sympy.zoo, sympy.nan) for e in at):
+        # A pole, or a square root of a negative number: the minor must be real there.
+        if any(e.has(sympy.zoo, sympy.nan) or e.is_real is False for e in at):
             continue
         if all(e.is_Rational for e in at):
             value = at.det(method="bareiss")
