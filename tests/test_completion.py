@@ -39,10 +39,10 @@ def test_nothing_short_enough_leaves_the_list_as_it_was(monkeypatch):
     whose completeness is not claimed."""
     monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 10)
     system = _constants_seen_twice()
-    assert _completed(system, (X1 + X2,), 2, seed=1) == (X1 + X2,)
+    assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2,), 1)
     monkeypatch.undo()
-    assert _completed(system, (X1 + X2,), 2, seed=1) == (X1 + X2, X1**3 * X3 + X2**5)
-    assert completed(system, (X1 + X2, X1 - X2), 2, seed=1) == (X1 + X2, X1 - X2)  # already at the rank
+    assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
+    assert completed(system, (X1 + X2, X1 - X2), 2, seed=1) == ((X1 + X2, X1 - X2), 2)  # already at the rank
 
 
 def test_the_jacobian_rank_is_exact_on_the_circle():

@@ -88,20 +88,23 @@ def _coefficients(expr: sympy.Expr, system: System) -> list[sympy.Expr]:
 
 
 def completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int,
-              budget: float = COMPLETION_BUDGET) -> tuple[sympy.Expr, ...]:
+              budget: float = COMPLETION_BUDGET) -> tuple[tuple[sympy.Expr, ...], int | None]:
     """``functions`` with Lie-derivative coefficients added until their Jacobian
     reaches ``rank`` at a random point (or nothing short enough is left, or the
     symbolic Lie derivatives take more than ``budget`` CPU seconds: then
-    ``functions`` as they are)."""
+    ``functions`` as they are), and the exact rank of the returned functions'
+    Jacobian at the point of ``seed`` (None when not computed): a certain lower
+    bound on their transcendence degree, which the verdict reuses."""
     # Already at the rank (the usual case: the invariants are complete): said without
     # a child process or a Lie derivative (a fifth of the verdict of 40-state slam3d).
     rows = gradients_at(system, functions, _angles(system), seed) if functions else []
-    if rows is not None and exact_rank(rows, system.n) >= rank:
-        return functions
+    reached = exact_rank(rows, system.n) if rows is not None else None
+    if reached is not None and reached >= rank:
+        return functions, reached
     try:
         return with_budget(_completed, system, functions, rank, seed, seconds=budget)
     except Undecided:
-        return functions
+        return functions, None
 
 
 def _angles(system: System) -> set[sympy.Symbol]:
@@ -110,7 +113,8 @@ def _angles(system: System) -> set[sympy.Symbol]:
             for t in e.atoms(sympy.sin, sympy.cos) for a in t.args[0].free_symbols}
 
 
-def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int) -> tuple[sympy.Expr, ...]:
+def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int
+               ) -> tuple[tuple[sympy.Expr, ...], int | None]:
     current = list(functions)
     # One point for every candidate: each is differentiated and evaluated once, not
     # the whole list again per candidate (quadratic: a second on 40-state slam3d).
@@ -118,7 +122,7 @@ def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, see
     rows = gradients_at(system, current, angles, seed) if current else []
     reached = exact_rank(rows, system.n) if rows is not None else None
     if reached is None or reached >= rank:
-        return functions
+        return functions, reached
     for order, block in enumerate(lie_derivatives(system)):
         if order > system.n or any(len(sympy.sstr(row.expression, order="none")) > 2 * MAX_COMPLETION_CHARS
                                    for row in block):
@@ -128,12 +132,12 @@ def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, see
                 candidate = sympy.factor_terms(coefficient)
                 if len(str(candidate)) > MAX_COMPLETION_CHARS:
                     continue
-                row = gradients_at(system, [candidate], angles, seed)
-                grown = exact_rank([*rows, *row], system.n) if row is not None else reached
+                gradient = gradients_at(system, [candidate], angles, seed)
+                grown = exact_rank([*rows, *gradient], system.n) if gradient is not None else reached
                 if grown > reached:
                     current.append(candidate)
-                    rows += row
+                    rows += gradient
                     reached = grown
                     if reached == rank:
-                        return tuple(current)
-    return tuple(current)
+                        return tuple(current), reached
+    return tuple(current), reached

@@ -148,7 +148,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     details = evidence.details + upper + (f"; {note}" if note else "") + (
         f"; {prepared.rewritten}" if prepared.rewritten else "")
     observable_states = _observable_states(system, evidence, basis)
-    functions = _functions(system, basis, rank, evidence.seed or 0) if functions else None
+    functions, reached = _functions(system, basis, rank, evidence.seed or 0) if functions else (None, None)
     if observable_states is None:
         details += "; observable states unknown"
     return ObservabilityResult(
@@ -158,7 +158,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         seconds=time.perf_counter() - start, details=details, time=system.time,
         singular_values=evidence.singular_values, row_labels=evidence.labels,
         observable_functions=None if functions is None else tuple(map(str, functions)),
-        functions_complete=_complete(system, functions, rank, proof), proof=proof,
+        functions_complete=_complete(system, functions, rank, proof, reached), proof=proof,
         unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
         unknown_input_model=input_model(system),
     )
@@ -232,12 +232,13 @@ def _upper_bound(system: System, basis, seconds: float) -> str:
     return ""
 
 
-def _functions(system: System, basis, rank: int, seed: int) -> tuple[sympy.Expr, ...] | None:
+def _functions(system: System, basis, rank: int, seed: int) -> tuple[tuple[sympy.Expr, ...] | None, int | None]:
     """The observable functions: invariants of the null-space basis; the outputs
     themselves when none of low degree is found ("[]" would read as "none");
-    completed to the rank with the outputs' Lie derivatives (:mod:`.completion`)."""
+    completed to the rank with the outputs' Lie derivatives (:mod:`.completion`);
+    and their Jacobian's exact rank at a random point when it was computed."""
     if basis is None or rank == system.n:
-        return None
+        return None, None
     # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
     functions = tuple(sympy.factor_terms(e) for e in observable_functions(system, basis, rank, seed=seed))
     if not functions and rank:
@@ -246,16 +247,20 @@ def _functions(system: System, basis, rank: int, seed: int) -> tuple[sympy.Expr,
     return completed(system, functions, rank, seed)
 
 
-def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: int, proof: str) -> bool | None:
+def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: int, proof: str,
+              reached: int | None) -> bool | None:
     """Whether ``functions`` have transcendence degree ``rank``: the rank of
     their Jacobian in the states at a random rational point, in exact
-    arithmetic, is a certain lower bound on it; every observable function's
-    differential lies in the observability codistribution, so a proven rank
-    bounds it from above. Equal: True. Below: False only when the Jacobian
-    rank at the point is itself certain to be generic -- not claimed, so None."""
+    arithmetic (``reached``, the completion's, else computed here), is a certain
+    lower bound on it; every observable function's differential lies in the
+    observability codistribution, so a proven rank bounds it from above. Equal:
+    True. Below: False only when the Jacobian rank at the point is itself
+    certain to be generic -- not claimed, so None."""
     if not functions or proof != "proven":
         return None
-    return True if jacobian_rank_at(system, [sympy.sympify(f) for f in functions], 7) == rank else None
+    if reached != rank:
+        reached = jacobian_rank_at(system, [sympy.sympify(f) for f in functions], 7)
+    return True if reached == rank else None
 
 
 def _observable_states(system: System, evidence: RankEvidence, basis) -> tuple[str, ...] | None:
