@@ -157,6 +157,10 @@ def test_complete_observable_functions_are_said_complete():
         result = analyze(system, seed=1)
         assert result.functions_complete is True, name
         assert result.to_dict()["observable_functions_complete"] is True
-        assert _complete(system, result.observable_functions, result.rank + 1, "proven") is None
-        assert _complete(system, result.observable_functions, result.rank, "lower bound") is None
+        functions = [sympy.sympify(f, locals={s.name: s for s in (*system.states, *system.parameters)})
+                     for f in result.observable_functions]
+        assert _complete(system, functions, result.rank + 1, "proven", None) is None
+        assert _complete(system, functions, result.rank + 1, "proven", result.rank) is None  # the rank reached
+        assert _complete(system, functions, result.rank, "proven", None) is True  # computed here
+        assert _complete(system, functions, result.rank, "lower bound", result.rank) is None
     assert "(complete: their transcendence degree is the rank" in str(analyze(models.build("slam1.5d"), seed=1))
