@@ -708,3 +708,66 @@ def test_fields_with_roots_of_polynomials_prove_the_rank():
     zero = sympy.Integer(0)
     assert _provable(static, [[W, zero, -x], [y, -x, zero]])
     assert not _provable(static, [[W, zero, -x], [x**2 + y**2, zero, -x * W]])
+
+
+def test_the_checker_reads_expressions_exactly_and_refuses_the_rest_word_for_word():
+    """The proof checker's expression reader against hand values: numbers, names,
+    pi and E, unary plus and minus, ^ as a power; refusals of a non-string, a text
+    that is not an expression (quoted, cut at 80 characters), a syntax tree above
+    MAX_NODES (and not at it), an unknown name; a rank that is not an integer."""
+    checker = _checker()
+    x, y = sympy.symbols("x y")
+    symbols = {"x": x, "y": y}
+    parse = checker._parse
+    assert parse("pi + E", symbols) == sympy.pi + sympy.E
+    assert parse("+x - -y", symbols) == x + y and parse("-x", symbols) == -x
+    assert parse("x^2", symbols) == x**2 and parse(3, symbols) == 3
+    for bad, kind in ((["x"], "list"), (True, "bool"), (None, "NoneType")):
+        with pytest.raises(checker.Rejected, match=f"^an expression must be a string, got {kind}$"):
+            parse(bad, symbols)
+    broken = "(" * 100
+    with pytest.raises(checker.Rejected) as refused:
+        parse(broken, symbols)
+    assert str(refused.value) == f"not an expression: {broken[:80]!r}"
+    # A balanced sum of k leaves counts 1 (Expression) + 2 (k - 1) (BinOp, Add) + 2 per name (Name,
+    # Load) + 1 per number: 12,498 names and 3 ones give exactly MAX_NODES = 50,000 (accepted);
+    # one name more, 50,002.
+    def balanced(leaves: list[str]) -> str:
+        half = len(leaves) // 2
+        return leaves[0] if len(leaves) == 1 else f"({balanced(leaves[:half])}+{balanced(leaves[half:])})"
+
+    assert checker.MAX_NODES == 50_000
+    assert parse(balanced(["x"] * 12_498 + ["1"] * 3), symbols) == 12_498 * x + 3
+    with pytest.raises(checker.Rejected, match="^an expression of more than 50000 syntax nodes$"):
+        parse(balanced(["x"] * 12_499 + ["1"] * 3), symbols)
+    with pytest.raises(checker.Rejected) as refused:
+        parse("z" * 100, symbols)
+    assert str(refused.value) == f"not allowed in a proof's expression: {('z' * 100)[:80]!r}"
+    proof = {"rank": "2", "n_states": 2, "model": {"name": "m"}}
+    with pytest.raises(checker.Rejected) as refused:
+        checker._claim(proof, 2)
+    assert str(refused.value) == "rank '2' of n_states 2 does not fit the model's 2 states"
+
+
+def test_the_checker_compares_the_minor_with_the_file_word_for_word():
+    """_minor_checked on hand minors: det [[1, 2], [3, 4]] = -2 exactly; a file that
+    says -3, or calls the exact minor inexact, is refused with its words; an inexact
+    minor (sqrt(2) entries) is compared to 60 digits: det [[sqrt 2, 1], [1, sqrt 2]] = 1."""
+    checker = _checker()
+    exact = sympy.Matrix([[1, 2], [3, 4]])
+    assert checker._minor_checked(exact, {"minor": "-2", "exact": True}) == "exactly"
+    with pytest.raises(checker.Rejected) as refused:
+        checker._minor_checked(exact, {"minor": "-3", "exact": True})
+    assert str(refused.value) == "the minor is -2, the file says -3"
+    with pytest.raises(checker.Rejected) as refused:
+        checker._minor_checked(exact, {"minor": "-2", "exact": False})
+    assert str(refused.value) == "the file says the minor is not exact; its entries say otherwise"
+    root = sympy.Matrix([[sympy.sqrt(2), 1], [1, sympy.sqrt(2)]])
+    with pytest.raises(checker.Rejected) as refused:
+        checker._minor_checked(root, {"minor": "1", "exact": True})
+    assert str(refused.value) == "the file says the minor is exact; its entries say otherwise"
+    assert checker._minor_checked(root, {"minor": "1.0000000000000000000000000000000000001", "exact": False}) == \
+        "to 60 digits"
+    with pytest.raises(checker.Rejected) as refused:
+        checker._minor_checked(root, {"minor": "1.000001", "exact": False})
+    assert str(refused.value) == "the minor is 1.0, the file says 1.000001"
