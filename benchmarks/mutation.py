@@ -99,6 +99,18 @@ EQUIVALENT: dict[str, str] = {
         "of two points of the same rank either is a generic witness; the probability is the product over all draws",
     "observability.rank.randomized.x__draw__mutmut_52":
         "a product of bounds exactly equal to the target: one draw more or less only at that equality",
+    "observability.rank.proofcheck.x__zero__mutmut_2":
+        "skipping the early return for a literal 0 leaves cancel(0) == 0 to answer the same",
+    "observability.rank.proofcheck.x__minor_checked__mutmut_21": "sympy's det lower-cases its method name",
+    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
+       "one digit more in a 60-digit evaluation changes no comparison at 1e-25 or 1e-30" for k in (32, 40)},
+    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
+       "< or <= (> or >=) against a tolerance differ only at exact equality of two 60-digit numbers"
+       for k in (46, 53)},
+    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}": "mpmath reads 1E-25 as 1e-25"
+       for k in (49, 58)},
+    **{f"observability.rank.proofcheck.x__is_root_of__mutmut_{k}":
+       "as_Add matters only for a sum; the term split is a single product" for k in (8, 10)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":

@@ -771,3 +771,16 @@ def test_the_checker_compares_the_minor_with_the_file_word_for_word():
     with pytest.raises(checker.Rejected) as refused:
         checker._minor_checked(root, {"minor": "1.000001", "exact": False})
     assert str(refused.value) == "the minor is 1.0, the file says 1.000001"
+
+
+def test_the_checker_knows_a_root_form_by_hand():
+    """_is_root_of: 3 sqrt(x^2 + y^2) + 5 is a root of x^2 + y^2 (a constant beside
+    it changes no row); sqrt(x^2 + y^2) + x is not (two terms move with the
+    states), nor is x^2 + y^2 itself, nor a root of another radicand."""
+    checker = _checker()
+    x, y = sympy.symbols("x y")
+    g = x**2 + y**2
+    assert checker._is_root_of(3 * sympy.sqrt(g) + 5, g, {x, y})
+    assert not checker._is_root_of(sympy.sqrt(g) + x, g, {x, y})
+    assert not checker._is_root_of(g, g, {x, y})
+    assert not checker._is_root_of(sympy.sqrt(g + 1), g, {x, y})
