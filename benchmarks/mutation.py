@@ -101,6 +101,10 @@ EQUIVALENT: dict[str, str] = {
         "a product of bounds exactly equal to the target: one draw more or less only at that equality",
     "observability.rank.proofcheck.x__zero__mutmut_2":
         "skipping the early return for a literal 0 leaves cancel(0) == 0 to answer the same",
+    "observability.rank.proofcheck.x__zero__mutmut_4":
+        "the third attempt (expand_trig, then simplify) only adds identities simplify alone misses; none is known "
+        "to us (sin(x + y), tan(x + y), cos(3x) expansions all fall to simplify), and without it the checker "
+        "only refuses more",
     "observability.rank.proofcheck.x__minor_checked__mutmut_21": "sympy's det lower-cases its method name",
     **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
        "one digit more in a 60-digit evaluation changes no comparison at 1e-25 or 1e-30" for k in (32, 40)},

@@ -719,7 +719,7 @@ def test_the_checker_reads_expressions_exactly_and_refuses_the_rest_word_for_wor
     x, y = sympy.symbols("x y")
     symbols = {"x": x, "y": y}
     parse = checker._parse
-    assert parse("pi + E", symbols) == sympy.pi + sympy.E
+    assert parse("pi", symbols) == sympy.pi and parse("E", symbols) == sympy.E
     assert parse("+x - -y", symbols) == x + y and parse("-x", symbols) == -x
     assert parse("x^2", symbols) == x**2 and parse(3, symbols) == 3
     for bad, kind in ((["x"], "list"), (True, "bool"), (None, "NoneType")):
@@ -752,7 +752,9 @@ def test_the_checker_reads_expressions_exactly_and_refuses_the_rest_word_for_wor
 def test_the_checker_compares_the_minor_with_the_file_word_for_word():
     """_minor_checked on hand minors: det [[1, 2], [3, 4]] = -2 exactly; a file that
     says -3, or calls the exact minor inexact, is refused with its words; an inexact
-    minor (sqrt(2) entries) is compared to 60 digits: det [[sqrt 2, 1], [1, sqrt 2]] = 1."""
+    minor (sqrt(2) entries) is compared to 60 digits: det [[sqrt 2, 1], [1, sqrt 2]] = 1,
+    and det [[sqrt 2, 1], [1, sqrt 3]] = sqrt 6 - 1 = 1.449489742783178098197284074705891...,
+    quoted to 30 digits when the file says otherwise."""
     checker = _checker()
     exact = sympy.Matrix([[1, 2], [3, 4]])
     assert checker._minor_checked(exact, {"minor": "-2", "exact": True}) == "exactly"
@@ -771,6 +773,9 @@ def test_the_checker_compares_the_minor_with_the_file_word_for_word():
     with pytest.raises(checker.Rejected) as refused:
         checker._minor_checked(root, {"minor": "1.000001", "exact": False})
     assert str(refused.value) == "the minor is 1.0, the file says 1.000001"
+    with pytest.raises(checker.Rejected) as refused:
+        checker._minor_checked(sympy.Matrix([[sympy.sqrt(2), 1], [1, sympy.sqrt(3)]]), {"minor": "1.45", "exact": False})
+    assert str(refused.value) == "the minor is 1.44948974278317809819728407471, the file says 1.45"
 
 
 def test_the_checker_knows_a_root_form_by_hand():
@@ -784,3 +789,15 @@ def test_the_checker_knows_a_root_form_by_hand():
     assert not checker._is_root_of(sympy.sqrt(g) + x, g, {x, y})
     assert not checker._is_root_of(g, g, {x, y})
     assert not checker._is_root_of(sympy.sqrt(g + 1), g, {x, y})
+
+
+def test_a_rank_zero_proof_is_written_and_accepted():
+    """y = 2 sees nothing: rank 0 of 1, the translation of x annihilates every row.
+    The proof's minor is the empty one (1 by convention); writing it raised
+    ValueError (exit 4) on the empty list of rows, and the checker must accept rank 0."""
+    system = System(["x"], {"x": "0"}, {"y": "2"}, name="blind")
+    result = analyze(system, seed=1)
+    assert (result.rank, result.proof) == (0, "proven")
+    data = json.loads(json.dumps(proof_evidence(system, result)))
+    assert _checker().check(data) == ("accepted: the generic rank of the observability matrix of blind is 0 of 1 "
+                                      "(minor non-zero exactly; 1 generator(s) verified as identities and independent)")

@@ -69,6 +69,8 @@ def _rational(rng: random.Random) -> sympy.Rational:
 
 def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], input_derivatives, seed: int):
     """The chosen minor at an exact random point: (point, value, exact)."""
+    if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below
+        return {}, "1", True
     wanted = set(rows)
     highest = max(order for _, order in rows)
     expressions: dict[tuple[str, int], sympy.Expr] = {}
