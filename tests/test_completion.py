@@ -36,10 +36,16 @@ def test_an_input_s_coefficient_completes_the_list():
 
 def test_nothing_short_enough_leaves_the_list_as_it_was(monkeypatch):
     """With the length limit below y2's 16 characters nothing is added: the list stays x1 + x2,
-    whose completeness is not claimed."""
+    whose completeness is not claimed. The states are constant, so order 1 has no candidate
+    short enough (every row is 0): the search stops there instead of differentiating up to
+    order n = 3 (two blocks of Lie derivatives drawn, not four)."""
     monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 10)
+    drawn = []
+    real = completion.lie_derivatives
+    monkeypatch.setattr(completion, "lie_derivatives", lambda s: (drawn.append(1) or b for b in real(s)))
     system = _constants_seen_twice()
     assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2,), 1)
+    assert len(drawn) == 2
     monkeypatch.undo()
     assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
     assert completed(system, (X1 + X2, X1 - X2), 2, seed=1) == ((X1 + X2, X1 - X2), 2)  # already at the rank

@@ -127,11 +127,13 @@ def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, see
         if order > system.n or any(len(sympy.sstr(row.expression, order="none")) > 2 * MAX_COMPLETION_CHARS
                                    for row in block):
             break  # the next order would only be longer
+        short = False
         for row in block:
             for coefficient in _coefficients(system.substitute_values(row.expression), system):
                 candidate = sympy.factor_terms(coefficient)
-                if len(str(candidate)) > MAX_COMPLETION_CHARS:
-                    continue
+                if candidate.is_number or len(str(candidate)) > MAX_COMPLETION_CHARS:
+                    continue  # a constant raises no rank; a long one is not printed
+                short = True
                 gradient = gradients_at(system, [candidate], angles, seed)
                 grown = exact_rank([*rows, *gradient], system.n) if gradient is not None else reached
                 if grown > reached:
@@ -140,4 +142,6 @@ def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, see
                     reached = grown
                     if reached == rank:
                         return tuple(current), reached
+        if order and not short:
+            break  # no candidate of this order was short enough: the next order's are longer still
     return tuple(current), reached
