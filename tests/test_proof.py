@@ -801,3 +801,26 @@ def test_a_rank_zero_proof_is_written_and_accepted():
     data = json.loads(json.dumps(proof_evidence(system, result)))
     assert _checker().check(data) == ("accepted: the generic rank of the observability matrix of blind is 0 of 1 "
                                       "(minor non-zero exactly; 1 generator(s) verified as identities and independent)")
+
+
+def test_the_checker_verifies_an_invariant_span_in_process():
+    """The invariant-span proof of x1' = x2, x2' = 0, x3' = x3^3, y = x1 (rank 2, the
+    span of e3 kept: [f, e3] = -3 x3^2 e3), written and checked in this process (the
+    test above does it through the command line, which mutation runs cannot see).
+    Tampered, each refusal word for word: d/dx2 leaves the span ([f, e2] = -e1),
+    d/dx1 moves y (L_v y = 1), and the zero field is not independent at the point."""
+    system = System(["x1", "x2", "x3"], {"x1": "x2", "x2": "0", "x3": "x3**3"}, {"y": "x1"}, name="cubic")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    assert data["upper_bound"]["kind"] == "invariant span"
+    checker = _checker()
+    assert checker.check(data) == ("accepted: the generic rank of the observability matrix of cubic is 2 of 3 (minor "
+                                   "non-zero exactly; 1 generator(s) verified as identities and independent)")
+    name = data["upper_bound"]["generators"][0]["name"]
+    for vectors, message in (([{"x2": "1"}], f"generator {name!r}: component x1 of [f, v] leaves the span"),
+                             ([{"x1": "1"}], f"generator {name!r}: L_v y is not zero"),
+                             ([{"x3": "x3 - x3"}], "the generators are not independent at the point")):
+        tampered = json.loads(json.dumps(data))
+        tampered["upper_bound"]["generators"] = [{"name": name, "vector": v} for v in vectors]
+        with pytest.raises(checker.Rejected) as refused:
+            checker.check(tampered)
+        assert str(refused.value) == message, vectors
