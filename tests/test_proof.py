@@ -824,3 +824,21 @@ def test_the_checker_verifies_an_invariant_span_in_process():
         with pytest.raises(checker.Rejected) as refused:
             checker.check(tampered)
         assert str(refused.value) == message, vectors
+
+
+def test_a_root_of_a_square_proves_no_independence_and_breaks_nothing():
+    """sqrt(z^2) is |z|: W^2 = z^2 splits into the branches W = z and W = -z, so a
+    minor non-zero modulo it may vanish on the real branch, and independence is not
+    claimed (with sqrt(z^2 + 1), squarefree, it is). Found by fuzzing: sqrt(z^2 + z^2)
+    = sqrt(2) |z| gave a null vector with sqrt(2) in it, which the invariant search
+    read as a monomial and crashed (KeyError, exit 4); its verdict: rank 2 of 4
+    (x unseen; dh0 = (0, 0, sqrt(2) z/|z|, 1), dh1 = (0, 1, 0, 0); L_f h0 = 1 adds no row)."""
+    from observability.rank.proof import _provable
+
+    z, zero = sympy.Symbol("z"), sympy.Integer(0)
+    square = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z**2)"})
+    assert not _provable(square, [[sympy.sqrt(z**2), zero]])
+    assert _provable(square, [[sympy.sqrt(z**2 + 1), zero]])
+    doubled = System(["x", "y", "z", "b"], {"x": "3", "y": "0", "z": "0", "b": "1"},
+                     {"h0": "b + sqrt(z**2 + z**2)", "h1": "y"})
+    assert analyze(doubled, seed=1).rank == 2

@@ -96,7 +96,9 @@ class _Variables:
         self.fields = fields
         known = set(self.symbols)
         # is_polynomial() in its own symbols: given all of them (hundreds) it sympifies each, per component.
-        self.supported = all(e.free_symbols <= known and e.is_polynomial() for v in fields for e in v)
+        # Rational coefficients only: the terms are read into rational tables (sqrt(2) z is refused).
+        self.supported = all(e.free_symbols <= known and e.is_polynomial() and _rational_numbers(e)
+                             for v in fields for e in v)
 
     def back(self, expr: sympy.Expr) -> sympy.Expr:
         """An expression in the search variables, in the states again."""
@@ -146,6 +148,12 @@ def _monomials(count: int, degree: int, states: int, trig: range) -> list[tuple[
 
 
 Polynomial = dict  # {exponent tuple: coefficient}
+
+
+def _rational_numbers(expr: sympy.Expr) -> bool:
+    """Whether every number in ``expr`` is rational (no sqrt(2), no pi)."""
+    return not expr.atoms(sympy.NumberSymbol) and not any(
+        p.base.is_number and not p.exp.is_Integer for p in expr.atoms(sympy.Pow))
 
 
 def _terms(expr: sympy.Expr, index: dict[sympy.Symbol, int]) -> Polynomial:

@@ -327,6 +327,11 @@ def _independent_with_radicals(system: System, fields: list[list[sympy.Expr]], a
     def coordinates(e: sympy.Expr) -> sympy.Expr:
         return in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers), roots), angles)
 
+    # The ideal of W^2 - g is prime only for a squarefree g (z^2 would split it into the
+    # branches W = z and W = -z, and a minor could vanish on the real one alone).
+    if not all(all(e == 1 for _, e in sympy.factor_list(g)[1]) for g in radicands.values()):
+        return False
+
     field = AlgebraicFunctions([*radicands, *angles.values(), *roots.values(), *system.states, *system.parameters])
     try:
         field.relate({w: field.of(coordinates(g)) for w, g in radicands.items()})
