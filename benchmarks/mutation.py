@@ -105,6 +105,15 @@ EQUIVALENT: dict[str, str] = {
         "the third attempt (expand_trig, then simplify) only adds identities simplify alone misses; none is known "
         "to us (sin(x + y), tan(x + y), cos(3x) expansions all fall to simplify), and without it the checker "
         "only refuses more",
+    **{f"observability.rank.proofcheck.x_verify__mutmut_{k}":
+       "the encoding of open(): the platform default is UTF-8 here (a C-locale run would tell them apart; mutmut "
+       "runs in this locale), and codec names are case-insensitive" for k in (2, 4, 6)},
+    "observability.rank.proofcheck.x_verify__mutmut_10":
+        "reading two characters past the limit sees the same excess as reading one",
+    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the name of a Dummy symbol"
+       for k in (2, 6)},
+    "observability.rank.proofcheck.x_check__mutmut_35":
+        "the default of max over the rows is used only at rank 0, where one order more computes rows no minor uses",
     "observability.rank.proofcheck.x__minor_checked__mutmut_21": "sympy's det lower-cases its method name",
     **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
        "one digit more in a 60-digit evaluation changes no comparison at 1e-25 or 1e-30" for k in (32, 40)},

@@ -842,3 +842,39 @@ def test_a_root_of_a_square_proves_no_independence_and_breaks_nothing():
     doubled = System(["x", "y", "z", "b"], {"x": "3", "y": "0", "z": "0", "b": "1"},
                      {"h0": "b + sqrt(z**2 + z**2)", "h1": "y"})
     assert analyze(doubled, seed=1).rank == 2
+
+
+def test_the_checker_reads_a_proof_file_and_refuses_a_bad_minor_or_generators(tmp_path, monkeypatch):
+    """verify() in this process: slam1.5d's proof file accepted as written; at exactly
+    MAX_FILE characters still read, one character more refused by size; not JSON
+    refused as malformed with the parser's words; the minor's rows repeated, or a
+    generator replaced by twice the other (translation twice: L_v h = 0 and [f, v] = 0
+    still hold), refused word for word."""
+    checker = _checker()
+    system = models.build("slam1.5d")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    accepted, line = checker.verify(str(path))
+    assert accepted and line == checker.check(data) and line.startswith("accepted: the generic rank")
+    size = len(path.read_text(encoding="utf-8"))
+    monkeypatch.setattr(checker, "MAX_FILE", size)
+    assert checker.verify(str(path))[0]
+    monkeypatch.setattr(checker, "MAX_FILE", size - 1)
+    assert checker.verify(str(path)) == (False, f"rejected: a proof file of more than {size - 1} characters")
+    monkeypatch.undo()
+    path.write_text("{", encoding="utf-8")
+    assert checker.verify(str(path)) == (False, "rejected: malformed proof (JSONDecodeError: Expecting property name "
+                                                "enclosed in double quotes: line 1 column 2 (char 1))")
+    repeated = json.loads(json.dumps(data))
+    repeated["lower_bound"]["rows"] = [repeated["lower_bound"]["rows"][0]] * 2
+    three = json.loads(json.dumps(data))  # two distinct rows as many as the rank, and one more
+    three["lower_bound"]["rows"] = [three["lower_bound"]["rows"][0], *three["lower_bound"]["rows"]]
+    twice = json.loads(json.dumps(data))
+    first = twice["upper_bound"]["generators"][0]
+    twice["upper_bound"]["generators"][1] = {"name": "twice", "vector": {k: f"2*({v})" for k, v in first["vector"].items()}}
+    for tampered, message in ((repeated, "the minor is not rank x rank with distinct rows and columns"),
+                              (three, "the minor is not rank x rank with distinct rows and columns"),
+                              (twice, "the generators are not independent at the point")):
+        path.write_text(json.dumps(tampered), encoding="utf-8")
+        assert checker.verify(str(path)) == (False, f"rejected: {message}")
