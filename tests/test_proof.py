@@ -878,3 +878,20 @@ def test_the_checker_reads_a_proof_file_and_refuses_a_bad_minor_or_generators(tm
                               (twice, "the generators are not independent at the point")):
         path.write_text(json.dumps(tampered), encoding="utf-8")
         assert checker.verify(str(path)) == (False, f"rejected: {message}")
+
+
+def test_the_checker_reads_the_model_of_a_proof_file_word_for_word():
+    """A proof file without the (optional) analysed_outputs table is read as one with
+    none; a declared name that is not an identifier (an extra input "u v") is refused
+    before anything else is read."""
+    checker = _checker()
+    system = models.build("slam1.5d")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    bare = json.loads(json.dumps(data))
+    bare["model"].pop("analysed_outputs", None)
+    assert checker.check(bare) == checker.check(data)
+    odd = json.loads(json.dumps(data))
+    odd["model"]["inputs"] = [*odd["model"]["inputs"], "u v"]
+    with pytest.raises(checker.Rejected) as refused:
+        checker.check(odd)
+    assert str(refused.value) == "the model's names are not distinct identifiers"
