@@ -895,3 +895,24 @@ def test_the_checker_reads_the_model_of_a_proof_file_word_for_word():
     with pytest.raises(checker.Rejected) as refused:
         checker.check(odd)
     assert str(refused.value) == "the model's names are not distinct identifiers"
+
+
+def test_the_checker_takes_symmetries_by_default_and_no_input_in_a_span():
+    """A proof without the kind of its upper bound is read as symmetries (slam1.5d's
+    translation and scale, accepted either way). The invariant-span proof of x1' =
+    x2 + u, x2' = 0, x3' = x3^3, y = x1 (rank 2, span of e3) is refused once its
+    generator holds the input u: the span argument holds u fixed."""
+    checker = _checker()
+    system = models.build("slam1.5d")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    assert data["upper_bound"].pop("kind") == "symmetries"
+    assert checker.check(data).startswith("accepted: the generic rank of the observability matrix of slam1.5d is 2 of 4")
+    driven = System(["x1", "x2", "x3"], {"x1": "x2 + u", "x2": "0", "x3": "x3**3"}, {"y": "x1"}, inputs=["u"],
+                    name="driven")
+    span = json.loads(json.dumps(proof_evidence(driven, analyze(driven, seed=1))))
+    assert span["upper_bound"]["kind"] == "invariant span" and checker.check(span).startswith("accepted")
+    name = span["upper_bound"]["generators"][0]["name"]
+    span["upper_bound"]["generators"][0]["vector"] = {"x3": "u"}
+    with pytest.raises(checker.Rejected) as refused:
+        checker.check(span)
+    assert str(refused.value) == f"generator {name!r}: an invariant span needs generators free of inputs"
