@@ -916,3 +916,31 @@ def test_the_checker_takes_symmetries_by_default_and_no_input_in_a_span():
     with pytest.raises(checker.Rejected) as refused:
         checker.check(span)
     assert str(refused.value) == f"generator {name!r}: an invariant span needs generators free of inputs"
+
+
+def test_the_checker_reads_no_more_than_its_limit_and_cuts_long_reasons(tmp_path, monkeypatch):
+    """verify() asks the file for MAX_FILE + 1 characters, not all of it (a huge file
+    is refused without being read whole), and a malformed file's reason is cut at 200
+    characters: a minor column named by 300 x's is an unknown name (KeyError)."""
+    import builtins
+
+    checker = _checker()
+    system = models.build("slam1.5d")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    data["lower_bound"]["columns"][0] = "x" * 300
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    accepted, line = checker.verify(str(path))
+    assert not accepted and line == f"rejected: malformed proof (KeyError: {repr('x' * 300)[:200]})"
+    asked = []
+    real_open = builtins.open
+
+    def recording_open(*args, **kwargs):
+        handle = real_open(*args, **kwargs)
+        read = handle.read
+        handle.read = lambda size=-1: asked.append(size) or read(size)
+        return handle
+
+    monkeypatch.setattr(builtins, "open", recording_open)
+    checker.verify(str(path))
+    assert asked == [checker.MAX_FILE + 1]
