@@ -48,7 +48,7 @@ from observability.budget import Undecided, with_budget
 from observability.errors import ObservabilityError
 from observability.model.expressions import parse_expression, split_top_level
 from observability.model.sijl import _unreserved, parse_si_model
-from observability.rank.membership import completing_columns, groebner_contains, sampling_range
+from observability.rank.membership import contained, sampling_range
 
 RESULT = "result_(normalforms, 2)_with_states"
 TIMINGS = "timings_(normalforms, 2)_with_states"
@@ -75,12 +75,7 @@ def _contained(generators: list[sympy.Expr], tested: list[sympy.Expr], coordinat
         if all(d.xreplace(point) != 0 for _, d in (*pairs, *targets)):
             break
     jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in pairs]
-    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
-    equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in pairs]
-    equations += [coordinates[i] - point[coordinates[i]] for i in free]
-    saturation = sympy.Mul(*(d for _, d in pairs))
-    return groebner_contains(equations, coordinates, saturation,
-                             [n * d.xreplace(point) - n.xreplace(point) * d for n, d in targets])
+    return contained(pairs, targets, coordinates, point, jacobian)
 
 
 def compare(folder: Path, budget: float) -> dict[str, object]:

@@ -8,7 +8,7 @@ import sympy
 
 from observability import System, analyze
 from observability.analysis import completion
-from observability.analysis.completion import _coefficients, _completed, completed, jacobian_rank_at
+from observability.analysis.completion import _coefficients, completed, jacobian_rank_at
 
 X1, X2, X3, U = sympy.symbols("x1 x2 x3 u")
 
@@ -44,10 +44,10 @@ def test_nothing_short_enough_leaves_the_list_as_it_was(monkeypatch):
     real = completion.lie_derivatives
     monkeypatch.setattr(completion, "lie_derivatives", lambda s: (drawn.append(1) or b for b in real(s)))
     system = _constants_seen_twice()
-    assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2,), 1)
+    assert completed(system, (X1 + X2,), 2, seed=1, budget=None) == ((X1 + X2,), 1)
     assert len(drawn) == 2
     monkeypatch.undo()
-    assert _completed(system, (X1 + X2,), 2, seed=1) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
+    assert completed(system, (X1 + X2,), 2, seed=1, budget=None) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
     assert completed(system, (X1 + X2, X1 - X2), 2, seed=1) == ((X1 + X2, X1 - X2), 2)  # already at the rank
 
 

@@ -95,14 +95,16 @@ def completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed
     ``functions`` as they are), and the exact rank of the returned functions'
     Jacobian at the point of ``seed`` (None when not computed): a certain lower
     bound on their transcendence degree, which the verdict reuses."""
-    # Already at the rank (the usual case: the invariants are complete): said without
-    # a child process or a Lie derivative (a fifth of the verdict of 40-state slam3d).
-    rows = gradients_at(system, functions, _angles(system), seed) if functions else []
+    # Already at the rank (the usual case: the invariants are complete), or no point to
+    # judge by: said without a child process or a Lie derivative (a fifth of the
+    # verdict of 40-state slam3d). ``budget=None`` grows the list in this process.
+    angles = _angles(system)
+    rows = gradients_at(system, functions, angles, seed) if functions else []
     reached = exact_rank(rows, system.n) if rows is not None else None
-    if reached is not None and reached >= rank:
+    if reached is None or reached >= rank:
         return functions, reached
     try:
-        return with_budget(_completed, system, functions, rank, seed, seconds=budget)
+        return with_budget(_grown, system, functions, rank, seed, angles, rows, reached, seconds=budget)
     except Undecided:
         return functions, None
 
@@ -113,16 +115,14 @@ def _angles(system: System) -> set[sympy.Symbol]:
             for t in e.atoms(sympy.sin, sympy.cos) for a in t.args[0].free_symbols}
 
 
-def _completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int
-               ) -> tuple[tuple[sympy.Expr, ...], int | None]:
+def _grown(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int, angles: set, rows: list,
+           reached: int) -> tuple[tuple[sympy.Expr, ...], int]:
+    """``functions`` (their gradients ``rows`` at the seed's point, of rank ``reached``)
+    with the Lie-derivative coefficients that raise that rank, lowest order first."""
     current = list(functions)
     # One point for every candidate: each is differentiated and evaluated once, not
     # the whole list again per candidate (quadratic: a second on 40-state slam3d).
-    angles = _angles(system)
-    rows = gradients_at(system, current, angles, seed) if current else []
-    reached = exact_rank(rows, system.n) if rows is not None else None
-    if reached is None or reached >= rank:
-        return functions, reached
+    rows = list(rows)
     for order, block in enumerate(lie_derivatives(system)):
         if order > system.n or any(len(sympy.sstr(row.expression, order="none")) > 2 * MAX_COMPLETION_CHARS
                                    for row in block):

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..engine.lie import input_derivative, lie_derivative
-from ..rank.membership import completing_columns, exact_rank, groebner_contains, sampling_range
+from ..rank.membership import contained, exact_rank, sampling_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
 __all__ = ["FieldGeneration", "generate_the_field"]
@@ -90,12 +90,7 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in generators]
     if exact_rank(jacobian, len(coordinates)) != rank:
         return f"the functions' Jacobian does not reach the rank {rank} at the random point"
-    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
-    adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
-    equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
-    saturation = sympy.Mul(*(d for _, d in generators))
-    targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]
-    members = groebner_contains([*equations, *adjoined], coordinates, saturation, targets)
+    members = contained(generators, tested, coordinates, point, jacobian)
     labels = [f"L^{j} {name}" for name, k in zip(names, orders) for j in range(k + 1)]
     missing = tuple(label for label, member in zip(labels, members) if not member)
     return FieldGeneration(not missing, missing, bound.bit_length())

@@ -127,9 +127,11 @@ class AlgebraicFunctions(RationalFunctions):
     is. The W_i are the first symbols (lexicographically largest), so dividing
     by W_i^2 - g_i lowers their degrees below 2; those leading monomials are
     coprime, so the relations are a Groebner basis and the remainder a normal
-    form. Each g_i is to be squarefree and not a square (a factored radicand),
-    so the ideal is prime: a numerator with zero normal form vanishes wherever
-    W_i^2 = g_i. Without relations, the rational functions."""
+    form: a numerator with zero normal form vanishes wherever W_i^2 = g_i, on
+    every branch of the roots, whatever the g_i. The converse (a non-zero normal
+    form is non-zero on the real branch, generically) needs a prime ideal, i.e.
+    each g_i squarefree and not a square: the caller checks that before it reads
+    a non-zero as independence. Without relations, the rational functions."""
 
     def __init__(self, symbols: Sequence[sympy.Symbol]) -> None:
         super().__init__(symbols)

@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import flint
 import sympy
 
-__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns"]
+__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained"]
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -86,3 +86,18 @@ def completing_columns(rows: Sequence[Sequence[sympy.Expr]], columns: int, candi
             rank += 1
             chosen.append(j)
     return chosen
+
+
+def contained(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[tuple[sympy.Expr, sympy.Expr]],
+              coordinates: Sequence[sympy.Symbol], point: dict, jacobian: Sequence[Sequence[sympy.Expr]]
+              ) -> tuple[bool, ...]:
+    """Whether each tested n/d (algebraic over F = Q(generators)) lies in F: the
+    test of the module docstring at the integer ``point`` (no denominator zero
+    there; drawn from :func:`sampling_range`), the generators' ``jacobian`` at it
+    choosing the coordinates adjoined at their values."""
+    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
+    adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
+    equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
+    saturation = sympy.Mul(*(d for _, d in generators))
+    targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]
+    return groebner_contains([*equations, *adjoined], coordinates, saturation, targets)

@@ -338,19 +338,7 @@ def _independent_with_radicals(system: System, fields: list[list[sympy.Expr]], a
         rows = [[field.of(coordinates(e)) for e in v] for v in fields]
     except (NotRational, ZeroDivisionError, ValueError):
         return False
-    rank = 0
-    for column in range(system.n):
-        pivot = next((i for i in range(rank, len(rows)) if not rows[i][column][0].is_zero()), None)
-        if pivot is None:
-            continue
-        rows[rank], rows[pivot] = rows[pivot], rows[rank]
-        inverse = field.reduced(rows[rank][column][1], rows[rank][column][0])
-        for i in range(rank + 1, len(rows)):
-            if not rows[i][column][0].is_zero():
-                ratio = field.multiply(rows[i][column], inverse)
-                rows[i] = [field.add(a, field.negative(field.multiply(ratio, b))) for a, b in zip(rows[i], rows[rank])]
-        rank += 1
-    return rank == len(fields)
+    return _pivot_rows(field, rows) is not None
 
 
 def _independent_exponents(system: System, exponents: list[sympy.Expr]) -> bool:
