@@ -427,20 +427,109 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
         return f"scaling{about}", f"scales the states with weights {weights}"
     if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
-        pairs = sorted({(min(i, j), max(i, j)) for i, j in off})
-        i, j = pairs[0]
-        rate = A[j][i]
-        centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
-        in_pairs = {k for pair in pairs for k in pair}
-        turned = [states[k].name for k in range(n) if k not in in_pairs and b[k] != 0]
-        description = "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
-        description += f" and turns {_listing(turned)} with them" if turned else ""
-        axis = _axis([(states[p].name, states[q].name) for p, q in pairs], {x.name for x in states})
-        if axis and centre == (0, 0):
-            return f"rotation about the {axis}-axis", description
-        about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
-        return f"rotation{about}", description
+        return _rotation(A, b, sorted({(min(i, j), max(i, j)) for i, j in off}), system)
     return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
+
+
+def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], system: System) -> tuple[str, str]:
+    """Name a field x' = A x + b with A skew-symmetric and ``pairs`` its coupled
+    states: attitude quaternions turning about an axis are set apart
+    (:func:`_attitudes`); the rest is a rotation of planes, named by its centre
+    when the pairs are disjoint (each state in one plane), else a rotation of
+    the states it couples, without a centre."""
+    states = list(system.states)
+    attitudes = _attitudes(A, b, pairs, system)
+    turned_attitudes = [k for group, _ in attitudes for k in group]
+    pairs = [p for p in pairs if p[0] not in turned_attitudes]
+    said = [f"the attitude ({', '.join(states[k].name for k in group)}) about the axis {axis}" for group, axis in attitudes]
+    if not pairs:
+        group, axis = attitudes[0]
+        return (f"rotation of {said[0]}",
+                f"multiplies ({', '.join(states[k].name for k in group)}) by a pure quaternion along the axis "
+                f"(Hamilton product, scalar first): the attitude turns about {axis}"
+                + (f"; also turns {_listing(said[1:])}" if len(said) > 1 else ""))
+    coupled = [k for p in pairs for k in p]
+    if len(set(coupled)) < len(coupled):  # a state in two planes: a rotation of three or more states together
+        moved = _listing(sorted({states[k].name for k in coupled}, key=[s.name for s in states].index))
+        kept = ", keeping the sum of their squares" if not any(b[k] for k in coupled) else ""
+        return f"rotation of ({moved})", f"turns ({moved}) together by a skew-symmetric linear map{kept}"
+    n = len(states)
+    i, j = pairs[0]
+    rate = A[j][i]
+    centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
+    in_pairs = {k for pair in pairs for k in pair} | set(turned_attitudes)
+    turned = [states[k].name for k in range(n) if k not in in_pairs and b[k] != 0]
+    description = "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
+    description += f" and turns {_listing(turned)} with them" if turned else ""
+    description += f", and turns {_listing(said)} with them" if said else ""
+    axis = _axis([(states[p].name, states[q].name) for p, q in pairs], {x.name for x in states})
+    if axis and centre == (0, 0):
+        return f"rotation about the {axis}-axis", description
+    about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
+    return f"rotation{about}", description
+
+
+def _attitudes(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]],
+               system: System) -> list[tuple[list[int], str]]:
+    """The quaternions the field turns: groups of four states (a connected
+    block of the coupled pairs, or two blocks of two), unshifted, whose
+    dynamics keep their norm (:func:`_norm_preserving`) and whose block of A is
+    the left or right multiplication by a pure quaternion (0, a) in the
+    Hamilton product with the scalar first: the attitude turns about the axis
+    a. Each with that axis as text."""
+    blocks: list[list[int]] = []
+    for p in pairs:
+        joined = [blk for blk in blocks if set(blk) & set(p)]
+        blocks = [blk for blk in blocks if blk not in joined] + [sorted(set(p).union(*joined))]
+    candidates = [blk for blk in blocks if len(blk) == 4]
+    candidates += [sorted(x + y) for x, y in itertools.combinations([blk for blk in blocks if len(blk) == 2], 2)]
+    found: list[tuple[list[int], str]] = []
+    states = list(system.states)
+    for group in candidates:
+        if any(set(group) & set(g) for g, _ in found) or any(b[k] != 0 for k in group):
+            continue
+        axis = _pure_quaternion([[A[r][c] for c in group] for r in group])
+        if axis and _norm_preserving(system, [states[k] for k in group]) and _coupled(system, [states[k] for k in group]):
+            found.append((group, axis))
+    return found
+
+
+def _coupled(system: System, group: list[sympy.Symbol]) -> bool:
+    """Whether the dynamics of ``group`` couple all of it (the graph of its
+    non-zero Jacobian entries is connected), as the rate of a quaternion does
+    and two static landmarks, also "norm-preserving", do not."""
+    index = {s: i for i, s in enumerate(system.states)}
+    reached, frontier = {group[0]}, [group[0]]
+    while frontier:
+        a = frontier.pop()
+        for c in group:
+            if c not in reached and (sympy.diff(system.dynamics[index[a]], c) != 0
+                                     or sympy.diff(system.dynamics[index[c]], a) != 0):
+                reached.add(c)
+                frontier.append(c)
+    return len(reached) == len(group)
+
+
+def _pure_quaternion(block: list[list]) -> str | None:
+    """The axis a, as text, when ``block`` is the matrix of q -> (0, a) q (an
+    axis of the reference frame: R(q) v = q v q* is the body-to-reference
+    rotation) or q -> q (0, a) (of the body frame), in the Hamilton product
+    with q = (w, x, y, z); else None."""
+    a = [block[1][0], block[2][0], block[3][0]]
+    left = [[0, -a[0], -a[1], -a[2]], [a[0], 0, -a[2], a[1]], [a[1], a[2], 0, -a[0]], [a[2], -a[1], a[0], 0]]
+    right = [[0, -a[0], -a[1], -a[2]], [a[0], 0, a[2], -a[1]], [a[1], -a[2], 0, a[0]], [a[2], a[1], -a[0], 0]]
+    same = lambda m: all(sympy.expand(m[r][c] - block[r][c]) == 0 for r in range(4) for c in range(4))  # noqa: E731
+    if not any(a) or not (same(left) or same(right)):
+        return None
+    if all(sympy.sympify(e).is_Rational for e in a):  # a line: shown by its smallest integer direction
+        den = math.lcm(*(sympy.Rational(e).q for e in a))
+        whole = [int(sympy.Rational(e) * den) for e in a]
+        a = [sympy.Integer(e // math.gcd(*whole)) for e in whole]
+    first = next(sympy.sympify(e) for e in a if e != 0)
+    if first.could_extract_minus_sign():
+        a = [-e for e in a]
+    frame = "reference" if same(left) else "body"
+    return f"({', '.join(str(e) for e in a)}) of the {frame} frame"
 
 
 def _rotation_with_attitude(vector: Sequence[sympy.Expr], terms: list[dict], system: System) -> tuple[str, str] | None:
