@@ -944,3 +944,22 @@ def test_the_checker_reads_no_more_than_its_limit_and_cuts_long_reasons(tmp_path
     monkeypatch.setattr(builtins, "open", recording_open)
     checker.verify(str(path))
     assert asked == [checker.MAX_FILE + 1]
+
+
+@pytest.mark.parametrize("output,field,annihilates", [
+    ("x/y", [0, 1], False),          # L_v (x/y) = -x/y^2: the numerator alone is untouched by v
+    ("x/y", [1, 0], False),          # 1/y: the denominator alone is untouched
+    ("x/y", ["x", "y"], True),       # scaling: (y*x - x*y)/y^2 = 0
+    ("(x + z)/(y*z + 1)", [1, 0, -1], False),  # numerator kept, denominator moved: -(x+z)*(-y)/(yz+1)^2
+    ("x/(y + exp(z))", [0, 1, "-log(1 + exp(-z))"], False),  # not rational: decided by expressions
+])
+def test_an_output_quotient_is_annihilated_only_as_a_whole(output, field, annihilates):
+    """L_v (N/D) = (D L_v N - N L_v D)/D^2 by hand: a field annihilating N or D
+    alone is no symmetry; both terms are checked (the identities now
+    differentiate N and D apart, as polynomials)."""
+    from observability.rank.proof import fields_are_symmetries
+
+    names = sorted({str(s) for s in sympy.sympify(output).free_symbols} | {"x", "y"})
+    system = System(names, {s: 0 for s in names}, {"h": output})
+    vector = [sympy.sympify(c) for c in field] + [sympy.Integer(0)] * (len(names) - len(field))
+    assert fields_are_symmetries(system, [vector], budget=60) is annihilates

@@ -92,9 +92,11 @@ def _bracket(field: RationalFunctions, derivative, f_: list, v_: list) -> list:
     out = []
     for vi, fi in zip(v_, f_):
         total = (field.zero, field.one)
-        for j, (fj, vj) in enumerate(zip(f_, v_)):
-            total = field.add(total, field.multiply(derivative(vi, j), fj))
-            total = field.add(total, field.negative(field.multiply(derivative(fi, j), vj)))
+        for j, (fj, vj) in enumerate(zip(f_, v_)):  # a zero rate adds nothing (a static landmark's)
+            if not fj[0].is_zero():
+                total = field.add(total, field.multiply(derivative(vi, j), fj))
+            if not vj[0].is_zero():
+                total = field.add(total, field.negative(field.multiply(derivative(fi, j), vj)))
         out.append(total)
     return out
 
@@ -174,19 +176,29 @@ def _annihilates(field: RationalFunctions, derivative, rational, h: sympy.Expr, 
     """L_v h = 0: in the coordinates when h is rational there; otherwise (atan2,
     log) from h's gradient in the model's own coordinates, a scalar written in them."""
     try:
-        h_ = rational(h)
+        top, bottom = rational(h)
     except NotRational:
         return rational(sum(sympy.diff(h, s) * e for s, e in zip(states, v)))[0].is_zero()
-    return _vanishes(field, [(derivative(h_, j), vj, 1) for j, vj in enumerate(v_)])
+    # h = N / D: L_v h = (D L_v N - N L_v D) / D^2, so the derivatives are of polynomials (no gcd of
+    # fractions per coordinate, which took most of a 40-state proof) and only along v's non-zero components.
+    moved = [(j, vj) for j, vj in enumerate(v_) if not vj[0].is_zero()]
+    rate_top = _sum(field, [(derivative((top, field.one), j), vj, 1) for j, vj in moved])
+    rate_bottom = _sum(field, [(derivative((bottom, field.one), j), vj, 1) for j, vj in moved])
+    return _vanishes(field, [((bottom, field.one), rate_top, 1), ((top, field.one), rate_bottom, -1)])
 
 
 def _vanishes(field: RationalFunctions, terms) -> bool:
     """Whether the sum of sign * a * b over the terms is zero."""
+    return _sum(field, terms)[0].is_zero()
+
+
+def _sum(field: RationalFunctions, terms) -> tuple:
+    """The sum of sign * a * b over the terms, a fraction."""
     total = (field.zero, field.one)
     for a, b, sign in terms:
         product = field.multiply(a, b)
         total = field.add(total, product if sign > 0 else field.negative(product))
-    return total[0].is_zero()
+    return total
 
 
 def _identities(system: System, fields: list[list[sympy.Expr]]) -> bool:
