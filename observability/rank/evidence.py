@@ -143,12 +143,7 @@ def symbolic_evidence(system: System, seed: int | None, input_derivatives: int |
     try:
         sym = with_budget(symbolic_rank, system, input_derivatives, max_order, previous, seconds=budget)
     except Undecided as exc:
-        cheap = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
-                                previous=previous)
-        certain = cheap.dependence is None
-        return undecided(f"{exc}" + (f"; rank at least {cheap.rank} (exact rank mod {cheap.modulus} at a random "
-                                     f"point, seed {cheap.seed}: a certain lower bound)" if certain else ""),
-                         lower=cheap.rank if certain else None, orders=cheap.orders, seed=seed)
+        return _undecided_with_lower_bound(system, f"{exc}", seed, input_derivatives, max_order, previous)
     if not sym.complete and sym.rank < n:
         return truncated(n, max_order, sym.rank, sym.orders, sym.rule, True, seed)
     details = "exact generic rank over the field of rational functions"
@@ -165,6 +160,26 @@ def symbolic_evidence(system: System, seed: int | None, input_derivatives: int |
         details += f" ({check.dependence}; {proof.how})"
     return RankEvidence(rank=sym.rank, orders=sym.orders, seed=seed, details=details, probability=0.0,
                         labels=sym.row_labels, observable_columns=tuple(range(n)) if sym.rank == n else None)
+
+
+def _undecided_with_lower_bound(system: System, why: str, seed: int | None, input_derivatives: int | None,
+                                max_order: int | None, previous: str) -> RankEvidence:
+    """Undecided, with the rank at a random point as a certain lower bound: by
+    the exact arithmetic when the transcendental terms are independent, else
+    when a minor of that size is proven non-zero at a true real point by ball
+    arithmetic (:func:`~.certificate.certify_rank`, as the random route does);
+    without either, no bound is claimed."""
+    cheap = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
+                            previous=previous)
+    how = "exact arithmetic"
+    if cheap.dependence is not None:
+        proof = certify_rank(system, cheap.orders, cheap.independent_rows, cheap.pivot_columns, seed=cheap.seed,
+                             input_derivatives=input_derivatives, previous=previous)
+        if not proof.proven:
+            return undecided(why, orders=cheap.orders, seed=seed)
+        how = f"{cheap.dependence}; certified: {proof.how}"
+    return undecided(f"{why}; rank at least {cheap.rank} (exact rank mod {cheap.modulus} at a random point, seed "
+                     f"{cheap.seed}: a certain lower bound; {how})", lower=cheap.rank, orders=cheap.orders, seed=seed)
 
 
 def float_evidence(system: System, seed: int | None, point: Mapping[str, float] | None,

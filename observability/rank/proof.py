@@ -23,6 +23,7 @@ from ..budget import Undecided, with_budget
 from ..engine.expansion import point_rank
 from ..engine.fractions import AlgebraicFunctions, NotRational, RationalFunctions, solve
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles, in_square_roots, root_speed, square_roots
+from .balls import independent_at_a_real_point
 from .symbolic import rationalize
 from ..model.system import System
 
@@ -126,27 +127,32 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(sympy.exp)}, key=sympy.default_sort_key)
     if any(a.args[0].has(sympy.exp) for a in exps):
         return None  # exp inside exp: the chain rule below would miss the inner one
-    named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
     powers, radicands = _radicals(everything, roots)
+    # Named after the roots are: exp(sqrt(g)) is met as exp(W) in an expression already rewritten.
+    named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
+    named_as_met = {a.xreplace(powers): e for a, e in named.items()}
     field = AlgebraicFunctions([*radicands, *x, *named.values(), *system.inputs, *system.parameters])
 
     def rational(e: sympy.Expr) -> tuple:
-        return field.of(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named), roots),
-                                       angles))
+        return field.of(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named_as_met),
+                                                       roots), angles))
 
     try:
         field.relate({w: rational(g) for w, g in radicands.items()})
-        # d exp(m) = exp(m) dm, and d sqrt(g) = dg / (2 sqrt(g)): per atom, its rate along each coordinate.
-        growth = [(named[a], field.multiply(field.of(named[a]), field.derivative(rational(a.args[0]), xj)))
-                  for a in exps for xj in x]
-        growth += [(w, rational(sympy.diff(in_half_angles(in_square_roots(g, roots), angles), xj) / (2 * w)))
-                   for w, g in radicands.items() for xj in x]
+        # d sqrt(g) = dg / (2 sqrt(g)), then d exp(m) = exp(m) dm with m's roots moving too: per atom, its
+        # rate along each coordinate.
+        growth = [(w, rational(sympy.diff(in_half_angles(in_square_roots(g, roots), angles), xj) / (2 * w)))
+                  for w, g in radicands.items() for xj in x]
 
         def derivative(a: tuple, j: int) -> tuple:
             total = field.derivative(a, x[j])
             for symbol, rate in growth[j::len(x)]:
                 total = field.add(total, field.multiply(field.derivative(a, symbol), rate))
             return total
+        # Atom by atom, one rate per coordinate (so growth[j::len(x)] are the rates along x_j); the
+        # exponentials' through the roots' rates, already in place.
+        growth.extend([(named[a], field.multiply(field.of(named[a]), derivative(rational(a.args[0]), j)))
+                       for a in exps for j in range(len(x))])
 
         f_ = [rational(speed(s, e)) for s, e in zip(system.states, f)]
         v_all_ = [[rational(speed(s, e)) for s, e in zip(system.states, v)] for v in v_all]
@@ -276,7 +282,8 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     # Sines and cosines of states are rational in T = tan(angle/2); independence
     # at one real point proves generic independence (the minor is then a non-zero
     # analytic function), and at T rational the point is real with exact values.
-    # Other functions (log, sqrt, ...) in a field prove nothing here.
+    # Anything else (a root inside an exponential, a logarithm) goes to a minor at a real point in
+    # ball arithmetic (:mod:`.balls`).
     variables = set(system.states) | set(system.parameters)
     exps = {a for v in fields for e in v for a in sympy.sympify(e).atoms(sympy.exp)}
     named = {a: sympy.Dummy() for a in exps}
@@ -284,29 +291,45 @@ def _provable(system: System, fields: list[list[sympy.Expr]]) -> bool:
     components = [e for v in fields for e in v]
     angles = half_angles(system.states, components)
     if angles is None:
-        return False
+        return _in_balls(system, fields)
     roots = {z: w for z, w in square_roots(system.states, components).items() if z not in angles}
     powers, radicands = _radicals(components, roots)
-    if radicands and exps:
-        return False
-    if not all(in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named), roots),
-                              angles).is_rational_function(
-               *variables, *angles.values(), *roots.values(), *named.values(), *radicands) for e in components):
-        return False
+    if (radicands and exps) or not all(
+            in_half_angles(in_square_roots(sympy.sympify(e).xreplace(powers).xreplace(named), roots),
+                           angles).is_rational_function(
+                *variables, *angles.values(), *roots.values(), *named.values(), *radicands) for e in components):
+        return _in_balls(system, fields)
     if exps and not _independent_exponents(system, [a.args[0] for a in exps]):
+        return _in_balls(system, fields)
+    if not _preconditions(system, fields):
         return False
-    # A field that depends on an input moves with it (u' enters the bracket, and
-    # in discrete time the next step's input): the identities below hold u fixed.
-    if any(sympy.sympify(e).has(*system.inputs) for v in fields for e in v):
-        return False
-    if system.time == "discrete" and system.uses_previous_state:
-        return False  # identities in the previous-state form are not derived here
     if radicands:
         return _independent_with_radicals(system, fields, angles, roots, powers, radicands)
     if angles or roots:
         return _independent_on_the_circle(system, fields, angles, roots)
     # Generically independent: a non-zero k x k minor at a random point mod p.
     return point_rank(system, fields, gradients=False, attempts=8) == len(fields)
+
+
+def _in_balls(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    """Independence where the exact tests do not reach (roots inside
+    exponentials, logarithms, exponents with dependent gradients): a minor
+    certainly non-zero at a real point (:mod:`.balls`), the known parameters at
+    their values."""
+    known = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
+    symbols = {s for v in known for e in v for s in e.free_symbols}
+    return _preconditions(system, fields) and independent_at_a_real_point(
+        known, sorted(symbols, key=sympy.default_sort_key))
+
+
+def _preconditions(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    """What both proofs need besides independence: fields free of inputs (a
+    field that depends on an input moves with it: u' enters the bracket, and in
+    discrete time the next step's input, while the identities hold u fixed) and
+    no previous-state form (its identities are not derived here)."""
+    if any(sympy.sympify(e).has(*system.inputs) for v in fields for e in v):
+        return False
+    return not (system.time == "discrete" and system.uses_previous_state)
 
 
 def _independent_on_the_circle(system: System, fields: list[list[sympy.Expr]], angles: dict, roots: dict) -> bool:

@@ -253,6 +253,9 @@ def null_space(matrix: sympy.Matrix, free_roots: bool = False) -> list[list[symp
         vector = _normalize(list(basis.row(i)))
         while any(e.free_symbols & set(back) for e in vector):  # atoms nested in atoms
             vector = [e.xreplace(back) for e in vector]
+        # atan(a) was taken as atan2(a, 1): written back as the model wrote it (a proof's checker reads both).
+        vector = [e.replace(lambda n: isinstance(n, sympy.atan2) and n.args[1] == 1, lambda n: sympy.atan(n.args[0]))
+                  for e in vector]
         if any(e.has(sympy.sin, sympy.cos) for e in vector):
             vector = _on_the_circle(vector)
         elif back:

@@ -1,0 +1,105 @@
+"""Generic independence of vector fields from one real point, in ball arithmetic.
+
+Fields whose components mix functions the exact routes of :mod:`.proof` do not
+take together (a square root inside an exponential, a logarithm) are evaluated
+at a random rational point in arb's ball arithmetic (python-flint, 128 bits):
+each value is an interval that certainly holds the true real value. When a
+k x k minor of the k fields is a ball without zero, the minor is non-zero at
+that real point; the components are analytic there (every root, logarithm and
+quotient was evaluated on a ball where it is defined, else the ball is not
+finite and nothing is claimed), so the minor is a non-zero analytic function and
+vanishes only on a nowhere dense set: the fields are generically independent.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable, Sequence
+
+import flint
+import sympy
+from flint import arb, arb_mat, fmpq
+
+__all__ = ["independent_at_a_real_point", "ball"]
+
+#: Bits of the balls' midpoints.
+PRECISION = 128
+
+_FUNCTIONS: dict[type, Callable[[arb], arb]] = {
+    sympy.exp: arb.exp, sympy.log: arb.log, sympy.sin: arb.sin, sympy.cos: arb.cos, sympy.tan: arb.tan,
+    sympy.atan: arb.atan,
+}
+
+
+def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
+    """``expr`` at ``point`` as a ball holding its true value (not finite where
+    it is undefined: a negative radicand, a zero denominator); ValueError for a
+    construct not evaluated here or a symbol without a value."""
+    if expr.is_Symbol:
+        if expr not in point:
+            raise ValueError(f"no value for {expr}")
+        return point[expr]
+    if expr.is_Rational:
+        return arb(fmpq(int(expr.p), int(expr.q)))
+    if expr is sympy.pi:
+        return arb.pi()
+    if expr.is_Add or expr.is_Mul:
+        parts = [ball(a, point) for a in expr.args]
+        total = parts[0]
+        for part in parts[1:]:
+            total = total + part if expr.is_Add else total * part
+        return total
+    if expr.is_Pow and expr.exp.is_Rational:
+        base, p, q = ball(expr.base, point), int(expr.exp.p), int(expr.exp.q)
+        root = base if q == 1 else base.sqrt() if q == 2 else (base.log() / q).exp()  # not finite for base < 0
+        return root**p if p >= 0 else 1 / root ** (-p)
+    if isinstance(expr, sympy.atan2):
+        return arb.atan2(ball(expr.args[0], point), ball(expr.args[1], point))
+    function = _FUNCTIONS.get(type(expr))
+    if function is None:
+        raise ValueError(f"{expr.func} is not evaluated in ball arithmetic here")
+    return function(ball(expr.args[0], point))
+
+
+def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols: Sequence[sympy.Symbol],
+                                 seed: int = 0, attempts: int = 4) -> bool:
+    """Whether a k x k minor of the k ``fields`` is certainly non-zero at a
+    random rational point of ``symbols`` (in (0, 2], where ranges and radicands
+    of sums of squares are positive), in ball arithmetic; a few points are
+    tried. False proves nothing."""
+    rng = random.Random(seed)
+    k = len(fields)
+    old, flint.ctx.prec = flint.ctx.prec, PRECISION
+    try:
+        for _ in range(attempts):
+            point = {s: arb(fmpq(rng.randint(1, 1 << 20), 1 << 19)) for s in symbols}
+            try:
+                rows = [[ball(sympy.sympify(e), point) for e in v] for v in fields]
+            except (ValueError, ZeroDivisionError):
+                return False
+            if not all(value.is_finite() for row in rows for value in row):
+                continue
+            columns = _pivots([[float(value.mid()) for value in row] for row in rows])
+            if len(columns) == k and not arb_mat([[row[c] for c in columns] for row in rows]).det().contains(0):
+                return True
+        return False
+    finally:
+        flint.ctx.prec = old
+
+
+def _pivots(matrix: list[list[float]]) -> list[int]:
+    """Columns of a well-conditioned square block, by Gaussian elimination with
+    full pivoting on the midpoints (only a choice: the ball determinant decides)."""
+    rows = [list(r) for r in matrix]
+    chosen: list[int] = []
+    for _ in range(len(rows)):
+        candidates = [(abs(v), i, j) for i, r in enumerate(rows) for j, v in enumerate(r) if j not in chosen]
+        if not candidates:
+            break
+        size, i, j = max(candidates)
+        if size == 0.0:
+            break
+        chosen.append(j)
+        pivot = rows.pop(i)
+        rows = [[a - r[j] / pivot[j] * b for a, b in zip(r, pivot)] for r in rows]
+    return chosen
