@@ -316,3 +316,66 @@ def test_an_atan_is_free_only_where_its_value_never_reaches_a_gradient():
     assert inside.dependence.reason == "the atan2 in atan(x) enters the model non-additively"
     beside = System(["x", "z"], {"x": "x", "z": "z"}, {"y": "x + atan(z)", "y2": "z"}, time="discrete")
     assert randomized_rank(beside, seed=1).dependence is None
+
+
+# --- engine/expansion.py: the rank at a point and the stopping rule (issue 32, group "probabilities") ---
+
+_XYZ = System(["x", "y", "z"], {"x": 0, "y": 0, "z": 0}, {"h": "x"}, parameters={"a": 2})
+
+
+@pytest.mark.parametrize("rows,gradients,rank", [
+    ([[0, 0, 0]], False, 0),                                  # a zero field has rank 0, not 1
+    ([["x", "y", 0], ["2*x", "2*y", 0]], False, 1),           # proportional fields
+    ([[1, 0, 0], [0, "z", 0], [0, 0, "x*y + 1"]], False, 3),  # independent wherever x*y != -1, z != 0
+    ([["a - 2", 0, 0]], False, 0),                            # the parameter at its value 2: zero
+    (["x*y", "x*y + 5", "x + z"], True, 2),                   # equal gradients count once
+    (["a*x - 2*x", "y"], True, 1),                            # d((a - 2) x) = 0 at a = 2
+    (["x**2"], True, 1),                                      # the gradient (2x, 0, 0), not the value
+])
+def test_point_rank_counts_by_hand(rows, gradients, rank):
+    """point_rank's rank at a random point, each case counted by hand (it
+    decides the independence of the generators behind every proof)."""
+    from observability.engine.expansion import point_rank
+
+    rows = [sympy.sympify(r) if gradients else [sympy.sympify(e) for e in r] for r in rows]
+    assert point_rank(_XYZ, rows, gradients=gradients) == rank
+
+
+@pytest.mark.parametrize("dynamics,outputs,time,rule,rank", [
+    ({"x1": "x2", "x2": "x3", "x3": "0"}, {"h": "x1"}, "continuous",
+     "continuous time: stop at the first order that adds nothing", 3),
+    ({"x1": "x2", "x2": "x3", "x3": "x1"}, {"h": "x1"}, "discrete",
+     "discrete map of full Jacobian rank: stop at the first order that adds nothing", 3),
+])
+def test_the_stopping_rule_is_named_when_the_order_limit_cuts(dynamics, outputs, time, rule, rank):
+    """A chain x1 <- x2 <- x3 seen through x1 needs orders 0..2 (rows dx1, dx2,
+    dx3 by hand); cut at order 1 the verdict is undecided, rank at least 2,
+    and names the rule that would have ended the expansion; uncut, rank 3."""
+    system = System(list(dynamics), dynamics, outputs, time=time)
+    cut = analyze(system, seed=1, max_order=1)
+    assert cut.rank is None and cut.lower_bound == 2 and f"({rule})" in cut.details
+    assert analyze(system, seed=1).rank == rank
+
+
+def test_a_collapsing_map_is_expanded_to_order_n():
+    """stopping_rule's example (its docstring): x1+ = 0, x2+ = x4, x3+ = x2 + x3,
+    x4+ = x4 with outputs x1, x1 x2, x3. By hand: order 0 gives dx1, dx2 (x1 x2
+    at x1 != 0), dx3; order 1 gives h(F) = (0, 0, x2 + x3): nothing new; order
+    2 gives x3 + x2 + x4 after two steps: dx4, rank 4. A rule that stopped at the
+    first order adding nothing would say 3; cut at order 1 the rule says why
+    every order up to n is computed."""
+    dynamics = {"x1": "0", "x2": "x4", "x3": "x2 + x3", "x4": "x4"}
+    system = System(list(dynamics), dynamics, {"a": "x1", "b": "x1*x2", "c": "x3"}, time="discrete")
+    assert analyze(system, seed=1).rank == 4
+    cut = analyze(system, seed=1, max_order=1)
+    assert cut.rank is None and cut.lower_bound == 3
+    assert "(discrete map of deficient Jacobian rank: every order up to n computed)" in cut.details
+
+
+def test_a_discrete_map_is_composed_not_integrated():
+    """x+ = x (the identity map), output x1 + x2^2: every step sees the same
+    function, rank 1 (by hand); read as the flow x' = x it would be rank 2
+    (L_f h = x1 + 2 x2^2)."""
+    system = System(["x1", "x2"], {"x1": "x1", "x2": "x2"}, {"h": "x1 + x2**2"}, time="discrete")
+    assert analyze(system, seed=1).rank == 1
+    assert analyze(system.replace(time="continuous"), seed=1).rank == 2
