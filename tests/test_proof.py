@@ -962,3 +962,25 @@ def test_an_output_quotient_is_annihilated_only_as_a_whole(output, field, annihi
     system = System(names, {s: 0 for s in names}, {"h": output})
     vector = [sympy.sympify(c) for c in field] + [sympy.Integer(0)] * (len(names) - len(field))
     assert fields_are_symmetries(system, [vector], budget=60) is annihilates
+
+
+RANGE_SLAM = System(
+    ["x", "y", "th", "l1x", "l1y", "l2x", "l2y"],
+    {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w", "l1x": 0, "l1y": 0, "l2x": 0, "l2y": 0},
+    {"r1": "sqrt((l1x - x)**2 + (l1y - y)**2)", "r2": "sqrt((l2x - x)**2 + (l2y - y)**2)"},
+    inputs=["v", "w"], name="range-only-slam")
+
+
+def test_range_only_slam_with_square_roots_is_proven_two_sided():
+    """Issue 29 (how it is checked): a unicycle ranging two unknown landmarks,
+    the ranges written with sqrt. By hand, a rigid motion of the whole scene
+    keeps every distance and commutes with the unicycle (the heading turns with
+    it): two translations and the rotation, rank 4 of 7. Both routes prove it;
+    the proof file is accepted by the independent checker."""
+    for method in ("random", "symbolic"):
+        result = analyze(RANGE_SLAM, method, seed=2)
+        assert result.rank == 4 and result.proof == "proven", (method, result.details)
+    names = sorted(d.name for d in result.unobservable_directions)
+    assert names == ["rotation about (x, y) = (0, 0)", "translation of x, l1x, l2x", "translation of y, l1y, l2y"]
+    proof = json.loads(json.dumps(proof_evidence(RANGE_SLAM, result)))
+    assert _checker().check(proof).startswith("accepted")
