@@ -204,3 +204,52 @@ def test_directions_of_a_dense_model_come_from_the_dense_evaluator(monkeypatch):
     assert result.rank == 14 and made
     (direction,) = result.unobservable_directions
     assert direction.name.startswith("scaling") and "a: 1" in direction.description and "b: -1" in direction.description
+
+
+def test_free_parameters_and_constant_arguments_agree_with_the_dictionary_evaluator():
+    """Issue 32 (mutation run of densetaylor.py: 48 survivors, most on nodes no
+    test reached): free parameters a, b (random constants), products with a
+    constant on either side, exp, sin, cos and an inverse of constant
+    arguments, a constant rational, a subset of the states differentiated, and
+    20 orders (past the table's first capacity of 8, so it grows, cosines
+    too). The dictionary evaluator, another implementation of the same
+    recurrences in the same field with the same seed, gives the same values and
+    gradients at every order; above the order reached both give (0, {})."""
+    system = System(["x", "y", "z"],
+                    {"x": "a*y + x*exp(b) - z/(a + 3)", "y": "sin(b)*x - cos(a)*z + y**2/7", "z": "x*b + 2*y*a - z"},
+                    {"h1": "exp(a)*x + sin(z)", "h2": "y*cos(b) + z/(b + 1)"}, parameters=["a", "b"])
+    program, first = _compiled(system)
+    for differentiated in (None, {0, 2}):
+        dense = DenseTaylorEvaluator(program, system.n, random.Random(5))
+        sparse = TaylorEvaluator(program, system.n, random.Random(5), p=DENSE_PRIME)
+        dense.differentiated = sparse.differentiated = differentiated
+        for k in range(20):
+            dense.step()
+            sparse.step()
+            for root in program.roots:
+                assert dense.coefficient(root, k) == sparse.coefficient(root, k), (differentiated, k, root)
+        gradients = [dense.coefficient(root, 3)[1] for root in program.roots[first:]]
+        assert any(gradients) and all(set(g) <= (differentiated or {0, 1, 2}) for g in gradients)
+        assert dense.coefficient(program.roots[first], 20) == (0, {}) == sparse.coefficient(program.roots[first], 20)
+
+
+def test_the_dense_route_refuses_what_it_cannot_represent():
+    """The errors say what is refused: an operation it has no recurrence for, a prime above 2^28 (the products of two
+    residues must fit in 64 bits), a constant whose denominator the prime
+    divides, and more than the maximal number of orders."""
+    from observability.engine.densetaylor import MAX_TERMS
+
+    logarithm, _ = _compiled(System(["x"], {"x": "log(x)"}, {"h": "x**2"}))
+    with pytest.raises(Unsupported, match=r"^operations \['LOG'\]$"):  # the one op refused, named
+        DenseTaylorEvaluator(logarithm, 1, random.Random(1))
+    program, _ = _compiled(System(["x"], {"x": "x/3"}, {"h": "x"}))
+    with pytest.raises(ValueError, match=f"below 2\\^28, not {2**31 - 1}"):
+        DenseTaylorEvaluator(program, 1, random.Random(1), p=2**31 - 1)
+    DenseTaylorEvaluator(program, 1, random.Random(1), p=2)  # the smallest prime is accepted
+    with pytest.raises(Unsupported, match="the constant 1/3 has a denominator divisible by 3"):
+        DenseTaylorEvaluator(program, 1, random.Random(1), p=3).step()
+    evaluator = DenseTaylorEvaluator(program, 1, random.Random(1))
+    for _ in range(MAX_TERMS):
+        evaluator.step()
+    with pytest.raises(Unsupported, match=f"more than {MAX_TERMS} orders"):
+        evaluator.step()
