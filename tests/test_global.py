@@ -15,7 +15,8 @@ import sympy
 from conftest import cli
 
 from observability import System, analyze
-from observability.analysis.uniqueness import GLOBAL_ERROR, GlobalVerdict, _free_coordinates, global_observability
+from observability.analysis.fibre import _free_coordinates
+from observability.analysis.uniqueness import GLOBAL_ERROR, GlobalVerdict, global_observability
 from observability.errors import ModelError
 from observability.analysis.rationalmodel import degree_bounds, rational_model
 from observability.engine.jets import jet_equations
@@ -216,9 +217,9 @@ def test_discrete_time_and_arbitrary_inputs_are_refused():
 def test_a_jacobian_below_the_verdict_s_rank_at_the_point_is_undecided(monkeypatch):
     """Where the jets' Jacobian misses the verdict's rank at the random point (a point the range
     makes unlikely; forced here) no membership is claimed: every state undecided, the reason given."""
-    from observability.analysis import uniqueness
+    from observability.analysis import fibre
 
-    monkeypatch.setattr(uniqueness, "_free_coordinates", lambda jets, coordinates, rank: None)
+    monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank: None)
     system = System(["x"], ["1"], {"y": "x**2"})
     answer = global_observability(system, analyze(system, seed=5, directions=False), seed=3, budget=None)
     assert answer == GlobalVerdict((), (), ("x",), None, "undecided: the Jacobian of the Lie derivatives did not reach "

@@ -41,14 +41,13 @@ from typing import TYPE_CHECKING, Any
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..engine.jets import JetEquations, jet_equations
-from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
-from ..rank.membership import completing_columns, exact_rank, groebner_contains, sampling_range
+from ..rank.membership import sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
+from .fibre import fibre_through, known_variables
 from .generators import generate_the_field
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
@@ -217,37 +216,25 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
-    heights = [orders[name] for name, _ in system.outputs]
-    top = max(heights, default=0)
-    inputs = [input_derivative(u, j) for u in system.inputs for j in range(top + 1)]
-    known = [*system.free_parameters, *inputs]
-    variables = [*model.coordinates, *known]
-    degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
-    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
-    rng = random.Random(seed)
-    for _ in range(100):
-        point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
-        try:
-            jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
-            break
-        except ZeroDivisionError:  # a denominator vanishes there: such a point is one the theorem excludes
-            continue
-    else:
-        raise ModelError("--global: a denominator of the model vanishes at every random point")
-    free = _free_coordinates(jets, model.coordinates, rank)
-    if free is None:
-        return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point"
-    # The known variables are generators of the field: adjoined at their values, i.e. substituted.
-    given = {v: point[v] for v in known}
-    at = {c: jets.values[c] for c in model.coordinates}
-    targets = [n * d.xreplace(at) - n.xreplace(at) * d
-               for n, d in ((n.xreplace(given), d.xreplace(given)) for n, d in fractions)]
-    members = groebner_contains([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns,
-                                jets.saturation, targets)
+    bound = fibre_range(system, model, orders, fractions, error)
+    fibre = fibre_through(system, model, orders, rank, bound, random.Random(seed))
+    if isinstance(fibre, str):
+        return fibre
+    members = tuple(fibre.constant_on(f) for f in fractions)
     only = tuple(s for s, member in zip(local, members[:len(local)]) if not member)
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
     return members, bound.bit_length(), error / (1 - error), tuple(a.name for a in model.angles), \
         _mirrors(system, model, only)
+
+
+def fibre_range(system: System, model: RationalModel, orders: dict[str, int],
+                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float) -> int:
+    """The sampling range that bounds the membership test's error for ``fractions``."""
+    heights = [orders[name] for name, _ in system.outputs]
+    known = known_variables(system, orders)
+    variables = [*model.coordinates, *known]
+    degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
+    return sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
 
 
 def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
@@ -309,17 +296,3 @@ def _orders(system: System, labels: tuple[tuple[str, int], ...]) -> dict[str, in
     for name, order in labels:
         highest[name] = max(highest.get(name, -1), order)
     return {name: k + 1 for name, k in highest.items()}
-
-
-def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.Symbol] | None:
-    """Coordinates whose values, adjoined to the field, make its transcendence
-    degree full. The jets' Jacobian has rank (number of jets) + rank of the Lie
-    derivatives' Jacobian, the state equations being triangular in the jets with
-    non-zero diagonal; where that rank is the verdict's, the completed matrix's
-    non-zero minor certifies the chosen coordinates."""
-    unknowns = list(jets.unknowns)
-    rows = [[sympy.diff(e, u).xreplace(jets.values) for u in unknowns] for e in jets.equations]
-    derivatives = len(unknowns) - len(coordinates)
-    if exact_rank(rows, len(unknowns)) != derivatives + rank:
-        return None
-    return [unknowns[j] for j in completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates])]

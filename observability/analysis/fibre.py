@@ -1,0 +1,93 @@
+"""The fibre of the outputs through a random point, as an ideal with a Groebner basis.
+
+At a random integer point a of the coordinates and the known variables (free
+parameters, input derivatives), the Lie derivatives of the outputs up to the
+truncation orders of :mod:`.uniqueness` are written as polynomial equations in
+the states' derivatives (SIAN's form, :mod:`observability.engine.jets`), with the
+outputs' values at a fixed; coordinates that complete a transcendence basis are
+fixed at their values too. The ideal's zeros are the (complex) states that
+share a's outputs, with those coordinates; a function f = n/d of the
+coordinates is constant on them, i.e. lies in the field the outputs determine,
+exactly when n d(a) - n(a) d lies in the ideal, saturated at the model's
+denominators (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3, at a point
+drawn from a range that bounds the error: :func:`~observability.rank.membership.sampling_range`).
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+import sympy
+
+from ..engine.jets import JetEquations, jet_equations
+from ..engine.lie import input_derivative
+from ..errors import ModelError
+from ..model.system import System
+from ..rank.membership import completing_columns, exact_rank, saturated_basis
+from .rationalmodel import RationalModel
+
+__all__ = ["Fibre", "fibre_through", "known_variables"]
+
+
+@dataclass(frozen=True)
+class Fibre:
+    """The fibre's ideal at a point: its Groebner basis, the coordinates' values
+    there, and the values given to the known variables (substituted)."""
+
+    basis: sympy.GroebnerBasis
+    at: dict
+    given: dict
+
+    def constant_on(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> bool:
+        """Whether n/d (in the coordinates and the known variables) takes its value
+        at the point everywhere on the fibre: n d(a) - n(a) d reduces to zero."""
+        return self.basis.reduce(sympy.expand(self.difference(fraction)))[1] == 0
+
+    def difference(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> sympy.Expr:
+        """n d(a) - n(a) d, with the known variables at their values."""
+        n, d = (e.xreplace(self.given) for e in fraction)
+        return n * d.xreplace(self.at) - n.xreplace(self.at) * d
+
+
+def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol]:
+    """Free parameters and the input derivatives the truncated Lie derivatives use."""
+    top = max(orders.values(), default=0)
+    return [*system.free_parameters, *(input_derivative(u, j) for u in system.inputs for j in range(top + 1))]
+
+
+def fibre_through(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
+                  rng: random.Random) -> Fibre | str:
+    """The fibre through a random point with coordinates in [-bound, bound], or
+    why not: the Jacobian of the Lie derivatives below ``rank`` there."""
+    heights = [orders[name] for name, _ in system.outputs]
+    known = known_variables(system, orders)
+    for _ in range(100):
+        point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
+        try:
+            jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
+            break
+        except ZeroDivisionError:  # a denominator vanishes there: such a point is one the theorem excludes
+            continue
+    else:
+        raise ModelError("--global: a denominator of the model vanishes at every random point")
+    free = _free_coordinates(jets, model.coordinates, rank)
+    if free is None:
+        return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point"
+    basis = saturated_basis([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns, jets.saturation)
+    # The known variables are generators of the field: adjoined at their values, i.e. substituted.
+    return Fibre(basis, {c: jets.values[c] for c in model.coordinates}, {v: point[v] for v in known})
+
+
+def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.Symbol] | None:
+    """Coordinates whose values, adjoined to the field, make its transcendence
+    degree full. The jets' Jacobian has rank (number of jets) + rank of the Lie
+    derivatives' Jacobian, the state equations being triangular in the jets with
+    non-zero diagonal; where that rank is the verdict's, the completed matrix's
+    non-zero minor certifies the chosen coordinates."""
+    unknowns = list(jets.unknowns)
+    rows = [[sympy.diff(e, u).xreplace(jets.values) for u in unknowns] for e in jets.equations]
+    derivatives = len(unknowns) - len(coordinates)
+    if exact_rank(rows, len(unknowns)) != derivatives + rank:
+        return None
+    return [unknowns[j] for j in completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates])]
