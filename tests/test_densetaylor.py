@@ -236,7 +236,7 @@ def test_free_parameters_and_constant_arguments_agree_with_the_dictionary_evalua
 def test_the_dense_route_refuses_what_it_cannot_represent():
     """The errors say what is refused: an operation it has no recurrence for, a prime above 2^28 (the products of two
     residues must fit in 64 bits), a constant whose denominator the prime
-    divides, and more than the maximal number of orders."""
+    divides, discrete time, and more than the maximal number of orders."""
     from observability.engine.densetaylor import MAX_TERMS
 
     logarithm, _ = _compiled(System(["x"], {"x": "log(x)"}, {"h": "x**2"}))
@@ -249,6 +249,8 @@ def test_the_dense_route_refuses_what_it_cannot_represent():
     with pytest.raises(Unsupported, match="the constant 1/3 has a denominator divisible by 3"):
         DenseTaylorEvaluator(program, 1, random.Random(1), p=3).step()
     evaluator = DenseTaylorEvaluator(program, 1, random.Random(1))
+    with pytest.raises(Unsupported, match="^discrete time: the program grows order by order"):
+        evaluator.extend()  # a discrete map's rows are left to the dictionary route
     for _ in range(MAX_TERMS):
         evaluator.step()
     with pytest.raises(Unsupported, match=f"more than {MAX_TERMS} orders"):
