@@ -213,6 +213,28 @@ EQUIVALENT: dict[str, str] = {
     "observability.analysis.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
     **{f"observability.analysis.rationalmodel.x_polynomial_degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
        for k in (2, 5)},
+    "observability.engine.expansion.xǁAllRowsǁadd_row__mutmut_2": "the expansion does not read add_row's answer (it reads the rank)",
+    "observability.engine.expansion.x_replay__mutmut_10":
+        "one more order of rows at the replayed point: rows of the same matrix, which every null field annihilates too",
+    **{f"observability.engine.expansion.x_point_rank__mutmut_{k}": "another seed or number of points: each point's rank is "
+       "a certain lower bound, and a generic point reaches the generic rank" for k in (1, 2, 4, 63)},
+    **{f"observability.engine.expansion.x_point_rank__mutmut_{k}": "the program's model name (or its inputs) appear only in "
+       "compile errors, which the analysis's own fields and gradients, compiled before, cannot raise" for k in (11, 13, 14)},
+    **{f"observability.engine.expansion.x_point_rank__mutmut_{k}": "only order 0 is read: the value at the point, the same "
+       "in either time" for k in (26, 30, 31)},
+    "observability.engine.expansion.x_point_rank__mutmut_37": "a pole at a random point of Z/pZ (probability below 1e-15) "
+       "ends the search with the rank of the points before instead of drawing again",
+    "observability.engine.expansion.x_point_rank__mutmut_39": "ModularEchelon does not read its number of columns",
+    **{f"observability.engine.expansion.x_stopping_rule__mutmut_{k}": "a sufficient order above n - 1: with an early stop the "
+       "rank grows at every order until it stops, so order n - 1 is never reached below a full rank" for k in (6, 25)},
+    **{f"observability.engine.expansion.x_stopping_rule__mutmut_{k}": "the seed of the dominance test's random points"
+       for k in (12, 17)},
+    "observability.engine.expansion.x_stopping_rule__mutmut_27": "no early stop for a dominant map: every order up to n - 1 "
+       "is computed, and the rank is the same",
+    "observability.engine.expansion.x_expand_rows__mutmut_3": "exhaustive by default: every caller passes it or reads only the rank",
+    "observability.engine.expansion.x_expand_rows__mutmut_15": "in discrete time each step's inputs are their own symbols "
+       "(discrete_nodes); the program's continuous inputs are never read",
+    "observability.engine.expansion.x__expand__mutmut_25": "discrete=None is falsy: the continuous evaluator",
     "observability.filters.validation.x_measurement__mutmut_43": "np.array of Python floats is float64 with or without dtype",
     "observability.filters.validation.x_measurement__mutmut_45": "idem",
 }

@@ -7,6 +7,7 @@ update written out for a scalar model."""
 from __future__ import annotations
 
 import builtins
+import re
 
 import numpy as np
 import pytest
@@ -211,7 +212,8 @@ def test_singular_points_are_redrawn_a_bounded_number_of_times(monkeypatch):
                                   ("sqrt(sin(x)**2 + cos(x)**2 - 1)", 64 * 256, "square root of a non-square or of zero")):
         calls.clear()
         system = System(["x"], {"x": "1"}, {"y": output}, name="circle")
-        with pytest.raises(SingularModelError, match=rf"^circle: every random point hits a singularity \({reason}"):
+        where = re.escape(f" in {output})")  # the expression named, as the expansion recorded it
+        with pytest.raises(SingularModelError, match=rf"^circle: every random point hits a singularity \({reason}{where}$"):
             randomized.randomized_rank(system, seed=1)
         assert len(calls) == draws
 
@@ -379,3 +381,50 @@ def test_a_discrete_map_is_composed_not_integrated():
     system = System(["x1", "x2"], {"x1": "x1", "x2": "x2"}, {"h": "x1 + x2**2"}, time="discrete")
     assert analyze(system, seed=1).rank == 1
     assert analyze(system.replace(time="continuous"), seed=1).rank == 2
+
+
+def test_the_expansion_reports_its_progress_and_refuses_unknown_inputs():
+    """expand_rows tells a progress callback each order's rank out of n (a chain
+    of three seen through x1: ranks 1, 2, 3 by hand), and refuses a model with an
+    unknown input, saying what it was asked for."""
+    from observability.engine.expansion import AllRows, expand_rows
+    from observability.engine.echelon import ModularEchelon
+    from observability.engine.taylor import TaylorEvaluator
+    import random
+
+    chain = System(["x1", "x2", "x3"], {"x1": "x2", "x2": "x3", "x3": "0"}, {"h": "x1"})
+    said: list[str] = []
+    sink = ModularEchelon(3, PRIME)
+    expansion = expand_rows(chain, sink, lambda program, discrete: TaylorEvaluator(program, 3, random.Random(1),
+                                                                                    discrete=discrete),
+                            progress=said.append)
+    assert said == ["order 0: rank 1/3", "order 1: rank 2/3", "order 2: rank 3/3"] and expansion.complete
+    unknown = System(["x"], {"x": "w"}, {"h": "x"}, unknown_inputs=["w"])
+    with pytest.raises(ModelError, match="the observability matrix"):
+        expand_rows(unknown, AllRows(), lambda program, discrete: None)
+
+
+def test_a_discrete_rule_on_a_set_says_so():
+    """On the set x2 = 0 the map x1+ = x1 + x2, x2+ = x2 is dominant (Jacobian
+    [[1, 1], [0, 1]], full rank everywhere); the rule named in a cut verdict is
+    then the one of a map of full rank "on the set"."""
+    from observability.engine.expansion import stopping_rule
+    from observability.where.sets import parse_constraints
+
+    system = System(["x1", "x2"], {"x1": "x1 + x2", "x2": "x2"}, {"h": "x1"}, time="discrete")
+    constraint, _ = parse_constraints(system, "x2 = 0")
+    sufficient, early, rule = stopping_rule(system, constraint=constraint)
+    assert (sufficient, early) == (1, True)
+    assert rule == "discrete map of full Jacobian rank on the set: stop at the first order that adds nothing"
+    assert stopping_rule(system)[2] == "discrete map of full Jacobian rank: stop at the first order that adds nothing"
+
+
+def test_an_expression_the_engine_refuses_is_named_with_the_model():
+    """sin(x/2) next to sin(x) would hide a relation from the exact engine: the
+    refusal names the model first, then the expression and the way out."""
+    from observability.errors import UnsupportedExpressionError
+    from observability.rank.randomized import randomized_rank
+
+    system = System(["x"], {"x": "0"}, {"y": "sin(x/2)"}, name="halfmodel")
+    with pytest.raises(UnsupportedExpressionError, match=r"^halfmodel: 1/2 \* \(x\) inside sin, cos or exp: introduce"):
+        randomized_rank(system, seed=1)

@@ -136,7 +136,7 @@ def map_is_dominant(system: System, seed: int = 0, constraint=None) -> bool:
     return point_rank(system, jacobian, gradients=True, seed=seed, constraint=constraint) == system.n
 
 
-def stopping_rule(system: System, previous: str = "inverse", constraint=None) -> tuple[int, bool, str]:
+def stopping_rule(system: System, constraint=None) -> tuple[int, bool, str]:
     """(order that always suffices, whether a first order adding nothing ends it, rule in words).
 
     Continuous time, and discrete time with a dominant map: the codistribution
@@ -193,7 +193,7 @@ def _expand(system, sink, make_evaluator, program, max_order, progress, previous
     n = system.n
     labels: list[tuple[str, int]] = []
     roots: list[int] = []
-    sufficient, early_stop, rule = stopping_rule(system, previous, constraint)
+    sufficient, early_stop, rule = stopping_rule(system, constraint)
     limit = sufficient if max_order is None else max_order
     if system.time == "continuous":
         for expr in system.dynamics:

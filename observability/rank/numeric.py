@@ -222,7 +222,7 @@ def _replay_rows(system, program_values, inputs, rng, input_derivatives, previou
 
     from ..engine.expansion import AllRows, stopping_rule
 
-    sufficient, _, _ = stopping_rule(system, previous)
+    sufficient, _, _ = stopping_rule(system)
     sink = AllRows()
 
     old = ctx.prec

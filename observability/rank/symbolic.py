@@ -200,7 +200,7 @@ def symbolic_rank(
     """Generic rank with rows added order by order until the stopping rule ends it
     (:func:`observability.engine.expansion.stopping_rule`, shared with the other routes)."""
     n = system.n
-    sufficient, early_stop, rule = stopping_rule(system, previous)
+    sufficient, early_stop, rule = stopping_rule(system)
     limit = sufficient if max_order is None else max_order
     rows: list[list[sympy.Expr]] = []
     labels: list[tuple[str, int]] = []

@@ -193,7 +193,7 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     if not generic_names:
         # Every name is a number on the set (the given ones and those the set solves for).
         values = {v: sympy.Rational(g) for v, g in constraint.solution if g.is_Rational} | values
-    sufficient, early_stop, _ = stopping_rule(system, previous, constraint)
+    sufficient, early_stop, _ = stopping_rule(system, constraint)
     grown = {lower.row_labels[i][1] for i in lower.independent_rows}
     # The rank is final on an invariant set once an order added nothing (early_stop)
     # or, for a discrete map that collapses the set, once the order that suffices is reached.
