@@ -235,6 +235,21 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.expansion.x_expand_rows__mutmut_15": "in discrete time each step's inputs are their own symbols "
        "(discrete_nodes); the program's continuous inputs are never read",
     "observability.engine.expansion.x__expand__mutmut_25": "discrete=None is falsy: the continuous evaluator",
+    "observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ__init____mutmut_23": "one more column, never written: coefficient reads the gradient's non-zero columns",
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ__init____mutmut_{k}": "the table's first capacity, or how it grows: it grows on demand up to MAX_TERMS"
+       for k in (29,)},
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁstep__mutmut_{k}": "how the table grows: more capacity, the same coefficients" for k in (8, 14)},
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ__init____mutmut_{k}": "np.array of Python ints is int64 = intp on the 64-bit platforms supported"
+       for k in (33, 35)},
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_weighted__mutmut_{k}": "np.arange of Python ints is int64 without a dtype too" for k in (6, 9)},
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_leaf__mutmut_{k}": "a float row of one value below 2^28 is exact, and is stored into the int64 table"
+       for k in (3, 5)},
+    "observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_coefficient_into__mutmut_83": "the node names a pole in the message of a redraw, at probability below 1e-8 per "
+       "point; the value is the same",
+    **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_coefficient_into__mutmut_{k}": "the modular evaluators draw exp and the circle point at random, "
+       "whatever the argument's value (an independent transcendental); only the ball and float evaluators read it"
+       for k in (125, 127, 128, 155, 157, 158)},
+    "observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_coefficient_into__mutmut_213": "unreachable: supports() refuses every other operation in __init__",
     "observability.filters.validation.x_measurement__mutmut_43": "np.array of Python floats is float64 with or without dtype",
     "observability.filters.validation.x_measurement__mutmut_45": "idem",
 }

@@ -255,3 +255,23 @@ def test_the_dense_route_refuses_what_it_cannot_represent():
         evaluator.step()
     with pytest.raises(Unsupported, match=f"more than {MAX_TERMS} orders"):
         evaluator.step()
+
+
+def test_the_directions_evaluator_remembers_each_parameter_apart():
+    """The directions search reads back the value each free parameter was given
+    (variable_values): on the dense route too, a and b keep values of their own,
+    and the program's random constants are those values (the product a*b at
+    order 0 is their product mod the prime)."""
+    from observability.directions.discovery import _dense_recording
+
+    a, b = sympy.symbols("a b")
+    system = System(["x"], {"x": "a*x"}, {"h": "x*b + a*b"}, parameters=["a", "b"])
+    program, first = _compiled(system)
+    evaluator = _dense_recording()(program, system.n, random.Random(2))
+    evaluator.constants = {}
+    evaluator.step()
+    assert set(evaluator.constants) == {a, b} and evaluator.constants[a] != evaluator.constants[b]
+    values = evaluator.variable_values(system)
+    assert values[1:] == [evaluator.constants[a], evaluator.constants[b]]
+    x = evaluator.point[0]
+    assert evaluator.coefficient(program.roots[first], 0)[0] == (x * values[2] + values[1] * values[2]) % DENSE_PRIME
