@@ -46,7 +46,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
-    "global": (["observability/analysis/uniqueness.py", "observability/analysis/rationalmodel.py",
+    "global": (["observability/analysis/uniqueness.py", "observability/analysis/fibre.py",
+                "observability/analysis/rationalmodel.py",
                 "observability/analysis/generators.py",
                 "observability/engine/jets.py", "observability/rank/membership.py"], ["tests/test_global.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
@@ -179,23 +180,8 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.jets.x_jet_equations__mutmut_154": "no equation is the constant 1 (the point solves them all); a zero kept is harmless",
     "observability.engine.jets.x__solve_linear__mutmut_9": "coeff's default exponent is 1",
     "observability.engine.jets.x__solve_linear__mutmut_13": "the caller catches the ZeroDivisionError and draws another point: its text is never shown",
-    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "the saturation variable's name" for k in (2, 3, 4)},
-    "observability.rank.membership.x_groebner_contains__mutmut_10": "a constant saturation adds t = 1/c: a unit, the same ideal",
-    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "t*Q = -1 or 2: t is still Q's inverse up to a unit, the same saturation" for k in (13, 15)},
-    **{f"observability.rank.membership.x_groebner_contains__mutmut_{k}": "sympy's groebner works over the field of fractions of the domain it infers: QQ all the same"
-       for k in (20, 25)},
     **{f"observability.analysis.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
        for k in (10, 14, 15)},
-    **{f"observability.analysis.uniqueness.x__decide__mutmut_{k}": "max of the heights with another default: there is always an output"
-       for k in (15, 17, 18)},
-    "observability.analysis.uniqueness.x__decide__mutmut_26": "one more derivative per input among the known variables: only enlarges the sampling range",
-    "observability.analysis.uniqueness.x__decide__mutmut_54":
-        "an unseeded point: the point is not reported, and every point of the range carries the same guarantee",
-    **{f"observability.analysis.uniqueness.x__decide__mutmut_{k}": "reached only when a denominator vanishes at a random point of the range (less "
-       "likely than the stated error): the number of tries, and the message after 100 failures" for k in (56, 78, 79, 80, 81)},
-    "observability.analysis.uniqueness.x__decide__mutmut_109":
-        "the free coordinates adjoined at minus their values: another generic slice of the same fibre (free coordinates "
-        "are transcendental over the field), so the same membership",
     **{f"observability.analysis.uniqueness.x__mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
     "observability.analysis.uniqueness.x__truncation__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
