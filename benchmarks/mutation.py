@@ -211,16 +211,22 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.expansion.x_point_rank__mutmut_37": "a pole at a random point of Z/pZ (probability below 1e-15) "
        "ends the search with the rank of the points before instead of drawing again",
     "observability.engine.expansion.x_point_rank__mutmut_39": "ModularEchelon does not read its number of columns",
-    **{f"observability.engine.expansion.x_stopping_rule__mutmut_{k}": "a sufficient order above n - 1: with an early stop the "
-       "rank grows at every order until it stops, so order n - 1 is never reached below a full rank" for k in (6, 25)},
+    "observability.engine.expansion.x_stopping_rule__mutmut_4": "a sufficient order above n - 1 in continuous time: the "
+        "rank grows at every order until it stops, so order n - 1 is never reached below a full rank",
     **{f"observability.engine.expansion.x_stopping_rule__mutmut_{k}": "the seed of the dominance test's random points"
-       for k in (12, 17)},
-    "observability.engine.expansion.x_stopping_rule__mutmut_27": "no early stop for a dominant map: every order up to n - 1 "
-       "is computed, and the rank is the same",
+       for k in (10, 15)},
+    **{f"observability.engine.expansion.x_expand_rows__mutmut_{k}": "the default previous-state method: the callers relying "
+       "on it are the unknown-input ranks, continuous time only (a System refuses unknown inputs in discrete time), where "
+       "no output has a previous state" for k in (1, 2)},
+    **{f"observability.engine.expansion.x_expand_rows__mutmut_{k}": "the default of source.get: every node the program "
+       "built has its expression recorded" for k in (39, 41)},
     "observability.engine.expansion.x_expand_rows__mutmut_3": "exhaustive by default: every caller passes it or reads only the rank",
     "observability.engine.expansion.x_expand_rows__mutmut_15": "in discrete time each step's inputs are their own symbols "
        "(discrete_nodes); the program's continuous inputs are never read",
-    "observability.engine.expansion.x__expand__mutmut_25": "discrete=None is falsy: the continuous evaluator",
+    "observability.engine.expansion.x__expand__mutmut_23": "discrete=None is falsy: the continuous evaluator",
+    **{f"observability.engine.expansion.x__expand__mutmut_{k}": "in discrete time the rows are order-0 coefficients of "
+       "composed nodes (extend), the same for either flag; only replay reads it, on an evaluator of its own"
+       for k in (38, 41)},
     "observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ__init____mutmut_23": "one more column, never written: coefficient reads the gradient's non-zero columns",
     **{f"observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ__init____mutmut_{k}": "the table's first capacity, or how it grows: it grows on demand up to MAX_TERMS"
        for k in (29,)},

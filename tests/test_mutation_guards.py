@@ -400,7 +400,7 @@ def test_the_expansion_reports_its_progress_and_refuses_unknown_inputs():
                             progress=said.append)
     assert said == ["order 0: rank 1/3", "order 1: rank 2/3", "order 2: rank 3/3"] and expansion.complete
     unknown = System(["x"], {"x": "w"}, {"h": "x"}, unknown_inputs=["w"])
-    with pytest.raises(ModelError, match="the observability matrix"):
+    with pytest.raises(ModelError, match="^system: the observability matrix would treat w as known"):
         expand_rows(unknown, AllRows(), lambda program, discrete: None)
 
 
