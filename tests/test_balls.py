@@ -99,3 +99,12 @@ def test_an_undecided_symbolic_rank_carries_a_certified_lower_bound():
                                  budget=30)
     assert evidence.rank is None and evidence.lower_bound == 1
     assert "does not handle the algebraic function" in evidence.details and "ball arithmetic" in evidence.details
+
+
+def test_points_outside_the_first_box_are_tried():
+    """log(z - 5) is undefined on (0, 2] and sqrt(-z) on z > 0: the later
+    attempts (up to 32, either sign) reach points where each is defined, and
+    the field is certified there; with a single attempt nothing is claimed."""
+    assert independent_at_a_real_point([[sympy.log(z - 5), 1]], [z])
+    assert independent_at_a_real_point([[sympy.sqrt(-z), 1]], [z])
+    assert not independent_at_a_real_point([[sympy.log(z - 5), 0]], [z], attempts=1)

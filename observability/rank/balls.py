@@ -24,6 +24,8 @@ __all__ = ["independent_at_a_real_point", "ball"]
 
 #: Bits of the balls' midpoints.
 PRECISION = 128
+#: The boxes the points are drawn from, in turn (bounds, scaled by 2^19, of the numerators over 2^19).
+_BOXES = ((0, 2), (-2, 0), (2, 32), (-32, -2))
 
 _FUNCTIONS: dict[type, Callable[[arb], arb]] = {
     sympy.exp: arb.exp, sympy.log: arb.log, sympy.sin: arb.sin, sympy.cos: arb.cos, sympy.tan: arb.tan,
@@ -62,17 +64,19 @@ def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
 
 
 def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols: Sequence[sympy.Symbol],
-                                 seed: int = 0, attempts: int = 4) -> bool:
+                                 seed: int = 0, attempts: int = 8) -> bool:
     """Whether a k x k minor of the k ``fields`` is certainly non-zero at a
-    random rational point of ``symbols`` (in (0, 2], where ranges and radicands
-    of sums of squares are positive), in ball arithmetic; a few points are
-    tried. False proves nothing."""
+    random rational point of ``symbols``, in ball arithmetic; ``attempts``
+    points are tried (twice through the boxes), in (0, 2] first (where logarithms and roots of sums of
+    squares are defined), then in [-2, 0), (2, 32] and [-32, -2) in turn (a
+    root of -z, a logarithm of z - 5). False proves nothing."""
     rng = random.Random(seed)
     k = len(fields)
     old, flint.ctx.prec = flint.ctx.prec, PRECISION
     try:
-        for _ in range(attempts):
-            point = {s: arb(fmpq(rng.randint(1, 1 << 20), 1 << 19)) for s in symbols}
+        for attempt in range(attempts):
+            low, high = _BOXES[attempt % len(_BOXES)]
+            point = {s: arb(fmpq(rng.randint(low << 19, high << 19) or high, 1 << 19)) for s in symbols}
             try:
                 rows = [[ball(sympy.sympify(e), point) for e in v] for v in fields]
             except (ValueError, ZeroDivisionError):
