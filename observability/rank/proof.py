@@ -124,9 +124,10 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
         if state in angles:
             return angle_speed(state, in_square_roots(rate, roots), angles)
         return root_speed(state, rate, roots)
-    exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(sympy.exp)}, key=sympy.default_sort_key)
-    if any(a.args[0].has(sympy.exp) for a in exps):
-        return None  # exp inside exp: the chain rule below would miss the inner one
+    # exp, log, atan and atan2 of anything rational in the coordinates, inner ones first (their rates are used).
+    exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(*_ATOMS)},
+                  key=lambda a: (sum(1 for _ in sympy.preorder_traversal(a) if isinstance(_, _ATOMS)),
+                                 sympy.default_sort_key(a)))
     powers, radicands = _radicals(everything, roots)
     # Named after the roots are: exp(sqrt(g)) is met as exp(W) in an expression already rewritten.
     named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
@@ -149,10 +150,10 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
             for symbol, rate in growth[j::len(x)]:
                 total = field.add(total, field.multiply(field.derivative(a, symbol), rate))
             return total
-        # Atom by atom, one rate per coordinate (so growth[j::len(x)] are the rates along x_j); the
-        # exponentials' through the roots' rates, already in place.
-        growth.extend([(named[a], field.multiply(field.of(named[a]), derivative(rational(a.args[0]), j)))
-                       for a in exps for j in range(len(x))])
+        # Atom by atom, one rate per coordinate (so growth[j::len(x)] are the rates along x_j), each
+        # through the rates already in place (the roots', the inner atoms').
+        for a in exps:
+            growth.extend([(named[a], _rate(field, a, named[a], rational, derivative, j)) for j in range(len(x))])
 
         f_ = [rational(speed(s, e)) for s, e in zip(system.states, f)]
         v_all_ = [[rational(speed(s, e)) for s, e in zip(system.states, v)] for v in v_all]
@@ -161,6 +162,32 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
     except (NotRational, ZeroDivisionError):
         return None
     return field, derivative, f_, v_all_, annihilated
+
+
+#: Functions whose values become variables of the identities, with their rates (:func:`_rate`).
+_ATOMS = (sympy.exp, sympy.log, sympy.atan, sympy.atan2)
+
+
+def _rate(field, atom: sympy.Expr, variable: sympy.Symbol, rational, derivative, j: int) -> tuple:
+    """D_j of ``atom``'s value, written through its ``variable`` and its
+    arguments: d exp(m) = exp(m) dm, d log(m) = dm / m, d atan(m) = dm / (1 + m^2),
+    d atan2(y, x) = (x dy - y dx) / (x^2 + y^2). An identity in the variable with
+    this rate holds for the true function: substituting it is a homomorphism of
+    differential fields (the derivation agrees on the variable)."""
+    args = [rational(arg) for arg in atom.args]
+    rates = [derivative(arg, j) for arg in args]
+    if isinstance(atom, sympy.exp):
+        return field.multiply(field.of(variable), rates[0])
+    if isinstance(atom, sympy.log):
+        return field.multiply(rates[0], field.reduced(args[0][1], args[0][0]))
+    if isinstance(atom, sympy.atan):
+        square = field.multiply(args[0], args[0])
+        bottom = field.add((field.one, field.one), square)
+        return field.multiply(rates[0], field.reduced(bottom[1], bottom[0]))
+    (y, x), (dy, dx) = args, rates
+    top = field.add(field.multiply(x, dy), field.negative(field.multiply(y, dx)))
+    bottom = field.add(field.multiply(x, x), field.multiply(y, y))
+    return field.multiply(top, field.reduced(bottom[1], bottom[0]))
 
 
 def _radicals(expressions: list[sympy.Expr], roots: dict) -> tuple[dict, dict]:

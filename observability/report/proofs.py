@@ -100,8 +100,11 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], inpu
             continue
         # Entries to 60 digits, then the determinant in mpmath at that precision
         # (a symbolic determinant of transcendental numbers is far slower).
+        numbers = [[sympy.N(e, 60) for e in row] for row in at.tolist()]
+        if not all(n.is_Float or n.is_Rational for row in numbers for n in row):
+            continue  # complex there (a root of a negative atan, say) though sympy could not tell above
         with mpmath.workdps(60):
-            value = mpmath.det(mpmath.matrix([[mpmath.mpf(str(sympy.N(e, 60))) for e in row] for row in at.tolist()]))
+            value = mpmath.det(mpmath.matrix([[mpmath.mpf(str(n)) for n in row] for row in numbers]))
             if abs(value) > mpmath.mpf("1e-25"):
                 return point, mpmath.nstr(value, 40), False
     raise ObservabilityError(
