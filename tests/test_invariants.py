@@ -10,7 +10,7 @@ import random
 import mpmath
 import sympy
 
-from observability import analyze, models
+from observability import System, analyze, models
 
 
 def _functions(name, options):
@@ -164,3 +164,19 @@ def test_complete_observable_functions_are_said_complete():
         assert _complete(system, functions, result.rank, "proven", None) is True  # computed here
         assert _complete(system, functions, result.rank, "lower bound", result.rank) is None
     assert "(complete: their transcendence degree is the rank" in str(analyze(models.build("slam1.5d"), seed=1))
+
+
+def test_a_transcendental_number_in_a_field_is_left_to_the_other_routes():
+    """Found by fuzzing (an internal error, KeyError log(10)): the null field
+    (log(9/10), 1) on (y, b) of y + b log(10/9) + log(z^2 + 1) holds a number
+    the rational tables of the invariant search cannot read; the search now
+    declines it (as for sqrt(2) or pi) and the verdict is whole. By hand:
+    L_v h0 = log(9/10) + log(10/9) = 0, and h1 = x, z+ = z + 1 make x, z and
+    y + b log(10/9) observable: rank 3 of 4."""
+    system = System(["x", "y", "z", "b"], {"x": "atan(sqrt(10)/3)*exp(x)", "y": "y", "z": "z + 1", "b": "b"},
+                    {"h0": "log(z**2 + 1) + b*log(10/9) + y", "h1": "x"}, time="discrete")
+    result = analyze(system, seed=1)
+    assert result.rank == 3 and result.proof == "proven"
+    [direction] = result.unobservable_directions
+    assert sympy.simplify(sympy.sympify(direction.vector["y"]) - sympy.log(sympy.Rational(9, 10))) == 0
+    assert direction.vector["b"] == "1"

@@ -151,9 +151,8 @@ Polynomial = dict  # {exponent tuple: coefficient}
 
 
 def _rational_numbers(expr: sympy.Expr) -> bool:
-    """Whether every number in ``expr`` is rational (no sqrt(2), no pi)."""
-    return not expr.atoms(sympy.NumberSymbol) and not any(
-        p.base.is_number and not p.exp.is_Integer for p in expr.atoms(sympy.Pow))
+    """Whether every number in ``expr`` is rational (no sqrt(2), no pi, no log(10))."""
+    return all(node.is_Rational for node in sympy.preorder_traversal(expr) if node.is_number)
 
 
 def _terms(expr: sympy.Expr, index: dict[sympy.Symbol, int]) -> Polynomial:
