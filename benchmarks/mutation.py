@@ -68,6 +68,9 @@ EQUIVALENT: dict[str, str] = {
        for name in ("x__latex_names__mutmut_7", "x_parse_model__mutmut_62", "x_parse_model__mutmut_75",
                     "x_parse_model__mutmut_96", "x_parse_model__mutmut_183", "x_parse_model__mutmut_240",
                     "x_parse_model__mutmut_282", "x__parameters__mutmut_12")},
+    "observability.model.modelfile.x_load_model__mutmut_13":
+        "read() without a bound: only non-regular files (refused before, '/dev/zero' included) or a file growing "
+        "between stat() and read() could exceed the limit stat() has just checked",
     "observability.model.modelfile.x_load_model__mutmut_15":
         "the read after the size check takes one byte past the limit to see a file that grew after stat(); "
         "two bytes see it as well",

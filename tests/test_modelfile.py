@@ -108,3 +108,18 @@ def test_symmetries_from_a_file_are_verified_and_named(tmp_path):
     assert direction.name != "rotation" and direction.name.startswith("rotation about (x, y) = (bx, by)")
     with pytest.raises(ModelFileError, match="symmetries.r.z: 'z' is not a state"):
         parse_model(EXAMPLE + '[symmetries.r]\nz = "1"\n')
+
+
+def test_a_vector_quantity_takes_its_latex_name_and_the_description_is_kept(tmp_path):
+    """A vector quantity c = f - p expands to c_0, c_1, and a [latex] entry for
+    c names both components (as it does for the vector output z); the file's
+    description reaches the System (both were dropped by mutants no test saw)."""
+    path = tmp_path / "q.toml"
+    path.write_text('name = "q"\ndescription = "a camera seeing a point"\nstates = ["p[2]", "f[2]"]\n'
+                    '[dynamics]\np = "[0, 0]"\nf = "[0, 0]"\n[outputs]\nz = "f - p"\n[quantities]\nc = "f - p"\n'
+                    '[latex]\nc = "\\\\mathbf{c}"\nz = "\\\\mathbf{z}"\n', encoding="utf-8")
+    system = load_model(path)
+    assert system.description == "a camera seeing a point"
+    names = dict(system.latex_names)
+    assert names["c_0"] == r"\mathbf{c}_{0}" and names["c_1"] == r"\mathbf{c}_{1}" and names["z_1"] == r"\mathbf{z}_{1}"
+    assert [str(q) for q, _ in system.quantities] == ["c_0", "c_1"]

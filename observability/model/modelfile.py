@@ -341,15 +341,13 @@ def parse_model(text: str, source: str = "<model>") -> System:
             angles=angles,
             unknown_parameters=constants,
         )
-    except ModelFileError as exc:
-        raise ModelFileError(f"{source}: {exc}") from None
-    except ModelError as exc:
+    except ModelError as exc:  # a ModelFileError too: every refusal names the file
         raise ModelFileError(f"{source}: {exc}") from None
 
 
 def _parameters(data: dict, source: str) -> tuple[list[str] | dict[str, Any], dict[str, tuple[str, ...]]]:
     """Known parameters: a list of names, or a table of values (a list of numbers is a vector)."""
-    raw_params = data.get("parameters", [])
+    raw_params = data.get("parameters")
     if not isinstance(raw_params, dict):
         return _names(data, "parameters", source, required=False)
     parameters: dict[str, Any] = {}
