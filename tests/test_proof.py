@@ -984,3 +984,47 @@ def test_range_only_slam_with_square_roots_is_proven_two_sided():
     assert names == ["rotation about (x, y) = (0, 0)", "translation of x, l1x, l2x", "translation of y, l1y, l2y"]
     proof = json.loads(json.dumps(proof_evidence(RANGE_SLAM, result)))
     assert _checker().check(proof).startswith("accepted")
+
+
+DISCRETE_SPAN = System(["x", "y", "z", "b"], {"x": "2*x", "y": "y**3", "z": "z", "b": "b"}, {"h": "z*b"},
+                       time="discrete", name="discrete-span")
+
+
+def test_a_discrete_span_kept_by_the_map_proves_the_rank():
+    """x+ = 2x, y+ = y^3, z+ = z, b+ = b, seen: h = z b. By hand every row is
+    a gradient of z b: rank 1. d/dy is no symmetry (d/dy at F(x) is d/dy, DF
+    d/dy = 3y^2 d/dy), but the span of d/dx, d/dy and (0, 0, z, -b) is kept:
+    DF v_a = c v_a(F(x)) with c = 2, 3y^2, 1. Then d(h o F^(k+1)) v_a =
+    d(h o F^k)(F(x)) DF v_a = 0 by induction: proven (was "lower bound"), the
+    proof file accepted; with z+ = z + y in the file, DF d/dy gains d/dz,
+    which leaves the span, and the checker refuses it."""
+    result = analyze(DISCRETE_SPAN, seed=1)
+    assert result.rank == 1 and result.proof == "proven", result.details
+    assert "DF v in the span of the fields at F(x)" in result.details
+    proof = json.loads(json.dumps(proof_evidence(DISCRETE_SPAN, result)))
+    assert proof["upper_bound"]["kind"] == "invariant span"
+    checker = _checker()
+    assert checker.check(proof).startswith("accepted")
+    proof["model"]["dynamics"]["z"] = "y + z"
+    with pytest.raises(checker.Rejected, match="leaves the span|not zero|not independent"):
+        checker.check(proof)
+
+
+def test_discrete_identities_take_functions_and_irrational_numbers_as_free_variables():
+    """Found by fuzzing: discrete maps with exp, log, atan or irrational constants
+    ended at "lower bound" (the flint route read rational maps only). By hand,
+    y+ = atan(2) x, z+ = log(b^2 + 1) + y, b+ = atan(2) b, x+ = atan(1/3)/3,
+    seen h = x + c: rows dx, then 0; d/dy, d/dz, d/db span a distribution DF
+    keeps (DF d/dy = d/dz, DF d/dz = 0, DF d/db = (2b/(b^2 + 1)) d/dz + atan(2)
+    d/db): rank 1, proven, accepted. A field that is no symmetry is still
+    refused with the logarithm named (L_v (log(x) + y) = 1/x - 1 for v = (1, -1))."""
+    from observability.rank.proof import fields_are_symmetries
+
+    system = System(["x", "y", "z", "b"], {"x": "atan(1/3)/3", "y": "atan(2)*x", "z": "log(b**2 + 1) + y",
+                                           "b": "atan(2)*b"}, {"h": "x + atan(2)*log(10/9)"}, time="discrete")
+    result = analyze(system, seed=1)
+    assert result.rank == 1 and result.proof == "proven", result.details
+    assert _checker().check(json.loads(json.dumps(proof_evidence(system, result)))).startswith("accepted")
+    wrong = System(["x", "y"], {"x": "x", "y": "y"}, {"h": "log(x) + y"}, time="discrete")
+    assert not fields_are_symmetries(wrong, [[sympy.Integer(1), sympy.Integer(-1)]])
+    assert fields_are_symmetries(wrong, [[sympy.Symbol("x"), sympy.Integer(-1)]])

@@ -227,8 +227,9 @@ def _upper_bound(system: System, basis, seconds: float) -> str:
     if fields_are_symmetries(system, basis, budget=seconds):
         return f"the matrix is annihilated as identities by {independent_fields(len(basis))}"
     if spans_invariant_distribution(system, basis, budget=seconds):
+        kept = "[f, v] in the span" if system.time == "continuous" else "DF v in the span of the fields at F(x)"
         return (f"the outputs are annihilated by {independent_fields(len(basis))} whose span the dynamics keep "
-                "([f, v] in the span, verified as identities), so every row is")
+                f"({kept}, verified as identities), so every row is")
     return ""
 
 

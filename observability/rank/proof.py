@@ -63,29 +63,80 @@ def _map_identities(system: System, fields: list[list[sympy.Expr]]) -> bool | No
     """In discrete time, L_v h = 0 and v(F(x)) = DF(x) v(x) for every field, in
     flint's rational-function arithmetic over the states, inputs and parameters
     (the composition v(F(x)) is formed on expressions, then converted; sympy's
-    ``cancel`` on the composed quaternion map took seconds); None when an
-    expression is not rational (angles, roots, exponentials: the expression
-    route decides)."""
+    ``cancel`` on the composed quaternion map took seconds). Anything not
+    rational (a function, a root, an irrational number) is a free variable
+    (:func:`_map_terms`): an identity found so holds for the true values, but
+    one that needs a relation among them is missed, so a failure there is None
+    (the expression route decides), as is an expression that cannot be read."""
+    terms = _map_terms(system, fields)
+    if terms is None:
+        return None
+    field, annihilated, images, composed, named = terms
+    holds = annihilated and all(_vanishes(field, [(a, (field.one, field.one), 1), (b, (field.one, field.one), -1)])
+                                for image, moved in zip(images, composed) for a, b in zip(moved, image))
+    return True if holds else (None if named else False)
+
+
+def _map_closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
+    """The discrete analogue of :func:`_closure`: L_v h = 0 and DF(x) v_a(x) =
+    sum_b c_ab v_b(F(x)) with rational c, as identities (atoms free, as in
+    :func:`_map_identities`). Then every row annihilates the span: by induction
+    d(h o F^(k+1))(x) v_a(x) = d(h o F^k)(F(x)) DF(x) v_a(x) = sum_b c_ab
+    d(h o F^k)(F(x)) v_b(F(x)) = 0, for every input sequence."""
+    terms = _map_terms(system, fields)
+    if terms is None or not terms[1]:
+        return False
+    field, _, images, composed, _ = terms
+    rows = _pivot_rows(field, composed)
+    if rows is None:
+        return False
+    square = [[w[r] for w in composed] for r in rows]
+    for image in images:
+        c = solve(field, square, [image[r] for r in rows])
+        if c is None or not all(_vanishes(field, [(component, (field.one, field.one), 1),
+                                                  *((cb, w[i], -1) for cb, w in zip(c, composed))])
+                                for i, component in enumerate(image)):
+            return False
+    return True
+
+
+def _map_terms(system: System, fields: list[list[sympy.Expr]]) -> tuple | None:
+    """(field, whether L_v h = 0 for every field and output, DF v per field, v o F
+    per field, whether something was named) in flint fractions over the states,
+    inputs, parameters and one free variable per maximal non-rational
+    subexpression; None when the fractions cannot be formed."""
     states = list(system.states)
-    field = RationalFunctions([*states, *system.inputs, *system.parameters])
     f = [system.substitute_values(e) for e in system.dynamics]
+    h = [system.substitute_values(e) for _, e in system.outputs]
     at_next = dict(zip(states, f))
+    vs = [[system.substitute_values(sympy.sympify(e)) for e in v] for v in fields]
+    derivative = [[sympy.diff(fi, xj) for xj in states] for fi in f]
+    rates = [[sum(sympy.diff(hi, xj) * vj for xj, vj in zip(states, v)) for hi in h] for v in vs]
+    images = [[sum(d * vj for d, vj in zip(row, v)) for row in derivative] for v in vs]
+    composed = [[vi.xreplace(at_next) for vi in v] for v in vs]
+    named: dict[sympy.Expr, sympy.Dummy] = {}
     try:
-        maps = [field.of(e) for e in f]
-        outputs = [field.of(system.substitute_values(e)) for _, e in system.outputs]
-        for v in fields:
-            v = [system.substitute_values(sympy.sympify(e)) for e in v]
-            v_ = [field.of(e) for e in v]
-            for h in outputs:
-                if not _vanishes(field, [(field.derivative(h, x), vj, 1) for x, vj in zip(states, v_)]):
-                    return False
-            for vi, fi in zip(v, maps):
-                moved = [(field.of(vi.xreplace(at_next)), (field.one, field.one), 1)]
-                if not _vanishes(field, moved + [(field.derivative(fi, x), vj, -1) for x, vj in zip(states, v_)]):
-                    return False
+        rational = [[[_named_atoms(e, named) for e in row] for row in block] for block in (rates, images, composed)]
+        field = RationalFunctions([*states, *system.inputs, *system.parameters, *named.values()])
+        rates_, images_, composed_ = [[[field.of(e) for e in row] for row in block] for block in rational]
     except (NotRational, ZeroDivisionError):
         return None
-    return True
+    return field, all(r[0].is_zero() for row in rates_ for r in row), images_, composed_, bool(named)
+
+
+def _named_atoms(expr: sympy.Expr, named: dict) -> sympy.Expr:
+    """``expr`` with each maximal subexpression that is not a rational function
+    (a function, a non-integer power, an irrational number) replaced by a free
+    variable, the same for equal subexpressions."""
+    if expr.is_Symbol or expr.is_Rational:
+        return expr
+    if expr.is_Add or expr.is_Mul:
+        return expr.func(*(_named_atoms(a, named) for a in expr.args))
+    if expr.is_Pow and expr.exp.is_Integer:
+        return _named_atoms(expr.base, named) ** expr.exp
+    if expr not in named:
+        named[expr] = sympy.Dummy(f"A{len(named)}")
+    return named[expr]
 
 
 def _bracket(field: RationalFunctions, derivative, f_: list, v_: list) -> list:
@@ -282,15 +333,17 @@ def spans_invariant_distribution(system: System, fields: Sequence[Sequence[sympy
     input), verified as identities. Then every row annihilates the span: by
     induction L_v L_f^j h = L_f L_v L_f^(j-1) h - L_[f,v] L_f^(j-1) h = 0. This
     proves more than :func:`fields_are_symmetries`: a basis of the null space
-    need not commute with f (x2' = x2^3: d/dx2 does not, its span is kept).
-    Continuous time only; False when it cannot be shown within ``budget``."""
+    need not commute with f (x2' = x2^3: d/dx2 does not, its span is kept). In
+    discrete time DF v_a = sum_b c_ab v_b o F (:func:`_map_closure`). False when
+    it cannot be shown within ``budget``."""
     fields = [list(v) for v in fields]
     if not fields:
         return True
-    if system.time != "continuous" or not _provable(system, fields):
+    if not _provable(system, fields):
         return False
+    closure = _closure if system.time == "continuous" else _map_closure
     try:
-        return bool(with_budget(_closure, system, fields, seconds=budget))
+        return bool(with_budget(closure, system, fields, seconds=budget))
     except (Undecided, ValueError, TypeError):
         return False
 

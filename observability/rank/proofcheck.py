@@ -139,7 +139,8 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
                    values: dict) -> list:
     """The generators' vectors, once L_v h = 0 for every output and generator and
     each bracket [f, v_a] is a combination of the generators with rational
-    coefficients, as identities (Rejected otherwise). The coefficients are
+    coefficients (in discrete time DF(x) v_a(x), of the generators at F(x)), as
+    identities (Rejected otherwise). The coefficients are
     solved here from rows where the generators are independent at the point,
     then every row is checked. Inputs are symbols (any value) and must not enter
     the generators."""
@@ -152,7 +153,9 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
             if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
                 raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
         vectors.append(v)
-    basis = sympy.Matrix(vectors).T  # n x k
+    # The span is kept where it is taken: at x ([f, v_a]), or at F(x) (DF(x) v_a(x)) in discrete time.
+    continuous = model["time"] == "continuous"
+    basis = sympy.Matrix(vectors if continuous else [[e.xreplace(dict(zip(x, f))) for e in v] for v in vectors]).T
     at_point = basis.xreplace(values)
     _, pivots = at_point.T.rref()
     rows = list(pivots)
@@ -161,11 +164,13 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
     square = basis.extract(rows, list(range(len(vectors))))
     for g, v in zip(generators, vectors):
         bracket = [sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
+                   if continuous else sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v))
                    for vi, fi in zip(v, f)]
         coefficients = square.LUsolve(sympy.Matrix([bracket[r] for r in rows]))
         for i, component in enumerate(bracket):
             if not _zero(component - sum(c * basis[i, b] for b, c in enumerate(coefficients))):
-                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of [f, v] leaves the span")
+                moved = "[f, v]" if continuous else "DF v"
+                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of {moved} leaves the span")
     return vectors
 
 
@@ -215,7 +220,7 @@ def check(proof: dict) -> str:
     kind = proof["upper_bound"].get("kind", "symmetries")
     if kind == "symmetries":
         fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
-    elif kind == "invariant span" and model["time"] == "continuous":
+    elif kind == "invariant span":
         fields = _verified_span(generators, model, symbols, known, x, f, outputs, values)
     else:
         raise Rejected(f"unknown kind of upper bound {kind!r} for {model['time']} time")

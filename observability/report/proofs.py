@@ -45,8 +45,9 @@ __all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
 IDENTITIES = {
     "symmetries": "L_v h = 0 for every output h, and [f, v] = 0 (continuous) or v(F(x)) = DF(x) v(x) (discrete), as "
                   "identities in the states, inputs and parameters",
-    "invariant span": "L_v h = 0 for every output h and generator v, and [f, v] in the span of the generators with "
-                      "rational coefficients (continuous time), as identities in the states, inputs and parameters",
+    "invariant span": "L_v h = 0 for every output h and generator v, and [f, v] in the span of the generators "
+                      "(continuous) or DF(x) v(x) in the span of the generators at F(x) (discrete), with rational "
+                      "coefficients, as identities in the states, inputs and parameters",
 }
 EVIDENCE_FORMAT = "observability proof 1"
 #: The rows' definition the independent checker must share.
