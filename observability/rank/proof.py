@@ -87,17 +87,7 @@ def _map_closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
     if terms is None or not terms[1]:
         return False
     field, _, images, composed, _ = terms
-    rows = _pivot_rows(field, composed)
-    if rows is None:
-        return False
-    square = [[w[r] for w in composed] for r in rows]
-    for image in images:
-        c = solve(field, square, [image[r] for r in rows])
-        if c is None or not all(_vanishes(field, [(component, (field.one, field.one), 1),
-                                                  *((cb, w[i], -1) for cb, w in zip(c, composed))])
-                                for i, component in enumerate(image)):
-            return False
-    return True
+    return _in_span(field, images, composed)
 
 
 def _map_terms(system: System, fields: list[list[sympy.Expr]]) -> tuple | None:
@@ -481,19 +471,23 @@ def _closure(system: System, fields: list[list[sympy.Expr]]) -> bool:
     if coordinates is None or not coordinates[4]:
         return False
     field, derivative, f_, v_all_, _ = coordinates
-    rows = _pivot_rows(field, v_all_)
+    return _in_span(field, [_bracket(field, derivative, f_, v_) for v_ in v_all_], v_all_)
+
+
+def _in_span(field: RationalFunctions, images: list[list[tuple]], basis: list[list[tuple]]) -> bool:
+    """Whether every vector of ``images`` is a combination of the ``basis``
+    vectors with rational coefficients, as identities: the coefficients solved
+    from rows where the basis is independent, then every row checked."""
+    rows = _pivot_rows(field, basis)
     if rows is None:
         return False
-    square = [[v_[r] for v_ in v_all_] for r in rows]
-    for v_ in v_all_:
-        bracket = _bracket(field, derivative, f_, v_)
-        c = solve(field, square, [bracket[r] for r in rows])
-        if c is None:
+    square = [[w[r] for w in basis] for r in rows]
+    for image in images:
+        c = solve(field, square, [image[r] for r in rows])
+        if c is None or not all(_vanishes(field, [(component, (field.one, field.one), 1),
+                                                  *((cb, w[i], -1) for cb, w in zip(c, basis))])
+                                for i, component in enumerate(image)):
             return False
-        for i, component in enumerate(bracket):
-            if not _vanishes(field, [(component, (field.one, field.one), 1),
-                                     *((cb, w[i], -1) for cb, w in zip(c, v_all_))]):
-                return False
     return True
 
 
