@@ -77,6 +77,23 @@ REFUSED = [
     ("transpose(x)", "transpose: argument 1 is a scalar, a matrix is expected in 'transpose(x)' (column 1)"),
     ("1" * 1001, "a number of more than 1000 characters in "),
     ("1e1001", "the exponent of 1e1001 is beyond 10^1000 in '1e1001' (column 1)"),
+    # The call, product and scalar refusals again away from column 1 (a mutation run found their node unread).
+    ("y + sin(p)", "sin takes a scalar, got a vector of 3 components in 'y + sin(p)' (column 5)"),
+    ("y + x @ p", "@ multiplies a matrix and a vector or matrix; use * with a scalar in 'y + x @ p' (column 5)"),
+    ("y + p @ p", "@ of a vector of 3 components and a vector of 3 components: the shapes do not match in "
+                  "'y + p @ p' (column 5)"),
+    ("y + f(x)", "function 'f' is not allowed (allowed: "),
+    ("y + sin(x, y)", "sin takes 1 argument, got 2 in 'y + sin(x, y)' (column 5)"),
+    ("y + atan2(x)", "atan2 takes 2 arguments, got 1 in 'y + atan2(x)' (column 5)"),
+    ("y + sin(x=1)", "keyword arguments to sin are not allowed in 'y + sin(x=1)' (column 5)"),
+    ("y + [sin][0](x)", "only plain function calls are allowed in 'y + [sin][0](x)' (column 5)"),
+    ("y + prev(x)", "prev() is only allowed in outputs of discrete-time models in 'y + prev(x)' (column 5)"),
+    ("y + cross(p, x)", "cross: argument 2 is a scalar, a vector of 3 components is expected in 'y + cross(p, x)' "
+                        "(column 5)"),
+    ("y + cross(p)", "cross takes 2 arguments, got 1 in 'y + cross(p)' (column 5)"),
+    ("y + norm(p, p)", "norm takes 1 argument, got 2 in 'y + norm(p, p)' (column 5)"),
+    ("y + dot(p, p[:2])", "dot of a vector of 3 components and a vector of 2 components in 'y + dot(p, p[:2])' "
+                          "(column 5)"),
 ]
 
 
@@ -159,3 +176,47 @@ def test_split_top_level_splits_only_outside_brackets():
     assert split_top_level(" , a ,, b , ") == ["a", "b"]
     assert split_top_level("g(h(x), [y, z])") == ["g(h(x), [y, z])"]
     assert split_top_level("") == []
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("y + prev(x, y)", "prev() takes one state name in 'y + prev(x, y)' (column 5)"),
+    ("y + prev(2)", "prev() takes one state name in 'y + prev(2)' (column 5)"),
+    ("y + prev()", "prev() takes one state name in 'y + prev()' (column 5)"),
+], ids=["prev-two", "prev-number", "prev-none"])
+def test_prev_takes_one_state_name(text, message):
+    """In a discrete-time output prev() takes exactly one name (mutants that
+    accepted a number, or lost the column, survived a mutation run)."""
+    with pytest.raises(ModelFileError) as caught:
+        parse_value(text, NAMES, where="m.toml: outputs.y", vectors=VECTORS, allow_prev=True)
+    assert str(caught.value) == "m.toml: outputs.y: " + message
+
+
+def test_prev_of_a_state_and_of_a_vector_state():
+    """prev(x) is the symbol named prev(x) (a name no identifier can take), and
+    prev(p) of a vector state the vector of its components' previous values; the
+    parser's default refuses prev outside discrete outputs."""
+    from observability.model.expressions import is_previous, prev, previous_of
+
+    value = parse_value("prev(p) + p", NAMES, where="w", vectors=VECTORS, allow_prev=True)
+    assert list(value) == [sympy.Symbol(f"prev(p_{i})") + P[i] for i in range(3)]
+    assert parse_value("x - prev(x)", NAMES, where="w", allow_prev=True) == X - sympy.Symbol("prev(x)")
+    assert prev(X) == prev("x") == sympy.Symbol("prev(x)")
+    assert is_previous(prev(X)) and not is_previous(X) and not is_previous(sympy.Symbol("prev(x"))
+    assert previous_of(prev(X)) == "x" and previous_of(prev("p_12")) == "p_12"
+    with pytest.raises(ModelFileError, match="prev\\(\\) is only allowed"):
+        parse_expression("prev(x)", NAMES, where="w")
+
+
+@pytest.mark.parametrize(("rows", "refused"), [(25_000, False), (25_001, True)], ids=["at-limit", "above"])
+def test_a_matrix_of_vector_rows_is_bounded_by_its_entries(rows, refused):
+    """A list of rows holds at most 100,000 entries, counted as rows x columns:
+    25,000 rows of a 4-vector are allowed, one more row is refused (a mutation
+    run found the count and the bound unchecked: a literal of numbers cannot
+    reach it within the 100,000 characters of an expression)."""
+    q = tuple(sympy.symbols("q_0:4"))
+    text = "[" + ",".join(["q"] * rows) + "]"
+    if refused:  # away from column 1, so the column is the list's
+        with pytest.raises(ModelFileError, match="^w: a matrix of more than 100000 entries in .* \\(column 5\\)$"):
+            parse_value("y + " + text, NAMES, where="w", vectors={"q": q})
+    else:
+        assert parse_value(text, NAMES, where="w", vectors={"q": q}).shape == (rows, 4)
