@@ -220,3 +220,29 @@ def test_a_matrix_of_vector_rows_is_bounded_by_its_entries(rows, refused):
             parse_value("y + " + text, NAMES, where="w", vectors={"q": q})
     else:
         assert parse_value(text, NAMES, where="w", vectors={"q": q}).shape == (rows, 4)
+
+
+@pytest.mark.parametrize(("left", "right", "refused"), [
+    (("s", 2, 400), ("t", 400, 2), True),     # 400 x 2 @ 2 x 400: 160,000 entries (> 100,000), 320,000 products
+    (("r", 300, 300), ("r", 300, 300), True),  # 300 x 300 @ 300 x 300: 90,000 entries, 27,000,000 products
+    (("s", 2, 50), ("t", 50, 2), False),       # 50 x 2 @ 2 x 50: 2,500 entries, 5,000 products
+], ids=["entries", "products", "allowed"])
+def test_a_matrix_product_is_bounded_by_its_entries_and_its_products(left, right, refused):
+    """@ refuses a result of more than 100,000 entries, and separately more than
+    1,000,000 scalar products (each bound alone decides one case here)."""
+    vectors, texts = {}, []
+    for name, width, rows in (left, right):
+        vectors[name] = tuple(sympy.symbols(f"{name}_0:{width}"))
+        texts.append("[" + ",".join([name] * rows) + "]")
+    text = f"{texts[0]} @ {texts[1]}"
+    if refused:
+        with pytest.raises(ModelFileError, match="more than 100000 entries or 1000000 products"):
+            parse_value(text, NAMES, where="w", vectors=vectors)
+    else:
+        assert parse_value(text, NAMES, where="w", vectors=vectors).shape == (left[2], right[1])
+
+
+def test_a_power_at_the_bit_limit_is_computed():
+    """1023 has 10 bits: 1023**10000 has at most 100,000 bits, the limit itself,
+    and is computed; 1024**10000 (11 bits) is refused (above)."""
+    assert parse_value("1023**10000", NAMES, where="w") == sympy.Integer(1023) ** 10000

@@ -316,7 +316,7 @@ class _Reader:
                     raise self.fail(node, f"{fname}: argument {i} is {_shape(arg)}, {wanted} is expected")
             if fname == "dot" and args[0].shape != args[1].shape:
                 raise self.fail(node, f"dot of {_shape(args[0])} and {_shape(args[1])}")
-            return function(*(list(a) if _is_vector(a) and shape != "matrix" else a for a, shape in zip(args, shapes)))
+            return function(*args)  # the vector functions index and iterate Matrix columns as lists
         if fname not in FUNCTIONS:
             allowed = ", ".join(sorted([*FUNCTIONS, *VECTOR_FUNCTIONS]))
             raise self.fail(node, f"function {fname!r} is not allowed (allowed: {allowed}, prev)")
