@@ -223,23 +223,30 @@ def test_a_matrix_of_vector_rows_is_bounded_by_its_entries(rows, refused):
 
 
 @pytest.mark.parametrize(("left", "right", "refused"), [
-    (("s", 2, 400), ("t", 400, 2), True),     # 400 x 2 @ 2 x 400: 160,000 entries (> 100,000), 320,000 products
-    (("r", 300, 300), ("r", 300, 300), True),  # 300 x 300 @ 300 x 300: 90,000 entries, 27,000,000 products
-    (("s", 2, 50), ("t", 50, 2), False),       # 50 x 2 @ 2 x 50: 2,500 entries, 5,000 products
-], ids=["entries", "products", "allowed"])
+    (("s", 2, 400), ("t", 400, 2), True),       # 400 x 2 @ 2 x 400: 160,000 entries (> 100,000), 320,000 products
+    (("r", 300, 300), ("r", 300, 300), True),    # 300 x 300 @ 300 x 300: 90,000 entries, 27,000,000 products
+    (("a", 20, 5000), ("b", 11, 20), True),      # 5000 x 20 @ 20 x 11: 55,000 entries, 1,100,000 products
+    (("s", 2, 250), ("t", 400, 2), False),       # 250 x 2 @ 2 x 400: 100,000 entries, the limit itself
+    (("a", 20, 5000), ("c", 10, 20), False),     # 5000 x 20 @ 20 x 10: 1,000,000 products, the limit itself
+    (("s", 2, 50), ("t", 50, 2), False),         # 50 x 2 @ 2 x 50: 2,500 entries, 5,000 products
+], ids=["entries", "products", "products-narrow", "entries-at-limit", "products-at-limit", "allowed"])
 def test_a_matrix_product_is_bounded_by_its_entries_and_its_products(left, right, refused):
     """@ refuses a result of more than 100,000 entries, and separately more than
-    1,000,000 scalar products (each bound alone decides one case here)."""
+    1,000,000 scalar products (each bound alone decides one case here; both
+    limits are allowed). The message points at the product (column 5)."""
     vectors, texts = {}, []
-    for name, width, rows in (left, right):
+    for name, width, rows in (left, right):  # rows of a named vector; at a limit, numbers (computed faster)
         vectors[name] = tuple(sympy.symbols(f"{name}_0:{width}"))
-        texts.append("[" + ",".join([name] * rows) + "]")
-    text = f"{texts[0]} @ {texts[1]}"
+        row = "[" + ",".join(["1"] * width) + "]" if not refused and rows * width < 20_000 else name
+        texts.append("[" + ",".join([row] * rows) + "]")
+    text = f"y + {texts[0]} @ {texts[1]}"
     if refused:
-        with pytest.raises(ModelFileError, match="more than 100000 entries or 1000000 products"):
+        shapes = f"a {left[2]}x{left[1]} matrix and a {right[2]}x{right[1]} matrix"
+        with pytest.raises(ModelFileError, match=f"^w: @ of {shapes}: more than 100000 entries or 1000000 products in "
+                                                 ".* \\(column 5\\)$"):
             parse_value(text, NAMES, where="w", vectors=vectors)
     else:
-        assert parse_value(text, NAMES, where="w", vectors=vectors).shape == (left[2], right[1])
+        assert parse_value(texts[0] + " @ " + texts[1], NAMES, where="w", vectors=vectors).shape == (left[2], right[1])
 
 
 def test_a_power_at_the_bit_limit_is_computed():
