@@ -94,6 +94,12 @@ REFUSED = [
     ("y + norm(p, p)", "norm takes 1 argument, got 2 in 'y + norm(p, p)' (column 5)"),
     ("y + dot(p, p[:2])", "dot of a vector of 3 components and a vector of 2 components in 'y + dot(p, p[:2])' "
                           "(column 5)"),
+    ("x * (p + x)", "sum of a vector of 3 components and a scalar in 'x * (p + x)' (column 6)"),
+    ("x * (p * p)", "* of two vectors or matrices: use dot(), cross() or @ in 'x * (p * p)' (column 6)"),
+    ("x * (x / p)", "operator Div is not defined for a scalar and a vector of 3 components in 'x * (x / p)' (column 6)"),
+    ("x * (p / p)", "operator Div is not defined for a vector of 3 components and a vector of 3 components in "
+                    "'x * (p / p)' (column 6)"),
+    ("x * (x ^ 2)", "operator BitXor is not allowed (use ** for powers) in 'x * (x ^ 2)' (column 6)"),
 ]
 
 
@@ -253,3 +259,18 @@ def test_a_power_at_the_bit_limit_is_computed():
     """1023 has 10 bits: 1023**10000 has at most 100,000 bits, the limit itself,
     and is computed; 1024**10000 (11 bits) is refused (above)."""
     assert parse_value("1023**10000", NAMES, where="w") == sympy.Integer(1023) ** 10000
+
+
+@pytest.mark.parametrize("build", [lambda x: x + sympy.Abs(x), lambda x: sympy.pi * x + sympy.sign(x),
+                                   lambda x: x * (1 + x ** sympy.Rational(1, 3))],
+                         ids=["abs-in-a-sum", "sign-after-pi", "cube-root-in-a-product"])
+def test_expressions_given_as_sympy_are_checked_all_through(build):
+    """A System built from sympy expressions (no parser) is checked node by
+    node: a non-analytic function or a fractional power is refused wherever it
+    sits, after a sum, a product or pi (the check must go on past each)."""
+    from observability import System
+    from observability.errors import UnsupportedExpressionError
+
+    with pytest.raises(UnsupportedExpressionError, match="^output y: "):
+        System(["x"], {"x": 0}, {"y": build(X)})
+    System(["x"], {"x": 0}, {"y": X + sympy.pi * X + sympy.exp(X)})  # pi and exp are accepted
