@@ -65,6 +65,9 @@ EQUIVALENT: dict[str, str] = {
     "observability.model.expressions.x__power__mutmut_8":
         "the bit count skipped for a base of 1 instead of 0: either way at most 10,000 bits, below the limit",
     "observability.model.expressions.x_prev__mutmut_2": "str() of a Symbol is its name",
+    "observability.model.expressions.x_check_supported__mutmut_10": "sympy writes E**c as exp(c), a function: a Pow "
+        "with base E (and an irrational exponent) is never built by the parser or by sympy's evaluation",
+
     "observability.model.expressions.x_split_top_level__mutmut_5":
         "depth counted with the opposite sign: it is zero at exactly the same characters, so the same commas split",
     **{f"observability.model.modelfile.{name}": "required=None: as falsy as False"
