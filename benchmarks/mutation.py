@@ -65,6 +65,12 @@ EQUIVALENT: dict[str, str] = {
     "observability.model.expressions.x__power__mutmut_8":
         "the bit count skipped for a base of 1 instead of 0: either way at most 10,000 bits, below the limit",
     "observability.model.expressions.x_prev__mutmut_2": "str() of a Symbol is its name",
+    **{f"observability.model.expressions.x_check_supported__mutmut_{k}": "every sympy node has func, and a "
+       "function's type is its func: the same name either way" for k in (23, 26, 27, 28, 29)},
+    "observability.model.expressions.xǁ_Readerǁwalk__mutmut_14": "a constant's text is always found in the source "
+        "it was parsed from",
+    "observability.model.expressions.xǁ_Readerǁwalk__mutmut_29": "sympy.Rational reads underscores in digits as "
+        "Python does, so removing them first changes nothing",
     "observability.model.expressions.x_check_supported__mutmut_10": "sympy writes E**c as exp(c), a function: a Pow "
         "with base E (and an irrational exponent) is never built by the parser or by sympy's evaluation",
 

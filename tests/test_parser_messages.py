@@ -100,6 +100,9 @@ REFUSED = [
     ("x * (p / p)", "operator Div is not defined for a vector of 3 components and a vector of 3 components in "
                     "'x * (p / p)' (column 6)"),
     ("x * (x ^ 2)", "operator BitXor is not allowed (use ** for powers) in 'x * (x ^ 2)' (column 6)"),
+    ("y + 'a'", "'a' is not a number in \"y + 'a'\" (column 5)"),
+    ("y + " + "1" * 1001, "a number of more than 1000 characters in "),
+    ("y + 1e1001", "the exponent of 1e1001 is beyond 10^1000 in 'y + 1e1001' (column 5)"),
 ]
 
 
@@ -300,3 +303,13 @@ def test_the_accepted_constructs_pass_the_check():
     y = sympy.Symbol("y")
     System(["x", "y"], {"x": 0, "y": 0}, {"h": X + sympy.pi * X + sympy.exp(X) + sympy.E ** sympy.sqrt(2) * X
                                           + X ** y + sympy.sqrt(X) + X ** -3 + sympy.sqrt(2) + sympy.tanh(X)})
+
+
+def test_numbers_at_the_limits_and_with_underscores_are_read_exactly():
+    """A literal of exactly 1000 characters and an exponent of exactly 1000 are
+    read; underscores group digits as in Python, in the mantissa and the
+    exponent (a mutant replacing them survived a mutation run)."""
+    assert parse_value("1" * 1000, NAMES, where="w") == sympy.Integer("1" * 1000)
+    assert parse_value("1e1000", NAMES, where="w") == sympy.Integer(10) ** 1000
+    assert parse_value("1_000.5", NAMES, where="w") == sympy.Rational(2001, 2)
+    assert parse_value("2.5e1_0", NAMES, where="w") == sympy.Integer(25_000_000_000)
