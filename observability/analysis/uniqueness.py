@@ -216,7 +216,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
-    bound = fibre_range(system, model, orders, fractions, error)
+    bound = _fibre_range(system, model, orders, fractions, error)
     fibre = fibre_through(system, model, orders, rank, bound, random.Random(seed))
     if isinstance(fibre, str):
         return fibre
@@ -227,7 +227,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
         _mirrors(system, model, only)
 
 
-def fibre_range(system: System, model: RationalModel, orders: dict[str, int],
+def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
                 fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float) -> int:
     """The sampling range that bounds the membership test's error for ``fractions``."""
     heights = [orders[name] for name, _ in system.outputs]

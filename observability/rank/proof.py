@@ -166,12 +166,12 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
             return angle_speed(state, in_square_roots(rate, roots), angles)
         return root_speed(state, rate, roots)
     # exp, log, atan and atan2 of anything rational in the coordinates, inner ones first (their rates are used).
-    exps = sorted({a for e in everything for a in sympy.sympify(e).atoms(*_ATOMS)},
-                  key=lambda a: (sum(1 for _ in sympy.preorder_traversal(a) if isinstance(_, _ATOMS)),
-                                 sympy.default_sort_key(a)))
+    atoms = sorted({a for e in everything for a in sympy.sympify(e).atoms(*_ATOMS)},
+                   key=lambda a: (sum(isinstance(node, _ATOMS) for node in sympy.preorder_traversal(a)),
+                                  sympy.default_sort_key(a)))
     powers, radicands = _radicals(everything, roots)
     # Named after the roots are: exp(sqrt(g)) is met as exp(W) in an expression already rewritten.
-    named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(exps)}
+    named = {a: sympy.Dummy(f"E{i}") for i, a in enumerate(atoms)}
     named_as_met = {a.xreplace(powers): e for a, e in named.items()}
     field = AlgebraicFunctions([*radicands, *x, *named.values(), *system.inputs, *system.parameters])
 
@@ -193,7 +193,7 @@ def _in_coordinates(system: System, fields: list[list[sympy.Expr]]) -> tuple | N
             return total
         # Atom by atom, one rate per coordinate (so growth[j::len(x)] are the rates along x_j), each
         # through the rates already in place (the roots', the inner atoms').
-        for a in exps:
+        for a in atoms:
             growth.extend([(named[a], _rate(field, a, named[a], rational, derivative, j)) for j in range(len(x))])
 
         f_ = [rational(speed(s, e)) for s, e in zip(system.states, f)]
