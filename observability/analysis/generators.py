@@ -33,7 +33,7 @@ from ..engine.lie import input_derivative, lie_derivative
 from ..rank.membership import contained, exact_rank, sampling_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
-__all__ = ["FieldGeneration", "generate_the_field"]
+__all__ = ["FieldGeneration", "generate_the_field", "lie_derivatives_of_outputs"]
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ class FieldGeneration:
     bits: int  # of the sampling range
 
 
-def _lie_derivatives(model: RationalModel, orders: Sequence[int],
+def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
                      inputs: Sequence[sympy.Symbol]) -> list[tuple[int, sympy.Expr]]:
     """L^j h for j <= k, an input's j-th derivative written u^(j) (its chain rule term)."""
     found = []
@@ -73,7 +73,7 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     known = [*known, *(input_derivative(u, j) for u in inputs for j in range(max(orders, default=0) + 1))]
     variables = [*coordinates, *known]
     generators = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in functions]
-    tested = [sympy.fraction(sympy.cancel(sympy.together(f))) for _, f in _lie_derivatives(model, orders, inputs)]
+    tested = [sympy.fraction(sympy.cancel(sympy.together(f))) for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in generators]
     bound = sampling_range([*degrees, *[(1, 0)] * len(known)], degree_bounds(model, orders, known)[:len(tested)],
                            len(variables), error)

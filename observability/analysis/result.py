@@ -240,6 +240,10 @@ class ObservabilityResult:
             verdict = {True: "the observable functions generate", False: "the observable functions do not generate",
                        None: "not known whether the observable functions generate"}[answer.generates_field]
             lines.append(f"  {verdict} the field of globally observable functions: {answer.generation}")
+        if answer.field is not None:
+            lines.append(f"  globally observable functions: {states(answer.field.generators)}"
+                         + (" (they generate the field: " if answer.field.generates else " (")
+                         + f"{answer.field.how})")
         probability = "" if answer.error_probability is None else f"; error probability {answer.error_probability:.1e}"
         lines.append(f"  global: {answer.details}{probability}")
         return lines

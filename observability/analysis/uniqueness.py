@@ -49,6 +49,7 @@ from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .fibre import fibre_through, known_variables
 from .generators import generate_the_field
+from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
 if TYPE_CHECKING:
@@ -89,6 +90,10 @@ class GlobalVerdict:
         (``generation`` says why).
     generation : str
         The reason for ``generates_field``.
+    field : FieldGenerators or None
+        Generators of the field of globally observable functions when the
+        printed functions do not generate it (:mod:`.globalfield`); None when
+        they do, or when nothing was tested.
     """
 
     globally: tuple[str, ...]
@@ -100,13 +105,17 @@ class GlobalVerdict:
     functions: tuple[tuple[str, bool], ...] = ()
     generates_field: bool | None = None
     generation: str = ""
+    field: FieldGenerators | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {"globally_observable_states": list(self.globally),
                 "only_locally_observable_states": list(self.only_locally),
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
                 "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions),
-                "functions_generate_the_field": self.generates_field, "generation": self.generation}
+                "functions_generate_the_field": self.generates_field, "generation": self.generation,
+                "globally_observable_functions": list(self.field.generators) if self.field else None,
+                "globally_observable_functions_generate": self.field.generates if self.field else None,
+                "globally_observable_functions_how": self.field.how if self.field else ""}
 
 
 def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0,
@@ -148,7 +157,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                              "Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
         return GlobalVerdict((), (), local, None, f"undecided: {decided}")
-    members, bits, probability, angles, mirrors = decided
+    members, bits, probability, angles, mirrors, paired = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
@@ -161,8 +170,29 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += result.error_probability or 0.0
     generates, generation, tested = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
+    probability += error if tested else 0.0
+    field = None
+    if generates is not True:
+        index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
+        members = [(s, index[s]) for s in local if where[s]]
+        members += [(text, model.rewrite(f)) for (text, f), (_, unique) in zip(functions, answers) if unique]
+        members += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
+        field = _field(prepared, model, orders, sorted(members, key=lambda m: len(m[0])), result.rank, seed, error,
+                       budget)
+        probability += error if field.generates else 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability + (error if tested else 0.0), details, mirrors, answers, generates, generation)
+                         probability, details, mirrors, answers, generates, generation, field)
+
+
+def _field(system: System, model: RationalModel, orders: dict[str, int], members: list[tuple[str, sympy.Expr]],
+           rank: int, seed: int, error: float, budget: float | None) -> FieldGenerators:
+    """Generators of the field of globally observable functions (:mod:`.globalfield`), under ``budget``."""
+    outputs = [name for name, _ in system.outputs]
+    try:
+        return with_budget(field_generators, model, outputs, [orders[o] for o in outputs], members, rank, seed, error,
+                           system.free_parameters, system.inputs, seconds=budget)
+    except Undecided as exc:
+        return FieldGenerators(tuple(t for t, _ in members), None, f"undecided: {exc}")
 
 
 def _generation(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int],
@@ -216,15 +246,21 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
-    bound = _fibre_range(system, model, orders, fractions, error)
+    # Pairs are tested only in coordinates that are the states (no angle's T): printed as they are.
+    pairs = [] if model.angles else pair_candidates(tested)
+    paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
+    bound = _fibre_range(system, model, orders, [*fractions, *paired], error)
     fibre = fibre_through(system, model, orders, rank, bound, random.Random(seed))
     if isinstance(fibre, str):
         return fibre
     members = tuple(fibre.constant_on(f) for f in fractions)
     only = tuple(s for s, member in zip(local, members[:len(local)]) if not member)
+    outside = {i for i, member in enumerate(members) if not member}
+    found = tuple(f for ((i, j), f), fraction in zip(pairs, paired)
+                  if {i, j} <= outside and fibre.constant_on(fraction))
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
     return members, bound.bit_length(), error / (1 - error), tuple(a.name for a in model.angles), \
-        _mirrors(system, model, only)
+        _mirrors(system, model, only), found
 
 
 def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
