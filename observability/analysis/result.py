@@ -240,7 +240,7 @@ class ObservabilityResult:
             verdict = {True: "the observable functions generate", False: "the observable functions do not generate",
                        None: "not known whether the observable functions generate"}[answer.generates_field]
             lines.append(f"  {verdict} the field of globally observable functions: {answer.generation}")
-        if answer.field is not None:
+        if answer.field is not None and answer.generates_field is not True:
             lines.append(f"  globally observable functions: {states(answer.field.generators)}"
                          + (" (they generate the field: " if answer.field.generates else " (")
                          + f"{answer.field.how})")

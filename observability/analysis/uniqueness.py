@@ -91,9 +91,9 @@ class GlobalVerdict:
     generation : str
         The reason for ``generates_field``.
     field : FieldGenerators or None
-        Generators of the field of globally observable functions when the
-        printed functions do not generate it (:mod:`.globalfield`); None when
-        they do, or when nothing was tested.
+        Generators of the field of globally observable functions: the printed
+        functions when they generate it, else those of :mod:`.globalfield`;
+        None when nothing was tested.
     """
 
     globally: tuple[str, ...]
@@ -171,7 +171,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     probability += result.error_probability or 0.0
     generates, generation, tested = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
     probability += error if tested else 0.0
-    field = None
+    field = FieldGenerators(tuple(result.observable_functions or ()), True, generation) if generates else None
     if generates is not True:
         index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
         members = [(s, index[s]) for s in local if where[s]]

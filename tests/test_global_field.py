@@ -1,0 +1,83 @@
+"""Generators of the field of globally observable functions (`check --global`), against independent fields.
+
+Each list the analysis prints is compared with a reference list (a hand derivation, or
+StructuralIdentifiability.jl's stored `find_identifiable_functions` output) by field membership
+both ways, with the explicit lists' own ideal (Mueller-Quade and Steinwandt's, :func:`contained`) at a
+random integer point: a route that shares nothing with the analysis's fibre of the Lie derivatives
+but the Groebner basis routine.
+"""
+
+from __future__ import annotations
+
+import random
+
+import sympy
+
+from observability import System, analyze
+from observability.analysis.uniqueness import global_observability
+from observability.model.expressions import parse_expression
+from observability.model.sijl import parse_si_model
+from observability.rank.membership import contained
+
+
+def _generators(system: System, seed: int = 3):
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=seed, budget=None)
+    assert answer.field is not None and answer.field.generates is True, answer
+    names = {s.name: s for s in system.states}
+    return [parse_expression(t.split(" = ")[-1], names, where="generator") for t in answer.field.generators], names
+
+
+def _in_field(generators, tested, coordinates) -> tuple[bool, ...]:
+    """Each tested function in Q(generators), at a random point of a range far above the degrees."""
+    rng = random.Random(7)
+    point = {c: sympy.Integer(rng.randint(-10**12, 10**12)) for c in coordinates}
+    pairs = [sympy.fraction(sympy.cancel(g)) for g in generators]
+    jacobian = [[sympy.diff(g, c).xreplace(point) for c in coordinates] for g in generators]
+    return contained(pairs, [sympy.fraction(sympy.cancel(t)) for t in tested], coordinates, point, jacobian)
+
+
+def _same_field(ours, reference, coordinates) -> None:
+    assert all(_in_field(reference, ours, coordinates)), "a generator printed lies outside the reference field"
+    assert all(_in_field(ours, reference, coordinates)), "the printed generators miss part of the reference field"
+
+
+def test_the_square_s_field_is_generated_by_the_square():
+    """y = x**2 with x constant: the outputs determine x**2 and nothing more (x -> -x keeps them)."""
+    generators, names = _generators(System(["x"], ["0"], {"y": "x**2"}))
+    assert generators == [names["x"] ** 2]
+
+
+def test_two_compartments_give_the_sum_and_the_product_of_the_rates():
+    """x1' = -(a01 + a21) x1 + a12 x2, x2' = a21 x1 - a12 x2, y = x1, rates constant. By hand:
+    y'' = -s y' - p y with s = a01 + a12 + a21 and p = a01 a12 (the trace and determinant of the
+    matrix), and y, y', y'', y''' determine s and p (a linear system in them, generically regular),
+    so the outputs determine exactly Q(y, y', s, p): a01 and a12 are swapped by the other solution,
+    so neither is unique, but their sum with a21 and their product are."""
+    system = System(["x1", "x2", "a01", "a12", "a21"],
+                    ["-(a01 + a21)*x1 + a12*x2", "a21*x1 - a12*x2", "0", "0", "0"], {"y": "x1"})
+    generators, names = _generators(system)
+    x1, x2, a01, a12, a21 = (names[n] for n in ("x1", "x2", "a01", "a12", "a21"))
+    reference = [x1, -(a01 + a21) * x1 + a12 * x2, a01 + a12 + a21, a01 * a12]
+    assert a01 * a12 in generators and a01 + a12 + a21 in [sympy.expand(g) for g in generators]
+    _same_field(generators, reference, list(names.values()))
+
+
+def test_seirt_against_structural_identifiability_jl():
+    """SI.jl's benchmark model SEIRT (benchmarking/IdentifiableFunctions/results/SEIRT/SEIRT.jl) and its
+    stored generators (result_(normalforms, 2)_with_states in the same folder, StructuralIdentifiability.jl
+    commit b7bff91634575095369190ca7d418fe41f98cac2): [N, I, beta, alpha*S, lambda*alpha,
+    lambda + alpha, alpha*I + alpha*E]."""
+    system = parse_si_model("""system = @ODEmodel(
+        S'(t) = (-beta*I(t)*S(t))//N(t),
+        E'(t) = (-alpha*N(t)*E(t) + beta*I(t)*S(t))//N(t),
+        I'(t) = -lambda*I(t) + alpha*E(t),
+        R'(t) = lambda*I(t),
+        N'(t) = 0,
+        y1(t) = I(t),
+        y2(t) = N(t)
+    )""")
+    generators, names = _generators(system)
+    s, e, i, n, alpha, beta, lam = (names[k] for k in ("S", "E", "I", "N", "alpha", "beta", "lambda_"))
+    reference = [n, i, beta, alpha * s, lam * alpha, lam + alpha, alpha * i + alpha * e]
+    _same_field(generators, reference, list(names.values()))
