@@ -94,3 +94,16 @@ def test_the_basis_stops_at_the_nullity_and_skips_dependent_vectors():
     named, unnamed = name_null_space(system, 3, [twice, _candidate("bad", w=w + eps), tx], extra)
     assert [s.name for s, _ in named] == ["2tx"] and unnamed == extra
     assert name_null_space(system, 0, [tx], extra) == ([], [])
+
+
+def test_an_output_through_atan2_is_compared_at_a_real_point():
+    """A bearing atan2(py, px) - th, fixed states: rotating (px, py) by eps and turning th by eps keeps
+    it (atan2 of the rotated point is atan2 + eps, a relation mod p cannot see: atan2's values are free
+    there, so the check is made in balls at a real point). Turning th by eps + eps**2 has the same
+    generator (-py, px, 1) and changes the bearing by eps**2: refused, in balls too."""
+    system = System(["px", "py", "th"], ["0", "0", "0"], {"b": "atan2(py, px) - th"})
+    px, py, th = system.states
+    rotated = {"px": px * sympy.cos(eps) - py * sympy.sin(eps), "py": px * sympy.sin(eps) + py * sympy.cos(eps)}
+    holds = Symmetry.of("r", "", {**rotated, "th": th + eps})
+    breaks = Symmetry.of("b", "", {**rotated, "th": th + eps + eps**2})
+    assert verify_all(system, [holds, breaks]) == [True, False]
