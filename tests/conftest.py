@@ -33,3 +33,15 @@ def cli(*args, cwd=None):
     finally:
         os.chdir(previous)
     return subprocess.CompletedProcess(["observability", *map(str, args)], code, out.getvalue(), err.getvalue())
+
+
+#: SI.jl's SEIRT benchmark model as its file writes it (benchmarking/IdentifiableFunctions/results/SEIRT/SEIRT.jl).
+SEIRT_JL = """system = @ODEmodel(
+    S'(t) = (-beta*I(t)*S(t))//N(t),
+    E'(t) = (-alpha*N(t)*E(t) + beta*I(t)*S(t))//N(t),
+    I'(t) = -lambda*I(t) + alpha*E(t),
+    R'(t) = lambda*I(t),
+    N'(t) = 0,
+    y1(t) = I(t),
+    y2(t) = N(t)
+)"""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import random
 
 import sympy
+from conftest import SEIRT_JL
 
 from observability import System, analyze
 from observability.analysis.uniqueness import global_observability
@@ -68,16 +69,21 @@ def test_seirt_against_structural_identifiability_jl():
     stored generators (result_(normalforms, 2)_with_states in the same folder, StructuralIdentifiability.jl
     commit b7bff91634575095369190ca7d418fe41f98cac2): [N, I, beta, alpha*S, lambda*alpha,
     lambda + alpha, alpha*I + alpha*E]."""
-    system = parse_si_model("""system = @ODEmodel(
-        S'(t) = (-beta*I(t)*S(t))//N(t),
-        E'(t) = (-alpha*N(t)*E(t) + beta*I(t)*S(t))//N(t),
-        I'(t) = -lambda*I(t) + alpha*E(t),
-        R'(t) = lambda*I(t),
-        N'(t) = 0,
-        y1(t) = I(t),
-        y2(t) = N(t)
-    )""")
+    system = parse_si_model(SEIRT_JL)
     generators, names = _generators(system)
     s, e, i, n, alpha, beta, lam = (names[k] for k in ("S", "E", "I", "N", "alpha", "beta", "lambda_"))
     reference = [n, i, beta, alpha * s, lam * alpha, lam + alpha, alpha * i + alpha * e]
     _same_field(generators, reference, list(names.values()))
+
+
+def test_a_rate_seen_through_an_input_driven_state():
+    """x' = k**2 x + u (u known), y = x: y' - u = k**2 y, so the outputs determine Q(x, k**2); k and -k
+    give the same outputs, and k*k, the pair, is unique. With k**3 instead, k*k is not (three cube
+    roots), and the list is completed by the coefficient of L^1 y = k**3 x + u outside the input: k**3 x."""
+    generators, names = _generators(System(["x", "k"], ["k**2*x + u", "0"], {"y": "x"}, inputs=["u"]))
+    assert generators == [names["x"], names["k"] ** 2]
+    system = System(["x", "k"], ["k**3*x + u", "0"], {"y": "x"}, inputs=["u"])
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert answer.field.generators == ("x", "a coefficient of L^1 y in the inputs = k**3*x")
+    assert answer.field.generates is True

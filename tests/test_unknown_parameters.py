@@ -5,6 +5,7 @@ References are hand derivations in each docstring."""
 from __future__ import annotations
 
 import pytest
+from conftest import SEIRT_JL
 
 from observability import System, analyze
 from observability.errors import ModelError
@@ -94,17 +95,6 @@ def test_a_pasted_model_that_is_not_one_is_refused(tmp_path, text, words):
     pasted.write_text(text)
     with pytest.raises(ModelFileError, match=words):
         load_model(pasted)
-
-
-SEIRT_JL = """system = @ODEmodel(
-    S'(t) = (-beta*I(t)*S(t))//N(t),
-    E'(t) = (-alpha*N(t)*E(t) + beta*I(t)*S(t))//N(t),
-    I'(t) = -lambda*I(t) + alpha*E(t),
-    R'(t) = lambda*I(t),
-    N'(t) = 0,
-    y1(t) = I(t),
-    y2(t) = N(t)
-)"""
 
 
 def test_names_reserved_here_but_legal_in_julia_are_renamed():

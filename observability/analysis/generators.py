@@ -73,18 +73,23 @@ def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
 
 def generate_the_field(model: RationalModel, names: Sequence[str], orders: Sequence[int],
                        functions: Sequence[sympy.Expr], rank: int, seed: int, error: float,
-                       known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = ()) -> FieldGeneration | str:
+                       known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = (),
+                       derivatives: Sequence[sympy.Expr] | None = None) -> FieldGeneration | str:
     """Test (b) of the module docstring for ``functions`` (in the model's
     coordinates, of transcendence degree ``rank``) against the Lie derivatives of
     the outputs ``names`` up to ``orders``; ``known`` (free parameters) are in
     both fields, so they are substituted at their random values, as
-    :mod:`.uniqueness` does. A reason string when the random points keep hitting
-    a denominator or the Jacobian of ``functions`` falls below ``rank`` there."""
+    :mod:`.uniqueness` does; ``derivatives``: those Lie derivatives, when the caller
+    has them (:func:`lie_derivatives_of_outputs`, in its order). A reason string
+    when the random points keep hitting a denominator or the Jacobian of
+    ``functions`` falls below ``rank`` there."""
     coordinates = list(model.coordinates)
     known = [*known, *(input_derivative(u, j) for u in inputs for j in range(max(orders, default=0) + 1))]
     variables = [*coordinates, *known]
     generators = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in functions]
-    tested = [sympy.fraction(sympy.cancel(sympy.together(f))) for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
+    if derivatives is None:
+        derivatives = [f for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
+    tested = [sympy.fraction(sympy.together(f)) for f in derivatives]  # reduced fractions already
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in generators]
     bound = sampling_range([*degrees, *[(1, 0)] * len(known)], degree_bounds(model, orders, known)[:len(tested)],
                            len(variables), error)

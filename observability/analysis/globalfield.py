@@ -88,7 +88,8 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
     expression in the model's coordinates), shortest first), against the Lie derivatives of the
     outputs ``names`` up to ``orders``; ``known`` and ``inputs`` as for
     :func:`~.generators.generate_the_field`."""
-    elements = _lie_elements(model, names, orders, inputs)
+    derivatives = [e for _, e in lie_derivatives_of_outputs(model, orders, inputs)]
+    elements = _lie_elements(names, orders, derivatives, inputs, model)
     listed = list(members)
     variables = [*model.coordinates, *known, *(input_derivative(u, j) for u in inputs for j in range(max(orders) + 2))]
     point = _point(variables, [*(m for _, m in members), *(e for _, _, e in elements)], seed)
@@ -105,7 +106,8 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
             listed.append((shown, element))
             rows.append(gradient)
             reached = grown
-    found = generate_the_field(model, names, orders, [e for _, e in listed], rank, seed, error, known, inputs)
+    found = generate_the_field(model, names, orders, [e for _, e in listed], rank, seed, error, known, inputs,
+                               derivatives)
     if isinstance(found, str):
         return FieldGenerators(tuple(t for t, _ in listed), None, f"undecided: {found}")
     for label, shown, element in elements:
@@ -116,20 +118,20 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
     return FieldGenerators(tuple(t for t, _ in listed), True, how)
 
 
-def _lie_elements(model: RationalModel, names: Sequence[str], orders: Sequence[int],
-                  inputs: Sequence[sympy.Symbol]) -> list[tuple[str, str, sympy.Expr]]:
-    """The elements of T, lowest order first, as (label "L^k y", text, element);
-    with inputs, the coefficients of each as a polynomial in the inputs'
-    derivatives (text "a coefficient of L^k y in the inputs")."""
+def _lie_elements(names: Sequence[str], orders: Sequence[int], derivatives: Sequence[sympy.Expr],
+                  inputs: Sequence[sympy.Symbol], model: RationalModel) -> list[tuple[str, str, sympy.Expr]]:
+    """The elements of T (``derivatives``, reduced fractions), lowest order first,
+    as (label "L^k y", text, element); with inputs, the coefficients of each as a
+    polynomial in the inputs' derivatives (text "a coefficient of L^k y in the inputs")."""
     jets = {input_derivative(u, j) for u in inputs for j in range(max(orders) + 2)}
-    labels = [f"L^{j} {name}" for name, k in zip(names, orders) for j in range(k + 1)]
+    labelled = [(j, f"L^{j} {name}") for name, k in zip(names, orders) for j in range(k + 1)]
     found = []
-    for label, (j, element) in zip(labels, lie_derivatives_of_outputs(model, orders, inputs)):
+    for (j, label), element in zip(labelled, derivatives):
         present = sorted(jets & element.free_symbols, key=str)
         if not present:
             found.append((j, label, _shown(label, element, model), element))
             continue
-        numerator, denominator = sympy.fraction(sympy.cancel(element))
+        numerator, denominator = sympy.fraction(sympy.together(element))
         for c in sympy.Poly(numerator, *present).coeffs():
             coefficient = sympy.cancel(c / denominator)
             if coefficient.free_symbols & set(model.coordinates):
@@ -148,7 +150,7 @@ def _point(variables: Sequence[sympy.Symbol], functions: Sequence[sympy.Expr], s
     rng = random.Random(f"generators/{seed}")
     for _ in range(20):
         point = {v: sympy.Integer(rng.randint(-10**6, 10**6)) for v in variables}
-        if all(sympy.fraction(sympy.cancel(f))[1].xreplace(point) != 0 for f in functions):
+        if all(sympy.fraction(sympy.together(f))[1].xreplace(point) != 0 for f in functions):
             return point
     return None
 

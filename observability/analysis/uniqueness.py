@@ -174,10 +174,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     field = FieldGenerators(tuple(result.observable_functions or ()), True, generation) if generates else None
     if generates is not True:
         index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
-        members = [(s, index[s]) for s in local if where[s]]
-        members += [(text, model.rewrite(f)) for (text, f), (_, unique) in zip(functions, answers) if unique]
-        members += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
-        field = _field(prepared, model, orders, sorted(members, key=lambda m: len(m[0])), result.rank, seed, error,
+        unique = [(s, index[s]) for s in local if where[s]]
+        unique += [(text, model.rewrite(f)) for (text, f), (_, member) in zip(functions, answers) if member]
+        unique += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
+        field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
         probability += error if field.generates else 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
