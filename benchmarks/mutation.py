@@ -49,8 +49,9 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
     "global": (["observability/analysis/uniqueness.py", "observability/analysis/fibre.py",
                 "observability/analysis/rationalmodel.py",
-                "observability/analysis/generators.py",
-                "observability/engine/jets.py", "observability/rank/membership.py"], ["tests/test_global.py"]),
+                "observability/analysis/generators.py", "observability/analysis/globalfield.py",
+                "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py"],
+               ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py"]),
 }

@@ -24,7 +24,8 @@ from ..engine.jets import JetEquations, jet_equations
 from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.system import System
-from ..rank.membership import completing_columns, exact_rank, saturated_basis
+from ..rank.ideal import ReducedBasis, saturated_basis
+from ..rank.membership import completing_columns, exact_rank
 from .rationalmodel import RationalModel
 
 __all__ = ["Fibre", "fibre_through", "known_variables"]
@@ -35,14 +36,14 @@ class Fibre:
     """The fibre's ideal at a point: its Groebner basis, the coordinates' values
     there, and the values given to the known variables (substituted)."""
 
-    basis: sympy.GroebnerBasis
+    basis: ReducedBasis
     at: dict
     given: dict
 
     def constant_on(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> bool:
         """Whether n/d (in the coordinates and the known variables) takes its value
         at the point everywhere on the fibre: n d(a) - n(a) d reduces to zero."""
-        return self.basis.reduce(sympy.expand(self.difference(fraction)))[1] == 0
+        return self.basis.contains(self.difference(fraction))
 
     def difference(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> sympy.Expr:
         """n d(a) - n(a) d, with the known variables at their values."""

@@ -26,6 +26,7 @@ from __future__ import annotations
 import random
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import sympy
 
@@ -33,7 +34,7 @@ from ..engine.lie import input_derivative
 from ..rank.membership import contained, exact_rank, sampling_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
-__all__ = ["FieldGeneration", "generate_the_field", "lie_derivatives_of_outputs"]
+__all__ = ["FieldGeneration", "generate_the_field", "lie_derivatives_of_outputs", "reduced_pair"]
 
 
 @dataclass(frozen=True)
@@ -46,12 +47,12 @@ class FieldGeneration:
 
 
 def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
-                               inputs: Sequence[sympy.Symbol]) -> list[tuple[int, sympy.Expr]]:
+                               inputs: Sequence[sympy.Symbol]) -> list[tuple[int, Any]]:
     """L^j h for j <= k, an input's j-th derivative written u^(j) (its chain rule term).
 
-    Computed as reduced fractions of sparse polynomials (sympy's fraction field,
-    gcd-cancelled at each step): cancelling sympy expressions took minutes at
-    order 6 on a 10-state model."""
+    Elements of sympy's fraction field over the symbols (reduced fractions of
+    sparse polynomials, gcd-cancelled at each step): cancelling sympy
+    expressions took minutes at order 6 on a 10-state model."""
     jets = [input_derivative(u, i) for u in inputs for i in range(max(orders, default=0) + 1)]
     symbols = sorted({*model.coordinates, *jets, *(s for e in (*model.speeds, *model.outputs) for s in e.free_symbols)},
                      key=str)
@@ -64,19 +65,27 @@ def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
     for h, k in zip(model.outputs, orders):
         current = ring.from_expr(h)
         for j in range(k + 1):
-            found.append((j, current.as_expr()))
+            found.append((j, current))
             if j < k:
                 current = sum((current.diff(x) * f for x, f in speeds), ring.zero) + sum(
                     (current.diff(a) * b for a, b in chain), ring.zero)
     return found
 
 
+def reduced_pair(function: sympy.Expr | Any) -> tuple[sympy.Expr, sympy.Expr]:
+    """(numerator, denominator) of a sympy expression or of a fraction-field element, without a common factor."""
+    if isinstance(function, sympy.Expr):
+        return sympy.fraction(sympy.cancel(sympy.together(function)))
+    return function.numer.as_expr(), function.denom.as_expr()
+
+
 def generate_the_field(model: RationalModel, names: Sequence[str], orders: Sequence[int],
-                       functions: Sequence[sympy.Expr], rank: int, seed: int, error: float,
-                       known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = (),
-                       derivatives: Sequence[sympy.Expr] | None = None) -> FieldGeneration | str:
+                       functions: Sequence[sympy.Expr | tuple[sympy.Expr, sympy.Expr]], rank: int, seed: int,
+                       error: float, known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = (),
+                       derivatives: Sequence[Any] | None = None) -> FieldGeneration | str:
     """Test (b) of the module docstring for ``functions`` (in the model's
-    coordinates, of transcendence degree ``rank``) against the Lie derivatives of
+    coordinates, of transcendence degree ``rank``; expressions or reduced
+    (numerator, denominator) pairs) against the Lie derivatives of
     the outputs ``names`` up to ``orders``; ``known`` (free parameters) are in
     both fields, so they are substituted at their random values, as
     :mod:`.uniqueness` does; ``derivatives``: those Lie derivatives, when the caller
@@ -86,10 +95,10 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     coordinates = list(model.coordinates)
     known = [*known, *(input_derivative(u, j) for u in inputs for j in range(max(orders, default=0) + 1))]
     variables = [*coordinates, *known]
-    generators = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in functions]
+    generators = [g if isinstance(g, tuple) else reduced_pair(g) for g in functions]
     if derivatives is None:
         derivatives = [f for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
-    tested = [sympy.fraction(sympy.together(f)) for f in derivatives]  # reduced fractions already
+    tested = [reduced_pair(f) for f in derivatives]
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in generators]
     bound = sampling_range([*degrees, *[(1, 0)] * len(known)], degree_bounds(model, orders, known)[:len(tested)],
                            len(variables), error)

@@ -31,12 +31,13 @@ from __future__ import annotations
 import random
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import sympy
 
 from ..engine.lie import input_derivative
 from ..rank.membership import exact_rank
-from .generators import generate_the_field, lie_derivatives_of_outputs
+from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
 from .rationalmodel import RationalModel
 
 __all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "MAX_GENERATOR_CHARS"]
@@ -88,72 +89,105 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
     expression in the model's coordinates), shortest first), against the Lie derivatives of the
     outputs ``names`` up to ``orders``; ``known`` and ``inputs`` as for
     :func:`~.generators.generate_the_field`."""
-    derivatives = [e for _, e in lie_derivatives_of_outputs(model, orders, inputs)]
+    derivatives = [f for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
     elements = _lie_elements(names, orders, derivatives, inputs, model)
-    listed = list(members)
+    listed = [(text, reduced_pair(m)) for text, m in members]
     variables = [*model.coordinates, *known, *(input_derivative(u, j) for u in inputs for j in range(max(orders) + 2))]
-    point = _point(variables, [*(m for _, m in members), *(e for _, _, e in elements)], seed)
+    point = _point(variables, [p for _, p in listed], [e for _, _, e in elements], seed)
     if point is None:
         return FieldGenerators(tuple(t for t, _ in listed), None, "undecided: a denominator vanishes at every random point")
-    rows = [_gradient(m, model.coordinates, point) for _, m in members]
+    rows = [_gradient(pair, model.coordinates, point) for _, pair in listed]
     reached = exact_rank(rows, len(model.coordinates))
     for _, shown, element in elements:
         if reached >= rank:
             break
-        gradient = _gradient(element, model.coordinates, point)
+        gradient = _fraction_gradient(element, model.coordinates, point)
         grown = exact_rank([*rows, gradient], len(model.coordinates))
         if grown > reached:
-            listed.append((shown, element))
+            listed.append((shown, reduced_pair(element)))
             rows.append(gradient)
             reached = grown
-    found = generate_the_field(model, names, orders, [e for _, e in listed], rank, seed, error, known, inputs,
+    found = generate_the_field(model, names, orders, [p for _, p in listed], rank, seed, error, known, inputs,
                                derivatives)
     if isinstance(found, str):
         return FieldGenerators(tuple(t for t, _ in listed), None, f"undecided: {found}")
     for label, shown, element in elements:
-        if label in found.missing and all(element != e for _, e in listed):
-            listed.append((shown, element))
+        pair = reduced_pair(element)
+        if label in found.missing and all(pair != p for _, p in listed):
+            listed.append((shown, pair))
     how = ("each is globally observable, and every Lie derivative up to the truncation lies in their field "
            f"(Thm 3.3 at a random point of {found.bits} bits)")
     return FieldGenerators(tuple(t for t, _ in listed), True, how)
 
 
-def _lie_elements(names: Sequence[str], orders: Sequence[int], derivatives: Sequence[sympy.Expr],
-                  inputs: Sequence[sympy.Symbol], model: RationalModel) -> list[tuple[str, str, sympy.Expr]]:
-    """The elements of T (``derivatives``, reduced fractions), lowest order first,
+def _lie_elements(names: Sequence[str], orders: Sequence[int], derivatives: Sequence[Any],
+                  inputs: Sequence[sympy.Symbol], model: RationalModel) -> list[tuple[str, str, Any]]:
+    """The elements of T (``derivatives``, fraction-field elements), lowest order first,
     as (label "L^k y", text, element); with inputs, the coefficients of each as a
     polynomial in the inputs' derivatives (text "a coefficient of L^k y in the inputs")."""
     jets = {input_derivative(u, j) for u in inputs for j in range(max(orders) + 2)}
     labelled = [(j, f"L^{j} {name}") for name, k in zip(names, orders) for j in range(k + 1)]
+    field = derivatives[0].field
+    in_jets = [i for i, s in enumerate(field.symbols) if s in jets]
+    in_states = [i for i, s in enumerate(field.symbols) if s in set(model.coordinates)]
     found = []
     for (j, label), element in zip(labelled, derivatives):
-        present = sorted(jets & element.free_symbols, key=str)
-        if not present:
+        parts: dict[tuple[int, ...], dict] = {}
+        for monomial, c in element.numer.terms():
+            rest = tuple(0 if i in in_jets else e for i, e in enumerate(monomial))
+            parts.setdefault(tuple(monomial[i] for i in in_jets), {})[rest] = c
+        if set(parts) <= {(0,) * len(in_jets)}:
             found.append((j, label, _shown(label, element, model), element))
             continue
-        numerator, denominator = sympy.fraction(sympy.together(element))
-        for c in sympy.Poly(numerator, *present).coeffs():
-            coefficient = sympy.cancel(c / denominator)
-            if coefficient.free_symbols & set(model.coordinates):
-                found.append((j, label, _shown(f"a coefficient of {label} in the inputs", coefficient, model), coefficient))
+        for key in sorted(parts, reverse=True):  # as sympy's Poly(numerator, *jets).coeffs() lists them
+            coefficient = field.new(field.ring.from_dict(parts[key]), element.denom)
+            if _involves(coefficient, in_states):
+                found.append((j, label, _shown(f"a coefficient of {label} in the inputs", coefficient, model),
+                              coefficient))
     return [(label, shown, e) for _, label, shown, e in sorted(found, key=lambda item: item[0])]
 
 
-def _shown(label: str, element: sympy.Expr, model: RationalModel) -> str:
+def _involves(fraction: Any, positions: Sequence[int]) -> bool:
+    return any(m[i] for p in (fraction.numer, fraction.denom) for m in p.monoms() for i in positions)
+
+
+def _shown(label: str, element: Any, model: RationalModel) -> str:
     """The label, and the expression when it is short and in the states (not in an angle's T)."""
-    text = _text(element)
-    return f"{label} = {text}" if len(text) <= MAX_GENERATOR_CHARS and not model.angles else label
+    if model.angles or len(element.numer.terms()) + len(element.denom.terms()) > MAX_GENERATOR_CHARS // 2:
+        return label  # each term takes two characters at least: too long to print
+    text = _text(element.as_expr())
+    return f"{label} = {text}" if len(text) <= MAX_GENERATOR_CHARS else label
 
 
-def _point(variables: Sequence[sympy.Symbol], functions: Sequence[sympy.Expr], seed: int) -> dict | None:
+def _point(variables: Sequence[sympy.Symbol], pairs: Sequence[tuple[sympy.Expr, sympy.Expr]],
+           fractions: Sequence[Any], seed: int) -> dict | None:
     """A random integer point where no function has a pole (None after 20 draws)."""
     rng = random.Random(f"generators/{seed}")
     for _ in range(20):
         point = {v: sympy.Integer(rng.randint(-10**6, 10**6)) for v in variables}
-        if all(sympy.fraction(sympy.together(f))[1].xreplace(point) != 0 for f in functions):
+        if all(d.xreplace(point) != 0 for _, d in pairs) and all(_value(f.denom, point) != 0 for f in fractions):
             return point
     return None
 
 
-def _gradient(expr: sympy.Expr, coordinates: Sequence[sympy.Symbol], point: dict) -> list:
-    return [sympy.diff(expr, c).xreplace(point) for c in coordinates]
+def _value(poly: Any, point: dict) -> Any:
+    return poly(*(point[s] for s in poly.ring.symbols)) if poly.ring.ngens else poly
+
+
+def _gradient(pair: tuple[sympy.Expr, sympy.Expr], coordinates: Sequence[sympy.Symbol], point: dict) -> list:
+    n, d = pair
+    return [sympy.diff(n / d, c).xreplace(point) for c in coordinates]
+
+
+def _fraction_gradient(fraction: Any, coordinates: Sequence[sympy.Symbol], point: dict) -> list:
+    """The gradient at the point by the quotient rule on the polynomials (no gcd per coordinate)."""
+    n, d = fraction.numer, fraction.denom
+    at_n, at_d = _value(n, point), _value(d, point)
+    gens = dict(zip(n.ring.symbols, n.ring.gens))
+    return [sympy.Rational(0) if c not in gens else
+            _rational((_value(n.diff(gens[c]), point) * at_d - at_n * _value(d.diff(gens[c]), point)) / at_d**2)
+            for c in coordinates]
+
+
+def _rational(value: Any) -> sympy.Rational:
+    return sympy.Rational(int(value.numerator), int(value.denominator))

@@ -37,12 +37,13 @@ class RationalFunctions:
     """The field Q(symbols): conversion from and to sympy, and arithmetic.
 
     The variables are ordered lexicographically as given (so that division by
-    a relation such as s^2 + c^2 - 1 eliminates the first variable's powers).
+    a relation such as s^2 + c^2 - 1 eliminates the first variable's powers),
+    or by ``order`` ("degrevlex" for the normal forms of :mod:`observability.rank.ideal`).
     """
 
-    def __init__(self, symbols: Sequence[sympy.Symbol]) -> None:
+    def __init__(self, symbols: Sequence[sympy.Symbol], order: str = "lex") -> None:
         self.symbols = list(symbols)
-        self.context = flint.fmpq_mpoly_ctx.get(tuple(f"v{i}" for i in range(len(self.symbols))), "lex")
+        self.context = flint.fmpq_mpoly_ctx.get(tuple(f"v{i}" for i in range(len(self.symbols))), order)
         self.gens = dict(zip(self.symbols, self.context.gens()))
         self.positions = {symbol: i for i, symbol in enumerate(self.symbols)}
         self._unit = (0,) * len(self.symbols)

@@ -33,7 +33,9 @@ from collections.abc import Sequence
 import flint
 import sympy
 
-__all__ = ["saturated_basis", "sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained"]
+from .ideal import saturated_basis
+
+__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained"]
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -55,20 +57,7 @@ def groebner_contains(equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.
     ``saturation`` (a new unknown t with t * saturation = 1): its normal form
     modulo the reduced Groebner basis (degree reverse lexicographic) is zero."""
     basis = saturated_basis(equations, unknowns, saturation)
-    return tuple(basis.reduce(sympy.expand(target))[1] == 0 for target in targets)
-
-
-def saturated_basis(equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.Symbol],
-                    saturation: sympy.Expr) -> sympy.GroebnerBasis:
-    """The reduced Groebner basis (degree reverse lexicographic, over Q) of the
-    ideal of ``equations`` saturated at ``saturation`` (a new unknown t with
-    t * saturation = 1, eliminated by nothing: normal forms of polynomials free
-    of t are taken modulo it all the same)."""
-    t = sympy.Dummy("t")
-    relations = list(equations)
-    if sympy.Poly(saturation, *unknowns).total_degree() > 0:
-        relations.append(t * saturation - 1)
-    return sympy.groebner(relations, t, *unknowns, order="grevlex", domain="QQ")
+    return tuple(basis.contains(target) for target in targets)
 
 
 def _matrix(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> flint.fmpq_mat:
