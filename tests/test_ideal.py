@@ -1,8 +1,8 @@
-"""Ideal membership by flint normal forms (:mod:`observability.rank.ideal`) against sympy's own reduction.
+"""Reduced Groebner bases and ideal membership on flint polynomials (:mod:`observability.rank.ideal`),
+against sympy's ``groebner`` (an independent implementation, in Python).
 
-The reference is sympy's ``GroebnerBasis.contains`` (a normal form computed by sympy's division in
-Python), an independent route; members are built as combinations of the generators, so their answer
-is known by construction as well.
+A reduced Groebner basis is unique for an ideal and an order, so ours must equal sympy's polynomial by
+polynomial; members built as combinations of the generators are members by construction.
 """
 
 from __future__ import annotations
@@ -13,25 +13,40 @@ import sympy
 
 from observability.rank.ideal import ReducedBasis, saturated_basis
 
-x, y, z = sympy.symbols("x y z")
+x, y, z, w = sympy.symbols("x y z w")
 
 
-def _random_polynomial(rng: random.Random, terms: int, degree: int) -> sympy.Expr:
-    return sympy.Add(*(rng.randint(-5, 5) * x**rng.randint(0, degree) * y**rng.randint(0, degree)
-                       * z**rng.randint(0, degree) for _ in range(terms)))
+def _random_polynomial(rng: random.Random, terms: int, degree: int, variables=(x, y, z)) -> sympy.Expr:
+    return sympy.Add(*(rng.randint(-5, 5) * sympy.Mul(*(v**rng.randint(0, degree) for v in variables))
+                       for _ in range(terms)))
+
+
+def test_the_basis_is_sympy_s_reduced_basis_on_random_ideals():
+    """40 random ideals of two or three generators in three or four variables (zero-dimensional,
+    positive-dimensional and the unit ideal among them): the same monic polynomials in the same order."""
+    rng = random.Random(11)
+    sizes = set()
+    for k in range(40):
+        variables = (x, y, z, w) if k % 4 == 0 else (x, y, z)
+        generators = [_random_polynomial(rng, 3, 2, variables) for _ in range(rng.choice((2, 3)))]
+        reference = sympy.groebner(generators, *variables, order="grevlex", domain="QQ")
+        ours = ReducedBasis(generators, variables).expressions()
+        assert [sympy.expand(e) for e in ours] == [sympy.expand(e) for e in reference.exprs]
+        sizes.add(len(ours))
+    assert len(sizes) >= 4  # bases of several sizes, the unit ideal's [1] included
+    assert 1 in sizes
 
 
 def test_membership_agrees_with_sympy_on_random_ideals():
-    """Combinations of the generators are members by construction; other polynomials are decided
-    as sympy's normal form decides them, over 40 random ideals of two or three generators."""
+    """Combinations of the generators are members; other polynomials are decided as sympy's normal
+    form decides them."""
     rng = random.Random(7)
     outside = 0
     for _ in range(40):
         generators = [_random_polynomial(rng, 3, 2) for _ in range(rng.choice((2, 3)))]
         reference = sympy.groebner(generators, x, y, z, order="grevlex", domain="QQ")
-        ours = ReducedBasis(reference)
-        member = sympy.expand(sum(_random_polynomial(rng, 2, 2) * g for g in generators))
-        assert ours.contains(member)
+        ours = ReducedBasis(generators, [x, y, z])
+        assert ours.contains(sympy.expand(sum(_random_polynomial(rng, 2, 2) * g for g in generators)))
         other = _random_polynomial(rng, 4, 3)
         assert ours.contains(other) == reference.contains(other)
         outside += not reference.contains(other)
@@ -40,11 +55,18 @@ def test_membership_agrees_with_sympy_on_random_ideals():
 
 def test_a_term_outside_the_initial_ideal_is_seen_behind_reducible_ones():
     """Modulo (x**2 - y): x**3 reduces to x*y, whose leading term no leading monomial divides, so
-    x**3 + 1 is not a member; x**4 - y**2 = (x**2 + y)(x**2 - y) is."""
-    basis = ReducedBasis(sympy.groebner([x**2 - y], x, y, z, order="grevlex", domain="QQ"))
+    x**3 + 1 is not a member; x**4 - y**2 = (x**2 + y)(x**2 - y) is; so is 0."""
+    basis = ReducedBasis([x**2 - y], [x, y, z])
     assert not basis.contains(x**3 + 1)
     assert basis.contains(x**4 - y**2)
     assert basis.contains(sympy.Integer(0))
+
+
+def test_the_classic_example_of_cox_little_o_shea():
+    """Cox, Little, O'Shea, "Ideals, Varieties, and Algorithms", 4th ed., ch. 2 par. 7, example 1:
+    the grevlex basis of (x**3 - 2xy, x**2 y - 2y**2 + x) is x**2, xy, y**2 - x/2."""
+    basis = ReducedBasis([x**3 - 2 * x * y, x**2 * y - 2 * y**2 + x], [x, y])
+    assert basis.expressions() == [x**2, x * y, y**2 - x / 2]
 
 
 def test_saturation_removes_the_component_where_the_denominator_vanishes():
