@@ -107,3 +107,161 @@ def test_an_output_through_atan2_is_compared_at_a_real_point():
     holds = Symmetry.of("r", "", {**rotated, "th": th + eps})
     breaks = Symmetry.of("b", "", {**rotated, "th": th + eps + eps**2})
     assert verify_all(system, [holds, breaks]) == [True, False]
+
+
+# Issue 32: tests for the mutants of directions/symmetry.py that survived the first mutation run.
+
+def test_rescaled_angles_become_whole():
+    """Half angles (a quaternion rotation) and other fractions of eps inside sin, cos, tan and exp
+    are rescaled by the least common denominator q of their multiples: eps -> q eps. By hand: q = 2
+    for sin(eps/2), 3 for cos(eps/3), 5 for tan(eps/5), 7 for exp(eps/7), lcm(2, 3) = 6 for
+    sin(eps/2) with exp(eps/3), and 1 (the images unchanged) when eps appears only outside them."""
+    from observability.directions.symmetry import _integer_parameter
+
+    x = sympy.Symbol("x")
+    cases = [([x * sympy.sin(eps / 2)], [x * sympy.sin(eps)], 2),
+             ([x + sympy.cos(eps / 3)], [x + sympy.cos(eps)], 3),
+             ([x + sympy.tan(eps / 5)], [x + sympy.tan(eps)], 5),
+             ([x * sympy.exp(eps / 7)], [x * sympy.exp(eps)], 7),
+             ([sympy.sin(eps / 2), x * sympy.exp(eps / 3)], [sympy.sin(3 * eps), x * sympy.exp(2 * eps)], 6),
+             ([x + eps / 2], [x + eps / 2], 1)]
+    for images, expected, q in cases:
+        assert _integer_parameter(images) == (expected, q), images
+
+
+def test_declared_and_undeclared_candidates_are_checked_together():
+    """x' = 0, z' = 0, y = z: x -> x + eps with its generator declared (1, 0), x -> x + 2 eps
+    undeclared, and z -> z + eps undeclared (moves y): the declared check passes the undeclared
+    ones through, each keeping its place: [True, True, False]."""
+    system = System(["x", "z"], ["0", "0"], {"y": "z"})
+    x, z = system.states
+    declared = Symmetry.of("d", "", {"x": x + eps}, vector={"x": 1})
+    assert verify_all(system, [declared, _candidate("u", x=x + 2 * eps), _candidate("z", z=z + eps)]) == \
+        [True, True, False]
+    assert verify_all(system, [_candidate("u", x=x + 2 * eps), declared, _candidate("z", z=z + eps)]) == \
+        [True, True, False]
+
+
+def test_a_declared_half_angle_generator_is_compared_modulo_p():
+    """a' = 0, b' = 0, y = a^2 + b^2: the rotation by eps/2, (a cos(eps/2) - b sin(eps/2), a sin(eps/2)
+    + b cos(eps/2)), has generator (-b/2, a/2) (by hand); compiled with eps -> 2 eps, its derivative
+    at 0 is 2 (-b/2, a/2). Declared right it holds at every seed (the comparison is modulo p, where
+    twice a residue may exceed p); declared with the sign swapped, refused."""
+    system = System(["a", "b"], ["0", "0"], {"y": "a**2 + b**2"})
+    a, b = system.states
+    images = {"a": a * sympy.cos(eps / 2) - b * sympy.sin(eps / 2), "b": a * sympy.sin(eps / 2) + b * sympy.cos(eps / 2)}
+    right = Symmetry.of("r", "", images, vector={"a": -b / 2, "b": a / 2})
+    wrong = Symmetry.of("w", "", images, vector={"a": b / 2, "b": -a / 2})
+    for seed in range(8):
+        assert verify_all(system, [right, wrong], seed=seed) == [True, False], seed
+
+
+def test_a_declared_generator_that_cannot_be_checked_at_the_identity_is_refused():
+    """x' = 0, z' = 0, y = z. x -> x + eps sin(eps)^2 / (1 - cos(eps)^2) is the translation of x
+    (the factor is 1 wherever it is defined), but at eps = 0 it is 0/0 at every point: its declared
+    generator (1, 0) cannot be compared with d g / d eps there, so the candidate is refused; an
+    undeclared candidate beside it (z -> z, x -> x + eps) is still checked: [False, True]."""
+    system = System(["x", "z"], ["0", "0"], {"y": "z"})
+    x, _ = system.states
+    factor = sympy.sin(eps) ** 2 / (1 - sympy.cos(eps) ** 2)
+    singular = Symmetry.of("s", "", {"x": x + eps * factor}, vector={"x": 1})
+    assert verify_all(system, [singular, _candidate("t", x=x + eps)]) == [False, True]
+
+
+def _declared_match(system: System, candidates: list[Symmetry]) -> list[bool]:
+    import random
+
+    from observability.directions.symmetry import _declared_generators_match, _prepared, _verification
+
+    program, plans, *_ = _verification(system, candidates, _prepared(system, candidates))
+    return _declared_generators_match(system, candidates, program, plans, random.Random(0))
+
+
+def test_declared_generators_are_compared_at_a_random_angle_and_exponent():
+    """The declared generator is compared with d g / d eps at eps = 0 and a random point, where sin,
+    cos and exp of the states take random values (only eps's are 0, 1 and 1). Unicycle x' = v cos th,
+    y' = v sin th, th' = w: the translation x -> x + eps declared as (1, 0, 0) matches; declared as
+    (1 + sin th, 0, 0) or (cos th, 0, 0) it does not (both equal 1 at th = 0, so an evaluation at
+    angle 0 would accept them). y = exp(x) z with x -> x + eps, z -> z exp(-eps): (1, -z) matches,
+    (1, -z exp(x)) does not (equal at exp(x) = 1)."""
+    unicycle = System(["x", "y", "th"], ["v*cos(th)", "v*sin(th)", "w"], {"b": "th"}, inputs=["v", "w"])
+    x, _, th = unicycle.states
+    matches = [Symmetry.of(str(k), "", {"x": x + eps}, vector={"x": v})
+               for k, v in enumerate([1, 1 + sympy.sin(th), sympy.cos(th)])]
+    assert _declared_match(unicycle, matches) == [True, False, False]
+    growth = System(["x", "z"], ["0", "0"], {"y": "exp(x)*z"})
+    x, z = growth.states
+    images = {"x": x + eps, "z": z * sympy.exp(-eps)}
+    candidates = [Symmetry.of("r", "", images, vector={"x": 1, "z": -z}),
+                  Symmetry.of("w", "", images, vector={"x": 1, "z": -z * sympy.exp(x)})]
+    assert _declared_match(growth, candidates) == [True, False]
+
+
+HEADING = (["x", "y", "th", "lx", "ly"], {"b": "atan2(ly - y, lx - x) - th"})
+
+
+def _heading_symmetries(system: System) -> list[Symmetry]:
+    x, y, th, lx, ly = system.states
+    c, s = sympy.cos(eps), sympy.sin(eps)
+    rotated = {"x": x * c - y * s, "y": x * s + y * c, "lx": lx * c - ly * s, "ly": lx * s + ly * c}
+    return [Symmetry.of("rotation", "", {**rotated, "th": th + eps}),
+            Symmetry.of("translation", "", {"x": x + eps, "lx": lx + eps}),
+            Symmetry.of("over-turned", "", {**rotated, "th": th + eps + eps**2})]
+
+
+def test_dynamics_through_atan2_are_compared_at_a_real_point():
+    """A unicycle steering towards a landmark, th' = k (atan2(ly - y, lx - x) - th), seeing its bearing
+    atan2(ly - y, lx - x) - th. Rotating the scene about the origin and turning th with it keeps the
+    bearing and the steering: f_th(g(x)) = k (atan2 + eps - th - eps) = f_th(x), an identity through
+    atan2's relation, which mod p (atan2 a free value) fails, so Dg f = f(g) is compared in balls at a
+    real point. The translation holds mod p; turning th by eps + eps**2 changes the bearing: refused.
+    Continuous and discrete time (x+ = x + v cos th, ..., th+ = th + k (atan2(...) - th)) alike."""
+    states, outputs = HEADING
+    continuous = System(states, ["v*cos(th)", "v*sin(th)", "k*(atan2(ly - y, lx - x) - th)", "0", "0"], outputs,
+                        inputs=["v"], parameters=["k"])
+    discrete = System(states, ["x + v*cos(th)", "y + v*sin(th)", "th + k*(atan2(ly - y, lx - x) - th)", "lx", "ly"],
+                      outputs, inputs=["v"], parameters=["k"], time="discrete")
+    for system in (continuous, discrete):
+        assert verify_all(system, _heading_symmetries(system)) == [True, True, False], system.time
+
+
+def test_a_first_order_rotation_is_refused_beside_free_values():
+    """The same steering unicycle: (x - eps y, y + eps x, ...) with th + eps has the rotation's
+    generator, so the infinitesimal checks pass, but it is not a group of symmetries: the bearing of
+    the moved point differs from atan2 + eps at second order, compared at a real point (free values
+    on both sides). The true rotation beside it holds."""
+    states, outputs = HEADING
+    system = System(states, ["v*cos(th)", "v*sin(th)", "k*(atan2(ly - y, lx - x) - th)", "0", "0"], outputs,
+                    inputs=["v"], parameters=["k"])
+    x, y, th, lx, ly = system.states
+    first = Symmetry.of("first order", "", {"x": x - eps * y, "y": y + eps * x, "lx": lx - eps * ly,
+                                            "ly": ly + eps * lx, "th": th + eps})
+    assert verify_all(system, [first, _heading_symmetries(system)[0]]) == [False, True]
+
+
+def test_an_identity_with_a_free_value_on_one_side_is_compared_at_a_real_point():
+    """x' = 0, z' = 0, y = x: x -> x + atan2(sin eps, cos eps) - eps, z -> z + eps is the translation
+    of z (atan2(sin eps, cos eps) = eps for |eps| < pi); y(g(x)) holds a free value mod p and y(x)
+    none, so their values differ mod p and the identity is decided in balls: it holds."""
+    system = System(["x", "z"], ["0", "0"], {"y": "x"})
+    x, z = system.states
+    odd = Symmetry.of("o", "", {"x": x + sympy.atan2(sympy.sin(eps), sympy.cos(eps)) - eps, "z": z + eps})
+    assert verify_all(system, [odd]) == [True]
+
+
+def test_values_at_a_point_refuse_a_pole_everywhere_by_name():
+    """1/(z**p - z), p = 2^61 - 1, is a pole at every point mod p (Fermat): after 32 points the
+    values refuse with node -1 (no node of the caller's) and the reason."""
+    import random
+
+    from observability.directions.symmetry import _values
+    from observability.engine.taylor import Redraw
+
+    system = System(["x", "z"], ["0", "0"], {"y": "z"})
+    _, z = system.states
+    try:
+        _values([1 / (z ** (2**61 - 1) - z)], system, random.Random(0))
+    except Redraw as exc:
+        assert (exc.node, exc.reason, str(exc)) == (-1, "every point hit a pole", "node -1: every point hit a pole")
+    else:
+        raise AssertionError("no Redraw")
