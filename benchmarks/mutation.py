@@ -261,6 +261,57 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.densetaylor.xǁDenseTaylorEvaluatorǁ_coefficient_into__mutmut_213": "unreachable: supports() refuses every other operation in __init__",
     "observability.filters.validation.x_measurement__mutmut_43": "np.array of Python floats is float64 with or without dtype",
     "observability.filters.validation.x_measurement__mutmut_45": "idem",
+    # directions/symmetry.py (issue 32, 2026-12-04)
+    **{f"observability.directions.symmetry.{k}": "the evaluator's time flag: the verification reads only order 0 "
+       "(values and gradients at the point), the same in either time" for k in (
+        "xǁ_AtIdentityǁ__init____mutmut_4", "xǁ_AtIdentityǁ__init____mutmut_8", "xǁ_AtIdentityǁ__init____mutmut_9",
+        "x_verify_all__mutmut_50", "x_verify_all__mutmut_54", "x_verify_all__mutmut_57", "x_verify_all__mutmut_83",
+        "x_verify_all__mutmut_87", "x_verify_all__mutmut_90", "x__values__mutmut_14", "x__values__mutmut_18",
+        "x__values__mutmut_19")},
+    **{f"observability.directions.symmetry.{k}": "more gradients or nodes evaluated than read (None: all of them): "
+       "the values read are the same" for k in (
+        "xǁ_AtIdentityǁ__init____mutmut_14", "x__declared_generators_match__mutmut_10",
+        "x__declared_generators_match__mutmut_20", "x__declared_generators_match__mutmut_23", "x_verify_all__mutmut_38",
+        "x_verify_all__mutmut_41", "x_verify_all__mutmut_69", "x_verify_all__mutmut_70", "x_verify_all__mutmut_73",
+        "x_verify_all__mutmut_74", "x__evaluated__mutmut_3", "x__evaluated__mutmut_4", "x__evaluated__mutmut_5",
+        "x__evaluated__mutmut_6")},
+    **{f"observability.directions.symmetry.{k}": "one attempt more at a point without a pole: a redraw is needed "
+       "with probability below degree / p" for k in (
+        "x__declared_generators_match__mutmut_33", "x_verify_all__mutmut_58", "x_verify_all__mutmut_91",
+        "x__values__mutmut_2")},
+    "observability.directions.symmetry.x__evaluated__mutmut_7": "giving up after the first pole instead of redrawing: "
+        "a random point mod p is a pole of a function that is not singular everywhere with probability below degree / p",
+    **{f"observability.directions.symmetry.{k}": "another seed or number of points by default: every caller passes its "
+       "own, and each point carries the same guarantee" for k in (
+        "x_verify_all__mutmut_1", "x_verify_all__mutmut_2", "x_verify__mutmut_1",
+        "x_verify__mutmut_2", "x_verify__mutmut_5", "x_verify__mutmut_9", "x_verify__mutmut_10",
+        "x_name_null_space__mutmut_1", "x_name_null_space__mutmut_11", "x_name_null_space__mutmut_14",
+        "x_name_null_space__mutmut_24", "x_independent_basis__mutmut_1", "x_independent_basis__mutmut_19",
+        "x_independent_basis__mutmut_20", "x_independent_basis__mutmut_21")},
+    **{f"observability.directions.symmetry.{k}": "the evaluator has one state more, never read: the program's "
+       "variables are the states and eps, and the gradients are taken in the states (_in_states)" for k in (
+        "x_verify_all__mutmut_56", "x_verify_all__mutmut_89")},
+    **{f"observability.directions.symmetry.{k}": "the program's name appears only in compile errors, which the "
+       "model's own expressions, compiled before by the expansion, cannot raise" for k in (
+        "x__composed__mutmut_3", "x__composed__mutmut_5", "x__values__mutmut_5", "x__values__mutmut_7")},
+    **{f"observability.directions.symmetry.{k}": "both operands are residues in [0, p): their difference is zero "
+       "mod p exactly when it is zero" for k in (
+        "x__checker__mutmut_50", "x__checker__mutmut_147", "x__checker__mutmut_184")},
+    "observability.directions.symmetry.x__integer_parameter__mutmut_25": "eps -> 1 * eps is the identity: the same images",
+    "observability.directions.symmetry.x_verify_all__mutmut_66": "the ball evaluator is made only when an identity "
+        "through a free value fails mod p, and then ball_roots holds its nodes: never made for no roots either way",
+    "observability.directions.symmetry.x_name_null_space__mutmut_4": "with nullity 0 the basis is empty whatever was "
+        "verified (independent_basis returns at once)",
+    "observability.directions.symmetry.x_independent_basis__mutmut_9": "no vectors or nullity 0 with 'and': the loop "
+        "chooses nothing (no vector, or the count is reached at once), the same empty basis",
+    "observability.directions.symmetry.x_independent_basis__mutmut_23": "ModularEchelon does not read its number of columns",
+    "observability.directions.symmetry.x__ball_nodes__mutmut_41": "the ball evaluator is made only when a free value "
+        "enters an identity, and then in_balls is non-empty: f is added in exactly the same cases",
+    "observability.directions.symmetry.x__ball_nodes__mutmut_39": "a composed node h(g(x)) keeps every exp, log and "
+        "atan2 node of h(x): when the first of a pair is free, so is the second",
+    "observability.directions.symmetry.x__checker__mutmut_87": "sum's start is 0 by default",
+    **{f"observability.directions.symmetry.{k}": "the modular evaluators draw exp and the circle point at random, whatever the argument's value; only eps = 0 is special-cased, before the call" for k in (
+        "xǁ_AtIdentityǁ_circle__mutmut_7", "xǁ_AtIdentityǁ_exp0__mutmut_6")},
 }
 
 

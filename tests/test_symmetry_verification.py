@@ -201,7 +201,7 @@ HEADING = (["x", "y", "th", "lx", "ly"], {"b": "atan2(ly - y, lx - x) - th"})
 
 
 def _heading_symmetries(system: System) -> list[Symmetry]:
-    x, y, th, lx, ly = system.states
+    x, y, th, lx, ly = system.states[:5]
     c, s = sympy.cos(eps), sympy.sin(eps)
     rotated = {"x": x * c - y * s, "y": x * s + y * c, "lx": lx * c - ly * s, "ly": lx * s + ly * c}
     return [Symmetry.of("rotation", "", {**rotated, "th": th + eps}),
@@ -265,3 +265,46 @@ def test_values_at_a_point_refuse_a_pole_everywhere_by_name():
         assert (exc.node, exc.reason, str(exc)) == (-1, "every point hit a pole", "node -1: every point hit a pole")
     else:
         raise AssertionError("no Redraw")
+
+
+def test_identities_without_free_values_are_refused_mod_p_beside_balls():
+    """A scene with a free value elsewhere (a bearing through atan2; w' = exp(x**2 + y**2)) and a
+    candidate whose infinitesimal checks pass: the first-order rotation (x - eps y, y + eps x, ...).
+    Its failures are on identities without free values (the range r = lx**2 + ly**2 grows by
+    1 + eps**2; x' = v cos th against Dg f), decided mod p at once, and refused."""
+    states, outputs = HEADING
+    system = System([*states, "w"], ["v*cos(th)", "v*sin(th)", "0", "0", "0", "exp(x**2 + y**2)"],
+                    {"r": "lx**2 + ly**2", **outputs}, inputs=["v"])
+    x, y, th, lx, ly, _ = system.states
+    first = Symmetry.of("first order", "", {"x": x - eps * y, "y": y + eps * x, "lx": lx - eps * ly,
+                                            "ly": ly + eps * lx, "th": th + eps})
+    assert verify_all(system, [first, _heading_symmetries(system)[0]]) == [False, True]
+    moving = System([*states, "w"], ["v*cos(th)", "v*sin(th)", "0", "0", "0", "exp(lx**2 + ly**2)"],
+                    {"b": "th - th"}, inputs=["v"])
+    x, y, th, lx, ly, _ = moving.states
+    first = Symmetry.of("first order", "", {"x": x - eps * y, "y": y + eps * x, "th": th + eps})
+    assert verify_all(moving, [first]) == [False]
+
+
+def test_a_relation_no_real_point_can_check_is_not_accepted():
+    """x' = 0, z' = log(-exp(x)) - x (formally the constant i pi), y = z. x -> x + eps keeps z'
+    formally, and its generator (1, 0) passes mod p (L_v y = 0; d/dx z' = (-exp x)/(-exp x) - 1 = 0).
+    The finite identity needs log's relation to exp, so it is compared at a real point, and log of
+    -exp(x) is defined at none: nothing can be checked, so the candidate is not accepted (the
+    direction stays unnamed rather than named on an unchecked identity)."""
+    system = System(["x", "z"], ["0", "log(-exp(x)) - x"], {"y": "z"})
+    x, _ = system.states
+    assert verify_all(system, [_candidate("t", x=x + eps)]) == [False]
+
+
+def test_declared_generators_read_log_and_atan2_of_eps_at_the_identity():
+    """At eps = 0, log(1 + eps) = 0 and atan2(eps, 1) = 0 exactly, so d/deps of x + eps + eps log(1 + eps)
+    and of x + eps + eps atan2(eps, 1) at 0 is 1 + 0 (by hand: d/deps (eps a(eps)) = a(0) at 0): the
+    declared (1,) matches both and (2,) neither (a random value for log 1 or atan2(0, 1) would make
+    the derivative 1 + r and refuse the right one)."""
+    system = System(["x", "z"], ["0", "0"], {"y": "z"})
+    x, _ = system.states
+    for atom in (sympy.log(1 + eps), sympy.atan2(eps, 1)):
+        image = {"x": x + eps + eps * atom}
+        candidates = [Symmetry.of("r", "", image, vector={"x": 1}), Symmetry.of("w", "", image, vector={"x": 2})]
+        assert _declared_match(system, candidates) == [True, False], atom
