@@ -310,8 +310,10 @@ EQUIVALENT: dict[str, str] = {
     "observability.directions.symmetry.x__ball_nodes__mutmut_39": "a composed node h(g(x)) keeps every exp, log and "
         "atan2 node of h(x): when the first of a pair is free, so is the second",
     "observability.directions.symmetry.x__checker__mutmut_87": "sum's start is 0 by default",
-    **{f"observability.directions.symmetry.{k}": "the modular evaluators draw exp and the circle point at random, whatever the argument's value; only eps = 0 is special-cased, before the call" for k in (
-        "xǁ_AtIdentityǁ_circle__mutmut_7", "xǁ_AtIdentityǁ_exp0__mutmut_6")},
+    **{f"observability.directions.symmetry.{k}": "the modular evaluators draw exp, log, atan2 and the circle point at random, "
+       "whatever the arguments' values; only eps = 0 is special-cased, before the call" for k in (
+        "xǁ_AtIdentityǁ_circle__mutmut_7", "xǁ_AtIdentityǁ_exp0__mutmut_6", "xǁ_AtIdentityǁ_log0__mutmut_6",
+        "xǁ_AtIdentityǁ_atan0__mutmut_6", "xǁ_AtIdentityǁ_atan0__mutmut_7", "xǁ_AtIdentityǁ_atan0__mutmut_9")},
 }
 
 

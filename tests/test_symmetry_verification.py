@@ -308,3 +308,15 @@ def test_declared_generators_read_log_and_atan2_of_eps_at_the_identity():
         image = {"x": x + eps + eps * atom}
         candidates = [Symmetry.of("r", "", image, vector={"x": 1}), Symmetry.of("w", "", image, vector={"x": 2})]
         assert _declared_match(system, candidates) == [True, False], atom
+
+
+def test_declared_generators_read_log_and_atan2_of_states_at_random_values():
+    """x -> x + eps (1 + a(z)) with a = log z or atan2(z, 1): d/deps at 0 is 1 + a(z) (by hand), so
+    the declared 1 + a(z) matches and 1 does not; only eps's own log 1 and atan2(0, 1) are 0 at the
+    identity, a state's are random values (with a(z) = 0 the wrong 1 would pass)."""
+    system = System(["x", "z"], ["0", "0"], {"y": "z"})
+    x, z = system.states
+    for atom in (sympy.log(z), sympy.atan2(z, 1)):
+        image = {"x": x + eps * (1 + atom)}
+        candidates = [Symmetry.of("r", "", image, vector={"x": 1 + atom}), Symmetry.of("w", "", image, vector={"x": 1})]
+        assert _declared_match(system, candidates) == [True, False], atom
