@@ -314,6 +314,12 @@ EQUIVALENT: dict[str, str] = {
        "whatever the arguments' values; only eps = 0 is special-cased, before the call" for k in (
         "xǁ_AtIdentityǁ_circle__mutmut_7", "xǁ_AtIdentityǁ_exp0__mutmut_6", "xǁ_AtIdentityǁ_log0__mutmut_6",
         "xǁ_AtIdentityǁ_atan0__mutmut_6", "xǁ_AtIdentityǁ_atan0__mutmut_7", "xǁ_AtIdentityǁ_atan0__mutmut_9")},
+    **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "the name of a Dummy: a Dummy is a new symbol "
+       "whatever its name" for k in (2, 3, 4)},
+    "observability.rank.ideal.x_saturated_basis__mutmut_10": "t c - 1 with a constant saturation c only fixes t = 1/c: "
+        "the polynomials free of t in the ideal are the same",
+    **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "t s + 1 or t s - 2 instead of t s - 1: any t s - c "
+       "with c != 0 makes s invertible, the same saturation" for k in (13, 15)},
 }
 
 
