@@ -7,10 +7,14 @@ unobservable direction: a wrong "yes" is a wrong name). The hand derivations are
 
 from __future__ import annotations
 
+import random
+
 import sympy
 
 from observability import System
-from observability.directions.symmetry import independent_basis, name_null_space, verify, verify_all
+from observability.directions.symmetry import (_declared_generators_match, _integer_parameter, _prepared, _values,
+                                               _verification, independent_basis, name_null_space, verify, verify_all)
+from observability.engine.taylor import Redraw
 from observability.model.symmetry import EPSILON as eps
 from observability.model.symmetry import Symmetry
 
@@ -116,8 +120,6 @@ def test_rescaled_angles_become_whole():
     are rescaled by the least common denominator q of their multiples: eps -> q eps. By hand: q = 2
     for sin(eps/2), 3 for cos(eps/3), 5 for tan(eps/5), 7 for exp(eps/7), lcm(2, 3) = 6 for
     sin(eps/2) with exp(eps/3), and 1 (the images unchanged) when eps appears only outside them."""
-    from observability.directions.symmetry import _integer_parameter
-
     x = sympy.Symbol("x")
     cases = [([x * sympy.sin(eps / 2)], [x * sympy.sin(eps)], 2),
              ([x + sympy.cos(eps / 3)], [x + sympy.cos(eps)], 3),
@@ -169,10 +171,6 @@ def test_a_declared_generator_that_cannot_be_checked_at_the_identity_is_refused(
 
 
 def _declared_match(system: System, candidates: list[Symmetry]) -> list[bool]:
-    import random
-
-    from observability.directions.symmetry import _declared_generators_match, _prepared, _verification
-
     program, plans, *_ = _verification(system, candidates, _prepared(system, candidates))
     return _declared_generators_match(system, candidates, program, plans, random.Random(0))
 
@@ -200,6 +198,13 @@ def test_declared_generators_are_compared_at_a_random_angle_and_exponent():
 HEADING = (["x", "y", "th", "lx", "ly"], {"b": "atan2(ly - y, lx - x) - th"})
 
 
+def _steering() -> System:
+    """The unicycle steering towards a landmark, th' = k (atan2(ly - y, lx - x) - th), seeing its bearing."""
+    states, outputs = HEADING
+    return System(states, ["v*cos(th)", "v*sin(th)", "k*(atan2(ly - y, lx - x) - th)", "0", "0"], outputs,
+                  inputs=["v"], parameters=["k"])
+
+
 def _heading_symmetries(system: System) -> list[Symmetry]:
     x, y, th, lx, ly = system.states[:5]
     c, s = sympy.cos(eps), sympy.sin(eps)
@@ -217,8 +222,7 @@ def test_dynamics_through_atan2_are_compared_at_a_real_point():
     real point. The translation holds mod p; turning th by eps + eps**2 changes the bearing: refused.
     Continuous and discrete time (x+ = x + v cos th, ..., th+ = th + k (atan2(...) - th)) alike."""
     states, outputs = HEADING
-    continuous = System(states, ["v*cos(th)", "v*sin(th)", "k*(atan2(ly - y, lx - x) - th)", "0", "0"], outputs,
-                        inputs=["v"], parameters=["k"])
+    continuous = _steering()
     discrete = System(states, ["x + v*cos(th)", "y + v*sin(th)", "th + k*(atan2(ly - y, lx - x) - th)", "lx", "ly"],
                       outputs, inputs=["v"], parameters=["k"], time="discrete")
     for system in (continuous, discrete):
@@ -230,9 +234,7 @@ def test_a_first_order_rotation_is_refused_beside_free_values():
     generator, so the infinitesimal checks pass, but it is not a group of symmetries: the bearing of
     the moved point differs from atan2 + eps at second order, compared at a real point (free values
     on both sides). The true rotation beside it holds."""
-    states, outputs = HEADING
-    system = System(states, ["v*cos(th)", "v*sin(th)", "k*(atan2(ly - y, lx - x) - th)", "0", "0"], outputs,
-                    inputs=["v"], parameters=["k"])
+    system = _steering()
     x, y, th, lx, ly = system.states
     first = Symmetry.of("first order", "", {"x": x - eps * y, "y": y + eps * x, "lx": lx - eps * ly,
                                             "ly": ly + eps * lx, "th": th + eps})
@@ -252,11 +254,6 @@ def test_an_identity_with_a_free_value_on_one_side_is_compared_at_a_real_point()
 def test_values_at_a_point_refuse_a_pole_everywhere_by_name():
     """1/(z**p - z), p = 2^61 - 1, is a pole at every point mod p (Fermat): after 32 points the
     values refuse with node -1 (no node of the caller's) and the reason."""
-    import random
-
-    from observability.directions.symmetry import _values
-    from observability.engine.taylor import Redraw
-
     system = System(["x", "z"], ["0", "0"], {"y": "z"})
     _, z = system.states
     try:
