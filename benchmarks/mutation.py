@@ -54,8 +54,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
-                       "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_codegen.py",
-                       "tests/test_filter_validation.py"]),
+                       "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
 }
 
 FAST = ("the fast path for all-float measurements: the general loop below returns the same values and indices for "

@@ -1,0 +1,115 @@
+"""The fused EKF steps (filters.fused) on cases where the right answer is written out by hand.
+
+Each test is named for a bug it catches (found by mutating filters/fused.py and
+filters/constrained.py): the references are the EKF equations in numpy, or a
+refusal the filter must make.
+"""
+
+import casadi
+import numpy as np
+import pytest
+
+from observability import System
+from observability.codegen import filter_functions
+from observability.filters import CloningEKF, ConventionalEKF, FilterError, ObservabilityConstrainedEKF, null_space_function
+from observability.filters.fused import SX_STATES, _graph, _health
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_the_health_flag_sees_every_pivot_of_a_small_matrix(n):
+    """A symmetric matrix whose only negative pivot is its last (the 2 x 2 case:
+    [[1, 2], [2, 1]] has pivots 1 and 1 - 4 = -3) is not positive definite; no
+    later entry turns NaN to betray it, so the flag must read every pivot. The
+    reference is numpy's Cholesky."""
+    M, v = casadi.SX.sym("M", n, n), casadi.SX.sym("v", 1)
+    check = casadi.Function("check", [M, v], [_health(M, v)])
+    S = np.eye(n)
+    S[n - 1, n - 1] = -3.0 if n == 1 else 1.0
+    if n > 1:
+        S[n - 1, n - 2] = S[n - 2, n - 1] = 2.0
+    with pytest.raises(np.linalg.LinAlgError):
+        np.linalg.cholesky(S)
+    assert not float(check(S, [1.0])) > 0
+    assert float(check(np.eye(n), [1.0])) > 0
+
+
+def _walk(n: int) -> System:
+    names = [f"s{i}" for i in range(n)]
+    return System(names, {s: s for s in names}, {"y": " + ".join(names)}, time="discrete")
+
+
+def test_models_up_to_sx_states_get_a_scalar_graph_and_larger_ones_a_matrix_graph():
+    """The module docstring's rule, at its boundary: n = SX_STATES is scalar (SX),
+    n = SX_STATES + 1 matrix-valued (MX)."""
+    assert _graph(filter_functions(_walk(SX_STATES)))[0] is casadi.SX
+    assert _graph(filter_functions(_walk(SX_STATES + 1)))[0] is casadi.MX
+
+
+def test_only_angles_are_wrapped():
+    """A range r = x (not an angle) and a bearing b = th (an angle) of a static
+    state, x = 10, th = 3, P = I, R = 0.01 I, measured r = 15, b = -3: by hand the
+    bearing's innovation is -6 + 2 pi, the range's stays 5 (wrapping it would give
+    5 - 2 pi), and the new x = 10 + 5 / 1.01 is not wrapped although it is above pi,
+    while th + innovation / 1.01 is brought back to (-pi, pi]."""
+    system = System(["x", "th"], {"x": "x", "th": "th"}, {"r": "x", "b": "th"}, time="discrete", angles=["th", "b"])
+    ekf = ConventionalEKF(filter_functions(system), np.zeros((2, 2)), 0.01 * np.eye(2))
+    update = ekf.update(ekf.initial([10.0, 3.0], np.eye(2)), [15.0, -3.0])
+    innovation = np.array([5.0, -6.0 + 2 * np.pi])
+    np.testing.assert_allclose(update.innovation, innovation, atol=1e-12)
+    th = 3.0 + innovation[1] / 1.01
+    np.testing.assert_allclose(update.state.x, [10.0 + 5.0 / 1.01, np.arctan2(np.sin(th), np.cos(th))], atol=1e-12)
+    assert update.state.x[1] < 0  # 3 + 0.28 / 1.01 is past pi: wrapped
+
+
+@pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
+def test_a_missing_entry_at_a_pole_does_not_reach_the_estimate(kind):
+    """At p = 1 the output b = 1/(p - 1) is infinite; with b missing, the update is
+    the scalar Kalman update with a = p alone: P = 1, R = 0.25, measured 0.5 gives
+    K = 1/1.25 = 0.8, p = 1 - 0.8 * 0.5 = 0.6, P = (1 - 0.8)**2 + 0.8**2 * 0.25 = 0.2
+    (an infinite innovation times the zero gain of a missing entry would be NaN)."""
+    system = System(["p"], {"p": "p"}, {"a": "p", "b": "1/(p - 1)"}, time="discrete")
+    ekf = kind(filter_functions(system), np.zeros((1, 1)), np.diag([0.25, 1.0]))
+    state = ekf.initial([1.0], np.eye(1))
+    update = ekf.update(state if kind is ConventionalEKF else ekf.predict(state), [0.5, None])
+    np.testing.assert_allclose(update.state.x, [0.6], atol=1e-12)
+    np.testing.assert_allclose(update.state.P, [[0.2]], atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
+def test_an_estimate_that_overflows_in_the_update_is_refused(kind):
+    """y = p / 2, P = 1, R = 1e-6: the gain is 0.5 / (0.25 + 1e-6), about 2, so a
+    measurement of 1.7e308 moves p to about 3.4e308, past the largest double: the
+    covariance stays finite, the estimate does not, and the step is refused by name."""
+    system = System(["p"], {"p": "p"}, {"y": "p/2"}, time="discrete")
+    ekf = kind(filter_functions(system), np.zeros((1, 1)), np.array([[1e-6]]))
+    state = ekf.predict(ekf.initial([0.0], np.eye(1)))
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the state estimate is not finite$"):
+        ekf.update(state, [1.7e308])
+
+
+@pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
+def test_a_prediction_that_overflows_is_refused(kind):
+    """p -> 2 p from 1e308 is infinite while the covariance, 4 P (and for
+    cloning the joint blocks P and 2 P), stays finite: the prediction is refused by name."""
+    system = System(["p"], {"p": "2*p"}, {"y": "p"}, time="discrete")
+    ekf = kind(filter_functions(system), np.zeros((1, 1)), np.eye(1))
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the (state estimate|prediction) is not finite$"):
+        ekf.predict(ekf.initial([1e308], np.eye(1)))
+
+
+def test_without_directions_the_oc_ekf_is_the_conventional_ekf():
+    """A model with no unobservable direction: N(x) is n x 0, nothing is projected
+    away, and the OC-EKF's steps are the conventional EKF's (to rounding: one runs
+    in numpy, the other in casadi). By default it records no Jacobians."""
+    system = System(["p", "v"], {"p": "p + v", "v": "v"}, {"y": "p"}, time="discrete")
+    fns = filter_functions(system)
+    N = null_space_function(system, (), fns)
+    assert np.array(N([1.0, 2.0], [])).shape == (2, 0)
+    Q, R = np.diag([1e-3, 1e-2]), np.array([[0.1]])
+    oc, ekf = ObservabilityConstrainedEKF(fns, Q, R, N), ConventionalEKF(fns, Q, R)
+    a, b = oc.initial([0.0, 1.0], np.eye(2)), ekf.initial([0.0, 1.0], np.eye(2))
+    for y in (1.2, 1.9, 3.3):
+        a, b = oc.update(oc.predict(a), [y]).state, ekf.update(ekf.predict(b), [y]).state
+        np.testing.assert_allclose(a.x, b.x, atol=1e-12)
+        np.testing.assert_allclose(a.P, b.P, atol=1e-12)
+    assert oc.used == []
