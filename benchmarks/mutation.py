@@ -321,6 +321,22 @@ EQUIVALENT: dict[str, str] = {
         "the polynomials free of t in the ideal are the same",
     **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "t s + 1 or t s - 2 instead of t s - 1: any t s - c "
        "with c != 0 makes s invertible, the same saturation" for k in (13, 15)},
+    **{f"observability.filters.{name}__mutmut_{k}": "a casadi label (a symbol's, a Function's, an input's or "
+       "an output's name): every caller passes and reads the fused steps and N(x) by position (filters/ekf.py, "
+       "batch.py, constrained.py); the one name read, the update's input u (ekf._depends_on), has mutants that are "
+       "killed" for name, numbers in {
+           "constrained.x_null_space_function": (7, 8, 14, 15, 57, 58, 59, 60, 61, 62, 63, 64),
+           "fused.x_fused_predict": (9, 10, 17, 18, 23, 24, 29, 30, 50, 51, 52, 53, 54, 64, 65, 76, 77, 78, 79, 80,
+                                     82, 83, 84),
+           "fused.x_fused_update": (10, 11, 18, 19, 24, 25, 31, 32, 37, 38, 43, 44, 49, 50, 156, 157, 158, 159, 160,
+                                    161, 162, 163, 164, 176, 177, 178, 179, 180, 191, 192, 193, 194, 195, 197, 198,
+                                    201, 202, 203, 204, 205),
+           "fused.x_fused_cloning_predict": (9, 10, 17, 18, 23, 24, 29, 30, 68, 69, 70, 71, 84, 85, 96, 97, 98, 99,
+                                             100, 102, 103, 104),
+           "fused.x_fused_cloning_update": (9, 10, 19, 20, 29, 30, 35, 36, 41, 42, 112, 113, 114, 115, 116, 117, 118,
+                                            119, 131, 132, 133, 134, 135, 146, 147, 148, 149, 150, 151, 152, 153, 154,
+                                            155, 156, 157),
+       }.items() for k in numbers},
 }
 
 

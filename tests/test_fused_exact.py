@@ -113,3 +113,78 @@ def test_without_directions_the_oc_ekf_is_the_conventional_ekf():
         np.testing.assert_allclose(a.x, b.x, atol=1e-12)
         np.testing.assert_allclose(a.P, b.P, atol=1e-12)
     assert oc.used == []
+
+
+def test_the_oc_ekf_with_a_previous_state_output_and_no_directions_is_the_conventional_ekf():
+    """Odometry p - prev(p) reads the previous estimate: with nothing to project
+    (N is n x 0) the OC-EKF updates it as the conventional EKF does, first from the
+    initial state (its own previous state) and then after each prediction, which
+    hands the estimate it started from to the update."""
+    system = System(["p", "v"], {"p": "p + v", "v": "v"}, {"y": "p", "odo": "p - prev(p)"}, time="discrete")
+    fns = filter_functions(system)
+    Q, R = np.diag([1e-3, 1e-2]), np.diag([0.1, 0.05])
+    oc = ObservabilityConstrainedEKF(fns, Q, R, null_space_function(system, (), fns))
+    ekf = ConventionalEKF(fns, Q, R)
+    a = oc.update(oc.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
+    b = ekf.update(ekf.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
+    for y in ([1.2, 1.0], [1.9, 0.8], [3.3, 1.3]):
+        predicted = oc.predict(a)
+        assert np.array_equal(predicted.x_prev, a.x) and predicted.step == a.step + 1
+        a, b = oc.update(predicted, y).state, ekf.update(ekf.predict(b), y).state
+        np.testing.assert_allclose(a.x, b.x, atol=1e-12)
+        np.testing.assert_allclose(a.P, b.P, atol=1e-12)
+    assert a.step == 3 and [k for k, _ in oc.residuals] == [0, 1, 1, 2, 2, 3, 3]
+
+
+def test_the_oc_ekf_keeps_a_single_rotation_through_a_moving_estimate():
+    """Range to a static point, r = x**2 + y**2: one unobservable direction, the
+    rotation N(x, y) = (-y, x). The update moves the estimate, so N at the prior
+    and N after it differ and the plain F = I does not carry one to the other; the
+    OC-EKF's F* does (F* N_k = N_k+1 and H* N = 0 to rounding), a claim checked here
+    on the recorded residuals."""
+    from observability import analyze
+
+    system = System(["x", "y"], {"x": "x", "y": "y"}, {"r": "x**2 + y**2"}, time="discrete")
+    fns = filter_functions(system)
+    directions = analyze(system, seed=1).unobservable_directions
+    assert len(directions) == 1
+    oc = ObservabilityConstrainedEKF(fns, 1e-4 * np.eye(2), np.array([[0.01]]), null_space_function(system, directions, fns))
+    state = oc.initial([1.0, 2.0], np.eye(2))
+    for r in (4.0, 4.5, 3.0):
+        state = oc.update(oc.predict(state), [r]).state
+    moved = np.linalg.norm(np.array([-2.0, 1.0]) - np.array([-state.x[1], state.x[0]]))
+    assert moved > 0.1 and max(v for _, v in oc.residuals) < 1e-12
+
+
+def test_the_oc_ekf_names_the_step_it_refuses_and_returns_an_empty_update():
+    """A wrong-length input is refused at the prediction's step, a measurement of
+    the wrong length at the update's, and an update with every entry missing
+    returns the state unchanged with an empty innovation, an empty S and no entry used."""
+    system = System(["p"], {"p": "p + u"}, {"y": "p"}, inputs=["u"], time="discrete")
+    fns = filter_functions(system)
+    oc = ObservabilityConstrainedEKF(fns, np.eye(1), np.eye(1), null_space_function(system, (), fns))
+    state = oc.initial([0.0], np.eye(1))
+    with pytest.raises(FilterError, match=r"^step 1: the input u "):
+        oc.predict(state, [1.0, 2.0])
+    state = oc.predict(state, [1.0])
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): "):
+        oc.update(state, [1.0, 2.0])
+    empty = oc.update(state, [None])
+    assert empty.state is state and empty.used == ()
+    assert empty.innovation.shape == (0,) and empty.S.shape == (0, 0)
+
+
+def test_n_of_x_reads_every_parameter_and_names_a_bad_direction():
+    """A direction written by hand, (a, b) with two parameters given at run time,
+    a = 2, b = 3: N is the column (2, 3); a component that is not an expression is
+    refused naming its direction."""
+    from observability.directions.find import UnobservableDirection
+
+    system = System(["x", "y"], {"x": "x", "y": "y"}, {"r": "x - y"}, parameters=["a", "b"], time="discrete")
+    fns = filter_functions(system)
+    N = null_space_function(system, (UnobservableDirection("shift", {"x": "a", "y": "b"}),), fns)
+    p = [dict(a=2.0, b=3.0)[name] for name in fns.parameters]
+    assert len(p) == 2
+    np.testing.assert_array_equal(np.array(N([0.0, 0.0], p)), [[2.0], [3.0]])
+    with pytest.raises(Exception, match="skew"):
+        null_space_function(system, (UnobservableDirection("skew", {"x": "a +* b"}),), fns)
