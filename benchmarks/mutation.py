@@ -337,6 +337,34 @@ EQUIVALENT: dict[str, str] = {
                                             119, 131, 132, 133, 134, 135, 146, 147, 148, 149, 150, 151, 152, 153, 154,
                                             155, 156, 157),
        }.items() for k in numbers},
+    **{f"observability.filters.fused.x__health__mutmut_{k}": "the matrix is square, so shape[1] is shape[0]"
+       for k in (3,)},
+    **{f"observability.filters.fused.x__health__mutmut_{k}": "sum()'s start 0 instead of SX(0): the first SX term "
+       "makes the sum an SX all the same" for k in (14, 35, 53, 59)},
+    **{f"observability.filters.fused.x__health__mutmut_{k}": "entries L[i][j] with i <= j are computed too (i = -1 is "
+       "the last row, computed again at i = n - 1): no pivot and no L[i][j] with i > j reads them" for k in (25, 27)},
+    **{f"observability.filters.fused.x__health__mutmut_{k}": "the finiteness sum changed (a vector subtracted, a "
+       "start of 1): it is finite exactly when every term is, unless finite terms overflow, which sends the step to "
+       "the numpy checks" for k in (49, 55, 62)},
+    "observability.filters.fused.x__health__mutmut_72": "-2 instead of -1 for a non-finite entry: every caller asks "
+                                                        "only whether the flag is > 0",
+    "observability.filters.fused.x__masked__mutmut_8": "repmat(mask, 1) is the column itself, and casadi's if_else "
+                                                       "applies a column condition to every column of H (checked)",
+    "observability.filters.fused.x__masked__mutmut_26": "-1 instead of 1 on the diagonal of a missing entry: its row "
+        "of H is zero, so its gain column is zero and it reaches neither the estimate nor P (Joseph form); S's block "
+        "is dropped by the caller, and a negative pivot only sends the step to the numpy check of S[used, used]",
+    "observability.filters.fused.x__masked__mutmut_45": "a missing entry's innovation 1 instead of 0: it meets a zero "
+        "gain column and is dropped from the returned innovation",
+    **{f"observability.filters.fused.{name}__mutmut_{k}": "no health flag: every step goes through the numpy checks, "
+       "which the flag only lets skip (same estimates, same refusals, slower)" for name, k in (
+           ("x_fused_predict", 55), ("x_fused_predict", 56), ("x_fused_update", 165), ("x_fused_update", 166),
+           ("x_fused_cloning_predict", 72), ("x_fused_cloning_predict", 73), ("x_fused_cloning_update", 120),
+           ("x_fused_cloning_update", 121))},
+    "observability.filters.fused.x_fused_cloning_predict__mutmut_78": "the cross block F P is left out of the check: "
+        "by Cauchy-Schwarz in P's inner product |(F P)_ij| <= sqrt((F P F^T)_ii P_jj), so it is finite when the "
+        "current block (checked) and P (checked when accepted) are",
+    "observability.filters.constrained.xǁObservabilityConstrainedEKFǁ_N__mutmut_11": "reshape(n, -2): numpy reads "
+        "any negative size as the unknown one, like -1 (checked)",
 }
 
 

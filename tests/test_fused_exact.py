@@ -127,13 +127,50 @@ def test_the_oc_ekf_with_a_previous_state_output_and_no_directions_is_the_conven
     ekf = ConventionalEKF(fns, Q, R)
     a = oc.update(oc.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
     b = ekf.update(ekf.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
-    for y in ([1.2, 1.0], [1.9, 0.8], [3.3, 1.3]):
+    for y in ([1.2, 1.0], [1.9, None], [None, 1.3]):
         predicted = oc.predict(a)
         assert np.array_equal(predicted.x_prev, a.x) and predicted.step == a.step + 1
-        a, b = oc.update(predicted, y).state, ekf.update(ekf.predict(b), y).state
+        ours, theirs = oc.update(predicted, y), ekf.update(ekf.predict(b), y)
+        assert np.array_equal(ours.state.x_prev, predicted.x_prev) and ours.used == theirs.used
+        np.testing.assert_allclose(ours.innovation, theirs.innovation, atol=1e-12)
+        np.testing.assert_allclose(ours.S, theirs.S, atol=1e-12)
+        a, b = ours.state, theirs.state
         np.testing.assert_allclose(a.x, b.x, atol=1e-12)
         np.testing.assert_allclose(a.P, b.P, atol=1e-12)
     assert a.step == 3 and [k for k, _ in oc.residuals] == [0, 1, 1, 2, 2, 3, 3]
+
+
+def test_the_oc_ekf_names_the_step_of_each_refusal():
+    """Every refusal of the OC-EKF says where: a prediction past the largest double
+    (p -> 2 p from 1e308), an update that overflows the estimate (gain about 2 on
+    1.7e308, as for the fused filters above), an indefinite P (S not positive
+    definite), a manifold hook that returns NaN, in the prediction and in the
+    update, and a covariance that overflows in the update's Joseph form."""
+    import dataclasses
+
+    system = System(["p"], {"p": "2*p"}, {"y": "p/2"}, time="discrete")
+    fns = filter_functions(system)
+    oc = ObservabilityConstrainedEKF(fns, np.zeros((1, 1)), np.array([[1e-6]]), null_space_function(system, (), fns))
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite$"):
+        oc.predict(oc.initial([1e308], np.eye(1)))
+    state = oc.predict(oc.initial([0.0], np.eye(1)))
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the estimate is not finite$"), np.errstate(over="ignore"):
+        oc.update(state, [1.7e308])
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation covariance S is not positive definite$"):
+        oc.update(dataclasses.replace(state, P=-np.eye(1)), [1.0])
+    broken = ObservabilityConstrainedEKF(dataclasses.replace(fns, retract=lambda x: x * np.nan), np.zeros((1, 1)),
+                                         np.eye(1), null_space_function(system, (), fns))
+    with pytest.raises(FilterError, match=r"^step 2 \(prediction\): the retracted estimate "):
+        broken.predict(state)
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the retracted estimate "):
+        broken.update(state, [1.0])
+    # A variance of 1.7e308 on a state the output does not see: the update leaves it,
+    # the symmetrising average (P + P^T) / 2 overflows, and the new P is refused.
+    static = System(["a", "b"], {"a": "a", "b": "b"}, {"y": "b"}, time="discrete")
+    fns = filter_functions(static)
+    oc = ObservabilityConstrainedEKF(fns, np.zeros((2, 2)), np.eye(1), null_space_function(static, (), fns))
+    with pytest.raises(FilterError, match=r"^step 0 \(update\): the covariance "), np.errstate(over="ignore"):
+        oc.update(oc.initial([0.0, 0.0], np.diag([1.7e308, 1.0])), [1.0])
 
 
 def test_the_oc_ekf_keeps_a_single_rotation_through_a_moving_estimate():
