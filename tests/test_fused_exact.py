@@ -5,13 +5,16 @@ filters/constrained.py): the references are the EKF equations in numpy, or a
 refusal the filter must make.
 """
 
+import dataclasses
+
 import casadi
 import numpy as np
 import pytest
 
-from observability import System
+from observability import System, analyze
 from observability.codegen import filter_functions
 from observability.filters import CloningEKF, ConventionalEKF, FilterError, ObservabilityConstrainedEKF, null_space_function
+from observability.directions.find import UnobservableDirection
 from observability.filters.fused import SX_STATES, _graph, _health
 
 
@@ -31,6 +34,12 @@ def test_the_health_flag_sees_every_pivot_of_a_small_matrix(n):
         np.linalg.cholesky(S)
     assert not float(check(S, [1.0])) > 0
     assert float(check(np.eye(n), [1.0])) > 0
+
+
+def _without_directions(system: System, Q: np.ndarray, R: np.ndarray, fns=None) -> ObservabilityConstrainedEKF:
+    """The OC-EKF with N(x) = n x 0 (nothing to project), on ``fns`` or the system's own Functions."""
+    fns = fns or filter_functions(system)
+    return ObservabilityConstrainedEKF(fns, Q, R, null_space_function(system, (), fns))
 
 
 def _walk(n: int) -> System:
@@ -123,7 +132,7 @@ def test_the_oc_ekf_with_a_previous_state_output_and_no_directions_is_the_conven
     system = System(["p", "v"], {"p": "p + v", "v": "v"}, {"y": "p", "odo": "p - prev(p)"}, time="discrete")
     fns = filter_functions(system)
     Q, R = np.diag([1e-3, 1e-2]), np.diag([0.1, 0.05])
-    oc = ObservabilityConstrainedEKF(fns, Q, R, null_space_function(system, (), fns))
+    oc = _without_directions(system, Q, R, fns)
     ekf = ConventionalEKF(fns, Q, R)
     a = oc.update(oc.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
     b = ekf.update(ekf.initial([0.0, 1.0], np.eye(2)), [0.1, 0.2]).state
@@ -146,11 +155,9 @@ def test_the_oc_ekf_names_the_step_of_each_refusal():
     1.7e308, as for the fused filters above), an indefinite P (S not positive
     definite), a manifold hook that returns NaN, in the prediction and in the
     update, and a covariance that overflows in the update's Joseph form."""
-    import dataclasses
-
     system = System(["p"], {"p": "2*p"}, {"y": "p/2"}, time="discrete")
     fns = filter_functions(system)
-    oc = ObservabilityConstrainedEKF(fns, np.zeros((1, 1)), np.array([[1e-6]]), null_space_function(system, (), fns))
+    oc = _without_directions(system, np.zeros((1, 1)), np.array([[1e-6]]), fns)
     with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite$"):
         oc.predict(oc.initial([1e308], np.eye(1)))
     state = oc.predict(oc.initial([0.0], np.eye(1)))
@@ -158,8 +165,7 @@ def test_the_oc_ekf_names_the_step_of_each_refusal():
         oc.update(state, [1.7e308])
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation covariance S is not positive definite$"):
         oc.update(dataclasses.replace(state, P=-np.eye(1)), [1.0])
-    broken = ObservabilityConstrainedEKF(dataclasses.replace(fns, retract=lambda x: x * np.nan), np.zeros((1, 1)),
-                                         np.eye(1), null_space_function(system, (), fns))
+    broken = _without_directions(system, np.zeros((1, 1)), np.eye(1), dataclasses.replace(fns, retract=lambda x: x * np.nan))
     with pytest.raises(FilterError, match=r"^step 2 \(prediction\): the retracted estimate "):
         broken.predict(state)
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the retracted estimate "):
@@ -167,8 +173,7 @@ def test_the_oc_ekf_names_the_step_of_each_refusal():
     # A variance of 1.7e308 on a state the output does not see: the update leaves it,
     # the symmetrising average (P + P^T) / 2 overflows, and the new P is refused.
     static = System(["a", "b"], {"a": "a", "b": "b"}, {"y": "b"}, time="discrete")
-    fns = filter_functions(static)
-    oc = ObservabilityConstrainedEKF(fns, np.zeros((2, 2)), np.eye(1), null_space_function(static, (), fns))
+    oc = _without_directions(static, np.zeros((2, 2)), np.eye(1))
     with pytest.raises(FilterError, match=r"^step 0 \(update\): the covariance "), np.errstate(over="ignore"):
         oc.update(oc.initial([0.0, 0.0], np.diag([1.7e308, 1.0])), [1.0])
 
@@ -179,8 +184,6 @@ def test_the_oc_ekf_keeps_a_single_rotation_through_a_moving_estimate():
     and N after it differ and the plain F = I does not carry one to the other; the
     OC-EKF's F* does (F* N_k = N_k+1 and H* N = 0 to rounding), a claim checked here
     on the recorded residuals."""
-    from observability import analyze
-
     system = System(["x", "y"], {"x": "x", "y": "y"}, {"r": "x**2 + y**2"}, time="discrete")
     fns = filter_functions(system)
     directions = analyze(system, seed=1).unobservable_directions
@@ -198,8 +201,7 @@ def test_the_oc_ekf_names_the_step_it_refuses_and_returns_an_empty_update():
     the wrong length at the update's, and an update with every entry missing
     returns the state unchanged with an empty innovation, an empty S and no entry used."""
     system = System(["p"], {"p": "p + u"}, {"y": "p"}, inputs=["u"], time="discrete")
-    fns = filter_functions(system)
-    oc = ObservabilityConstrainedEKF(fns, np.eye(1), np.eye(1), null_space_function(system, (), fns))
+    oc = _without_directions(system, np.eye(1), np.eye(1))
     state = oc.initial([0.0], np.eye(1))
     with pytest.raises(FilterError, match=r"^step 1: the input u "):
         oc.predict(state, [1.0, 2.0])
@@ -215,8 +217,6 @@ def test_n_of_x_reads_every_parameter_and_names_a_bad_direction():
     """A direction written by hand, (a, b) with two parameters given at run time,
     a = 2, b = 3: N is the column (2, 3); a component that is not an expression is
     refused naming its direction."""
-    from observability.directions.find import UnobservableDirection
-
     system = System(["x", "y"], {"x": "x", "y": "y"}, {"r": "x - y"}, parameters=["a", "b"], time="discrete")
     fns = filter_functions(system)
     N = null_space_function(system, (UnobservableDirection("shift", {"x": "a", "y": "b"}),), fns)
