@@ -40,7 +40,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "proofs": (["observability/directions/symmetry.py", "observability/rank/proof.py", "observability/report/proofs.py",
                 "observability/rank/proofcheck.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py",
-                "tests/test_symmetry_verification.py"]),
+                "tests/test_symmetry_verification.py", "tests/test_proof_exact.py"]),
     "checker": (["observability/rank/proofcheck.py"], ["tests/test_proof.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],

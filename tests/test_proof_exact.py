@@ -1,0 +1,322 @@
+"""The upper bound's identities (``rank/proof.py``) and the proof artefact
+(``report/proofs.py``) decided in process, case by case (issue 32).
+
+The verdict checks the identities in a budgeted child process, where a
+mutation run cannot see which test ran what; these tests call the same
+functions with ``budget=None`` (in process). Every expected value is a hand
+derivation in the test's docstring; the artefacts are judged by the
+independent checker (``rank/proofcheck.py``, which re-derives every row with
+sympy alone).
+"""
+
+import dataclasses
+import json
+
+import pytest
+import sympy
+
+from observability import System, analyze
+from observability.errors import ObservabilityError
+from observability.rank import proof, proofcheck
+from observability.report import proofs
+from observability.report.proofs import proof_evidence
+
+STATIC = {"x": 0, "y": 0, "z": 0}
+
+
+def _fields(*vectors: list[str]) -> list[list[sympy.Expr]]:
+    return [[sympy.sympify(e) for e in v] for v in vectors]
+
+
+def _static(output: str, states=("x", "y")) -> System:
+    return System(list(states), {s: STATIC[s] for s in states}, {"h": output}, name="static")
+
+
+# (output, field that annihilates it, field that does not). Every state is
+# static (f = 0), so [f, v] = 0 and the verdict is L_v h = 0 alone, which needs
+# the atom's rate: d exp(m) = exp(m) dm, d log(m) = dm/m, d atan(m) = dm/(1 + m^2),
+# d atan2(y, x) = (x dy - y dx)/(x^2 + y^2); with the rate scaled, negated or
+# taken along another argument the true identity fails.
+ATOMS = [
+    # exp(x) y along (1, -y): exp(x) y - exp(x) y = 0; along (1, y): 2 exp(x) y.
+    ("exp(x)*y", ["1", "-y"], ["1", "y"]),
+    # log(y) - log(x) along (x, y): y/y - x/x = 0; along (x, -y): -2.
+    ("log(y) - log(x)", ["x", "y"], ["x", "-y"]),
+    # atan(x) - y along (1 + x^2, 1): 1 - 1 = 0; along (1, 1): 1/(1 + x^2) - 1.
+    ("atan(x) - y", ["1 + x**2", "1"], ["1", "1"]),
+    # atan2(y, x) + z along (-y, x, -1): (x^2 + y^2)/(x^2 + y^2) - 1 = 0; along (-y, x, 1): 2.
+    ("atan2(y, x) + z", ["-y", "x", "-1"], ["-y", "x", "1"]),
+    # exp(atan(x)) y along (1 + x^2, -y): the inner atom's rate 1/(1 + x^2) enters the
+    # outer one's, so both must be in place in order: e y - e y = 0; along (1, -y): not 0.
+    ("exp(atan(x))*y", ["1 + x**2", "-y"], ["1", "-y"]),
+    # Two atoms of the same depth: along (1, -y, 0) exp(x) y - exp(x) y = 0; along (1, -y, 1): exp(z).
+    ("exp(x)*y + exp(z)", ["1", "-y", "0"], ["1", "-y", "1"]),
+    # sqrt(x^2 + y^2)/z along (x, y, z): the radicand's rate dg/(2 sqrt(g)) gives sqrt(g)/z,
+    # the quotient's -sqrt(g)/z: 0; along (x, y, -z): 2 sqrt(g)/z.
+    ("sqrt(x**2 + y**2)/z", ["x", "y", "z"], ["x", "y", "-z"]),
+    # sqrt(z)/x (z under a root: W = sqrt(z), dW = dz/(2W)) along (x, 2z):
+    # -sqrt(z)/x + 2z/(2 sqrt(z) x) = 0; along (x, z): -sqrt(z)/(2x).
+    ("sqrt(y)/x", ["x", "2*y"], ["x", "y"]),
+]
+
+
+@pytest.mark.parametrize("output,kept,moved", ATOMS)
+def test_each_atom_is_differentiated_with_its_own_rate(output, kept, moved):
+    """The flint route decides each case itself (True or False, never None: then
+    the expression route would have decided instead), and so does the verdict."""
+    states = ("x", "y", "z") if len(kept) == 3 else ("x", "y")
+    system = _static(output, states)
+    assert proof._rational_identities(system, _fields(kept)) is True
+    assert proof._rational_identities(system, _fields(moved)) is False
+    assert proof.fields_are_symmetries(system, _fields(kept), budget=None) is True
+    assert proof.fields_are_symmetries(system, _fields(moved), budget=None) is False
+    assert proof.spans_invariant_distribution(system, _fields(kept), budget=None) is True
+
+
+def test_an_output_not_rational_in_the_coordinates_is_annihilated_through_its_gradient():
+    """h = cosh(x/y) is no rational function of the coordinates (cosh is not one of
+    the atoms), but L_v h along v = (x, y) is sinh(x/y) (x/y - x y/y^2) = 0, a
+    rational 0: the flint route answers True itself. Along (x, -y), L_v h =
+    2 sinh(x/y) x/y is not rational: the flint route cannot say (None) and the
+    expression route says False."""
+    system = _static("cosh(x/y)")
+    assert proof._rational_identities(system, _fields(["x", "y"])) is True
+    assert proof._rational_identities(system, _fields(["x", "-y"])) is None
+    assert proof.fields_are_symmetries(system, _fields(["x", "-y"]), budget=None) is False
+
+
+SINE = System(["x", "y", "z", "w"], {"x": 0, "y": 0, "z": "z", "w": 0}, {"h": "sin(x*y)"}, name="sine")
+
+
+def test_the_expression_route_checks_every_field():
+    """sin(x y) is not a sine of one state, so the expression route decides. By
+    hand with f = (0, 0, z, 0): d/dw commutes with f and leaves h alone, a
+    symmetry; d/dz leaves h alone but [f, d/dz] = -Df d/dz = (0, 0, -1, 0) != 0.
+    Together they are no pair of symmetries, whichever comes first."""
+    assert proof._rational_identities(SINE, _fields(["0", "0", "0", "1"])) is None
+    assert proof._identities(SINE, _fields(["0", "0", "0", "1"])) is True
+    assert proof._identities(SINE, _fields(["0", "0", "1", "0"], ["0", "0", "0", "1"])) is False
+    assert proof._identities(SINE, _fields(["0", "0", "0", "1"], ["0", "0", "1", "0"])) is False
+    # x d/dx - y d/dy keeps x y, so h: L_v h = cos(x y)(y x - x y) = 0, and f does not move x, y.
+    assert proof._identities(SINE, _fields(["x", "-y", "0", "0"], ["0", "0", "0", "1"])) is True
+
+
+# x' = 0, y' = y^3, seen h = x: d/dy leaves h alone, and [f, d/dy] = -Df d/dy =
+# (0, -3y^2) = -3y^2 d/dy: no symmetry, but its span is kept.
+CUBIC = System(["x", "y"], {"x": 0, "y": "y**3"}, {"h": "x"}, name="cubic")
+# The same seen through h = x + y: d/dy moves h (L_v h = 1), so nothing is proven.
+CUBIC_SEEN = System(["x", "y"], {"x": 0, "y": "y**3"}, {"h": "x + y"}, name="cubic seen")
+# x' = y, y' = 0, h = y: [f, d/dx] = 0 but [f, d/dy] = -Df d/dy = -(1, 0): d/dx is not in
+# the span of d/dy, so d/dy alone spans no kept distribution.
+DRIFT = System(["x", "y", "z"], {"x": "y", "y": 0, "z": 0}, {"h": "z"}, name="drift")
+
+
+def test_a_kept_span_proves_what_no_symmetry_does():
+    """(Hand derivations at the systems above.)"""
+    assert proof.fields_are_symmetries(CUBIC, _fields(["0", "1"]), budget=None) is False
+    assert proof.spans_invariant_distribution(CUBIC, _fields(["0", "1"]), budget=None) is True
+    assert proof.spans_invariant_distribution(CUBIC_SEEN, _fields(["0", "1"]), budget=None) is False
+    assert proof.spans_invariant_distribution(DRIFT, _fields(["0", "1", "0"]), budget=None) is False
+    # d/dx and d/dy together: [f, d/dx] = 0 and [f, d/dy] = -d/dx, both in the span.
+    assert proof.spans_invariant_distribution(DRIFT, _fields(["1", "0", "0"], ["0", "1", "0"]), budget=None) is True
+    # Written the other way round, and through a basis whose pivots are not the first rows:
+    # (y, 1, 0) and (1, 0, 0) span the same plane.
+    assert proof.spans_invariant_distribution(DRIFT, _fields(["0", "1", "0"], ["1", "0", "0"]), budget=None) is True
+    assert proof.spans_invariant_distribution(DRIFT, _fields(["y", "1", "0"], ["1", "0", "0"]), budget=None) is True
+    assert proof.spans_invariant_distribution(CUBIC, [], budget=None) is True
+
+
+# x+ = x + y, y+ = y, z+ = z^3, seen h = x: d/dz is kept (DF d/dz = 3z^2 d/dz at F(x)),
+# d/dy is not (DF d/dy = (1, 1, 0), and h o F = x + y sees y).
+STEP = System(["x", "y", "z"], {"x": "x + y", "y": "y", "z": "z**3"}, {"h": "x"}, time="discrete", name="step")
+
+
+def test_a_discrete_span_is_checked_through_the_map():
+    """(Hand derivations at STEP above.)"""
+    assert proof._rational_identities(STEP, _fields(["0", "0", "1"])) is False
+    assert proof.fields_are_symmetries(STEP, _fields(["0", "0", "1"]), budget=None) is False
+    assert proof.spans_invariant_distribution(STEP, _fields(["0", "0", "1"]), budget=None) is True
+    assert proof.spans_invariant_distribution(STEP, _fields(["0", "1", "0"]), budget=None) is False
+    # z d/dz: DF z d/dz = 3 z^3 d/dz, and z d/dz at F(x) is z^3 d/dz: F commutes with it up to 3.
+    assert proof.spans_invariant_distribution(STEP, _fields(["0", "0", "z"]), budget=None) is True
+    assert proof.fields_are_symmetries(STEP, _fields(["0", "0", "z"]), budget=None) is False
+
+
+def test_the_budget_reaches_the_child_and_a_timeout_proves_nothing(monkeypatch):
+    """The CPU budget the caller gives is the one the child gets; an answer cut off
+    by it (Undecided) proves nothing (False), whatever the identities."""
+    seen = []
+
+    def cut_off(func, *args, seconds):
+        seen.append(seconds)
+        raise proof.Undecided("over budget")
+
+    monkeypatch.setattr(proof, "with_budget", cut_off)
+    assert proof.spans_invariant_distribution(CUBIC, _fields(["0", "1"]), budget=3.5) is False
+    assert proof.fields_are_symmetries(SINE, _fields(["0", "0", "0", "1"]), budget=2.5) is False
+    assert seen == [3.5, 2.5]
+
+
+def test_independence_by_balls_needs_independent_fields():
+    """log(x) is no rational function and no exponential: independence goes to ball
+    arithmetic. (log(x) + y, 0, 0) and twice it are dependent, so nothing is
+    proven although both annihilate h = z with f = 0; (log(x) + y, 0, 0) and
+    (0, log(y), 0) are independent wherever log(y) (log(x) + y) != 0."""
+    system = _static("z", ("x", "y", "z"))
+    dependent = _fields(["log(x) + y", "0", "0"], ["2*log(x) + 2*y", "0", "0"])
+    assert proof._provable(system, dependent) is False
+    assert proof.fields_are_symmetries(system, dependent, budget=None) is False
+    independent = _fields(["log(x) + y", "0", "0"], ["0", "log(y)", "0"])
+    assert proof._provable(system, independent) is True
+    assert proof.fields_are_symmetries(system, independent, budget=None) is True
+
+
+def test_exponents_must_be_rational_and_independent():
+    """exp(m_i) are algebraically independent when the m_i's gradients are (Ax):
+    x and y are; x, y and x + y are not (x + y - x - y = 0); sqrt(x) is no
+    rational exponent."""
+    system = _static("z", ("x", "y", "z"))
+    x, y = sympy.symbols("x y")
+    assert proof._independent_exponents(system, [x, y]) is True
+    assert proof._independent_exponents(system, [x, y, x + y]) is False
+    assert proof._independent_exponents(system, [sympy.sqrt(x)]) is False
+    assert proof._independent_exponents(system, [x * y, x / y]) is True
+    assert proof._independent_exponents(system, [x * y, 2 * x * y]) is False
+
+
+def test_a_field_with_a_vanishing_denominator_proves_nothing():
+    """(sqrt(x^2 + 1) - x)(sqrt(x^2 + 1) + x) - 1 is 0 once W^2 = x^2 + 1 is used:
+    a field with it in a denominator is undefined everywhere, so it proves no
+    independence (whereas 1/(sqrt(x^2 + 1) - x) is a fine field)."""
+    system = _static("z", ("x", "y", "z"))
+    undefined = _fields(["0", "1/((sqrt(x**2 + 1) - x)*(sqrt(x**2 + 1) + x) - 1)", "0"])
+    assert proof._provable(system, undefined) is False
+    assert proof._provable(system, _fields(["0", "1/(sqrt(x**2 + 1) - x)", "0"])) is True
+
+
+# --- the artefact -------------------------------------------------------------------------------------------------
+
+PENDULUM = System(["x1", "x2"], {"x1": "x2", "x2": "-u*x1"}, {"h": "u*x1**2 + x2**2"}, inputs=["u"], name="pendulum")
+SQRT_RANGE = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
+                    {"r": "sqrt((lx - x)**2 + (ly - y)**2)"}, inputs=["v", "w"], parameters=["lx", "ly"],
+                    name="sqrt-range unicycle")
+# x+ = x + u, y+ = c y with a known c = 2, seen h = x y: rank 2 (h = x y, h o F = 2 (x + u) y).
+DISCRETE_DRIVEN = System(["x", "y"], {"x": "x + u", "y": "c*y"}, {"h": "x*y"}, inputs=["u"],
+                         parameters={"c": 2}, time="discrete", name="discrete driven")
+# A bearing through atan2 (the minor is no rational number: 40 digits).
+BEARING = System(["x", "y", "b"], {"x": "v", "y": 0, "b": 0}, {"h": "atan2(y, x)", "g": "b"}, inputs=["v"],
+                 name="bearing")
+
+
+@pytest.mark.parametrize("system", [PENDULUM, SQRT_RANGE, DISCRETE_DRIVEN, BEARING], ids=lambda s: s.name)
+def test_artefacts_written_in_process_are_accepted_by_the_checker(system):
+    """Each artefact, written without a child process, passes the independent
+    checker, which recomputes the minor at the listed point (the inputs' values
+    included) and the generators' identities."""
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    assert proofcheck.check(data).startswith("accepted")
+
+
+def test_the_artefact_lists_exactly_what_the_rows_use():
+    """The discrete driven model: rows h(x_0) and h(x_1) use u_0 only, but the
+    point lists one value per step the expansion took, u_0 ... u_K (K =
+    orders), each a rational; a known parameter is written with its value, and
+    the artefact carries its conventions and the identities its generators
+    satisfy."""
+    result = analyze(DISCRETE_DRIVEN, seed=1)
+    data = proof_evidence(DISCRETE_DRIVEN, result, budget=None)
+    assert set(data) == {"format", "claim", "conventions", "model", "rank", "n_states", "lower_bound", "upper_bound"}
+    assert data["conventions"].startswith("In continuous time the row of order k is the gradient of L_f^k h")
+    assert data["model"]["parameters"] == {"c": "2"}
+    values = data["lower_bound"]["point"]["inputs"]["u"]
+    assert len(values) == result.orders + 1 and all(sympy.Rational(v).is_Rational for v in values)
+    assert data["upper_bound"] == {"generators": [], "kind": "symmetries",
+                                   "identities": proofs.IDENTITIES["symmetries"]}
+    assert proofs.IDENTITIES["symmetries"].startswith("L_v h = 0 for every output h, and [f, v] = 0")
+
+
+def test_a_continuous_artefact_lists_the_input_derivatives_the_rows_use():
+    """The pendulum's row of order k, L_f^k h, holds u, u', ..., u^(k) (h holds u,
+    each Lie derivative one derivative more): K + 1 values for K orders."""
+    result = analyze(PENDULUM, seed=1)
+    values = proof_evidence(PENDULUM, result, budget=None)["lower_bound"]["point"]["inputs"]["u"]
+    assert len(values) == result.orders + 1 and all(sympy.Rational(v).is_Rational for v in values)
+
+
+def test_a_range_written_with_a_root_keeps_its_form_in_the_artefact():
+    """The output is recorded as written, sqrt((lx - x)^2 + (ly - y)^2), and
+    analysed through its square, which the artefact lists apart."""
+    data = proof_evidence(SQRT_RANGE, analyze(SQRT_RANGE, seed=1), budget=None)
+    r = sympy.sympify(data["model"]["outputs"]["r"])
+    lx, ly, x, y = sympy.symbols("lx ly x y")
+    assert sympy.simplify(r - sympy.sqrt((lx - x) ** 2 + (ly - y) ** 2)) == 0
+    assert sympy.expand(sympy.sympify(data["model"]["analysed_outputs"]["r"]) - ((lx - x) ** 2 + (ly - y) ** 2)) == 0
+
+
+def test_no_artefact_for_a_verdict_that_is_not_proven():
+    """Word for word, with the verdict's own word, or "undecided" when it has none."""
+    result = analyze(PENDULUM, seed=1)
+    with pytest.raises(ObservabilityError) as refused:
+        proof_evidence(PENDULUM, dataclasses.replace(result, proof="numerical"), budget=None)
+    assert str(refused.value) == "pendulum: the verdict is not proven (numerical), so there is no proof to write"
+    with pytest.raises(ObservabilityError) as refused:
+        proof_evidence(PENDULUM, dataclasses.replace(result, proof=None), budget=None)
+    assert str(refused.value) == "pendulum: the verdict is not proven (undecided), so there is no proof to write"
+
+
+def test_the_artefact_refuses_a_rank_it_cannot_reproduce_and_passes_its_budget(monkeypatch):
+    """A randomized rank other than the verdict's is an internal mismatch, said
+    with both ranks; the minor's CPU budget is the caller's."""
+    result = analyze(PENDULUM, seed=1)
+    with pytest.raises(ObservabilityError) as refused:
+        proof_evidence(PENDULUM, dataclasses.replace(result, rank=1), budget=None)
+    assert str(refused.value) == "pendulum: internal mismatch of ranks (2 != 1)"
+    seen = []
+
+    def in_process(func, *args, seconds):
+        seen.append(seconds)
+        return func(*args)
+
+    monkeypatch.setattr(proofs, "with_budget", in_process)
+    proof_evidence(PENDULUM, result, budget=7.0)
+    assert seen == [7.0]
+
+
+def test_unverifiable_directions_write_no_artefact(monkeypatch):
+    """When the named directions are neither symmetries nor a kept span, no proof
+    is written, word for word."""
+    result = analyze(CUBIC, seed=1)
+    monkeypatch.setattr(proofs, "spans_invariant_distribution", lambda system, vectors: False)
+    with pytest.raises(ObservabilityError) as refused:
+        proof_evidence(CUBIC, result, budget=None)
+    assert str(refused.value) == "cubic: the named directions could not be re-verified; no proof written"
+
+
+def test_a_minor_that_vanishes_everywhere_is_refused():
+    """dh/dy for h = x is 0 at every point: after its tries the artefact says so."""
+    system = _static("x")
+    with pytest.raises(ObservabilityError) as refused:
+        proofs._minor(system, [("h", 0)], [1], None, 1)
+    assert str(refused.value) == ("static: no exact point with a non-zero minor was found in 12 tries; "
+                                  "no proof written")
+    point, value, exact = proofs._minor(system, [("h", 0)], [0], None, 1)
+    assert (value, exact) == ("1", True) and set(point) == {sympy.Symbol("x"), sympy.Symbol("y")}
+
+
+def test_pivot_rows_eliminate_every_later_vector():
+    """(1, 1, 0), (2, 2, 0), (0, 0, 1) are dependent (the second is twice the
+    first): no pivots. (1, 1, 0), (1, 0, 0), (0, 0, 1) are independent, with
+    pivots at rows 0, 1 (the second minus the first is (0, -1, 0)) and 2.
+    (x, 1, 0), (x^2, x, 0), (0, 0, 1/x): the second is x times the first."""
+    from observability.engine.fractions import RationalFunctions
+
+    x = sympy.Symbol("x")
+    field = RationalFunctions([x])
+
+    def vectors(*rows):
+        return [[field.of(sympy.sympify(e)) for e in row] for row in rows]
+
+    assert proof._pivot_rows(field, vectors([1, 1, 0], [2, 2, 0], [0, 0, 1])) is None
+    assert proof._pivot_rows(field, vectors([1, 1, 0], [1, 0, 0], [0, 0, 1])) == [0, 1, 2]
+    assert proof._pivot_rows(field, vectors([x, 1, 0], [x**2, x, 0], [0, 0, 1 / x])) is None
+    assert proof._pivot_rows(field, vectors([x, 1, 0], [x**2, 0, 0], [0, 0, 1 / x])) == [0, 1, 2]
