@@ -320,3 +320,28 @@ def test_pivot_rows_eliminate_every_later_vector():
     assert proof._pivot_rows(field, vectors([1, 1, 0], [1, 0, 0], [0, 0, 1])) == [0, 1, 2]
     assert proof._pivot_rows(field, vectors([x, 1, 0], [x**2, x, 0], [0, 0, 1 / x])) is None
     assert proof._pivot_rows(field, vectors([x, 1, 0], [x**2, 0, 0], [0, 0, 1 / x])) == [0, 1, 2]
+
+
+def test_the_checker_tests_independence_of_the_generators_exactly():
+    """x, y, z static, seen h = x: d/dy and d/dz are symmetries, rank 1. A file
+    whose second generator is the first times sin(x)^2 + cos(x)^2 (= 1, but not
+    written so) lists two generators that pass every identity and are dependent:
+    the checker must see the 2 x 3 matrix at the point has rank 1."""
+    system = System(["x", "y", "z"], STATIC, {"h": "x"}, name="two symmetries")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    assert proofcheck.check(data).startswith("accepted")
+    first = data["upper_bound"]["generators"][0]["vector"]
+    data["upper_bound"]["generators"][1]["vector"] = {s: f"({e})*(sin(x)**2 + cos(x)**2)" for s, e in first.items()}
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck.check(data)
+    assert str(refused.value) == "the generators are not independent at the point"
+
+
+def test_the_checker_reads_a_parameter_value_without_the_models_names():
+    """A known parameter's value is a number: written as a state's name (c = x),
+    it is refused, not read as the state."""
+    data = json.loads(json.dumps(proof_evidence(DISCRETE_DRIVEN, analyze(DISCRETE_DRIVEN, seed=1), budget=None)))
+    data["model"]["parameters"]["c"] = "x"
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck.check(data)
+    assert str(refused.value) == "not allowed in a proof's expression: 'x'"
