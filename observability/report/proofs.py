@@ -68,14 +68,14 @@ def _rational(rng: random.Random) -> sympy.Rational:
     return sympy.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 5))
 
 
-def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], input_derivatives, seed: int):
+def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int):
     """The chosen minor at an exact random point: (point, value, exact)."""
     if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below
         return {}, "1", True
     wanted = set(rows)
     highest = max(order for _, order in rows)
     expressions: dict[tuple[str, int], sympy.Expr] = {}
-    for k, block in enumerate(lie_derivatives(system, input_derivatives)):
+    for k, block in enumerate(lie_derivatives(system, None)):
         if k > highest:
             break
         for row in block:
@@ -91,9 +91,6 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], inpu
     for _ in range(_ATTEMPTS):
         point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
         at = matrix.xreplace(point)
-        # A pole, or a square root of a negative number: the minor must be real there.
-        if any(e.has(sympy.zoo, sympy.nan) or e.is_real is False for e in at):
-            continue
         if all(e.is_Rational for e in at):
             value = at.det(method="bareiss")
             if value != 0:
@@ -103,7 +100,7 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], inpu
         # (a symbolic determinant of transcendental numbers is far slower).
         numbers = [[sympy.N(e, 60) for e in row] for row in at.tolist()]
         if not all(n.is_Float or n.is_Rational for row in numbers for n in row):
-            continue  # complex there (a root of a negative atan, say) though sympy could not tell above
+            continue  # a pole (zoo), or complex there (a root of a negative number): the minor must be real
         with mpmath.workdps(60):
             value = mpmath.det(mpmath.matrix([[mpmath.mpf(str(n)) for n in row] for row in numbers]))
             if abs(value) > mpmath.mpf("1e-25"):
@@ -155,7 +152,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         raise ObservabilityError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")
     rows = [lower.row_labels[i] for i in lower.independent_rows]
     columns = list(lower.pivot_columns)
-    point, minor, exact = with_budget(_minor, system, rows, columns, None, seed, seconds=budget)
+    point, minor, exact = with_budget(_minor, system, rows, columns, seed, seconds=budget)
     names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
     generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
                   for d in result.unobservable_directions]
