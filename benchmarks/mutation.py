@@ -321,6 +321,37 @@ EQUIVALENT: dict[str, str] = {
         "the polynomials free of t in the ideal are the same",
     **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "t s + 1 or t s - 2 instead of t s - 1: any t s - c "
        "with c != 0 makes s invertible, the same saturation" for k in (13, 15)},
+    # rank/proof.py and report/proofs.py (issue 32, 2026-12-04)
+    **{f"observability.rank.proof.{name}__mutmut_{k}": "a term's sign of 2 or -2, or >= 0 for > 0: _sum reads only "
+       "whether the sign is positive, and every caller passes 1 or -1" for name, numbers in {
+           "x__annihilates": (28, 38, 43, 45), "x__map_identities": (15, 17), "x__in_span": (24, 26),
+           "x__sum": (14,)}.items() for k in numbers},
+    **{f"observability.rank.proof.{name}__mutmut_{k}": "a component tested for a zero denominator instead of a zero "
+       "numerator: a fraction's denominator is never zero, so zero components are included, and they add zero"
+       for name, k in (("x__annihilates", 18), ("x__bracket", 13), ("x__bracket", 28))},
+    **{f"observability.rank.proof.{name}__mutmut_{k}": "the name of a Dummy: a Dummy is a new symbol whatever its "
+       "name" for name, k in (("x__in_coordinates", 63), ("x__named_atoms", 15))},
+    "observability.rank.proof.x__in_coordinates__mutmut_56": "the tie-break among atoms of the same depth: their "
+        "rates do not use each other, so any order of them is right (the depth, which orders inner before outer, "
+        "is kept)",
+    **{f"observability.rank.proof.{name}__mutmut_{k}": "a state under a root and not an angle left out of the roots: "
+       "the root is then a radicand W^2 = z of AlgebraicFunctions, which decides the same identities and the same "
+       "independence exactly" for name, k in (("x__in_coordinates", 20), ("x__provable", 27))},
+    "observability.rank.proof.x__provable__mutmut_4": "no variables for is_rational_function: a state it is not "
+        "told of counts as a constant, so the fields pass as before, and a function of a state (log, atan) goes to "
+        "the mod-p evaluation instead of the balls, which decide the same independence (the evaluation keeps "
+        "log(x y) = log(x) + log(y); tested)",
+    **{f"observability.report.proofs.x__rational__mutmut_{k}": "another exact rational point (positive only, "
+       "integers only, other ranges; never 0): the checker recomputes the minor at whatever point is listed"
+       for k in (2, 3, 4, 5, 7, 8, 9, 14, 15, 20, 21)},
+    **{f"observability.report.proofs.x_proof_evidence__mutmut_{k}": "another seed or no order limit for the "
+       "rows of the minor: the randomized rank is the verdict's rank (else an internal error), and any rows and "
+       "point it finds are re-checked" for k in (20, 22, 25, 26, 28, 29)},
+    "observability.report.proofs.x_proof_evidence__mutmut_12": "square_roots=None: as falsy as False",
+    "observability.report.proofs.x_proof_evidence__mutmut_53": "where= names a parse error, and the verdict's own "
+        "directions always parse",
+    "observability.report.proofs.x_proof_evidence__mutmut_67": "rank <= n instead of <: at rank n the list of "
+        "directions is empty, and no fields are symmetries as they stand (fields_are_symmetries([]) is True)",
     **{f"observability.filters.{name}__mutmut_{k}": "a casadi label (a symbol's, a Function's, an input's or "
        "an output's name): every caller passes and reads the fused steps and N(x) by position (filters/ekf.py, "
        "batch.py, constrained.py); the one name read, the update's input u (ekf._depends_on), has mutants that are "
