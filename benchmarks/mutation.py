@@ -352,6 +352,27 @@ EQUIVALENT: dict[str, str] = {
         "directions always parse",
     "observability.report.proofs.x_proof_evidence__mutmut_67": "rank <= n instead of <: at rank n the list of "
         "directions is empty, and no fields are symmetries as they stand (fields_are_symmetries([]) is True)",
+    **{f"observability.report.proofs.x__minor__mutmut_{k}": why for why, numbers in {
+        "lie_derivatives' own default for the input derivatives, None, the value passed": (12,),
+        "another seed for the point: the checker recomputes the minor at whatever point is listed": (32,),
+        "sympy reads the determinant's method name in lower case": (54,),
+        "61 digits instead of 60 for the entries or the determinant: the checker compares 30": (65, 71),
+        "> or >= (1e-25 or 1E-25) against the threshold: equal only at exact equality of a 60-digit number":
+            (78, 81)}.items() for k in numbers},
+    **{f"observability.rank.proof.{name}__mutmut_{k}": "another rational point (or one more try) for the exact "
+       "independence test: a non-zero minor at any real point proves it, and the tests' fields are independent at "
+       "every point of those ranges or at none" for name, numbers in {
+           "x__independent_exponents": (6, 7, 10, 11, 12, 17, 18, 19, 24, 25),
+           "x__independent_on_the_circle": (2, 3, 6, 9, 10, 11, 16, 17, 18, 23, 24, 28, 29, 30, 35, 36, 37, 42, 43,
+                                            47, 48, 49, 54, 55, 60, 61)}.items() for k in numbers},
+    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the name of a Dummy: a Dummy is a new "
+       "symbol whatever its name" for k in (2, 6)},
+    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the input's rate term subtracted or "
+       "divided by its rate: the rate is a fresh symbol no other term holds, so the bracket is zero exactly when "
+       "dv/du is zero and the rest vanishes, whatever the sign or the power of the rate" for k in (50, 70)},
+    **{f"observability.rank.proofcheck.x_check__mutmut_{k}": "rank(simplify=...) at the point: sympy's rank decides "
+       "the zero pivots of these numbers (rationals, roots, values of sin, exp, log, atan at rationals) the same "
+       "without simplification (tried on trigonometric, logarithmic and exponential identities)" for k in (178, 181)},
     **{f"observability.filters.{name}__mutmut_{k}": "a casadi label (a symbol's, a Function's, an input's or "
        "an output's name): every caller passes and reads the fused steps and N(x) by position (filters/ekf.py, "
        "batch.py, constrained.py); the one name read, the update's input u (ekf._depends_on), has mutants that are "

@@ -451,3 +451,47 @@ def test_roots_next_to_exponentials_are_independent_by_balls():
     positive): the balls see it at any real point."""
     system = _static("z", ("x", "y", "z"))
     assert proof._provable(system, _fields(["sqrt(x**2 + 1)", "0", "0"], ["0", "exp(y)", "0"])) is True
+
+
+def test_a_rank_zero_proof_with_an_input_needs_one_input_value():
+    """x' = u seen through y = 2: rank 0, no rows, so the point needs one value of
+    u (order 0) and no more; the checker accepts the file as written."""
+    system = System(["x"], {"x": "u"}, {"y": "2"}, inputs=["u"], name="blind driven")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    assert data["lower_bound"]["point"]["inputs"] == {"u": ["0"]}
+    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of blind driven "
+                                             "is 0 of 1")
+
+
+def test_non_rational_subexpressions_become_free_variables():
+    """x^2 + sin(x)^3 y^-2: the sine is one free variable A (the same at both
+    places), the integer powers stay powers of what they raise."""
+    x, y = sympy.symbols("x y")
+    named: dict = {}
+    written = proof._named_atoms(x**2 + sympy.sin(x) ** 3 * y**-2 + sympy.sin(x), named)
+    (atom, variable), = named.items()
+    assert atom == sympy.sin(x)
+    assert sympy.expand(written - (x**2 + variable**3 / y**2 + variable)) == 0
+
+
+# x+ = 2x, y+ = 3y, seen h = y/x: rank 1. v = (1, y/x) leaves h alone; DF v = (2, 3y/x)
+# = 2 v(F(x)) (v(F(x)) = (1, 3y/(2x))), so span{v} is kept by the map although v is
+# no symmetry and DF v is not along v itself (nor is the bracket [F, v] = -2v along v(F(x))).
+SCALING = System(["x", "y"], {"x": "2*x", "y": "3*y"}, {"h": "y/x"}, time="discrete", name="scaling")
+
+
+def test_the_checker_takes_a_discrete_span_at_the_next_state():
+    """(Hand derivation at SCALING above.) The tool's file, with v = (1, y/x) as
+    an invariant span, is accepted; span{d/dy} of x+ = x + y (DF d/dy = (1, 1, 0),
+    not along d/dy) is refused, naming DF v."""
+    data = json.loads(json.dumps(proof_evidence(SCALING, analyze(SCALING, seed=1), budget=None)))
+    data["upper_bound"].update(kind="invariant span",
+                               generators=[{"name": "scaling", "vector": {"x": "1", "y": "y/x"}}])
+    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of scaling "
+                                             "is 1 of 2")
+    model = {"time": "discrete", "states": ["x", "y", "z"], "inputs": []}
+    x, y, z = symbols = sympy.symbols("x y z")
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck._verified_span([{"name": "shear", "vector": {"y": "1"}}], model, dict(zip("xyz", symbols)), {},
+                                  [x, y, z], [x + y, y, z], {"h": z}, {x: 1, y: 2, z: 3})
+    assert str(refused.value) == "generator 'shear': component x of DF v leaves the span"
