@@ -337,6 +337,12 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.rank.proof.{name}__mutmut_{k}": "a state under a root and not an angle left out of the roots: "
        "the root is then a radicand W^2 = z of AlgebraicFunctions, which decides the same identities and the same "
        "independence exactly" for name, k in (("x__in_coordinates", 20), ("x__provable", 27))},
+    **{f"observability.rank.proof.x__provable__mutmut_{k}": "a list of symbols left out of is_rational_function "
+       "(the T of the angles, the roots, the named exponentials or the radicands): a symbol it is not told of counts "
+       "as a constant, so the same fields pass" for k in (37, 38, 39, 40, 41)},
+    **{f"observability.rank.proof.x__provable__mutmut_{k}": "gradients=None (as falsy as False), or another number "
+       "of points for point_rank: a redraw is needed only after a point on a pole" for k in (97, 102, 104)},
+    "observability.rank.proof.x__radicals__mutmut_14": "the name of a Dummy: a Dummy is a new symbol whatever its name",
     "observability.rank.proof.x__provable__mutmut_4": "no variables for is_rational_function: a state it is not "
         "told of counts as a constant, so the fields pass as before, and a function of a state (log, atan) goes to "
         "the mod-p evaluation instead of the balls, which decide the same independence (the evaluation keeps "

@@ -55,6 +55,11 @@ ATOMS = [
     # sqrt(x^2 + y^2)/z along (x, y, z): the radicand's rate dg/(2 sqrt(g)) gives sqrt(g)/z,
     # the quotient's -sqrt(g)/z: 0; along (x, y, -z): 2 sqrt(g)/z.
     ("sqrt(x**2 + y**2)/z", ["x", "y", "z"], ["x", "y", "-z"]),
+    # sqrt(x^2 + y^2)^3/z^3, which sympy holds as g^(3/2) (W^3), along (x, y, z): 3h - 3h = 0;
+    # along (x, y, -z): 6h.
+    ("sqrt(x**2 + y**2)**3/z**3", ["x", "y", "z"], ["x", "y", "-z"]),
+    # Two radicands (sorted to be named): d/dz leaves sqrt(x^2 + 1) sqrt(y^2 + 1) alone, d/dx does not.
+    ("sqrt(x**2 + 1)*sqrt(y**2 + 1)", ["0", "0", "1"], ["1", "0", "0"]),
     # sqrt(z)/x (z under a root: W = sqrt(z), dW = dz/(2W)) along (x, 2z):
     # -sqrt(z)/x + 2z/(2 sqrt(z) x) = 0; along (x, z): -sqrt(z)/(2x).
     ("sqrt(y)/x", ["x", "2*y"], ["x", "y"]),
@@ -65,7 +70,7 @@ ATOMS = [
 def test_each_atom_is_differentiated_with_its_own_rate(output, kept, moved):
     """The flint route decides each case itself (True or False, never None: then
     the expression route would have decided instead), and so does the verdict."""
-    states = ("x", "y", "z") if len(kept) == 3 else ("x", "y")
+    states = ("x", "y", "z")[:len(kept)]
     system = _static(output, states)
     assert proof._rational_identities(system, _fields(kept)) is True
     assert proof._rational_identities(system, _fields(moved)) is False
@@ -435,7 +440,20 @@ def test_independence_is_proven_exactly_where_it_can_be(monkeypatch):
     assert balls == []
     assert proof._provable(system, _fields(["0", "sin(x*y)", "0"])) is True
     assert proof._provable(system, _fields(["sqrt(x**2 + 1)", "0", "0"], ["0", "exp(y)", "0"])) is True
-    assert [(ours, len(fields)) for ours, fields in balls] == [(True, 1), (True, 2)]
+    # exp(x) and exp(2x): exponents with dependent gradients.
+    assert proof._provable(system, _fields(["exp(x)", "1", "0"], ["exp(2*x)", "0", "1"])) is True
+    assert [(ours, len(fields)) for ours, fields in balls] == [(True, 1), (True, 2), (True, 2)]
+
+
+def test_sines_of_states_are_independent_on_the_circle(monkeypatch):
+    """Fields in sin(x) are tested at rational T = tan(x/2), a real point with
+    exact values, not drawn mod p."""
+    circle = []
+    monkeypatch.setattr(proof, "_independent_on_the_circle",
+                        lambda system, fields, angles, roots: circle.append(sorted(map(str, angles))) or True)
+    system = _static("z", ("x", "y", "z"))
+    assert proof._provable(system, _fields(["sin(x)", "0", "0"])) is True
+    assert circle == [["x"]]
 
 
 def test_logarithms_are_no_free_variables_for_independence():
@@ -478,6 +496,18 @@ def test_non_rational_subexpressions_become_free_variables():
 # = 2 v(F(x)) (v(F(x)) = (1, 3y/(2x))), so span{v} is kept by the map although v is
 # no symmetry and DF v is not along v itself (nor is the bracket [F, v] = -2v along v(F(x))).
 SCALING = System(["x", "y"], {"x": "2*x", "y": "3*y"}, {"h": "y/x"}, time="discrete", name="scaling")
+
+
+def test_the_checker_takes_the_bracket_of_a_continuous_span_with_its_sign():
+    """x' = -y, y' = x, seen h = x^2 + y^2: rank 1, the rotation v = (-y, x) = f
+    commutes with f ([f, v] = Dv f - Df v = 0, a span kept), whereas Dv f + Df v =
+    2 Df f = -2 (x, y) is not along v: a file declaring the rotation an
+    invariant span is accepted."""
+    system = System(["x", "y"], {"x": "-y", "y": "x"}, {"h": "x**2 + y**2"}, name="rotation")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data["upper_bound"].update(kind="invariant span", generators=[{"name": "turn", "vector": {"x": "-y", "y": "x"}}])
+    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of rotation "
+                                             "is 1 of 2")
 
 
 def test_the_checker_takes_a_discrete_span_at_the_next_state():
