@@ -510,6 +510,17 @@ def test_the_checker_takes_the_bracket_of_a_continuous_span_with_its_sign():
                                              "is 1 of 2")
 
 
+def test_the_checker_takes_a_continuous_span_at_the_state_itself():
+    """x' = x, y' = 2y, seen h = y/x: rank 1 (L_f h = h). v = (1, y/x): [f, v] =
+    Dv f - Df v = (0, y/x) - (1, 2y/x) = -v, kept; v at f(x) = (x, 2y) would be
+    (1, 2y/x), which -v is not along."""
+    system = System(["x", "y"], {"x": "x", "y": "2*y"}, {"h": "y/x"}, name="flow scaling")
+    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data["upper_bound"].update(kind="invariant span", generators=[{"name": "ray", "vector": {"x": "1", "y": "y/x"}}])
+    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of flow "
+                                             "scaling is 1 of 2")
+
+
 def test_the_checker_takes_a_discrete_span_at_the_next_state():
     """(Hand derivation at SCALING above.) The tool's file, with v = (1, y/x) as
     an invariant span, is accepted; span{d/dy} of x+ = x + y (DF d/dy = (1, 1, 0),
