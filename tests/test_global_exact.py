@@ -1,0 +1,114 @@
+"""The generators of the field of globally observable functions
+(``analysis/globalfield.py``), the field test (``analysis/generators.py``) and
+the fibre (``analysis/fibre.py``), decided in process and checked by hand or
+against sympy (issue 32: the global group's mutants).
+"""
+
+import sympy
+import pytest
+
+from observability import System
+from observability.analysis import globalfield
+from observability.analysis.globalfield import FieldGenerators, field_generators, pair_candidates
+from observability.analysis.rationalmodel import rational_model
+
+SQUARE = System(["x"], {"x": 0}, {"y": "x**2"}, name="square")
+
+
+def test_pairs_are_every_product_and_sum_of_two_up_to_the_limit():
+    """Of k items: k(k + 1)/2 products (squares included) and k(k - 1)/2 sums,
+    each keyed by its indices i <= j; at 12 items (the limit) 78 + 66 = 144,
+    above it none."""
+    items = sympy.symbols("a0:12")
+    pairs = pair_candidates(items)
+    assert len(pairs) == 144 and globalfield.MAX_PAIRED == 12
+    assert ((0, 0), items[0] ** 2) in pairs and ((0, 1), items[0] * items[1]) in pairs
+    assert ((0, 1), items[0] + items[1]) in pairs and ((3, 11), items[3] + items[11]) in pairs
+    assert all(i <= j for (i, j), _ in pairs) and len({(key, str(e)) for key, e in pairs}) == 144
+    assert pair_candidates(sympy.symbols("a0:13")) == []
+    a, b = sympy.symbols("a b")
+    assert pair_candidates([a / b, b]) == [((0, 0), a**2 / b**2), ((0, 1), a), ((0, 1), (a + b**2) / b),
+                                          ((1, 1), b**2)]
+
+
+def test_gradients_at_the_point_are_sympy_s():
+    """The quotient rule on the polynomials of (x^2 y + 1)/(x - y^3) at (3, 2)
+    gives sympy's derivative of the expression; a coordinate the fraction does
+    not hold (z) gets 0. By hand: n = 19, d = -5, d/dx = (2xy d - n)/d^2 =
+    (-60 - 19)/25, d/dy = (x^2 d + 3y^2 n)/d^2 = (-45 + 228)/25."""
+    x, y, z = sympy.symbols("x y z")
+    expression = (x**2 * y + 1) / (x - y**3)
+    field = sympy.polys.fields.FracField([x, y], sympy.QQ)
+    element = field.from_expr(expression)
+    point = {x: sympy.Integer(3), y: sympy.Integer(2), z: sympy.Integer(5)}
+    expected = [sympy.diff(expression, c).xreplace(point) for c in (x, y, z)]
+    assert expected == [sympy.Rational(-79, 25), sympy.Rational(183, 25), 0]
+    assert globalfield._fraction_gradient(element, [x, y, z], point) == expected
+    assert all(isinstance(g, sympy.Rational) for g in globalfield._fraction_gradient(element, [x, y, z], point))
+    assert globalfield._gradient((x**2 * y + 1, x - y**3), [x, y, z], point) == expected
+
+
+def test_the_square_s_field_is_generated_by_the_listed_square():
+    """y = x^2 (x constant): K = Q(x^2). The listed x^2 already has the rank 1,
+    so nothing is added, and it generates K."""
+    x = sympy.Symbol("x")
+    found = field_generators(rational_model(SQUARE), ["y"], [1], [("x**2", x**2)], 1, seed=1, error=0.01)
+    assert found.generators == ("x**2",) and found.generates is True
+    assert found.how.startswith("each is globally observable, and every Lie derivative up to the truncation lies "
+                                "in their field (Thm 3.3 at a random point of ")
+
+
+def test_no_point_off_the_poles_is_undecided(monkeypatch):
+    """When every random point hits a denominator, the list stands as it is and
+    the answer is undecided, saying why."""
+    x = sympy.Symbol("x")
+    monkeypatch.setattr(globalfield, "_point", lambda *args: None)
+    found = field_generators(rational_model(SQUARE), ["y"], [1], [("x**2", x**2)], 1, seed=1, error=0.01)
+    assert found == FieldGenerators(("x**2",), None, "undecided: a denominator vanishes at every random point")
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_a_lie_derivative_is_added_when_the_list_is_short(seed):
+    """y = x^2 with nothing listed: L^0 y = x^2 raises the rank to 1 and is added
+    (printed as "L^0 y = x**2"); L^1 y = 0 adds nothing."""
+    found = field_generators(rational_model(SQUARE), ["y"], [1], [], 1, seed=seed, error=0.01)
+    assert found.generators == ("L^0 y = x**2",) and found.generates is True
+
+
+def test_a_list_that_misses_a_lie_derivative_gets_it():
+    """y = x^2 listing x^4: of transcendence degree 1 (the rank), in K, but
+    Q(x^4) does not hold x^2 = L^0 y, which is added; L^1 y = 0 is in any field."""
+    x = sympy.Symbol("x")
+    found = field_generators(rational_model(SQUARE), ["y"], [1], [("x**4", x**4)], 1, seed=1, error=0.01)
+    assert found.generators == ("x**4", "L^0 y = x**2") and found.generates is True
+
+
+def test_a_list_that_cannot_reach_the_rank_is_undecided():
+    """Asked for rank 2 on y = x^2 (rank 1), the Jacobian stays at 1: undecided,
+    with the field test's reason."""
+    x = sympy.Symbol("x")
+    found = field_generators(rational_model(SQUARE), ["y"], [1], [("x**2", x**2)], 2, seed=1, error=0.01)
+    assert found == FieldGenerators(("x**2",), None, "undecided: the functions' Jacobian does not reach the rank 2 "
+                                                     "at the random point")
+
+
+def test_lie_derivatives_are_added_lowest_order_first_in_the_outputs_order():
+    """x, z static, seen b = z and a = x: rank 2; L^0 b and L^0 a each raise it,
+    in the order the outputs are given (not by name)."""
+    system = System(["x", "z"], {"x": 0, "z": 0}, {"b": "z", "a": "x"}, name="two")
+    found = field_generators(rational_model(system), ["b", "a"], [1, 1], [], 2, seed=1, error=0.01)
+    assert found.generators == ("L^0 b = z", "L^0 a = x") and found.generates is True
+
+
+def test_a_generator_is_printed_up_to_400_characters():
+    """c x with c = 10^397 prints as 400 characters, shown; with 10^398, 401, only
+    its label; in half-angle coordinates (an angle among the states) only the label."""
+    x = sympy.Symbol("x")
+    field = sympy.polys.fields.FracField([x], sympy.QQ)
+    model = rational_model(SQUARE)
+    at_limit, above = sympy.Integer(10) ** 397 * x, sympy.Integer(10) ** 398 * x
+    assert len(sympy.sstr(sympy.factor_terms(at_limit))) == 400 == globalfield.MAX_GENERATOR_CHARS
+    assert globalfield._shown("L^0 y", field.from_expr(at_limit), model) == f"L^0 y = {sympy.sstr(at_limit)}"
+    assert globalfield._shown("L^0 y", field.from_expr(above), model) == "L^0 y"
+    turning = rational_model(System(["th"], {"th": 0}, {"y": "cos(th)"}, name="turning"))
+    assert turning.angles and globalfield._shown("L^0 y", field.from_expr(x), turning) == "L^0 y"
