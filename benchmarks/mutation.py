@@ -379,6 +379,26 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.rank.proofcheck.x_check__mutmut_{k}": "rank(simplify=...) at the point: sympy's rank decides "
        "the zero pivots of these numbers (rationals, roots, values of sin, exp, log, atan at rationals) the same "
        "without simplification (tried on trigonometric, logarithmic and exponential identities)" for k in (178, 181)},
+    # analysis/globalfield.py (issue 32, 2026-12-04)
+    **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
+        "another seed or range for the random point, or one more draw: the answer holds at every point off the "
+        "poles, with the error probability of the field test, which draws its own point": (
+            ("x__point", (2, 4, 11, 12, 13, 14, 15, 16, 17)), ("x_field_generators", (34, 85))),
+        "one more input derivative among the variables or the jets: one the Lie derivatives do not hold, never "
+        "read": (("x_field_generators", (29,)), ("x__lie_elements", (9,))),
+        "every Lie derivative is an element of the same fraction field, so any of them gives it":
+            (("x__lie_elements", (19,)),),
+        "the field test recomputes the Lie derivatives when not given them, the same ones": (
+            ("x_field_generators", (89, 99)),),
+        "the loop goes on at the rank instead of stopping: no Lie derivative (an element of K) can raise the rank "
+        "of the list's Jacobian above the transcendence degree of K, so nothing more is added":
+            (("x_field_generators", (60,)),),
+        "the element's pair is compared with the list's only to avoid a duplicate, and a Lie derivative the test "
+        "finds outside Q(g) is never among the g": (("x_field_generators", (106,)),),
+        "the number of terms only spares printing an expression whose text would be longer than 400 characters "
+        "anyway (each term takes two characters at least): the text's own length decides":
+            (("x__shown", (2, 3, 4, 5)),),
+    }.items() for name, numbers in names for k in numbers},
     **{f"observability.filters.{name}__mutmut_{k}": "a casadi label (a symbol's, a Function's, an input's or "
        "an output's name): every caller passes and reads the fused steps and N(x) by position (filters/ekf.py, "
        "batch.py, constrained.py); the one name read, the update's input u (ekf._depends_on), has mutants that are "

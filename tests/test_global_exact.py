@@ -93,11 +93,38 @@ def test_a_list_that_cannot_reach_the_rank_is_undecided():
 
 
 def test_lie_derivatives_are_added_lowest_order_first_in_the_outputs_order():
-    """x, z static, seen b = z and a = x: rank 2; L^0 b and L^0 a each raise it,
-    in the order the outputs are given (not by name)."""
-    system = System(["x", "z"], {"x": 0, "z": 0}, {"b": "z", "a": "x"}, name="two")
-    found = field_generators(rational_model(system), ["b", "a"], [1, 1], [], 2, seed=1, error=0.01)
-    assert found.generators == ("L^0 b = z", "L^0 a = x") and found.generates is True
+    """x, w static, z' = w, seen b = z and a = x: rank 3. Order 0 before order 1,
+    each order in the outputs' order (not by name): L^0 b = z, L^0 a = x, then
+    L^1 b = w (L^1 a = 0 adds nothing)."""
+    system = System(["x", "z", "w"], {"x": 0, "z": "w", "w": 0}, {"b": "z", "a": "x"}, name="three")
+    found = field_generators(rational_model(system), ["b", "a"], [1, 1], [], 3, seed=1, error=0.01)
+    assert found.generators == ("L^0 b = z", "L^0 a = x", "L^1 b = w") and found.generates is True
+
+
+@pytest.mark.parametrize("dynamics,rank,expected", [
+    # L^1 y = a u + b: a polynomial in u whose coefficients a (of u) and b (of 1) lie in K,
+    # listed as sympy's Poly(., u).coeffs() lists them, highest power first.
+    ("a*u + b", 3, ("L^0 y = x", "a coefficient of L^1 y in the inputs = a",
+                    "a coefficient of L^1 y in the inputs = b")),
+    # L^1 y = u/a: the coefficient keeps the denominator.
+    ("u/a", 2, ("L^0 y = x", "a coefficient of L^1 y in the inputs = 1/a")),
+])
+def test_with_an_input_the_coefficients_in_its_derivatives_are_the_generators(dynamics, rank, expected):
+    """x' as given, the constants a (and b) static, seen y = x: L^0 y = x is free
+    of u and listed whole; L^1 y is split into its coefficients in u."""
+    states = ["x", "a", "b"][:rank]
+    system = System(states, {"x": dynamics, **{s: 0 for s in states[1:]}}, {"y": "x"}, inputs=["u"], name="driven")
+    found = field_generators(rational_model(system), ["y"], [2], [], rank, seed=1, error=0.01, inputs=system.inputs)
+    assert found.generators == expected and found.generates is True
+
+
+def test_a_point_on_a_pole_of_a_listed_function_is_refused():
+    """A listed function with denominator 0 has a pole everywhere: no point; with
+    denominator x, any non-zero x."""
+    x = sympy.Symbol("x")
+    assert globalfield._point([x], [(sympy.Integer(1), sympy.Integer(0))], [], 1) is None
+    point = globalfield._point([x], [(sympy.Integer(1), x)], [], 1)
+    assert point[x] != 0 and abs(point[x]) <= 10**6
 
 
 def test_a_generator_is_printed_up_to_400_characters():

@@ -171,7 +171,7 @@ def _point(variables: Sequence[sympy.Symbol], pairs: Sequence[tuple[sympy.Expr, 
 
 
 def _value(poly: Any, point: dict) -> Any:
-    return poly(*(point[s] for s in poly.ring.symbols)) if poly.ring.ngens else poly
+    return poly(*(point[s] for s in poly.ring.symbols))
 
 
 def _gradient(pair: tuple[sympy.Expr, sympy.Expr], coordinates: Sequence[sympy.Symbol], point: dict) -> list:
