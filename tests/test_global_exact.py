@@ -139,3 +139,51 @@ def test_a_generator_is_printed_up_to_400_characters():
     assert globalfield._shown("L^0 y", field.from_expr(above), model) == "L^0 y"
     turning = rational_model(System(["th"], {"th": 0}, {"y": "cos(th)"}, name="turning"))
     assert turning.angles and globalfield._shown("L^0 y", field.from_expr(x), turning) == "L^0 y"
+
+
+def _fibre(system, orders, rank, seed=1):
+    from observability.analysis.fibre import fibre_through
+    import random
+
+    return fibre_through(system, rational_model(system), orders, rank, 1000, random.Random(seed))
+
+
+def test_the_fibre_fixes_the_free_coordinates_at_the_point():
+    """x, z static, seen y = x: rank 1; z completes the transcendence basis and is
+    fixed at its value z(a), so z is constant on the fibre (z - z(a) lies in its
+    ideal) and so is x; x + z is constant too, x z^2 as well."""
+    system = System(["x", "z"], {"x": 0, "z": 0}, {"y": "x"}, name="one seen")
+    fibre = _fibre(system, {"y": 1}, 1)
+    x, z = sympy.symbols("x z")
+    assert fibre.at[z] != 0
+    for constant in (z, x, x + z, x * z**2):
+        assert fibre.constant_on((constant, sympy.Integer(1)))
+
+
+def test_a_point_on_a_pole_is_drawn_again_and_every_pole_is_refused(monkeypatch):
+    """A ZeroDivisionError from the jets (a denominator vanishing at the point)
+    sends the draw to the next point; when every point does, the model is refused,
+    word for word."""
+    from observability.analysis import fibre as fibres
+    from observability.errors import ModelError
+
+    real, calls = fibres.jet_equations, []
+
+    def once_on_a_pole(*args):
+        calls.append(1)
+        if len(calls) == 1:
+            raise ZeroDivisionError
+        return real(*args)
+
+    monkeypatch.setattr(fibres, "jet_equations", once_on_a_pole)
+    system = System(["x"], {"x": 0}, {"y": "x**2"}, name="square")
+    assert _fibre(system, {"y": 1}, 1).constant_on((sympy.Symbol("x") ** 2, sympy.Integer(1)))
+    assert len(calls) == 2
+
+    def always(*args):
+        raise ZeroDivisionError
+
+    monkeypatch.setattr(fibres, "jet_equations", always)
+    with pytest.raises(ModelError) as refused:
+        _fibre(system, {"y": 1}, 1)
+    assert str(refused.value) == "--global: a denominator of the model vanishes at every random point"
