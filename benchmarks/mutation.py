@@ -384,6 +384,17 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.fibre.x_known_variables__mutmut_{k}": "max over the outputs' orders with another "
        "default, or one more input derivative: a System has an output, and a derivative no Lie derivative holds "
        "is drawn and never read" for k in (3, 5, 6, 13)},
+    **{f"observability.analysis.generators.{name}__mutmut_{k}": why for why, names in {
+        "max over the outputs' orders with another default: a System has an output": (
+            ("x_generate_the_field", (11, 13, 14)), ("x_lie_derivatives_of_outputs", (9, 11, 12, 49, 51, 52))),
+        "one more input derivative among the known variables, or a larger degree for them: the sampling range only "
+        "grows, and the stated error bound holds for any range at least as large":
+            (("x_generate_the_field", (15, 50, 51)),),
+        "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
+        "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (64,)),),
+        "sum's start 0 instead of the ring's zero: an int 0 plus a field element is the element, and there is always "
+        "a speed": (("x_lie_derivatives_of_outputs", (70, 76)),),
+    }.items() for name, numbers in names for k in numbers},
     # analysis/globalfield.py (issue 32, 2026-12-04)
     **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "

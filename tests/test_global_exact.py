@@ -187,3 +187,50 @@ def test_a_point_on_a_pole_is_drawn_again_and_every_pole_is_refused(monkeypatch)
     with pytest.raises(ModelError) as refused:
         _fibre(system, {"y": 1}, 1)
     assert str(refused.value) == "--global: a denominator of the model vanishes at every random point"
+
+
+DRIVEN = System(["x", "a", "b"], {"x": "a*u + b", "a": 0, "b": 0}, {"y": "x"}, inputs=["u"], name="driven")
+
+
+def test_lie_derivatives_carry_the_input_chain():
+    """x' = a u + b, y = x: by hand L^0 y = x, L^1 y = a u + b, L^2 y = a u'
+    (d/du (a u + b) u'), L^3 y = a u''."""
+    from observability.analysis.generators import lie_derivatives_of_outputs
+    from observability.engine.lie import input_derivative
+
+    x, a, b, u = sympy.symbols("x a b u")
+    u1, u2 = input_derivative(u, 1), input_derivative(u, 2)
+    found = lie_derivatives_of_outputs(rational_model(DRIVEN), [3], DRIVEN.inputs)
+    assert [j for j, _ in found] == [0, 1, 2, 3]
+    assert [sympy.expand(f.as_expr()) for _, f in found] == [x, a * u + b, a * u1, a * u2]
+
+
+def _generation(system, names, orders, functions, rank, inputs=()):
+    from observability.analysis.generators import generate_the_field
+
+    return generate_the_field(rational_model(system), names, orders, functions, rank, 1, 0.01, (), inputs)
+
+
+def test_the_field_test_uses_the_gradients_of_the_quotients():
+    """x, z static, seen x/z and x z: rank 2, and the two generate the field (their
+    Jacobian (1/z, -x/z^2), (z, x) has determinant 2x/z). The products n d would
+    be x z twice, of rank 1."""
+    system = System(["x", "z"], {"x": 0, "z": 0}, {"p": "x/z", "q": "x*z"}, name="quotient")
+    x, z = sympy.symbols("x z")
+    found = _generation(system, ["p", "q"], [1, 1], [x / z, x * z], 2)
+    assert (found.generates, found.missing) == (True, ()) and isinstance(found.bits, int) and found.bits > 0
+
+
+def test_a_missing_lie_derivative_is_named_with_its_own_output():
+    """y1 = x, y2 = z^2 listing x and z^4: Q(x, z^4) holds x and every L^k of
+    order 1 (all 0) but not z^2 = L^0 y2."""
+    system = System(["x", "z"], {"x": 0, "z": 0}, {"y1": "x", "y2": "z**2"}, name="two outputs")
+    x, z = sympy.symbols("x z")
+    found = _generation(system, ["y1", "y2"], [1, 1], [x, z**4], 2)
+    assert (found.generates, found.missing) == (False, ("L^0 y2",))
+
+
+def test_a_function_with_a_pole_everywhere_leaves_the_field_test_undecided():
+    """A pair with denominator 0 has a pole at every point: the reason, word for word."""
+    x = sympy.Symbol("x")
+    assert _generation(SQUARE, ["y"], [1], [(x, sympy.Integer(0))], 1) == "a denominator vanishes at every random point"
