@@ -470,6 +470,9 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
         'also_copy = ["examples", "reports", "README.md", "benchmarks", "docs"]\n'
         f"only_mutate = {listing(modules)}\n"
         'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider", "-m", "not fresh_interpreter"]\n'
+        # mutmut's CPU limit per mutant is 2 x multiplier x (the tests' time + 1 s); its default multiplier, 15,
+        # lets a mutant that loops forever (a Groebner basis that never closes) run for minutes.
+        'timeout_multiplier = 4.0\n'
         f"pytest_add_cli_args_test_selection = {listing(tests)}\n"
     )
 
