@@ -123,6 +123,15 @@ def test_the_refusal_of_an_unknown_function_lists_what_is_allowed():
     assert allowed == sorted(allowed) and {"sin", "atan2", "sqrt", "cross", "rotation_from_quaternion"} <= set(allowed)
 
 
+def test_the_refusal_of_an_unknown_function_names_its_column():
+    """The list of allowed functions makes the message long; its end still names
+    the call's column, here 5 (a mutation run found the node unread)."""
+    with pytest.raises(ModelFileError) as caught:
+        parse_value("y + f(x)", NAMES, where="w", vectors=VECTORS)
+    assert str(caught.value).startswith("w: function 'f' is not allowed (allowed: ")
+    assert str(caught.value).endswith(", prev) in 'y + f(x)' (column 5)")
+
+
 def test_slices_and_indices_select_the_components_they_name():
     """Python's rules: p[:2] = (p0, p1), p[1:] = (p1, p2), p[0:3] = p (an end may equal the size),
     p[-1] = p2, [p, p][1, 2] = p2; a vector of vectors is a matrix by rows."""
