@@ -132,6 +132,14 @@ def test_the_refusal_of_an_unknown_function_names_its_column():
     assert str(caught.value).endswith(", prev) in 'y + f(x)' (column 5)")
 
 
+def test_a_number_too_long_is_refused_at_its_column():
+    """The 1001-digit literal after 'y + ' starts at column 5."""
+    with pytest.raises(ModelFileError) as caught:
+        parse_value("y + " + "1" * 1001, NAMES, where="w", vectors=VECTORS)
+    assert str(caught.value).startswith("w: a number of more than 1000 characters in 'y + 111")
+    assert str(caught.value).endswith("(column 5)")
+
+
 def test_slices_and_indices_select_the_components_they_name():
     """Python's rules: p[:2] = (p0, p1), p[1:] = (p1, p2), p[0:3] = p (an end may equal the size),
     p[-1] = p2, [p, p][1, 2] = p2; a vector of vectors is a matrix by rows."""
