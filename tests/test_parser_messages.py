@@ -84,6 +84,8 @@ REFUSED = [
                   "'y + p @ p' (column 5)"),
     ("y + f(x)", "function 'f' is not allowed (allowed: "),
     ("y + sin(x, y)", "sin takes 1 argument, got 2 in 'y + sin(x, y)' (column 5)"),
+    ("y + p ** 2", "** takes a scalar, got a vector of 3 components in 'y + p ** 2' (column 5)"),
+    ("y + 2 ** p", "** takes a scalar, got a vector of 3 components in 'y + 2 ** p' (column 5)"),
     ("y + atan2(x)", "atan2 takes 2 arguments, got 1 in 'y + atan2(x)' (column 5)"),
     ("y + sin(x=1)", "keyword arguments to sin are not allowed in 'y + sin(x=1)' (column 5)"),
     ("y + [sin][0](x)", "only plain function calls are allowed in 'y + [sin][0](x)' (column 5)"),
