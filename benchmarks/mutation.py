@@ -410,6 +410,11 @@ EQUIVALENT: dict[str, str] = {
         "of its leading monomial lcm is a or b (then the normal form is that of +-S) or an element whose leading "
         "monomial divides the lcm, which makes the pair redundant by Buchberger's chain criterion (400 random "
         "ideals gave sympy's bases)",
+    **{f"observability.rank.ideal.x_groebner_basis__mutmut_{k}": "the order of the divisors of an S-polynomial: "
+       "any order gives a remainder of the same ideal, and the reduced basis is unique" for k in (72, 74)},
+    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_5": "a polynomial times its constant denominator "
+        "instead of divided by it: a non-zero constant multiple, which generates the same ideal and is a member "
+        "exactly when the polynomial is",
     # analysis/globalfield.py (issue 32, 2026-12-04)
     **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "

@@ -74,3 +74,13 @@ def test_saturation_removes_the_component_where_the_denominator_vanishes():
     assert saturated_basis([x * y], [x, y], x).contains(y)
     assert not saturated_basis([x * y], [x, y], sympy.Integer(1)).contains(y)
     assert not saturated_basis([x * y], [x, y], x).contains(sympy.Integer(1))
+
+
+def test_a_fraction_is_no_polynomial_of_the_ideal():
+    """x/y is refused by name; x/2 is a polynomial (a rational coefficient)."""
+    import pytest
+
+    with pytest.raises(ValueError) as refused:
+        ReducedBasis([x / y], [x, y])
+    assert str(refused.value) == "not a polynomial: x/y"
+    assert ReducedBasis([x / 2 - 1], [x, y]).expressions() == [x - 2]
