@@ -415,6 +415,13 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_5": "a polynomial times its constant denominator "
         "instead of divided by it: a non-zero constant multiple, which generates the same ideal and is a member "
         "exactly when the polynomial is",
+    **{f"observability.model.expressions.x_parse_value__mutmut_{k}": "the defaults of msg and offset: on the "
+       "Python 3.11 here a null byte is a SyntaxError with both (the ValueError of earlier 3.11 releases, which has "
+       "neither, is why the defaults exist; both messages are tested)" for k in (23, 32, 35)},
+    "observability.model.expressions.x_parse_value__mutmut_53": "a vector or matrix result taken whole instead of "
+        "by entries: an ImmutableMatrix is a sympy Expr, and has() searches every entry",
+    "observability.model.expressions.x_parse_value__mutmut_68": "-oo tested as +oo: the reader never builds an "
+        "infinity of either sign (numbers are read exactly, 1/0 is zoo, 0/0 nan)",
     # analysis/globalfield.py (issue 32, 2026-12-04)
     **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "

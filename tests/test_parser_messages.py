@@ -85,6 +85,7 @@ REFUSED = [
     ("y + f(x)", "function 'f' is not allowed (allowed: "),
     ("y + sin(x, y)", "sin takes 1 argument, got 2 in 'y + sin(x, y)' (column 5)"),
     ("y + p ** 2", "** takes a scalar, got a vector of 3 components in 'y + p ** 2' (column 5)"),
+    ("y + x.real", "Attribute is not allowed in 'y + x.real' (column 5)"),
     ("y + 2 ** p", "** takes a scalar, got a vector of 3 components in 'y + 2 ** p' (column 5)"),
     ("y + atan2(x)", "atan2 takes 2 arguments, got 1 in 'y + atan2(x)' (column 5)"),
     ("y + sin(x=1)", "keyword arguments to sin are not allowed in 'y + sin(x=1)' (column 5)"),
@@ -140,6 +141,31 @@ def test_a_number_too_long_is_refused_at_its_column():
         parse_value("y + " + "1" * 1001, NAMES, where="w", vectors=VECTORS)
     assert str(caught.value).startswith("w: a number of more than 1000 characters in 'y + 111")
     assert str(caught.value).endswith("(column 5)")
+
+
+def test_limits_nesting_and_non_finite_values_word_for_word():
+    """An expression of 100,000 characters (the limit) is read, one more is
+    refused; a null byte is a syntax error at its end with Python's reason; 3,000
+    unary minus signs overflow Python's parser and 1,500 powers x**x**... our
+    reader, both "nested too deeply"; 0/0 (nan) and 1/0 (zoo) are not finite."""
+    def refusal(text):
+        with pytest.raises(ModelFileError) as caught:
+            parse_value(text, NAMES, where="w", vectors=VECTORS)
+        return str(caught.value)
+
+    assert parse_value("x" + " " * 99_999, NAMES, where="w", vectors=VECTORS) == X
+    assert refusal("x" + " " * 100_000) == "w: expression of 100001 characters (the limit is 100000)"
+    assert refusal("x\x00") == "w: syntax error in 'x\\x00' at its end: source code string cannot contain null bytes"
+    assert refusal("-" * 3000 + "x") == "w: expression nested too deeply"
+    assert refusal("x" + "**x" * 1500) == "w: expression nested too deeply"
+    assert refusal("0/0") == "w: '0/0' does not evaluate to a finite expression"
+    assert refusal("y + 1/0") == "w: 'y + 1/0' does not evaluate to a finite expression"
+
+
+def test_signs_in_a_row_multiply():
+    """- -x = x, -+-x = x, +-x = -x, +x = x, ---x = -x."""
+    for text, value in (("- -x", X), ("-+-x", X), ("+-x", -X), ("+x", X), ("---x", -X)):
+        assert parse_value(text, NAMES, where="w", vectors=VECTORS) == value, text
 
 
 def test_slices_and_indices_select_the_components_they_name():
