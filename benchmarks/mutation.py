@@ -131,8 +131,6 @@ EQUIVALENT: dict[str, str] = {
         "reading two characters past the limit sees the same excess as reading one",
     **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the name of a Dummy symbol"
        for k in (2, 6)},
-    "observability.rank.proofcheck.x_check__mutmut_35":
-        "the default of max over the rows is used only at rank 0, where one order more computes rows no minor uses",
     "observability.rank.proofcheck.x__minor_checked__mutmut_21": "sympy's det lower-cases its method name",
     **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
        "one digit more in a 60-digit evaluation changes no comparison at 1e-25 or 1e-30" for k in (32, 40)},
@@ -371,8 +369,12 @@ EQUIVALENT: dict[str, str] = {
            "x__independent_exponents": (6, 7, 10, 11, 12, 17, 18, 19, 24, 25),
            "x__independent_on_the_circle": (2, 3, 6, 9, 10, 11, 16, 17, 18, 23, 24, 28, 29, 30, 35, 36, 37, 42, 43,
                                             47, 48, 49, 54, 55, 60, 61)}.items() for k in numbers},
-    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the name of a Dummy: a Dummy is a new "
-       "symbol whatever its name" for k in (2, 6)},
+    **{f"observability.rank.proofcheck.x__row_functions__mutmut_{k}": why for why, numbers in {
+        "the name of a Dummy symbol": (9, 61),
+        "the chain of an input's derivatives one longer, or shifted to start at a Dummy: each row of order k uses "
+        "its first k + 1 entries, which keep their values; the extra one is never used": (12, 16),
+        "one input value more read than the rows use, given to a derivative no row holds": (23,)}.items()
+       for k in numbers},
     **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the input's rate term subtracted or "
        "divided by its rate: the rate is a fresh symbol no other term holds, so the bracket is zero exactly when "
        "dv/du is zero and the rest vanishes, whatever the sign or the power of the rate" for k in (50, 70)},
