@@ -352,9 +352,9 @@ EQUIVALENT: dict[str, str] = {
        "rows of the minor: the randomized rank is the verdict's rank (else an internal error), and any rows and "
        "point it finds are re-checked" for k in (20, 22, 25, 26, 28, 29)},
     "observability.report.proofs.x_proof_evidence__mutmut_12": "square_roots=None: as falsy as False",
-    "observability.report.proofs.x_proof_evidence__mutmut_53": "where= names a parse error, and the verdict's own "
+    "observability.report.proofs.x_proof_evidence__mutmut_52": "where= names a parse error, and the verdict's own "
         "directions always parse",
-    "observability.report.proofs.x_proof_evidence__mutmut_67": "rank <= n instead of <: at rank n the list of "
+    "observability.report.proofs.x_proof_evidence__mutmut_66": "rank <= n instead of <: at rank n the list of "
         "directions is empty, and no fields are symmetries as they stand (fields_are_symmetries([]) is True)",
     **{f"observability.report.proofs.x__minor__mutmut_{k}": why for why, numbers in {
         "lie_derivatives' own default for the input derivatives, None, the value passed": (12,),
