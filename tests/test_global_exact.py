@@ -4,13 +4,19 @@ the fibre (``analysis/fibre.py``), decided in process and checked by hand or
 against sympy (issue 32: the global group's mutants).
 """
 
-import sympy
+import random
+
 import pytest
+import sympy
 
 from observability import System
+from observability.analysis import fibre as fibres
 from observability.analysis import globalfield
+from observability.analysis.generators import generate_the_field, lie_derivatives_of_outputs
 from observability.analysis.globalfield import FieldGenerators, field_generators, pair_candidates
 from observability.analysis.rationalmodel import rational_model
+from observability.engine.lie import input_derivative
+from observability.errors import ModelError
 
 SQUARE = System(["x"], {"x": 0}, {"y": "x**2"}, name="square")
 
@@ -142,10 +148,7 @@ def test_a_generator_is_printed_up_to_400_characters():
 
 
 def _fibre(system, orders, rank, seed=1):
-    from observability.analysis.fibre import fibre_through
-    import random
-
-    return fibre_through(system, rational_model(system), orders, rank, 1000, random.Random(seed))
+    return fibres.fibre_through(system, rational_model(system), orders, rank, 1000, random.Random(seed))
 
 
 def test_the_fibre_fixes_the_free_coordinates_at_the_point():
@@ -164,9 +167,6 @@ def test_a_point_on_a_pole_is_drawn_again_and_every_pole_is_refused(monkeypatch)
     """A ZeroDivisionError from the jets (a denominator vanishing at the point)
     sends the draw to the next point; when every point does, the model is refused,
     word for word."""
-    from observability.analysis import fibre as fibres
-    from observability.errors import ModelError
-
     real, calls = fibres.jet_equations, []
 
     def once_on_a_pole(*args):
@@ -195,9 +195,6 @@ DRIVEN = System(["x", "a", "b"], {"x": "a*u + b", "a": 0, "b": 0}, {"y": "x"}, i
 def test_lie_derivatives_carry_the_input_chain():
     """x' = a u + b, y = x: by hand L^0 y = x, L^1 y = a u + b, L^2 y = a u'
     (d/du (a u + b) u'), L^3 y = a u''."""
-    from observability.analysis.generators import lie_derivatives_of_outputs
-    from observability.engine.lie import input_derivative
-
     x, a, b, u = sympy.symbols("x a b u")
     u1, u2 = input_derivative(u, 1), input_derivative(u, 2)
     found = lie_derivatives_of_outputs(rational_model(DRIVEN), [3], DRIVEN.inputs)
@@ -206,8 +203,6 @@ def test_lie_derivatives_carry_the_input_chain():
 
 
 def _generation(system, names, orders, functions, rank, inputs=()):
-    from observability.analysis.generators import generate_the_field
-
     return generate_the_field(rational_model(system), names, orders, functions, rank, 1, 0.01, (), inputs)
 
 

@@ -17,6 +17,7 @@ import pytest
 import sympy
 
 from observability import System, analyze
+from observability.engine.fractions import RationalFunctions
 from observability.errors import ObservabilityError
 from observability.rank import proof, proofcheck
 from observability.report import proofs
@@ -31,6 +32,18 @@ def _fields(*vectors: list[str]) -> list[list[sympy.Expr]]:
 
 def _static(output: str, states=("x", "y")) -> System:
     return System(list(states), {s: STATIC[s] for s in states}, {"h": output}, name="static")
+
+
+def _artefact(system: System) -> dict:
+    """The tool's proof of ``system`` (seed 1), written in process, as a file carries it (through JSON)."""
+    return json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+
+
+def _with_span(system: System, name: str, vector: dict[str, str]) -> str:
+    """The checker's verdict on the tool's file once its upper bound declares ``vector`` an invariant span."""
+    data = _artefact(system)
+    data["upper_bound"].update(kind="invariant span", generators=[{"name": name, "vector": vector}])
+    return proofcheck.check(data)
 
 
 # (output, field that annihilates it, field that does not). Every state is
@@ -219,7 +232,7 @@ def test_artefacts_written_in_process_are_accepted_by_the_checker(system):
     """Each artefact, written without a child process, passes the independent
     checker, which recomputes the minor at the listed point (the inputs' values
     included) and the generators' identities."""
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data = _artefact(system)
     assert proofcheck.check(data).startswith("accepted")
 
 
@@ -314,8 +327,6 @@ def test_pivot_rows_eliminate_every_later_vector():
     first): no pivots. (1, 1, 0), (1, 0, 0), (0, 0, 1) are independent, with
     pivots at rows 0, 1 (the second minus the first is (0, -1, 0)) and 2.
     (x, 1, 0), (x^2, x, 0), (0, 0, 1/x): the second is x times the first."""
-    from observability.engine.fractions import RationalFunctions
-
     x = sympy.Symbol("x")
     field = RationalFunctions([x])
 
@@ -334,7 +345,7 @@ def test_the_checker_tests_independence_of_the_generators_exactly():
     written so) lists two generators that pass every identity and are dependent:
     the checker must see the 2 x 3 matrix at the point has rank 1."""
     system = System(["x", "y", "z"], STATIC, {"h": "x"}, name="two symmetries")
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data = _artefact(system)
     assert proofcheck.check(data).startswith("accepted")
     first = data["upper_bound"]["generators"][0]["vector"]
     data["upper_bound"]["generators"][1]["vector"] = {s: f"({e})*(sin(x)**2 + cos(x)**2)" for s, e in first.items()}
@@ -346,7 +357,7 @@ def test_the_checker_tests_independence_of_the_generators_exactly():
 def test_the_checker_reads_a_parameter_value_without_the_models_names():
     """A known parameter's value is a number: written as a state's name (c = x),
     it is refused, not read as the state."""
-    data = json.loads(json.dumps(proof_evidence(DISCRETE_DRIVEN, analyze(DISCRETE_DRIVEN, seed=1), budget=None)))
+    data = _artefact(DISCRETE_DRIVEN)
     data["model"]["parameters"]["c"] = "x"
     with pytest.raises(proofcheck.Rejected) as refused:
         proofcheck.check(data)
@@ -387,7 +398,7 @@ def test_a_state_under_a_root_takes_a_square_so_the_minor_stays_exact():
     """h = sqrt(z) x: dh/dx = sqrt(z) is rational at a point where z is a square
     of a rational; the artefact's minor is then exact, and the checker agrees."""
     system = System(["x", "z"], {"x": 0, "z": 0}, {"h": "sqrt(z)*x", "g": "z"}, name="rooted")
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data = _artefact(system)
     assert data["lower_bound"]["exact"] is True
     z = sympy.Rational(data["lower_bound"]["point"]["states"]["z"])
     assert sympy.sqrt(z).is_Rational and z > 0
@@ -475,7 +486,7 @@ def test_a_rank_zero_proof_with_an_input_needs_one_input_value():
     """x' = u seen through y = 2: rank 0, no rows, so the point needs one value of
     u (order 0) and no more; the checker accepts the file as written."""
     system = System(["x"], {"x": "u"}, {"y": "2"}, inputs=["u"], name="blind driven")
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
+    data = _artefact(system)
     assert data["lower_bound"]["point"]["inputs"] == {"u": ["0"]}
     assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of blind driven "
                                              "is 0 of 1")
@@ -504,10 +515,8 @@ def test_the_checker_takes_the_bracket_of_a_continuous_span_with_its_sign():
     2 Df f = -2 (x, y) is not along v: a file declaring the rotation an
     invariant span is accepted."""
     system = System(["x", "y"], {"x": "-y", "y": "x"}, {"h": "x**2 + y**2"}, name="rotation")
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
-    data["upper_bound"].update(kind="invariant span", generators=[{"name": "turn", "vector": {"x": "-y", "y": "x"}}])
-    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of rotation "
-                                             "is 1 of 2")
+    assert _with_span(system, "turn", {"x": "-y", "y": "x"}).startswith(
+        "accepted: the generic rank of the observability matrix of rotation is 1 of 2")
 
 
 def test_the_checker_takes_a_continuous_span_at_the_state_itself():
@@ -515,21 +524,16 @@ def test_the_checker_takes_a_continuous_span_at_the_state_itself():
     Dv f - Df v = (0, y/x) - (1, 2y/x) = -v, kept; v at f(x) = (x, 2y) would be
     (1, 2y/x), which -v is not along."""
     system = System(["x", "y"], {"x": "x", "y": "2*y"}, {"h": "y/x"}, name="flow scaling")
-    data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
-    data["upper_bound"].update(kind="invariant span", generators=[{"name": "ray", "vector": {"x": "1", "y": "y/x"}}])
-    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of flow "
-                                             "scaling is 1 of 2")
+    assert _with_span(system, "ray", {"x": "1", "y": "y/x"}).startswith(
+        "accepted: the generic rank of the observability matrix of flow scaling is 1 of 2")
 
 
 def test_the_checker_takes_a_discrete_span_at_the_next_state():
     """(Hand derivation at SCALING above.) The tool's file, with v = (1, y/x) as
     an invariant span, is accepted; span{d/dy} of x+ = x + y (DF d/dy = (1, 1, 0),
     not along d/dy) is refused, naming DF v."""
-    data = json.loads(json.dumps(proof_evidence(SCALING, analyze(SCALING, seed=1), budget=None)))
-    data["upper_bound"].update(kind="invariant span",
-                               generators=[{"name": "scaling", "vector": {"x": "1", "y": "y/x"}}])
-    assert proofcheck.check(data).startswith("accepted: the generic rank of the observability matrix of scaling "
-                                             "is 1 of 2")
+    assert _with_span(SCALING, "scaling", {"x": "1", "y": "y/x"}).startswith(
+        "accepted: the generic rank of the observability matrix of scaling is 1 of 2")
     model = {"time": "discrete", "states": ["x", "y", "z"], "inputs": []}
     x, y, z = symbols = sympy.symbols("x y z")
     with pytest.raises(proofcheck.Rejected) as refused:
