@@ -106,20 +106,27 @@ def compare(folder: Path, budget: float) -> dict[str, object]:
     return row
 
 
-def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(argv: list[str], description: str, needed: str, budget: float, budget_help: str
+              ) -> tuple[list[Path], float]:
+    """The model folders to run (those named, or every folder holding its model's ``.jl``
+    file and ``needed``) and the CPU budget, from the command line."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("results", type=Path, help="SI.jl's benchmarking/IdentifiableFunctions/results folder")
     parser.add_argument("models", nargs="*", help="folder names (default: every folder with a result)")
-    parser.add_argument("--budget", type=float, default=20.0, help="CPU seconds per membership direction")
+    parser.add_argument("--budget", type=float, default=budget, help=budget_help)
     args = parser.parse_args(argv)
-    folders = [args.results / m for m in args.models] or sorted(
-        p for p in args.results.iterdir() if (p / RESULT).exists() and (p / f"{p.name}.jl").exists())
+    return [args.results / m for m in args.models] or sorted(
+        p for p in args.results.iterdir() if (p / needed).exists() and (p / f"{p.name}.jl").exists()), args.budget
+
+
+def main(argv: list[str]) -> int:
+    folders, budget = arguments(argv, __doc__.splitlines()[0], RESULT, 20.0, "CPU seconds per membership direction")
     print("| model | n | rank | proof | trdeg SI.jl | trdeg ours (listed) | same closure | ours in SI.jl's field "
           "| SI.jl's in ours | ours s | SI.jl s | SI.jl / ours |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for folder in folders:
         try:
-            r = compare(folder, args.budget)
+            r = compare(folder, budget)
         except (ObservabilityError, ValueError) as exc:
             print(f"| {folder.name} | refused: {str(exc)[:80]} |")
             continue

@@ -401,23 +401,8 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
         "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
         "(the tests compare it with sympy's)",
-    "observability.rank.ideal.x__interreduced__mutmut_17": "interreduction stopped when the count stops changing: "
-        "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
-    "observability.rank.ideal.x__remainder__mutmut_40": "every irreducible term subtracted instead of added: the "
-        "normal form comes out negated, and every caller makes it monic or tests it for zero",
     "observability.rank.ideal.x__update__mutmut_15": "Gebauer and Moeller's criterion weakened (or for and): more "
         "pairs are kept and reduced, to zero; the reduced basis is unique",
-    **{f"observability.rank.ideal.x_groebner_basis__mutmut_{k}": "the order the generators enter the pairs: the "
-       "reduced basis is unique whatever the order of the pairs" for k in (12, 14)},
-    "observability.rank.ideal.x_groebner_basis__mutmut_47": "a m_a + b m_b = S(a, b) + 2 m_b b: the first reducer "
-        "of its leading monomial lcm is a or b (then the normal form is that of +-S) or an element whose leading "
-        "monomial divides the lcm, which makes the pair redundant by Buchberger's chain criterion (400 random "
-        "ideals gave sympy's bases)",
-    **{f"observability.rank.ideal.x_groebner_basis__mutmut_{k}": "the order of the divisors of an S-polynomial: "
-       "any order gives a remainder of the same ideal, and the reduced basis is unique" for k in (72, 74)},
-    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_5": "a polynomial times its constant denominator "
-        "instead of divided by it: a non-zero constant multiple, which generates the same ideal and is a member "
-        "exactly when the polynomial is",
     **{f"observability.model.expressions.x_parse_value__mutmut_{k}": "the defaults of msg and offset: on the "
        "Python 3.11 here a null byte is a SyntaxError with both (the ValueError of earlier 3.11 releases, which has "
        "neither, is why the defaults exist; both messages are tested)" for k in (23, 32, 35)},

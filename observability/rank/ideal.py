@@ -9,19 +9,24 @@ comparing monomials in Python; sympy's ``reduce`` took 34 of the 84 s of a
 three-compartment model's global analysis. A reduced Groebner basis is unique,
 so the tests compare it with sympy's, term by term.
 
-**Why membership is exact.** Each division step subtracts a multiple of a basis
-element, so p - r lies in the ideal whatever the order of the steps: r = 0
-proves membership. Reduction stops at the first leading term that no leading
-monomial of the basis divides: that term stays in the remainder (later steps
-only subtract smaller terms), and a non-zero polynomial whose leading term is
-outside the initial ideal is not in the ideal (the basis is a Groebner basis).
+**Why membership is exact.** Reduction is flint's quasi-division over the
+integers (in C): p times a non-zero integer, minus multiples of basis elements,
+so that remainder is zero exactly when p lies in the ideal; it stops only at
+terms that no leading monomial of the basis divides, and a non-zero polynomial
+whose leading term is outside the initial ideal is not in the ideal (the basis
+is a Groebner basis). Working over the integers with primitive parts keeps the
+coefficients smaller than monic polynomials over Q: 4.4 times faster on the
+fibre of SI.jl's Biohydrogenation model (35 unknowns), where the reductions in
+Python loops over fractions took 9.2 s.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
+import flint
 import sympy
 
 from ..engine.fractions import RationalFunctions
@@ -48,35 +53,31 @@ def _coprime(a: Monomial, b: Monomial) -> bool:
     return all(x == 0 or y == 0 for x, y in zip(a, b))
 
 
-def _monic(p: Any) -> Any:
-    return p * (1 / p.coefficient(0))
+def _primitive(p: Any) -> Any:
+    """The primitive part of an integer polynomial, with a positive leading coefficient."""
+    p = p.primitive()[1]
+    return -p if p.leading_coefficient() < 0 else p
 
 
-def _remainder(p: Any, divisors: Sequence[Any], context: Any) -> Any:
-    """The complete normal form of ``p`` by ``divisors`` (monic)."""
-    leads = [g.monomial(0) for g in divisors]
-    rest = context.from_dict({})
-    while not p.is_zero():
-        m, c = p.monomial(0), p.coefficient(0)
-        for g, lead in zip(divisors, leads):
-            if _divides(lead, m):
-                p = p - context.term(coeff=c, exp_vec=tuple(x - y for x, y in zip(m, lead))) * g
-                break
-        else:
-            term = context.term(coeff=c, exp_vec=m)
-            rest, p = rest + term, p - term
-    return rest
+def _reduced_by(p: Any, divisors: Sequence[Any], ring: Any) -> Any:
+    """The primitive part of p's complete remainder by ``divisors`` (flint's
+    quasi-division, in C: p times a non-zero integer minus a combination of the
+    divisors, so the remainder is zero exactly when p lies in the ideal they
+    generate, when they are a Groebner basis)."""
+    if not divisors:
+        return p if p.is_zero() else _primitive(p)
+    return p.reduction_primitive_part(flint.fmpz_mpoly_vec(list(divisors), ring))
 
 
-def _interreduced(polynomials: Sequence[Any], context: Any) -> list[Any]:
+def _interreduced(polynomials: Sequence[Any], ring: Any) -> list[Any]:
     """Each polynomial reduced by the ones before it, until nothing changes ([BW] p. 203)."""
-    current = [_monic(p) for p in polynomials if not p.is_zero()]
+    current = [_primitive(p) for p in polynomials if not p.is_zero()]
     while True:
         reduced = []
         for i, p in enumerate(current):
-            r = _remainder(p, current[:i], context)
+            r = _reduced_by(p, current[:i], ring)
             if not r.is_zero():
-                reduced.append(_monic(r))
+                reduced.append(_primitive(r))
         if len(reduced) == len(current) and all(a == b for a, b in zip(reduced, current)):
             return reduced
         current = reduced
@@ -104,10 +105,12 @@ def _update(basis: set[int], pairs: set[tuple[int, int]], new: int, leads: list[
     return {g for g in basis if not _divides(mh, leads[g])} | {new}, old | fresh
 
 
-def groebner_basis(polynomials: Sequence[Any], context: Any) -> list[Any]:
-    """The reduced Groebner basis of flint polynomials in a degrevlex ``context``,
-    monic, largest leading monomial first (the order of sympy's ``groebner``)."""
-    polys = _interreduced(polynomials, context)
+def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
+    """The reduced Groebner basis of integer polynomials (flint, a degrevlex
+    ``ring``), each polynomial primitive with a positive leading coefficient (the
+    monic basis over Q up to those factors), largest leading monomial first (the
+    order of sympy's ``groebner``)."""
+    polys = _interreduced(polynomials, ring)
     leads = [p.monomial(0) for p in polys]
     basis: set[int] = set()
     pairs: set[tuple[int, int]] = set()
@@ -116,16 +119,15 @@ def groebner_basis(polynomials: Sequence[Any], context: Any) -> list[Any]:
     while pairs:  # the normal strategy: the pair of least lcm first
         a, b = min(pairs, key=lambda pair: _key(_lcm(leads[pair[0]], leads[pair[1]])))
         pairs.remove((a, b))
-        common = _lcm(leads[a], leads[b])
-        s = (polys[a] * context.term(exp_vec=tuple(x - y for x, y in zip(common, leads[a])))
-             - polys[b] * context.term(exp_vec=tuple(x - y for x, y in zip(common, leads[b]))))
-        h = _remainder(s, [polys[g] for g in sorted(basis, key=lambda g: _key(leads[g]))], context)
+        h = _reduced_by(polys[a].spoly(polys[b]), [polys[g] for g in sorted(basis, key=lambda g: _key(leads[g]))],
+                        ring)
         if not h.is_zero():
-            polys.append(_monic(h))
+            polys.append(_primitive(h))
             leads.append(polys[-1].monomial(0))
             basis, pairs = _update(basis, pairs, len(polys) - 1, leads)
-    reduced = [_remainder(polys[g], [polys[k] for k in basis if k != g], context) for g in basis]
-    return sorted((_monic(p) for p in reduced if not p.is_zero()), key=lambda p: _key(p.monomial(0)), reverse=True)
+    reduced = [_reduced_by(polys[g], [polys[k] for k in basis if k != g], ring) for g in basis]
+    return sorted((_primitive(p) for p in reduced if not p.is_zero()), key=lambda p: _key(p.monomial(0)),
+                  reverse=True)
 
 
 class ReducedBasis:
@@ -133,32 +135,27 @@ class ReducedBasis:
 
     def __init__(self, equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.Symbol]) -> None:
         self.field = RationalFunctions(list(unknowns), order="degrevlex")
-        self.polynomials = groebner_basis([self._polynomial(e) for e in equations], self.field.context)
-        self.leads = [p.monomial(0) for p in self.polynomials]
+        self.ring = flint.fmpz_mpoly_ctx.get(self.field.context.names(), "degrevlex")
+        self.integral = groebner_basis([self._polynomial(e) for e in equations], self.ring)
 
     def _polynomial(self, expr: sympy.Expr) -> Any:
+        """``expr`` times the least common denominator of its coefficients."""
         top, bottom = self.field.of(expr)
         if not bottom.is_constant():
             raise ValueError(f"not a polynomial: {expr}")
-        return top / bottom.coefficient(0)
+        terms = top.to_dict()
+        scale = math.lcm(1, *(int(flint.fmpq(c).q) for c in terms.values()))
+        return self.ring.from_dict({m: int(flint.fmpq(c) * scale) for m, c in terms.items()})
 
     def expressions(self) -> list[sympy.Expr]:
-        """The basis as sympy expressions."""
-        return [self.field.expression(p) for p in self.polynomials]
+        """The basis as sympy expressions, monic."""
+        return [self.field.expression(self.field.context.from_dict(
+            {m: flint.fmpq(int(c), int(p.leading_coefficient())) for m, c in p.to_dict().items()}))
+            for p in self.integral]
 
     def contains(self, expr: sympy.Expr) -> bool:
         """Whether the polynomial ``expr`` (in the unknowns) lies in the ideal."""
-        p = self._polynomial(expr)
-        while not p.is_zero():
-            monomial, coefficient = p.monomial(0), p.coefficient(0)
-            for g, lead in zip(self.polynomials, self.leads):
-                if _divides(lead, monomial):
-                    quotient = tuple(a - b for a, b in zip(monomial, lead))
-                    p = p - self.field.context.term(coeff=coefficient, exp_vec=quotient) * g
-                    break
-            else:
-                return False
-        return True
+        return _reduced_by(self._polynomial(expr), self.integral, self.ring).is_zero()
 
 
 def saturated_basis(equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.Symbol],
