@@ -388,15 +388,11 @@ EQUIVALENT: dict[str, str] = {
        "is drawn and never read" for k in (3, 5, 6, 13)},
     **{f"observability.analysis.generators.{name}__mutmut_{k}": why for why, names in {
         "max over the outputs' orders with another default: a System has an output": (
-            ("x_generate_the_field", (11, 13, 14)), ("x_lie_derivatives_of_outputs", (9, 11, 12, 49, 51, 52))),
+            ("x_generate_the_field", (11, 13, 14)),),
         "one more input derivative among the known variables, or a larger degree for them: the sampling range only "
         "grows, and the stated error bound holds for any range at least as large":
             (("x_generate_the_field", (15, 50, 51)),),
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
-        "one more Lie derivative computed after the last and never listed, or one more input derivative in the "
-        "ring, a symbol no Lie derivative holds": (("x_lie_derivatives_of_outputs", (13, 64)),),
-        "sum's start 0 instead of the ring's zero: an int 0 plus a field element is the element, and there is always "
-        "a speed": (("x_lie_derivatives_of_outputs", (70, 76)),),
     }.items() for name, numbers in names for k in numbers},
     "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
         "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
