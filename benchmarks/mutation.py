@@ -394,6 +394,10 @@ EQUIVALENT: dict[str, str] = {
             (("x_generate_the_field", (15, 50, 51)),),
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
     }.items() for name, numbers in names for k in numbers},
+    "observability.rank.ideal.x__divides__mutmut_2": "divisibility only with every exponent smaller: since the "
+        "reductions are flint's, it is read only by Gebauer and Moeller's criteria and the pruning of the basis, "
+        "which then drop fewer pairs and elements, reduced to zero or interreduced at the end; the reduced basis is "
+        "unique",
     "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
         "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
         "(the tests compare it with sympy's)",

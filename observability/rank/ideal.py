@@ -53,31 +53,23 @@ def _coprime(a: Monomial, b: Monomial) -> bool:
     return all(x == 0 or y == 0 for x, y in zip(a, b))
 
 
-def _primitive(p: Any) -> Any:
-    """The primitive part of an integer polynomial, with a positive leading coefficient."""
-    p = p.primitive()[1]
-    return -p if p.leading_coefficient() < 0 else p
-
-
 def _reduced_by(p: Any, divisors: Sequence[Any], ring: Any) -> Any:
-    """The primitive part of p's complete remainder by ``divisors`` (flint's
-    quasi-division, in C: p times a non-zero integer minus a combination of the
-    divisors, so the remainder is zero exactly when p lies in the ideal they
-    generate, when they are a Groebner basis)."""
-    if not divisors:
-        return p if p.is_zero() else _primitive(p)
+    """The primitive part, with a positive leading coefficient, of p's complete
+    remainder by ``divisors`` (flint's quasi-division, in C: p times a non-zero
+    integer minus a combination of the divisors, so the remainder is zero exactly
+    when p lies in the ideal they generate, when they are a Groebner basis)."""
     return p.reduction_primitive_part(flint.fmpz_mpoly_vec(list(divisors), ring))
 
 
 def _interreduced(polynomials: Sequence[Any], ring: Any) -> list[Any]:
     """Each polynomial reduced by the ones before it, until nothing changes ([BW] p. 203)."""
-    current = [_primitive(p) for p in polynomials if not p.is_zero()]
+    current = [p for p in polynomials if not p.is_zero()]
     while True:
         reduced = []
         for i, p in enumerate(current):
             r = _reduced_by(p, current[:i], ring)
             if not r.is_zero():
-                reduced.append(_primitive(r))
+                reduced.append(r)
         if len(reduced) == len(current) and all(a == b for a, b in zip(reduced, current)):
             return reduced
         current = reduced
@@ -122,12 +114,11 @@ def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
         h = _reduced_by(polys[a].spoly(polys[b]), [polys[g] for g in sorted(basis, key=lambda g: _key(leads[g]))],
                         ring)
         if not h.is_zero():
-            polys.append(_primitive(h))
+            polys.append(h)
             leads.append(polys[-1].monomial(0))
             basis, pairs = _update(basis, pairs, len(polys) - 1, leads)
     reduced = [_reduced_by(polys[g], [polys[k] for k in basis if k != g], ring) for g in basis]
-    return sorted((_primitive(p) for p in reduced if not p.is_zero()), key=lambda p: _key(p.monomial(0)),
-                  reverse=True)
+    return sorted((p for p in reduced if not p.is_zero()), key=lambda p: _key(p.monomial(0)), reverse=True)
 
 
 class ReducedBasis:
