@@ -398,6 +398,8 @@ EQUIVALENT: dict[str, str] = {
         "reductions are flint's, it is read only by Gebauer and Moeller's criteria and the pruning of the basis, "
         "which then drop fewer pairs and elements, reduced to zero or interreduced at the end; the reduced basis is "
         "unique",
+    "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
+        "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
     "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
         "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
         "(the tests compare it with sympy's)",

@@ -202,6 +202,18 @@ def test_lie_derivatives_carry_the_input_chain():
     assert [sympy.expand(f.as_expr()) for _, f in found] == [x, a * u + b, a * u1, a * u2]
 
 
+
+def test_lie_derivatives_keep_fractional_coefficients_and_denominators():
+    """x' = x/3, z' = 0, y = x/(2 z): by hand L^0 y = x/(2 z), L^1 y = x/(6 z), L^2 y = x/(18 z),
+    as reduced fractions with their rational coefficients (the numerator's 1/2, 1/6, 1/18 once
+    the denominator z is monic)."""
+    system = System(["x", "z"], {"x": "x/3", "z": 0}, {"y": "x/(2*z)"}, name="thirds")
+    x, z = sympy.symbols("x z")
+    found = lie_derivatives_of_outputs(rational_model(system), [2], ())
+    assert [sympy.simplify(f.as_expr() - e) for (_, f), e in zip(found, [x / (2 * z), x / (6 * z), x / (18 * z)])] \
+        == [0, 0, 0]
+    assert [str(f.numer.as_expr()) for _, f in found] == ["x/2", "x/6", "x/18"]
+
 def _generation(system, names, orders, functions, rank, inputs=()):
     return generate_the_field(rational_model(system), names, orders, functions, rank, 1, 0.01, (), inputs)
 

@@ -55,13 +55,14 @@ def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
     elements of sympy's fraction field over the symbols: sympy's own field
     arithmetic spent 454 of 495 s in its heuristic gcd on SI.jl's 10-state
     Biohydrogenation model at order 6 (cancelling sympy expressions took longer)."""
-    jets = [input_derivative(u, i) for u in inputs for i in range(max(orders, default=0) + 1)]
+    top = max(orders)  # a System has an output
+    jets = [input_derivative(u, i) for u in inputs for i in range(top + 1)]
     symbols = sorted({*model.coordinates, *jets, *(s for e in (*model.speeds, *model.outputs) for s in e.free_symbols)},
                      key=str)
     flint_field = RationalFunctions(symbols)
     speeds = [(x, flint_field.of(f)) for x, f in zip(model.coordinates, model.speeds)]
     chain = [(input_derivative(u, i), flint_field.of(input_derivative(u, i + 1)))
-             for u in inputs for i in range(max(orders, default=0))]
+             for u in inputs for i in range(top)]
     found = []
     for h, k in zip(model.outputs, orders):
         current = flint_field.of(h)
@@ -73,7 +74,8 @@ def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
                 for term in terms:
                     current = flint_field.add(current, term)
     ring = sympy.polys.fields.FracField(symbols, sympy.QQ)
-    return [(j, ring.raw_new(_sympy_polynomial(ring, top), _sympy_polynomial(ring, bottom))) for j, (top, bottom) in found]
+    return [(j, ring.raw_new(_sympy_polynomial(ring, numerator), _sympy_polynomial(ring, denominator)))
+            for j, (numerator, denominator) in found]
 
 
 def _sympy_polynomial(field: Any, poly: Any) -> Any:
