@@ -21,20 +21,25 @@ from observability.errors import ModelError
 SQUARE = System(["x"], {"x": 0}, {"y": "x**2"}, name="square")
 
 
-def test_pairs_are_every_product_and_sum_of_two_up_to_the_limit():
-    """Of k items: k(k + 1)/2 products (squares included) and k(k - 1)/2 sums,
-    each keyed by its indices i <= j; at 12 items (the limit) 78 + 66 = 144,
-    above it none."""
+def test_pairs_are_every_product_and_small_combination_of_two_up_to_the_limit():
+    """Of k items: k(k + 1)/2 products (squares included) and, for each of the k(k - 1)/2
+    pairs, six combinations f + g, f - g, f + 2g, f - 2g, 2f + g, 2f - g, each keyed by
+    its indices i <= j; at 12 items (the limit) 78 + 6 * 66 = 474, above it none."""
     items = sympy.symbols("a0:12")
     pairs = pair_candidates(items)
-    assert len(pairs) == 144 and globalfield.MAX_PAIRED == 12
+    assert len(pairs) == 474 and globalfield.MAX_PAIRED == 12
     assert ((0, 0), items[0] ** 2) in pairs and ((0, 1), items[0] * items[1]) in pairs
     assert ((0, 1), items[0] + items[1]) in pairs and ((3, 11), items[3] + items[11]) in pairs
-    assert all(i <= j for (i, j), _ in pairs) and len({(key, str(e)) for key, e in pairs}) == 144
+    a0, a1 = items[:2]
+    assert [e for key, e in pairs if key == (0, 1)] == [a0 * a1, a0 + a1, a0 - a1, a0 + 2 * a1, a0 - 2 * a1,
+                                                         2 * a0 + a1, 2 * a0 - a1]
+    assert all(i <= j for (i, j), _ in pairs) and len({(key, str(e)) for key, e in pairs}) == 474
     assert pair_candidates(sympy.symbols("a0:13")) == []
     a, b = sympy.symbols("a b")
     assert pair_candidates([a / b, b]) == [((0, 0), a**2 / b**2), ((0, 1), a), ((0, 1), (a + b**2) / b),
-                                          ((1, 1), b**2)]
+                                          ((0, 1), (a - b**2) / b), ((0, 1), (a + 2 * b**2) / b),
+                                          ((0, 1), (a - 2 * b**2) / b), ((0, 1), (2 * a + b**2) / b),
+                                          ((0, 1), (2 * a - b**2) / b), ((1, 1), b**2)]
 
 
 def test_gradients_at_the_point_are_sympy_s():

@@ -49,6 +49,22 @@ def test_the_square_s_field_is_generated_by_the_square():
     assert generators == [names["x"] ** 2]
 
 
+
+def test_a_combination_with_a_factor_two_is_found():
+    """a, b constant, y1 = a - 2 b + b**2, y2 = b**2: by hand the outputs determine
+    Q(a - 2 b, b**2), and b -> -b, a -> a - 4 b keeps both outputs, so neither a nor b is unique;
+    of their products and combinations only b**2 and a - 2 b lie in the field (a b = (a - 2 b) b
+    + 2 b**2, a + b = (a - 2 b) + 3 b, ... each needs b itself). a - 2 b is listed as itself:
+    with sums alone the list needs the Lie derivative L^0 y1 instead."""
+    system = System(["a", "b"], ["0", "0"], {"y1": "a - 2*b + b**2", "y2": "b**2"})
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=None)
+    assert answer.only_locally == ("a", "b") and answer.field.generates is True
+    assert set(answer.field.generators) == {"b**2", "a - 2*b"}
+    generators, names = _generators(system)
+    _same_field(generators, [names["a"] - 2 * names["b"], names["b"] ** 2], list(names.values()))
+
+
 def test_two_compartments_give_the_sum_and_the_product_of_the_rates():
     """x1' = -(a01 + a21) x1 + a12 x2, x2' = a21 x1 - a12 x2, y = x1, rates constant. By hand:
     y'' = -s y' - p y with s = a01 + a12 + a21 and p = a01 a12 (the trace and determinant of the

@@ -8,9 +8,10 @@ The list is built from three sources, shortest first:
 
 1. the globally observable states and printed functions (members of K by the
    membership test of :mod:`.uniqueness`);
-2. sums and products of two only-locally observable ones (alpha + lambda and
-   alpha*lambda when a mirror swaps alpha and lambda: symmetric functions of
-   conjugates), tested at the same fibre: their set depends only on which
+2. products and small combinations (a f + b g, a and b among 1, 2, -1, -2) of
+   two only-locally observable ones (alpha + lambda and alpha*lambda when a
+   mirror swaps alpha and lambda: symmetric functions of conjugates; k10 - 2 x6
+   in SI.jl's Biohydrogenation model), tested at the same fibre: their set depends only on which
    items are only locally observable, so it is fixed before the point whenever
    the first answers are right, and the sampling range counts every pair;
 3. elements of T themselves, certainly in K: first those that raise the rank of
@@ -40,10 +41,14 @@ from ..rank.membership import exact_rank
 from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
 from .rationalmodel import RationalModel
 
-__all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "MAX_GENERATOR_CHARS"]
+__all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "COMBINATIONS",
+           "MAX_GENERATOR_CHARS"]
 
-#: Only-locally observable items paired (sums and products): at most this many (78 pairs).
+#: Only-locally observable items paired (products and combinations): at most this many (78 pairs).
 MAX_PAIRED = 12
+#: The combinations a f + b g of two items tested: the sum, the difference and the ratios 2 and 1/2
+#: (SI.jl's Biohydrogenation generator k10 - 2 x6, where k10 and x6 are only locally observable).
+COMBINATIONS = ((1, 1), (1, -1), (1, 2), (1, -2), (2, 1), (2, -1))
 #: Longest generator printed as an expression; a longer Lie derivative is printed by its name.
 MAX_GENERATOR_CHARS = 400
 
@@ -65,8 +70,9 @@ class FieldGenerators:
 
 
 def pair_candidates(items: Sequence[sympy.Expr]) -> list[tuple[tuple[int, int], sympy.Expr]]:
-    """Products (squares included) and sums of two of ``items``, keyed by their
-    indices; none when there are more than :data:`MAX_PAIRED` items."""
+    """Products (squares included) of two of ``items`` and their combinations
+    a f + b g with (a, b) in :data:`COMBINATIONS`, keyed by their indices; none
+    when there are more than :data:`MAX_PAIRED` items."""
     if len(items) > MAX_PAIRED:
         return []
     found = []
@@ -74,7 +80,7 @@ def pair_candidates(items: Sequence[sympy.Expr]) -> list[tuple[tuple[int, int], 
         for j in range(i, len(items)):
             found.append(((i, j), sympy.cancel(f * items[j])))
             if j != i:
-                found.append(((i, j), sympy.cancel(f + items[j])))
+                found.extend(((i, j), sympy.cancel(a * f + b * items[j])) for a, b in COMBINATIONS)
     return found
 
 
