@@ -400,6 +400,15 @@ EQUIVALENT: dict[str, str] = {
         "unique",
     "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
         "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
+    **{f"observability.rank.ideal.x_groebner_basis__mutmut_{k}": "the order the generators enter the pairs: the "
+       "reduced basis is unique whatever the order of the pairs" for k in (12, 14)},
+    "observability.rank.ideal.xǁReducedBasisǁ__init____mutmut_5": "the conversion field's own order (lex for "
+        "degrevlex): it only turns expressions into term dictionaries and back; the ring the basis lives in is "
+        "degrevlex",
+    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_8": "math.lcm of no argument is 1 (a zero "
+        "polynomial), as with the 1 in front",
+    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_10": "the common denominator doubled: a non-zero "
+        "constant multiple, which generates the same ideal and is a member exactly when the polynomial is",
     "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
         "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
         "(the tests compare it with sympy's)",
