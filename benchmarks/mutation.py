@@ -393,6 +393,7 @@ EQUIVALENT: dict[str, str] = {
         "grows, and the stated error bound holds for any range at least as large":
             (("x_generate_the_field", (15, 50, 51)),),
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
+        "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
     "observability.rank.ideal.x__divides__mutmut_2": "divisibility only with every exponent smaller: since the "
         "reductions are flint's, it is read only by Gebauer and Moeller's criteria and the pruning of the basis, "
