@@ -65,6 +65,19 @@ def test_a_combination_with_a_factor_two_is_found():
     _same_field(generators, [names["a"] - 2 * names["b"], names["b"] ** 2], list(names.values()))
 
 
+
+def test_a_generator_the_others_give_is_left_out():
+    """a, b constant, y1 = a**2, y2 = a b: (a, b) -> (-a, -b) keeps both, so neither is unique; a**2,
+    a b and b**2 = (a b)**2 / a**2 are, and the three products are found. Tested longest first, a**2 =
+    (a b)**2 / b**2 lies in the field of the two others and is left out; then b**2 and a b each stand
+    alone (one function has transcendence degree 1 < 2), so both stay."""
+    system = System(["a", "b"], ["0", "0"], {"y1": "a**2", "y2": "a*b"})
+    answer = global_observability(system, analyze(system, seed=5), seed=3, budget=None)
+    assert answer.only_locally == ("a", "b") and answer.field.generates is True
+    assert set(answer.field.generators) == {"a*b", "b**2"} and "; a**2 left out" in answer.field.how
+    generators, names = _generators(system)
+    _same_field(generators, [names["a"] ** 2, names["a"] * names["b"]], list(names.values()))
+
 def test_two_compartments_give_the_sum_and_the_product_of_the_rates():
     """x1' = -(a01 + a21) x1 + a12 x2, x2' = a21 x1 - a12 x2, y = x1, rates constant. By hand:
     y'' = -s y' - p y with s = a01 + a12 + a21 and p = a01 a12 (the trace and determinant of the

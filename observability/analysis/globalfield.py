@@ -37,9 +37,9 @@ from typing import Any
 import sympy
 
 from ..engine.lie import input_derivative
-from ..rank.membership import exact_rank
+from ..rank.membership import contained, exact_rank, sampling_range
 from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
-from .rationalmodel import RationalModel
+from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "COMBINATIONS",
            "MAX_GENERATOR_CHARS"]
@@ -113,7 +113,9 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
             listed.append((shown, reduced_pair(element)))
             rows.append(gradient)
             reached = grown
-    found = generate_the_field(model, names, orders, [p for _, p in listed], rank, seed, error, known, inputs,
+    candidates = _candidates(listed, model.coordinates)
+    share = error / 2 if candidates else error
+    found = generate_the_field(model, names, orders, [p for _, p in listed], rank, seed, share, known, inputs,
                                derivatives)
     if isinstance(found, str):
         return FieldGenerators(tuple(t for t, _ in listed), None, f"undecided: {found}")
@@ -123,7 +125,47 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
             listed.append((shown, pair))
     how = ("each is globally observable, and every Lie derivative up to the truncation lies in their field "
            f"(Thm 3.3 at a random point of {found.bits} bits)")
-    return FieldGenerators(tuple(t for t, _ in listed), True, how)
+    dropped = _irredundant(listed, candidates, model.coordinates, rank, seed, share / max(len(candidates), 1))
+    if dropped:
+        how += (f"; {', '.join(listed[i][0] for i in dropped)} left out: each lies in the field of the others "
+                "(the same test, half the error each way)")
+    return FieldGenerators(tuple(t for i, (t, _) in enumerate(listed) if i not in dropped), True, how)
+
+
+def _candidates(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], coordinates: Sequence[sympy.Symbol]
+                ) -> list[int]:
+    """The listed functions that may be left out when the others generate them: neither a
+    coordinate nor a Lie derivative (by name), and in the coordinates only; longest first."""
+    inside = set(coordinates)
+    found = [i for i, (text, (n, d)) in enumerate(listed) if n not in inside or d != 1]
+    found = [i for i in found if not listed[i][0].startswith(("L^", "a coefficient"))
+             and (listed[i][1][0].free_symbols | listed[i][1][1].free_symbols) <= inside]
+    return sorted(found, key=lambda i: -len(listed[i][0]))
+
+
+def _irredundant(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], candidates: Sequence[int],
+                 coordinates: Sequence[sympy.Symbol], rank: int, seed: int, error: float) -> set[int]:
+    """The candidates left out, in turn: one lies in the field of the others kept when
+    those have the transcendence degree ``rank`` (exact Jacobian rank at the point, so
+    it is algebraic over them) and the membership test of
+    :func:`~observability.rank.membership.contained` says so, each at ``error``. The
+    field is unchanged by each removal, so the list still generates it."""
+    dropped: set[int] = set()
+    rng = random.Random(f"irredundant/{seed}")
+    for c in candidates:
+        others = [listed[i][1] for i in range(len(listed)) if i != c and i not in dropped]
+        bound = sampling_range([(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates))
+                                for n, d in others], [(polynomial_degree(listed[c][1][0], coordinates),
+                                                       polynomial_degree(listed[c][1][1], coordinates))],
+                               len(coordinates), error)
+        point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in coordinates}
+        if any(d.xreplace(point) == 0 for _, d in (*others, listed[c][1])):
+            continue  # kept: a pole at the point decides nothing
+        jacobian = [_gradient(pair, coordinates, point) for pair in others]
+        if exact_rank(jacobian, len(coordinates)) == rank and contained(others, [listed[c][1]], coordinates, point,
+                                                                         jacobian)[0]:
+            dropped.add(c)
+    return dropped
 
 
 def _lie_elements(names: Sequence[str], orders: Sequence[int], derivatives: Sequence[Any],
