@@ -427,18 +427,20 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "
         "poles, with the error probability of the field test, which draws its own point": (
-            ("x__point", (2, 4, 11, 12, 13, 14, 15)), ("x_field_generators", (34, 85))),
+            ("x__point", (2, 4, 11, 12, 13, 14, 15)),),
         "one more input derivative among the variables or the jets: one the Lie derivatives do not hold, never "
-        "read": (("x_field_generators", (29,)), ("x__lie_elements", (9,))),
+        "read": (("x__lie_elements", (9,)),),
         "every Lie derivative is an element of the same fraction field, so any of them gives it":
             (("x__lie_elements", (19,)),),
-        "the field test recomputes the Lie derivatives when not given them, the same ones": (
-            ("x_field_generators", (89, 99)),),
+        "one more input derivative among the variables: one the Lie derivatives do not hold, never read":
+            (("x_field_generators", (29,)),),
+        "another seed (None: fresh randomness) for a random point: every answer holds with its error probability "
+        "at any point drawn from the range": (("x_field_generators", (34, 95, 132)), ("x__irredundant", (3,))),
         "the loop goes on at the rank instead of stopping: no Lie derivative (an element of K) can raise the rank "
         "of the list's Jacobian above the transcendence degree of K, so nothing more is added":
             (("x_field_generators", (60,)),),
-        "the element's pair is compared with the list's only to avoid a duplicate, and a Lie derivative the test "
-        "finds outside Q(g) is never among the g": (("x_field_generators", (106,)),),
+        "the field test recomputes the Lie derivatives when not given them, the same ones":
+            (("x_field_generators", (99, 109)),),
         "the number of terms only spares printing an expression whose text would be longer than 400 characters "
         "anyway (each term takes two characters at least): the text's own length decides":
             (("x__shown", (2, 3, 4, 5)),),

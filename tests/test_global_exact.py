@@ -93,6 +93,7 @@ def test_a_list_that_misses_a_lie_derivative_gets_it():
     x = sympy.Symbol("x")
     found = field_generators(rational_model(SQUARE), ["y"], [1], [("x**4", x**4)], 1, seed=1, error=0.01)
     assert found.generators == ("L^0 y = x**2",) and found.generates is True
+    assert found.how.startswith("each is globally observable, and every Lie derivative up to the truncation lies")
     assert found.how.endswith("; x**4 left out: each lies in the field of the others (the same test, half the error "
                               "each way)")
 
@@ -249,3 +250,74 @@ def test_a_function_with_a_pole_everywhere_leaves_the_field_test_undecided():
     """A pair with denominator 0 has a pole at every point: the reason, word for word."""
     x = sympy.Symbol("x")
     assert _generation(SQUARE, ["y"], [1], [(x, sympy.Integer(0))], 1) == "a denominator vanishes at every random point"
+
+
+A, B, K = sympy.symbols("a b k")
+ONE = sympy.Integer(1)
+
+
+def test_the_candidates_to_leave_out_are_the_listed_functions_that_are_not_states_nor_lie_derivatives():
+    """Of a, L^1 y, a coefficient, a*b, a/b, a + 2*b: the last three, longest first (ties in list order);
+    with a known parameter k in any listed function (numerator or denominator), none."""
+    listed = [("a", (A, ONE)), ("L^1 y = a*b", (A * B, ONE)), ("a coefficient of L^1 y in the inputs = b**2", (B**2, ONE)),
+              ("a*b", (A * B, ONE)), ("a/b", (A, B)), ("a + 2*b", (A + 2 * B, ONE))]
+    assert globalfield._candidates(listed, [A, B]) == [5, 3, 4]
+    assert globalfield._candidates([*listed, ("k*a", (K * A, ONE))], [A, B]) == []
+    assert globalfield._candidates([*listed, ("b/k", (B, K))], [A, B]) == []
+
+
+def test_leaving_out_goes_longest_first():
+    """2a, 3b, 2a + 3b (rank 2): tested first, 2a + 3b lies in Q(2a, 3b) and goes; then each of the two
+    left alone has transcendence degree 1 < 2 and stays. Shortest first would drop 2a instead."""
+    listed = [("2*a", (2 * A, ONE)), ("3*b", (3 * B, ONE)), ("2*a + 3*b", (2 * A + 3 * B, ONE))]
+    assert globalfield._irredundant(listed, globalfield._candidates(listed, [A, B]), [A, B], 2, 1, 0.01) == {2}
+
+
+def test_leaving_out_draws_each_point_from_the_sampling_range(monkeypatch):
+    """The range is the theorem's for the others' and the candidate's (numerator, denominator) degrees
+    (a**3 + 1 over a: (3, ONE)), and the point's coordinates are drawn from [-N, N] (not all N)."""
+    ranges, points = [], []
+    real_range, real_contained = globalfield.sampling_range, globalfield.contained
+    monkeypatch.setattr(globalfield, "sampling_range", lambda *args: ranges.append(args) or real_range(*args))
+    monkeypatch.setattr(globalfield, "contained", lambda g, t, c, point, j: points.append(point)
+                        or real_contained(g, t, c, point, j))
+    listed = [("a", (A, ONE)), ("b/a", (B, A)), ("(a**3 + 1)/a", (A**3 + 1, A))]
+    assert globalfield._irredundant(listed, [2], [A, B], 2, 1, 0.01) == {2}
+    assert ranges == [([(1, 0), (1, 1)], [(3, 1)], 2, 0.01)]
+    assert len(set(points[0].values())) == 2 and all(abs(v) <= real_range(*ranges[0]) for v in points[0].values())
+
+
+def test_a_pole_at_the_point_keeps_that_candidate_and_goes_on(monkeypatch):
+    """The first draw puts a = 0, a pole of a**2 + 1/a, which stays; the next candidate, a**2, drawn
+    at a = 5, lies in Q(a) and goes."""
+    draws = iter([0, 5])
+
+    class Scripted:
+        def __init__(self, seed):
+            pass
+
+        def randint(self, low, high):
+            return next(draws)
+
+    monkeypatch.setattr(globalfield.random, "Random", Scripted)
+    listed = [("a", (A, ONE)), ("a**2 + 1/a", (A**3 + 1, A)), ("a**2", (A**2, ONE))]
+    assert globalfield._irredundant(listed, [1, 2], [A], 1, 1, 0.01) == {2}
+
+
+def test_the_error_is_shared_between_the_generation_test_and_the_leaving_out(monkeypatch):
+    """With k candidates to leave out, the generation test runs at error/2 and each of the k
+    membership tests at error/(2k), so that all together they stay within the error stated once;
+    without a candidate, the generation test has the whole error."""
+    seen = {}
+    real_generate, real_irredundant = globalfield.generate_the_field, globalfield._irredundant
+    monkeypatch.setattr(globalfield, "generate_the_field", lambda *args: seen.setdefault("generate", args[6])
+                        and real_generate(*args))
+    monkeypatch.setattr(globalfield, "_irredundant", lambda *args: seen.setdefault("each", args[5])
+                        and real_irredundant(*args))
+    system = System(["a", "b"], {"a": 0, "b": 0}, {"y1": "a**2", "y2": "a*b"}, name="signs")
+    members = [("a**2", A**2), ("a*b", A * B), ("b**2", B**2)]
+    found = field_generators(rational_model(system), ["y1", "y2"], [1, 1], members, 2, seed=1, error=0.03)
+    assert found.generates is True and seen == {"generate": 0.015, "each": 0.005}
+    seen.clear()
+    field_generators(rational_model(SQUARE), ["y"], [1], [("x", sympy.Symbol("x"))], 1, seed=1, error=0.03)
+    assert seen == {"generate": 0.03, "each": 0.03}

@@ -135,11 +135,13 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
 def _candidates(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], coordinates: Sequence[sympy.Symbol]
                 ) -> list[int]:
     """The listed functions that may be left out when the others generate them: neither a
-    coordinate nor a Lie derivative (by name), and in the coordinates only; longest first."""
+    coordinate nor a Lie derivative (by name); longest first. None when a listed function
+    holds a known parameter (the test below works in the coordinates only)."""
     inside = set(coordinates)
+    if any(not (n.free_symbols | d.free_symbols) <= inside for _, (n, d) in listed):
+        return []
     found = [i for i, (text, (n, d)) in enumerate(listed) if n not in inside or d != 1]
-    found = [i for i in found if not listed[i][0].startswith(("L^", "a coefficient"))
-             and (listed[i][1][0].free_symbols | listed[i][1][1].free_symbols) <= inside]
+    found = [i for i in found if not listed[i][0].startswith(("L^", "a coefficient"))]
     return sorted(found, key=lambda i: -len(listed[i][0]))
 
 
