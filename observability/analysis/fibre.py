@@ -28,27 +28,39 @@ from ..rank.ideal import ReducedBasis, saturated_basis
 from ..rank.membership import completing_columns, exact_rank
 from .rationalmodel import RationalModel
 
-__all__ = ["Fibre", "fibre_through", "known_variables"]
+__all__ = ["Fibre", "FibreEquations", "fibre_equations", "fibre_through", "known_variables"]
 
 
 @dataclass(frozen=True)
-class Fibre:
-    """The fibre's ideal at a point: its Groebner basis, the coordinates' values
-    there, and the values given to the known variables (substituted)."""
+class FibreEquations:
+    """The fibre's equations at a point: the jets' equations with the free
+    coordinates fixed, their unknowns, the saturation (a solution where it
+    vanishes is not the model's), every unknown's value at the point, and the
+    values given to the known variables (substituted)."""
 
-    basis: ReducedBasis
-    at: dict
+    equations: tuple[sympy.Expr, ...]
+    unknowns: tuple[sympy.Symbol, ...]
+    saturation: sympy.Expr
+    values: dict
     given: dict
-
-    def constant_on(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> bool:
-        """Whether n/d (in the coordinates and the known variables) takes its value
-        at the point everywhere on the fibre: n d(a) - n(a) d reduces to zero."""
-        return self.basis.contains(self.difference(fraction))
 
     def difference(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> sympy.Expr:
         """n d(a) - n(a) d, with the known variables at their values."""
         n, d = (e.xreplace(self.given) for e in fraction)
-        return n * d.xreplace(self.at) - n.xreplace(self.at) * d
+        return n * d.xreplace(self.values) - n.xreplace(self.values) * d
+
+
+@dataclass(frozen=True)
+class Fibre:
+    """The fibre's ideal at a point, with its Groebner basis over Q."""
+
+    basis: ReducedBasis
+    equations: FibreEquations
+
+    def constant_on(self, fraction: tuple[sympy.Expr, sympy.Expr]) -> bool:
+        """Whether n/d (in the coordinates and the known variables) takes its value
+        at the point everywhere on the fibre: n d(a) - n(a) d reduces to zero."""
+        return self.basis.contains(self.equations.difference(fraction))
 
 
 def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol]:
@@ -57,10 +69,10 @@ def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol
     return [*system.free_parameters, *(input_derivative(u, j) for u in system.inputs for j in range(top + 1))]
 
 
-def fibre_through(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
-                  rng: random.Random) -> Fibre | str:
-    """The fibre through a random point with coordinates in [-bound, bound], or
-    why not: the Jacobian of the Lie derivatives below ``rank`` there."""
+def fibre_equations(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
+                    rng: random.Random) -> FibreEquations | str:
+    """The fibre's equations through a random point with coordinates in [-bound,
+    bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there."""
     heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     for _ in range(100):
@@ -75,9 +87,18 @@ def fibre_through(system: System, model: RationalModel, orders: dict[str, int], 
     free = _free_coordinates(jets, model.coordinates, rank)
     if free is None:
         return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point"
-    basis = saturated_basis([*jets.equations, *(c - jets.values[c] for c in free)], jets.unknowns, jets.saturation)
     # The known variables are generators of the field: adjoined at their values, i.e. substituted.
-    return Fibre(basis, {c: jets.values[c] for c in model.coordinates}, {v: point[v] for v in known})
+    return FibreEquations((*jets.equations, *(c - jets.values[c] for c in free)), jets.unknowns, jets.saturation,
+                          dict(jets.values), {v: point[v] for v in known})
+
+
+def fibre_through(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
+                  rng: random.Random) -> Fibre | str:
+    """The fibre through a random point (:func:`fibre_equations`) with its basis over Q, or why not."""
+    equations = fibre_equations(system, model, orders, rank, bound, rng)
+    if isinstance(equations, str):
+        return equations
+    return Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
 
 
 def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.Symbol] | None:

@@ -47,7 +47,9 @@ from ..model.system import System
 from ..rank.membership import sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
-from .fibre import fibre_through, known_variables
+from ..rank.ideal import saturated_basis
+from .fibre import Fibre, fibre_equations, known_variables
+from .modularfibre import members_modulo_prime
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
@@ -80,9 +82,10 @@ class GlobalVerdict:
     mirrors : tuple of str
         Discrete symmetries verified exactly ("y -> -y"): each makes the states
         it moves only locally observable with certainty, over the reals too.
-    functions : tuple of (str, bool)
+    functions : tuple of (str, bool or None)
         The verdict's observable functions (those not a state) and whether each
-        is globally observable (tested with the states, same probability).
+        is globally observable (tested with the states, same probability; None:
+        undecided).
     generates_field : bool or None
         Whether the verdict's observable functions (states included) generate
         the field of globally observable functions (:mod:`.generators`), with the
@@ -149,22 +152,25 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     if isinstance(orders, str):
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
+    arguments = (prepared, model, orders, result.rank, local, [f for _, f in functions], error, seed)
     try:
-        decided = with_budget(_decide, prepared, model, orders, result.rank, local, [f for _, f in functions], error,
-                              seed, seconds=budget)
-    except Undecided as exc:
-        return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
-                             "Groebner basis at a point, the mirrors)")
+        decided = with_budget(_decide, *arguments, seconds=budget)
+    except Undecided as exact:
+        try:  # the basis over Q ran out of budget: modulo random primes, with the same budget
+            decided = with_budget(_decide, *arguments, True, seconds=budget)
+        except Undecided as exc:
+            return GlobalVerdict((), (), local, None, f"undecided: {exact}; modulo a prime: {exc} (the Lie "
+                                 f"derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
         return GlobalVerdict((), (), local, None, f"undecided: {decided}")
-    members, bits, probability, angles, mirrors, paired = decided
+    members, bits, probability, angles, mirrors, paired, how = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
                f"{bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate every Lie "
-               f"derivative: certain), as polynomial equations in the states' derivatives (SIAN's form); 'only "
-               f"locally' means other complex states share the outputs{angle_note}")
+               f"derivative: certain), as polynomial equations in the states' derivatives (SIAN's form), decided "
+               f"by {how}; 'only locally' means other complex states share the outputs{angle_note}")
     if mirrors:
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
@@ -180,8 +186,9 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
         probability += error if field.generates else 0.0
-    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if not where[s]), (),
-                         probability, details, mirrors, answers, generates, generation, field)
+    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
+                         tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
+                         generates, generation, field)
 
 
 def _field(system: System, model: RationalModel, orders: dict[str, int], members: list[tuple[str, sympy.Expr]],
@@ -206,11 +213,13 @@ def _generation(system: System, model: RationalModel, result: ObservabilityResul
     printed = tuple(result.observable_functions or ())
     if not printed:  # full rank: the states themselves, whose answers are above
         return None, "", False
-    outside = [f for f in printed if f in where and not where[f]] + [f for f, unique in answers if not unique]
+    outside = [f for f in printed if where.get(f) is False] + [f for f, unique in answers if unique is False]
     if outside:
         return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine", False
     if result.functions_complete is not True:
         return None, "their transcendence degree is not known to be the rank", False
+    if None in where.values() or any(unique is None for _, unique in answers):
+        return None, "some of them are undecided", False
     names = {s.name: s for s in (*system.states, *system.parameters)}
     functions = [model.rewrite(parse_expression(text, names, where="observable function")) for text in printed]
     outputs = [name for name, _ in system.outputs]
@@ -239,10 +248,11 @@ def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, s
 
 
 def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: int, local: tuple[str, ...],
-            functions: list[sympy.Expr], error: float, seed: int):
-    """The symbolic work, in one budgeted child: (members of the states, then of the functions,
-    range bits, error, angle names, mirrors), or why not when the Jacobian does not reach
-    ``rank`` at the point."""
+            functions: list[sympy.Expr], error: float, seed: int, modular: bool = False):
+    """The symbolic work, in one budgeted child: (members of the states, then of the functions
+    (None: undecided), range bits, error, angle names, mirrors, pairs found, how), or why not
+    when the Jacobian does not reach ``rank`` at the point. ``modular``: decided modulo random
+    primes (:mod:`.modularfibre`) instead of by the basis over Q."""
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
@@ -250,17 +260,26 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
     bound = _fibre_range(system, model, orders, [*fractions, *paired], error)
-    fibre = fibre_through(system, model, orders, rank, bound, random.Random(seed))
-    if isinstance(fibre, str):
-        return fibre
-    members = tuple(fibre.constant_on(f) for f in fractions)
-    only = tuple(s for s, member in zip(local, members[:len(local)]) if not member)
-    outside = {i for i, member in enumerate(members) if not member}
-    found = tuple(f for ((i, j), f), fraction in zip(pairs, paired)
-                  if {i, j} <= outside and fibre.constant_on(fraction))
+    rng = random.Random(seed)
+    equations = fibre_equations(system, model, orders, rank, bound, rng)
+    if isinstance(equations, str):
+        return equations
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
-    return members, bound.bit_length(), error / (1 - error), tuple(a.name for a in model.angles), \
-        _mirrors(system, model, only), found
+    probability, how = error / (1 - error), "the Groebner basis over Q"
+    if modular:
+        answers = members_modulo_prime(equations, [*fractions, *paired], rng)
+        if isinstance(answers, str):
+            return answers
+        every, probability, how = answers.members, probability + answers.error, answers.how
+    else:
+        basis = Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
+        every = tuple(basis.constant_on(f) for f in (*fractions, *paired))
+    members = every[:len(fractions)]
+    only = tuple(s for s, member in zip(local, members[:len(local)]) if member is False)
+    outside = {i for i, member in enumerate(members) if member is False}
+    found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
+    return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
+        _mirrors(system, model, only), found, how
 
 
 def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],

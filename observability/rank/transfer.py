@@ -1,0 +1,160 @@
+"""From a prime field to the complex numbers: when a system's solvability modulo a random large prime is its solvability over C.
+
+Integer polynomials f_1, ..., f_s in n variables, of degrees at most d
+(d >= 2) and coefficient vectors of Euclidean norm at most nu.
+
+**Lemma.** There is a non-zero integer alpha with |alpha| <= nu^R,
+R = binomial(n + delta, n), delta = 4 n (d + 1)^n + d, such that for every
+prime p not dividing alpha the f_i have a common zero in C^n exactly when their
+reductions mod p have one in the algebraic closure of F_p.
+
+*Proof.* Effective Nullstellensatz (Sabia and Solerno, "Bounds for traces in
+complete intersections and degrees in the Nullstellensatz", Appl. Algebra Eng.
+Commun. Comput. 6, 1995, over any infinite perfect field k, as the algebraic
+closures of Q and of F_p are): 1 lies in the ideal of the f_i over k exactly
+when 1 = sum p_i f_i with deg p_i <= D = 4 n (d + 1)^n. (Kollar, J. AMS 1,
+1988, gives a smaller bound over any field; the larger one only costs bits.)
+Let M be the integer matrix whose columns are the coefficient vectors of m f_i,
+m running over the monomials of degree <= D, its rows the R monomials of degree
+<= delta, and e the unit vector of the monomial 1. A linear system with
+coefficients in a field K is solvable over K when it is over an extension, so
+the f_i have no common zero over the closure of K (Q or F_p) exactly when e lies
+in the column space of M over K. Let r be the rank of M over Q.
+- Common zero over C: rank [M e] = r + 1 over Q, so a minor alpha of [M e] of
+  size r + 1 is non-zero; for p not dividing it [M e] keeps rank r + 1 mod p
+  while M's rank cannot rise (its minors of size r + 1 are 0 in Z), so e is
+  not in M's column space mod p: a common zero mod p.
+- None over C: e = M_C y for r independent columns C of M and a unique y;
+  Cramer's rule on r rows with a non-zero minor alpha makes alpha y integral and
+  M_C (alpha y) = alpha e holds in Z; for p not dividing alpha, e lies in the
+  column space mod p: no common zero mod p.
+Hadamard's inequality bounds either minor by the product of its columns'
+norms, at most nu each (e: 1), over at most R columns. []
+
+**The prime.** A non-zero integer with |alpha| <= nu^R has at most
+R log2(nu) / (b - 1) prime divisors in [2^(b-1), 2^b), which holds more than
+2^b / ln 2 (1/b - 0.62753/(b - 1)) primes (Rosser and Schoenfeld, Illinois J.
+Math. 6, 1962: x / ln x < pi(x) for x >= 17, pi(x) < 1.25506 x / ln x). alpha
+depends only on the system, fixed before the prime is drawn, so a prime drawn
+uniformly from that interval divides it with probability at most their ratio;
+over several systems the ratios add. A candidate is accepted after Miller-Rabin
+with ``ROUNDS`` random bases (a composite passes each with probability at most
+1/4); at most ``CANDIDATES_PER_BIT * b`` candidates are drawn, and every one of
+them may be a composite that passes: that probability is added too.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+
+import flint
+
+__all__ = ["SystemSize", "transfer_exponent", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
+
+#: Miller-Rabin rounds per accepted candidate.
+ROUNDS = 40
+#: Candidates drawn per bit of the prime before giving up (about 0.69 b are needed on average).
+CANDIDATES_PER_BIT = 64
+#: 1/ln 2 = 1.44269... rounded down and up, and Rosser and Schoenfeld's constant over 2 rounded up.
+_INVERSE_LN2_BELOW = Fraction(14426, 10000)
+_INVERSE_LN2_ABOVE = Fraction(14427, 10000)
+_HALF_ROSSER = Fraction(62753, 100000)
+
+
+def _primes_below(n: int) -> list[int]:
+    sieve = bytearray([1]) * n
+    sieve[:2] = b"\x00\x00"
+    for i in range(2, math.isqrt(n) + 1):
+        if sieve[i]:
+            sieve[i * i::i] = bytearray(len(range(i * i, n, i)))
+    return [i for i in range(n) if sieve[i]]
+
+
+#: The product of the primes below 2^16: one gcd screens out most composites before the strong test
+#: (a candidate of 64 bits or more is none of them, so no prime is screened out).
+_SMALL_PRIMES = math.prod(_primes_below(2**16))
+_TWO = flint.fmpz(2)
+
+
+@dataclass(frozen=True)
+class SystemSize:
+    """What the lemma needs of a system: variables, a degree bound, and the
+    squared Euclidean norm of its largest coefficient vector."""
+
+    variables: int
+    degree: int
+    squared_norm: int
+
+
+def transfer_exponent(size: SystemSize) -> int:
+    """An integer at least R log2(nu): log2 |alpha| for the lemma's alpha."""
+    n, d = size.variables, max(2, size.degree)
+    delta = 4 * n * (d + 1) ** n + d
+    rows = math.comb(n + delta, n)
+    return rows * ((max(size.squared_norm, 1).bit_length() + 1) // 2)
+
+
+def _primes_below_bits(b: int) -> Fraction:
+    """A lower bound on the number of primes in [2^(b-1), 2^b) (b >= 6): pi(2^b)
+    from below less pi(2^(b-1)) from above."""
+    return 2**b * (_INVERSE_LN2_BELOW / b - _INVERSE_LN2_ABOVE * _HALF_ROSSER / (b - 1))
+
+
+def prime_error(exponents: Sequence[int], b: int) -> Fraction:
+    """The chance that a uniform prime of b bits divides one of the lemma's alphas
+    (``exponents``: their log2 bounds), plus that a composite is accepted."""
+    bad = Fraction(sum(exponents), b - 1)
+    accepted_composite = Fraction(CANDIDATES_PER_BIT * b, 4**ROUNDS)
+    return bad / _primes_below_bits(b) + accepted_composite
+
+
+def prime_bits(exponents: Sequence[int], error: float) -> int:
+    """The fewest bits b >= 64 for which :func:`prime_error` is at most ``error``."""
+    target = Fraction(error)
+    b = max(64, sum(exponents).bit_length() + 2)
+    while prime_error(exponents, b) > target:
+        b += 1  # the error about halves per bit: a few dozen steps
+    return b
+
+
+@dataclass(frozen=True)
+class RandomPrime:
+    """A prime drawn uniformly from [2^(bits-1), 2^bits) (up to Miller-Rabin's error)."""
+
+    value: int
+    bits: int
+
+
+def _passes_miller_rabin(n: flint.fmpz, rng: random.Random) -> bool:
+    d, s = n - 1, 0
+    while d % 2 == 0:
+        d, s = d // 2, s + 1
+    for _ in range(ROUNDS):
+        x = pow(flint.fmpz(rng.randrange(2, int(n) - 1)), d, n)
+        if x == 1 or x == n - 1:
+            continue
+        for _ in range(s - 1):
+            x = x * x % n
+            if x == n - 1:
+                break
+        else:
+            return False
+    return True
+
+
+def random_prime(bits: int, rng: random.Random) -> RandomPrime | None:
+    """A prime of ``bits`` bits drawn uniformly (candidates drawn uniformly, the
+    first that passes kept), or None after ``CANDIDATES_PER_BIT * bits`` candidates.
+    A gcd with the small primes and Fermat's test to base 2 (in flint) only
+    screen, and never reject a prime; Miller-Rabin with random bases is what
+    bounds the error."""
+    for _ in range(CANDIDATES_PER_BIT * bits):
+        candidate = rng.randrange(2 ** (bits - 1), 2**bits)
+        if math.gcd(candidate, _SMALL_PRIMES) == 1 and pow(_TWO, candidate - 1, candidate) == 1 \
+                and _passes_miller_rabin(flint.fmpz(candidate), rng):
+            return RandomPrime(candidate, bits)
+    return None

@@ -1,0 +1,223 @@
+"""The global answers modulo a random large prime: the transfer lemma's bound, the prime field's
+Groebner bases, and the answers, against independent routes (the exact basis over Q, sympy's
+prime counts and primality, StructuralIdentifiability.jl's labels, hand derivations)."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+import sympy
+
+from observability import System, analyze
+from observability.analysis import uniqueness
+from observability.analysis.modularfibre import members_modulo_prime
+from observability.analysis.fibre import fibre_equations
+from observability.analysis.rationalmodel import rational_model
+from observability.budget import Undecided
+from observability.model.sijl import parse_si_model
+from observability.rank import transfer
+from observability.rank.ideal import ReducedBasis
+from observability.rank.primefield import extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
+from observability.rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
+from test_global import SI_CASES
+
+
+def test_the_exponent_is_the_lemma_s_for_one_variable():
+    """n = 1, d = 2, f = x^2 + 2 (squared norm 5): delta = 4*1*3 + 2 = 14, R = C(15, 1) = 15 rows,
+    log2 nu = log2(sqrt 5) <= ceil(3/2) = 2 bits: 30. A degree of 1 counts as 2 (the theorem's d >= 2)."""
+    assert transfer_exponent(SystemSize(1, 2, 5)) == 30
+    assert transfer_exponent(SystemSize(1, 1, 5)) == 30
+    assert transfer_exponent(SystemSize(2, 2, 5)) == sympy.binomial(2 + 4 * 2 * 9 + 2, 2) * 2
+
+
+@pytest.mark.parametrize("p0", [2**61 - 1, 2**127 - 1])
+def test_a_prime_that_changes_the_answer_divides_a_number_the_bound_covers(p0):
+    """p0 x - 1 has the zero 1/p0 over C and none mod p0; {p0 x - 1, x} has none over C and the zero
+    x = 0 mod p0. So p0 divides the lemma's alpha in both cases (both systems: one variable, degree
+    1, squared norm p0^2 + 1): the bound must reach log2 p0."""
+    assert transfer_exponent(SystemSize(1, 1, p0 * p0 + 1)) >= p0.bit_length() - 1
+
+
+def test_the_prime_count_is_a_lower_bound():
+    """Against sympy's exact prime counts on [2^(b-1), 2^b) for b = 6..22."""
+    for b in range(6, 23):
+        exact = sympy.primepi(2**b - 1) - sympy.primepi(2 ** (b - 1) - 1)
+        assert 0 < transfer._primes_below_bits(b) <= exact
+
+
+def test_the_prime_size_is_the_fewest_bits_that_reach_the_error():
+    """prime_bits gives an error at or under the target, one bit fewer exceeds it; the error falls
+    about by half per bit; more systems or a larger bound need more bits."""
+    exponents = [transfer_exponent(SystemSize(10, 3, 10**40))] * 5
+    b = prime_bits(exponents, 1e-9)
+    assert prime_error(exponents, b) <= 1e-9 < prime_error(exponents, b - 1)
+    assert 1.8 < float(prime_error(exponents, b - 1) / prime_error(exponents, b)) < 2.2
+    assert b + 2 <= prime_bits(exponents * 4, 1e-9) <= b + 3
+    assert prime_bits([1], 1e-9) == 64
+
+
+def test_random_primes_are_prime_of_the_size_and_liars_are_caught():
+    """sympy's primality test (a second route) on every drawn prime; a strong pseudoprime to the
+    bases 2, 3, 5, 7 (3215031751 = 151 * 751 * 28351) fails the random bases; a candidate budget of
+    nothing gives None."""
+    rng = random.Random(4)
+    for bits in (64, 200, 521):
+        prime = random_prime(bits, rng)
+        assert prime is not None and prime.bits == bits and prime.value.bit_length() == bits
+        assert sympy.isprime(prime.value)
+    assert not transfer._passes_miller_rabin(transfer.flint.fmpz(3215031751), random.Random(1))
+    assert transfer._passes_miller_rabin(transfer.flint.fmpz(2**127 - 1), random.Random(1))
+
+
+def test_no_candidate_left_gives_none(monkeypatch):
+    monkeypatch.setattr(transfer, "CANDIDATES_PER_BIT", 0)
+    assert random_prime(64, random.Random(1)) is None
+
+
+def _mod(expr, xs, ring, p):
+    terms = {}
+    for m, c in sympy.Poly(expr, *xs).terms():
+        c = sympy.Rational(c)
+        terms[m] = int(c.p) * pow(int(c.q), -1, p) % p
+    return ring.from_dict(terms)
+
+
+def _normal(poly, p):
+    return sorted((m[:-1], int(c) % p) for m, c in poly.to_dict().items())
+
+
+def test_bases_mod_p_are_the_exact_bases_reduced():
+    """On 40 random ideals in 4 variables, the reduced basis mod a 61-bit prime is the reduced basis
+    over Q (:mod:`observability.rank.ideal`, itself checked against sympy) reduced mod p."""
+    xs = sympy.symbols("x0:4")
+    rng, p = random.Random(5), 2**61 - 1
+    for _ in range(40):
+        eqs = [sympy.expand(sum(rng.randint(-5, 5) * xs[rng.randrange(4)] ** rng.randint(0, 2)
+                                * xs[rng.randrange(4)] ** rng.randint(0, 1) for _ in range(3)) + rng.randint(-3, 3))
+               for _ in range(rng.randint(2, 4))]
+        eqs = [e for e in eqs if e != 0]
+        ring = prime_ring([str(x) for x in xs], p)
+        modular = groebner_basis_mod_p([_mod(e, xs, ring, p) for e in eqs], ring)
+        exact = [_mod(e, xs, ring, p) for e in ReducedBasis(eqs, xs).expressions()]
+        assert [_normal(g, p) for g in modular] == [_normal(g, p) for g in exact]
+
+
+def test_a_remainder_that_vanishes_only_mod_p_is_zero():
+    """x y + 3 by x y - 4 leaves 7 over Z: zero mod 7 (flint's primitive part alone would give 1);
+    mod 11 it is 7, a unit: the basis with it is {1}."""
+    xs = sympy.symbols("x y")
+    for p, zero in ((7, True), (11, False)):
+        ring = prime_ring(["x", "y"], p)
+        f, g = _mod(xs[0] * xs[1] + 3, xs, ring, p), _mod(xs[0] * xs[1] - 4, xs, ring, p)
+        assert reduce_mod(f, [g], ring).is_zero() == zero
+        assert is_one(extend_basis([g], [f], ring)) != zero
+
+
+def test_negative_leading_coefficients_are_made_monic():
+    """-x + 2 and x y - 1 mod 13: the basis is x - 2, y - 7 (2 * 7 = 14 = 1 mod 13)."""
+    xs = sympy.symbols("x y")
+    ring = prime_ring(["x", "y"], 13)
+    basis = groebner_basis_mod_p([_mod(-xs[0] + 2, xs, ring, 13), _mod(xs[0] * xs[1] - 1, xs, ring, 13)], ring)
+    assert [_normal(g, 13) for g in basis] == [[((0, 0), 11), ((1, 0), 1)], [((0, 0), 6), ((0, 1), 1)]]
+
+
+def _modular(system: System, seed: int = 3):
+    """The modular route on its own, in this process."""
+    result = analyze(system, seed=5, directions=False)
+    prepared = uniqueness.prepare(system).system
+    model = rational_model(prepared)
+    orders = uniqueness._truncation(prepared, result.rank, seed)
+    local = tuple(result.observable_states)
+    return local, uniqueness._decide(prepared, model, orders, result.rank, local, [], 1e-6, seed, True)
+
+
+def test_range_only_fix_modulo_a_prime_keeps_the_mirror():
+    """Ranges to (0, 0) and (d, 0): x unique, y up to its sign (test_global's hand derivation). y's
+    answer needs no radical; x's does: (ii) certifies it, with a second prime."""
+    system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
+                    parameters=["d"])
+    local, decided = _modular(system)
+    members, _, probability, _, mirrors, _, how = decided
+    assert dict(zip(local, members)) == {"x": True, "y": False} and mirrors == ("y -> -y",)
+    assert how.startswith("modulo random primes of ") and "radical (no singular point)" in how
+    assert 1e-6 < probability < 1e-6 + 3e-9
+
+
+def test_bearings_to_three_beacons_modulo_a_prime_are_the_point_alone():
+    """Three lines through three beacons meet in one point: every unknown is constant, so the fibre
+    is a's point alone, simple: certificate (i), one prime."""
+    system = System(["x", "y"], ["0", "0"], {"b1": "y/x", "b2": "(y - 1)/(x - 2)", "b3": "(y + 1)/(x - 3)"})
+    local, decided = _modular(system)
+    assert decided[0] == (True, True) and decided[-1].endswith("the fibre is the point alone, a simple point")
+
+
+def test_a_double_point_is_not_called_global():
+    """y = x^2 at x' = 0: the fibre x^2 = a^2 has two simple points, so x is only locally observable;
+    its square x^2 (the pair candidate x * x) is constant, which the radical test certifies."""
+    local, decided = _modular(System(["x"], ["0"], {"y": "x**2"}))
+    assert decided[0] == (False,) and decided[4] == ("x -> -x",) and decided[5] == (sympy.Symbol("x") ** 2,)
+    assert "radical" in decided[-1]
+
+
+_CHEAP = [c for c in SI_CASES if c[0] in (54, 129, 148, 166)]
+
+
+@pytest.mark.parametrize(("line", "body", "expected"), _CHEAP, ids=[f"line{c[0]}" for c in _CHEAP])
+def test_the_modular_route_matches_structural_identifiability_jl(line, body, expected):
+    """SI.jl's labels (test_global's references) from the modular route alone, on the cases it
+    answers in under 2 s of CPU (lines 184 and 203 agree too, in 28 and 14 s: measured 2026-12-04,
+    left to ``benchmarks/global_sijl.py``'s kind of run)."""
+    system = parse_si_model(f"ode = @ODEmodel({body})", name=f"SI.jl identifiability.jl:{line}")
+    local, decided = _modular(system)
+    labels = {s: ("globally" if m else "locally") for s, m in zip(local, decided[0])}
+    assert {k: labels.get(k, "nonidentifiable") for k in expected} == expected
+
+
+def test_the_verdict_falls_back_to_the_prime_when_the_exact_basis_runs_out(monkeypatch):
+    """The exact route's budget exhausted (simulated): the answer comes modulo a prime, says so, and
+    both exhausted leave every state undecided with both reasons."""
+    real = uniqueness.with_budget
+
+    def exact_out(func, *args, seconds):
+        if func is uniqueness._decide and len(args) == 8:
+            raise Undecided("exact out")
+        return real(func, *args, seconds=None)
+
+    system = System(["x", "y"], ["0", "0"], {"b1": "y/x", "b2": "(y - 1)/(x - 2)", "b3": "(y + 1)/(x - 3)"})
+    result = analyze(system, seed=5, directions=False)
+    monkeypatch.setattr(uniqueness, "with_budget", exact_out)
+    answer = uniqueness.global_observability(system, result, seed=3, budget=10)
+    assert answer.globally == ("x", "y") and "decided by modulo a random prime of " in answer.details
+
+    def both_out(func, *args, seconds):
+        if func is uniqueness._decide:
+            raise Undecided("out" if len(args) == 8 else "prime out")
+        return real(func, *args, seconds=None)
+
+    monkeypatch.setattr(uniqueness, "with_budget", both_out)
+    answer = uniqueness.global_observability(system, result, seed=3, budget=10)
+    assert answer.undecided == ("x", "y") and answer.details.startswith("undecided: out; modulo a prime: prime out")
+
+
+def test_an_undecided_member_is_listed_as_undecided(monkeypatch):
+    """A radical test that fails leaves the constant values undecided, not global."""
+    import observability.analysis.modularfibre as modular
+
+    monkeypatch.setattr(modular, "_radical", lambda system, rng: (False, 70, 0))
+    system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
+                    parameters=["d"])
+    local, decided = _modular(system)
+    assert dict(zip(local, decided[0])) == {"x": None, "y": False} and "may have a singular point" in decided[-1]
+
+
+def test_the_equations_are_those_of_the_exact_route():
+    """The modular route's fibre is the exact route's: same point, same equations."""
+    system = System(["x"], ["1"], {"y": "x**2"})
+    result = analyze(system, seed=5, directions=False)
+    model = rational_model(system)
+    orders = uniqueness._truncation(system, result.rank, 3)
+    a = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3))
+    b = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3))
+    answers = members_modulo_prime(a, [(sympy.Symbol("x"), sympy.Integer(1))], random.Random(1))
+    assert a == b and answers.members == (True,)
