@@ -52,6 +52,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                 "observability/analysis/generators.py", "observability/analysis/globalfield.py",
                 "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py"],
                ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py"]),
+    "modular": (["observability/rank/transfer.py", "observability/rank/primefield.py",
+                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),

@@ -12,7 +12,7 @@ import sympy
 from observability import System, analyze
 from observability.analysis import uniqueness
 from observability.analysis.modularfibre import members_modulo_prime
-from observability.analysis.fibre import fibre_equations
+from observability.analysis.fibre import FibreEquations, fibre_equations
 from observability.analysis.rationalmodel import rational_model
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
@@ -221,3 +221,16 @@ def test_the_equations_are_those_of_the_exact_route():
     b = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3))
     answers = members_modulo_prime(a, [(sympy.Symbol("x"), sympy.Integer(1))], random.Random(1))
     assert a == b and answers.members == (True,)
+
+
+def test_a_double_point_alone_is_not_taken_for_a_simple_one():
+    """The fibre x^2 = 0 is the point 0 alone, but double: x vanishes there without lying in the
+    ideal (x^2). The Jacobian 2x is 0 at the point, so certificate (i) does not apply, and (ii)'s
+    system x^2 = 0, 2 x v = 0, r v = 1 has the zero (0, 1/r): x's answer is undecided, not global."""
+    x = sympy.Symbol("x")
+    fibre = FibreEquations((x**2,), (x,), sympy.Integer(1), {x: sympy.Integer(0)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (None,) and "may have a singular point" in answers.how
+    simple = FibreEquations((x - 3,), (x,), sympy.Integer(1), {x: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(simple, [(x, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (True,) and answers.how.endswith("the point alone, a simple point")

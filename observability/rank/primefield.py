@@ -66,19 +66,21 @@ def _monic(p: Any, ring: PrimeRing) -> Any:
 
 
 def _remainder(p: Any, divisors: Sequence[Any], ring: PrimeRing) -> Any:
-    """p's complete remainder by monic ``divisors``, mod the prime, up to a sign.
+    """p's complete remainder by ``divisors``, mod the prime, up to a unit.
 
-    flint's quasi-division over Z (in C) needs no multiplier for monic divisors,
-    so its remainder R is exact, but it returns R divided by its content, which
-    would hide a factor p (R = 0 mod p). The marker p w, which no leading
-    monomial divides, rides along: the result is R + p w up to sign when p does
-    not divide R's content, R/p + w up to sign when it does."""
+    flint's quasi-division over Z (in C) returns c p - sum q_i g_i divided by
+    its content e, where c is a product of the divisors' leading coefficients
+    (1 for monic divisors, which keeps the integers small; a unit mod p in any
+    case, since they are 1 mod p). Dividing by e would hide a factor p (a
+    remainder that is 0 mod p). The marker p w, which no leading monomial
+    divides, rides along as c p w / e: its coefficient is a multiple of p
+    exactly when e is not."""
     if not divisors:
         return p
     r = (p + ring.term(ring.marker, ring.prime)).reduction_primitive_part(
         flint.fmpz_mpoly_vec(list(divisors), ring.context))
     marked = int(r[ring.marker])
-    if abs(marked) == 1:
+    if marked % ring.prime:
         return ring.context.from_dict({})
     return (r - ring.term(ring.marker, marked)) % ring.prime
 
