@@ -234,3 +234,15 @@ def test_a_double_point_alone_is_not_taken_for_a_simple_one():
     simple = FibreEquations((x - 3,), (x,), sympy.Integer(1), {x: sympy.Integer(3)}, {})
     answers = members_modulo_prime(simple, [(x, sympy.Integer(1))], random.Random(2))
     assert answers.members == (True,) and answers.how.endswith("the point alone, a simple point")
+
+
+def test_an_undecided_function_is_printed_as_undecided():
+    """The text names each function's answer: unique, only locally, or undecided (None), not the
+    last read as 'only locally'."""
+    import dataclasses
+
+    system = System(["x"], ["1"], {"y": "x**2"})
+    result = analyze(system, seed=5, directions=False)
+    answer = uniqueness.GlobalVerdict(("x",), (), (), 1e-6, "how", functions=(("a", True), ("b", False), ("c", None)))
+    text = dataclasses.replace(result, global_answer=answer).text()
+    assert "  observable functions: a unique; b only locally; c undecided" in text

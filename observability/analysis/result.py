@@ -235,7 +235,8 @@ class ObservabilityResult:
             lines.append(f"  global answer undecided: {states(answer.undecided)}")
         if answer.functions:
             lines.append("  observable functions: " + "; ".join(
-                f"{f} {'unique' if unique else 'only locally'}" for f, unique in answer.functions))
+                f"{f} {({True: 'unique', False: 'only locally', None: 'undecided'})[unique]}"
+                for f, unique in answer.functions))
         if answer.generation:
             verdict = {True: "the observable functions generate", False: "the observable functions do not generate",
                        None: "not known whether the observable functions generate"}[answer.generates_field]
