@@ -25,6 +25,13 @@ point, after adjoining the states a transcendence basis over K needs (a
 non-zero minor of the Jacobian of T at an exact rational point certifies their
 independence when its rank there is the verdict's rank).
 
+**Modulo a prime, when the basis over Q is out of reach.** If the fibre's
+Groebner basis over Q exceeds the budget, the same fibre (same point) is
+decided modulo random large primes (:mod:`.modularfibre`, with the argument
+that makes it certain up to the primes' stated error, added to the answer's);
+answers it cannot certify (a fibre that may have a singular point) are
+"undecided".
+
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
 observable modulo 2 pi. "Only locally" is a statement over the complex
