@@ -65,7 +65,12 @@ def _monic(p: Any, ring: PrimeRing) -> Any:
     return q - ring.term(q.monomial(0), int(q.leading_coefficient()) - 1)
 
 
-def _remainder(p: Any, divisors: Sequence[Any], ring: PrimeRing) -> Any:
+def _vector(divisors: Sequence[Any], ring: PrimeRing) -> Any:
+    """The divisors as one flint vector (built once per basis, not per remainder)."""
+    return flint.fmpz_mpoly_vec(list(divisors), ring.context)
+
+
+def _remainder(p: Any, divisors: Any, ring: PrimeRing) -> Any:
     """p's complete remainder by ``divisors``, mod the prime, up to a unit.
 
     flint's quasi-division over Z (in C) returns c p - sum q_i g_i divided by
@@ -75,10 +80,9 @@ def _remainder(p: Any, divisors: Sequence[Any], ring: PrimeRing) -> Any:
     remainder that is 0 mod p). The marker p w, which no leading monomial
     divides, rides along as c p w / e: its coefficient is a multiple of p
     exactly when e is not."""
-    if not divisors:
+    if not len(divisors):
         return p
-    r = (p + ring.term(ring.marker, ring.prime)).reduction_primitive_part(
-        flint.fmpz_mpoly_vec(list(divisors), ring.context))
+    r = (p + ring.term(ring.marker, ring.prime)).reduction_primitive_part(divisors)
     marked = int(r[ring.marker])
     if marked % ring.prime:
         return ring.context.from_dict({})
@@ -87,7 +91,7 @@ def _remainder(p: Any, divisors: Sequence[Any], ring: PrimeRing) -> Any:
 
 def reduce_mod(p: Any, basis: Sequence[Any], ring: PrimeRing) -> Any:
     """The normal form of p modulo a Groebner basis (zero exactly when p is in its ideal)."""
-    return _remainder(p, basis, ring)
+    return _remainder(p, _vector(basis, ring), ring)
 
 
 def _spolynomial(a: Any, b: Any, ring: PrimeRing) -> Any:
@@ -105,13 +109,17 @@ def extend_basis(basis: Sequence[Any], extra: Sequence[Any], ring: PrimeRing) ->
     kept: set[int] = set()
     pairs: set[tuple[int, int]] = set()
     queue: list[tuple[tuple, int, int]] = []
+    current: list[Any] = []  # the divisors' vector, rebuilt only when the basis changes
 
-    def divisors() -> list[Any]:
-        return [polys[g] for g in sorted(kept, key=lambda g: _key(leads[g]))]
+    def divisors() -> Any:
+        if not current:
+            current.append(_vector([polys[g] for g in sorted(kept, key=lambda g: _key(leads[g]))], ring))
+        return current[0]
 
     def add(h: Any) -> None:
         """h, reduced and non-zero, joins the basis with its pairs queued."""
         nonlocal kept, pairs
+        current.clear()
         polys.append(_monic(h, ring))
         leads.append(tuple(polys[-1].monomial(0)))
         before = pairs
@@ -132,7 +140,7 @@ def extend_basis(basis: Sequence[Any], extra: Sequence[Any], ring: PrimeRing) ->
             h = _remainder(_spolynomial(polys[a], polys[b], ring), divisors(), ring)
             if not h.is_zero():
                 add(h)
-    reduced = [_monic(_remainder(polys[g], [polys[k] for k in kept if k != g], ring), ring)
+    reduced = [_monic(_remainder(polys[g], _vector([polys[k] for k in kept if k != g], ring), ring), ring)
                for g in kept]
     return sorted(reduced, key=lambda p: _key(tuple(p.monomial(0))), reverse=True)
 
