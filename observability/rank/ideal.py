@@ -46,9 +46,10 @@ def _divides(a: Monomial, b: Monomial) -> bool:
     return all(x <= y for x, y in zip(a, b))
 
 
-@functools.lru_cache(maxsize=1 << 16)
+@functools.lru_cache(maxsize=1 << 12)
 def _lcm(a: Monomial, b: Monomial) -> Monomial:
-    """Cached: Gebauer and Moeller's update asks for the same pairs' lcm at every new element."""
+    """Cached (a few MB at most: the memory of a long-lived process counts too): Gebauer and Moeller's
+    update asks for the same pairs' lcm at every new element."""
     return tuple(max(x, y) for x, y in zip(a, b))
 
 
