@@ -246,3 +246,37 @@ def test_an_undecided_function_is_printed_as_undecided():
     answer = uniqueness.GlobalVerdict(("x",), (), (), 1e-6, "how", functions=(("a", True), ("b", False), ("c", None)))
     text = dataclasses.replace(result, global_answer=answer).text()
     assert "  observable functions: a unique; b only locally; c undecided" in text
+
+
+def test_no_constant_value_needs_no_radical_test():
+    """The fibre x^2 = 4 through x = 2: x is not constant (x = -2 too), nothing is global, so one
+    prime answers and the radical test does not run."""
+    x = sympy.Symbol("x")
+    fibre = FibreEquations((x**2 - 4,), (x,), sympy.Integer(1), {x: sympy.Integer(2)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (x + 1, x)], random.Random(2))
+    assert answers.members == (False, False) and len(answers.bits) == 1
+    assert answers.how == f"modulo a random prime of {answers.bits[0]} bits" and 0 < answers.error < 1e-9
+
+
+def test_no_prime_for_the_radical_test_leaves_constants_undecided(monkeypatch):
+    """x^2 = 4 and y = 3: y is constant, x is not, so the fibre is not the point alone and the
+    radical test needs its own prime; when none is found, y is undecided and x still only local."""
+    import observability.analysis.modularfibre as modular
+
+    x, y = sympy.symbols("x y")
+    fibre = FibreEquations((x**2 - 4, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (y, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (False, True) and len(answers.bits) == 2 and "radical" in answers.how
+    real, calls = modular.random_prime, []
+
+    def second_fails(bits, rng):
+        calls.append(bits)
+        return real(bits, rng) if len(calls) == 1 else None
+
+    monkeypatch.setattr(modular, "random_prime", second_fails)
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (y, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (False, None) and len(calls) == 2
+    assert answers.how.endswith("no prime was found for the radical test: constant values left undecided")
+    monkeypatch.setattr(modular, "random_prime", lambda bits, rng: None)
+    assert members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2)) == \
+        "no prime was found among the candidates drawn"
