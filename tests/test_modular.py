@@ -280,3 +280,14 @@ def test_no_prime_for_the_radical_test_leaves_constants_undecided(monkeypatch):
     monkeypatch.setattr(modular, "random_prime", lambda bits, rng: None)
     assert members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2)) == \
         "no prime was found among the candidates drawn"
+
+
+def test_the_prime_error_is_the_module_s_formula():
+    """By the docstring: at b = 100 bits and exponents 10^6 and 3 * 10^6, the bad primes number at most
+    4 * 10^6 / 99, the primes at least 2^100 (1.4426/100 - 1.4427 * 0.62753/99), and the composites
+    64 * 100 candidates, each passing 40 rounds with probability at most 4^-40."""
+    from fractions import Fraction
+
+    count = 2**100 * (Fraction(14426, 10000) / 100 - Fraction(14427, 10000) * Fraction(62753, 100000) / 99)
+    expected = Fraction(4 * 10**6, 99) / count + Fraction(64 * 100, 4**40)
+    assert prime_error([10**6, 3 * 10**6], 100) == expected
