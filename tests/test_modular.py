@@ -291,3 +291,11 @@ def test_the_prime_error_is_the_module_s_formula():
     count = 2**100 * (Fraction(14426, 10000) / 100 - Fraction(14427, 10000) * Fraction(62753, 100000) / 99)
     expected = Fraction(4 * 10**6, 99) / count + Fraction(64 * 100, 4**40)
     assert prime_error([10**6, 3 * 10**6], 100) == expected
+
+
+def test_miller_rabin_agrees_with_sympy_on_small_odd_numbers():
+    """Every odd n in [5, 3000), Carmichael numbers (561, 1105, 1729, 2465, 2821) included: prime exactly
+    when sympy says so (a composite passing 40 random bases would be a 4^-40 event)."""
+    rng = random.Random(7)
+    for n in range(5, 3000, 2):
+        assert transfer._passes_miller_rabin(transfer.flint.fmpz(n), rng) == sympy.isprime(n), n
