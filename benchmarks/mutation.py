@@ -383,8 +383,6 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.rank.proofcheck.x_check__mutmut_{k}": "rank(simplify=...) at the point: sympy's rank decides "
        "the zero pivots of these numbers (rationals, roots, values of sin, exp, log, atan at rationals) the same "
        "without simplification (tried on trigonometric, logarithmic and exponential identities)" for k in (178, 181)},
-    "observability.analysis.fibre.x_fibre_through__mutmut_8": "one more draw of the point: a redraw is needed only "
-        "after a pole",
     **{f"observability.analysis.fibre.x_known_variables__mutmut_{k}": "max over the outputs' orders with another "
        "default, or one more input derivative: a System has an output, and a derivative no Lie derivative holds "
        "is drawn and never read" for k in (3, 5, 6, 13)},

@@ -157,7 +157,8 @@ def test_a_generator_is_printed_up_to_400_characters():
 
 
 def _fibre(system, orders, rank, seed=1):
-    return fibres.fibre_through(system, rational_model(system), orders, rank, 1000, random.Random(seed))
+    equations = fibres.fibre_equations(system, rational_model(system), orders, rank, 1000, random.Random(seed))
+    return fibres.exact_fibre(equations)
 
 
 def test_the_fibre_fixes_the_free_coordinates_at_the_point():

@@ -18,7 +18,7 @@ from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
 from observability.rank import transfer
 from observability.rank.ideal import ReducedBasis
-from observability.rank.primefield import extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
+from observability.rank.primefield import extend_basis, groebner_basis_mod_p, is_one, PrimeRing, reduce_mod
 from observability.rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
 from test_global import SI_CASES
 
@@ -97,7 +97,7 @@ def test_bases_mod_p_are_the_exact_bases_reduced():
                                 * xs[rng.randrange(4)] ** rng.randint(0, 1) for _ in range(3)) + rng.randint(-3, 3))
                for _ in range(rng.randint(2, 4))]
         eqs = [e for e in eqs if e != 0]
-        ring = prime_ring([str(x) for x in xs], p)
+        ring = PrimeRing([str(x) for x in xs], p)
         modular = groebner_basis_mod_p([_mod(e, xs, ring, p) for e in eqs], ring)
         exact = [_mod(e, xs, ring, p) for e in ReducedBasis(eqs, xs).expressions()]
         assert [_normal(g, p) for g in modular] == [_normal(g, p) for g in exact]
@@ -108,7 +108,7 @@ def test_a_remainder_that_vanishes_only_mod_p_is_zero():
     mod 11 it is 7, a unit: the basis with it is {1}."""
     xs = sympy.symbols("x y")
     for p, zero in ((7, True), (11, False)):
-        ring = prime_ring(["x", "y"], p)
+        ring = PrimeRing(["x", "y"], p)
         f, g = _mod(xs[0] * xs[1] + 3, xs, ring, p), _mod(xs[0] * xs[1] - 4, xs, ring, p)
         assert reduce_mod(f, [g], ring).is_zero() == zero
         assert is_one(extend_basis([g], [f], ring)) != zero
@@ -117,7 +117,7 @@ def test_a_remainder_that_vanishes_only_mod_p_is_zero():
 def test_negative_leading_coefficients_are_made_monic():
     """-x + 2 and x y - 1 mod 13: the basis is x - 2, y - 7 (2 * 7 = 14 = 1 mod 13)."""
     xs = sympy.symbols("x y")
-    ring = prime_ring(["x", "y"], 13)
+    ring = PrimeRing(["x", "y"], 13)
     basis = groebner_basis_mod_p([_mod(-xs[0] + 2, xs, ring, 13), _mod(xs[0] * xs[1] - 1, xs, ring, 13)], ring)
     assert [_normal(g, 13) for g in basis] == [[((0, 0), 11), ((1, 0), 1)], [((0, 0), 6), ((0, 1), 1)]]
 

@@ -28,7 +28,7 @@ from ..rank.ideal import ReducedBasis, saturated_basis
 from ..rank.membership import completing_columns, exact_rank
 from .rationalmodel import RationalModel
 
-__all__ = ["Fibre", "FibreEquations", "fibre_equations", "fibre_through", "known_variables"]
+__all__ = ["Fibre", "FibreEquations", "exact_fibre", "fibre_equations", "known_variables"]
 
 
 @dataclass(frozen=True)
@@ -92,12 +92,8 @@ def fibre_equations(system: System, model: RationalModel, orders: dict[str, int]
                           dict(jets.values), {v: point[v] for v in known})
 
 
-def fibre_through(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
-                  rng: random.Random) -> Fibre | str:
-    """The fibre through a random point (:func:`fibre_equations`) with its basis over Q, or why not."""
-    equations = fibre_equations(system, model, orders, rank, bound, rng)
-    if isinstance(equations, str):
-        return equations
+def exact_fibre(equations: FibreEquations) -> Fibre:
+    """The fibre with its reduced Groebner basis over Q."""
     return Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
 
 

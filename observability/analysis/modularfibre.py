@@ -37,7 +37,7 @@ from typing import Any
 import sympy
 
 from ..rank.membership import exact_rank
-from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
+from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, reduce_mod
 from ..rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
 from .fibre import FibreEquations
 
@@ -110,7 +110,7 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
     if drawn is None:
         return "no prime was found among the candidates drawn"
     prime, bits, error = drawn
-    ring = prime_ring(system.names, prime)
+    ring = PrimeRing(system.names, prime)
     basis = groebner_basis_mod_p([_lifted(p, ring) for p in system.polynomials], ring)
     if is_one(basis):
         return "the fibre has no point modulo the prime (the point's own coordinates are not integral there)"
@@ -162,7 +162,7 @@ def _radical(system: _IntegerSystem, rng: random.Random) -> tuple[bool, int, Fra
     if drawn is None:
         return "no prime was found for the radical test"
     prime, bits, error = drawn
-    ring = prime_ring([*system.names[:count], *(f"v{k}" for k in range(count))], prime)
+    ring = PrimeRing([*system.names[:count], *(f"v{k}" for k in range(count))], prime)
     fibre = groebner_basis_mod_p([ring.from_dict(p) for p in pad], ring)  # the fibre first, then the v-linear rest
     basis = extend_basis(fibre, [ring.from_dict(p) for p in (*rows, last)], ring)
     return is_one(basis), bits, error + Fraction(1, 2**_R_BITS)

@@ -54,8 +54,7 @@ from ..model.system import System
 from ..rank.membership import sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
-from ..rank.ideal import saturated_basis
-from .fibre import Fibre, fibre_equations, known_variables
+from .fibre import exact_fibre, fibre_equations, known_variables
 from .modularfibre import members_modulo_prime
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
@@ -279,8 +278,8 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
             return answers
         every, probability, how = answers.members, probability + answers.error, answers.how
     else:
-        basis = Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
-        every = tuple(basis.constant_on(f) for f in (*fractions, *paired))
+        fibre = exact_fibre(equations)
+        every = tuple(fibre.constant_on(f) for f in (*fractions, *paired))
     members = every[:len(fractions)]
     only = tuple(s for s, member in zip(local, members[:len(local)]) if member is False)
     outside = {i for i, member in enumerate(members) if member is False}

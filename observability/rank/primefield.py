@@ -28,7 +28,7 @@ import flint
 
 from .ideal import _key, _lcm, _update
 
-__all__ = ["PrimeRing", "prime_ring", "groebner_basis_mod_p", "extend_basis", "is_one", "reduce_mod"]
+__all__ = ["PrimeRing", "groebner_basis_mod_p", "extend_basis", "is_one", "reduce_mod"]
 
 class PrimeRing:
     """Polynomials over Z/``prime`` in ``names`` (degree reverse lexicographic), as
@@ -51,11 +51,6 @@ class PrimeRing:
 
     def term(self, monomial: Sequence[int], coefficient: int = 1) -> Any:
         return self.context.term(exp_vec=tuple(monomial), coeff=coefficient)
-
-
-def prime_ring(names: Sequence[str], prime: int) -> PrimeRing:
-    """Polynomials over Z/``prime`` in ``names``."""
-    return PrimeRing(names, prime)
 
 
 def _monic(p: Any, ring: PrimeRing) -> Any:
