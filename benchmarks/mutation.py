@@ -50,10 +50,13 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "global": (["observability/analysis/uniqueness.py", "observability/analysis/fibre.py",
                 "observability/analysis/rationalmodel.py",
                 "observability/analysis/generators.py", "observability/analysis/globalfield.py",
-                "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py"],
-               ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py"]),
+                "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py",
+                "observability/rank/pairs.py"],
+               ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py",
+                "tests/test_pairs.py"]),
     "modular": (["observability/rank/transfer.py", "observability/rank/primefield.py",
-                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py"]),
+                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py"]),
+    "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
@@ -395,14 +398,8 @@ EQUIVALENT: dict[str, str] = {
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
-    "observability.rank.ideal.x__divides__mutmut_2": "divisibility only with every exponent smaller: since the "
-        "reductions are flint's, it is read only by Gebauer and Moeller's criteria and the pruning of the basis, "
-        "which then drop fewer pairs and elements, reduced to zero or interreduced at the end; the reduced basis is "
-        "unique",
     "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
         "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
-    **{f"observability.rank.ideal.x_groebner_basis__mutmut_{k}": "the order the generators enter the pairs: the "
-       "reduced basis is unique whatever the order of the pairs" for k in (12, 14)},
     "observability.rank.ideal.xǁReducedBasisǁ__init____mutmut_5": "the conversion field's own order (lex for "
         "degrevlex): it only turns expressions into term dictionaries and back; the ring the basis lives in is "
         "degrevlex",
@@ -410,11 +407,6 @@ EQUIVALENT: dict[str, str] = {
         "polynomial), as with the 1 in front",
     "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_10": "the common denominator doubled: a non-zero "
         "constant multiple, which generates the same ideal and is a member exactly when the polynomial is",
-    "observability.rank.ideal.x__coprime__mutmut_2": "Buchberger's first criterion turned off (leading monomials "
-        "counted coprime only when both are 1): more pairs are reduced, to zero, and the reduced basis is unique "
-        "(the tests compare it with sympy's)",
-    "observability.rank.ideal.x__update__mutmut_15": "Gebauer and Moeller's criterion weakened (or for and): more "
-        "pairs are kept and reduced, to zero; the reduced basis is unique",
     **{f"observability.model.expressions.x_parse_value__mutmut_{k}": "the defaults of msg and offset: on the "
        "Python 3.11 here a null byte is a SyntaxError with both (the ValueError of earlier 3.11 releases, which has "
        "neither, is why the defaults exist; both messages are tested)" for k in (23, 32, 35)},

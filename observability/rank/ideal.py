@@ -22,7 +22,6 @@ Python loops over fractions took 9.2 s.
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -31,43 +30,9 @@ import flint
 import sympy
 
 from ..engine.fractions import RationalFunctions
+from .pairs import CriticalPairs, degrevlex_key
 
 __all__ = ["ReducedBasis", "saturated_basis", "groebner_basis"]
-
-Monomial = tuple[int, ...]
-
-
-def _key(m: Monomial) -> tuple:
-    """Sort key of degree reverse lexicographic order (the first variable largest)."""
-    return sum(m), tuple(-e for e in reversed(m))
-
-
-def _divides(a: Monomial, b: Monomial) -> bool:
-    return all(x <= y for x, y in zip(a, b))
-
-
-@functools.lru_cache(maxsize=1 << 12)
-def _lcm(a: Monomial, b: Monomial) -> Monomial:
-    """Cached (a few MB at most: the memory of a long-lived process counts too): Gebauer and Moeller's
-    update asks for the same pairs' lcm at every new element."""
-    return tuple(max(x, y) for x, y in zip(a, b))
-
-
-#: Bits per packed exponent; the top bit of each field is a guard: a exponent-wise
-#: difference that borrows clears it, so b | guards - a keeps every guard exactly when a divides b.
-_WIDTH = 32
-_GUARD = 1 << (_WIDTH - 1)
-
-
-def _packed(m: Monomial) -> int:
-    value = 0
-    for e in m:
-        value = (value << _WIDTH) | e
-    return value
-
-
-def _coprime(a: Monomial, b: Monomial) -> bool:
-    return all(x == 0 or y == 0 for x, y in zip(a, b))
 
 
 def _reduced_by(p: Any, divisors: Sequence[Any], ring: Any) -> Any:
@@ -92,29 +57,9 @@ def _interreduced(polynomials: Sequence[Any], ring: Any) -> list[Any]:
         current = reduced
 
 
-def _update(basis: set[int], pairs: set[tuple[int, int]], new: int, leads: list[Monomial]
-            ) -> tuple[set[int], set[tuple[int, int]]]:
-    """Gebauer and Moeller's update ([BW] p. 230): the new pairs worth reducing,
-    the old pairs the new leading monomial does not make redundant, and the basis
-    without the elements whose leading monomial the new one divides."""
-    mh = leads[new]
-    # Each lcm once, packed: divisibility of packed monomials is one subtraction.
-    with_new = {g: _packed(_lcm(mh, leads[g])) for g in basis}
-    guards = sum(_GUARD << (_WIDTH * i) for i in range(len(mh)))
-    candidates, kept = set(basis), set()
-    while candidates:
-        g = candidates.pop()
-        common = with_new[g] | guards
-        if _coprime(mh, leads[g]) or (not any((common - with_new[c]) & guards == guards for c in candidates)
-                                       and not any((common - with_new[k]) & guards == guards for _, k in kept)):
-            kept.add((new, g))
-    fresh = {(h, g) for h, g in kept if not _coprime(mh, leads[g])}
-    old = set()
-    for a, b in pairs:
-        common = _lcm(leads[a], leads[b])
-        if not _divides(mh, common) or _lcm(leads[a], mh) == common or _lcm(leads[b], mh) == common:
-            old.add((a, b))
-    return {g for g in basis if not _divides(mh, leads[g])} | {new}, old | fresh
+def _sorted(polys: Sequence[Any], members: Sequence[int]) -> list[Any]:
+    """The basis members as divisors, least leading monomial first."""
+    return sorted((polys[g] for g in members), key=lambda p: degrevlex_key(p.monomial(0)))
 
 
 def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
@@ -122,23 +67,18 @@ def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
     ``ring``), each polynomial primitive with a positive leading coefficient (the
     monic basis over Q up to those factors), largest leading monomial first (the
     order of sympy's ``groebner``)."""
-    polys = _interreduced(polynomials, ring)
-    leads = [p.monomial(0) for p in polys]
-    basis: set[int] = set()
-    pairs: set[tuple[int, int]] = set()
-    for i in sorted(range(len(polys)), key=lambda i: _key(leads[i])):
-        basis, pairs = _update(basis, pairs, i, leads)
-    while pairs:  # the normal strategy: the pair of least lcm first
-        a, b = min(pairs, key=lambda pair: _key(_lcm(leads[pair[0]], leads[pair[1]])))
-        pairs.remove((a, b))
-        h = _reduced_by(polys[a].spoly(polys[b]), [polys[g] for g in sorted(basis, key=lambda g: _key(leads[g]))],
-                        ring)
+    polys = sorted(_interreduced(polynomials, ring), key=lambda p: degrevlex_key(p.monomial(0)))
+    pairs = CriticalPairs(ring.nvars())
+    for p in polys:
+        pairs.add(p.monomial(0))
+    while len(pairs):  # the normal strategy: the pair of least lcm first
+        a, b = pairs.pop()
+        h = _reduced_by(polys[a].spoly(polys[b]), _sorted(polys, pairs.basis), ring)
         if not h.is_zero():
             polys.append(h)
-            leads.append(polys[-1].monomial(0))
-            basis, pairs = _update(basis, pairs, len(polys) - 1, leads)
-    reduced = [_reduced_by(polys[g], [polys[k] for k in basis if k != g], ring) for g in basis]
-    return sorted((p for p in reduced if not p.is_zero()), key=lambda p: _key(p.monomial(0)), reverse=True)
+            pairs.add(h.monomial(0))
+    reduced = [_reduced_by(polys[g], [polys[k] for k in pairs.basis if k != g], ring) for g in pairs.basis]
+    return sorted((p for p in reduced if not p.is_zero()), key=lambda p: degrevlex_key(p.monomial(0)), reverse=True)
 
 
 class ReducedBasis:
