@@ -415,6 +415,21 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.model.expressions.x_parse_value__mutmut_{k}": "the test for oo or -oo changed or dropped: "
        "the reader never builds an infinity of either sign (numbers are read exactly, 1/0 is zoo, 0/0 nan; both "
        "tested); the test stays against a sympy that would" for k in (62, 63, 66, 67, 68)},
+    # rank/pairs.py (issue 27, 2026-12-04): 229 killed, 2 timeouts, these 16 equivalent
+    **{f"observability.rank.pairs.{name}__mutmut_{k}": why for why, names in {
+        "a capacity (initial rows, growth test, the alive flags): arrays only grow sooner or larger, and only their "
+        "first size rows are read": (("xǁ_Rowsǁ__init__", (6,)), ("xǁ_Rowsǁextend", (2,)),
+                                     ("xǁCriticalPairsǁ__init__", (14,)), ("xǁCriticalPairsǁ_push", (60,))),
+        "the block size of the divisibility test (or blocks of one row that overlap): every row is compared with "
+        "every minimal row all the same": (("x__minimal", (25, 31, 37)),),
+        "an array's dtype left to numpy: the minimal flags as 0.0/1.0 floats (flatnonzero reads them alike), the "
+        "basis numbers as numpy's default integers": (("x__minimal", (6, 8)), ("xǁCriticalPairsǁadd", (11, 13))),
+        "None stored into a boolean array is False": (("xǁCriticalPairsǁpop", (4,)), ("xǁCriticalPairsǁ_retire", (30,))),
+        "a live list that starts with pair 0 before any pair exists: the first _retire drops it (its flag is "
+        "False), before the first pair is pushed": (("xǁCriticalPairsǁ__init__", (20,)),),
+        "reshape(None) or reshape(-2) of np.unique's inverse: already one-dimensional in this numpy, and any "
+        "negative size means 'the rest'": (("xǁCriticalPairsǁ_push", (41, 43)),),
+    }.items() for name, numbers in names for k in numbers},
     # analysis/globalfield.py (issue 32, 2026-12-04)
     **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "
