@@ -299,3 +299,87 @@ def test_miller_rabin_agrees_with_sympy_on_small_odd_numbers():
     rng = random.Random(7)
     for n in range(5, 3000, 2):
         assert transfer._passes_miller_rabin(transfer.flint.fmpz(n), rng) == sympy.isprime(n), n
+
+
+def _dict(expr, xs):
+    return {m: int(c) for m, c in sympy.Poly(expr, *xs).terms()}
+
+
+def test_definitions_substituted_by_hand():
+    """z - x**2 - 1, z*x - 5 in (z, x): z := x**2 + 1 leaves x**3 + x - 5, one variable of degree 3, l1 norm 7.
+    The bound: z's body has two terms of 1 bit each (x**2: 1 + 0, the constant: 1) -> 1 + bit_length(2) = 3;
+    z*x: 1 + 3 + 0 = 4, -5: 3 bits -> 4 + bit_length(2) = 6, so the squared norm bound 4**6 >= 7**2."""
+    z, x = sympy.symbols("z x")
+    size = transfer.eliminated_size([_dict(z - x**2 - 1, [z, x]), _dict(z * x - 5, [z, x])], 2)
+    assert (size.variables, size.degree, size.squared_norm) == (1, 3, 4**6)
+
+
+def test_a_cycle_of_definitions_is_not_substituted():
+    """z1 - z2 - 1 and z2 - z1: z1 := z2 + 1 is taken; z2 := z1 would close a cycle (z1's body holds z2), so the
+    second equation stays, as z2 - (z2 + 1) = -1: no solution, as z1 = z2 + 1 = z1 + 1 has none. One variable left;
+    the degree bound is 1 (it does not see the cancellation: a bound is all the lemma needs). Taking both would
+    leave no equation (always solvable): the wrong answer, and no order to bound them in."""
+    z1, z2 = sympy.symbols("z1 z2")
+    size = transfer.eliminated_size([_dict(z1 - z2 - 1, [z1, z2]), _dict(z2 - z1, [z1, z2])], 2)
+    assert (size.variables, size.degree) == (1, 1)
+
+
+def test_only_unit_coefficients_define():
+    """2 z - x: z's coefficient 2 is no unit over Z (z = x/2 has no integer body), but x's -1 is: x := 2 z.
+    x*z - 3 x: x's coefficient z is no constant: nothing to substitute, two variables."""
+    z, x = sympy.symbols("z x")
+    size = transfer.eliminated_size([_dict(2 * z - x, [z, x]), _dict(x**2 * z - 3, [z, x])], 2)
+    assert (size.variables, size.degree) == (1, 3)  # (2 z)**2 z - 3: degree 3
+    size = transfer.eliminated_size([_dict(x * z - 3 * x, [z, x])], 2)
+    assert size.variables == 2
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_substituted_bounds_cover_the_substituted_system(seed):
+    """Random triangular systems (each z_k defined by a random polynomial in the z before it and the free x's, with a
+    random unit sign), plus random other equations with even coefficients: sympy's substitution (a second route) gives the equivalent
+    system, whose degree and l1 norm the bounds must cover; its variables are the x's."""
+    rng = random.Random(seed)
+    zs, xs = sympy.symbols(f"z0:{rng.randint(1, 4)}"), sympy.symbols(f"x0:{rng.randint(1, 3)}")
+    names = [*zs, *xs]
+
+    def random_polynomial(pool):
+        return sympy.sympify(sum(rng.randint(-9, 9) * sympy.prod(rng.choice(pool) for _ in range(rng.randint(0, 2)))
+                                 for _ in range(rng.randint(1, 4))))
+
+    bodies, equations = {}, []
+    for k, z in enumerate(zs):
+        bodies[z] = random_polynomial([*zs[:k], *xs])
+        equations.append(rng.choice([1, -1]) * (z - bodies[z]))
+    others = [2 * random_polynomial(names) for _ in range(rng.randint(1, 3))]  # even: none defines a variable
+    size = transfer.eliminated_size([_dict(e, names) for e in (*equations, *others) if e != 0], len(names))
+    exact = {}
+    for z in zs:
+        exact[z] = sympy.expand(bodies[z].xreplace(exact))
+    substituted = [sympy.Poly(sympy.expand(e.xreplace(exact)), *xs) for e in others]
+    assert size.variables == len(xs)
+    for p in substituted:
+        if not p.is_zero:
+            assert p.total_degree() <= size.degree
+            assert sum(abs(c) for c in p.coeffs()) ** 2 <= size.squared_norm
+
+
+def test_a_polynomial_models_fibre_gets_a_shorter_prime():
+    """The jets of a polynomial model are definitions (x^(j+1) - D^j f): on the two-compartment model's fibre the
+    substituted bound needs fewer bits than the bound on the jets (the bits go with the square of the variables)."""
+    import observability.analysis.modularfibre as modular
+
+    system = System(["x1", "x2"], ["-(a01 + a21)*x1 + a12*x2", "a21*x1 - a12*x2"], {"y": "x1"},
+                    unknown_parameters=["a01", "a12", "a21"])
+    result = analyze(system, seed=5, directions=False)
+    prepared = uniqueness.prepare(system).system
+    orders = uniqueness._truncation(prepared, result.rank, 3)
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    system = modular._IntegerSystem(fibre, ["u"])
+    n = len(system.variables)
+    plain = transfer.SystemSize(n, max(sum(m) for p in system.polynomials for m in p),
+                                max(sum(c * c for c in p.values()) for p in system.polynomials))
+    eliminated = transfer.eliminated_size(system.polynomials, n)
+    assert eliminated.variables < n
+    assert prime_bits([transfer.system_exponent(system.polynomials, n)], 1e-9) \
+        < prime_bits([transfer_exponent(plain)], 1e-9)

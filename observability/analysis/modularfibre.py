@@ -21,8 +21,10 @@ unless a is a bad point: the error the exact route states too). Over C:
 
 Whether each of these systems has a common zero over C is decided modulo a
 random prime of the size :mod:`observability.rank.transfer` derives from the
-system's variables, degree and coefficient norms (its error probabilities are
-added to the answer's); the prime field's Groebner bases are
+system's variables, degree and coefficient norms, or those of the equivalent
+system with the definitions substituted (a polynomial model's jets, and the v
+of each jet in the Jacobian's rows), whichever bound is smaller; its error
+probabilities are added to the answer's. The prime field's Groebner bases are
 :mod:`observability.rank.primefield`'s.
 """
 
@@ -38,7 +40,7 @@ import sympy
 
 from ..rank.membership import exact_rank
 from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, reduce_mod
-from ..rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
+from ..rank.transfer import prime_bits, prime_error, random_prime, system_exponent
 from .fibre import FibreEquations
 
 __all__ = ["ModularAnswers", "members_modulo_prime", "PRIME_ERROR"]
@@ -79,10 +81,6 @@ class _IntegerSystem:
         scale = sympy.ilcm(1, *(sympy.Rational(c).q for _, c in terms))
         return {m: int(c * scale) for m, c in terms}
 
-    def size(self, polynomials: Sequence[dict], variables: int) -> SystemSize:
-        return SystemSize(variables, max(sum(m) for p in polynomials for m in p),
-                          max(sum(c * c for c in p.values()) for p in polynomials))
-
 
 def _lifted(polynomial: dict, ring: PrimeRing) -> Any:
     """An integer polynomial in the first variables of ``ring``, reduced mod its prime."""
@@ -105,7 +103,7 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
     unknowns = [system.integral(z - fibre.values[z]) for z in fibre.unknowns]
     n = len(system.variables) + 1
     with_u = [{**{(*m, 1): c for m, c in g.items()}, (0,) * n: -1} for g in (*tests, *unknowns)]
-    exponents = [transfer_exponent(system.size([*system.polynomials, g], n)) for g in with_u]
+    exponents = [system_exponent([*system.polynomials, g], n) for g in with_u]
     drawn = _draw(exponents, rng)
     if drawn is None:
         return "no prime was found among the candidates drawn"
@@ -157,7 +155,7 @@ def _radical(system: _IntegerSystem, rng: random.Random) -> tuple[bool, int, Fra
     last = {(0,) * count + tuple(int(i == k) for i in range(count)): r[k] for k in range(count)}
     last[(0,) * (2 * count)] = -1
     equations = [*pad, *rows, last]
-    exponent = transfer_exponent(system.size(equations, 2 * count))
+    exponent = system_exponent(equations, 2 * count)
     drawn = _draw([exponent], rng)
     if drawn is None:
         return "no prime was found for the radical test"

@@ -41,6 +41,22 @@ over several systems the ratios add. A candidate is accepted after Miller-Rabin
 with ``ROUNDS`` random bases (a composite passes each with probability at most
 1/4); at most ``CANDIDATES_PER_BIT * b`` candidates are drawn, and every one of
 them may be a composite that passes: that probability is added too.
+
+**Equivalent systems.** The lemma may be applied to any system S' whose
+solvability equals S's over every algebraically closed field (of
+characteristic 0 and p alike): its alpha then serves for S, whose reductions are
+the ones computed. Equations of the form z - P or -z + P, z a variable and P an
+integer polynomial free of z, are definitions: with them acyclic (no z reached
+again through the P's), substituting each P for its z is a ring isomorphism
+Z[z]/(S) = Z[the other variables]/(S'), S' the other equations after the
+substitution, and so over every field. The jets of a polynomial model's fibre
+are such definitions (x^(j+1) - D^j f), so the lemma's n, which enters the
+prime's bits squared, drops to the coordinates and the extra variables, for a
+higher degree. :func:`system_exponent` takes the smaller of the two bounds
+(both valid); :func:`eliminated_size` bounds S' without expanding it: degrees
+add along the substitution and the l1 norm (at least the Euclidean) is
+submultiplicative, so a term c m of p is bounded by |c| times the product of
+its variables' bounds, and a sum by its largest term times the number of terms.
 """
 
 from __future__ import annotations
@@ -53,7 +69,7 @@ from fractions import Fraction
 
 import flint
 
-__all__ = ["SystemSize", "transfer_exponent", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
+__all__ = ["SystemSize", "transfer_exponent", "eliminated_size", "system_exponent", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
 
 #: Miller-Rabin rounds per accepted candidate.
 ROUNDS = 40
@@ -81,6 +97,79 @@ def transfer_exponent(size: SystemSize) -> int:
     delta = 4 * n * (d + 1) ** n + d
     rows = math.comb(n + delta, n)
     return rows * ((max(size.squared_norm, 1).bit_length() + 1) // 2)
+
+
+Polynomial = dict[tuple[int, ...], int]
+
+
+def _definition(p: Polynomial, i: int) -> Polynomial | None:
+    """P when p is z_i - P or -z_i + P with P free of z_i, else None."""
+    unit = tuple(int(k == i) for k in range(len(next(iter(p)))))
+    if p.get(unit) not in (1, -1) or any(m[i] for m in p if m != unit):
+        return None
+    sign = p[unit]
+    return {m: -sign * c for m, c in p.items() if m != unit}
+
+
+def _reaches(definitions: dict[int, Polynomial], start: set[int], target: int) -> bool:
+    """Whether ``target`` is among ``start`` or the variables their definitions reach."""
+    seen, stack = set(), list(start)
+    while stack:
+        v = stack.pop()
+        if v == target:
+            return True
+        if v not in seen and v in definitions:
+            seen.add(v)
+            stack.extend(k for m in definitions[v] for k, e in enumerate(m) if e)
+    return False
+
+
+def _bound(p: Polynomial, bounds: dict[int, tuple[int, int]]) -> tuple[int, int]:
+    """(degree, log2 of the l1 norm) bounds of p with each variable k's definition
+    substituted, given (degree, log2 l1) bounds per variable (1 and 0 when free)."""
+    degree, bits = 0, 0
+    for m, c in p.items():
+        degree = max(degree, sum(e * bounds.get(k, (1, 0))[0] for k, e in enumerate(m) if e))
+        bits = max(bits, abs(c).bit_length() + sum(e * bounds.get(k, (1, 0))[1] for k, e in enumerate(m) if e))
+    return degree, bits + len(p).bit_length()
+
+
+def eliminated_size(polynomials: Sequence[Polynomial], variables: int) -> SystemSize:
+    """A size for the system with its definitions (see the module's docstring)
+    substituted: the variables left, a degree bound and a squared-norm bound.
+    Monomials shorter than ``variables`` are in the first ones."""
+    definitions: dict[int, Polynomial] = {}
+    rest = []
+    padded = [{(*m, *(0,) * (variables - len(m))): c for m, c in p.items()} for p in polynomials]
+    for p in padded:
+        for i in range(variables):
+            if i in definitions:
+                continue
+            body = _definition(p, i) if p else None
+            if body is not None and not _reaches(definitions, {k for m in body for k, e in enumerate(m) if e}, i):
+                definitions[i] = body
+                break
+        else:
+            rest.append(p)
+    bounds: dict[int, tuple[int, int]] = {}
+    while len(bounds) < len(definitions):  # acyclic: each pass resolves at least one
+        resolved = len(bounds)
+        for v, body in definitions.items():
+            if v not in bounds and all(k in bounds for m in body for k, e in enumerate(m) if e and k in definitions):
+                bounds[v] = _bound(body, bounds)
+        if len(bounds) == resolved:
+            raise RuntimeError("cyclic definitions in eliminated_size")
+    sizes = [_bound(p, bounds) for p in rest] or [(0, 0)]
+    return SystemSize(variables - len(definitions), max(d for d, _ in sizes), 4 ** max(b for _, b in sizes))
+
+
+def system_exponent(polynomials: Sequence[Polynomial], variables: int) -> int:
+    """log2 |alpha| bounded for integer polynomials (monomial -> coefficient) in
+    ``variables`` variables: the smaller of the lemma's bound for them as they are
+    and for the system with their definitions substituted."""
+    plain = SystemSize(variables, max(sum(m) for p in polynomials for m in p),
+                       max(sum(c * c for c in p.values()) for p in polynomials))
+    return min(transfer_exponent(plain), transfer_exponent(eliminated_size(polynomials, variables)))
 
 
 def _primes_below_bits(b: int) -> Fraction:
