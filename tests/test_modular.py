@@ -383,3 +383,40 @@ def test_a_polynomial_models_fibre_gets_a_shorter_prime():
     assert eliminated.variables < n
     assert prime_bits([transfer.system_exponent(system.polynomials, n)], 1e-9) \
         < prime_bits([transfer_exponent(plain)], 1e-9)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_saturated_definitions_keep_the_ideal(seed):
+    """b z + r with b | Q and t Q - 1 in the system becomes z + t (Q/b) r: the same ideal over Q, checked both ways by
+    sympy's Groebner bases (a second route); the new generator is a definition of z (coefficient 1, no other z).
+    An equation whose z-coefficient does not divide Q stays as it is."""
+    rng = random.Random(seed)
+    t, z, x, y = sympy.symbols("t z x y")
+    xs = [t, z, x, y]
+    b = sympy.expand(rng.choice([x + 1, x * y - 2, y**2 + 3]))
+    Q = sympy.expand(b * rng.choice([1, x, y + 5]))
+    r = sympy.expand(rng.randint(-5, 5) * x**2 + rng.randint(1, 5) * y - rng.randint(0, 3))
+    other = sympy.expand(z * (x + y + 7) + y**2 - 1)  # z's coefficient x + y + 7 (x's: z) divides no Q here
+    old = [b * z + r, other, t * Q - 1]
+    new = transfer.saturated_definitions([_dict(e, xs) for e in old], 4, 0, 2)
+    new_exprs = [sympy.Poly.from_dict(p, *xs).as_expr() for p in new]
+    assert sympy.expand(new_exprs[1] - other) == 0 and sympy.expand(new_exprs[2] - old[2]) == 0
+    assert sympy.Poly(new_exprs[0], z).coeff_monomial(z) == 1 and sympy.degree(new_exprs[0] - z, z) <= 0
+    before, after = sympy.groebner(old, *xs, order="grevlex"), sympy.groebner(new_exprs, *xs, order="grevlex")
+    assert all(before.contains(e) for e in new_exprs) and all(after.contains(e) for e in old)
+
+
+def test_a_rational_models_jets_become_definitions():
+    """SIR-like with the denominator S + I: the state equations' jets have coefficient S + I, which divides the
+    saturation Q, so the bound through the replaced generators is smaller than through the jets as they are."""
+    import observability.analysis.modularfibre as modular
+
+    system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S*I/(S + I) - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
+    result = analyze(system, seed=5, directions=False)
+    prepared = uniqueness.prepare(system).system
+    orders = uniqueness._truncation(prepared, result.rank, 3)
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    integral = modular._IntegerSystem(fibre, [])
+    n = len(integral.variables)
+    assert integral.alternative != integral.polynomials
+    assert transfer.system_exponent(integral.alternative, n) < transfer.system_exponent(integral.polynomials, n)

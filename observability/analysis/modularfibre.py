@@ -31,7 +31,7 @@ probabilities are added to the answer's. The prime field's Groebner bases are
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -40,7 +40,7 @@ import sympy
 
 from ..rank.membership import exact_rank
 from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, reduce_mod
-from ..rank.transfer import prime_bits, prime_error, random_prime, system_exponent
+from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
 
 __all__ = ["ModularAnswers", "members_modulo_prime", "PRIME_ERROR"]
@@ -74,6 +74,15 @@ class _IntegerSystem:
             self.variables.insert(0, self.t)
         self.polynomials = [self.integral(e) for e in self.relations]
         self.names = [f"z{i}" for i in range(len(self.variables))] + list(extra)
+        # The same ideal with a rational model's jets as definitions, for the bound only.
+        self.alternative = self.polynomials if len(self.relations) == len(fibre.equations) else \
+            saturated_definitions(self.polynomials, len(self.variables), 0, len(self.polynomials) - 1)
+
+    def exponent(self, build: Callable[[list[dict]], list[dict]], variables: int) -> int:
+        """The transfer lemma's exponent for the system ``build`` makes of the
+        relations: the smaller of the bounds through either generating set."""
+        return min(system_exponent(build(generators), variables)
+                   for generators in (self.polynomials, self.alternative))
 
     def integral(self, expr: sympy.Expr) -> dict[tuple[int, ...], int]:
         """``expr``'s coefficients times their common denominator, by monomial."""
@@ -103,7 +112,7 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
     unknowns = [system.integral(z - fibre.values[z]) for z in fibre.unknowns]
     n = len(system.variables) + 1
     with_u = [{**{(*m, 1): c for m, c in g.items()}, (0,) * n: -1} for g in (*tests, *unknowns)]
-    exponents = [system_exponent([*system.polynomials, g], n) for g in with_u]
+    exponents = [system.exponent(lambda generators: [*generators, g], n) for g in with_u]
     drawn = _draw(exponents, rng)
     if drawn is None:
         return "no prime was found among the candidates drawn"
@@ -150,20 +159,26 @@ def _radical(system: _IntegerSystem, rng: random.Random) -> tuple[bool, int, Fra
     its own random prime, that prime's bits, and the error it and r add."""
     count = len(system.variables)
     r = [rng.getrandbits(_R_BITS) for _ in range(count)]
-    rows = [_jacobian_row(p, count) for p in system.polynomials]
-    pad = [{(*m, *([0] * count)): c for m, c in p.items()} for p in system.polynomials]
-    last = {(0,) * count + tuple(int(i == k) for i in range(count)): r[k] for k in range(count)}
-    last[(0,) * (2 * count)] = -1
-    equations = [*pad, *rows, last]
-    exponent = system_exponent(equations, 2 * count)
+    exponent = system.exponent(lambda generators: _singular_points(generators, r), 2 * count)
     drawn = _draw([exponent], rng)
     if drawn is None:
         return "no prime was found for the radical test"
     prime, bits, error = drawn
     ring = PrimeRing([*system.names[:count], *(f"v{k}" for k in range(count))], prime)
-    fibre = groebner_basis_mod_p([ring.from_dict(p) for p in pad], ring)  # the fibre first, then the v-linear rest
-    basis = extend_basis(fibre, [ring.from_dict(p) for p in (*rows, last)], ring)
+    equations = _singular_points(system.polynomials, r)
+    fibre = groebner_basis_mod_p([ring.from_dict(p) for p in equations[:len(system.polynomials)]], ring)
+    basis = extend_basis(fibre, [ring.from_dict(p) for p in equations[len(system.polynomials):]], ring)
     return is_one(basis), bits, error + Fraction(1, 2**_R_BITS)
+
+
+def _singular_points(generators: list[dict], r: list[int]) -> list[dict]:
+    """The generators padded with the v's, their Jacobian rows J v, and r . v - 1:
+    the fibre first, then the v-linear rest."""
+    count = len(r)
+    pad = [{(*m, *([0] * count)): c for m, c in p.items()} for p in generators]
+    last = {(0,) * count + tuple(int(i == k) for i in range(count)): r[k] for k in range(count)}
+    last[(0,) * (2 * count)] = -1
+    return [*pad, *(_jacobian_row(p, count) for p in generators), last]
 
 
 def _jacobian_row(polynomial: dict, count: int) -> dict[tuple[int, ...], int]:

@@ -50,7 +50,14 @@ integer polynomial free of z, are definitions: with them acyclic (no z reached
 again through the P's), substituting each P for its z is a ring isomorphism
 Z[z]/(S) = Z[the other variables]/(S'), S' the other equations after the
 substitution, and so over every field. The jets of a polynomial model's fibre
-are such definitions (x^(j+1) - D^j f), so the lemma's n, which enters the
+are such definitions (x^(j+1) - D^j f). A rational model's are b z + r, b the
+state's denominator; with t Q - 1 in the system and b dividing Q over Z,
+z + t (Q/b) r = t (Q/b)(b z + r) - z (t Q - 1) and b z + r = b (z + t (Q/b) r)
+- r (t Q - 1), so replacing one by the other keeps the ideal over Z
+(:func:`saturated_definitions`), and the replacement is a definition. The
+Jacobian's kernel at a zero is the ideal's own (the differentials of its
+members there are combinations of the generators'), so the radical test's
+system may be bounded through the replaced generators too. So the lemma's n, which enters the
 prime's bits squared, drops to the coordinates and the extra variables, for a
 higher degree. :func:`system_exponent` takes the smaller of the two bounds
 (both valid); :func:`eliminated_size` bounds S' without expanding it: degrees
@@ -69,7 +76,7 @@ from fractions import Fraction
 
 import flint
 
-__all__ = ["SystemSize", "transfer_exponent", "eliminated_size", "system_exponent", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
+__all__ = ["SystemSize", "transfer_exponent", "eliminated_size", "system_exponent", "saturated_definitions", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
 
 #: Miller-Rabin rounds per accepted candidate.
 ROUNDS = 40
@@ -161,6 +168,33 @@ def eliminated_size(polynomials: Sequence[Polynomial], variables: int) -> System
             raise RuntimeError("cyclic definitions in eliminated_size")
     sizes = [_bound(p, bounds) for p in rest] or [(0, 0)]
     return SystemSize(variables - len(definitions), max(d for d, _ in sizes), 4 ** max(b for _, b in sizes))
+
+
+def saturated_definitions(polynomials: Sequence[Polynomial], variables: int, t: int, saturation: int
+                          ) -> list[Polynomial]:
+    """The same ideal over Z: with ``polynomials[saturation]`` = t Q - 1 (t the
+    variable numbered ``t``), each other equation b z + r linear in a variable z,
+    with b not constant, free of t and dividing Q over Z, replaced by the
+    definition z + t (Q/b) r (the module's docstring)."""
+    context = flint.fmpz_mpoly_ctx.get(tuple(f"w{i}" for i in range(variables)), "degrevlex")
+    padded = [context.from_dict({(*m, *(0,) * (variables - len(m))): c for m, c in p.items()}) for p in polynomials]
+    tq = context.gen(t)
+    Q, remainder = divmod(padded[saturation] + 1, tq)
+    if not remainder.is_zero() or Q.degrees()[t]:
+        return list(polynomials)
+    replaced = []
+    for k, p in enumerate(padded):
+        degrees = p.degrees()
+        for i in range(variables):
+            if k == saturation or degrees[t] or i == t or degrees[i] != 1:
+                continue
+            b = p.derivative(i)
+            quotient, rest = divmod(Q, b)
+            if not b.is_constant() and rest.is_zero():
+                p = context.gen(i) + tq * quotient * (p - b * context.gen(i))
+                break
+        replaced.append({tuple(m): int(c) for m, c in p.to_dict().items()})
+    return replaced
 
 
 def system_exponent(polynomials: Sequence[Polynomial], variables: int) -> int:
