@@ -337,8 +337,8 @@ def test_only_unit_coefficients_define():
 @pytest.mark.parametrize("seed", range(25))
 def test_substituted_bounds_cover_the_substituted_system(seed):
     """Random triangular systems (each z_k defined by a random polynomial in the z before it and the free x's, with a
-    random unit sign), plus random other equations with even coefficients: sympy's substitution (a second route) gives the equivalent
-    system, whose degree and l1 norm the bounds must cover; its variables are the x's."""
+    random unit sign), plus random other equations with even coefficients: sympy's substitution (a second route)
+    gives the equivalent system, whose degree and l1 norm the bounds must cover; its variables are the x's."""
     rng = random.Random(seed)
     zs, xs = sympy.symbols(f"z0:{rng.randint(1, 4)}"), sympy.symbols(f"x0:{rng.randint(1, 3)}")
     names = [*zs, *xs]

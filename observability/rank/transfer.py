@@ -57,9 +57,9 @@ z + t (Q/b) r = t (Q/b)(b z + r) - z (t Q - 1) and b z + r = b (z + t (Q/b) r)
 (:func:`saturated_definitions`), and the replacement is a definition. The
 Jacobian's kernel at a zero is the ideal's own (the differentials of its
 members there are combinations of the generators'), so the radical test's
-system may be bounded through the replaced generators too. So the lemma's n, which enters the
-prime's bits squared, drops to the coordinates and the extra variables, for a
-higher degree. :func:`system_exponent` takes the smaller of the two bounds
+system may be bounded through the replaced generators too. So the lemma's n,
+which enters the prime's bits squared, drops to the coordinates and the extra
+variables, for a higher degree. :func:`system_exponent` takes the smaller of the two bounds
 (both valid); :func:`eliminated_size` bounds S' without expanding it: degrees
 add along the substitution and the l1 norm (at least the Euclidean) is
 submultiplicative, so a term c m of p is bounded by |c| times the product of
@@ -76,7 +76,8 @@ from fractions import Fraction
 
 import flint
 
-__all__ = ["SystemSize", "transfer_exponent", "eliminated_size", "system_exponent", "saturated_definitions", "prime_bits", "prime_error", "RandomPrime", "random_prime"]
+__all__ = ["SystemSize", "transfer_exponent", "eliminated_size", "system_exponent", "saturated_definitions",
+           "prime_bits", "prime_error", "RandomPrime", "random_prime"]
 
 #: Miller-Rabin rounds per accepted candidate.
 ROUNDS = 40
@@ -178,8 +179,8 @@ def saturated_definitions(polynomials: Sequence[Polynomial], variables: int, t: 
     definition z + t (Q/b) r (the module's docstring)."""
     context = flint.fmpz_mpoly_ctx.get(tuple(f"w{i}" for i in range(variables)), "degrevlex")
     padded = [context.from_dict({(*m, *(0,) * (variables - len(m))): c for m, c in p.items()}) for p in polynomials]
-    tq = context.gen(t)
-    Q, remainder = divmod(padded[saturation] + 1, tq)
+    t_gen = context.gen(t)
+    Q, remainder = divmod(padded[saturation] + 1, t_gen)
     if not remainder.is_zero() or Q.degrees()[t]:
         return list(polynomials)
     replaced = []
@@ -191,7 +192,7 @@ def saturated_definitions(polynomials: Sequence[Polynomial], variables: int, t: 
             b = p.derivative(i)
             quotient, rest = divmod(Q, b)
             if not b.is_constant() and rest.is_zero():
-                p = context.gen(i) + tq * quotient * (p - b * context.gen(i))
+                p = context.gen(i) + t_gen * quotient * (p - b * context.gen(i))
                 break
         replaced.append({tuple(m): int(c) for m, c in p.to_dict().items()})
     return replaced
