@@ -276,6 +276,7 @@ def test_no_prime_for_the_radical_test_leaves_constants_undecided(monkeypatch):
     monkeypatch.setattr(modular, "random_prime", second_fails)
     answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (y, sympy.Integer(1))], random.Random(2))
     assert answers.members == (False, None) and len(calls) == 2
+    assert answers.bits == (calls[0],) and answers.error == float(prime_error(_exponents_of(fibre), calls[0]))
     assert answers.how.endswith("no prime was found for the radical test: constant values left undecided")
     monkeypatch.setattr(modular, "random_prime", lambda bits, rng: None)
     assert members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2)) == \
@@ -420,3 +421,89 @@ def test_a_rational_models_jets_become_definitions():
     n = len(integral.variables)
     assert integral.alternative != integral.polynomials
     assert transfer.system_exponent(integral.alternative, n) < transfer.system_exponent(integral.polynomials, n)
+
+
+def _exponents_of(fibre):
+    """The transfer exponents members_modulo_prime draws its first prime for, with x and y tested."""
+    import observability.analysis.modularfibre as modular
+
+    system = modular._IntegerSystem(fibre, ["u"])
+    n = len(system.variables) + 1
+    polys = [system.integral(z - fibre.values[z]) for z in (*fibre.unknowns, *fibre.unknowns)]
+    with_u = [{**{(*m, 1): c for m, c in g.items()}, (0,) * n: -1} for g in polys]
+    return [system.exponent(lambda generators: [*generators, g], n) for g in with_u]
+
+
+def test_the_errors_of_both_primes_and_of_r_are_added(monkeypatch):
+    """The mirror x**2 = 4, y = 3: y's answer needs the radical test, so two primes are drawn. With each draw's error
+    fixed at 2^-70 (and 2^-71), the answer's error is their sum plus r's 2^-64, exactly (all three exact in a float)."""
+    from fractions import Fraction
+
+    import observability.analysis.modularfibre as modular
+
+    errors = iter([Fraction(1, 2**70), Fraction(1, 2**71)])
+    real = modular._draw
+    monkeypatch.setattr(modular, "_draw", lambda exponents, rng: (*real(exponents, rng)[:2], next(errors)))
+    x, y = sympy.symbols("x y")
+    fibre = FibreEquations((x**2 - 4, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (y, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (False, True)
+    assert answers.error == 2.0**-70 + 2.0**-71 + 2.0**-64
+
+
+def test_the_point_alone_reports_its_prime():
+    """y = 3, x = 2 (linear): the fibre is the point alone, a simple point: one prime, its bits reported."""
+    x, y = sympy.symbols("x y")
+    fibre = FibreEquations((x - 2, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (True,) and "point alone" in answers.how
+    assert answers.bits == (prime_bits(_exponents_of(fibre)[:1] + _exponents_of(fibre)[2:], 1e-9),)
+
+
+def test_definitions_in_any_order():
+    """z0 - z1**2, z1 - x**2 - 1, z0*x - 5: z0 is defined through z1, defined after it. Substituted: (x**2 + 1)**2 x
+    - 5, degree 5. Bounds by hand: z1: degree 2, log2 l1 <= 1 + bit_length(2) = 3; z0: degree 4, 1 + 2*3 +
+    bit_length(1) = 8; z0*x: 1 + 8 = 9, -5: 3, so 9 + bit_length(2) = 11."""
+    z0, z1, x = sympy.symbols("z0 z1 x")
+    xs = [z0, z1, x]
+    size = transfer.eliminated_size([_dict(z0 - z1**2, xs), _dict(z1 - x**2 - 1, xs), _dict(z0 * x - 5, xs)], 3)
+    assert (size.variables, size.degree, size.squared_norm) == (1, 5, 4**11)
+
+
+def test_jacobian_rows_are_the_derivatives():
+    """sum_k dp/dw_k v_k against sympy's derivatives (a second route), on a polynomial with mixed powers."""
+    import observability.analysis.modularfibre as modular
+
+    w0, w1, v0, v1 = sympy.symbols("w0 w1 v0 v1")
+    p = 3 * w0**3 * w1**2 - 5 * w0 * w1 + 7 * w1 - 2
+    row = modular._jacobian_row(_dict(p, [w0, w1]), 2)
+    expected = sympy.expand(sympy.diff(p, w0) * v0 + sympy.diff(p, w1) * v1)
+    assert sympy.expand(sympy.Poly.from_dict(row, w0, w1, v0, v1).as_expr() - expected) == 0
+
+
+def test_a_linear_denominator_is_saturated():
+    """S + I (degree 1) is the only denominator of an SIR-like model: t joins the variables and t (S + I)... - 1 the relations
+    (solutions where a denominator vanishes are not the model's)."""
+    import observability.analysis.modularfibre as modular
+
+    system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
+    result = analyze(system, seed=5, directions=False)
+    prepared = uniqueness.prepare(system).system
+    orders = uniqueness._truncation(prepared, result.rank, 3)
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    assert sympy.Poly(fibre.saturation, *fibre.unknowns).total_degree() == 1
+    integral = modular._IntegerSystem(fibre, [])
+    assert integral.variables[0] == integral.t and len(integral.relations) == len(fibre.equations) + 1
+    assert sympy.expand(integral.relations[-1] - (integral.t * fibre.saturation - 1)) == 0
+
+
+def test_a_fibre_without_a_point_modulo_the_prime_is_refused(monkeypatch):
+    """3 x - 1 has no zero mod 3 (x = 1/3 is not integral there): a prime that divides a denominator of the point
+    must leave the question open, not answer it (with no zero, every g would vanish on the empty set: 'global')."""
+    import observability.analysis.modularfibre as modular
+
+    monkeypatch.setattr(modular, "random_prime", lambda bits, rng: transfer.RandomPrime(3, bits))
+    x = sympy.Symbol("x")
+    fibre = FibreEquations((3 * x - 1,), (x,), sympy.Integer(1), {x: sympy.Rational(1, 3)}, {})
+    assert members_modulo_prime(fibre, [(x, sympy.Integer(1))], random.Random(2)).startswith(
+        "the fibre has no point modulo the prime")
