@@ -14,7 +14,8 @@ import random
 
 import pytest
 
-from observability.rank.pairs import CriticalPairs, degrevlex_key
+from observability.rank.order import degrevlex_key
+from observability.rank.pairs import CriticalPairs
 
 
 def _lcm(a, b):

@@ -30,7 +30,7 @@ import flint
 import sympy
 
 from ..engine.fractions import RationalFunctions
-from .pairs import CriticalPairs, degrevlex_key
+from .order import degrevlex_key
 
 __all__ = ["ReducedBasis", "saturated_basis", "groebner_basis"]
 
@@ -67,6 +67,8 @@ def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
     ``ring``), each polynomial primitive with a positive leading coefficient (the
     monic basis over Q up to those factors), largest leading monomial first (the
     order of sympy's ``groebner``)."""
+    from .pairs import CriticalPairs  # numpy only when a basis is computed: a rank check never loads it
+
     polys = sorted(_interreduced(polynomials, ring), key=lambda p: degrevlex_key(p.monomial(0)))
     pairs = CriticalPairs(ring.nvars())
     for p in polys:

@@ -26,15 +26,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["CriticalPairs", "degrevlex_key"]
+from .order import degrevlex_key
+
+__all__ = ["CriticalPairs"]
 
 #: Bytes of one block of the pairwise divisibility test (bounds its memory).
 _BLOCK = 1 << 24
-
-
-def degrevlex_key(m: Sequence[int]) -> tuple:
-    """Sort key of degree reverse lexicographic order (the first variable largest)."""
-    return sum(m), tuple(-e for e in reversed(m))
 
 
 class _Rows:

@@ -25,7 +25,8 @@ from typing import Any
 
 import flint
 
-from .pairs import CriticalPairs, degrevlex_key
+from .order import degrevlex_key
+from .pairs import CriticalPairs
 
 __all__ = ["PrimeRing", "groebner_basis_mod_p", "extend_basis", "is_one", "reduce_mod"]
 
