@@ -271,7 +271,11 @@ def test_leaving_out_goes_longest_first():
     """2a, 3b, 2a + 3b (rank 2): tested first, 2a + 3b lies in Q(2a, 3b) and goes; then each of the two
     left alone has transcendence degree 1 < 2 and stays. Shortest first would drop 2a instead."""
     listed = [("2*a", (2 * A, ONE)), ("3*b", (3 * B, ONE)), ("2*a + 3*b", (2 * A + 3 * B, ONE))]
-    assert globalfield._irredundant(listed, globalfield._candidates(listed, [A, B]), [A, B], 2, 1, 0.01) == {2}
+    assert globalfield._irredundant(listed, globalfield._candidates(listed, [A, B]), [A, B], 2, 1, 0.01,
+                                    False) == ({2}, 0.0)
+    dropped, added = globalfield._irredundant(listed, globalfield._candidates(listed, [A, B]), [A, B], 2, 1, 0.01,
+                                              True)
+    assert dropped == {2} and 0 < added < 2e-9  # modulo primes: the same, with their error
 
 
 def test_leaving_out_draws_each_point_from_the_sampling_range(monkeypatch):
@@ -283,7 +287,7 @@ def test_leaving_out_draws_each_point_from_the_sampling_range(monkeypatch):
     monkeypatch.setattr(globalfield, "contained", lambda g, t, c, point, j: points.append(point)
                         or real_contained(g, t, c, point, j))
     listed = [("a", (A, ONE)), ("b/a", (B, A)), ("(a**3 + 1)/a", (A**3 + 1, A))]
-    assert globalfield._irredundant(listed, [2], [A, B], 2, 1, 0.01) == {2}
+    assert globalfield._irredundant(listed, [2], [A, B], 2, 1, 0.01, False) == ({2}, 0.0)
     assert ranges == [([(1, 0), (1, 1)], [(3, 1)], 2, 0.01)]
     assert len(set(points[0].values())) == 2 and all(abs(v) <= real_range(*ranges[0]) for v in points[0].values())
 
@@ -302,7 +306,7 @@ def test_a_pole_at_the_point_keeps_that_candidate_and_goes_on(monkeypatch):
 
     monkeypatch.setattr(globalfield.random, "Random", Scripted)
     listed = [("a", (A, ONE)), ("a**2 + 1/a", (A**3 + 1, A)), ("a**2", (A**2, ONE))]
-    assert globalfield._irredundant(listed, [1, 2], [A], 1, 1, 0.01) == {2}
+    assert globalfield._irredundant(listed, [1, 2], [A], 1, 1, 0.01, False) == ({2}, 0.0)
 
 
 def test_the_error_is_shared_between_the_generation_test_and_the_leaving_out(monkeypatch):

@@ -33,6 +33,7 @@ import sympy
 from ..engine.fractions import RationalFunctions
 from ..engine.lie import input_derivative
 from ..rank.membership import contained, exact_rank, sampling_range
+from .modularfibre import contained_modulo_prime
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
 __all__ = ["FieldGeneration", "generate_the_field", "lie_derivatives_of_outputs", "reduced_pair"]
@@ -45,6 +46,8 @@ class FieldGeneration:
     generates: bool
     missing: tuple[str, ...]  # the Lie derivatives found outside Q(g), as "L^k y"
     bits: int  # of the sampling range
+    error: float = 0.0  # added by the primes when decided modulo primes
+    how: str = "the Groebner basis over Q"
 
 
 def lie_derivatives_of_outputs(model: RationalModel, orders: Sequence[int],
@@ -93,16 +96,19 @@ def reduced_pair(function: sympy.Expr | Any) -> tuple[sympy.Expr, sympy.Expr]:
 def generate_the_field(model: RationalModel, names: Sequence[str], orders: Sequence[int],
                        functions: Sequence[sympy.Expr | tuple[sympy.Expr, sympy.Expr]], rank: int, seed: int,
                        error: float, known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = (),
-                       derivatives: Sequence[Any] | None = None) -> FieldGeneration | str:
+                       derivatives: Sequence[Any] | None = None, modular: bool = False) -> FieldGeneration | str:
     """Test (b) of the module docstring for ``functions`` (in the model's
     coordinates, of transcendence degree ``rank``; expressions or reduced
     (numerator, denominator) pairs) against the Lie derivatives of
     the outputs ``names`` up to ``orders``; ``known`` (free parameters) are in
     both fields, so they are substituted at their random values, as
     :mod:`.uniqueness` does; ``derivatives``: those Lie derivatives, when the caller
-    has them (:func:`lie_derivatives_of_outputs`, in its order). A reason string
-    when the random points keep hitting a denominator or the Jacobian of
-    ``functions`` falls below ``rank`` there."""
+    has them (:func:`lie_derivatives_of_outputs`, in its order); ``modular``: the
+    ideal's membership decided modulo random primes
+    (:func:`~.modularfibre.contained_modulo_prime`, whose error is added) instead
+    of by its basis over Q. A reason string when the random points keep hitting
+    a denominator, the Jacobian of ``functions`` falls below ``rank`` there, or
+    the primes leave a membership undecided."""
     coordinates = list(model.coordinates)
     known = [*known, *(input_derivative(u, j) for u in inputs for j in range(max(orders, default=0) + 1))]
     variables = [*coordinates, *known]
@@ -126,7 +132,15 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in generators]
     if exact_rank(jacobian, len(coordinates)) != rank:
         return f"the functions' Jacobian does not reach the rank {rank} at the random point"
-    members = contained(generators, tested, coordinates, point, jacobian)
     labels = [f"L^{j} {name}" for name, k in zip(names, orders) for j in range(k + 1)]
-    missing = tuple(label for label, member in zip(labels, members) if not member)
-    return FieldGeneration(not missing, missing, bound.bit_length())
+    if not modular:
+        members = contained(generators, tested, coordinates, point, jacobian)
+        missing = tuple(label for label, member in zip(labels, members) if not member)
+        return FieldGeneration(not missing, missing, bound.bit_length())
+    answers = contained_modulo_prime(generators, tested, coordinates, point, jacobian, rng)
+    if isinstance(answers, str):
+        return answers
+    if None in answers.members:
+        return f"modulo a prime, {answers.how}"
+    missing = tuple(label for label, member in zip(labels, answers.members) if not member)
+    return FieldGeneration(not missing, missing, bound.bit_length(), answers.error, answers.how)

@@ -39,6 +39,7 @@ import sympy
 from ..engine.lie import input_derivative
 from ..rank.membership import contained, exact_rank, sampling_range
 from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
+from .modularfibre import contained_modulo_prime
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "COMBINATIONS",
@@ -61,12 +62,14 @@ class FieldGenerators:
     derivative of output y, too long to print) or "a coefficient of L^k y in
     the inputs"; ``how``: why the list generates the field and with what
     guarantee; ``generates``: True when proven (with the verdict's error
-    probability), None when the test could not decide (``how`` says why).
+    probability), None when the test could not decide (``how`` says why);
+    ``error``: what random primes add to that probability, when they decided.
     """
 
     generators: tuple[str, ...]
     generates: bool | None
     how: str
+    error: float = 0.0
 
 
 def pair_candidates(items: Sequence[sympy.Expr]) -> list[tuple[tuple[int, int], sympy.Expr]]:
@@ -90,10 +93,11 @@ def _text(expr: sympy.Expr) -> str:
 
 def field_generators(model: RationalModel, names: Sequence[str], orders: Sequence[int],
                      members: Sequence[tuple[str, sympy.Expr]], rank: int, seed: int, error: float,
-                     known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = ()) -> FieldGenerators:
+                     known: Sequence[sympy.Symbol] = (), inputs: Sequence[sympy.Symbol] = (),
+                     modular: bool = False) -> FieldGenerators:
     """Step 3 of the module docstring for ``members`` (elements of K as (text,
     expression in the model's coordinates), shortest first), against the Lie derivatives of the
-    outputs ``names`` up to ``orders``; ``known`` and ``inputs`` as for
+    outputs ``names`` up to ``orders``; ``known``, ``inputs`` and ``modular`` as for
     :func:`~.generators.generate_the_field`."""
     derivatives = [f for _, f in lie_derivatives_of_outputs(model, orders, inputs)]
     elements = _lie_elements(names, orders, derivatives, inputs, model)
@@ -116,7 +120,7 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
     candidates = _candidates(listed, model.coordinates)
     share = error / 2 if candidates else error
     found = generate_the_field(model, names, orders, [p for _, p in listed], rank, seed, share, known, inputs,
-                               derivatives)
+                               derivatives, modular)
     if isinstance(found, str):
         return FieldGenerators(tuple(t for t, _ in listed), None, f"undecided: {found}")
     for label, shown, element in elements:
@@ -124,12 +128,14 @@ def field_generators(model: RationalModel, names: Sequence[str], orders: Sequenc
         if label in found.missing and all(pair != p for _, p in listed):
             listed.append((shown, pair))
     how = ("each is globally observable, and every Lie derivative up to the truncation lies in their field "
-           f"(Thm 3.3 at a random point of {found.bits} bits)")
-    dropped = _irredundant(listed, candidates, model.coordinates, rank, seed, share / max(len(candidates), 1))
+           f"(Thm 3.3 at a random point of {found.bits} bits, decided by {found.how})")
+    dropped, more = _irredundant(listed, candidates, model.coordinates, rank, seed, share / max(len(candidates), 1),
+                                 modular)
     if dropped:
         how += (f"; {', '.join(listed[i][0] for i in dropped)} left out: each lies in the field of the others "
                 "(the same test, half the error each way)")
-    return FieldGenerators(tuple(t for i, (t, _) in enumerate(listed) if i not in dropped), True, how)
+    return FieldGenerators(tuple(t for i, (t, _) in enumerate(listed) if i not in dropped), True, how,
+                           found.error + more)
 
 
 def _candidates(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], coordinates: Sequence[sympy.Symbol]
@@ -146,13 +152,17 @@ def _candidates(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], coo
 
 
 def _irredundant(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], candidates: Sequence[int],
-                 coordinates: Sequence[sympy.Symbol], rank: int, seed: int, error: float) -> set[int]:
+                 coordinates: Sequence[sympy.Symbol], rank: int, seed: int, error: float, modular: bool
+                 ) -> tuple[set[int], float]:
     """The candidates left out, in turn: one lies in the field of the others kept when
     those have the transcendence degree ``rank`` (exact Jacobian rank at the point, so
     it is algebraic over them) and the membership test of
-    :func:`~observability.rank.membership.contained` says so, each at ``error``. The
-    field is unchanged by each removal, so the list still generates it."""
+    :func:`~observability.rank.membership.contained` says so, each at ``error``
+    (``modular``: decided modulo primes, kept when they leave it undecided). The
+    field is unchanged by each removal, so the list still generates it. Also
+    returns the error the primes add."""
     dropped: set[int] = set()
+    added = 0.0
     rng = random.Random(f"irredundant/{seed}")
     for c in candidates:
         others = [listed[i][1] for i in range(len(listed)) if i != c and i not in dropped]
@@ -164,10 +174,17 @@ def _irredundant(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], ca
         if any(d.xreplace(point) == 0 for _, d in (*others, listed[c][1])):
             continue  # kept: a pole at the point decides nothing
         jacobian = [_gradient(pair, coordinates, point) for pair in others]
-        if exact_rank(jacobian, len(coordinates)) == rank and contained(others, [listed[c][1]], coordinates, point,
-                                                                         jacobian)[0]:
+        if exact_rank(jacobian, len(coordinates)) != rank:
+            continue
+        if not modular:
+            member = contained(others, [listed[c][1]], coordinates, point, jacobian)[0]
+        else:
+            answers = contained_modulo_prime(others, [listed[c][1]], coordinates, point, jacobian, rng)
+            member = not isinstance(answers, str) and answers.members[0] is True
+            added += 0.0 if isinstance(answers, str) else answers.error
+        if member:
             dropped.add(c)
-    return dropped
+    return dropped, added
 
 
 def _lie_elements(names: Sequence[str], orders: Sequence[int], derivatives: Sequence[Any],

@@ -38,12 +38,12 @@ from typing import Any
 
 import sympy
 
-from ..rank.membership import exact_rank
+from ..rank.membership import exact_rank, field_ideal
 from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, reduce_mod
 from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
 
-__all__ = ["ModularAnswers", "members_modulo_prime", "PRIME_ERROR"]
+__all__ = ["ModularAnswers", "members_modulo_prime", "contained_modulo_prime", "PRIME_ERROR"]
 
 #: The error allowed to each random prime (the transfer lemma's bad primes and Miller-Rabin's liars).
 PRIME_ERROR = 1e-9
@@ -139,6 +139,23 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
            if certified else f"modulo a random prime of {bits} bits; the fibre may have a singular point: "
            "constant values left undecided")
     return ModularAnswers(members, (bits, more_bits), float(error + more_error), how)
+
+
+def contained_modulo_prime(generators: Sequence[tuple[sympy.Expr, sympy.Expr]],
+                           tested: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
+                           point: dict, jacobian: Sequence[Sequence[sympy.Expr]], rng: random.Random
+                           ) -> ModularAnswers | str:
+    """:func:`~observability.rank.membership.contained`, decided modulo random primes.
+
+    Its ideal (Mueller-Quade and Steinwandt's, at ``point``, saturated at the
+    generators' denominators) is a fibre in this module's sense, the coordinates
+    its unknowns and ``point`` its known zero, and the membership it tests is the
+    same (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3): so the module's
+    argument, and its error, carry over unchanged."""
+    equations, saturation = field_ideal(generators, coordinates, point, jacobian)
+    fibre = FibreEquations(tuple(equations), tuple(coordinates), saturation,
+                           {c: point[c] for c in coordinates}, {})
+    return members_modulo_prime(fibre, tested, rng)
 
 
 def _vanishes(g: Any, basis: list, u: Any, ring: PrimeRing) -> bool:

@@ -181,9 +181,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += result.error_probability or 0.0
-    generates, generation, tested = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
-    probability += error if tested else 0.0
-    field = FieldGenerators(tuple(result.observable_functions or ()), True, generation) if generates else None
+    generates, generation, added = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
+    probability += (error + added) if added is not None else 0.0
+    field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
+        if generates else None
     if generates is not True:
         index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
         unique = [(s, index[s]) for s in local if where[s]]
@@ -191,7 +192,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         unique += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
         field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
-        probability += error if field.generates else 0.0
+        probability += error + field.error if field.generates else 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                          tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
                          generates, generation, field)
@@ -199,47 +200,58 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
 
 def _field(system: System, model: RationalModel, orders: dict[str, int], members: list[tuple[str, sympy.Expr]],
            rank: int, seed: int, error: float, budget: float | None) -> FieldGenerators:
-    """Generators of the field of globally observable functions (:mod:`.globalfield`), under ``budget``."""
+    """Generators of the field of globally observable functions (:mod:`.globalfield`), under
+    ``budget``: by bases over Q, else modulo random primes with the same budget."""
     outputs = [name for name, _ in system.outputs]
+    arguments = (model, outputs, [orders[o] for o in outputs], members, rank, seed, error, system.free_parameters,
+                 system.inputs)
     try:
-        return with_budget(field_generators, model, outputs, [orders[o] for o in outputs], members, rank, seed, error,
-                           system.free_parameters, system.inputs, seconds=budget)
-    except Undecided as exc:
-        return FieldGenerators(tuple(t for t, _ in members), None, f"undecided: {exc}")
+        return with_budget(field_generators, *arguments, seconds=budget)
+    except Undecided as exact:
+        try:
+            return with_budget(field_generators, *arguments, True, seconds=budget)
+        except Undecided as exc:
+            return FieldGenerators(tuple(t for t, _ in members), None, f"undecided: {exact}; modulo a prime: {exc}")
 
 
 def _generation(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int],
                 where: dict[str, bool], answers: tuple[tuple[str, bool], ...], seed: int, error: float,
-                budget: float | None) -> tuple[bool | None, str, bool]:
+                budget: float | None) -> tuple[bool | None, str, float | None]:
     """Whether the verdict's observable functions generate the field the outputs
     determine: each is globally observable, and every Lie derivative up to the
-    truncation lies in their field (:mod:`.generators`); the reason; and whether
-    that second membership test decided it (its error probability is then added:
-    a random point may err either way)."""
+    truncation lies in their field (:mod:`.generators`, by bases over Q, else
+    modulo random primes with the same budget); the reason; and, when that
+    second membership test decided it, what its primes add to its error (0 over
+    Q), None when it did not (its error probability is added only when it
+    decided: a random point may err either way)."""
     printed = tuple(result.observable_functions or ())
     if not printed:  # full rank: the states themselves, whose answers are above
-        return None, "", False
+        return None, "", None
     outside = [f for f in printed if where.get(f) is False] + [f for f, unique in answers if unique is False]
     if outside:
-        return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine", False
+        return False, f"{', '.join(outside)} only locally observable: not in the field the outputs determine", None
     if result.functions_complete is not True:
-        return None, "their transcendence degree is not known to be the rank", False
+        return None, "their transcendence degree is not known to be the rank", None
     if None in where.values() or any(unique is None for _, unique in answers):
-        return None, "some of them are undecided", False
+        return None, "some of them are undecided", None
     names = {s.name: s for s in (*system.states, *system.parameters)}
     functions = [model.rewrite(parse_expression(text, names, where="observable function")) for text in printed]
     outputs = [name for name, _ in system.outputs]
+    arguments = (model, outputs, [orders[o] for o in outputs], functions, result.rank, seed, error,
+                 system.free_parameters, system.inputs)
     try:
-        found = with_budget(generate_the_field, model, outputs, [orders[o] for o in outputs], functions,
-                            result.rank, seed, error, system.free_parameters, system.inputs, seconds=budget)
-    except Undecided as exc:
-        return None, f"undecided: {exc}", False
+        found = with_budget(generate_the_field, *arguments, seconds=budget)
+    except Undecided as exact:
+        try:
+            found = with_budget(generate_the_field, *arguments, None, True, seconds=budget)
+        except Undecided as exc:
+            return None, f"undecided: {exact}; modulo a prime: {exc}", None
     if isinstance(found, str):
-        return None, f"undecided: {found}", False
-    at = f"(Thm 3.3 at a random point of {found.bits} bits)"
+        return None, f"undecided: {found}", None
+    at = f"(Thm 3.3 at a random point of {found.bits} bits, decided by {found.how})"
     if found.missing:
-        return False, f"{', '.join(found.missing)} not in their field {at}", True
-    return True, f"every Lie derivative up to the truncation lies in their field {at}", True
+        return False, f"{', '.join(found.missing)} not in their field {at}", found.error
+    return True, f"every Lie derivative up to the truncation lies in their field {at}", found.error
 
 
 def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, sympy.Expr]]:

@@ -35,7 +35,7 @@ import sympy
 
 from .ideal import saturated_basis
 
-__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained"]
+__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained", "field_ideal"]
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -93,9 +93,18 @@ def contained(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Seque
     test of the module docstring at the integer ``point`` (no denominator zero
     there; drawn from :func:`sampling_range`), the generators' ``jacobian`` at it
     choosing the coordinates adjoined at their values."""
+    equations, saturation = field_ideal(generators, coordinates, point, jacobian)
+    targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]
+    return groebner_contains(equations, coordinates, saturation, targets)
+
+
+def field_ideal(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
+                point: dict, jacobian: Sequence[Sequence[sympy.Expr]]) -> tuple[list[sympy.Expr], sympy.Expr]:
+    """The equations of Q(generators)'s ideal at ``point`` (with the coordinates
+    a transcendence basis needs adjoined at their values, chosen by the
+    generators' ``jacobian`` there) and the product of the denominators, at which
+    it is saturated: the ideal :func:`contained` tests membership in."""
     free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
     adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
     equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
-    saturation = sympy.Mul(*(d for _, d in generators))
-    targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]
-    return groebner_contains([*equations, *adjoined], coordinates, saturation, targets)
+    return [*equations, *adjoined], sympy.Mul(*(d for _, d in generators))
