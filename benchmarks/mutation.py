@@ -53,9 +53,16 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                 "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py",
                 "observability/rank/pairs.py"],
                ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py",
-                "tests/test_pairs.py"]),
+                "tests/test_pairs.py", "tests/test_modular_field.py"]),
     "modular": (["observability/rank/transfer.py", "observability/rank/primefield.py",
-                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py"]),
+                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py",
+                                                         "tests/test_modular_field.py"]),
+    # The field decided modulo primes (run with --only on its functions' mutants: the modules are shared with
+    # "global" and "modular", whose tests are too slow to run per mutant of a budgeted child's callers).
+    "modular-field": (["observability/analysis/generators.py", "observability/analysis/globalfield.py",
+                       "observability/analysis/uniqueness.py", "observability/analysis/modularfibre.py",
+                       "observability/rank/membership.py"],
+                      ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
