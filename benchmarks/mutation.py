@@ -62,7 +62,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "modular-field": (["observability/analysis/generators.py", "observability/analysis/globalfield.py",
                        "observability/analysis/uniqueness.py", "observability/analysis/modularfibre.py",
                        "observability/rank/membership.py"],
-                      ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py"]),
+                      ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
+                       "tests/test_global.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
@@ -398,11 +399,11 @@ EQUIVALENT: dict[str, str] = {
        "is drawn and never read" for k in (3, 5, 6, 13)},
     **{f"observability.analysis.generators.{name}__mutmut_{k}": why for why, names in {
         "max over the outputs' orders with another default: a System has an output": (
-            ("x_generate_the_field", (11, 13, 14)),),
+            ("x_generate_the_field", (12, 14, 15)),),
         "one more input derivative among the known variables, or a larger degree for them: the sampling range only "
         "grows, and the stated error bound holds for any range at least as large":
-            (("x_generate_the_field", (15, 50, 51)),),
-        "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (59, 61)),),
+            (("x_generate_the_field", (16, 51, 52)),),
+        "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (60, 62)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
     "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
@@ -498,14 +499,14 @@ EQUIVALENT: dict[str, str] = {
         "every Lie derivative is an element of the same fraction field, so any of them gives it":
             (("x__lie_elements", (19,)),),
         "one more input derivative among the variables: one the Lie derivatives do not hold, never read":
-            (("x_field_generators", (29,)),),
+            (("x_field_generators", (30,)),),
         "another seed (None: fresh randomness) for a random point: every answer holds with its error probability "
-        "at any point drawn from the range": (("x_field_generators", (34, 95, 132)), ("x__irredundant", (3,))),
+        "at any point drawn from the range": (("x_field_generators", (35, 96, 135)), ("x__irredundant", (5,))),
         "the loop goes on at the rank instead of stopping: no Lie derivative (an element of K) can raise the rank "
         "of the list's Jacobian above the transcendence degree of K, so nothing more is added":
-            (("x_field_generators", (60,)),),
+            (("x_field_generators", (61,)),),
         "the field test recomputes the Lie derivatives when not given them, the same ones":
-            (("x_field_generators", (99, 109)),),
+            (("x_field_generators", (100,)),),
         "the number of terms only spares printing an expression whose text would be longer than 400 characters "
         "anyway (each term takes two characters at least): the text's own length decides":
             (("x__shown", (2, 3, 4, 5)),),

@@ -53,17 +53,24 @@ def test_a_single_point_needs_one_prime():
     assert answers.members == (True, True) == exact and answers.how.endswith("the point alone, a simple point")
 
 
-def _exact_out(monkeypatch):
-    """Every basis over Q out of budget (simulated): the fibre's, the generation test's and the field's."""
-    real = uniqueness.with_budget
-    exact_calls = {uniqueness._decide: 8, uniqueness.field_generators: 9, uniqueness.generate_the_field: 9}
+#: Where each budgeted function takes its ``modular`` flag, positionally.
+_FLAG = {uniqueness._decide: 8, uniqueness.field_generators: 9, uniqueness.generate_the_field: 10}
+
+
+def _exact_out(monkeypatch) -> list:
+    """Every basis over Q out of budget (simulated): the fibre's, the generation test's and the
+    field's; the calls' (function, modular flag, budget) are recorded."""
+    real, calls = uniqueness.with_budget, []
 
     def exact_out(func, *args, seconds):
-        if exact_calls.get(func) == len(args):
+        modular = args[_FLAG[func]] if len(args) > _FLAG[func] else False
+        calls.append((func, modular, seconds))
+        if modular is not True:
             raise Undecided("exact out")
         return real(func, *args, seconds=None)
 
     monkeypatch.setattr(uniqueness, "with_budget", exact_out)
+    return calls
 
 
 def test_two_compartments_field_generators_modulo_a_prime(monkeypatch):
@@ -74,10 +81,13 @@ def test_two_compartments_field_generators_modulo_a_prime(monkeypatch):
                     ["-(a01 + a21)*x1 + a12*x2", "a21*x1 - a12*x2", "0", "0", "0"], {"y": "x1"})
     result = analyze(system, seed=5)
     exact = global_observability(system, result, seed=3, budget=None)
-    _exact_out(monkeypatch)
+    calls = _exact_out(monkeypatch)
     answer = global_observability(system, result, seed=3, budget=60)
+    assert [(f.__name__, m, b) for f, m, b in calls] == [("_decide", False, 60), ("_decide", True, 60),
+                                                         ("generate_the_field", False, 60),
+                                                         ("generate_the_field", True, 60)]
     assert answer.field.generates is True and answer.field.generators == exact.field.generators
-    assert "a01*a12" in answer.field.generators and "decided by modulo a" in answer.field.how
+    assert "a01*a12" in answer.field.generators and "decided by modulo " in answer.field.how
     assert 0 < answer.field.error < 1e-6 and exact.field.error == 0
     assert answer.error_probability > exact.error_probability + answer.field.error * 0.99
 
@@ -87,10 +97,15 @@ def test_a_generator_is_left_out_modulo_a_prime(monkeypatch):
     two others, and is left out by the modular test too."""
     system = System(["a", "b"], ["0", "0"], {"y1": "a**2", "y2": "a*b"})
     result = analyze(system, seed=5)
-    _exact_out(monkeypatch)
+    exact = global_observability(system, result, seed=3, budget=None)
+    assert "decided by the Groebner basis over Q" in exact.field.how and exact.field.error == 0
+    calls = _exact_out(monkeypatch)
     answer = global_observability(system, result, seed=3, budget=60)
     assert answer.only_locally == ("a", "b") and answer.field.generates is True
     assert set(answer.field.generators) == {"a*b", "b**2"} and "; a**2 left out" in answer.field.how
+    assert "decided by modulo " in answer.field.how and 0 < answer.field.error < 1e-7
+    assert [(f.__name__, m, b) for f, m, b in calls][-2:] == [("field_generators", False, 60),
+                                                              ("field_generators", True, 60)]
 
 
 def test_the_printed_functions_generate_the_field_modulo_a_prime(monkeypatch):
@@ -101,7 +116,7 @@ def test_the_printed_functions_generate_the_field_modulo_a_prime(monkeypatch):
     result = analyze(system, seed=5)
     _exact_out(monkeypatch)
     answer = global_observability(system, result, seed=3, budget=60)
-    assert answer.generates_field is True and "decided by modulo a" in answer.generation
+    assert answer.generates_field is True and "decided by modulo " in answer.generation
     floor = (result.error_probability or 0.0) + 2 * GLOBAL_ERROR / (1 - GLOBAL_ERROR)
     assert floor < answer.error_probability < floor + 1e-7
 
@@ -117,9 +132,12 @@ def test_both_routes_out_leave_the_field_undecided_with_both_reasons(monkeypatch
 
     monkeypatch.setattr(uniqueness, "with_budget", out)
     system = parse_si_model(TWO_COMPARTMENTS)
-    answer = global_observability(system, analyze(system, seed=5), seed=3, budget=60)
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=60)
     assert answer.generates_field is None and answer.generation == "undecided: exact out; modulo a prime: prime out"
     assert answer.field.generates is None and answer.field.how == "undecided: exact out; modulo a prime: prime out"
+    # the globally observable ones found (here the printed functions) are listed as they are
+    assert sorted(answer.field.generators) == sorted(result.observable_functions)
 
 
 @pytest.mark.parametrize("members", [(True, None), (None, False)])
@@ -131,3 +149,97 @@ def test_a_membership_the_primes_leave_undecided_is_not_an_answer(monkeypatch, m
     model = uniqueness.rational_model(System(["x", "y"], ["0", "0"], {"p": "x", "q": "y"}))
     found = generation.generate_the_field(model, ["p", "q"], [0, 0], [X, Y], 2, 1, 1e-6, modular=True)
     assert found == "modulo a prime, the fibre may have a singular point"
+
+
+def test_the_missing_lie_derivatives_are_found_modulo_a_prime():
+    """test_global's hand cases, modulo primes: x1' = u, x2' = 0, y = x1 + x2: x1 + x2 is not in
+    Q(u)((x1 + x2)^2) (the sign), so L^0 y is outside while L^1 y = u is inside; y = u x1 with x1'
+    = 0: L^1 y = u' x1 is outside Q(u, u')(x1^2) as u x1 is."""
+    x1, u = sympy.symbols("x1 u")
+    x2 = sympy.Symbol("x2")
+    system = System(states=["x1", "x2"], inputs=["u"], dynamics={"x1": "u", "x2": "0"}, outputs={"y": "x1 + x2"})
+    found = generation.generate_the_field(uniqueness.rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2,
+                                          error=1e-6, inputs=[u], modular=True)
+    assert found.missing == ("L^0 y",) and found.generates is False and 0 < found.error < 1e-8
+    scaled = System(states=["x1"], inputs=["u"], dynamics={"x1": "0"}, outputs={"y": "u*x1"})
+    found = generation.generate_the_field(uniqueness.rational_model(scaled), ["y"], [1], [x1**2], 1, seed=2,
+                                          error=1e-6, inputs=[u], modular=True)
+    assert found.missing == ("L^0 y", "L^1 y") and "modulo" in found.how
+
+
+def test_a_list_that_misses_a_lie_derivative_does_not_generate(monkeypatch):
+    """A generation test that finds L^0 y and L^1 y outside the printed functions' field, modulo
+    primes: 'does not generate', with both named and the primes' error added."""
+    _exact_out(monkeypatch)
+
+    def missing(*args):
+        return generation.FieldGeneration(False, ("L^0 y", "L^1 y"), 40, 3e-9, "modulo a random prime of 99 bits")
+
+    monkeypatch.setattr(uniqueness, "generate_the_field", missing)
+    monkeypatch.setitem(_FLAG, missing, 10)
+    system = parse_si_model(TWO_COMPARTMENTS)
+    result = analyze(system, seed=5)
+    answer = global_observability(system, result, seed=3, budget=60)
+    assert answer.generates_field is False
+    assert answer.generation.startswith("L^0 y, L^1 y not in their field (Thm 3.3 at a random point of 40 bits, "
+                                        "decided by modulo a random prime of 99 bits)")
+    assert answer.field.generates is True  # the field's own generators, found without the printed list
+
+
+def _fixed_error(monkeypatch, error, members=None):
+    """contained_modulo_prime with its answers kept (or replaced by ``members``) and its error set."""
+    import observability.analysis.globalfield as globalfield
+
+    real = globalfield.contained_modulo_prime
+
+    def fixed(*args):
+        found = real(*args)
+        return ModularAnswers(found.members if members is None else members, found.bits, error, found.how)
+
+    monkeypatch.setattr(globalfield, "contained_modulo_prime", fixed)
+    monkeypatch.setattr(generation, "contained_modulo_prime", fixed)
+
+
+def test_the_errors_of_every_prime_are_added(monkeypatch):
+    """y1 = a**2, y2 = a b, every membership test's primes set to 1e-10: the generation test and the
+    one leaving-out test that runs (a**2 against a b and b**2) add 2e-10."""
+    import observability.analysis.globalfield as globalfield
+
+    _fixed_error(monkeypatch, 1e-10)
+    a, b = sympy.symbols("a b")
+    system = System(["a", "b"], ["0", "0"], {"y1": "a**2", "y2": "a*b"})
+    found = globalfield.field_generators(uniqueness.rational_model(system), ["y1", "y2"], [1, 1],
+                                         [("a**2", a**2), ("a*b", a * b), ("b**2", b**2)], 2, seed=1, error=0.03,
+                                         modular=True)
+    assert found.generators == ("a*b", "b**2") and found.error == pytest.approx(2e-10, rel=1e-12)
+
+
+def test_leaving_out_skips_a_candidate_below_the_rank_and_goes_on(monkeypatch):
+    """a, P(b) = b**3 + 7 b + 1 and 2 a (rank 2), longest first: without P(b) the others have rank 1,
+    so it stays and the next is tested: 2 a lies in Q(a, P(b)) and goes. One prime ran."""
+    import observability.analysis.globalfield as globalfield
+
+    _fixed_error(monkeypatch, 1e-10)
+    a, b = sympy.symbols("a b")
+    one = sympy.Integer(1)
+    listed = [("a", (a, one)), ("b**3 + 7*b + 1", (b**3 + 7 * b + 1, one)), ("2*a", (2 * a, one))]
+    dropped, added = globalfield._irredundant(listed, globalfield._candidates(listed, [a, b]), [a, b], 2, 1, 0.01,
+                                              True)
+    assert dropped == {2} and added == pytest.approx(1e-10, rel=1e-12)
+
+
+@pytest.mark.parametrize("members", [(None,), "no prime was found among the candidates drawn"])
+def test_leaving_out_keeps_what_the_primes_leave_undecided(monkeypatch, members):
+    """A candidate whose membership the primes leave undecided, or who got no prime, stays; an
+    undecided answer's primes count, a missing prime adds nothing."""
+    import observability.analysis.globalfield as globalfield
+
+    if isinstance(members, str):
+        monkeypatch.setattr(globalfield, "contained_modulo_prime", lambda *args: members)
+    else:
+        _fixed_error(monkeypatch, 1e-10, members)
+    a, b = sympy.symbols("a b")
+    one = sympy.Integer(1)
+    listed = [("a", (a, one)), ("b", (b, one)), ("2*a + 3*b", (2 * a + 3 * b, one))]
+    dropped, added = globalfield._irredundant(listed, [2], [a, b], 2, 1, 0.01, True)
+    assert dropped == set() and added == (0.0 if isinstance(members, str) else pytest.approx(1e-10))
