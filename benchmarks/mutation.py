@@ -406,6 +406,9 @@ EQUIVALENT: dict[str, str] = {
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (60, 62)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
+    **{f"observability.analysis.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
+       "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
+       "printed from parsed expressions" for k in (31, 35, 36)},
     "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
         "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
     "observability.rank.ideal.xǁReducedBasisǁ__init____mutmut_5": "the conversion field's own order (lex for "

@@ -161,6 +161,9 @@ def test_the_missing_lie_derivatives_are_found_modulo_a_prime():
     found = generation.generate_the_field(uniqueness.rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2,
                                           error=1e-6, inputs=[u], modular=True)
     assert found.missing == ("L^0 y",) and found.generates is False and 0 < found.error < 1e-8
+    exact = generation.generate_the_field(uniqueness.rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2,
+                                          error=1e-6, inputs=[u])
+    assert exact.missing == found.missing and exact.bits == found.bits > 20 and exact.error == 0
     scaled = System(states=["x1"], inputs=["u"], dynamics={"x1": "0"}, outputs={"y": "u*x1"})
     found = generation.generate_the_field(uniqueness.rational_model(scaled), ["y"], [1], [x1**2], 1, seed=2,
                                           error=1e-6, inputs=[u], modular=True)
@@ -243,3 +246,57 @@ def test_leaving_out_keeps_what_the_primes_leave_undecided(monkeypatch, members)
     listed = [("a", (a, one)), ("b", (b, one)), ("2*a + 3*b", (2 * a + 3 * b, one))]
     dropped, added = globalfield._irredundant(listed, [2], [a, b], 2, 1, 0.01, True)
     assert dropped == set() and added == (0.0 if isinstance(members, str) else pytest.approx(1e-10))
+
+
+def _two_compartments():
+    system = parse_si_model(TWO_COMPARTMENTS)
+    result = analyze(system, seed=5)
+    return system, result, uniqueness.rational_model(system), {"y": 3}
+
+
+@pytest.mark.parametrize(("where", "unique"), [({"x0": None}, True), ({"x0": True}, None)])
+def test_generation_waits_for_every_printed_function(where, unique):
+    """A printed function whose own answer is undecided (a state in ``where``, or another in
+    ``answers``) leaves the generation test unrun: it could not say the list generates."""
+    system, result, model, orders = _two_compartments()
+    answers = tuple((f, unique) for f in result.observable_functions if f != "x0")
+    assert uniqueness._generation(system, model, result, orders, where, answers, 3, 1e-6, None) == (
+        None, "some of them are undecided", None)
+
+
+def test_generation_needs_a_complete_list():
+    """Printed functions not known to have the rank's transcendence degree cannot generate (test (b)
+    needs every Lie derivative algebraic over them); a full rank prints none, and says nothing."""
+    import dataclasses
+
+    system, result, model, orders = _two_compartments()
+    answers = tuple((f, True) for f in result.observable_functions if f != "x0")
+    incomplete = dataclasses.replace(result, functions_complete=None)
+    assert uniqueness._generation(system, model, incomplete, orders, {"x0": True}, answers, 3, 1e-6, None) == (
+        None, "their transcendence degree is not known to be the rank", None)
+    full = dataclasses.replace(result, observable_functions=())
+    assert uniqueness._generation(system, model, full, orders, {}, (), 3, 1e-6, None) == (None, "", None)
+
+
+def test_generation_names_every_function_only_locally_observable():
+    """Two printed functions found only locally observable are both named."""
+    system, result, model, orders = _two_compartments()
+    answers = (("a01 + a12 + a21", False), ("a01*a12", False), ("a12*(x0 + x1)", True))
+    assert uniqueness._generation(system, model, result, orders, {"x0": True}, answers, 3, 1e-6, None) == (
+        False, "a01 + a12 + a21, a01*a12 only locally observable: not in the field the outputs determine", None)
+
+
+def test_two_generators_left_out_are_both_named_and_their_primes_counted(monkeypatch):
+    """a, b, a + b, 2 a + 3 b (rank 2): longest first, 2 a + 3 b and then a + b lie in Q(a, b) and
+    go, named in the list's order; the generation test and the two leaving-out tests each add their
+    prime's 1e-10."""
+    import observability.analysis.globalfield as globalfield
+
+    _fixed_error(monkeypatch, 1e-10)
+    a, b = sympy.symbols("a b")
+    system = System(["a", "b"], ["0", "0"], {"y1": "a", "y2": "b"})
+    found = globalfield.field_generators(uniqueness.rational_model(system), ["y1", "y2"], [1, 1],
+                                         [("a", a), ("b", b), ("a + b", a + b), ("2*a + 3*b", 2 * a + 3 * b)], 2,
+                                         seed=1, error=0.03, modular=True)
+    assert found.generators == ("a", "b") and "; a + b, 2*a + 3*b left out" in found.how
+    assert found.error == pytest.approx(3e-10, rel=1e-12)

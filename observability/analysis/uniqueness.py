@@ -143,7 +143,9 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     error : float
         Error probability of the membership test.
     budget : float or None
-        CPU seconds for the Groebner basis; "undecided" past it.
+        CPU seconds for each symbolic step (the fibre's answers, the
+        generation test, the field's generators): over Q, then as much again
+        modulo random primes when that runs out; "undecided" past both.
     """
     _supported(system)
     local = tuple(result.observable_states or ())
