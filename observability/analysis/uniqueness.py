@@ -194,7 +194,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         unique += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
         field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
-        probability += error + field.error if field.generates else 0.0
+        probability += (error + field.error) if field.generates else 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                          tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
                          generates, generation, field)
