@@ -41,7 +41,9 @@ def row(folder: Path, budget: float) -> str:
     start = time.perf_counter()
     answer = global_observability(system, result, seed=3, budget=budget)
     seconds = time.perf_counter() - start
-    timings = dict(line.split(", ") for line in (folder / TIMINGS).read_text().splitlines()[1:] if ", " in line)
+    stored = folder / TIMINGS  # absent where SI.jl's run did not finish (SEUIR, NFkB, ...): no time to compare
+    lines = stored.read_text().splitlines()[1:] if stored.exists() else []
+    timings = dict(line.split(", ") for line in lines if ", " in line)
     field = "-" if answer.field is None else ("yes" if answer.field.generates else "?")
     return (f"| {name} | {system.n} | {result.rank} | {len(answer.globally)} | {len(answer.only_locally)} "
             f"| {len(answer.undecided)} | {field} | {seconds:.1f} | {float(timings.get('id_total', 'nan')):.1f} |")
