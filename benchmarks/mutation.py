@@ -63,7 +63,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                        "observability/analysis/uniqueness.py", "observability/analysis/modularfibre.py",
                        "observability/rank/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
-                       "tests/test_global.py"]),
+                       "tests/test_global.py", "tests/test_modular.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
