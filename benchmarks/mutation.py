@@ -406,6 +406,8 @@ EQUIVALENT: dict[str, str] = {
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (60, 62)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
+    "observability.analysis.uniqueness.x__decide__mutmut_32": "another seed (None: fresh randomness) for the fibre's "
+        "random point and primes: every answer holds with its error probability at any point drawn from the range",
     **{f"observability.analysis.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
        "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
        "printed from parsed expressions" for k in (31, 35, 36)},
