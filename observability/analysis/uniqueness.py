@@ -162,13 +162,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
     arguments = (prepared, model, orders, result.rank, local, [f for _, f in functions], error, seed)
     try:
-        decided = with_budget(_decide, *arguments, seconds=budget)
-    except Undecided as exact:
-        try:  # the basis over Q ran out of budget: modulo random primes, with the same budget
-            decided = with_budget(_decide, *arguments, True, seconds=budget)
-        except Undecided as exc:
-            return GlobalVerdict((), (), local, None, f"undecided: {exact}; modulo a prime: {exc} (the Lie "
-                                 f"derivatives {used}, their field's Groebner basis at a point, the mirrors)")
+        decided = _over_q_then_modulo_primes(_decide, arguments, (True,), budget)
+    except Undecided as exc:
+        return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
+                             "Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
         return GlobalVerdict((), (), local, None, f"undecided: {decided}")
     members, bits, probability, angles, mirrors, paired, how = decided
@@ -200,6 +197,20 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
                          generates, generation, field)
 
 
+def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budget: float | None) -> Any:
+    """``func(*arguments)`` (bases over Q) under ``budget``; when it runs out,
+    ``func(*arguments, *modular)`` (``modular``: the arguments that ask for the
+    route modulo random primes) under the same budget; Undecided with both
+    reasons when that runs out too."""
+    try:
+        return with_budget(func, *arguments, seconds=budget)
+    except Undecided as exact:
+        try:
+            return with_budget(func, *arguments, *modular, seconds=budget)
+        except Undecided as exc:
+            raise Undecided(f"{exact}; modulo a prime: {exc}") from None
+
+
 def _field(system: System, model: RationalModel, orders: dict[str, int], members: list[tuple[str, sympy.Expr]],
            rank: int, seed: int, error: float, budget: float | None) -> FieldGenerators:
     """Generators of the field of globally observable functions (:mod:`.globalfield`), under
@@ -208,12 +219,9 @@ def _field(system: System, model: RationalModel, orders: dict[str, int], members
     arguments = (model, outputs, [orders[o] for o in outputs], members, rank, seed, error, system.free_parameters,
                  system.inputs)
     try:
-        return with_budget(field_generators, *arguments, seconds=budget)
-    except Undecided as exact:
-        try:
-            return with_budget(field_generators, *arguments, True, seconds=budget)
-        except Undecided as exc:
-            return FieldGenerators(tuple(t for t, _ in members), None, f"undecided: {exact}; modulo a prime: {exc}")
+        return _over_q_then_modulo_primes(field_generators, arguments, (True,), budget)
+    except Undecided as exc:
+        return FieldGenerators(tuple(t for t, _ in members), None, f"undecided: {exc}")
 
 
 def _generation(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int],
@@ -242,12 +250,9 @@ def _generation(system: System, model: RationalModel, result: ObservabilityResul
     arguments = (model, outputs, [orders[o] for o in outputs], functions, result.rank, seed, error,
                  system.free_parameters, system.inputs)
     try:
-        found = with_budget(generate_the_field, *arguments, seconds=budget)
-    except Undecided as exact:
-        try:
-            found = with_budget(generate_the_field, *arguments, None, True, seconds=budget)
-        except Undecided as exc:
-            return None, f"undecided: {exact}; modulo a prime: {exc}", None
+        found = _over_q_then_modulo_primes(generate_the_field, arguments, (None, True), budget)
+    except Undecided as exc:
+        return None, f"undecided: {exc}", None
     if isinstance(found, str):
         return None, f"undecided: {found}", None
     at = f"(Thm 3.3 at a random point of {found.bits} bits, decided by {found.how})"
