@@ -39,7 +39,7 @@ from typing import Any
 import sympy
 
 from ..rank.membership import exact_rank, field_ideal
-from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, reduce_mod
+from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
 from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
 
@@ -117,7 +117,7 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
     if drawn is None:
         return "no prime was found among the candidates drawn"
     prime, bits, error = drawn
-    ring = PrimeRing(system.names, prime)
+    ring = prime_ring(system.names, prime)
     basis = groebner_basis_mod_p([_lifted(p, ring) for p in system.polynomials], ring)
     if is_one(basis):
         return "the fibre has no point modulo the prime (the point's own coordinates are not integral there)"
@@ -160,7 +160,8 @@ def contained_modulo_prime(generators: Sequence[tuple[sympy.Expr, sympy.Expr]],
 
 def _vanishes(g: Any, basis: list, u: Any, ring: PrimeRing) -> bool:
     """Whether g vanishes on every zero of the basis's ideal over the closure of F_p."""
-    return reduce_mod(g, basis, ring).is_zero() or is_one(extend_basis(basis, [u * g - 1], ring))
+    one = ring.from_dict({(0,) * ring.nvars(): 1})
+    return reduce_mod(g, basis, ring).is_zero() or is_one(extend_basis(basis, [u * g - one], ring))
 
 
 def _jacobian(system: _IntegerSystem, fibre: FibreEquations) -> list[list[sympy.Expr]]:
@@ -181,7 +182,7 @@ def _radical(system: _IntegerSystem, rng: random.Random) -> tuple[bool, int, Fra
     if drawn is None:
         return "no prime was found for the radical test"
     prime, bits, error = drawn
-    ring = PrimeRing([*system.names[:count], *(f"v{k}" for k in range(count))], prime)
+    ring = prime_ring([*system.names[:count], *(f"v{k}" for k in range(count))], prime)
     equations = _singular_points(system.polynomials, r)
     fibre = groebner_basis_mod_p([ring.from_dict(p) for p in equations[:len(system.polynomials)]], ring)
     basis = extend_basis(fibre, [ring.from_dict(p) for p in equations[len(system.polynomials):]], ring)

@@ -3,14 +3,21 @@
 Buchberger's algorithm with Gebauer and Moeller's criteria (the pair
 bookkeeping of :mod:`.pairs`) over Z/pZ, degree reverse lexicographic: no
 coefficient grows past p, which is what makes a fibre whose basis over Q runs
-into 100,000-bit coefficients tractable. The polynomials are python-flint's
-integer ones with every coefficient taken mod p after each operation (in C):
-flint's own polynomials mod p prove the modulus prime when their context is
-made, 50 s for a prime of 2,100 bits, where :mod:`.transfer` has already
-bounded the chance that it is not. Every polynomial is kept monic, so flint's
-division by the basis (quasi-division over Z, in C) needs no multiplier and its
-remainder is exact (:func:`_remainder` says how a factor p of its content is
-seen).
+into 100,000-bit coefficients tractable. Two representations, the same
+algorithm and the same bases:
+
+- :class:`ModularPrimeRing` (used wherever it loads): FLINT's own polynomials
+  mod p, divided by the basis in C (:mod:`.flintmod`), every coefficient below
+  p throughout a division.
+- :class:`IntegerPrimeRing`: python-flint's integer polynomials, every
+  coefficient taken mod p after each operation (python-flint's own polynomials
+  mod p prove the modulus prime when their context is made, 50 s for a prime of
+  2,100 bits, where :mod:`.transfer` has already bounded the chance that it is
+  not). Every polynomial is kept monic, so flint's division by the basis
+  (quasi-division over Z, in C) needs no multiplier and its remainder is exact
+  (:meth:`IntegerPrimeRing._remainder` says how a factor p of its content is
+  seen); but within one division the coefficients grow by p's size a step,
+  which made it 7 times slower modulo a 525-bit prime.
 
 The basis is a Groebner basis of the ideal over F_p, so a system has no common
 zero over the closure of F_p exactly when its basis is {1} (the weak
@@ -26,19 +33,23 @@ from typing import Any
 import flint
 
 from .order import degrevlex_key
+from . import flintmod
 from .pairs import CriticalPairs
 
-__all__ = ["PrimeRing", "groebner_basis_mod_p", "extend_basis", "is_one", "reduce_mod"]
+__all__ = ["PrimeRing", "IntegerPrimeRing", "ModularPrimeRing", "prime_ring", "groebner_basis_mod_p", "extend_basis",
+           "is_one", "reduce_mod"]
 
-class PrimeRing:
+class IntegerPrimeRing:
     """Polynomials over Z/``prime`` in ``names`` (degree reverse lexicographic), as
-    integer polynomials whose coefficients are reduced mod ``prime``, with one more
-    variable w at the end that only :func:`_remainder` uses."""
+    python-flint's integer polynomials whose coefficients are reduced mod ``prime``,
+    with one more variable w at the end that only :meth:`_remainder` uses: the
+    route where FLINT's C polynomials mod p (:mod:`.flintmod`) cannot be loaded."""
 
     def __init__(self, names: Sequence[str], prime: int) -> None:
         self.context = flint.fmpz_mpoly_ctx.get((*names, "w_remainder_marker"), "degrevlex")
         self.prime = prime
         self.marker = (0,) * len(names) + (1,)
+        self.width = len(names) + 1
 
     def nvars(self) -> int:
         return self.context.nvars() - 1
@@ -52,48 +63,110 @@ class PrimeRing:
     def term(self, monomial: Sequence[int], coefficient: int = 1) -> Any:
         return self.context.term(exp_vec=tuple(monomial), coeff=coefficient)
 
+    def terms(self, p: Any) -> dict[tuple[int, ...], int]:
+        """p's coefficients in [0, p) by exponent vector (without w)."""
+        return {tuple(m[:-1]): int(c) % self.prime for m, c in zip(p.monoms(), p.coeffs())}
 
-def _monic(p: Any, ring: PrimeRing) -> Any:
-    """p with leading coefficient exactly 1 (flint's remainders keep the sign, so
-    that coefficient may come out as 1 - prime: moved to 1 in the same class)."""
-    q = p * pow(int(p.leading_coefficient()), -1, ring.prime) % ring.prime
-    return q - ring.term(q.monomial(0), int(q.leading_coefficient()) - 1)
+    def monic(self, p: Any) -> Any:
+        """p with leading coefficient exactly 1 (flint's remainders keep the sign, so
+        that coefficient may come out as 1 - prime: moved to 1 in the same class)."""
+        q = p * pow(int(p.leading_coefficient()), -1, self.prime) % self.prime
+        return q - self.term(q.monomial(0), int(q.leading_coefficient()) - 1)
+
+    def spolynomial(self, a: Any, b: Any) -> Any:
+        la, lb = tuple(a.monomial(0)), tuple(b.monomial(0))
+        common = tuple(map(max, la, lb))
+        return (a * self.term([x - y for x, y in zip(common, la)])
+                - b * self.term([x - y for x, y in zip(common, lb)])) % self.prime
+
+    def divisors(self) -> _Divisors:
+        return _Divisors(self)
+
+    def reduce(self, p: Any, divisors: Sequence[Any]) -> Any:
+        return self._remainder(p, _vector(divisors, self))
+
+    def remainder(self, p: Any, divisors: _Divisors) -> Any:
+        return self._remainder(p, divisors.vector)
+
+    def _remainder(self, p: Any, divisors: Any) -> Any:
+        """p's complete remainder by ``divisors``, mod the prime, up to a unit.
+
+        flint's quasi-division over Z (in C) returns c p - sum q_i g_i divided by
+        its content e, where c is a product of the divisors' leading coefficients
+        (1 for monic divisors, which keeps the integers small; a unit mod p in any
+        case, since they are 1 mod p). Dividing by e would hide a factor p (a
+        remainder that is 0 mod p). The marker p w, which no leading monomial
+        divides, rides along as c p w / e: its coefficient is a multiple of p
+        exactly when e is not."""
+        if not len(divisors):
+            return p
+        r = (p + self.term(self.marker, self.prime)).reduction_primitive_part(divisors)
+        marked = int(r[self.marker])
+        if marked % self.prime:
+            return self.context.from_dict({})
+        return (r - self.term(self.marker, marked)) % self.prime
 
 
-def _vector(divisors: Sequence[Any], ring: PrimeRing) -> Any:
+class ModularPrimeRing:
+    """Polynomials over Z/``prime`` in ``names`` (degree reverse lexicographic), as FLINT's
+    own polynomials mod p, divided in C (:mod:`.flintmod`)."""
+
+    def __init__(self, names: Sequence[str], prime: int) -> None:
+        self.context = flintmod.ModularContext(len(names), prime)
+        self.divider = flintmod.Divider(self.context)
+        self.prime = prime
+        self.width = len(names)
+
+    def nvars(self) -> int:
+        return self.width
+
+    def from_dict(self, terms: dict) -> Any:
+        return self.context.polynomial(terms)
+
+    def gen(self, i: int) -> Any:
+        return self.context.polynomial({tuple(int(k == i) for k in range(self.width)): 1})
+
+    def terms(self, p: Any) -> dict[tuple[int, ...], int]:
+        """p's coefficients in [0, p) by exponent vector."""
+        return p.terms()
+
+    def monic(self, p: Any) -> Any:
+        return p.monic()
+
+    def spolynomial(self, a: Any, b: Any) -> Any:
+        la, lb = a.monomial(0), b.monomial(0)
+        common = tuple(map(max, la, lb))
+        return (a * self.context.polynomial({tuple(x - y for x, y in zip(common, la)): 1})
+                - b * self.context.polynomial({tuple(x - y for x, y in zip(common, lb)): 1}))
+
+    def divisors(self) -> _ListedDivisors:
+        return _ListedDivisors()
+
+    def reduce(self, p: Any, divisors: Sequence[Any]) -> Any:
+        return self.divider.remainder(p, divisors)
+
+    def remainder(self, p: Any, divisors: _ListedDivisors) -> Any:
+        return self.divider.remainder(p, divisors.listed)
+
+
+PrimeRing = IntegerPrimeRing | ModularPrimeRing
+
+
+def prime_ring(names: Sequence[str], prime: int, in_c: bool | None = None) -> PrimeRing:
+    """Polynomials over Z/``prime`` in ``names``: FLINT's own mod p where it can be called
+    (``in_c`` None), else, or with ``in_c`` False, python-flint's integer ones."""
+    use_c = flintmod.AVAILABLE if in_c is None else in_c
+    return ModularPrimeRing(names, prime) if use_c else IntegerPrimeRing(names, prime)
+
+
+def _vector(divisors: Sequence[Any], ring: IntegerPrimeRing) -> Any:
     """The divisors as one flint vector (built once per basis, not per remainder)."""
     return flint.fmpz_mpoly_vec(list(divisors), ring.context)
 
 
-def _remainder(p: Any, divisors: Any, ring: PrimeRing) -> Any:
-    """p's complete remainder by ``divisors``, mod the prime, up to a unit.
-
-    flint's quasi-division over Z (in C) returns c p - sum q_i g_i divided by
-    its content e, where c is a product of the divisors' leading coefficients
-    (1 for monic divisors, which keeps the integers small; a unit mod p in any
-    case, since they are 1 mod p). Dividing by e would hide a factor p (a
-    remainder that is 0 mod p). The marker p w, which no leading monomial
-    divides, rides along as c p w / e: its coefficient is a multiple of p
-    exactly when e is not."""
-    if not len(divisors):
-        return p
-    r = (p + ring.term(ring.marker, ring.prime)).reduction_primitive_part(divisors)
-    marked = int(r[ring.marker])
-    if marked % ring.prime:
-        return ring.context.from_dict({})
-    return (r - ring.term(ring.marker, marked)) % ring.prime
-
-
 def reduce_mod(p: Any, basis: Sequence[Any], ring: PrimeRing) -> Any:
     """The normal form of p modulo a Groebner basis (zero exactly when p is in its ideal)."""
-    return _remainder(p, _vector(basis, ring), ring)
-
-
-def _spolynomial(a: Any, b: Any, ring: PrimeRing) -> Any:
-    la, lb = tuple(a.monomial(0)), tuple(b.monomial(0))
-    common = tuple(map(max, la, lb))
-    return (a * ring.term([x - y for x, y in zip(common, la)]) - b * ring.term([x - y for x, y in zip(common, lb)])
-            ) % ring.prime
+    return ring.reduce(p, basis)
 
 
 class _Divisors:
@@ -104,7 +177,7 @@ class _Divisors:
     order changes the work of a reduction, never its result (a complete
     remainder's terms are those no leading monomial of the basis divides)."""
 
-    def __init__(self, ring: PrimeRing) -> None:
+    def __init__(self, ring: IntegerPrimeRing) -> None:
         self.ring = ring
         self.filler = ring.term(tuple(2 * e for e in ring.marker))
         self.vector = _vector([self.filler] * 16, ring)
@@ -121,12 +194,29 @@ class _Divisors:
             self.vector[g] = polys[g]
 
 
+class _ListedDivisors:
+    """The basis as a list for FLINT's division mod p (its array of pointers is built per
+    division: microseconds against milliseconds of division)."""
+
+    def __init__(self) -> None:
+        self.active: dict[int, Any] = {}
+        self.listed: list[Any] = []
+
+    def update(self, polys: Sequence[Any], before: Sequence[int], after: Sequence[int]) -> None:
+        """Elements of ``before`` not in ``after`` dropped, those of ``after`` new to it added."""
+        for g in set(before) - set(after):
+            del self.active[g]
+        for g in set(after) - set(before):
+            self.active[g] = polys[g]
+        self.listed = list(self.active.values())
+
+
 def extend_basis(basis: Sequence[Any], extra: Sequence[Any], ring: PrimeRing) -> list[Any]:
     """The reduced Groebner basis of ``basis`` (already a reduced Groebner basis: its
     own pairs are not formed again) with ``extra`` added, largest leading monomial first."""
-    polys = sorted((_monic(p, ring) for p in basis), key=lambda p: degrevlex_key(p.monomial(0)))
-    pairs = CriticalPairs(ring.nvars() + 1)
-    divisors = _Divisors(ring)
+    polys = sorted((ring.monic(p) for p in basis), key=lambda p: degrevlex_key(p.monomial(0)))
+    pairs = CriticalPairs(ring.width)
+    divisors = ring.divisors()
     for p in polys:
         pairs.add(p.monomial(0), form_pairs=False)
     divisors.update(polys, [], pairs.basis)
@@ -134,21 +224,20 @@ def extend_basis(basis: Sequence[Any], extra: Sequence[Any], ring: PrimeRing) ->
     def add(h: Any) -> None:
         """h, reduced and non-zero, joins the basis with its pairs queued."""
         before = list(pairs.basis)
-        polys.append(_monic(h, ring))
+        polys.append(ring.monic(h))
         pairs.add(polys[-1].monomial(0))
         divisors.update(polys, before, pairs.basis)
 
     for p in extra:  # reduced first, so that no leading monomial in the basis divides another
-        h = _remainder(p, divisors.vector, ring)
+        h = ring.remainder(p, divisors)
         if not h.is_zero():
             add(h)
     while len(pairs):  # the normal strategy: the pair of least lcm first
         a, b = pairs.pop()
-        h = _remainder(_spolynomial(polys[a], polys[b], ring), divisors.vector, ring)
+        h = ring.remainder(ring.spolynomial(polys[a], polys[b]), divisors)
         if not h.is_zero():
             add(h)
-    reduced = [_monic(_remainder(polys[g], _vector([polys[k] for k in pairs.basis if k != g], ring), ring), ring)
-               for g in pairs.basis]
+    reduced = [ring.monic(ring.reduce(polys[g], [polys[k] for k in pairs.basis if k != g])) for g in pairs.basis]
     return sorted(reduced, key=lambda p: degrevlex_key(p.monomial(0)), reverse=True)
 
 
