@@ -64,6 +64,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                        "observability/rank/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
                        "tests/test_global.py", "tests/test_modular.py"]),
+    "flint-mod-p": (["observability/rank/flintmod.py", "observability/rank/primefield.py"],
+                    ["tests/test_flintmod.py", "tests/test_modular.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
