@@ -82,6 +82,16 @@ def _cpu_seconds(pid: int) -> float | None:
 WALL_FACTOR = 10.0
 
 
+def _no_answer(process: Any, seconds: float, otherwise: str) -> Undecided:
+    """Why a child ended without an answer: its own CPU limit (:func:`_bound_self`'s SIGXCPU, which
+    can come before the parent's next look at the clock when the machine is loaded or the child is
+    in a long C call), else ``otherwise``."""
+    process.join()
+    if process.exitcode == -signal.SIGXCPU:
+        return Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
+    return Undecided(otherwise)
+
+
 def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
     """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
     when it uses more than ``seconds`` of CPU time (None: no limit, run
@@ -112,11 +122,11 @@ def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
             if (used if used is not None else wall) > seconds or wall > WALL_FACTOR * seconds:
                 raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
             if not process.is_alive() and not parent.poll(0):
-                raise Undecided("the symbolic computation ended without an answer (out of memory?)")
+                raise _no_answer(process, seconds, "the symbolic computation ended without an answer (out of memory?)")
         try:
             status, value = parent.recv()
         except EOFError:  # the child closed the pipe without an answer (it crashed, or could not send)
-            raise Undecided("the symbolic computation ended without an answer") from None
+            raise _no_answer(process, seconds, "the symbolic computation ended without an answer") from None
     finally:
         if process.is_alive():
             process.kill()

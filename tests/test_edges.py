@@ -203,6 +203,26 @@ def test_a_budgeted_child_without_answer_is_undecided(work):
         with_budget(work, seconds=5)
 
 
+def _killed_by(name):
+    import os
+    import signal
+
+    os.kill(os.getpid(), getattr(signal, name))
+
+
+@pytest.mark.parametrize("name, words", [("SIGXCPU", "exceeded its budget of 5 s of CPU time"),
+                                         ("SIGKILL", "without an answer"), ("SIGSEGV", "without an answer")])
+def test_a_child_stopped_by_its_own_cpu_limit_says_budget(name, words):
+    """The child's RLIMIT_CPU sends it SIGXCPU a little after its budget; on a loaded machine, or
+    in a long C call, that can come before the parent's next look at the clock. The child then ends
+    without an answer, but the reason is the budget, and it says so (Pivastatin's modular route said
+    "ended without an answer" before). Another death (a kill, a crash) stays "without an answer"."""
+    from observability.budget import Undecided, with_budget
+
+    with pytest.raises(Undecided, match=words):
+        with_budget(_killed_by, name, seconds=5)
+
+
 def test_paused_collection_restores_the_collector():
     """The analysis pauses Python's cyclic collector (budget.paused_collection) and
     must give it back as it found it, also when the work raises, and not enable
