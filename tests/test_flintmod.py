@@ -29,8 +29,36 @@ def test_flint_s_c_polynomials_load_from_python_flint_s_wheel():
 
 
 def test_without_the_c_polynomials_the_integer_route_is_used(monkeypatch):
+    assert isinstance(primefield.prime_ring(["x"], 7, in_c=False), primefield.IntegerPrimeRing)
     monkeypatch.setattr(flintmod, "AVAILABLE", False)
     assert isinstance(primefield.prime_ring(["x"], 7), primefield.IntegerPrimeRing)
+
+
+def test_loading_finds_the_functions_or_nothing(monkeypatch):
+    """The library found has every function with its signature set; with no library anywhere,
+    loading gives None (and the module would fall back), not an exception."""
+    library = flintmod._load()
+    assert library.fmpz_mod_mpoly_length.restype is flintmod._LONG
+    assert len(library.fmpz_mod_mpoly_divrem_ideal.argtypes) == 6
+    monkeypatch.setattr(flintmod.glob, "glob", lambda pattern: ["/nonexistent/libflint.so"])
+    monkeypatch.setattr(flintmod.ctypes.util, "find_library", lambda name: None)
+    assert flintmod._load() is None
+
+
+class _BrokenDivision:
+    """FLINT with a division that leaves its remainder empty."""
+
+    def __init__(self, library):
+        self.library = library
+
+    def __getattr__(self, name):
+        return (lambda *arguments: None) if name == "fmpz_mod_mpoly_divrem_ideal" else getattr(self.library, name)
+
+
+def test_the_self_test_passes_here_and_catches_a_wrong_division(monkeypatch):
+    assert flintmod._self_test()
+    monkeypatch.setattr(flintmod, "_LIB", _BrokenDivision(flintmod._LIB))
+    assert not flintmod._self_test()
 
 
 def test_terms_read_back_are_the_coefficients_mod_p():

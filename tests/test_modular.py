@@ -113,6 +113,22 @@ def test_bases_mod_p_are_the_exact_bases_reduced(in_c):
 
 
 @BOTH
+def test_katsura_5_mod_p_is_its_exact_basis_reduced(in_c):
+    """Katsura-5 (6 unknowns; Buchberger's algorithm adds more than 16 polynomials, past the first
+    capacity of the integer route's divisor vector): the reduced basis mod a 127-bit prime is the
+    exact reduced basis over Q reduced mod p."""
+    xs = sympy.symbols("u0:6")
+    n, p = 5, 2**127 - 1
+    u = lambda i: xs[abs(i)] if abs(i) <= n else 0  # noqa: E731 - Katsura's u_{-i} = u_i, 0 past n
+    eqs = [sum(u(i) for i in range(-n, n + 1)) - 1] + \
+        [sympy.expand(sum(u(i) * u(m - i) for i in range(-n, n + 1)) - u(m)) for m in range(n)]
+    ring = prime_ring([str(x) for x in xs], p, in_c)
+    modular = groebner_basis_mod_p([_mod(e, xs, ring, p) for e in eqs], ring)
+    exact = [_mod(e, xs, ring, p) for e in ReducedBasis(eqs, xs).expressions()]
+    assert len(exact) > 5 and [_normal(g, p) for g in modular] == [_normal(g, p) for g in exact]
+
+
+@BOTH
 def test_a_remainder_that_vanishes_only_mod_p_is_zero(in_c):
     """x y + 3 by x y - 4 leaves 7 over Z: zero mod 7 (flint's primitive part alone would give 1);
     mod 11 it is 7, a unit: the basis with it is {1}."""

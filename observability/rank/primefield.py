@@ -63,10 +63,6 @@ class IntegerPrimeRing:
     def term(self, monomial: Sequence[int], coefficient: int = 1) -> Any:
         return self.context.term(exp_vec=tuple(monomial), coeff=coefficient)
 
-    def terms(self, p: Any) -> dict[tuple[int, ...], int]:
-        """p's coefficients in [0, p) by exponent vector (without w)."""
-        return {tuple(m[:-1]): int(c) % self.prime for m, c in zip(p.monoms(), p.coeffs())}
-
     def monic(self, p: Any) -> Any:
         """p with leading coefficient exactly 1 (flint's remainders keep the sign, so
         that coefficient may come out as 1 - prime: moved to 1 in the same class)."""
@@ -114,7 +110,6 @@ class ModularPrimeRing:
     def __init__(self, names: Sequence[str], prime: int) -> None:
         self.context = flintmod.ModularContext(len(names), prime)
         self.divider = flintmod.Divider(self.context)
-        self.prime = prime
         self.width = len(names)
 
     def nvars(self) -> int:
@@ -125,10 +120,6 @@ class ModularPrimeRing:
 
     def gen(self, i: int) -> Any:
         return self.context.polynomial({tuple(int(k == i) for k in range(self.width)): 1})
-
-    def terms(self, p: Any) -> dict[tuple[int, ...], int]:
-        """p's coefficients in [0, p) by exponent vector."""
-        return p.terms()
 
     def monic(self, p: Any) -> Any:
         return p.monic()
