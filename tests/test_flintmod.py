@@ -46,19 +46,36 @@ def test_loading_finds_the_functions_or_nothing(monkeypatch):
 
 
 class _BrokenDivision:
-    """FLINT with a division that leaves its remainder empty."""
+    """FLINT with a division that leaves its remainder empty, or (``missing``) without one."""
 
-    def __init__(self, library):
-        self.library = library
+    def __init__(self, library, missing=False):
+        self.library, self.missing = library, missing
 
     def __getattr__(self, name):
-        return (lambda *arguments: None) if name == "fmpz_mod_mpoly_divrem_ideal" else getattr(self.library, name)
+        if name != "fmpz_mod_mpoly_divrem_ideal":
+            return getattr(self.library, name)
+        if self.missing:
+            raise AttributeError(name)
+        return lambda *arguments: None
 
 
 def test_the_self_test_passes_here_and_catches_a_wrong_division(monkeypatch):
+    """Passes with the library loaded; fails with a division that does nothing, and with a library
+    that lacks a function (AttributeError, which loading alone would not see for a later call)."""
     assert flintmod._self_test()
-    monkeypatch.setattr(flintmod, "_LIB", _BrokenDivision(flintmod._LIB))
+    real = flintmod._LIB
+    monkeypatch.setattr(flintmod, "_LIB", _BrokenDivision(real))
     assert not flintmod._self_test()
+    monkeypatch.setattr(flintmod, "_LIB", _BrokenDivision(real, missing=True))
+    assert not flintmod._self_test()
+
+
+def test_a_candidate_that_does_not_load_is_skipped(monkeypatch):
+    """A path that is not a library (first in the list) is passed over for the next one."""
+    real = flintmod.glob.glob(str(flintmod.os.path.join(flintmod.os.path.dirname(flintmod.os.path.dirname(
+        flintmod.os.path.abspath(flint.__file__))), "python_flint.libs", "libflint*")))
+    monkeypatch.setattr(flintmod.glob, "glob", lambda pattern: ["/nonexistent/libflint.so", *real])
+    assert flintmod._load() is not None
 
 
 def test_terms_read_back_are_the_coefficients_mod_p():

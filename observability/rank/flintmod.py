@@ -218,13 +218,13 @@ def _addresses(polynomials: Sequence[ModularPolynomial]) -> Any:
 
 
 def _self_test() -> bool:
-    """x^2 y + 3 x + 5 divided by x y - 2 and y^2 - 1 mod 7 (the first leading monomial divides
-    the first term): x^2 y - x (x y - 2) = 2 x, so the remainder is 5 x + 5."""
+    """x^2 y + 6 x + y^2 + 5 divided by x y - 2 and y^2 - 1 mod 7, by hand: x (x y - 2) leaves
+    2 x + 6 x = 8 x = x, and y^2 - 1 turns y^2 into 1, so the remainder is x + 6."""
     try:
         context = ModularContext(2, 7)
-        p = context.polynomial({(2, 1): 1, (1, 0): 3, (0, 0): 5})
+        p = context.polynomial({(2, 1): 1, (1, 0): 6, (0, 2): 1, (0, 0): 5})
         divisors = [context.polynomial({(1, 1): 1, (0, 0): -2}), context.polynomial({(0, 2): 1, (0, 0): -1})]
-        return Divider(context).remainder(p, divisors).terms() == {(1, 0): 5, (0, 0): 5} and p.monomial(0) == (2, 1)
+        return Divider(context).remainder(p, divisors).terms() == {(1, 0): 1, (0, 0): 6} and p.monomial(0) == (2, 1)
     except (OSError, AttributeError, ValueError):
         return False
 
