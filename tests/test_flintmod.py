@@ -147,3 +147,19 @@ def test_a_remainder_needing_several_divisors_in_turn():
         {(1, 0): 5, (0, 0): 5}
     assert divider.remainder(context.polynomial({(1, 2): 1, (0, 1): 1}), divisors).terms() == {(0, 1): 3}
     assert divider.remainder(context.polynomial({(1, 1): 1, (0, 0): -2}), divisors).is_zero()
+
+
+def test_a_missing_term_or_a_wrong_exponent_vector_is_refused_in_python():
+    """FLINT aborts the whole process on a term index out of range; ctypes pads a short exponent
+    vector with zeros. Both are refused before FLINT sees them."""
+    context = ModularContext(2, 7)
+    zero = context.polynomial({})
+    for read in (zero.monomial, zero.coefficient):
+        with pytest.raises(IndexError):
+            read(0)
+    with pytest.raises(IndexError):
+        context.polynomial({(1, 0): 1}).coefficient(1)
+    with pytest.raises(ValueError, match="1 entries for 2 variables"):
+        context.polynomial({(1,): 1})
+    with pytest.raises(ValueError, match="3 entries for 2 variables"):
+        context.polynomial({(1, 0, 0): 1})

@@ -128,6 +128,8 @@ class ModularContext:
         stores them) by exponent vector, repeated monomials added."""
         result = ModularPolynomial(self)
         for monomial, coefficient in terms.items():
+            if len(monomial) != self.variables:  # ctypes would pad a short one with zeros, silently
+                raise ValueError(f"an exponent vector of {len(monomial)} entries for {self.variables} variables")
             self._scratch.set(coefficient)
             _LIB.fmpz_mod_mpoly_push_term_fmpz_ui(result.buffer, self._scratch.buffer,
                                                   self._exponents(*monomial), self.buffer)
@@ -156,14 +158,21 @@ class ModularPolynomial:
     def is_constant(self) -> bool:
         return len(self) == 0 or (len(self) == 1 and not any(self.monomial(0)))
 
+    def _term(self, i: int) -> None:
+        """IndexError for a term that is not there (FLINT would abort the process)."""
+        if not 0 <= i < len(self):
+            raise IndexError(f"term {i} of a polynomial of {len(self)} terms")
+
     def monomial(self, i: int) -> tuple[int, ...]:
         """The exponent vector of term ``i`` (0: the leading term)."""
+        self._term(i)
         exponents = self.context._exponents()
         _LIB.fmpz_mod_mpoly_get_term_exp_ui(exponents, self.buffer, i, self.context.buffer)
         return tuple(exponents)
 
     def coefficient(self, i: int) -> int:
         """The coefficient of term ``i``, in [0, p)."""
+        self._term(i)
         scratch = self.context._scratch
         _LIB.fmpz_mod_mpoly_get_term_coeff_fmpz(scratch.buffer, self.buffer, i, self.context.buffer)
         return scratch.get()
