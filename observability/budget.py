@@ -85,8 +85,9 @@ WALL_FACTOR = 10.0
 def _no_answer(process: Any, seconds: float, otherwise: str) -> Undecided:
     """Why a child ended without an answer: its own CPU limit (:func:`_bound_self`'s SIGXCPU, which
     can come before the parent's next look at the clock when the machine is loaded or the child is
-    in a long C call), else ``otherwise``."""
-    process.join()
+    in a long C call), else ``otherwise``. A second at most is waited for its exit code: a child
+    still running after closing its pipe is killed by the caller anyway."""
+    process.join(1.0)
     if process.exitcode == -signal.SIGXCPU:
         return Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
     return Undecided(otherwise)

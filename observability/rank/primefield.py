@@ -32,8 +32,8 @@ from typing import Any
 
 import flint
 
-from .order import degrevlex_key
 from . import flintmod
+from .order import degrevlex_key
 from .pairs import CriticalPairs
 
 __all__ = ["PrimeRing", "IntegerPrimeRing", "ModularPrimeRing", "prime_ring", "groebner_basis_mod_p", "extend_basis",
