@@ -485,7 +485,7 @@ EQUIVALENT: dict[str, str] = {
                                                              ("xǁModularPolynomialǁ__del__", (2, 3, 4))),
         "a context FLINT's function does not read (init, length, a coefficient: the polynomial's own fields)":
             (("xǁModularPolynomialǁ__init__", (5,)), ("xǁModularPolynomialǁ__len__", (2,)),
-             ("xǁModularPolynomialǁcoefficient", (5,))),
+             ("xǁModularPolynomialǁcoefficient", (6,))),
         "one more quotient polynomial kept than the division writes": (("xǁDividerǁremainder", (2,)),),
     }.items() for name, numbers in names for k in numbers},
     **{f"observability.analysis.modularfibre.{name}__mutmut_{k}": why for why, names in {
