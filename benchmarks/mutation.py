@@ -496,7 +496,7 @@ EQUIVALENT: dict[str, str] = {
         "the system only the bound reads (u^2 g - 1, a constant of another size or sign, one more variable): "
         "never smaller": (("x_members_modulo_prime", (16, 18, 20, 21, 22)), ("x__radical", (16,))),
         "u g + 1 or u g - 2, r.v = -1 or 2: solvable exactly when u g - 1 (r.v - 1) is, u (v) scaled":
-            (("x__vanishes", (15, 17)), ("x__singular_points", (19, 20))),
+            (("x__vanishes", (5,)), ("x__singular_points", (19, 20))),
         "t's value in the Jacobian: only t Q - 1 has a t entry (Q(a) != 0), so the rank is 1 plus that of the other "
         "rows whatever t is; set when absent, never read": (("x__jacobian", (3, 5, 6)),),
         "a row negated (the same equation), or no accumulation (no two terms of one row share a monomial)":
