@@ -208,17 +208,20 @@ class Divider:
 
     def __init__(self, context: ModularContext) -> None:
         self.context, self._quotients = context, []
+        self._quotient_addresses = _addresses([])
 
     def remainder(self, p: ModularPolynomial, divisors: Sequence[ModularPolynomial]) -> ModularPolynomial:
         """p's complete remainder by monic ``divisors`` (FLINT's division by a list, in C):
         no term of it is divisible by a divisor's leading monomial."""
         if not divisors:
             return p
-        while len(self._quotients) < len(divisors):
-            self._quotients.append(ModularPolynomial(self.context))
+        if len(self._quotients) < len(divisors):  # FLINT reads the first len(divisors) of the array
+            grown = 2 * len(divisors) - len(self._quotients)
+            self._quotients += [ModularPolynomial(self.context) for _ in range(grown)]
+            self._quotient_addresses = _addresses(self._quotients)
         result = ModularPolynomial(self.context)
-        _LIB.fmpz_mod_mpoly_divrem_ideal(_addresses(self._quotients[:len(divisors)]), result.buffer, p.buffer,
-                                         _addresses(divisors), len(divisors), self.context.buffer)
+        _LIB.fmpz_mod_mpoly_divrem_ideal(self._quotient_addresses, result.buffer, p.buffer, _addresses(divisors),
+                                         len(divisors), self.context.buffer)
         return result
 
 
