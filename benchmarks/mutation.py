@@ -486,7 +486,9 @@ EQUIVALENT: dict[str, str] = {
         "a context FLINT's function does not read (init, length, a coefficient: the polynomial's own fields)":
             (("xǁModularPolynomialǁ__init__", (5,)), ("xǁModularPolynomialǁ__len__", (2,)),
              ("xǁModularPolynomialǁcoefficient", (6,))),
-        "one more quotient polynomial kept than the division writes": (("xǁDividerǁremainder", (2,)),),
+        "the quotient pool grown earlier or larger, or replaced by a fresh one still as long as the division needs "
+        "(2n - old > n), or its address array before the first growth (never read: the first division grows it)":
+            (("xǁDividerǁremainder", (2, 4, 6, 7)), ("xǁDividerǁ__init__", (2,))),
     }.items() for name, numbers in names for k in numbers},
     **{f"observability.analysis.modularfibre.{name}__mutmut_{k}": why for why, names in {
         "a variable's or a message's name": (("xǁ_IntegerSystemǁ__init__", (2, 3, 4)),
