@@ -219,7 +219,7 @@ def test_a_jacobian_below_the_verdict_s_rank_at_the_point_is_undecided(monkeypat
     makes unlikely; forced here) no membership is claimed: every state undecided, the reason given."""
     from observability.analysis import fibre
 
-    monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank: None)
+    monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank, rank_of: None)
     system = System(["x"], ["1"], {"y": "x**2"})
     answer = global_observability(system, analyze(system, seed=5, directions=False), seed=3, budget=None)
     assert answer == GlobalVerdict((), (), ("x",), None, "undecided: the Jacobian of the Lie derivatives did not reach "

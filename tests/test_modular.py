@@ -11,6 +11,7 @@ import sympy
 
 from observability import System, analyze
 from observability.analysis import uniqueness
+from observability.analysis import modularfibre as modular
 from observability.analysis.modularfibre import members_modulo_prime
 from observability.analysis.fibre import FibreEquations, fibre_equations
 from observability.analysis.rationalmodel import rational_model
@@ -162,16 +163,20 @@ def _modular(system: System, seed: int = 3):
 @BOTH
 def test_range_only_fix_modulo_a_prime_keeps_the_mirror(in_c, monkeypatch):
     """Ranges to (0, 0) and (d, 0): x unique, y up to its sign (test_global's hand derivation). y's
-    answer needs no radical; x's does: (ii) certifies it, with a second prime. The same with either
-    representation of the prime field."""
+    answer needs no radical; x's does, and the point's range (iii) makes the fibre radical: no second
+    prime, the test (ii) never runs, and the error is the membership theorem's 1e-6 plus the range's
+    1e-6 (each over 1 - 1e-6, for the redrawn poles) plus one prime's 1e-9 at most. The same with
+    either representation of the prime field."""
     monkeypatch.setattr(flintmod, "AVAILABLE", in_c)
+    monkeypatch.setattr(modular, "_radical", None)
     system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
                     parameters=["d"])
     local, decided = _modular(system)
     members, _, probability, _, mirrors, _, how = decided
     assert dict(zip(local, members)) == {"x": True, "y": False} and mirrors == ("y -> -y",)
-    assert how.startswith("modulo random primes of ") and "radical (no singular point)" in how
-    assert 1e-6 < probability < 1e-6 + 3e-9
+    assert how.startswith("modulo a random prime of ") and how.endswith("radical by the point's range "
+                                                                         "(generic smoothness)")
+    assert 2e-6 / (1 - 1e-6) < probability <= 2e-6 / (1 - 1e-6) + 1e-9
 
 
 def test_bearings_to_three_beacons_modulo_a_prime_are_the_point_alone():
@@ -231,14 +236,13 @@ def test_the_verdict_falls_back_to_the_prime_when_the_exact_basis_runs_out(monke
 
 
 def test_an_undecided_member_is_listed_as_undecided(monkeypatch):
-    """A radical test that fails leaves the constant values undecided, not global."""
-    import observability.analysis.modularfibre as modular
-
+    """A radical test that fails leaves the constant values undecided, not global: the mirror x**2 = 4,
+    y = 3 at a point not drawn from the radical range (so (ii) runs)."""
     monkeypatch.setattr(modular, "_radical", lambda system, rng: (False, 70, 0))
-    system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
-                    parameters=["d"])
-    local, decided = _modular(system)
-    assert dict(zip(local, decided[0])) == {"x": None, "y": False} and "may have a singular point" in decided[-1]
+    x, y = sympy.symbols("x y")
+    fibre = FibreEquations((x**2 - 4, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(fibre, [(x, sympy.Integer(1)), (y, sympy.Integer(1))], random.Random(2))
+    assert answers.members == (False, None) and "may have a singular point" in answers.how
 
 
 def test_the_equations_are_those_of_the_exact_route():

@@ -16,6 +16,7 @@ drawn from a range that bounds the error: :func:`~observability.rank.membership.
 from __future__ import annotations
 
 import random
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import sympy
@@ -25,7 +26,7 @@ from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.system import System
 from ..rank.ideal import ReducedBasis, saturated_basis
-from ..rank.membership import completing_columns, exact_rank
+from ..rank.membership import completing_columns, exact_rank, rank_mod_prime
 from .rationalmodel import RationalModel
 
 __all__ = ["Fibre", "FibreEquations", "exact_fibre", "fibre_equations", "known_variables"]
@@ -70,9 +71,11 @@ def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol
 
 
 def fibre_equations(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
-                    rng: random.Random) -> FibreEquations | str:
+                    rng: random.Random, modular: bool = False) -> FibreEquations | str:
     """The fibre's equations through a random point with coordinates in [-bound,
-    bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there."""
+    bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there.
+    ``modular``: its ranks modulo a prime (:func:`~observability.rank.membership.rank_mod_prime`,
+    a full rank certain), for points of thousands of bits."""
     heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     for _ in range(100):
@@ -84,9 +87,10 @@ def fibre_equations(system: System, model: RationalModel, orders: dict[str, int]
             continue
     else:
         raise ModelError("--global: a denominator of the model vanishes at every random point")
-    free = _free_coordinates(jets, model.coordinates, rank)
+    free = _free_coordinates(jets, model.coordinates, rank, rank_mod_prime if modular else exact_rank)
     if free is None:
-        return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point"
+        where = " (its rank modulo 2^61 - 1)" if modular else ""
+        return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point{where}"
     # The known variables are generators of the field: adjoined at their values, i.e. substituted.
     return FibreEquations((*jets.equations, *(c - jets.values[c] for c in free)), jets.unknowns, jets.saturation,
                           dict(jets.values), {v: point[v] for v in known})
@@ -97,15 +101,19 @@ def exact_fibre(equations: FibreEquations) -> Fibre:
     return Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
 
 
-def _free_coordinates(jets: JetEquations, coordinates, rank: int) -> list[sympy.Symbol] | None:
+def _free_coordinates(jets: JetEquations, coordinates, rank: int,
+                      rank_of: Callable[[list, int], int] = exact_rank) -> list[sympy.Symbol] | None:
     """Coordinates whose values, adjoined to the field, make its transcendence
     degree full. The jets' Jacobian has rank (number of jets) + rank of the Lie
     derivatives' Jacobian, the state equations being triangular in the jets with
     non-zero diagonal; where that rank is the verdict's, the completed matrix's
-    non-zero minor certifies the chosen coordinates."""
+    non-zero minor certifies the chosen coordinates. ``rank_of`` may be a lower
+    bound of the rank (modulo a prime): a completion to full rank is certain
+    all the same, and None where it falls short."""
     unknowns = list(jets.unknowns)
     rows = [[sympy.diff(e, u).xreplace(jets.values) for u in unknowns] for e in jets.equations]
     derivatives = len(unknowns) - len(coordinates)
-    if exact_rank(rows, len(unknowns)) != derivatives + rank:
+    if rank_of(rows, len(unknowns)) != derivatives + rank:
         return None
-    return [unknowns[j] for j in completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates])]
+    chosen = completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates], rank_of)
+    return [unknowns[j] for j in chosen] if derivatives + rank + len(chosen) == len(unknowns) else None

@@ -10,14 +10,16 @@ unless a is a bad point: the error the exact route states too). Over C:
 - **g in I** when it has none (g vanishes on every zero: g lies in the radical)
   and I is radical. I is radical when each of its zeros is a simple point (the
   Jacobian of F, t Q - 1 has full rank there: each local ring is a field, and no
-  zero lies on a curve). Certified one of two ways: (i) every unknown z_k is
+  zero lies on a curve). Certified one of three ways: (i) every unknown z_k is
   constant on the zeros (the system with u (z_k - z_k(a)) - 1 has no zero for
   every k), so a's point is the only zero, and the Jacobian has full rank there
-  (an exact rank at that rational point); or (ii) the system F, t Q - 1,
-  J(F, t Q - 1) v = 0, r . v = 1 has no zero, for r a vector of random 64-bit
+  (its rank modulo a fixed prime, at most the rank over Q, is full); or (ii)
+  the system F, t Q - 1, J(F, t Q - 1) v = 0, r . v = 1 has no zero, for r a vector of random 64-bit
   integers drawn before: at a singular zero P, a non-zero w in the kernel K_P
   gives a zero unless r . w = 0, probability at most 2^-64 (Schwartz-Zippel,
-  degree 1; P and w are fixed before r is drawn).
+  degree 1; P and w are fixed before r is drawn). Or (iii), when the point
+  was drawn from the larger range of :mod:`.reducedfibre`, I is radical
+  except with the probability that module states, and nothing is computed.
 
 Whether each of these systems has a common zero over C is decided modulo a
 random prime of the size :mod:`observability.rank.transfer` derives from the
@@ -38,7 +40,7 @@ from typing import Any
 
 import sympy
 
-from ..rank.membership import exact_rank, field_ideal
+from ..rank.membership import field_ideal, rank_mod_prime
 from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
 from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
@@ -104,9 +106,12 @@ def _draw(exponents: list[int], rng: random.Random) -> tuple[int, int, Fraction]
 
 
 def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.Expr, sympy.Expr]],
-                         rng: random.Random) -> ModularAnswers | str:
+                         rng: random.Random, reduced: bool = False) -> ModularAnswers | str:
     """Whether each n/d of ``fractions`` is constant on the fibre, decided modulo
-    random primes (the module's argument), or why not."""
+    random primes (the module's argument), or why not. ``reduced``: the fibre's
+    point was drawn from :func:`~.reducedfibre.radical_range`, whose argument (and
+    error, the caller's to add) makes I radical, so certificates (i) and (ii) are
+    not needed."""
     system = _IntegerSystem(fibre, ["u"])
     tests = [system.integral(fibre.difference(f)) for f in fractions]
     unknowns = [system.integral(z - fibre.values[z]) for z in fibre.unknowns]
@@ -124,11 +129,14 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
     u = ring.gen(n - 1)
     vanishes = [_vanishes(_lifted(g, ring), basis, u, ring) for g in (*tests, *unknowns)]
     answers, single = vanishes[:len(tests)], all(vanishes[len(tests):])
-    if single and exact_rank(_jacobian(system, fibre), len(system.variables)) == len(system.variables):
+    if single and rank_mod_prime(_jacobian(system, fibre), len(system.variables)) == len(system.variables):
         return ModularAnswers(tuple(answers), (bits,), float(error),
                               f"modulo a random prime of {bits} bits; the fibre is the point alone, a simple point")
     if not any(answers):
         return ModularAnswers(tuple(answers), (bits,), float(error), f"modulo a random prime of {bits} bits")
+    if reduced:
+        return ModularAnswers(tuple(answers), (bits,), float(error), f"modulo a random prime of {bits} bits; the "
+                              "fibre's ideal radical by the point's range (generic smoothness)")
     radical = _radical(system, rng)
     if isinstance(radical, str):
         return ModularAnswers(tuple(None if a else False for a in answers), (bits,), float(error),

@@ -26,11 +26,14 @@ non-zero minor of the Jacobian of T at an exact rational point certifies their
 independence when its rank there is the verdict's rank).
 
 **Modulo a prime, when the basis over Q is out of reach.** If the fibre's
-Groebner basis over Q exceeds the budget, the same fibre (same point) is
-decided modulo random large primes (:mod:`.modularfibre`, with the argument
-that makes it certain up to the primes' stated error, added to the answer's);
-answers it cannot certify (a fibre that may have a singular point) are
-"undecided".
+Groebner basis over Q exceeds the budget, a fibre is decided modulo random
+large primes (:mod:`.modularfibre`, with the argument that makes it certain up
+to the primes' stated error, added to the answer's), through a point drawn
+from the larger range of :mod:`.reducedfibre`, which makes the fibre's ideal
+radical except with probability ``error`` (added too), so that vanishing on
+every zero is membership; its ranks are taken modulo a fixed prime (a full
+rank is certain), since exact elimination on numbers of hundreds of thousands
+of bits would cost more than the basis.
 
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
@@ -56,6 +59,7 @@ from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .fibre import exact_fibre, fibre_equations, known_variables
 from .modularfibre import members_modulo_prime
+from .reducedfibre import radical_range
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
@@ -285,17 +289,21 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
     bound = _fibre_range(system, model, orders, [*fractions, *paired], error)
+    if modular:  # the larger range makes the fibre radical (its error is added below)
+        heights = [orders[name] for name, _ in system.outputs]
+        bound = max(bound, radical_range(model, heights, known_variables(system, orders), error))
     rng = random.Random(seed)
-    equations = fibre_equations(system, model, orders, rank, bound, rng)
+    equations = fibre_equations(system, model, orders, rank, bound, rng, modular)
     if isinstance(equations, str):
         return equations
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
     probability, how = error / (1 - error), "the Groebner basis over Q"
     if modular:
-        answers = members_modulo_prime(equations, [*fractions, *paired], rng)
+        answers = members_modulo_prime(equations, [*fractions, *paired], rng, reduced=True)
         if isinstance(answers, str):
             return answers
-        every, probability, how = answers.members, probability + answers.error, answers.how
+        every, how = answers.members, answers.how
+        probability = 2 * error / (1 - error) + answers.error
     else:
         fibre = exact_fibre(equations)
         every = tuple(fibre.constant_on(f) for f in (*fractions, *paired))

@@ -28,14 +28,18 @@ independent over F).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import flint
 import sympy
 
 from .ideal import saturated_basis
 
-__all__ = ["sampling_range", "groebner_contains", "exact_rank", "completing_columns", "contained", "field_ideal"]
+__all__ = ["sampling_range", "groebner_contains", "exact_rank", "rank_mod_prime", "completing_columns", "contained",
+           "field_ideal", "RANK_PRIME"]
+
+#: The prime of :func:`rank_mod_prime` (Mersenne, below 2^64 for flint's word-size matrices).
+RANK_PRIME = 2**61 - 1
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -70,16 +74,32 @@ def exact_rank(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> int:
     return _matrix(rows, columns).rank() if rows else 0
 
 
-def completing_columns(rows: Sequence[Sequence[sympy.Expr]], columns: int, candidates: Sequence[int]) -> list[int]:
+def rank_mod_prime(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> int:
+    """The rank modulo :data:`RANK_PRIME` of a matrix of rationals: at most its rank
+    over Q (a minor's reduction is the reduced matrix's minor), so a full rank is
+    certain, and cheap where the entries have hundreds of thousands of bits. An
+    entry whose denominator the prime divides sends the matrix to :func:`exact_rank`."""
+    if not rows:
+        return 0
+    entries = [sympy.Rational(e) for row in rows for e in row]
+    if any(e.q % RANK_PRIME == 0 for e in entries):
+        return exact_rank(rows, columns)
+    reduced = [int(e.p) * pow(int(e.q), -1, RANK_PRIME) % RANK_PRIME for e in entries]
+    return flint.nmod_mat(len(rows), columns, reduced, RANK_PRIME).rank()
+
+
+def completing_columns(rows: Sequence[Sequence[sympy.Expr]], columns: int, candidates: Sequence[int],
+                       rank_of: Callable[[Sequence[Sequence[sympy.Expr]], int], int] = exact_rank) -> list[int]:
     """Candidate columns whose unit rows, added greedily, each raise the rank of
-    ``rows``: the variables to adjoin at their values for a full transcendence
-    degree (a non-zero minor of the completed matrix certifies the choice)."""
+    ``rows`` (by ``rank_of``, exact or a lower bound): the variables to adjoin at
+    their values for a full transcendence degree (a non-zero minor of the
+    completed matrix certifies the choice)."""
     current = [list(row) for row in rows]
-    rank = exact_rank(current, columns)
+    rank = rank_of(current, columns)
     chosen = []
     for j in candidates:
         unit = [int(i == j) for i in range(columns)]
-        if exact_rank([*current, unit], columns) > rank:
+        if rank_of([*current, unit], columns) > rank:
             current.append(unit)
             rank += 1
             chosen.append(j)
