@@ -104,7 +104,10 @@ def test_a_generator_is_left_out_modulo_a_prime(monkeypatch):
     answer = global_observability(system, result, seed=3, budget=60)
     assert answer.only_locally == ("a", "b") and answer.field.generates is True
     assert set(answer.field.generators) == {"a*b", "b**2"} and "; a**2 left out" in answer.field.how
-    assert "decided by modulo " in answer.field.how and 0 < answer.field.error < 1e-7
+    # The fibre has two points (a, b and -a, -b), so the memberships rest on the radical range: the
+    # generation test's share (5e-7, over 1 - 5e-7) and the leaving out's (5e-7) bound the error, primes aside.
+    assert "decided by modulo " in answer.field.how and "radical by the point's range" in answer.field.how
+    assert 5e-7 < answer.field.error < 1e-6 + 1e-8
     assert [(f.__name__, m, b) for f, m, b in calls][-2:] == [("field_generators", False, 60),
                                                               ("field_generators", True, 60)]
 
@@ -112,14 +115,13 @@ def test_a_generator_is_left_out_modulo_a_prime(monkeypatch):
 def test_the_printed_functions_generate_the_field_modulo_a_prime(monkeypatch):
     """test_global's two compartments (SI.jl identifiability.jl line 8): the printed functions x0,
     s, p and a12 (x0 + x1) generate the field; decided modulo primes, whose error is added to the
-    exact route's probability: the fibre's membership theorem and its radical range (each over 1 - e,
-    for the redrawn poles) and the generation test's theorem, e each."""
+    exact route's probability."""
     system = parse_si_model(TWO_COMPARTMENTS)
     result = analyze(system, seed=5)
     _exact_out(monkeypatch)
     answer = global_observability(system, result, seed=3, budget=60)
     assert answer.generates_field is True and "decided by modulo " in answer.generation
-    floor = (result.error_probability or 0.0) + 2 * GLOBAL_ERROR / (1 - GLOBAL_ERROR) + GLOBAL_ERROR
+    floor = (result.error_probability or 0.0) + 2 * GLOBAL_ERROR / (1 - GLOBAL_ERROR)
     assert floor < answer.error_probability < floor + 1e-7
 
 
@@ -156,16 +158,18 @@ def test_a_membership_the_primes_leave_undecided_is_not_an_answer(monkeypatch, m
 def test_the_missing_lie_derivatives_are_found_modulo_a_prime():
     """test_global's hand cases, modulo primes: x1' = u, x2' = 0, y = x1 + x2: x1 + x2 is not in
     Q(u)((x1 + x2)^2) (the sign), so L^0 y is outside while L^1 y = u is inside; y = u x1 with x1'
-    = 0: L^1 y = u' x1 is outside Q(u, u')(x1^2) as u x1 is."""
+    = 0: L^1 y = u' x1 is outside Q(u, u')(x1^2) as u x1 is. The fibre of (x1 + x2)^2 has two points, so
+    the membership of L^1 y rests on the radical range, whose 1e-6 (over 1 - 1e-6) is added; its point
+    is larger than the exact route's."""
     x1, u = sympy.symbols("x1 u")
     x2 = sympy.Symbol("x2")
     system = System(states=["x1", "x2"], inputs=["u"], dynamics={"x1": "u", "x2": "0"}, outputs={"y": "x1 + x2"})
     found = generation.generate_the_field(uniqueness.rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2,
                                           error=1e-6, inputs=[u], modular=True)
-    assert found.missing == ("L^0 y",) and found.generates is False and 0 < found.error < 1e-8
+    assert found.missing == ("L^0 y",) and found.generates is False and 1e-6 < found.error < 1e-6 + 1e-8
     exact = generation.generate_the_field(uniqueness.rational_model(system), ["y"], [1], [(x1 + x2) ** 2], 1, seed=2,
                                           error=1e-6, inputs=[u])
-    assert exact.missing == found.missing and exact.bits == found.bits > 20 and exact.error == 0
+    assert exact.missing == found.missing and found.bits > exact.bits > 20 and exact.error == 0
     scaled = System(states=["x1"], inputs=["u"], dynamics={"x1": "0"}, outputs={"y": "u*x1"})
     found = generation.generate_the_field(uniqueness.rational_model(scaled), ["y"], [1], [x1**2], 1, seed=2,
                                           error=1e-6, inputs=[u], modular=True)

@@ -81,9 +81,22 @@ def test_a_fibre_trusted_radical_needs_one_prime_and_no_certificate(monkeypatch)
     untrusted = members_modulo_prime(fibre, tested, random.Random(2))
     assert untrusted.members == (False, True) and len(untrusted.bits) == 2
     monkeypatch.setattr(modularfibre, "_radical", None)
-    trusted = members_modulo_prime(fibre, tested, random.Random(2), reduced=True)
+    trusted = members_modulo_prime(fibre, tested, random.Random(2), radical_error=2.0**-20)
     assert trusted.members == (False, True) and len(trusted.bits) == 1
     assert trusted.how.endswith("the fibre's ideal radical by the point's range (generic smoothness)")
+    assert 2.0**-20 < trusted.error < 2.0**-20 + 1e-9
+
+
+def test_the_range_s_error_is_added_only_where_it_certifies():
+    """x = 2, y = 3 (the point alone, simple: certificate (i)) and x**2 = 4 tested for x alone (not
+    constant: no radicality needed): neither answer rests on the range, so its error is not added."""
+    x, y = sympy.symbols("x y")
+    alone = FibreEquations((x - 2, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
+    answers = members_modulo_prime(alone, [(x, sympy.Integer(1))], random.Random(2), radical_error=0.5)
+    assert answers.members == (True,) and answers.error < 1e-9 and "point alone" in answers.how
+    mirror = FibreEquations((x**2 - 4,), (x,), sympy.Integer(1), {x: sympy.Integer(2)}, {})
+    answers = members_modulo_prime(mirror, [(x, sympy.Integer(1))], random.Random(2), radical_error=0.5)
+    assert answers.members == (False,) and answers.error < 1e-9
 
 
 def test_a_double_point_is_undecided_unless_the_caller_vouches_for_the_range():
@@ -95,7 +108,7 @@ def test_a_double_point_is_undecided_unless_the_caller_vouches_for_the_range():
     fibre = FibreEquations((x**2,), (x,), sympy.Integer(1), {x: sympy.Integer(0)}, {})
     tested = [(x, sympy.Integer(1))]
     assert members_modulo_prime(fibre, tested, random.Random(4)).members == (None,)
-    assert members_modulo_prime(fibre, tested, random.Random(4), reduced=True).members == (True,)
+    assert members_modulo_prime(fibre, tested, random.Random(4), radical_error=1e-6).members == (True,)
 
 
 @pytest.mark.parametrize("seed", range(6))

@@ -32,8 +32,9 @@ import sympy
 
 from ..engine.fractions import RationalFunctions
 from ..engine.lie import input_derivative
-from ..rank.membership import contained, exact_rank, sampling_range
+from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .modularfibre import contained_modulo_prime
+from .reducedfibre import field_radical_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
 __all__ = ["FieldGeneration", "generate_the_field", "lie_derivatives_of_outputs", "reduced_pair"]
@@ -119,6 +120,8 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in generators]
     bound = sampling_range([*degrees, *[(1, 0)] * len(known)], degree_bounds(model, orders, known)[:len(tested)],
                            len(variables), error)
+    if modular:  # the larger range makes the ideal radical (.reducedfibre; its error added where it certifies)
+        bound = max(bound, field_radical_range(degrees, len(coordinates), error))
     rng = random.Random(seed)
     for _ in range(100):
         point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in variables}
@@ -130,14 +133,15 @@ def generate_the_field(model: RationalModel, names: Sequence[str], orders: Seque
     generators = [(n.xreplace(given), d.xreplace(given)) for n, d in generators]
     tested = [(n.xreplace(given), d.xreplace(given)) for n, d in tested]
     jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in generators]
-    if exact_rank(jacobian, len(coordinates)) != rank:
+    if (rank_mod_prime if modular else exact_rank)(jacobian, len(coordinates)) != rank:
         return f"the functions' Jacobian does not reach the rank {rank} at the random point"
     labels = [f"L^{j} {name}" for name, k in zip(names, orders) for j in range(k + 1)]
     if not modular:
         members = contained(generators, tested, coordinates, point, jacobian)
         missing = tuple(label for label, member in zip(labels, members) if not member)
         return FieldGeneration(not missing, missing, bound.bit_length())
-    answers = contained_modulo_prime(generators, tested, coordinates, point, jacobian, rng)
+    # The radical range's error, conditioned on the redrawn poles.
+    answers = contained_modulo_prime(generators, tested, coordinates, point, jacobian, rng, error / (1 - error))
     if isinstance(answers, str):
         return answers
     if None in answers.members:

@@ -37,9 +37,10 @@ from typing import Any
 import sympy
 
 from ..engine.lie import input_derivative
-from ..rank.membership import contained, exact_rank, sampling_range
+from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
 from .modularfibre import contained_modulo_prime
+from .reducedfibre import field_radical_range
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["FieldGenerators", "pair_candidates", "field_generators", "MAX_PAIRED", "COMBINATIONS",
@@ -166,20 +167,21 @@ def _irredundant(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], ca
     rng = random.Random(f"irredundant/{seed}")
     for c in candidates:
         others = [listed[i][1] for i in range(len(listed)) if i != c and i not in dropped]
-        bound = sampling_range([(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates))
-                                for n, d in others], [(polynomial_degree(listed[c][1][0], coordinates),
-                                                       polynomial_degree(listed[c][1][1], coordinates))],
-                               len(coordinates), error)
+        degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in others]
+        bound = sampling_range(degrees, [(polynomial_degree(listed[c][1][0], coordinates),
+                                          polynomial_degree(listed[c][1][1], coordinates))], len(coordinates), error)
+        if modular:  # the larger range makes the ideal radical (.reducedfibre; its error added where it certifies)
+            bound = max(bound, field_radical_range(degrees, len(coordinates), error))
         point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in coordinates}
         if any(d.xreplace(point) == 0 for _, d in (*others, listed[c][1])):
             continue  # kept: a pole at the point decides nothing
         jacobian = [_gradient(pair, coordinates, point) for pair in others]
-        if exact_rank(jacobian, len(coordinates)) != rank:
+        if (rank_mod_prime if modular else exact_rank)(jacobian, len(coordinates)) != rank:
             continue
         if not modular:
             member = contained(others, [listed[c][1]], coordinates, point, jacobian)[0]
         else:
-            answers = contained_modulo_prime(others, [listed[c][1]], coordinates, point, jacobian, rng)
+            answers = contained_modulo_prime(others, [listed[c][1]], coordinates, point, jacobian, rng, error)
             member = not isinstance(answers, str) and answers.members[0] is True
             added += 0.0 if isinstance(answers, str) else answers.error
         if member:

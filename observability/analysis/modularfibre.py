@@ -40,7 +40,7 @@ from typing import Any
 
 import sympy
 
-from ..rank.membership import field_ideal, rank_mod_prime
+from ..rank.membership import exact_rank, field_ideal, rank_mod_prime
 from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
 from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
@@ -106,12 +106,12 @@ def _draw(exponents: list[int], rng: random.Random) -> tuple[int, int, Fraction]
 
 
 def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.Expr, sympy.Expr]],
-                         rng: random.Random, reduced: bool = False) -> ModularAnswers | str:
+                         rng: random.Random, radical_error: float | None = None) -> ModularAnswers | str:
     """Whether each n/d of ``fractions`` is constant on the fibre, decided modulo
-    random primes (the module's argument), or why not. ``reduced``: the fibre's
-    point was drawn from :func:`~.reducedfibre.radical_range`, whose argument (and
-    error, the caller's to add) makes I radical, so certificates (i) and (ii) are
-    not needed."""
+    random primes (the module's argument), or why not. ``radical_error``: the
+    fibre's point was drawn from :func:`~.reducedfibre.radical_range`, whose
+    argument makes I radical but with this probability (certificate (iii), added
+    to the answer's error where it is what certifies it); None: it was not."""
     system = _IntegerSystem(fibre, ["u"])
     tests = [system.integral(fibre.difference(f)) for f in fractions]
     unknowns = [system.integral(z - fibre.values[z]) for z in fibre.unknowns]
@@ -134,9 +134,9 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
                               f"modulo a random prime of {bits} bits; the fibre is the point alone, a simple point")
     if not any(answers):
         return ModularAnswers(tuple(answers), (bits,), float(error), f"modulo a random prime of {bits} bits")
-    if reduced:
-        return ModularAnswers(tuple(answers), (bits,), float(error), f"modulo a random prime of {bits} bits; the "
-                              "fibre's ideal radical by the point's range (generic smoothness)")
+    if radical_error is not None:
+        return ModularAnswers(tuple(answers), (bits,), float(error) + radical_error, f"modulo a random prime of {bits} "
+                              "bits; the fibre's ideal radical by the point's range (generic smoothness)")
     radical = _radical(system, rng)
     if isinstance(radical, str):
         return ModularAnswers(tuple(None if a else False for a in answers), (bits,), float(error),
@@ -151,19 +151,22 @@ def members_modulo_prime(fibre: FibreEquations, fractions: Sequence[tuple[sympy.
 
 def contained_modulo_prime(generators: Sequence[tuple[sympy.Expr, sympy.Expr]],
                            tested: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
-                           point: dict, jacobian: Sequence[Sequence[sympy.Expr]], rng: random.Random
-                           ) -> ModularAnswers | str:
+                           point: dict, jacobian: Sequence[Sequence[sympy.Expr]], rng: random.Random,
+                           radical_error: float | None = None) -> ModularAnswers | str:
     """:func:`~observability.rank.membership.contained`, decided modulo random primes.
 
     Its ideal (Mueller-Quade and Steinwandt's, at ``point``, saturated at the
     generators' denominators) is a fibre in this module's sense, the coordinates
     its unknowns and ``point`` its known zero, and the membership it tests is the
     same (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3): so the module's
-    argument, and its error, carry over unchanged."""
-    equations, saturation = field_ideal(generators, coordinates, point, jacobian)
+    argument, and its error, carry over unchanged. ``radical_error``: ``point``
+    was drawn from :func:`~.reducedfibre.field_radical_range`, as in
+    :func:`members_modulo_prime` (the ranks are then taken modulo a prime)."""
+    equations, saturation = field_ideal(generators, coordinates, point, jacobian,
+                                        exact_rank if radical_error is None else rank_mod_prime)
     fibre = FibreEquations(tuple(equations), tuple(coordinates), saturation,
                            {c: point[c] for c in coordinates}, {})
-    return members_modulo_prime(fibre, tested, rng)
+    return members_modulo_prime(fibre, tested, rng, radical_error)
 
 
 def _vanishes(g: Any, basis: list, u: Any, ring: PrimeRing) -> bool:

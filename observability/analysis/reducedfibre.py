@@ -40,6 +40,16 @@ drawn: the Nullstellensatz bound only grows with the variables and the degree.
 delta bounds each equation's degree in the known variables plus the degrees of
 the outputs' derivatives it holds (:func:`~.rationalmodel.degree_bounds`,
 their denominators multiplied out).
+
+**The field's ideal.** Mueller-Quade and Steinwandt's ideal at a (the
+generators' n_i(x) d_i(a) - n_i(a) d_i(x), coordinates fixed at their values,
+saturated at prod d_i: :func:`~observability.rank.membership.field_ideal`) is
+the fibre through a of (x, k) -> (n_i / d_i, the fixed coordinates, k), so
+the same argument gives :func:`field_radical_range`: its unknowns are the
+coordinates and t, its equations' degrees those of the generators (and
+sum deg d_i + 1 for t's), each coefficient's degree in a at most twice the
+generators' largest (a coefficient of n_i(x) in the known variables, times
+d_i(a)), or sum deg d_i for t's.
 """
 
 from __future__ import annotations
@@ -51,7 +61,7 @@ import sympy
 
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 
-__all__ = ["radical_range"]
+__all__ = ["radical_range", "field_radical_range"]
 
 
 def radical_range(model: RationalModel, heights: Sequence[int], known: Sequence[sympy.Symbol], error: float) -> int:
@@ -67,7 +77,24 @@ def radical_range(model: RationalModel, heights: Sequence[int], known: Sequence[
     unknowns = len(speeds) * max(heights, default=0) + len(model.coordinates) + 1
     lie = degree_bounds(model, heights, known)[:sum(k + 1 for k in heights)]
     values = max(1, saturation, *equations) + sum(max(n, d) for n, d in lie)
+    return _range(len(model.coordinates), unknowns, degree, values, error)
+
+
+def field_radical_range(degrees: Sequence[tuple[int, int]], coordinates: int, error: float) -> int:
+    """N such that a point uniform in [-N, N]^m gives a non-radical ideal of the field
+    of generators whose (numerator, denominator) total degrees in the coordinates and
+    the known variables are ``degrees``, with probability at most ``error``
+    (the module's argument, for the field's ideal)."""
+    saturation = sum(d for _, d in degrees)
+    largest = max((max(n, d) for n, d in degrees), default=0)
+    degree = max(2, saturation + 1, largest)
+    return _range(coordinates, coordinates + 1, degree, max(1, 2 * largest, saturation), error)
+
+
+def _range(coordinates: int, unknowns: int, degree: int, values: int, error: float) -> int:
+    """N with 2^coordinates * unknowns * R * values / (2 N + 1) <= error, R the Nullstellensatz's
+    Macaulay rows for 2 * unknowns variables and degree ``degree``."""
     n = 2 * unknowns
     rows = math.comb(n + 4 * n * (degree + 1) ** n + degree, n)
-    bad = 2 ** len(model.coordinates) * unknowns * rows * values
+    bad = 2**coordinates * unknowns * rows * values
     return (bad * math.ceil(1 / error) + 1) // 2

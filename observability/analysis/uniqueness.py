@@ -289,7 +289,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
     bound = _fibre_range(system, model, orders, [*fractions, *paired], error)
-    if modular:  # the larger range makes the fibre radical (its error is added below)
+    if modular:  # the larger range makes the fibre radical (its error added where that certifies an answer)
         heights = [orders[name] for name, _ in system.outputs]
         bound = max(bound, radical_range(model, heights, known_variables(system, orders), error))
     rng = random.Random(seed)
@@ -299,11 +299,10 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
     probability, how = error / (1 - error), "the Groebner basis over Q"
     if modular:
-        answers = members_modulo_prime(equations, [*fractions, *paired], rng, reduced=True)
+        answers = members_modulo_prime(equations, [*fractions, *paired], rng, radical_error=probability)
         if isinstance(answers, str):
             return answers
-        every, how = answers.members, answers.how
-        probability = 2 * error / (1 - error) + answers.error
+        every, probability, how = answers.members, probability + answers.error, answers.how
     else:
         fibre = exact_fibre(equations)
         every = tuple(fibre.constant_on(f) for f in (*fractions, *paired))

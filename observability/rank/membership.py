@@ -119,12 +119,16 @@ def contained(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Seque
 
 
 def field_ideal(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
-                point: dict, jacobian: Sequence[Sequence[sympy.Expr]]) -> tuple[list[sympy.Expr], sympy.Expr]:
+                point: dict, jacobian: Sequence[Sequence[sympy.Expr]],
+                rank_of: Callable[[Sequence[Sequence[sympy.Expr]], int], int] = exact_rank
+                ) -> tuple[list[sympy.Expr], sympy.Expr]:
     """The equations of Q(generators)'s ideal at ``point`` (with the coordinates
     a transcendence basis needs adjoined at their values, chosen by the
-    generators' ``jacobian`` there) and the product of the denominators, at which
-    it is saturated: the ideal :func:`contained` tests membership in."""
-    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)))
+    generators' ``jacobian`` there, its ranks by ``rank_of``: every coordinate is a
+    candidate, so the completion is full either way) and the product of the
+    denominators, at which it is saturated: the ideal :func:`contained` tests
+    membership in."""
+    free = completing_columns(jacobian, len(coordinates), range(len(coordinates)), rank_of)
     adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
     equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
     return [*equations, *adjoined], sympy.Mul(*(d for _, d in generators))
