@@ -64,6 +64,13 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                        "observability/rank/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
                        "tests/test_global.py", "tests/test_modular.py"]),
+    # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
+    "reduced-fibre": (["observability/analysis/reducedfibre.py", "observability/rank/membership.py",
+                       "observability/analysis/fibre.py", "observability/analysis/modularfibre.py",
+                       "observability/analysis/uniqueness.py", "observability/analysis/generators.py",
+                       "observability/analysis/globalfield.py"],
+                      ["tests/test_reduced_fibre.py", "tests/test_modular.py", "tests/test_modular_field.py",
+                       "tests/test_global_exact.py", "tests/test_global_field.py", "tests/test_global.py"]),
     "flint-mod-p": (["observability/rank/flintmod.py", "observability/rank/primefield.py"],
                     ["tests/test_flintmod.py", "tests/test_modular.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
