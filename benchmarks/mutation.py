@@ -412,10 +412,12 @@ EQUIVALENT: dict[str, str] = {
         "one more input derivative among the known variables, or a larger degree for them: the sampling range only "
         "grows, and the stated error bound holds for any range at least as large":
             (("x_generate_the_field", (16, 51, 52)),),
-        "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (60, 62)),),
+        "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (71, 73)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
-    "observability.analysis.uniqueness.x__decide__mutmut_32": "another seed (None: fresh randomness) for the fibre's "
+    "observability.analysis.fibre.x_fibre_equations__mutmut_9": "one more draw of the point: a redraw is needed "
+        "only after a pole",
+    "observability.analysis.uniqueness.x__decide__mutmut_50": "another seed (None: fresh randomness) for the fibre's "
         "random point and primes: every answer holds with its error probability at any point drawn from the range",
     **{f"observability.analysis.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
        "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
@@ -499,7 +501,7 @@ EQUIVALENT: dict[str, str] = {
     }.items() for name, numbers in names for k in numbers},
     **{f"observability.analysis.modularfibre.{name}__mutmut_{k}": why for why, names in {
         "a variable's or a message's name": (("xǁ_IntegerSystemǁ__init__", (2, 3, 4)),
-                                             ("x_members_modulo_prime", (6, 7, 53, 54, 134, 135))),
+                                             ("x_members_modulo_prime", (6, 7, 148, 149))),
         "t added for a constant Q (t = 1/Q, determined), or saturated_definitions called without t Q - 1 (it then "
         "finds no saturation and returns the input)": (("xǁ_IntegerSystemǁ__init__", (11, 29)),),
         "the system only the bound reads (u^2 g - 1, a constant of another size or sign, one more variable): "

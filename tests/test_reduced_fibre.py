@@ -15,7 +15,7 @@ from observability.analysis import modularfibre, uniqueness
 from observability.analysis.fibre import FibreEquations, _free_coordinates, known_variables
 from observability.analysis.modularfibre import members_modulo_prime
 from observability.analysis.rationalmodel import rational_model
-from observability.analysis.reducedfibre import radical_range
+from observability.analysis.reducedfibre import field_radical_range, radical_range
 from observability.engine.jets import jet_equations
 from observability.rank.membership import RANK_PRIME, exact_rank, rank_mod_prime
 
@@ -160,3 +160,101 @@ def test_a_rank_modulo_the_prime_that_falls_short_says_so(monkeypatch):
     decided = uniqueness._decide(prepared, model, orders, result.rank, ("x",), [], 1e-6, 3, True)
     assert decided == ("the Jacobian of the Lie derivatives did not reach the verdict's rank 1 at the random point "
                        "(its rank modulo 2^61 - 1)")
+
+
+def _comb(variables: int, degree: int) -> int:
+    """The Nullstellensatz's Macaulay rows for ``variables`` variables and degree ``degree``."""
+    return math.comb(variables + 4 * variables * (degree + 1) ** variables + degree, variables)
+
+
+def test_the_range_s_degree_and_values_from_each_term():
+    """Three fabricated models, each making one term decide. (1) x constant, y = 3: no equation has a degree
+    (0), Q = 1: d = 2 (the floor), values 1 (the fixed coordinate's x - a_x); unknowns x and t: 2, so
+    4 * 1 * R(4, 2). (2) x constant, y1 = 1/(x^2 + 1), y2 = 1/(x^2 + 2): Q has degree 4, so t Q - 1 has
+    5 = d; the equations' own degrees 2, Q's 4, and each value's bound (0, 2): values 4 + 2 + 2 = 8;
+    4 * 8 * R(4, 5). (3) x' = x^3, y = x at orders 0..1: the state equation x' - x^3 has degree 3 = d;
+    y' = x^3 is bounded by (1 + 2, 0): values 3 + 1 + 3 = 7; unknowns x', x, t: 2 * 3 * 7 * R(6, 3)."""
+    x = sympy.Symbol("x")
+    constant = rational_model(uniqueness.prepare(System(["x"], ["0"], {"y": "x"})).system)
+    fixed = constant.__class__((x,), (sympy.Integer(0),), (sympy.Integer(3),), ())
+    assert radical_range(fixed, [0], [], 1e-6) == (4 * _comb(4, 2) * 10**6 + 1) // 2
+    two = constant.__class__((x,), (sympy.Integer(0),), (1 / (x**2 + 1), 1 / (x**2 + 2)), ())
+    assert radical_range(two, [0, 0], [], 1e-6) == (32 * _comb(4, 5) * 10**6 + 1) // 2
+    cubic = constant.__class__((x,), (x**3,), (x,), ())
+    assert radical_range(cubic, [1], [], 1e-6) == (42 * _comb(6, 3) * 10**6 + 1) // 2
+
+
+@pytest.mark.parametrize(("degrees", "coordinates", "count"), [
+    ([], 1, 4), ([(1, 0)], 1, 8), ([(1, 2), (3, 1)], 3, 192), ([(1, 1)] * 3, 3, 96), ([(5, 0)], 1, 40)])
+def test_the_field_s_range_by_hand(degrees, coordinates, count):
+    """The field's ideal in c coordinates has unknowns c + 1 (t), so 2c + 2 variables; its degree the
+    largest of 2, sum deg d_i + 1 and the generators' own; values the largest of 1, twice the generators'
+    degree and sum deg d_i; 2^c choices and c + 1 j's. No generator: d 2, values 1, 2 * 2 * 1. (1, 0): d 2,
+    values 2: 8. (1, 2), (3, 1) in 3: sum deg d 3, so d = 4, values 6: 8 * 4 * 6 = 192. Three (1, 1):
+    d 4, values 3 (the denominators' sum beats twice 1): 96. (5, 0): d 5, values 10: 2 * 2 * 10 = 40."""
+    largest = max((max(n, d) for n, d in degrees), default=0)
+    degree = max(2, sum(d for _, d in degrees) + 1, largest)
+    assert field_radical_range(degrees, coordinates, 1e-6) == (count * _comb(2 * coordinates + 2, degree) * 10**6
+                                                               + 1) // 2
+
+
+class _Spy:
+    """A rank function that counts its calls and answers like the real one."""
+
+    def __init__(self, real):
+        self.real, self.calls = real, 0
+
+    def __call__(self, rows, columns):
+        self.calls += 1
+        return self.real(rows, columns)
+
+
+def test_each_route_takes_its_ranks_where_it_should(monkeypatch):
+    """Counts of work, not time: at the modular route's points (thousands of bits) exact elimination
+    costs minutes on SI.jl's models (140 s on St's fibre), so that route's ranks are taken mod 2^61 - 1;
+    the exact route keeps exact ranks. The fibre, the generation test and the field's ideal (whose
+    fibre x**2 = 4 has two points, so only the ideal's own completion reads a rank) each checked."""
+    from observability.analysis import fibre, generators, globalfield
+
+    spies = {module: _Spy(rank_mod_prime) for module in (fibre, generators, globalfield, modularfibre)}
+    exact = _Spy(exact_rank)
+    for module, spy in spies.items():
+        monkeypatch.setattr(module, "rank_mod_prime", spy)
+    monkeypatch.setattr(modularfibre, "exact_rank", exact)
+    system, prepared, model = _decay()
+    result = analyze(system, seed=5, directions=False)
+    orders = uniqueness._truncation(prepared, result.rank, 3)
+    uniqueness._decide(prepared, model, orders, result.rank, ("x", "a"), [], 1e-6, 3)
+    assert spies[fibre].calls == 0
+    uniqueness._decide(prepared, model, orders, result.rank, ("x", "a"), [], 1e-6, 3, True)
+    assert spies[fibre].calls > 0
+    a, b = sympy.symbols("a b")
+    square = rational_model(uniqueness.prepare(System(["a", "b"], ["0", "0"], {"p": "a**2", "q": "a*b"})).system)
+    generators.generate_the_field(square, ["p", "q"], [0, 0], [a * b, b**2], 2, 1, 1e-6)
+    assert spies[generators].calls == 0
+    generators.generate_the_field(square, ["p", "q"], [0, 0], [a * b, b**2], 2, 1, 1e-6, modular=True)
+    assert spies[generators].calls == 1
+    x = sympy.Symbol("x")
+    arguments = ([(x**2, sympy.Integer(1))], [(x, sympy.Integer(1))], [x], {x: sympy.Integer(2)}, [[4]])
+    spies[modularfibre].calls = exact.calls = 0  # the generation test above went through it too
+    modularfibre.contained_modulo_prime(*arguments, random.Random(1))
+    assert (spies[modularfibre].calls, exact.calls) == (0, 2)
+    modularfibre.contained_modulo_prime(*arguments, random.Random(1), 1e-6)
+    assert (spies[modularfibre].calls, exact.calls) == (2, 2)
+
+
+def test_leaving_out_modulo_primes_rests_on_the_range_and_adds_its_error(monkeypatch):
+    """a**2 lies in Q(a b, b**2), whose ideal at a point has the two zeros (a, b) and (-a, -b): a**2 is
+    constant on both, a membership that rests on the radical range, so its error (1e-6 for the one
+    candidate) is added; the leaving out takes its Jacobian's rank mod 2^61 - 1."""
+    from observability.analysis import globalfield
+
+    spy = _Spy(rank_mod_prime)
+    monkeypatch.setattr(globalfield, "rank_mod_prime", spy)
+    a, b = sympy.symbols("a b")
+    listed = [("a**2", (a**2, sympy.Integer(1))), ("a*b", (a * b, sympy.Integer(1))),
+              ("b**2", (b**2, sympy.Integer(1)))]
+    dropped, added = globalfield._irredundant(listed, [0], [a, b], 2, 3, 1e-6, True)
+    assert dropped == {0} and 1e-6 < added < 1e-6 + 1e-8 and spy.calls == 1
+    dropped, added = globalfield._irredundant(listed, [0], [a, b], 2, 3, 1e-6, False)
+    assert dropped == {0} and added == 0 and spy.calls == 1

@@ -74,7 +74,7 @@ def radical_range(model: RationalModel, heights: Sequence[int], known: Sequence[
     equations = [max(polynomial_degree(den, variables) + 1, polynomial_degree(num, variables)) for num, den in speeds]
     equations += [max(polynomial_degree(num, variables), polynomial_degree(den, variables)) for num, den in outputs]
     degree = max(2, saturation + 1, *equations)
-    unknowns = len(speeds) * max(heights, default=0) + len(model.coordinates) + 1
+    unknowns = len(speeds) * max(heights) + len(model.coordinates) + 1
     lie = degree_bounds(model, heights, known)[:sum(k + 1 for k in heights)]
     values = max(1, saturation, *equations) + sum(max(n, d) for n, d in lie)
     return _range(len(model.coordinates), unknowns, degree, values, error)
