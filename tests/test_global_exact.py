@@ -157,7 +157,7 @@ def test_a_generator_is_printed_up_to_400_characters():
 
 
 def _fibre(system, orders, rank, seed=1):
-    equations = fibres.fibre_equations(system, rational_model(system), orders, rank, 1000, random.Random(seed))
+    equations = fibres.fibre_equations(system, rational_model(system), orders, rank, 1000, random.Random(seed), False)
     return fibres.exact_fibre(equations)
 
 

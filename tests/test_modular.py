@@ -251,8 +251,8 @@ def test_the_equations_are_those_of_the_exact_route():
     result = analyze(system, seed=5, directions=False)
     model = rational_model(system)
     orders = uniqueness._truncation(system, result.rank, 3)
-    a = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3))
-    b = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3))
+    a = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3), False)
+    b = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3), False)
     answers = members_modulo_prime(a, [(sympy.Symbol("x"), sympy.Integer(1))], random.Random(1))
     assert a == b and answers.members == (True,)
 
@@ -409,7 +409,7 @@ def test_a_polynomial_models_fibre_gets_a_shorter_prime():
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     orders = uniqueness._truncation(prepared, result.rank, 3)
-    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     system = modular._IntegerSystem(fibre, ["u"])
     n = len(system.variables)
     plain = transfer.SystemSize(n, max(sum(m) for p in system.polynomials for m in p),
@@ -450,7 +450,7 @@ def test_a_rational_models_jets_become_definitions():
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     orders = uniqueness._truncation(prepared, result.rank, 3)
-    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     integral = modular._IntegerSystem(fibre, [])
     n = len(integral.variables)
     assert integral.alternative != integral.polynomials
@@ -524,7 +524,7 @@ def test_a_linear_denominator_is_saturated():
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     orders = uniqueness._truncation(prepared, result.rank, 3)
-    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3))
+    fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     assert sympy.Poly(fibre.saturation, *fibre.unknowns).total_degree() == 1
     integral = modular._IntegerSystem(fibre, [])
     assert integral.variables[0] == integral.t and len(integral.relations) == len(fibre.equations) + 1

@@ -71,7 +71,7 @@ def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol
 
 
 def fibre_equations(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
-                    rng: random.Random, modular: bool = False) -> FibreEquations | str:
+                    rng: random.Random, modular: bool) -> FibreEquations | str:
     """The fibre's equations through a random point with coordinates in [-bound,
     bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there.
     ``modular``: its ranks modulo a prime (:func:`~observability.rank.membership.rank_mod_prime`,
