@@ -288,10 +288,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     # Pairs are tested only in coordinates that are the states (no angle's T): printed as they are.
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
-    bound = _fibre_range(system, model, orders, [*fractions, *paired], error)
-    if modular:  # the larger range makes the fibre radical (its error added where that certifies an answer)
-        heights = [orders[name] for name, _ in system.outputs]
-        bound = max(bound, radical_range(model, heights, known_variables(system, orders), error))
+    bound = _fibre_range(system, model, orders, [*fractions, *paired], error, modular)
     rng = random.Random(seed)
     equations = fibre_equations(system, model, orders, rank, bound, rng, modular)
     if isinstance(equations, str):
@@ -315,13 +312,16 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
 
 
 def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
-                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float) -> int:
-    """The sampling range that bounds the membership test's error for ``fractions``."""
+                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float, modular: bool) -> int:
+    """The sampling range that bounds the membership test's error for ``fractions``;
+    ``modular``: at least :func:`~.reducedfibre.radical_range` too, which makes the
+    fibre radical (its error added where that certifies an answer)."""
     heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     variables = [*model.coordinates, *known]
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
-    return sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
+    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
+    return max(bound, radical_range(model, heights, known, error)) if modular else bound
 
 
 def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
