@@ -417,7 +417,7 @@ EQUIVALENT: dict[str, str] = {
     }.items() for name, numbers in names for k in numbers},
     "observability.analysis.fibre.x_fibre_equations__mutmut_9": "one more draw of the point: a redraw is needed "
         "only after a pole",
-    "observability.analysis.uniqueness.x__decide__mutmut_50": "another seed (None: fresh randomness) for the fibre's "
+    "observability.analysis.uniqueness.x__decide__mutmut_34": "another seed (None: fresh randomness) for the fibre's "
         "random point and primes: every answer holds with its error probability at any point drawn from the range",
     **{f"observability.analysis.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
        "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
