@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
-__all__ = ["Undecided", "with_budget", "WALL_FACTOR", "paused_collection"]
+__all__ = ["Undecided", "with_budget", "BudgetedRun", "WALL_FACTOR", "paused_collection"]
 
 T = TypeVar("T")
 
@@ -93,52 +93,92 @@ def _no_answer(process: Any, seconds: float, otherwise: str) -> Undecided:
     return Undecided(otherwise)
 
 
-def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
-    """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
-    when it uses more than ``seconds`` of CPU time (None: no limit, run
-    in-process).
+class BudgetedRun:
+    """``func(*args)`` started in a forked child bounded to ``seconds`` of CPU time
+    (None: not started; run in-process by :meth:`result`).
 
-    The work runs in a forked child process so that it can really be stopped. The
-    budget counts the child's CPU time, so the answer does not depend on how
+    The budget counts the child's CPU time, so the answer does not depend on how
     loaded the machine is; where CPU time cannot be read (no /proc), wall time
     is used. The wall clock is capped at ``WALL_FACTOR`` times the budget. The
     child also bounds itself (:func:`_bound_self`): it dies with its parent and
-    past its CPU budget even if nobody is left to stop it.
-    """
-    if seconds is None:
-        return func(*args)
-    if not seconds > 0 or seconds == float("inf"):
-        raise ValueError(f"a budget must be a positive finite number of seconds, got {seconds}")
-    context = multiprocessing.get_context("fork")
-    parent, child = context.Pipe(duplex=False)
-    # Not daemonic: a budgeted step may start another (its child dies with it).
-    process = context.Process(target=_child, args=(child, func, args, seconds, os.getpid()))
-    process.start()
-    child.close()
-    began = time.monotonic()
-    try:
-        while not parent.poll(0.02):
-            used = _cpu_seconds(process.pid)
-            wall = time.monotonic() - began
+    past its CPU budget even if nobody is left to stop it. Several runs may be
+    alive at once (one core each); :meth:`stop` ends one whose answer is no
+    longer wanted."""
+
+    def __init__(self, func: Callable[..., T], *args: Any, seconds: float | None) -> None:
+        self.func, self.args, self.seconds = func, args, seconds
+        self.process: Any = None
+        if seconds is None:
+            return
+        if not seconds > 0 or seconds == float("inf"):
+            raise ValueError(f"a budget must be a positive finite number of seconds, got {seconds}")
+        context = multiprocessing.get_context("fork")
+        self.pipe, child = context.Pipe(duplex=False)
+        # Not daemonic: a budgeted step may start another (its child dies with it).
+        self.process = context.Process(target=_child, args=(child, func, args, seconds, os.getpid()))
+        self.process.start()
+        child.close()
+        self.began = time.monotonic()
+
+    def answered_within(self, cpu_seconds: float) -> bool:
+        """Wait until the child has answered or ended (True: :meth:`result` will not
+        wait) or has used ``cpu_seconds`` of CPU time, or the wall clock ``WALL_FACTOR``
+        times that (False: it keeps running). True at once for an in-process run."""
+        while self.process is not None and not self.pipe.poll(0.02):
+            if not self.process.is_alive():
+                return True
+            used = _cpu_seconds(self.process.pid)
+            wall = time.monotonic() - self.began
+            if (used if used is not None else wall) > cpu_seconds or wall > WALL_FACTOR * cpu_seconds:
+                return False
+        return True
+
+    def result(self) -> Any:
+        """The answer, or :class:`Undecided` when the child used more than its budget
+        or ended without one; the work's own exception is raised again. Stops the child."""
+        if self.process is None:
+            return self.func(*self.args)
+        try:
+            status, value = self._receive()
+        finally:
+            self.stop()
+        if status == "unsendable":
+            raise Undecided(f"the symbolic computation ended without an answer it could pass back ({value})")
+        if status == "error":
+            if isinstance(value, (RecursionError, MemoryError)):
+                raise Undecided(f"the symbolic computation exceeded a resource limit ({type(value).__name__})")
+            raise value
+        return value
+
+    def _receive(self) -> tuple[str, Any]:
+        seconds = self.seconds
+        while not self.pipe.poll(0.02):
+            used = _cpu_seconds(self.process.pid)
+            wall = time.monotonic() - self.began
             if (used if used is not None else wall) > seconds or wall > WALL_FACTOR * seconds:
                 raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
-            if not process.is_alive() and not parent.poll(0):
-                raise _no_answer(process, seconds, "the symbolic computation ended without an answer (out of memory?)")
+            if not self.process.is_alive() and not self.pipe.poll(0):
+                raise _no_answer(self.process, seconds, "the symbolic computation ended without an answer "
+                                 "(out of memory?)")
         try:
-            status, value = parent.recv()
+            return self.pipe.recv()
         except EOFError:  # the child closed the pipe without an answer (it crashed, or could not send)
-            raise _no_answer(process, seconds, "the symbolic computation ended without an answer") from None
-    finally:
-        if process.is_alive():
-            process.kill()
-        process.join()
-    if status == "unsendable":
-        raise Undecided(f"the symbolic computation ended without an answer it could pass back ({value})")
-    if status == "error":
-        if isinstance(value, (RecursionError, MemoryError)):
-            raise Undecided(f"the symbolic computation exceeded a resource limit ({type(value).__name__})")
-        raise value
-    return value
+            raise _no_answer(self.process, seconds, "the symbolic computation ended without an answer") from None
+
+    def stop(self) -> None:
+        """The child killed, if still running, and reaped."""
+        if self.process is not None:
+            if self.process.is_alive():
+                self.process.kill()
+            self.process.join()
+
+
+def with_budget(func: Callable[..., T], *args: Any, seconds: float | None) -> T:
+    """Run ``func(*args)`` and return its result, or raise :class:`Undecided`
+    when it uses more than ``seconds`` of CPU time (None: no limit, run
+    in-process): a :class:`BudgetedRun` waited for. The work runs in a forked
+    child process so that it can really be stopped."""
+    return BudgetedRun(func, *args, seconds=seconds).result()
 
 
 @contextlib.contextmanager

@@ -15,6 +15,7 @@ from observability.analysis import modularfibre as modular
 from observability.analysis.modularfibre import members_modulo_prime
 from observability.analysis.fibre import FibreEquations, fibre_equations
 from observability.analysis.rationalmodel import rational_model
+from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
 from observability.rank import transfer
@@ -212,25 +213,23 @@ def test_the_modular_route_matches_structural_identifiability_jl(line, body, exp
 def test_the_verdict_falls_back_to_the_prime_when_the_exact_basis_runs_out(monkeypatch):
     """The exact route's budget exhausted (simulated): the answer comes modulo a prime, says so, and
     both exhausted leave every state undecided with both reasons."""
-    real = uniqueness.with_budget
-
     def exact_out(func, *args, seconds):
         if func is uniqueness._decide and len(args) == 8:
             raise Undecided("exact out")
-        return real(func, *args, seconds=None)
+        return func(*args)
 
     system = System(["x", "y"], ["0", "0"], {"b1": "y/x", "b2": "(y - 1)/(x - 2)", "b3": "(y + 1)/(x - 3)"})
     result = analyze(system, seed=5, directions=False)
-    monkeypatch.setattr(uniqueness, "with_budget", exact_out)
+    budgeted_runs(monkeypatch, uniqueness, exact_out)
     answer = uniqueness.global_observability(system, result, seed=3, budget=10)
     assert answer.globally == ("x", "y") and "decided by modulo a random prime of " in answer.details
 
     def both_out(func, *args, seconds):
         if func is uniqueness._decide:
             raise Undecided("out" if len(args) == 8 else "prime out")
-        return real(func, *args, seconds=None)
+        return func(*args)
 
-    monkeypatch.setattr(uniqueness, "with_budget", both_out)
+    budgeted_runs(monkeypatch, uniqueness, both_out)
     answer = uniqueness.global_observability(system, result, seed=3, budget=10)
     assert answer.undecided == ("x", "y") and answer.details.startswith("undecided: out; modulo a prime: prime out")
 

@@ -15,6 +15,7 @@ from observability.analysis import generators as generation
 from observability.analysis import uniqueness
 from observability.analysis.modularfibre import ModularAnswers, contained_modulo_prime
 from observability.analysis.uniqueness import GLOBAL_ERROR, global_observability
+from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
 from observability.rank.membership import contained
@@ -60,16 +61,16 @@ _FLAG = {uniqueness._decide: 8, uniqueness.field_generators: 9, uniqueness.gener
 def _exact_out(monkeypatch) -> list:
     """Every basis over Q out of budget (simulated): the fibre's, the generation test's and the
     field's; the calls' (function, modular flag, budget) are recorded."""
-    real, calls = uniqueness.with_budget, []
+    calls = []
 
     def exact_out(func, *args, seconds):
         modular = args[_FLAG[func]] if len(args) > _FLAG[func] else False
         calls.append((func, modular, seconds))
         if modular is not True:
             raise Undecided("exact out")
-        return real(func, *args, seconds=None)
+        return func(*args)
 
-    monkeypatch.setattr(uniqueness, "with_budget", exact_out)
+    budgeted_runs(monkeypatch, uniqueness, exact_out)
     return calls
 
 
@@ -127,14 +128,12 @@ def test_the_printed_functions_generate_the_field_modulo_a_prime(monkeypatch):
 
 def test_both_routes_out_leave_the_field_undecided_with_both_reasons(monkeypatch):
     """The exact and the modular field tests both out of budget (simulated): undecided, and why."""
-    real = uniqueness.with_budget
-
     def out(func, *args, seconds):
         if func in (uniqueness.field_generators, uniqueness.generate_the_field):
             raise Undecided("exact out" if len(args) == 9 else "prime out")
-        return real(func, *args, seconds=None)
+        return func(*args)
 
-    monkeypatch.setattr(uniqueness, "with_budget", out)
+    budgeted_runs(monkeypatch, uniqueness, out)
     system = parse_si_model(TWO_COMPARTMENTS)
     result = analyze(system, seed=5)
     answer = global_observability(system, result, seed=3, budget=60)

@@ -50,7 +50,7 @@ from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from ..budget import Undecided, with_budget
+from ..budget import BudgetedRun, Undecided
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
@@ -71,6 +71,9 @@ __all__ = ["GlobalVerdict", "global_observability", "GLOBAL_ERROR"]
 
 #: The membership test's error probability (its sampling range grows with log(1/error) bits only).
 GLOBAL_ERROR = 1e-6
+#: CPU seconds the exact route runs alone before the modular one starts beside it: most bases over
+#: Q end well within them, and no second process is spent on those.
+ALONE = 2.0
 
 
 @dataclass(frozen=True)
@@ -205,14 +208,30 @@ def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budg
     """``func(*arguments)`` (bases over Q) under ``budget``; when it runs out,
     ``func(*arguments, *modular)`` (``modular``: the arguments that ask for the
     route modulo random primes) under the same budget; Undecided with both
-    reasons when that runs out too."""
+    reasons when that runs out too.
+
+    The answer is the exact route's whenever it has one, whichever ends first,
+    so it does not depend on the machine. Once the exact route has used
+    :data:`ALONE` seconds of CPU without answering, the modular route starts
+    beside it, on the other core: a step the exact route cannot finish then
+    takes one budget of wall time instead of two."""
+    exact = BudgetedRun(func, *arguments, seconds=budget)
+    beside = None
     try:
-        return with_budget(func, *arguments, seconds=budget)
-    except Undecided as exact:
+        if not exact.answered_within(ALONE):
+            beside = BudgetedRun(func, *arguments, *modular, seconds=budget)
         try:
-            return with_budget(func, *arguments, *modular, seconds=budget)
+            return exact.result()
+        except Undecided as reason:
+            first = reason
+        try:
+            return (beside or BudgetedRun(func, *arguments, *modular, seconds=budget)).result()
         except Undecided as exc:
-            raise Undecided(f"{exact}; modulo a prime: {exc}") from None
+            raise Undecided(f"{first}; modulo a prime: {exc}") from None
+    finally:
+        exact.stop()
+        if beside is not None:
+            beside.stop()
 
 
 def _field(system: System, model: RationalModel, orders: dict[str, int], members: list[tuple[str, sympy.Expr]],

@@ -1,0 +1,115 @@
+"""The exact and the modular route of the global analysis, run side by side.
+
+No test here reads the clock: each shows an order of events through files the
+children write (a child that waits for another's file can only see it when both
+run at once; alone it would spend its CPU budget and be stopped)."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+
+import pytest
+
+from observability.analysis import uniqueness
+from observability.budget import BudgetedRun, Undecided
+
+
+def _wait_for(path: str) -> bool:
+    """Spin (CPU) until ``path`` exists; the caller's budget stops it if it never does."""
+    while not os.path.exists(path):
+        time.sleep(0)  # yields the core, still counts as running
+        sum(range(1000))
+    return True
+
+
+def _route(folder: str, modular: bool = False) -> str:
+    """The modular route writes its mark and answers at once; the exact one answers only
+    after seeing that mark, so it answers last."""
+    if modular:
+        open(os.path.join(folder, "modular"), "w").close()
+        return "modular"
+    _wait_for(os.path.join(folder, "modular"))
+    return "exact"
+
+
+def _exact_never_ends(folder: str, modular: bool = False) -> str:
+    if modular:
+        return "modular"
+    _wait_for(os.path.join(folder, "never"))
+    return "exact"
+
+
+def _fails(folder: str, modular: bool = False) -> str:
+    """The modular route marks its start and spins; the exact one fails once that mark is there."""
+    if modular:
+        open(os.path.join(folder, "modular"), "w").close()
+        _wait_for(os.path.join(folder, "never"))
+    _wait_for(os.path.join(folder, "modular"))
+    raise KeyError("a bug in the exact route")
+
+
+def test_two_budgeted_runs_are_alive_at_once(tmp_path):
+    """The first run answers only once the second has written its mark: both must run together."""
+    first = BudgetedRun(_route, str(tmp_path), seconds=20)
+    second = BudgetedRun(_route, str(tmp_path), True, seconds=20)
+    assert (first.result(), second.result()) == ("exact", "modular")
+
+
+def test_answered_within_says_false_while_the_child_works_and_true_once_it_answered(tmp_path):
+    run = BudgetedRun(_exact_never_ends, str(tmp_path), seconds=20)
+    assert run.answered_within(0.2) is False
+    run.stop()
+    quick = BudgetedRun(_exact_never_ends, str(tmp_path), True, seconds=20)
+    assert quick.answered_within(5) is True and quick.result() == "modular"
+    assert BudgetedRun(len, "abc", seconds=None).answered_within(0) is True
+
+
+def test_the_exact_answer_wins_even_when_the_modular_one_comes_first(tmp_path, monkeypatch):
+    """The modular route answered first (its mark is what lets the exact one finish), yet the
+    answer is the exact route's: the verdict does not depend on which process ends first."""
+    monkeypatch.setattr(uniqueness, "ALONE", 0.1)
+    answer = uniqueness._over_q_then_modulo_primes(_route, (str(tmp_path),), (True,), 20)
+    assert answer == "exact" and (tmp_path / "modular").exists()
+    assert multiprocessing.active_children() == []
+
+
+def test_the_modular_answer_when_the_exact_route_runs_out(tmp_path, monkeypatch):
+    monkeypatch.setattr(uniqueness, "ALONE", 0.1)
+    assert uniqueness._over_q_then_modulo_primes(_exact_never_ends, (str(tmp_path),), (True,), 1) == "modular"
+    assert multiprocessing.active_children() == []
+
+
+def test_no_second_process_for_an_exact_route_that_answers_at_once(monkeypatch):
+    started = []
+
+    class Counted(BudgetedRun):
+        def __init__(self, func, *args, seconds):
+            started.append(args)
+            super().__init__(func, *args, seconds=seconds)
+
+    monkeypatch.setattr(uniqueness, "BudgetedRun", Counted)
+    assert uniqueness._over_q_then_modulo_primes(len, ("abc",), (), 20) == 3
+    assert started == [("abc",)]
+
+
+def test_a_bug_in_the_exact_route_is_raised_and_the_modular_run_stopped(tmp_path, monkeypatch):
+    """Not a budget: the exact route's own exception comes back (exit 4 for the CLI), and the
+    modular child started beside it (which would spin for its whole budget) is killed."""
+    monkeypatch.setattr(uniqueness, "ALONE", 0.1)
+    with pytest.raises(KeyError, match="a bug in the exact route"):
+        uniqueness._over_q_then_modulo_primes(_fails, (str(tmp_path),), (True,), 20)
+    assert multiprocessing.active_children() == []
+
+
+def test_both_routes_out_give_both_reasons(tmp_path, monkeypatch):
+    monkeypatch.setattr(uniqueness, "ALONE", 0.1)
+    with pytest.raises(Undecided, match=r"^the symbolic computation exceeded its budget of 0\.5 s of CPU time; "
+                       r"modulo a prime: the symbolic computation exceeded its budget of 0\.5 s"):
+        uniqueness._over_q_then_modulo_primes(_fails_slowly, (str(tmp_path),), (True,), 0.5)
+
+
+def _fails_slowly(folder: str, modular: bool = False) -> str:
+    _wait_for(os.path.join(folder, "never"))
+    return "never"
