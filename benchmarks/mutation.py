@@ -64,6 +64,11 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                        "observability/rank/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
                        "tests/test_global.py", "tests/test_modular.py"]),
+    # The budgeted runs and the two routes side by side (run with --only on BudgetedRun, with_budget and
+    # _over_q_then_modulo_primes).
+    "routes": (["observability/budget.py", "observability/analysis/uniqueness.py"],
+               ["tests/test_concurrent_routes.py", "tests/test_edges.py", "tests/test_modular.py",
+                "tests/test_modular_field.py"]),
     # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
     "reduced-fibre": (["observability/analysis/reducedfibre.py", "observability/rank/membership.py",
                        "observability/analysis/fibre.py", "observability/analysis/modularfibre.py",
