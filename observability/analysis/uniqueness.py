@@ -151,8 +151,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         Error probability of the membership test.
     budget : float or None
         CPU seconds for each symbolic step (the fibre's answers, the
-        generation test, the field's generators): over Q, then as much again
-        modulo random primes when that runs out; "undecided" past both.
+        generation test, the field's generators): over Q, and as much again
+        modulo random primes, started beside it once it has run :data:`ALONE`
+        seconds (its answer used when the route over Q has none); "undecided"
+        past both.
     """
     _supported(system)
     local = tuple(result.observable_states or ())
