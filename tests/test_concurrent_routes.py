@@ -1,8 +1,10 @@
-"""The exact and the modular route of the global analysis, run side by side.
+"""Budgeted runs, and the exact and the modular route of the global analysis run side by side.
 
-No test here reads the clock: each shows an order of events through files the
-children write (a child that waits for another's file can only see it when both
-run at once; alone it would spend its CPU budget and be stopped)."""
+The routes' tests show an order of events through files the children write (a
+child that waits for another's file can only see it when both run at once; alone
+it would spend its CPU budget and be stopped). The budget's own tests tell CPU
+time from wall time with children that sleep, each sleep at least twice as far
+from the cap that would change the answer as a loaded machine needs."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ import time
 import pytest
 
 from observability.analysis import uniqueness
-from observability.budget import BudgetedRun, Undecided
+from observability.budget import BudgetedRun, Undecided, with_budget
 
 
 def _wait_for(path: str) -> bool:
@@ -113,3 +115,42 @@ def test_both_routes_out_give_both_reasons(tmp_path, monkeypatch):
 def _fails_slowly(folder: str, modular: bool = False) -> str:
     _wait_for(os.path.join(folder, "never"))
     return "never"
+
+
+def _too_deep() -> None:
+    raise RecursionError("maximum recursion depth exceeded")
+
+
+def test_the_budget_is_cpu_time_a_sleeping_child_uses_none_of_it():
+    """A child that sleeps 2 s uses almost no CPU: a 0.5 s budget lets it answer (the wall clock
+    may run to 10 times the budget, 5 s), where a wall-clock budget would stop it."""
+    assert with_budget(time.sleep, 2, seconds=0.5) is None
+    assert BudgetedRun(time.sleep, 2, seconds=30).answered_within(0.5) is True
+
+
+def test_the_wall_clock_caps_a_child_that_never_uses_its_cpu():
+    """The cap is WALL_FACTOR (10) times the budget: a 4 s sleep under 0.2 s is stopped at 2 s,
+    and waiting 0.1 s of CPU for one ends at 1 s of wall time."""
+    with pytest.raises(Undecided) as stopped:
+        with_budget(time.sleep, 4, seconds=0.2)
+    assert str(stopped.value) == "the symbolic computation exceeded its budget of 0.2 s of CPU time"
+    run = BudgetedRun(time.sleep, 4, seconds=30)
+    assert run.answered_within(0.1) is False
+    run.stop()
+    assert multiprocessing.active_children() == []
+
+
+@pytest.mark.parametrize("seconds", [0, -1, float("inf"), float("nan")])
+def test_a_budget_that_is_not_a_positive_finite_number_is_refused(seconds):
+    with pytest.raises(ValueError) as refused:
+        BudgetedRun(len, "abc", seconds=seconds)
+    assert str(refused.value) == f"a budget must be a positive finite number of seconds, got {seconds}"
+
+
+def test_the_reasons_a_child_gives_no_answer_word_for_word():
+    with pytest.raises(Undecided) as deep:
+        with_budget(_too_deep, seconds=5)
+    assert str(deep.value) == "the symbolic computation exceeded a resource limit (RecursionError)"
+    with pytest.raises(Undecided) as gone:
+        with_budget(os._exit, 3, seconds=5)
+    assert str(gone.value) == "the symbolic computation ended without an answer"
