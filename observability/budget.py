@@ -105,7 +105,7 @@ class BudgetedRun:
     alive at once (one core each); :meth:`stop` ends one whose answer is no
     longer wanted."""
 
-    def __init__(self, func: Callable[..., T], *args: Any, seconds: float | None) -> None:
+    def __init__(self, func: Callable[..., Any], *args: Any, seconds: float | None) -> None:
         self.func, self.args, self.seconds = func, args, seconds
         self.process: Any = None
         if seconds is None:
@@ -125,11 +125,16 @@ class BudgetedRun:
         wait) or has used ``cpu_seconds`` of CPU time, or the wall clock ``WALL_FACTOR``
         times that (False: it keeps running). True at once for an in-process run."""
         while self.process is not None and not self.pipe.poll(0.02):  # a child that ended has closed it: EOF
-            used = _cpu_seconds(self.process.pid)
-            wall = time.monotonic() - self.began
-            if (used if used is not None else wall) > cpu_seconds or wall > WALL_FACTOR * cpu_seconds:
+            if self._past(cpu_seconds):
                 return False
         return True
+
+    def _past(self, limit: float) -> bool:
+        """Whether the child has used ``limit`` seconds of CPU (of wall time where
+        /proc cannot be read), or the wall clock ``WALL_FACTOR`` times that."""
+        used = _cpu_seconds(self.process.pid)
+        wall = time.monotonic() - self.began
+        return (used if used is not None else wall) > limit or wall > WALL_FACTOR * limit
 
     def result(self) -> Any:
         """The answer, or :class:`Undecided` when the child used more than its budget
@@ -151,9 +156,7 @@ class BudgetedRun:
     def _receive(self) -> tuple[str, Any]:
         seconds = self.seconds
         while not self.pipe.poll(0.02):
-            used = _cpu_seconds(self.process.pid)
-            wall = time.monotonic() - self.began
-            if (used if used is not None else wall) > seconds or wall > WALL_FACTOR * seconds:
+            if self._past(seconds):
                 raise Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
         try:
             return self.pipe.recv()
