@@ -125,7 +125,8 @@ def test_the_budget_is_cpu_time_a_sleeping_child_uses_none_of_it():
     """A child that sleeps 2 s uses almost no CPU: a 0.5 s budget lets it answer (the wall clock
     may run to 10 times the budget, 5 s), where a wall-clock budget would stop it."""
     assert with_budget(time.sleep, 2, seconds=0.5) is None
-    assert BudgetedRun(time.sleep, 2, seconds=30).answered_within(0.5) is True
+    run = BudgetedRun(time.sleep, 2, seconds=30)
+    assert run.answered_within(0.5) is True and run.result() is None
 
 
 def test_the_wall_clock_caps_a_child_that_never_uses_its_cpu():
