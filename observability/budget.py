@@ -123,9 +123,10 @@ class BudgetedRun:
     def answered_within(self, cpu_seconds: float) -> bool:
         """Wait until the child has answered or ended (True: :meth:`result` will not
         wait) or has used ``cpu_seconds`` of CPU time, or the wall clock ``WALL_FACTOR``
-        times that (False: it keeps running). True at once for an in-process run."""
+        times that (False: it keeps running), never past the run's own budget. True at
+        once for an in-process run."""
         while self.process is not None and not self.pipe.poll(0.02):  # a child that ended has closed it: EOF
-            if self._past(cpu_seconds):
+            if self._past(min(cpu_seconds, self.seconds)):
                 return False
         return True
 

@@ -69,6 +69,15 @@ def test_answered_within_says_false_while_the_child_works_and_true_once_it_answe
     assert BudgetedRun(len, "abc", seconds=None).answered_within(0) is True
 
 
+def test_answered_within_stops_waiting_at_the_run_s_own_budget(tmp_path):
+    """Waiting 100 s of CPU for a run of 0.3 s ends when the run's budget is spent (False: result()
+    then says so), not when the child's own CPU limit (3 s) kills it, which would read as answered."""
+    run = BudgetedRun(_exact_never_ends, str(tmp_path), seconds=0.3)
+    assert run.answered_within(100) is False
+    with pytest.raises(Undecided, match="exceeded its budget of 0.3 s"):
+        run.result()
+
+
 def test_the_exact_answer_wins_even_when_the_modular_one_comes_first(tmp_path, monkeypatch):
     """The modular route answered first (its mark is what lets the exact one finish), yet the
     answer is the exact route's: the verdict does not depend on which process ends first."""
