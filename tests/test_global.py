@@ -35,13 +35,14 @@ def _labels(system: System, budget: float | None = None) -> dict[str, str] | Non
     every locally observable state is listed as undecided, with the reason)."""
     result = analyze(system, seed=5, directions=False)
     answer = global_observability(system, result, seed=3, budget=budget)
-    if answer.undecided:
-        assert set(answer.undecided) == set(result.observable_states) and "budget" in answer.details
-        assert answer.details.startswith("undecided: ") and "(the Lie derivatives y 0.." in answer.details
-        assert answer.details.endswith(", their field's Groebner basis at a point, the mirrors)")
+    if set(answer.undecided) == set(result.observable_states):
+        assert "budget" in answer.details and answer.details.startswith("undecided: ")
+        assert "(the Lie derivatives y 0.." in answer.details
+        assert ", their field's Groebner basis at a point, the mirrors); the input-output route: " in answer.details
         assert answer.globally == () and answer.only_locally == () and answer.error_probability is None
         return None
     labels = {s: "nonidentifiable" for s in result.states}
+    labels |= {s: "undecided" for s in answer.undecided}
     return labels | {s: "globally" for s in answer.globally} | {s: "locally" for s in answer.only_locally}
 
 
@@ -78,14 +79,17 @@ SI_CASES = [
 
 @pytest.mark.parametrize(("line", "body", "expected"), SI_CASES, ids=[f"line{c[0]}" for c in SI_CASES])
 def test_global_labels_match_structural_identifiability_jl(line, body, expected):
-    """Lines 80 and 100 (11 and 7 unknowns, Lie orders to 11 and 10) need a Groebner basis in about
-    50 unknowns that sympy does not finish in 60 s of CPU (the CLI's default budget, measured
-    2026-12-03): within 1 s they must say undecided, never a label."""
-    budget = 1.0 if line in (80, 100) else None
+    """Lines 80 and 100 (11 and 7 unknowns, Lie orders to 11 and 10) need a fibre's Groebner basis in
+    about 50 unknowns that no route here finishes within 600 s of CPU (measured 2026-12-05): their
+    unknown constants are decided through the input-output equation instead (line 100's has 281
+    terms, under a second of CPU), their states stay undecided."""
+    budget = 4.0 if line in (80, 100) else None
     labels = _labels(parse_si_model(f"ode = @ODEmodel({body})", name=f"SI.jl identifiability.jl:{line}"), budget)
-    if line in (80, 100) and labels is None:
+    if line == 80 and labels is None:
         return
     assert labels is not None and {k: labels[k] for k in expected} == expected
+    if line == 100:
+        assert {k for k, v in labels.items() if v == "undecided"} == {"x1", "x4"}  # x2, x3: not even locally
 
 
 def test_square_without_motion_is_only_local_and_the_sign_flip_certifies_it():
@@ -223,7 +227,8 @@ def test_a_jacobian_below_the_verdict_s_rank_at_the_point_is_undecided(monkeypat
     system = System(["x"], ["1"], {"y": "x**2"})
     answer = global_observability(system, analyze(system, seed=5, directions=False), seed=3, budget=None)
     assert answer == GlobalVerdict((), (), ("x",), None, "undecided: the Jacobian of the Lie derivatives did not reach "
-                                   "the verdict's rank 1 at the random point")
+                                   "the verdict's rank 1 at the random point; the input-output route: no locally "
+                                   "observable unknown constant")
 
 
 def test_a_non_rational_model_is_refused():

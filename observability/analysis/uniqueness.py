@@ -50,7 +50,7 @@ from typing import TYPE_CHECKING, Any
 
 import sympy
 
-from ..budget import BudgetedRun, Undecided
+from ..budget import BudgetedRun, Undecided, with_budget
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
@@ -62,6 +62,7 @@ from .modularfibre import members_modulo_prime
 from .reducedfibre import radical_range
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
+from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
 if TYPE_CHECKING:
@@ -173,10 +174,9 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     try:
         decided = _over_q_then_modulo_primes(_decide, arguments, (True,), budget)
     except Undecided as exc:
-        return GlobalVerdict((), (), local, None, f"undecided: {exc} (the Lie derivatives {used}, their field's "
-                             "Groebner basis at a point, the mirrors)")
+        decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
-        return GlobalVerdict((), (), local, None, f"undecided: {decided}")
+        return _through_io_equation(prepared, model, result, local, decided, seed, error, budget)
     members, bits, probability, angles, mirrors, paired, how = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
@@ -204,6 +204,34 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                          tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
                          generates, generation, field)
+
+
+def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
+                         reason: str, seed: int, error: float, budget: float | None) -> GlobalVerdict:
+    """The verdict when the fibre gave no answer (``reason``): the locally observable
+    unknown constants decided through the input-output equation (:mod:`.ioglobal`)
+    where it applies, within ``budget``; the rest undecided."""
+    constants = {c: name for name, c, f in zip((s.name for s in system.states), model.coordinates, model.speeds)
+                 if f == 0 and name in local}
+    found = "no locally observable unknown constant"
+    if constants and len(model.outputs) == 1:
+        try:
+            found = with_budget(constants_from_io_equation, model, [sympy.Symbol(u) for u in system.inputs],
+                                system.outputs[0][0], list(constants), seed, error, seconds=budget)
+        except Undecided as exc:
+            found = str(exc)
+    elif constants:
+        found = "the input-output route takes one output"
+    if isinstance(found, str):
+        return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {found}")
+    where = {constants[c]: found.members.get(c.name) for c in constants}
+    details = (f"the unknown constants by {found.how}; 'only locally' means other complex values share the outputs; "
+               f"the states undecided: {reason}")
+    generation = "not tested: the fibre's answers are undecided"
+    return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
+                         tuple(s for s in local if where.get(s) is False),
+                         tuple(s for s in local if where.get(s) is None),
+                         found.error + (result.error_probability or 0.0), details, generation=generation)
 
 
 def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budget: float | None) -> Any:

@@ -1,0 +1,144 @@
+"""A solution of a rational model as power series modulo a prime, at one random point.
+
+The input-output route (:mod:`.ioequation`, :mod:`.ioglobal`) needs the jets of
+one solution: to choose, among the factors of a resultant, the one that vanishes
+on every solution, and to bound ranks from below. Along x' = f(x, theta, u) with
+x(0) = x0, Picard's iteration x <- x0 + int f(x) fixes one more Taylor
+coefficient each time; a rational f is its numerator times the power series
+inverse of its denominator. Everything is reduced modulo the prime p: the
+coefficients are the reductions of the rational Taylor coefficients at the
+integer point (x0, theta, u(t)), as long as no denominator vanishes there modulo
+p (then None: the caller draws another point) and the order stays below p
+(the integration divides by it).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import flint
+
+__all__ = ["SolutionSeries", "solution_series", "evaluate_series", "quotient"]
+
+
+@dataclass(frozen=True)
+class SolutionSeries:
+    """x(t), u(t) and the output y(t) modulo t^length and the prime, with the point's constants.
+
+    ``values`` maps each ring variable at order 0 (states, constants, inputs) to its
+    residue; ``tangents[i][j]`` is d x_j(t) / d x0_i (empty unless asked for).
+    """
+
+    prime: int
+    length: int
+    values: dict[str, int]
+    states: tuple[Any, ...]
+    inputs: tuple[Any, ...]
+    output: Any
+    tangents: tuple[tuple[Any, ...], ...] = ()
+
+    def jet(self, series: Any, k: int) -> int:
+        """The k-th derivative at t = 0 of ``series``: k! times its coefficient k."""
+        coefficients = series.coeffs()
+        value = int(coefficients[k]) if k < len(coefficients) else 0
+        return value * math.factorial(k) % self.prime
+
+
+def evaluate_series(poly: Any, series: dict[int, Any], constants: dict[int, int], length: int, prime: int) -> Any:
+    """``poly`` (an fmpz_mpoly) at power series for some of its variables (by
+    position) and residues for the others, modulo t^length and the prime."""
+    one = flint.nmod_poly([1], prime)
+    powers: dict[tuple[int, int], Any] = {}
+    total = flint.nmod_poly([], prime)
+    for monomial, coefficient in zip(poly.monoms(), poly.coeffs()):
+        scalar = int(coefficient) % prime
+        term = one
+        for i, e in enumerate(monomial):
+            if not e:
+                continue
+            if i in series:
+                if (i, e) not in powers:
+                    powers[(i, e)] = series[i].pow_trunc(e, length)
+                term = term.mul_low(powers[(i, e)], length)
+            else:
+                scalar = scalar * pow(constants[i], e, prime) % prime
+        total += term * scalar
+    return total
+
+
+def quotient(numerator: Any, denominator: Any, length: int) -> Any | None:
+    """numerator / denominator as power series modulo t^length, or None when the
+    denominator vanishes at t = 0."""
+    if int(denominator.coeffs()[0] if denominator.length() else 0) == 0:
+        return None
+    return numerator.mul_low(denominator.inverse_series_trunc(length), length)
+
+
+def solution_series(speeds: Sequence[tuple[Any, Any]], output: tuple[Any, Any], names: Sequence[str],
+                    states: Sequence[int], constants: Sequence[int], inputs: Sequence[int], length: int,
+                    rng: random.Random, prime: int, tangent_speeds: Sequence[Sequence[tuple[Any, Any]]] = ()
+                    ) -> SolutionSeries | None:
+    """The solution at a random point to order ``length`` - 1, or None when a
+    denominator vanishes there.
+
+    ``speeds``: (numerator, denominator) fmpz_mpoly pairs of each state's speed;
+    ``output``: the output's pair; ``states``, ``constants``, ``inputs``: their
+    variables' positions in the ring (``names``). Inputs are random polynomials
+    of degree ``length`` - 1 (generic jets). ``tangent_speeds[j][i]``: the pair of
+    d f_j / d x_i, for the tangents d x(t) / d x0 (variational equations)."""
+    if length >= prime:
+        raise ValueError("the series' order must stay below the prime")
+    residues = {c: rng.randrange(1, prime) for c in constants}
+    u = {i: flint.nmod_poly([rng.randrange(prime) for _ in range(length)], prime) for i in inputs}
+    x = {i: flint.nmod_poly([rng.randrange(1, prime)], prime) for i in states}
+    start = {i: x[i] for i in states}
+    for order in range(1, length):
+        known = {**x, **{i: s.truncate(order) for i, s in u.items()}}
+        updated = {}
+        for i, (num, den) in zip(states, speeds):
+            speed = quotient(evaluate_series(num, known, residues, order, prime),
+                              evaluate_series(den, known, residues, order, prime), order)
+            if speed is None:
+                return None
+            updated[i] = start[i] + speed.integral()
+        x = updated
+    known = {**x, **u}
+    y = quotient(evaluate_series(output[0], known, residues, length, prime),
+                  evaluate_series(output[1], known, residues, length, prime), length)
+    if y is None:
+        return None
+    values = {names[i]: int(s.coeffs()[0]) if s.length() else 0 for i, s in known.items()}
+    values |= {names[c]: r for c, r in residues.items()}
+    tangents = _tangents(tangent_speeds, known, residues, states, length, prime) if tangent_speeds else ()
+    if tangents is None:
+        return None
+    return SolutionSeries(prime, length, values, tuple(x[i] for i in states), tuple(u[i] for i in inputs), y,
+                          tangents)
+
+
+def _tangents(jacobian: Sequence[Sequence[tuple[Any, Any]]], known: dict[int, Any], residues: dict[int, int],
+              states: Sequence[int], length: int, prime: int) -> tuple[tuple[Any, ...], ...] | None:
+    """T_i(t) = d x(t) / d x0_i from T_i' = J(x(t)) T_i, T_i(0) = e_i, by the same iteration."""
+    entries = []
+    for row in jacobian:
+        entries.append([])
+        for num, den in row:
+            value = quotient(evaluate_series(num, known, residues, length, prime),
+                              evaluate_series(den, known, residues, length, prime), length)
+            if value is None:
+                return None
+            entries[-1].append(value)
+    n = len(states)
+    result = []
+    for i in range(n):
+        t = [flint.nmod_poly([int(j == i)], prime) for j in range(n)]
+        for order in range(1, length):
+            t = [flint.nmod_poly([int(j == i)], prime)
+                 + sum((entries[j][k].mul_low(t[k], order) for k in range(n)), flint.nmod_poly([], prime)).integral()
+                 for j in range(n)]
+        result.append(tuple(t))
+    return tuple(result)
