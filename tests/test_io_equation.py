@@ -158,3 +158,30 @@ def test_a_full_rank_subset_decides_only_members(monkeypatch):
     swapped = constants_from_io_equation(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], "y",
                                          [a, b], seed=4, error=1e-6)
     assert swapped.members == {"a": False, "b": False} and swapped.error == 2e-6
+
+
+def test_bezout_determinant_keeps_every_factor_of_the_resultant():
+    """Bezout's determinant is the resultant times a power of a leading coefficient, so every
+    irreducible factor of FLINT's own resultant is among its factors (random polynomials of
+    degrees 2 to 4 in v, three variables), and a zero resultant (a common factor) gives None."""
+    from observability.analysis.ioequation import _resultant_factors
+
+    ring = flint.fmpz_mpoly_ctx.get(("v", "p", "q"), "degrevlex")
+    rng = random.Random(5)
+
+    def random_poly(degree):
+        return ring.from_dict({(i, rng.randrange(3), rng.randrange(3)): rng.randint(-9, 9) or 1
+                               for i in range(degree + 1)})
+
+    for da, db in ((2, 2), (3, 2), (4, 3), (3, 3)):
+        f, g = random_poly(da), random_poly(db)
+        expected = {abs_factor(h) for h, _ in f.resultant(g, "v").factor()[1]}
+        found = {abs_factor(h) for h in _resultant_factors(f, g, 0)}
+        assert expected and expected <= found
+    f = random_poly(2)
+    assert _resultant_factors(f * random_poly(1), f * random_poly(2), 0) is None
+
+
+def abs_factor(h):
+    """A factor up to sign (the two routes may differ by -1), as its printed form."""
+    return str(h if h.leading_coefficient() > 0 else -h)
