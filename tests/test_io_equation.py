@@ -119,16 +119,27 @@ def test_an_equation_of_too_high_order_is_refused():
     assert _least_order(ring, model, _fake(ring, 1, ["Y1", "Y0"]), random.Random(3))
 
 
+def _swap():
+    """x1' = -a x1 + x2, x2' = -b x2, y = x1."""
+    x1, x2 = sympy.symbols("x1 x2")
+    return constants_from_io_equation(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], "y", [a, b],
+                                      seed=4, error=1e-6)
+
+
+def _driven():
+    """x1' = -a x1 + u, y = x1."""
+    x1 = sympy.Symbol("x1")
+    return constants_from_io_equation(_model((x1, a), (-a * x1 + u, 0), x1), [u], "y", [a], seed=4, error=1e-6)
+
+
 def test_a_swap_of_rates_is_only_local_and_an_input_rate_is_global():
     """x1' = -a x1 + x2, x2' = -b x2, y = x1: y'' + (a + b) y' + a b y = 0, so F = Q(a + b, a b),
     and swapping a and b fixes F: neither is in it (only locally). x1' = -a x1 + u, y = x1:
     y' + a y - u = 0, F = Q(a): a is globally observable."""
-    x1, x2 = sympy.symbols("x1 x2")
-    swapped = constants_from_io_equation(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], "y",
-                                         [a, b], seed=4, error=1e-6)
+    swapped = _swap()
     assert swapped.members == {"a": False, "b": False} and swapped.error == 1e-6
     assert "corank one" in swapped.how
-    driven = constants_from_io_equation(_model((x1, a), (-a * x1 + u, 0), x1), [u], "y", [a], seed=4, error=1e-6)
+    driven = _driven()
     assert driven.members == {"a": True}
 
 
@@ -147,16 +158,13 @@ def test_a_full_rank_subset_decides_only_members(monkeypatch):
 
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
     monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
-    x1, x2 = sympy.symbols("x1 x2")
-    swapped = constants_from_io_equation(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], "y",
-                                         [a, b], seed=4, error=1e-6)
+    swapped = _swap()
     assert swapped.members == {"a": None, "b": None} and swapped.error == 1e-6
     assert "only a subset of the coefficients" in swapped.how
-    driven = constants_from_io_equation(_model((x1, a), (-a * x1 + u, 0), x1), [u], "y", [a], seed=4, error=1e-6)
+    driven = _driven()
     assert driven.members == {"a": True}
     monkeypatch.setattr(ioglobal, "FULL_TERMS", 10**9)
-    swapped = constants_from_io_equation(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], "y",
-                                         [a, b], seed=4, error=1e-6)
+    swapped = _swap()
     assert swapped.members == {"a": False, "b": False} and swapped.error == 2e-6
 
 
@@ -185,3 +193,24 @@ def test_bezout_determinant_keeps_every_factor_of_the_resultant():
 def abs_factor(h):
     """A factor up to sign (the two routes may differ by -1), as its printed form."""
     return str(h if h.leading_coefficient() > 0 else -h)
+
+
+def test_with_two_outputs_only_globally_carries_over(monkeypatch):
+    """x1' = -a x1 + x2, x2' = -b x2, y1 = x1, y2 = x2, the fibre's route forced to give up:
+    y2' + b y2 = 0 fixes b (globally); y1 alone leaves a and b to a swap, but y2 fixes x2 and with
+    it a, so y1's 'only locally' must not carry over: a stays undecided, never 'only locally'."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.uniqueness import global_observability
+    from observability.budget import Undecided
+
+    def gives_up(*args):
+        raise Undecided("forced")
+
+    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
+    system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.globally == ("b",) and answer.only_locally == ()
+    assert set(answer.undecided) == {"x1", "x2", "a"} and answer.error_probability == 2e-6
+    assert answer.details.endswith("(with several outputs each output's equation says only 'globally')")
+    assert "the states undecided: forced (the Lie derivatives y1 0.." in answer.details

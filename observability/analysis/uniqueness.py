@@ -45,7 +45,7 @@ numbers: other complex states give the same outputs; over the reals they may not
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import sympy
@@ -209,29 +209,42 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
                          reason: str, seed: int, error: float, budget: float | None) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
-    unknown constants decided through the input-output equation (:mod:`.ioglobal`)
-    where it applies, within ``budget``; the rest undecided."""
+    unknown constants decided through each output's input-output equation
+    (:mod:`.ioglobal`), each within ``budget``, the rest undecided. With several
+    outputs only "globally" carries over (what one output's coefficients fix, the
+    outputs fix; a constant one output leaves open, another may fix)."""
     constants = {c: name for name, c, f in zip((s.name for s in system.states), model.coordinates, model.speeds)
                  if f == 0 and name in local}
-    found = "no locally observable unknown constant"
-    if constants and len(model.outputs) == 1:
+    where: dict[str, bool | None] = {}
+    notes, reasons, spent = [], [], 0.0
+    for index, (output, _) in enumerate(system.outputs if constants else ()):
+        open_ = [c for c in constants if constants[c] not in where]
         try:
-            found = with_budget(constants_from_io_equation, model, [sympy.Symbol(u) for u in system.inputs],
-                                system.outputs[0][0], list(constants), seed, error, seconds=budget)
+            found = with_budget(constants_from_io_equation, replace(model, outputs=(model.outputs[index],)),
+                                [sympy.Symbol(u) for u in system.inputs], output, open_, seed, error, seconds=budget)
         except Undecided as exc:
             found = str(exc)
-    elif constants:
-        found = "the input-output route takes one output"
-    if isinstance(found, str):
-        return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {found}")
-    where = {constants[c]: found.members.get(c.name) for c in constants}
-    details = (f"the unknown constants by {found.how}; 'only locally' means other complex values share the outputs; "
-               f"the states undecided: {reason}")
-    generation = "not tested: the fibre's answers are undecided"
+        if isinstance(found, str):
+            reasons.append(f"{output}: {found}")
+            continue
+        decided = {constants[c]: found.members.get(c.name) for c in open_}
+        where |= {s: v for s, v in decided.items() if v or (v is False and len(system.outputs) == 1)}
+        notes.append(found.how)
+        spent += found.error
+        if len(where) == len(constants):
+            break
+    if not notes:
+        why = "; ".join(reasons) or "no locally observable unknown constant"
+        return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {why}")
+    details = (f"the unknown constants by {'; '.join(notes)}; 'only locally' means other complex values share the "
+               f"outputs; the states undecided: {reason}")
+    if len(system.outputs) > 1:
+        details += " (with several outputs each output's equation says only 'globally')"
     return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
                          tuple(s for s in local if where.get(s) is False),
                          tuple(s for s in local if where.get(s) is None),
-                         found.error + (result.error_probability or 0.0), details, generation=generation)
+                         spent + (result.error_probability or 0.0), details,
+                         generation="not tested: the fibre's answers are undecided")
 
 
 def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budget: float | None) -> Any:
