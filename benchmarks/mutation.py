@@ -69,6 +69,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "routes": (["observability/budget.py", "observability/analysis/uniqueness.py"],
                ["tests/test_concurrent_routes.py", "tests/test_edges.py", "tests/test_modular.py",
                 "tests/test_modular_field.py"]),
+    # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
+    "io-route": (["observability/analysis/ioequation.py", "observability/analysis/ioglobal.py",
+                  "observability/analysis/ioseries.py", "observability/analysis/uniqueness.py"],
+                 ["tests/test_io_equation.py"]),
     # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
     "reduced-fibre": (["observability/analysis/reducedfibre.py", "observability/rank/membership.py",
                        "observability/analysis/fibre.py", "observability/analysis/modularfibre.py",

@@ -214,3 +214,21 @@ def test_with_two_outputs_only_globally_carries_over(monkeypatch):
     assert set(answer.undecided) == {"x1", "x2", "a"} and answer.error_probability == 2e-6
     assert answer.details.endswith("(with several outputs each output's equation says only 'globally')")
     assert "the states undecided: forced (the Lie derivatives y1 0.." in answer.details
+
+
+def test_known_parameters_without_values_are_refused_with_the_reason(monkeypatch):
+    """x1' = -a x1 + p with p known but without a value: the equation's coefficients would mix
+    the known p with the unknown a, which the Wronskian's argument does not cover: no answer."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.uniqueness import global_observability
+    from observability.budget import Undecided
+
+    def gives_up(*args):
+        raise Undecided("forced")
+
+    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
+    system = System(["x1"], ["-a*x1 + p"], {"y": "x1"}, parameters=["p"], unknown_parameters=["a"])
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.undecided == ("x1", "a") and answer.error_probability is None
+    assert answer.details.endswith("; the input-output route: known parameters without values are not supported")

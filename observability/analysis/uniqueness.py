@@ -217,11 +217,13 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                  if f == 0 and name in local}
     where: dict[str, bool | None] = {}
     notes, reasons, spent = [], [], 0.0
-    for index, (output, _) in enumerate(system.outputs if constants else ()):
+    if system.free_parameters:
+        reasons.append("known parameters without values are not supported")
+    for index, (output, _) in enumerate(system.outputs if constants and not reasons else ()):
         open_ = [c for c in constants if constants[c] not in where]
         try:
             found = with_budget(constants_from_io_equation, replace(model, outputs=(model.outputs[index],)),
-                                [sympy.Symbol(u) for u in system.inputs], output, open_, seed, error, seconds=budget)
+                                list(system.inputs), output, open_, seed, error, seconds=budget)
         except Undecided as exc:
             found = str(exc)
         if isinstance(found, str):
