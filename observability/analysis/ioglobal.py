@@ -106,7 +106,7 @@ def _least_order(ring: _Ring, model: RationalModel, equation: InputOutputEquatio
     names = ring.names
     series = {names.index(f"x{i}"): s for i, s in enumerate(solution.states)}
     series |= {names.index(f"U{j}_0"): u for j, u in enumerate(solution.inputs)}
-    residues = {names.index(f"c{i}"): solution.values[f"c{i}"] for i in range(len(ring.constants))}
+    residues = {names.index(f"c{i}"): solution.constants[f"c{i}"] for i in range(len(ring.constants))}
     rows: list[list[int]] = [[0] * len(ring.states) for _ in range(d)]
     for i, tangent in enumerate(solution.tangents):
         total = flint.nmod_poly([], IO_PRIME)

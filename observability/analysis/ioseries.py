@@ -29,13 +29,12 @@ __all__ = ["SolutionSeries", "solution_series", "evaluate_series", "quotient"]
 class SolutionSeries:
     """x(t), u(t) and the output y(t) modulo t^length and the prime, with the point's constants.
 
-    ``values`` maps each ring variable at order 0 (states, constants, inputs) to its
-    residue; ``tangents[i][j]`` is d x_j(t) / d x0_i (empty unless asked for).
+    ``constants`` maps each constant's ring name to its residue; ``tangents[i][j]``
+    is d x_j(t) / d x0_i (empty unless asked for).
     """
 
     prime: int
-    length: int
-    values: dict[str, int]
+    constants: dict[str, int]
     states: tuple[Any, ...]
     inputs: tuple[Any, ...]
     output: Any
@@ -111,13 +110,11 @@ def solution_series(speeds: Sequence[tuple[Any, Any]], output: tuple[Any, Any], 
                   evaluate_series(output[1], known, residues, length, prime), length)
     if y is None:
         return None
-    values = {names[i]: int(s.coeffs()[0]) if s.length() else 0 for i, s in known.items()}
-    values |= {names[c]: r for c, r in residues.items()}
     tangents = _tangents(tangent_speeds, known, residues, states, length, prime) if tangent_speeds else ()
     if tangents is None:
         return None
-    return SolutionSeries(prime, length, values, tuple(x[i] for i in states), tuple(u[i] for i in inputs), y,
-                          tangents)
+    return SolutionSeries(prime, {names[c]: r for c, r in residues.items()}, tuple(x[i] for i in states),
+                          tuple(u[i] for i in inputs), y, tangents)
 
 
 def _tangents(jacobian: Sequence[Sequence[tuple[Any, Any]]], known: dict[int, Any], residues: dict[int, int],
