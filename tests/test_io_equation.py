@@ -10,6 +10,7 @@ from __future__ import annotations
 import random
 
 import flint
+import pytest
 import sympy
 
 from observability.analysis.ioequation import InputOutputEquation, _eliminate, _Ring, input_output_equation
@@ -138,7 +139,8 @@ def test_a_swap_of_rates_is_only_local_and_an_input_rate_is_global():
     y' + a y - u = 0, F = Q(a): a is globally observable."""
     swapped = _swap()
     assert swapped.members == {"a": False, "b": False} and swapped.error == 1e-6
-    assert "corank one" in swapped.how
+    assert swapped.how.startswith("the input-output equation of y (order 2, 3 monomials, 4 terms; ")
+    assert "its Wronskian has corank one at a solution" in swapped.how
     driven = _driven()
     assert driven.members == {"a": True}
 
@@ -184,8 +186,9 @@ def test_bezout_determinant_keeps_every_factor_of_the_resultant():
     for da, db in ((2, 2), (3, 2), (4, 3), (3, 3)):
         f, g = random_poly(da), random_poly(db)
         expected = {abs_factor(h) for h, _ in f.resultant(g, "v").factor()[1]}
-        found = {abs_factor(h) for h in _resultant_factors(f, g, 0)}
-        assert expected and expected <= found
+        factors = _resultant_factors(f, g, 0)
+        found = {abs_factor(h) for h in factors}
+        assert expected and expected <= found and not any(h.degrees()[0] for h in factors)
     f = random_poly(2)
     assert _resultant_factors(f * random_poly(1), f * random_poly(2), 0) is None
 
@@ -225,7 +228,7 @@ def test_known_parameters_without_values_are_refused_with_the_reason(monkeypatch
 
 
 def test_series_jets_are_the_lie_derivatives_at_the_point():
-    """x1' = -a x1 + x2 / (1 + x1), x2' = u - x1 x2, y = a x1 + x2 / (a + x2) with u(t) a random
+    """x1' = -a x1 / 3 + x2 / (a + x1), x2' = u - x1 x2, y = a x1 + x2 / (a + x2) with u(t) a random
     polynomial: the k-th derivatives at t = 0 of y(t) and of the tangents d x_j(t) / d x0_i are,
     modulo the prime, sympy's Lie derivatives L^k h and d(L^k x_j)/d x_i at the same point
     (u's derivatives u^(k)(0) = k! times its coefficients), exactly."""
@@ -234,7 +237,7 @@ def test_series_jets_are_the_lie_derivatives_at_the_point():
     from observability.analysis.ioequation import IO_PRIME, _solution
 
     x1, x2 = sympy.symbols("x1 x2")
-    speeds = (-a * x1 + x2 / (1 + x1), u - x1 * x2)
+    speeds = (-a * x1 / 3 + x2 / (a + x1), u - x1 * x2)
     output = a * x1 + x2 / (a + x2)
     model = _model((x1, x2, a), (*speeds, 0), output)
     ring = _Ring(model, [u])
@@ -263,10 +266,11 @@ def test_series_jets_are_the_lie_derivatives_at_the_point():
 
 
 def test_least_order_reads_a_nonlinear_output_with_a_constant():
-    """x1' = k x1, x2' = x2, y = k x1^2: y' = 2 k y, so y, y' are dependent in (x1, x2) (rows
-    [2 k x1, 0] and [4 k^2 x1, 0], rank 1): a relation of order 1 is of least order, of order 2 not."""
+    """x1' = k x1, x2' = x2, y = g(x1) = k x1^2 / (k + x1): y' = g'(x1) k x1 is a function of x1
+    too, so y, y' are dependent in (x1, x2) (rows [g', 0] and [(g' k x1)', 0], rank 1): a relation
+    of order 1 is of least order, of order 2 not."""
     x1, x2 = sympy.symbols("x1 x2")
-    model = _model((x1, x2, k), (k * x1, x2, 0), k * x1**2)
+    model = _model((x1, x2, k), (k * x1, x2, 0), k * x1**2 / (k + x1))
     ring = _Ring(model, [])
     assert _least_order(ring, model, _fake(ring, 1, ["Y1", "Y0"]), random.Random(3))
     assert not _least_order(ring, model, _fake(ring, 2, ["Y2", "Y0"]), random.Random(3))
@@ -369,3 +373,53 @@ def test_no_constant_no_route(monkeypatch):
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
     assert answer.undecided == ("x",) and answer.details.endswith(
         "; the input-output route: no locally observable unknown constant")
+
+
+def test_inputs_enter_the_derivatives_of_a_rational_output():
+    """x1' = x2 + u, x2' = -a x1, y = x1 / (1 + a): the second prolongation differentiates the
+    input; P(y, y', y'', u, u') is zero with sympy's Lie derivatives (input jets u0, u1 as
+    variables) substituted at three random rational points."""
+    x1, x2 = sympy.symbols("x1 x2")
+    u0, u1, u2 = jets = sympy.symbols("u0 u1 u2")
+    speeds = (x2 + u0, -a * x1)
+    model = _model((x1, x2, a), (x2 + u, -a * x1, 0), x1 / (1 + a))
+    equation, _, _ = input_output_equation(model, [u], "y", seed=3)
+    lie = [x1 / (1 + a)]
+    for _ in range(2):
+        h = lie[-1]
+        lie.append(sum(sympy.diff(h, s) * f for s, f in zip((x1, x2), speeds))
+                   + sum(sympy.diff(h, jets[i]) * jets[i + 1] for i in range(2)))
+    value = {sympy.Symbol(f"Y{i}"): lie[i] for i in range(3)} | {sympy.Symbol(f"U0_{i}"): jets[i] for i in range(3)}
+    polynomial = sum(equation.expression(c) * sympy.Mul(*(sympy.Symbol(j) ** e for j, e in zip(equation.jets, key)))
+                     for key, c in equation.terms)
+    assert equation.order == 2 and any(key[equation.jets.index("U0_1")] for key, _ in equation.terms)
+    rng = random.Random(4)
+    for _ in range(3):
+        point = {s: sympy.Rational(rng.randint(1, 10**9), rng.randint(1, 10**9)) for s in (x1, x2, a, *jets)}
+        assert polynomial.xreplace(value).xreplace(point) == 0
+
+
+def test_a_model_without_states_or_constants_is_refused():
+    model = _model((x,), (x,), x)
+    assert input_output_equation(model, [], "y", seed=1) == "the input-output route needs states and unknown constants"
+    model = _model((k,), (0,), k)
+    assert input_output_equation(model, [], "y", seed=1) == "the input-output route needs states and unknown constants"
+
+
+def test_series_refuse_an_order_past_the_prime():
+    from observability.analysis.ioseries import solution_series
+
+    with pytest.raises(ValueError, match="^the series' order must stay below the prime$"):
+        solution_series([], (None, None), [], [], [], [], 7, random.Random(1), 7)
+
+
+def test_the_sampling_range_gets_the_generators_degrees(monkeypatch):
+    """The swap's F = Q(a + b, a b) over the coefficient 1 of y'': degrees (1, 0) and (2, 0), the
+    two tested constants (1, 0) each, 2 coordinates, the error asked for."""
+    from observability.analysis import ioglobal
+
+    seen = []
+    real = ioglobal.sampling_range
+    monkeypatch.setattr(ioglobal, "sampling_range", lambda *args: seen.append(args) or real(*args))
+    _swap()
+    assert [(sorted(g), t, n, e) for g, t, n, e in seen] == [([(1, 0), (2, 0)], [(1, 0), (1, 0)], 2, 1e-6)]

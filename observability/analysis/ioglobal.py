@@ -80,7 +80,7 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     members, tests = _membership(equation, tested, rng, error)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
-    how = (f"the input-output equation of {output} (order {equation.order}, {len(equation.terms)} monomials, "
+    how = (f"the input-output equation of {equation.output} (order {equation.order}, {len(equation.terms)} monomials, "
            f"{equation.size} terms; eliminated by resultants as StructuralIdentifiability.jl does), whose "
            "coefficients generate the multi-experiment field (Ovchinnikov, Pillay, Pogudin, Scanlon 2022); "
            + ("its Wronskian has corank one at a solution modulo 2^61 - 1, so they are single-experiment "

@@ -35,6 +35,11 @@ every zero is membership; its ranks are taken modulo a fixed prime (a full
 rank is certain), since exact elimination on numbers of hundreds of thousands
 of bits would cost more than the basis.
 
+**Through the input-output equation, when neither finishes.** The unknown
+constants are then decided from each output's input-output equation
+(:mod:`.ioglobal`: its coefficients' field, with the argument there); the states
+stay undecided. With several outputs only "globally" carries over.
+
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
 observable modulo 2 pi. "Only locally" is a statement over the complex
