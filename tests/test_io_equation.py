@@ -443,3 +443,37 @@ def test_each_output_adds_what_it_fixes(monkeypatch):
     system = System(["x1", "x2"], ["-a*x1", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
     assert answer.globally == ("a", "b") and answer.undecided == ("x1", "x2") and answer.error_probability == 2e-6
+
+
+def test_a_subset_reaches_the_field_s_degree_when_the_rank_is_known(monkeypatch):
+    """x1' = -a x1 + b c u, y = x1: y' + a y - b c u = 0, F = Q(a, b c) of degree 2 among three
+    constants. The verdict's rank 3 (x1, a and b c) minus the order 1 gives 2: a subset of the
+    ratios reaching rank 2 places a in F. Without the rank the subset must reach 3, which it
+    never does: a stays undecided."""
+    from observability.analysis import ioglobal
+
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
+    monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
+    c, x1 = sympy.symbols("c x1")
+    model = _model((x1, a, b, c), (-a * x1 + b * c * u, 0, 0, 0), x1)
+    known = constants_from_io_equation(model, [u], "y", [a], seed=1, error=1e-6, rank=3)
+    assert known.members == {"a": True} and known.error == 1e-6
+    unknown = constants_from_io_equation(model, [u], "y", [a], seed=1, error=1e-6)
+    assert unknown.members == {"a": None} and unknown.error == 0
+
+
+def test_the_subset_is_filled_with_the_shortest_other_ratios(monkeypatch):
+    """Q(a^2) has the degree of Q(a^2, a^3) = Q(a) but does not hold a: after the ratios that
+    raise the rank, the shortest others are added up to SUBSET_TERMS terms in all (Pivastatin's
+    k2, k3, k4, r1, r3 were placed only so), never one twice."""
+    from observability.analysis import ioglobal
+
+    ring = flint.fmpz_mpoly_ctx.get(("a",), "degrevlex")
+    (g,) = ring.gens()
+    square, cube, long = g**2, g**3, g**4 + g**3 + g
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 3)
+    assert ioglobal._filled([square], [square, cube, long]) == [square, cube]
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 5)
+    assert ioglobal._filled([square], [square, cube, long]) == [square, cube, long]
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 1)
+    assert ioglobal._filled([square], [square, cube, long]) == [square]

@@ -26,9 +26,14 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
   observable constant is algebraic over the field of identifiable functions
   (Hong, Ovchinnikov, Pogudin, Yap, "Global identifiability of differential
   models", Comm. Pure Appl. Math. 73(9), 2020). When P has many monomials, a
-  subset of the ratios whose Jacobian has full rank is tried first: a
-  constant in the subfield it generates is in F, and every constant is
-  algebraic over it (full rank).
+  subset S of the ratios is tried first, its Jacobian's rank at a point (a
+  lower bound) raised to F's transcendence degree: a constant in Q(S) is in F,
+  and every constant algebraic over F is algebraic over Q(S) (same degree).
+  That degree is at most the number of constants in P, and is r - d exactly
+  when the generic rank r of the output's Lie derivatives is known: with corank
+  one, K = Q(Lie derivatives) contains F and is algebraic over F(y, ...,
+  y^(d-1)) (P has its coefficients in F), those d being independent over
+  Q(theta).
 """
 
 from __future__ import annotations
@@ -65,9 +70,13 @@ class ConstantAnswers:
 
 
 def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str,
-                               tested: Sequence[sympy.Symbol], seed: int, error: float) -> ConstantAnswers | str:
+                               tested: Sequence[sympy.Symbol], seed: int, error: float, rank: int | None = None
+                               ) -> ConstantAnswers | str:
     """Whether each of the locally observable constants ``tested`` is globally
-    observable (the module's argument), or why the route does not apply."""
+    observable (the module's argument), or why the route does not apply.
+    ``rank``: the generic rank of the output's Lie derivatives in states and
+    constants (the verdict's, for one output), which fixes the rank a subset of
+    the ratios must reach (None: the number of constants in P)."""
     found = input_output_equation(model, inputs, output, seed)
     if isinstance(found, str):
         return found
@@ -77,7 +86,7 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
         return (f"the input-output relation of order {equation.order} found is not of least order "
                 "(the output's first derivatives are not independent at a point)")
     corank_one = _wronskian_corank_one(ring, model, equation, rng)
-    members, tests = _membership(equation, tested, rng, error)
+    members, tests = _membership(equation, tested, rng, error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
     how = (f"the input-output equation of {equation.output} (order {equation.order}, {len(equation.terms)} monomials, "
@@ -155,7 +164,7 @@ def _wronskian_corank_one(ring: _Ring, model: RationalModel, equation: InputOutp
 
 
 def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
-                error: float) -> tuple[dict[str, bool | None], int]:
+                error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
     None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
     membership tests run (each may err with probability ``error``)."""
@@ -167,7 +176,10 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
         return answers, 0
     polys = sorted((c for _, c in equation.terms), key=len)
     terms = sum(len(c) for c in polys[1:])
-    subset = _full_rank_subset(polys[0], polys[1:], used, rng) if terms > SUBSET_TERMS else None
+    # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d
+    # independent over Q(theta)), else at most the number of constants in P.
+    target = len(coordinates) if rank is None else rank - equation.order
+    subset = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
     tests = 0
     for chosen, complete in ((subset, False), (polys[1:] if terms <= FULL_TERMS else None, True)):
         if chosen is None:
@@ -205,10 +217,10 @@ def _contained(base: sympy.Expr, numerators: Sequence[sympy.Expr], coordinates: 
     return groebner_contains(equations, coordinates, base, [c - point[c] for c in tested])
 
 
-def _full_rank_subset(base: Any, numerators: Sequence[Any], used: Sequence[bool], rng: random.Random
-                      ) -> list[Any] | None:
+def _full_rank_subset(base: Any, numerators: Sequence[Any], used: Sequence[bool], target: int,
+                      rng: random.Random) -> list[Any] | None:
     """The shortest ratios, each raising the Jacobian's rank at a random point modulo a prime
-    (a lower bound), until it is the number of constants that occur; None when it never is."""
+    (a lower bound), until it is ``target``, F's transcendence degree; None when it never is."""
     point = [rng.randrange(1, IO_PRIME) for _ in used]
     slots = [i for i, u in enumerate(used) if u]
     names = base.context().names()
@@ -224,6 +236,19 @@ def _full_rank_subset(base: Any, numerators: Sequence[Any], used: Sequence[bool]
         if flint.nmod_mat([*rows, row], IO_PRIME).rank() > len(rows):
             rows.append(row)
             chosen.append(n)
-            if len(rows) == len(slots):
-                return chosen
+            if len(rows) == target:
+                return _filled(chosen, numerators)
     return None
+
+
+def _filled(chosen: list[Any], numerators: Sequence[Any]) -> list[Any]:
+    """``chosen`` and the shortest other ratios, up to :data:`SUBSET_TERMS` terms in all: a larger
+    subfield places more constants, the basis of its ideal still short."""
+    total = sum(len(n) for n in chosen)
+    for n in numerators:
+        if total + len(n) > SUBSET_TERMS:
+            break
+        if not any(n is c for c in chosen):
+            chosen.append(n)
+            total += len(n)
+    return chosen

@@ -228,7 +228,8 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
         open_ = [c for c in constants if constants[c] not in where]
         try:
             found = with_budget(constants_from_io_equation, replace(model, outputs=(model.outputs[index],)),
-                                list(system.inputs), output, open_, seed, error, seconds=budget)
+                                list(system.inputs), output, open_, seed, error,
+                                result.rank if len(system.outputs) == 1 else None, seconds=budget)
         except Undecided as exc:
             found = str(exc)
         if isinstance(found, str):
