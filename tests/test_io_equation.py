@@ -473,7 +473,61 @@ def test_the_subset_is_filled_with_the_shortest_other_ratios(monkeypatch):
     square, cube, long = g**2, g**3, g**4 + g**3 + g
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 3)
     assert ioglobal._filled([square], [square, cube, long]) == [square, cube]
+    assert ioglobal._filled([square], [square, cube, g**4 + g]) == [square, cube]
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 5)
     assert ioglobal._filled([square], [square, cube, long]) == [square, cube, long]
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 1)
     assert ioglobal._filled([square], [square, cube, long]) == [square]
+
+
+def test_the_subset_keeps_only_ratios_that_raise_the_rank(monkeypatch):
+    """Over the base a: a / a = 1 is a constant (its Jacobian row is zero, n' b - n b' = 0) and
+    a b / a = b raises the rank to the target 1; over the base 1: a, then 2 a (no gain), then b."""
+    from observability.analysis import ioglobal
+
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 0)
+    ring = flint.fmpz_mpoly_ctx.get(("a", "b"), "degrevlex")
+    ga, gb = ring.gens()
+    one = ring.from_dict({(0, 0): 1})
+    assert ioglobal._full_rank_subset(ga, [ga, ga * gb], [True, True], 1, random.Random(1)) == [ga * gb]
+    assert ioglobal._full_rank_subset(one, [ga, 2 * ga, gb], [True, True], 2, random.Random(1)) == [ga, gb]
+    assert ioglobal._full_rank_subset(one, [ga, 2 * ga], [True, True], 2, random.Random(1)) is None
+
+
+def test_membership_adjoins_the_coordinates_the_generators_leave_free(monkeypatch):
+    """Q(d^2 / d^2) = Q: nothing is fixed, so d and e are both adjoined at their values and lie in
+    Q(d, e) (the completion, not a verdict: the route tests only constants algebraic over F).
+    Q(a d / d, d^2 / d) = Q(a, d) over the base d: e alone is adjoined; a and d are in it. The
+    sampling range gets the degrees over the base's (numerator, d's degree)."""
+    from observability.analysis import ioglobal
+
+    d, e = sympy.symbols("d e")
+    seen = []
+    real = ioglobal.sampling_range
+    monkeypatch.setattr(ioglobal, "sampling_range", lambda *args: seen.append(args) or real(*args))
+    assert ioglobal._contained(d**2, [d**2], [d, e], [d, e], random.Random(2), 1e-6) == (True, True)
+    assert ioglobal._contained(d, [a * d, d**2], [a, d, e], [a, d], random.Random(2), 1e-6) == (True, True)
+    assert seen[0][0] == [(2, 2)] and seen[1][0] == [(2, 1), (2, 1)]
+
+
+def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
+    """The rank fixes F's degree only when it is the one output's (r - d); with two outputs each
+    output's own rank is unknown, so None goes."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.ioglobal import ConstantAnswers
+    from observability.analysis.uniqueness import global_observability
+
+    _forced(monkeypatch)
+    ranks = []
+
+    def records(model, inputs, output, tested, seed, error, rank):
+        ranks.append(rank)
+        return ConstantAnswers({c.name: None for c in tested}, 0.0, "recorded")
+
+    monkeypatch.setattr(uniqueness, "constants_from_io_equation", records)
+    one = System(["x1"], ["-a*x1"], {"y": "x1"}, unknown_parameters=["a"])
+    global_observability(one, analyze(one, seed=1, directions=False), seed=2, budget=None)
+    two = System(["x1", "x2"], ["-a*x1", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
+    global_observability(two, analyze(two, seed=1, directions=False), seed=2, budget=None)
+    assert ranks == [2, None, None]
