@@ -215,7 +215,7 @@ def test_with_two_outputs_only_globally_carries_over(monkeypatch):
     assert answer.globally == ("b",) and answer.only_locally == ()
     assert set(answer.undecided) == {"x1", "x2", "a"} and answer.error_probability == 2e-6
     assert answer.details.endswith("(with several outputs each output's equation says only 'globally')")
-    assert "the states undecided: forced (the Lie derivatives y1 0.." in answer.details
+    assert "; the fibre's route: forced (the Lie derivatives y1 0.." in answer.details
 
 
 def test_known_parameters_without_values_are_refused_with_the_reason(monkeypatch):
@@ -329,20 +329,20 @@ def _forced(monkeypatch):
     monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
 
 
-def test_one_output_states_stay_undecided_and_constants_decided(monkeypatch):
+def test_one_output_decides_constants_and_states(monkeypatch):
     """The swap model through `check --global` with the fibre's route forced to give up: a and b
-    only locally (one output: the negative answers stand), the states x1, x2 undecided (the
-    route speaks of constants only), the error the one membership test's."""
+    only locally (one output: the negative answers stand); the states in K = Q(a + b, a b, y, y',
+    y''): x1 = y globally, x2 = y' + a y only locally (the swap moves it); two membership tests."""
     from observability import System, analyze
     from observability.analysis.uniqueness import global_observability
 
     _forced(monkeypatch)
     system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y": "x1"}, unknown_parameters=["a", "b"])
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
-    assert answer.globally == () and answer.only_locally == ("a", "b") and answer.undecided == ("x1", "x2")
-    assert answer.error_probability == 1e-6 and answer.generation == "not tested: the fibre's answers are undecided"
-    assert answer.details.startswith("the unknown constants by the input-output equation of y (order 2")
-    assert "several outputs" not in answer.details and answer.details.endswith("the states undecided: forced "
+    assert answer.globally == ("x1",) and answer.only_locally == ("x2", "a", "b") and answer.undecided == ()
+    assert answer.error_probability == 2e-6 and answer.generation == "not tested: the fibre's answers are undecided"
+    assert answer.details.startswith("the unknown constants and states by the input-output equation of y (order 2")
+    assert "several outputs" not in answer.details and answer.details.endswith("the fibre's route: forced "
                                                                                "(the Lie derivatives y 0..4, their "
                                                                                "field's Groebner basis at a point, "
                                                                                "the mirrors)")
@@ -366,7 +366,8 @@ def test_the_route_keeps_to_its_budget(monkeypatch):
     assert answer.undecided == ("x1", "a") and answer.error_probability is None
     assert answer.globally == () and answer.only_locally == ()
     assert answer.details.endswith("; the input-output route: y: the symbolic computation exceeded its budget of "
-                                   "0.2 s of CPU time")
+                                   "0.2 s of CPU time; states: the symbolic computation exceeded its budget of 0.2 s "
+                                   "of CPU time")
 
 
 def test_no_constant_no_route(monkeypatch):
@@ -521,8 +522,8 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
     _forced(monkeypatch)
     ranks = []
 
-    def records(model, inputs, output, tested, seed, error, rank):
-        ranks.append(rank)
+    def records(model, inputs, output, tested, seed, error, rank, states):
+        ranks.append((rank, [s.name for s in states]))
         return ConstantAnswers({c.name: None for c in tested}, 0.0, "recorded")
 
     monkeypatch.setattr(uniqueness, "constants_from_io_equation", records)
@@ -530,4 +531,4 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
     global_observability(one, analyze(one, seed=1, directions=False), seed=2, budget=None)
     two = System(["x1", "x2"], ["-a*x1", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
     global_observability(two, analyze(two, seed=1, directions=False), seed=2, budget=None)
-    assert ranks == [2, None, None]
+    assert ranks == [(2, []), (2, ["x1"]), (None, []), (None, [])]  # one output: the states in a step of their own

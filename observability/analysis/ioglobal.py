@@ -46,10 +46,10 @@ from typing import Any
 import flint
 import sympy
 
-from ..rank.membership import completing_columns, groebner_contains, rank_mod_prime, sampling_range
+from ..rank.membership import completing_columns, contained, groebner_contains, rank_mod_prime, sampling_range
 from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_output_equation
 from .ioseries import evaluate_series, quotient
-from .rationalmodel import RationalModel
+from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "SUBSET_TERMS", "FULL_TERMS"]
 
@@ -70,13 +70,15 @@ class ConstantAnswers:
 
 
 def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str,
-                               tested: Sequence[sympy.Symbol], seed: int, error: float, rank: int | None = None
-                               ) -> ConstantAnswers | str:
+                               tested: Sequence[sympy.Symbol], seed: int, error: float, rank: int | None = None,
+                               states: Sequence[sympy.Symbol] = ()) -> ConstantAnswers | str:
     """Whether each of the locally observable constants ``tested`` is globally
     observable (the module's argument), or why the route does not apply.
     ``rank``: the generic rank of the output's Lie derivatives in states and
     constants (the verdict's, for one output), which fixes the rank a subset of
-    the ratios must reach (None: the number of constants in P)."""
+    the ratios must reach (None: the number of constants in P). ``states``:
+    locally observable states to test too, in K = F(y, ..., y^(d)) (one output,
+    no inputs, ``rank`` known; :func:`_states_membership`)."""
     found = input_output_equation(model, inputs, output, seed)
     if isinstance(found, str):
         return found
@@ -86,7 +88,10 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
         return (f"the input-output relation of order {equation.order} found is not of least order "
                 "(the output's first derivatives are not independent at a point)")
     corank_one = _wronskian_corank_one(ring, model, equation, rng)
-    members, tests = _membership(equation, tested, rng, error, rank)
+    members, tests, ratios = _membership(equation, tested, rng, error, rank)
+    if states and corank_one and rank is not None and not inputs and ratios is not None:
+        members |= _states_membership(model, ring, equation, ratios, states, rank, rng, error)
+        tests += 1
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
     how = (f"the input-output equation of {equation.output} (order {equation.order}, {len(equation.terms)} monomials, "
@@ -164,26 +169,28 @@ def _wronskian_corank_one(ring: _Ring, model: RationalModel, equation: InputOutp
 
 
 def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
-                error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
+                error: float, rank: int | None) -> tuple[dict[str, bool | None], int, tuple | None]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
-    None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
-    membership tests run (each may err with probability ``error``)."""
+    None: past :data:`FULL_TERMS` when the subset did not place it), the number of
+    membership tests run (each may err with probability ``error``), and the ratios that
+    generate F or a subfield of its degree ((base, numerators, complete); None: neither known)."""
     used = [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
     coordinates = [c for c, u in zip(equation.constants, used) if u]
     answers: dict[str, bool | None] = {c.name: False for c in tested if c not in coordinates}
     inside = [c for c in tested if c in coordinates]
-    if not inside:
-        return answers, 0
     polys = sorted((c for _, c in equation.terms), key=len)
     terms = sum(len(c) for c in polys[1:])
     # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d
     # independent over Q(theta)), else at most the number of constants in P.
     target = len(coordinates) if rank is None else rank - equation.order
     subset = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
-    tests = 0
+    tests, ratios = 0, None
     for chosen, complete in ((subset, False), (polys[1:] if terms <= FULL_TERMS else None, True)):
         if chosen is None:
             continue
+        ratios = (equation.expression(polys[0]), [equation.expression(p) for p in chosen], complete)
+        if not inside:
+            break
         open_ = [c for c in inside if c.name not in answers]
         express = [equation.expression(p) for p in (polys[0], *chosen)]
         found = _contained(express[0], express[1:], coordinates, open_, rng, error)
@@ -193,7 +200,35 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
                 answers[c.name] = member
         if all(c.name in answers for c in inside):
             break
-    return answers | {c.name: None for c in inside if c.name not in answers}, tests
+    return answers | {c.name: None for c in inside if c.name not in answers}, tests, ratios
+
+
+def _states_membership(model: RationalModel, ring: _Ring, equation: InputOutputEquation, ratios: tuple,
+                       states: Sequence[sympy.Symbol], rank: int, rng: random.Random, error: float
+                       ) -> dict[str, bool | None]:
+    """Each state in K = F(y, ..., y^(d)) (P makes y^(d+1) and every later derivative rational
+    in them over F), by the membership test in all coordinates, through the ratios' field (F,
+    or a subfield of its degree: then only "globally" stands). Every generator lies in K (the
+    ratios by the Wronskian's corank one), so a member is globally observable; the states are
+    algebraic over the generators when their Jacobian reaches the verdict's rank (a lower bound
+    at the point), else nothing is claimed."""
+    base, numerators, complete = ratios
+    lie = [model.outputs[0]]
+    for _ in range(equation.order):
+        lie.append(sympy.together(sum(sympy.diff(lie[-1], x) * f for x, f in zip(ring.states, ring.speeds))))
+    generators = [(n, base) for n in numerators] + [sympy.fraction(sympy.together(f)) for f in lie]
+    coordinates = list(model.coordinates)
+    degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
+    bound = sampling_range(degrees, [(1, 0)] * len(states), len(coordinates), error)
+    while True:
+        point = {c: sympy.Integer(rng.randint(-bound, bound)) for c in coordinates}
+        if all(d.xreplace(point) != 0 for _, d in generators):
+            break
+    jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in generators]
+    if rank_mod_prime(jacobian, len(coordinates)) != rank:
+        return {s.name: None for s in states}
+    found = contained(generators, [(s, sympy.Integer(1)) for s in states], coordinates, point, jacobian)
+    return {s.name: member if member or complete else None for s, member in zip(states, found)}
 
 
 def _contained(base: sympy.Expr, numerators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol],

@@ -215,38 +215,47 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          reason: str, seed: int, error: float, budget: float | None) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
     unknown constants decided through each output's input-output equation
-    (:mod:`.ioglobal`), each within ``budget``, the rest undecided. With several
-    outputs only "globally" carries over (what one output's coefficients fix, the
-    outputs fix; a constant one output leaves open, another may fix)."""
-    constants = {c: name for name, c, f in zip((s.name for s in system.states), model.coordinates, model.speeds)
-                 if f == 0 and name in local}
+    (:mod:`.ioglobal`), each within ``budget``, the rest undecided; with one output and
+    no inputs the states too. With several outputs only "globally" carries over (what
+    one output's coefficients fix, the outputs fix; one output leaves open what
+    another may fix)."""
+    names = {c: name for name, c in zip((s.name for s in system.states), model.coordinates)}
+    constants = [c for c, f in zip(model.coordinates, model.speeds) if f == 0 and names[c] in local]
+    single = len(system.outputs) == 1
+    states = [c for c, f in zip(model.coordinates, model.speeds)
+              if f != 0 and names[c] in local] if single and not system.inputs else []
     where: dict[str, bool | None] = {}
     notes, reasons, spent = [], [], 0.0
     if system.free_parameters:
         reasons.append("known parameters without values are not supported")
-    for index, (output, _) in enumerate(system.outputs if constants and not reasons else ()):
-        open_ = [c for c in constants if constants[c] not in where]
+    steps = [(index, output, True) for index, (output, _) in enumerate(system.outputs)] + [(0, "states", False)]
+    for index, output, of_constants in steps if constants and not reasons else ():
+        # The states in a step of their own, with its own budget: their test is the longer one
+        # (SIWR's did not end in 10 minutes), and must not cost the constants' answers.
+        open_ = [c for c in constants if names[c] not in where] if of_constants else []
+        tested = [] if of_constants else states
+        if not open_ and not tested:
+            continue
         try:
             found = with_budget(constants_from_io_equation, replace(model, outputs=(model.outputs[index],)),
-                                list(system.inputs), output, open_, seed, error,
-                                result.rank if len(system.outputs) == 1 else None, seconds=budget)
+                                list(system.inputs), system.outputs[index][0], open_, seed, error,
+                                result.rank if single else None, tested, seconds=budget)
         except Undecided as exc:
             found = str(exc)
         if isinstance(found, str):
             reasons.append(f"{output}: {found}")
             continue
-        decided = {constants[c]: found.members.get(c.name) for c in open_}
-        where |= {s: v for s, v in decided.items() if v or (v is False and len(system.outputs) == 1)}
+        decided = {names[c]: found.members.get(c.name) for c in (*open_, *tested)}
+        where |= {s: v for s, v in decided.items() if v or (v is False and single)}
         notes.append(found.how)
         spent += found.error
-        if len(where) == len(constants):
-            break
     if not notes:
         why = "; ".join(reasons) or "no locally observable unknown constant"
         return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {why}")
-    details = (f"the unknown constants by {'; '.join(notes)}; 'only locally' means other complex values share the "
-               f"outputs; the states undecided: {reason}")
-    if len(system.outputs) > 1:
+    what = "the unknown constants and states" if states else "the unknown constants"
+    details = (f"{what} by {'; '.join(notes)}; 'only locally' means other complex values share the outputs; "
+               f"the fibre's route: {reason}")
+    if not single:
         details += " (with several outputs each output's equation says only 'globally')"
     return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
                          tuple(s for s in local if where.get(s) is False),
