@@ -532,3 +532,29 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
     two = System(["x1", "x2"], ["-a*x1", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
     global_observability(two, analyze(two, seed=1, directions=False), seed=2, budget=None)
     assert ranks == [(2, []), (2, ["x1"]), (None, []), (None, [])]  # one output: the states in a step of their own
+
+
+def _swap_states(**kwargs):
+    x1, x2 = sympy.symbols("x1 x2")
+    model = _model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1)
+    return constants_from_io_equation(model, [], "y", [], seed=4, error=1e-6, states=[x1, x2], **kwargs)
+
+
+def test_states_from_the_equation_need_the_verdict_s_rank(monkeypatch):
+    """The swap's K = Q(a + b, a b, y, y', y'') has degree 4 (x1, x2, a, b all locally observable):
+    x1 = y is in it, x2 = y' + a y is not (the swap moves it). A wrong rank (3) proves nothing about
+    algebraicity: no answer. Without the rank, or with inputs, the states are not tested. With only
+    a subset of the ratios (every ratio 'large') the negative answer does not stand."""
+    from observability.analysis import ioglobal
+
+    found = _swap_states(rank=4)
+    assert found.members == {"x1": True, "x2": False} and found.error == 1e-6
+    assert _swap_states(rank=3).members == {"x1": None, "x2": None}
+    assert _swap_states().members == {} and _swap_states().error == 0
+    x1 = sympy.Symbol("x1")
+    driven = constants_from_io_equation(_model((x1, a), (-a * x1 + u, 0), x1), [u], "y", [], seed=4, error=1e-6,
+                                        rank=2, states=[x1])
+    assert driven.members == {}
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
+    monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
+    assert _swap_states(rank=4).members == {"x1": True, "x2": None}
