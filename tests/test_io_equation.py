@@ -558,3 +558,14 @@ def test_states_from_the_equation_need_the_verdict_s_rank(monkeypatch):
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
     monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
     assert _swap_states(rank=4).members == {"x1": True, "x2": None}
+
+
+def test_states_need_the_true_lie_derivatives():
+    """x1' = x2, x2' = -x2 - a x1, y = x1: y'' + y' + a y = 0 fixes a, and x2 = y' lies in
+    K = Q(a, y, y', y''): globally observable (the sum of the speeds, -a x1, would lose x2's
+    direction, and with it the rank). Constants and states asked together: both answered, two
+    membership tests."""
+    x1, x2 = sympy.symbols("x1 x2")
+    model = _model((x1, x2, a), (x2, -x2 - a * x1, 0), x1)
+    found = constants_from_io_equation(model, [], "y", [a], seed=4, error=1e-6, rank=3, states=[x1, x2])
+    assert found.members == {"a": True, "x1": True, "x2": True} and found.error == 2e-6
