@@ -188,12 +188,12 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
     for chosen, complete in ((subset, False), (polys[1:] if terms <= FULL_TERMS else None, True)):
         if chosen is None:
             continue
-        ratios = (equation.expression(polys[0]), [equation.expression(p) for p in chosen], complete)
+        base, numerators = equation.expression(polys[0]), [equation.expression(p) for p in chosen]
+        ratios = (base, numerators, complete)  # one base for the constants' test and the states
         if not inside:
             break
         open_ = [c for c in inside if c.name not in answers]
-        express = [equation.expression(p) for p in (polys[0], *chosen)]
-        found = _contained(express[0], express[1:], coordinates, open_, rng, error)
+        found = _contained(base, numerators, coordinates, open_, rng, error)
         tests += 1
         for c, member in zip(open_, found):
             if member or complete:
