@@ -37,8 +37,9 @@ of bits would cost more than the basis.
 
 **Through the input-output equation, when neither finishes.** The unknown
 constants are then decided from each output's input-output equation
-(:mod:`.ioglobal`: its coefficients' field, with the argument there); the states
-stay undecided. With several outputs only "globally" carries over.
+(:mod:`.ioglobal`: its coefficients' field, with the argument there), and with
+one output and no inputs the states too, in a step of their own; the rest stays
+undecided. With several outputs only "globally" carries over.
 
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
