@@ -107,13 +107,13 @@ def completing_columns(rows: Sequence[Sequence[sympy.Expr]], columns: int, candi
 
 
 def contained(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[tuple[sympy.Expr, sympy.Expr]],
-              coordinates: Sequence[sympy.Symbol], point: dict, jacobian: Sequence[Sequence[sympy.Expr]]
-              ) -> tuple[bool, ...]:
+              coordinates: Sequence[sympy.Symbol], point: dict, jacobian: Sequence[Sequence[sympy.Expr]],
+              rank_of: Callable[[Sequence[Sequence[sympy.Expr]], int], int] = exact_rank) -> tuple[bool, ...]:
     """Whether each tested n/d (algebraic over F = Q(generators)) lies in F: the
     test of the module docstring at the integer ``point`` (no denominator zero
     there; drawn from :func:`sampling_range`), the generators' ``jacobian`` at it
     choosing the coordinates adjoined at their values."""
-    equations, saturation = field_ideal(generators, coordinates, point, jacobian)
+    equations, saturation = field_ideal(generators, coordinates, point, jacobian, rank_of)
     targets = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in tested]
     return groebner_contains(equations, coordinates, saturation, targets)
 
@@ -126,9 +126,9 @@ def field_ideal(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates
     a transcendence basis needs adjoined at their values, chosen by the
     generators' ``jacobian`` there, its ranks by ``rank_of``: every coordinate is a
     candidate, so the completion is full either way) and the product of the
-    denominators, at which it is saturated: the ideal :func:`contained` tests
-    membership in."""
+    distinct denominators, at which it is saturated (saturating at d or at d^k is
+    the same): the ideal :func:`contained` tests membership in."""
     free = completing_columns(jacobian, len(coordinates), range(len(coordinates)), rank_of)
     adjoined = [coordinates[i] - point[coordinates[i]] for i in free]
     equations = [n * d.xreplace(point) - n.xreplace(point) * d for n, d in generators]
-    return [*equations, *adjoined], sympy.Mul(*(d for _, d in generators))
+    return [*equations, *adjoined], sympy.Mul(*dict.fromkeys(d for _, d in generators))
