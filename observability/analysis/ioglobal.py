@@ -39,7 +39,7 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,7 +51,8 @@ from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_o
 from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
-__all__ = ["ConstantAnswers", "constants_from_io_equation", "SUBSET_TERMS", "FULL_TERMS"]
+__all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios",
+           "contained_at_random_point", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -69,16 +70,11 @@ class ConstantAnswers:
     how: str
 
 
-def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str,
-                               tested: Sequence[sympy.Symbol], seed: int, error: float, rank: int | None = None,
-                               states: Sequence[sympy.Symbol] = ()) -> ConstantAnswers | str:
-    """Whether each of the locally observable constants ``tested`` is globally
-    observable (the module's argument), or why the route does not apply.
-    ``rank``: the generic rank of the output's Lie derivatives in states and
-    constants (the verdict's, for one output), which fixes the rank a subset of
-    the ratios must reach (None: the number of constants in P). ``states``:
-    locally observable states to test too, in K = F(y, ..., y^(d)) (one output,
-    no inputs, ``rank`` known; :func:`_states_membership`)."""
+def checked_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str, seed: int
+                     ) -> tuple[InputOutputEquation, bool] | str:
+    """The output's input-output equation, certified of least order, and whether its
+    Wronskian has corank one at a solution (then its ratios are single-experiment
+    observable); or why the route does not apply."""
     found = input_output_equation(model, inputs, output, seed)
     if isinstance(found, str):
         return found
@@ -87,23 +83,37 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     if not _least_order(ring, model, equation, rng):
         return (f"the input-output relation of order {equation.order} found is not of least order "
                 "(the output's first derivatives are not independent at a point)")
-    corank_one = _wronskian_corank_one(ring, model, equation, rng)
-    members, tests, ratios = _membership(equation, tested, rng, error, rank)
-    if states and corank_one and rank is not None and not inputs and ratios is not None:
-        members |= _states_membership(model, ring, equation, ratios, states, rank, rng, error)
-        tests += 1
+    return equation, _wronskian_corank_one(ring, model, equation, rng)
+
+
+def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str,
+                               tested: Sequence[sympy.Symbol], seed: int, error: float, rank: int | None = None
+                               ) -> ConstantAnswers | str:
+    """Whether each of the locally observable constants ``tested`` is globally
+    observable (the module's argument), or why the route does not apply.
+    ``rank``: the generic rank of the output's Lie derivatives in states and
+    constants (the verdict's, for one output), which fixes the rank a subset of
+    the ratios must reach (None: the number of constants in P)."""
+    found = checked_equation(model, inputs, output, seed)
+    if isinstance(found, str):
+        return found
+    equation, corank_one = found
+    members, tests = _membership(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
-    how = (f"the input-output equation of {equation.output} (order {equation.order}, {len(equation.terms)} monomials, "
-           f"{equation.size} terms; eliminated by resultants as StructuralIdentifiability.jl does), whose "
-           "coefficients generate the multi-experiment field (Ovchinnikov, Pillay, Pogudin, Scanlon 2022); "
-           + ("its Wronskian has corank one at a solution modulo 2^61 - 1, so they are single-experiment "
-              "observable" if corank_one else "its Wronskian has corank above one at a solution, so 'globally' "
-              "is undecided")
-           + "; membership by Thm 3.3 of Dong, Goodbrake, Harrington, Pogudin 2023 at a random integer point"
-           + (f" (past {FULL_TERMS} terms only a subset of the coefficients: what it does not place is undecided)"
-              if None in members.values() and corank_one else ""))
-    return ConstantAnswers(members, error * tests, how)
+    return ConstantAnswers(members, error * tests, _how(equation, corank_one, None in members.values()))
+
+
+def _how(equation: InputOutputEquation, corank_one: bool, partial: bool) -> str:
+    return (f"the input-output equation of {equation.output} (order {equation.order}, {len(equation.terms)} "
+            f"monomials, {equation.size} terms; eliminated by resultants as StructuralIdentifiability.jl does), whose "
+            "coefficients generate the multi-experiment field (Ovchinnikov, Pillay, Pogudin, Scanlon 2022); "
+            + ("its Wronskian has corank one at a solution modulo 2^61 - 1, so they are single-experiment "
+               "observable" if corank_one else "its Wronskian has corank above one at a solution, so 'globally' "
+               "is undecided")
+            + "; membership by Thm 3.3 of Dong, Goodbrake, Harrington, Pogudin 2023 at a random integer point"
+            + (f" (past {FULL_TERMS} terms only a subset of the coefficients: what it does not place is undecided)"
+               if partial and corank_one else ""))
 
 
 def _least_order(ring: _Ring, model: RationalModel, equation: InputOutputEquation, rng: random.Random) -> bool:
@@ -169,29 +179,15 @@ def _wronskian_corank_one(ring: _Ring, model: RationalModel, equation: InputOutp
 
 
 def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
-                error: float, rank: int | None) -> tuple[dict[str, bool | None], int, tuple | None]:
+                error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
-    None: past :data:`FULL_TERMS` when the subset did not place it), the number of
-    membership tests run (each may err with probability ``error``), and the ratios that
-    generate F or a subfield of its degree ((base, numerators, complete); None: neither known)."""
-    used = [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
-    coordinates = [c for c, u in zip(equation.constants, used) if u]
+    None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
+    membership tests run (each may err with probability ``error``)."""
+    coordinates = [c for c, u in zip(equation.constants, _used(equation)) if u]
     answers: dict[str, bool | None] = {c.name: False for c in tested if c not in coordinates}
     inside = [c for c in tested if c in coordinates]
-    polys = sorted((c for _, c in equation.terms), key=len)
-    terms = sum(len(c) for c in polys[1:])
-    # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d
-    # independent over Q(theta)), else at most the number of constants in P.
-    target = len(coordinates) if rank is None else rank - equation.order
-    subset = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
-    tests, ratios = 0, None
-    for chosen, complete in ((subset, False), (polys[1:] if terms <= FULL_TERMS else None, True)):
-        if chosen is None:
-            continue
-        base, numerators = equation.expression(polys[0]), [equation.expression(p) for p in chosen]
-        ratios = (base, numerators, complete)  # one base for the constants' test and the states
-        if not inside:
-            break
+    tests = 0
+    for base, numerators, complete in _ratio_sets(equation, rank, rng) if inside else ():
         open_ = [c for c in inside if c.name not in answers]
         found = _contained(base, numerators, coordinates, open_, rng, error)
         tests += 1
@@ -200,36 +196,49 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
                 answers[c.name] = member
         if all(c.name in answers for c in inside):
             break
-    return answers | {c.name: None for c in inside if c.name not in answers}, tests, ratios
+    return answers | {c.name: None for c in inside if c.name not in answers}, tests
 
 
-def _states_membership(model: RationalModel, ring: _Ring, equation: InputOutputEquation, ratios: tuple,
-                       states: Sequence[sympy.Symbol], rank: int, rng: random.Random, error: float
-                       ) -> dict[str, bool | None]:
-    """Each state in K = F(y, ..., y^(d)) (P makes y^(d+1) and every later derivative rational
-    in them over F), by the membership test in all coordinates, through the ratios' field (F,
-    or a subfield of its degree: then only "globally" stands). Every generator lies in K (the
-    ratios by the Wronskian's corank one), so a member is globally observable; the states are
-    algebraic over the generators when their Jacobian reaches the verdict's rank (a lower bound
-    at the point), else nothing is claimed."""
-    base, numerators, complete = ratios
-    lie = [model.outputs[0]]
-    for _ in range(equation.order):
-        lie.append(sympy.together(sum(sympy.diff(lie[-1], x) * f for x, f in zip(ring.states, ring.speeds))))
-    generators = [(n, base) for n in numerators] + [sympy.fraction(sympy.together(f)) for f in lie]
-    found = _members(generators, states, list(model.coordinates), rng, error, rank)
-    if found is None:
-        return {s.name: None for s in states}
-    return {s.name: member if member or complete else None for s, member in zip(states, found)}
+def _used(equation: InputOutputEquation) -> list[bool]:
+    """For each constant of the ring, whether P's coefficients hold it."""
+    return [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
+
+
+def _ratio_sets(equation: InputOutputEquation, rank: int | None, rng: random.Random
+                ) -> Iterator[tuple[sympy.Expr, list[sympy.Expr], bool]]:
+    """The sets of ratios to try, in order, as (base, numerators, complete): past
+    :data:`SUBSET_TERMS` terms first a subset of F's transcendence degree (not complete),
+    then, up to :data:`FULL_TERMS`, all of them (complete: they generate F)."""
+    used = _used(equation)
+    polys = sorted((c for _, c in equation.terms), key=len)
+    terms = sum(len(c) for c in polys[1:])
+    # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d
+    # independent over Q(theta)), else at most the number of constants in P.
+    target = sum(used) if rank is None else rank - equation.order
+    subset = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
+    chosen = [(subset, False)] if subset is not None else []
+    chosen += [(polys[1:], True)] if terms <= FULL_TERMS else []
+    for numerators, complete in chosen:  # converted only when tried: the full set may hold 20,000 terms
+        yield equation.expression(polys[0]), [equation.expression(p) for p in numerators], complete
+
+
+def generating_ratios(equation: InputOutputEquation, rank: int | None, rng: random.Random
+                      ) -> tuple[list[tuple[sympy.Expr, sympy.Expr]], bool]:
+    """The ratios c_j / c_0 as (numerator, denominator) pairs, the first set
+    :func:`_ratio_sets` tries, and whether they generate F (else a subfield of its
+    transcendence degree, or none)."""
+    for base, numerators, complete in _ratio_sets(equation, rank, rng):
+        return [(n, base) for n in numerators], complete
+    return [], False
 
 
 def _contained(base: sympy.Expr, numerators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol],
                tested: Sequence[sympy.Symbol], rng: random.Random, error: float) -> tuple[bool, ...]:
-    """Each tested constant in Q(n / base : n in numerators) (:func:`_members`)."""
-    return _members([(n, base) for n in numerators], tested, coordinates, rng, error)
+    """Each tested constant in Q(n / base : n in numerators) (:func:`contained_at_random_point`)."""
+    return contained_at_random_point([(n, base) for n in numerators], tested, coordinates, rng, error)
 
 
-def _members(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],
+def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],
              coordinates: Sequence[sympy.Symbol], rng: random.Random, error: float, rank: int | None = None
              ) -> tuple[bool, ...] | None:
     """Each tested symbol in Q(n / d : (n, d) in generators), by

@@ -35,11 +35,13 @@ every zero is membership; its ranks are taken modulo a fixed prime (a full
 rank is certain), since exact elimination on numbers of hundreds of thousands
 of bits would cost more than the basis.
 
-**Through the input-output equation, when neither finishes.** The unknown
+**Through the input-output equations, when neither finishes.** The unknown
 constants are then decided from each output's input-output equation
-(:mod:`.ioglobal`: its coefficients' field, with the argument there), and with
-one output and no inputs the states too, in a step of their own; the rest stays
-undecided. With several outputs only "globally" carries over.
+(:mod:`.ioglobal`: its coefficients' field, with the argument there; with
+several outputs only its "globally" carries over), then the states and the
+constants still open in K itself, generated through those equations
+(:mod:`.iofield`, with the argument there), in a step of their own; the rest
+stays undecided.
 
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
@@ -68,6 +70,7 @@ from .modularfibre import members_modulo_prime
 from .reducedfibre import radical_range
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
+from .iofield import field_members
 from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
@@ -182,7 +185,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     except Undecided as exc:
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
-        return _through_io_equation(prepared, model, result, local, decided, seed, error, budget)
+        return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget)
     members, bits, probability, angles, mirrors, paired, how = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
@@ -213,56 +216,66 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
 
 
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
-                         reason: str, seed: int, error: float, budget: float | None) -> GlobalVerdict:
+                         reason: str, orders: dict[str, int], seed: int, error: float, budget: float | None
+                         ) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
     unknown constants decided through each output's input-output equation
-    (:mod:`.ioglobal`), each within ``budget``, the rest undecided; with one output and
-    no inputs the states too. With several outputs only "globally" carries over (what
-    one output's coefficients fix, the outputs fix; one output leaves open what
-    another may fix)."""
+    (:mod:`.ioglobal`), each within ``budget``; then the states and the constants
+    still open, in the field the outputs determine, generated through those
+    equations (:mod:`.iofield`), within a budget of its own; the rest undecided.
+    With several outputs one output's equation says only "globally" (what one
+    output's coefficients fix, the outputs fix; one output leaves open what
+    another may fix); the field's step decides both ways."""
     names = {c: name for name, c in zip((s.name for s in system.states), model.coordinates)}
     constants = [c for c, f in zip(model.coordinates, model.speeds) if f == 0 and names[c] in local]
+    states = [c for c, f in zip(model.coordinates, model.speeds) if f != 0 and names[c] in local]
     single = len(system.outputs) == 1
-    states = [c for c, f in zip(model.coordinates, model.speeds)
-              if f != 0 and names[c] in local] if single and not system.inputs else []
     where: dict[str, bool | None] = {}
-    notes, reasons, spent = [], [], 0.0
-    if system.free_parameters:
-        reasons.append("known parameters without values are not supported")
-    steps = [(index, output, True) for index, (output, _) in enumerate(system.outputs)] + [(0, "states", False)]
-    for index, output, of_constants in steps if constants and not reasons else ():
-        # The states in a step of their own, with its own budget: their test is the longer one
-        # (SIWR's did not end in 10 minutes), and must not cost the constants' answers.
-        open_ = [c for c in constants if names[c] not in where] if of_constants else []
-        tested = [] if of_constants else states
-        if not open_ and not tested:
-            continue
-        try:
-            found = with_budget(constants_from_io_equation, replace(model, outputs=(model.outputs[index],)),
-                                list(system.inputs), system.outputs[index][0], open_, seed, error,
-                                result.rank if single else None, tested, seconds=budget)
-        except Undecided as exc:
-            found = str(exc)
+    notes, spent = [], 0.0
+    reasons = ["known parameters without values are not supported"] if system.free_parameters else []
+    run = bool(constants) and not reasons
+    outputs = [name for name, _ in system.outputs]
+    for index, output in enumerate(outputs) if run else ():
+        open_ = [c for c in constants if names[c] not in where]
+        found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
+                          list(system.inputs), output, open_, seed, error, result.rank if single else None)
         if isinstance(found, str):
             reasons.append(f"{output}: {found}")
             continue
-        decided = {names[c]: found.members.get(c.name) for c in (*open_, *tested)}
-        where |= {s: v for s, v in decided.items() if v or (v is False and single)}
+        where |= {names[c]: v for c in open_ if (v := found.members.get(c.name)) or (v is False and single)}
         notes.append(found.how)
         spent += found.error
+    # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
+    # minutes), and must not cost the constants' answers.
+    open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
+    field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, result.rank, seed,
+                      error) if open_ else None
+    if isinstance(field, str):
+        reasons.append(f"the outputs' field: {field}")
+    elif field is not None:
+        where |= {names[c]: field.members[c.name] for c in open_}
+        notes.append(field.how)
+        spent += field.error
     if not notes:
         why = "; ".join(reasons) or "no locally observable unknown constant"
         return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {why}")
-    what = "the unknown constants and states" if states else "the unknown constants"
-    details = (f"{what} by {'; '.join(notes)}; 'only locally' means other complex values share the outputs; "
-               f"the fibre's route: {reason}")
-    if not single:
-        details += " (with several outputs each output's equation says only 'globally')"
+    details = (f"the input-output route: {'; '.join(notes)}; 'only locally' means other complex values share the "
+               f"outputs; the fibre's route: {reason}")
+    if reasons:
+        details += f"; not decided by the input-output route: {'; '.join(reasons)}"
     return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
                          tuple(s for s in local if where.get(s) is False),
                          tuple(s for s in local if where.get(s) is None),
                          spent + (result.error_probability or 0.0), details,
                          generation="not tested: the fibre's answers are undecided")
+
+
+def _budgeted(func: Any, budget: float | None, *arguments: Any) -> Any:
+    """``func(*arguments)`` within ``budget`` seconds of CPU, or why it did not end."""
+    try:
+        return with_budget(func, *arguments, seconds=budget)
+    except Undecided as exc:
+        return str(exc)
 
 
 def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budget: float | None) -> Any:
