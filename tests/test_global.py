@@ -100,25 +100,6 @@ def test_global_labels_match_structural_identifiability_jl(line, body, expected,
         assert {k for k, v in labels.items() if v == "undecided"} == {"S", "I", "W", "R"}
 
 
-@pytest.mark.parametrize(("line", "body", "expected"), [c for c in SI_CASES if c[0] != 80],
-                         ids=[f"line{c[0]}" for c in SI_CASES if c[0] != 80])
-def test_the_input_output_route_alone_gives_structural_identifiability_jl_s_labels(line, body, expected,
-                                                                                   monkeypatch):
-    """The same cases with the fibre's route skipped: states and constants through the input-output
-    equations and the field they generate with the Lie derivatives (:mod:`observability.analysis.iofield`):
-    with an input (lines 54, 166, 184: x2, x3 only locally) and with two outputs (lines 129, 203:
-    S, E, a, nu only locally), both answers. Line 80's states are out of this route's reach (above)."""
-    from observability.analysis import uniqueness
-
-    def out_of_reach(*args):
-        raise uniqueness.Undecided("skipped")
-
-    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", out_of_reach)
-    labels = _labels(parse_si_model(f"ode = @ODEmodel({body})", name=f"SI.jl identifiability.jl:{line}"))
-    assert labels is not None and {k: labels[k] for k in expected} == expected
-    assert "undecided" not in labels.values()
-
-
 def test_square_without_motion_is_only_local_and_the_sign_flip_certifies_it():
     """y = x**2 with x' = x**3: every Lie derivative is even in x (L h = 2 x^4, and x -> -x maps
     x' = x^3 to its negative), so x and -x give the same outputs: only locally, certified by the flip."""
