@@ -51,7 +51,7 @@ from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_o
 from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
-__all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios",
+__all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
            "contained_at_random_point", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
@@ -101,7 +101,15 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     members, tests = _membership(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
-    return ConstantAnswers(members, error * tests, _how(equation, corank_one, None in members.values()))
+    return ConstantAnswers(members, point_error(error) * tests, _how(equation, corank_one, None in members.values()))
+
+
+def point_error(error: float) -> float:
+    """One membership test's error probability at a point drawn where no denominator vanishes:
+    the redrawing conditions on an event of probability at least 1 - ``error`` (the sampling
+    range bounds the denominators' zeros with the rest), so the bad points' share is at most
+    error / (1 - error)."""
+    return error / (1 - error)
 
 
 def _how(equation: InputOutputEquation, corank_one: bool, partial: bool) -> str:
