@@ -212,30 +212,36 @@ def _used(equation: InputOutputEquation) -> list[bool]:
     return [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
 
 
-def _ratio_sets(equation: InputOutputEquation, rank: int | None, rng: random.Random
+def _ratio_sets(equation: InputOutputEquation, rank: int | None, rng: random.Random, subset_first: bool = True
                 ) -> Iterator[tuple[sympy.Expr, list[sympy.Expr], bool]]:
     """The sets of ratios to try, in order, as (base, numerators, complete): past
-    :data:`SUBSET_TERMS` terms first a subset of F's transcendence degree (not complete),
-    then, up to :data:`FULL_TERMS`, all of them (complete: they generate F)."""
+    :data:`SUBSET_TERMS` terms a subset of F's transcendence degree (not complete),
+    and, up to :data:`FULL_TERMS`, all of them (complete: they generate F);
+    ``subset_first``: the subset, then all; else all, or the subset past
+    :data:`FULL_TERMS` only."""
     used = _used(equation)
     polys = sorted((c for _, c in equation.terms), key=len)
     terms = sum(len(c) for c in polys[1:])
     # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d
     # independent over Q(theta)), else at most the number of constants in P.
     target = sum(used) if rank is None else rank - equation.order
-    subset = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
-    chosen = [(subset, False)] if subset is not None else []
-    chosen += [(polys[1:], True)] if terms <= FULL_TERMS else []
-    for numerators, complete in chosen:  # converted only when tried: the full set may hold 20,000 terms
+
+    def subset() -> list[tuple[list[Any], bool]]:
+        chosen = _full_rank_subset(polys[0], polys[1:], used, target, rng) if terms > SUBSET_TERMS else None
+        return [(chosen, False)] if chosen is not None else []
+
+    full = [(polys[1:], True)] if terms <= FULL_TERMS else []
+    for numerators, complete in subset() + full if subset_first else full or subset():
+        # Converted only when tried: the full set may hold 20,000 terms.
         yield equation.expression(polys[0]), [equation.expression(p) for p in numerators], complete
 
 
 def generating_ratios(equation: InputOutputEquation, rank: int | None, rng: random.Random
                       ) -> tuple[list[tuple[sympy.Expr, sympy.Expr]], bool]:
-    """The ratios c_j / c_0 as (numerator, denominator) pairs, the first set
-    :func:`_ratio_sets` tries, and whether they generate F (else a subfield of its
-    transcendence degree, or none)."""
-    for base, numerators, complete in _ratio_sets(equation, rank, rng):
+    """The ratios c_j / c_0 as (numerator, denominator) pairs, and whether they generate
+    F: all of them up to :data:`FULL_TERMS` terms, past it a subset of F's transcendence
+    degree (a subfield), or none."""
+    for base, numerators, complete in _ratio_sets(equation, rank, rng, subset_first=False):
         return [(n, base) for n in numerators], complete
     return [], False
 
