@@ -124,6 +124,18 @@ def test_an_equation_of_too_high_order_is_refused():
     assert _least_order(ring, model, _fake(ring, 1, ["Y1", "Y0"]), random.Random(3))
 
 
+def test_an_equation_not_of_least_order_is_refused_with_the_reason(monkeypatch):
+    """The route says why when the least order is not certified (forced here)."""
+    from observability.analysis import ioglobal
+
+    monkeypatch.setattr(ioglobal, "_least_order", lambda *args: False)
+    x1, x2 = sympy.symbols("x1 x2")
+    model = _model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1)
+    assert ioglobal.checked_equation(model, [], "y", seed=4) == (
+        "the input-output relation of order 2 found is not of least order (the output's first derivatives are not "
+        "independent at a point)")
+
+
 def _swap():
     """x1' = -a x1 + x2, x2' = -b x2, y = x1."""
     x1, x2 = sympy.symbols("x1 x2")
@@ -348,6 +360,7 @@ def test_one_output_decides_constants_and_states(monkeypatch):
     only locally (one output: the negative answers stand); the states in K = Q(a + b, a b, y, y',
     y''): x1 = y globally, x2 = y' + a y only locally (the swap moves it); two membership tests."""
     from observability import System, analyze
+    from observability.analysis import uniqueness
     from observability.analysis.uniqueness import global_observability
 
     _forced(monkeypatch)
@@ -361,6 +374,9 @@ def test_one_output_decides_constants_and_states(monkeypatch):
                                                                                "(the Lie derivatives y 0..4, their "
                                                                                "field's Groebner basis at a point, "
                                                                                "the mirrors)")
+    monkeypatch.setattr(uniqueness, "field_members", lambda *args: "withheld")  # one output: its negatives stand
+    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.only_locally == ("a", "b") and answer.undecided == ("x1", "x2")
 
 
 def test_the_route_keeps_to_its_budget(monkeypatch):
@@ -452,15 +468,32 @@ def test_the_sampling_range_gets_the_generators_degrees(monkeypatch):
 
 def test_each_output_adds_what_it_fixes(monkeypatch):
     """x1' = -a x1, x2' = -b x2, y1 = x1, y2 = x2: y1' + a y1 = 0 fixes a, y2' + b y2 = 0 fixes b;
-    both answers stand together (the second output is asked only about b)."""
+    both answers stand together (the second output is asked only about b), with the field's step
+    out of the way, and a failing first output does not stop the second; the field's step then
+    adds x1 and x2. The verdict's own error probability is added to the route's."""
+    import dataclasses
+
     from observability import System, analyze
+    from observability.analysis import uniqueness
     from observability.analysis.uniqueness import global_observability
 
     _forced(monkeypatch)
     system = System(["x1", "x2"], ["-a*x1", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
-    answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    result = dataclasses.replace(analyze(system, seed=1, directions=False), error_probability=1e-3)
+    answer = global_observability(system, result, seed=2, budget=None)
     assert answer.globally == ("x1", "x2", "a", "b")  # the field's step: x1, x2
-    assert answer.error_probability == pytest.approx(3 * E, rel=1e-12)
+    assert answer.error_probability == pytest.approx(1e-3 + 3 * E, rel=1e-12)
+    assert "Pogudin 2023 at a random integer point; the input-output equation of y2 (order 1" in answer.details
+    monkeypatch.setattr(uniqueness, "field_members", lambda *args: "withheld")
+    answer = global_observability(system, result, seed=2, budget=None)
+    assert answer.globally == ("a", "b") and answer.undecided == ("x1", "x2")
+    real = uniqueness.constants_from_io_equation
+    monkeypatch.setattr(uniqueness, "constants_from_io_equation",
+                        lambda model, inputs, output, *rest: "refused" if output == "y1" else
+                        real(model, inputs, output, *rest))
+    answer = global_observability(system, result, seed=2, budget=None)
+    assert answer.globally == ("b",) and answer.details.endswith(
+        "; not decided by the input-output route: y1: refused; the outputs' field: withheld")
 
 
 def test_a_subset_reaches_the_field_s_degree_when_the_rank_is_known(monkeypatch):
@@ -584,6 +617,16 @@ def test_states_from_the_equation_need_the_verdict_s_rank(monkeypatch):
     driven = field_members(_model((x1, a), (-a * x1 + u, 0), x1), [u], ["y"], {"y": 2}, [x1, a], 2, seed=4,
                            error=1e-6)
     assert driven.members == {"x1": True, "a": True} and driven.how.endswith(", and the inputs' derivatives")
+    assert field_members(_model((x1, a), (-a * x1 + u, 0), x1), [u], ["y"], {"y": 2}, [x1, a], 1, seed=4,
+                         error=1e-6) == ("the Jacobian of the field's generators did not reach the rank 3 (the "
+                                         "verdict's 1 and 2 input derivatives) at the random point")
+    assert found.how.startswith("membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3, at a random integer "
+                                "point) in the field the outputs determine, generated by y: ")
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 10**9)
+    monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)  # no set of ratios at all: T alone, still K
+    assert _swap_field().members == {"x1": True, "x2": False} and _swap_field().how.endswith(
+        "generated by y: its Lie derivatives to order 4 (its equation is too long)")
+    monkeypatch.setattr(ioglobal, "FULL_TERMS", 20000)
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)  # all the ratios are still preferred to a subset and T
     assert _swap_field().how.endswith("generated by y: its equation's ratios and its Lie derivatives to order 2")
     monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
