@@ -38,7 +38,7 @@ to the test's probability: "globally" and "only locally".
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import sympy
@@ -62,17 +62,20 @@ class FieldAnswers:
 
 def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str],
                   orders: dict[str, int], tested: Sequence[sympy.Symbol], rank: int, seed: int,
-                  error: float) -> FieldAnswers | str:
+                  error: float, failed: Mapping[str, str] | None = None) -> FieldAnswers | str:
     """Whether each locally observable state or constant ``tested`` lies in K (the
     module's argument), or why it was not decided. ``outputs``: the names of the
     model's outputs, in order; ``orders``: the truncation orders of each output's
-    Lie derivatives (:func:`~.uniqueness._orders`); ``rank``: the verdict's."""
+    Lie derivatives (:func:`~.uniqueness._orders`); ``rank``: the verdict's;
+    ``failed``: outputs whose equation was not found before, with the reason (their
+    truncated Lie derivatives are used at once)."""
     generators: list[tuple[sympy.Expr, sympy.Expr]] = []
     heights, parts = [], []
     single = len(outputs) == 1
     rng = random.Random(seed + 3)
     for index, name in enumerate(outputs):
-        found = checked_equation(replace(model, outputs=(model.outputs[index],)), inputs, name, seed)
+        found = (failed or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
+                                                             name, seed)
         ratios, complete = ([], False) if isinstance(found, str) or not found[1] else \
             generating_ratios(found[0], rank if single else None, rng)
         generators += ratios

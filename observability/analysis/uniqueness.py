@@ -235,12 +235,16 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     reasons = ["known parameters without values are not supported"] if system.free_parameters else []
     run = bool(constants) and not reasons
     outputs = [name for name, _ in system.outputs]
+    failed: dict[str, str] = {}
     for index, output in enumerate(outputs) if run else ():
         open_ = [c for c in constants if names[c] not in where]
+        if not open_:
+            break
         found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
                           list(system.inputs), output, open_, seed, error, result.rank if single else None)
         if isinstance(found, str):
             reasons.append(f"{output}: {found}")
+            failed[output] = found
             continue
         where |= {names[c]: v for c in open_ if (v := found.members.get(c.name)) or (v is False and single)}
         notes.append(found.how)
@@ -248,8 +252,10 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
     # minutes), and must not cost the constants' answers.
     open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
+    # An output whose equation was not found (its budget spent) gives its truncated Lie derivatives
+    # at once: the field's step would only spend its own budget on the same elimination.
     field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, result.rank, seed,
-                      error) if open_ else None
+                      error, failed) if open_ else None
     if isinstance(field, str):
         reasons.append(f"the outputs' field: {field}")
     elif field is not None:
