@@ -253,8 +253,8 @@ def _contained(base: sympy.Expr, numerators: Sequence[sympy.Expr], coordinates: 
 
 
 def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],
-             coordinates: Sequence[sympy.Symbol], rng: random.Random, error: float, rank: int | None = None
-             ) -> tuple[bool, ...] | None:
+                              coordinates: Sequence[sympy.Symbol], rng: random.Random, error: float,
+                              rank: int | None = None) -> tuple[bool, ...] | None:
     """Each tested symbol in Q(n / d : (n, d) in generators), by
     :func:`~observability.rank.membership.contained` at a point drawn from its
     sampling range where no denominator vanishes; None when ``rank`` is given and

@@ -229,26 +229,12 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     names = {c: name for name, c in zip((s.name for s in system.states), model.coordinates)}
     constants = [c for c, f in zip(model.coordinates, model.speeds) if f == 0 and names[c] in local]
     states = [c for c, f in zip(model.coordinates, model.speeds) if f != 0 and names[c] in local]
-    single = len(system.outputs) == 1
-    where: dict[str, bool | None] = {}
-    notes, spent = [], 0.0
     reasons = ["known parameters without values are not supported"] if system.free_parameters else []
     run = bool(constants) and not reasons
     outputs = [name for name, _ in system.outputs]
-    failed: dict[str, str] = {}
-    for index, output in enumerate(outputs) if run else ():
-        open_ = [c for c in constants if names[c] not in where]
-        if not open_:
-            break
-        found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
-                          list(system.inputs), output, open_, seed, error, result.rank if single else None)
-        if isinstance(found, str):
-            reasons.append(f"{output}: {found}")
-            failed[output] = found
-            continue
-        where |= {names[c]: v for c in open_ if (v := found.members.get(c.name)) or (v is False and single)}
-        notes.append(found.how)
-        spent += found.error
+    where, notes, failed, spent = _constants_by_equation(system, model, result, constants if run else [], names, seed,
+                                                         error, budget)
+    reasons += [f"{output}: {why}" for output, why in failed.items()]
     # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
     # minutes), and must not cost the constants' answers.
     open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
@@ -274,6 +260,31 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          tuple(s for s in local if where.get(s) is None),
                          spent + (result.error_probability or 0.0), details,
                          generation="not tested: the fibre's answers are undecided")
+
+
+def _constants_by_equation(system: System, model: RationalModel, result: ObservabilityResult,
+                           constants: list[sympy.Symbol], names: dict, seed: int, error: float, budget: float | None
+                           ) -> tuple[dict[str, bool | None], list[str], dict[str, str], float]:
+    """The constants' step of :func:`_through_io_equation`: each output's equation in turn, each
+    within ``budget``, until every constant is placed (one output: both answers; several: only
+    "globally"). Returns the answers, the notes, the outputs whose equation was not found (with
+    why) and the error probability spent."""
+    single = len(system.outputs) == 1
+    where: dict[str, bool | None] = {}
+    notes, failed, spent = [], {}, 0.0
+    for index, (output, _) in enumerate(system.outputs):
+        open_ = [c for c in constants if names[c] not in where]
+        if not open_:
+            break
+        found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
+                          list(system.inputs), output, open_, seed, error, result.rank if single else None)
+        if isinstance(found, str):
+            failed[output] = found
+            continue
+        where |= {names[c]: v for c in open_ if (v := found.members.get(c.name)) or (v is False and single)}
+        notes.append(found.how)
+        spent += found.error
+    return where, notes, failed, spent
 
 
 def _budgeted(func: Any, budget: float | None, *arguments: Any) -> Any:
