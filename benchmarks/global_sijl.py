@@ -23,11 +23,10 @@ import sys
 import time
 from pathlib import Path
 
-from identifiable import arguments
+from identifiable import arguments, print_table
 
 from observability import analyze
 from observability.analysis.uniqueness import global_observability
-from observability.errors import ObservabilityError
 from observability.model.sijl import parse_si_model
 
 TIMINGS = "timings_(normalforms, 2)_with_states"
@@ -51,13 +50,7 @@ def row(folder: Path, budget: float) -> str:
 
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], TIMINGS, 60.0, "CPU seconds for the global step")
-    print("| model | n | rank | global | only local | undecided | field generated | ours s | SI.jl s |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    for folder in folders:
-        try:
-            print(row(folder, budget), flush=True)
-        except (ObservabilityError, ValueError) as exc:
-            print(f"| {folder.name} | refused: {str(exc)[:80]} |", flush=True)
+    print_table("model | n | rank | global | only local | undecided | field generated | ours s | SI.jl s", folders, budget, row)
     return 0
 
 

@@ -37,6 +37,7 @@ import argparse
 import random
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import sympy
@@ -117,6 +118,18 @@ def arguments(argv: list[str], description: str, needed: str, budget: float, bud
     args = parser.parse_args(argv)
     return [args.results / m for m in args.models] or sorted(
         p for p in args.results.iterdir() if (p / needed).exists() and (p / f"{p.name}.jl").exists()), args.budget
+
+
+def print_table(header: str, folders: list[Path], budget: float, row: Callable[[Path, float], str]) -> None:
+    """A Markdown table: ``header``'s columns, then ``row(folder, budget)`` for each model, a
+    model the toolkit refuses on a line that says why."""
+    print(f"| {header} |")
+    print("|" + "---|" * (header.count(" | ") + 1))
+    for folder in folders:
+        try:
+            print(row(folder, budget), flush=True)
+        except (ObservabilityError, ValueError) as exc:
+            print(f"| {folder.name} | refused: {str(exc)[:80]} |", flush=True)
 
 
 def main(argv: list[str]) -> int:

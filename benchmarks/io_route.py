@@ -22,13 +22,12 @@ import sys
 import time
 from pathlib import Path
 
-from identifiable import RESULT, _contained, _generators, arguments
+from identifiable import RESULT, _contained, _generators, arguments, print_table
 
 from observability import analyze
 from observability.analysis import uniqueness
 from observability.analysis.rationalmodel import rational_model
 from observability.budget import Undecided, with_budget
-from observability.errors import ObservabilityError
 from observability.model.prepare import prepare
 from observability.model.sijl import parse_si_model
 
@@ -60,22 +59,19 @@ def row(folder: Path, budget: float) -> str:
             continue
         if found != expected:
             disagreements.append(item)
-    check = ("disagrees: " + ", ".join(disagreements)) if disagreements else "agrees" + (f" ({unknown} ?)" if unknown
-                                                                                         else "")
-    check = check if theirs is not None else "no stored field"
+    if theirs is None:
+        check = "no stored field"
+    elif disagreements:
+        check = "disagrees: " + ", ".join(disagreements)
+    else:
+        check = "agrees" + (f" ({unknown} ?)" if unknown else "")
     return (f"| {name} | {len(system.outputs)} | {', '.join(answer.globally)} | {', '.join(answer.only_locally)} "
             f"| {len(answer.undecided)} of {len(result.observable_states or ())} | {seconds:.1f} | {check} |")
 
 
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], RESULT, 60.0, "CPU seconds per step")
-    print("| model | outputs | globally | only locally | undecided | route s (wall) | against SI.jl's field |")
-    print("|---|---|---|---|---|---|---|")
-    for folder in folders:
-        try:
-            print(row(folder, budget), flush=True)
-        except (ObservabilityError, ValueError) as exc:
-            print(f"| {folder.name} | refused: {str(exc)[:80]} |", flush=True)
+    print_table("model | outputs | globally | only locally | undecided | route s (wall) | against SI.jl's field", folders, budget, row)
     return 0
 
 
