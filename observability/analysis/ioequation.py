@@ -233,7 +233,13 @@ def _resultant_factors(a: Any, b: Any, slot: int) -> list[Any] | None:
         product = _determinant(rows)
     if product.is_zero():
         return None
-    return [f for p in (product, *parts) for f, _ in p.factor()[1]]
+    # Distinct factors: one may divide a row's common factor and the determinant both (y = x**2 gives
+    # (2 y - y')**2 that way), and counted twice it would look like two factors vanishing at the point.
+    factors: list[Any] = []
+    for f in (f for p in (product, *parts) for f, _ in p.factor()[1]):
+        if all(f != g for g in factors):
+            factors.append(f)
+    return factors
 
 
 def _bezout_matrix(a: Any, b: Any, slot: int, n: int) -> list[list[Any]]:

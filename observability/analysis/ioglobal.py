@@ -52,7 +52,7 @@ from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
-           "contained_at_random_point", "SUBSET_TERMS", "FULL_TERMS"]
+           "used_constants", "contained_at_random_point", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -191,7 +191,7 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
     None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
     membership tests run (each may err with probability ``error``)."""
-    coordinates = [c for c, u in zip(equation.constants, _used(equation)) if u]
+    coordinates = [c for c, u in zip(equation.constants, used_constants(equation)) if u]
     answers: dict[str, bool | None] = {c.name: False for c in tested if c not in coordinates}
     inside = [c for c in tested if c in coordinates]
     tests = 0
@@ -207,7 +207,7 @@ def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], r
     return answers | {c.name: None for c in inside if c.name not in answers}, tests
 
 
-def _used(equation: InputOutputEquation) -> list[bool]:
+def used_constants(equation: InputOutputEquation) -> list[bool]:
     """For each constant of the ring, whether P's coefficients hold it."""
     return [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
 
@@ -219,7 +219,7 @@ def _ratio_sets(equation: InputOutputEquation, rank: int | None, rng: random.Ran
     and, up to :data:`FULL_TERMS`, all of them (complete: they generate F);
     ``subset_first``: the subset, then all; else all, or the subset past
     :data:`FULL_TERMS` only."""
-    used = _used(equation)
+    used = used_constants(equation)
     polys = sorted((c for _, c in equation.terms), key=len)
     terms = sum(len(c) for c in polys[1:])
     # F's transcendence degree: r - d when the rank r is known (K = F(y, ..., y^(d-1)), those d

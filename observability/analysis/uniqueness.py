@@ -240,8 +240,11 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
     # An output whose equation was not found (its budget spent) gives its truncated Lie derivatives
     # at once: the field's step would only spend its own budget on the same elimination.
+    # The constants found globally join the generators (K is the same): with them an equation's ratios
+    # become numbers, and its output needs only y, ..., y^(d) (SIWR's states: 4 unknowns, not 11).
+    known = [c for c in constants if where.get(names[c]) is True]
     field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, result.rank, seed,
-                      error, failed) if open_ else None
+                      error, failed, known) if open_ else None
     if isinstance(field, str):
         reasons.append(f"the outputs' field: {field}")
     elif field is not None:
