@@ -72,8 +72,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
     "io-route": (["observability/analysis/ioequation.py", "observability/analysis/ioglobal.py",
                   "observability/analysis/ioseries.py", "observability/analysis/uniqueness.py",
-                  "observability/analysis/iofield.py"],
-                 ["tests/test_io_equation.py"]),
+                  "observability/analysis/iofield.py", "observability/analysis/ioprojection.py"],
+                 ["tests/test_io_equation.py", "tests/test_io_projection.py"]),
     # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
     "reduced-fibre": (["observability/analysis/reducedfibre.py", "observability/rank/membership.py",
                        "observability/analysis/fibre.py", "observability/analysis/modularfibre.py",

@@ -27,7 +27,7 @@ ideal of one output, whose coefficients Ovchinnikov, Pillay, Pogudin and Scanlon
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,7 +37,7 @@ import sympy
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
-__all__ = ["InputOutputEquation", "input_output_equation", "IO_PRIME"]
+__all__ = ["InputOutputEquation", "input_output_equation", "drawn", "IO_PRIME"]
 
 #: The prime of the solutions' jets (Mersenne): a wrong factor vanishes there with probability ~ degree / 2^61.
 IO_PRIME = 2**61 - 1
@@ -71,7 +71,7 @@ class InputOutputEquation:
 class _Ring:
     """States x, their derivatives, constants, output jets Y_k and input jets U_j_k, in one fmpz_mpoly ring."""
 
-    def __init__(self, model: RationalModel, inputs: Sequence[sympy.Symbol]) -> None:
+    def __init__(self, model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: int = 1) -> None:
         moving = [i for i, f in enumerate(model.speeds) if f != 0]
         self.states = [model.coordinates[i] for i in moving]
         self.speeds = [model.speeds[i] for i in moving]
@@ -79,8 +79,11 @@ class _Ring:
         self.inputs = list(inputs)
         n = len(self.states)
         self.top = n + 1
+        # One output's jets are Y0, Y1, ...; with several (:mod:`.ioprojection`) output o's are Yo_0, Yo_1, ...
+        self.output_jets = [[f"Y{k}" for k in range(self.top + 1)]] if outputs == 1 else \
+            [[f"Y{o}_{k}" for k in range(self.top + 1)] for o in range(outputs)]
         self.names = ([f"x{i}" for i in range(n)] + [f"dx{i}" for i in range(n)]
-                      + [f"c{i}" for i in range(len(self.constants))] + [f"Y{k}" for k in range(self.top + 1)]
+                      + [f"c{i}" for i in range(len(self.constants))] + [y for jets in self.output_jets for y in jets]
                       + [f"U{j}_{k}" for j in range(len(self.inputs)) for k in range(self.top + 1)])
         self.ctx = flint.fmpz_mpoly_ctx.get(tuple(self.names), "degrevlex")
         self.var = dict(zip(self.names, self.ctx.gens()))
@@ -112,7 +115,8 @@ class _Ring:
         for i in range(len(self.states)):
             out += p.derivative(f"x{i}") * self.var[f"dx{i}"]
         for k in range(self.top):
-            out += p.derivative(f"Y{k}") * self.var[f"Y{k + 1}"]
+            for jets in self.output_jets:
+                out += p.derivative(jets[k]) * self.var[jets[k + 1]]
             for j in range(len(self.inputs)):
                 out += p.derivative(f"U{j}_{k}") * self.var[f"U{j}_{k + 1}"]
         return out
@@ -128,17 +132,24 @@ def input_output_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], 
     if len(model.outputs) != 1:
         return "the input-output route takes one output"
     ring = _Ring(model, inputs)
+
+    def attempt(rng: random.Random) -> tuple[InputOutputEquation, SolutionSeries, _Ring] | None:
+        solution = _solution(ring, model, rng, ring.top + 1)
+        found = None if solution is None else _eliminate_states(ring, model, _point(ring, solution))
+        return None if found is None else (_result(ring, found, name), solution, ring)
+    return drawn(ring, seed, attempt)
+
+
+def drawn(ring: _Ring, seed: int, attempt: Callable[[random.Random], Any]) -> Any:
+    """``attempt``'s result at the first of :data:`_DRAWS` random points where it gives one (None:
+    a pole, or no single vanishing factor there), or why not."""
     if not ring.states or not ring.constants:
         return "the input-output route needs states and unknown constants"
     rng = random.Random(seed)
     for _ in range(_DRAWS):
-        solution = _solution(ring, model, rng, ring.top + 1)
-        if solution is None:
-            continue
-        point = _point(ring, solution)
-        found = _eliminate_states(ring, model, point)
+        found = attempt(rng)
         if found is not None:
-            return _result(ring, found, name), solution, ring
+            return found
     return "no point among those drawn chose a single factor (a pole, or two factors vanishing there)"
 
 
@@ -277,7 +288,9 @@ def _determinant(rows: list[list[Any]]) -> Any:
     return total
 
 
-def _result(ring: _Ring, polynomial: Any, name: str) -> InputOutputEquation:
+def _result(ring: _Ring, polynomial: Any, name: str, leader: int = 0) -> InputOutputEquation:
+    """The polynomial as an equation: its coefficients in the constants, grouped by monomial in the
+    jets; its order that of output ``leader``'s jets."""
     jet_slots = [i for i, n in enumerate(ring.names) if n[0] in "YU"]
     constant_slots = [ring.names.index(f"c{i}") for i in range(len(ring.constants))]
     context = flint.fmpz_mpoly_ctx.get(tuple(c.name for c in ring.constants), "degrevlex")
@@ -286,6 +299,6 @@ def _result(ring: _Ring, polynomial: Any, name: str) -> InputOutputEquation:
         key = tuple(monomial[i] for i in jet_slots)
         grouped.setdefault(key, {})[tuple(monomial[i] for i in constant_slots)] = int(c)
     terms = tuple((key, context.from_dict(coefficients)) for key, coefficients in sorted(grouped.items()))
-    order = max((k for k in range(ring.top + 1) if ring.degree(polynomial, f"Y{k}") > 0), default=-1)
+    order = max((k for k, y in enumerate(ring.output_jets[leader]) if ring.degree(polynomial, y) > 0), default=-1)
     return InputOutputEquation(name, order, tuple(ring.constants), tuple(ring.names[i] for i in jet_slots), terms,
                                len(polynomial))

@@ -36,6 +36,21 @@ rest on C's, whose error the caller adds. The ideal fixes C by linear equations
 and keeps only the states (SIWR's: a basis in 4 unknowns in 0.1 s; with its
 truncated Lie derivatives in all 11, 150 s).
 
+**Lower truncation orders over the rest of G (certain).** The orders of
+:mod:`.uniqueness` make T alone generate K; beside the rest of G (ratios,
+constants found in K, the other outputs' y_i^(k), the inputs' derivatives:
+call their field E) fewer rows do. Take rows L^j h_i of the truncated outputs,
+in order of j, where they raise the Jacobian's rank at a random point over E's
+generators, until it reaches the verdict's rank plus the inputs' derivatives (a
+rank modulo a prime is a lower bound, so reaching it is certain): those rows B
+with E have K's transcendence degree. Let T' take each truncated output one
+order past its highest row in B (h_i alone with none). Each t in T' is then
+algebraic over E(B); differentiating its minimal polynomial, L(t) lies in
+Q(E, L(E), B, L(B)), within Q(E, T') (L(E) lies in Q(G) by the argument above,
+L(B) in T'), so Q(E, T') is closed under L, holds every h_i, and is K. Where
+the rank is not reached, the orders stay. (CGV1990 and SIWR with their
+constants known: rows of order 3 or 4 instead of 10.)
+
 **The inputs' later derivatives change no answer.** Those G does not hold are
 algebraically independent over L = Q(states, constants, the u^(j) G holds),
 which contains Q(G); so K = Q(G)(the later u^(j)) meets L in Q(G) (an element
@@ -59,13 +74,16 @@ from __future__ import annotations
 import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import sympy
 
 from ..engine.lie import input_derivative
 from .generators import lie_derivatives_of_outputs, reduced_pair
 from .ioequation import InputOutputEquation
-from .ioglobal import checked_equation, contained_at_random_point, generating_ratios, point_error, used_constants
+from ..rank.membership import rank_mod_prime
+from .ioglobal import (checked_equation, contained_at_random_point, generating_ratios, jacobian_at,
+                       point_error, point_off_denominators, used_constants)
 from .rationalmodel import RationalModel
 
 __all__ = ["FieldAnswers", "field_members"]
@@ -91,37 +109,107 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
     ``failed``: outputs whose equation was not found before, with the reason (their
     truncated Lie derivatives are used at once); ``known``: constants already found
     in K (their error is the caller's to add: the answers here rest on theirs)."""
-    generators: list[tuple[sympy.Expr, sympy.Expr]] = []
-    heights, parts = [], []
-    single = len(outputs) == 1
     rng = random.Random(seed + 3)
-    for index, name in enumerate(outputs):
-        found = (failed or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
-                                                             name, seed)
-        if not isinstance(found, str) and _fixed_by(found[0], known):
-            ratios, complete = [], True
-        else:
-            ratios, complete = ([], False) if isinstance(found, str) or not found[1] else \
-                generating_ratios(found[0], rank if single else None, rng)
-        generators += ratios
-        order = _lie_order(found[0]) if complete else orders[name]
-        heights.append(order)
-        what = "its equation's ratios and " if ratios else ""
-        parts.append(f"{name}: {what}its Lie derivatives to order {order}{_why(found, ratios, complete, known)}")
+    plans = [_plan(model, inputs, index, name, orders[name], rank if len(outputs) == 1 else None, seed, rng, failed,
+                   known) for index, name in enumerate(outputs)]
+    fixed = [pair for plan in plans for pair in plan.ratios] + [(c, sympy.Integer(1)) for c in known]
+    heights = [plan.order for plan in plans]
+    derivatives = lie_derivatives_of_outputs(model, heights, inputs)
+    heights = _lowered(model, inputs, fixed, heights, [plan.truncated for plan in plans], derivatives, rank, rng)
     jets = [input_derivative(u, j) for u in inputs for j in range(max(heights) + 1)]
-    generators += [reduced_pair(f) for _, f in lie_derivatives_of_outputs(model, heights, inputs)]
-    generators += [(j, sympy.Integer(1)) for j in (*jets, *known)]
+    offsets = [sum(plan.order + 1 for plan in plans[:i]) for i in range(len(plans))]
+    generators = fixed + [reduced_pair(derivatives[offset + j][1]) for offset, height in zip(offsets, heights)
+                          for j in range(height + 1)]
+    generators += [(j, sympy.Integer(1)) for j in jets]
     members = contained_at_random_point(generators, tested, [*model.coordinates, *jets], rng, error, rank + len(jets))
     if members is None:
         with_jets = f" (the verdict's {rank} and {len(jets)} input derivatives)" if jets else ""
         return f"the Jacobian of the field's generators did not reach the rank {rank + len(jets)}{with_jets} at the " \
                "random point"
-    fixed = f", the constant{'s' if len(known) > 1 else ''} {', '.join(c.name for c in known)} found globally " \
+    parts = [f"{name}: {plan.what}its Lie derivatives to order {height}{plan.why}{_lower(plan, height)}"
+             for name, plan, height in zip(outputs, plans, heights)]
+    besides = f", the constant{'s' if len(known) > 1 else ''} {', '.join(c.name for c in known)} found globally " \
         "observable above" if known else ""
     how = ("membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3, at a random integer point) in the field "
            "the outputs determine, generated by " + "; ".join(parts)
-           + (", and the inputs' derivatives" if jets else "") + fixed)
+           + (", and the inputs' derivatives" if jets else "") + besides)
     return FieldAnswers({s.name: m for s, m in zip(tested, members)}, point_error(error), how)
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """One output's part of G: ``ratios`` of its equation, its Lie derivatives to ``order``
+    (``truncated``: the truncation T_i, which :func:`_lowered` may shorten), and the text."""
+
+    ratios: list[tuple[sympy.Expr, sympy.Expr]]
+    order: int
+    truncated: bool
+    what: str
+    why: str
+
+
+def _plan(model: RationalModel, inputs: Sequence[sympy.Symbol], index: int, name: str, order: int, rank: int | None,
+          seed: int, rng: random.Random, failed: Mapping[str, str] | None, known: Sequence[sympy.Symbol]) -> _Plan:
+    """How output ``index`` enters G (the module's argument): through its equation where it
+    has one that serves, else through its truncation T_i to ``order``."""
+    found = (failed or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
+                                                         name, seed)
+    if not isinstance(found, str) and _fixed_by(found[0], known):
+        ratios, complete = [], True
+    else:
+        ratios, complete = ([], False) if isinstance(found, str) or not found[1] else \
+            generating_ratios(found[0], rank, rng)
+    return _Plan(ratios, _lie_order(found[0]) if complete else order, not complete,
+                 "its equation's ratios and " if ratios else "", _why(found, ratios, complete, known))
+
+
+def _lowered(model: RationalModel, inputs: Sequence[sympy.Symbol], fixed: list[tuple[sympy.Expr, sympy.Expr]],
+             heights: list[int], truncated: list[bool], derivatives: list[tuple[int, Any]], rank: int,
+             rng: random.Random) -> list[int]:
+    """The truncated outputs' orders over the rest of G (the module's argument): rows L^j h_i
+    taken in order of j where they raise the Jacobian's rank at a random point (modulo a
+    prime, a lower bound) over ``fixed``, the other outputs' rows and the inputs'
+    derivatives, until it reaches the verdict's ``rank`` plus those derivatives; each
+    truncated output then goes one order past its highest row taken (0 with none). The
+    given ``heights`` where the rank is not reached."""
+    if not any(truncated):
+        return heights
+    jets = [input_derivative(u, j) for u in inputs for j in range(max(heights) + 1)]
+    rows, candidates, position = list(fixed) + [(j, sympy.Integer(1)) for j in jets], [], 0
+    for output, height in enumerate(heights):
+        for j in range(height + 1):
+            pair = reduced_pair(derivatives[position][1])
+            position += 1
+            if truncated[output]:
+                candidates.append((j, output, pair))
+            else:
+                rows.append(pair)
+    candidates.sort(key=lambda c: c[:2])
+    coordinates = [*model.coordinates, *jets]
+    matrix = _jacobian_at_random_point([*rows, *(pair for *_, pair in candidates)], coordinates, rng)
+    base, target = matrix[:len(rows)], rank + len(jets)
+    current, highest = rank_mod_prime(base, len(coordinates)), {}
+    for (j, output, _), row in zip(candidates, matrix[len(rows):]):
+        if current == target:
+            break
+        if rank_mod_prime([*base, row], len(coordinates)) > current:
+            base, current = [*base, row], current + 1
+            highest[output] = j
+    if current != target:
+        return heights
+    return [highest.get(i, -1) + 1 if cut else h for i, (h, cut) in enumerate(zip(heights, truncated))]
+
+
+def _jacobian_at_random_point(rows: list[tuple[sympy.Expr, sympy.Expr]], coordinates: list[sympy.Symbol],
+                              rng: random.Random) -> list[list[sympy.Expr]]:
+    """Any point serves: a rank reached there modulo the prime is certain, and a bad point only
+    leaves the orders as they were."""
+    point = point_off_denominators([d for _, d in rows], coordinates, 2**31, rng)
+    return jacobian_at(rows, coordinates, point)
+
+
+def _lower(plan: _Plan, height: int) -> str:
+    return f" (lowered from {plan.order} over the rest)" if plan.truncated and height < plan.order else ""
 
 
 def _lie_order(equation: InputOutputEquation) -> int:

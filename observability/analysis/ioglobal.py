@@ -39,7 +39,7 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
 from __future__ import annotations
 
 import random
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -52,7 +52,8 @@ from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
-           "used_constants", "contained_at_random_point", "SUBSET_TERMS", "FULL_TERMS"]
+           "used_constants", "contained_at_random_point", "point_off_denominators", "jacobian_at",
+           "monomials_corank_one", "in_ratios_field", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -98,7 +99,7 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     if isinstance(found, str):
         return found
     equation, corank_one = found
-    members, tests = _membership(equation, tested, random.Random(seed + 2), error, rank)
+    members, tests = in_ratios_field(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
     return ConstantAnswers(members, point_error(error) * tests, _how(equation, corank_one, None in members.values()))
@@ -156,19 +157,29 @@ def _least_order(ring: _Ring, model: RationalModel, equation: InputOutputEquatio
 def _wronskian_corank_one(ring: _Ring, model: RationalModel, equation: InputOutputEquation,
                           rng: random.Random) -> bool:
     """The m_j's Taylor coefficients along one solution have rank N - 1 modulo the prime."""
-    count = len(equation.terms)
-    length = equation.order + count + 2
-    solution = _solution(ring, model, rng, length)
+    solution = _solution(ring, model, rng, equation.order + len(equation.terms) + 2)
     if solution is None:
         return False
+
+    def series(name: str) -> tuple[Any, int]:
+        if name[0] == "Y":
+            return solution.output, int(name[1:])
+        return solution.inputs[int(name[1:].split("_")[0])], int(name.split("_")[1])
+    return monomials_corank_one(equation, series)
+
+
+def monomials_corank_one(equation: InputOutputEquation, series: Callable[[str], tuple[Any, int]]) -> bool:
+    """Whether the monomials of ``equation`` along one solution have Taylor coefficients of
+    rank N - 1 modulo the prime (N monomials): the coefficients are then fixed up to a factor
+    by that solution's outputs and inputs. ``series(jet)``: the solution's series of that jet's
+    output or input and the jet's order (long enough for N + 2 coefficients after it)."""
+    count = len(equation.terms)
     jets = {}
     for position, name in enumerate(equation.jets):
-        base, k = (solution.output, int(name[1:])) if name[0] == "Y" else \
-            (solution.inputs[int(name[1:].split("_")[0])], int(name.split("_")[1]))
-        series = base
+        base, k = series(name)
         for _ in range(k):
-            series = series.derivative()
-        jets[position] = series.truncate(count + 2)
+            base = base.derivative()
+        jets[position] = base.truncate(count + 2)
     products: dict[tuple[int, ...], Any] = {}
 
     def monomial(exponents: tuple[int, ...]) -> Any:
@@ -186,7 +197,7 @@ def _wronskian_corank_one(ring: _Ring, model: RationalModel, equation: InputOutp
     return flint.nmod_mat(rows, IO_PRIME).rank() == count - 1
 
 
-def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
+def in_ratios_field(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
                 error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
     None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
@@ -261,19 +272,25 @@ def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]
     the generators' Jacobian there (modulo a prime, a lower bound) does not reach it."""
     degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
     bound = sampling_range(degrees, [(1, 0)] * len(tested), len(coordinates), error)
-    while True:
-        point = {c: sympy.Integer(rng.randint(-bound, bound)) for c in coordinates}
-        if all(d.xreplace(point) != 0 for _, d in generators):
-            break
-    jacobian = _jacobian(generators, coordinates, point)
+    point = point_off_denominators([d for _, d in generators], coordinates, bound, rng)
+    jacobian = jacobian_at(generators, coordinates, point)
     if rank is not None and rank_mod_prime(jacobian, len(coordinates)) != rank:
         return None
     return contained(generators, [(c, sympy.Integer(1)) for c in tested], coordinates, point, jacobian,
                      rank_mod_prime)
 
 
-def _jacobian(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
-              point: dict) -> list[list[sympy.Expr]]:
+def point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol], bound: int,
+                           rng: random.Random) -> dict:
+    """A point drawn uniformly from [-bound, bound]^n, drawn again while a denominator vanishes there."""
+    while True:
+        point = {c: sympy.Integer(rng.randint(-bound, bound)) for c in coordinates}
+        if all(d.xreplace(point) != 0 for d in denominators):
+            return point
+
+
+def jacobian_at(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
+                point: dict) -> list[list[sympy.Expr]]:
     """The Jacobian of the n / d at ``point`` by the quotient rule, on sympy's Poly (as
     expressions, differentiating SIWR's 249 ratios took 26 s), each denominator's value
     and gradient taken once (the ratios share one)."""

@@ -36,12 +36,13 @@ rank is certain), since exact elimination on numbers of hundreds of thousands
 of bits would cost more than the basis.
 
 **Through the input-output equations, when neither finishes.** The unknown
-constants are then decided from each output's input-output equation
-(:mod:`.ioglobal`: its coefficients' field, with the argument there; with
-several outputs only its "globally" carries over), then the states and the
-constants still open in K itself, generated through those equations
-(:mod:`.iofield`, with the argument there), in a step of their own; the rest
-stays undecided.
+constants are then decided, with several outputs first from the outputs'
+projections eliminated together (:mod:`.ioprojection`: only "globally"), then
+from each output's input-output equation (:mod:`.ioglobal`: its coefficients'
+field, with the argument there; with several outputs only its "globally"
+carries over), then the states and the constants still open in K itself,
+generated through those equations and the constants found (:mod:`.iofield`,
+with the argument there), in a step of their own; the rest stays undecided.
 
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
@@ -71,6 +72,7 @@ from .reducedfibre import radical_range
 from .generators import generate_the_field
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .iofield import field_members
+from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
@@ -219,8 +221,9 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          reason: str, orders: dict[str, int], seed: int, error: float, budget: float | None
                          ) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
-    unknown constants decided through each output's input-output equation
-    (:mod:`.ioglobal`), each within ``budget``; then the states and the constants
+    unknown constants decided through the outputs' joint projections (several outputs:
+    :mod:`.ioprojection`) and each output's input-output equation (:mod:`.ioglobal`),
+    each within ``budget``; then the states and the constants
     still open, in the field the outputs determine, generated through those
     equations (:mod:`.iofield`), within a budget of its own; the rest undecided.
     With several outputs one output's equation says only "globally" (what one
@@ -232,8 +235,12 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     reasons = ["known parameters without values are not supported"] if system.free_parameters else []
     run = bool(constants) and not reasons
     outputs = [name for name, _ in system.outputs]
-    where, notes, failed, spent = _constants_by_equation(system, model, result, constants if run else [], names, seed,
-                                                         error, budget)
+    where, notes, spent = _constants_by_projections(system, model, constants if run else [], names, seed, error,
+                                                    budget, reasons)
+    placed, more, failed, extra = _constants_by_equation(system, model, result,
+                                                         [c for c in constants if names[c] not in where] if run else [],
+                                                         names, seed, error, budget)
+    where, notes, spent = where | placed, notes + more, spent + extra
     reasons += [f"{output}: {why}" for output, why in failed.items()]
     # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
     # minutes), and must not cost the constants' answers.
@@ -263,6 +270,23 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          tuple(s for s in local if where.get(s) is None),
                          spent + (result.error_probability or 0.0), details,
                          generation="not tested: the fibre's answers are undecided")
+
+
+def _constants_by_projections(system: System, model: RationalModel, constants: list[sympy.Symbol], names: dict,
+                              seed: int, error: float, budget: float | None, reasons: list[str]
+                              ) -> tuple[dict[str, bool | None], list[str], float]:
+    """With several outputs, the constants found globally observable through the outputs'
+    projections eliminated together (:mod:`.ioprojection`), within ``budget``: the answers,
+    the note (when any was found) and the error spent; why not is added to ``reasons``."""
+    if len(system.outputs) < 2 or not constants:
+        return {}, [], 0.0
+    found = _budgeted(constants_from_projections, budget, model, list(system.inputs),
+                      [name for name, _ in system.outputs], constants, seed, error)
+    if isinstance(found, str):
+        reasons.append(f"the outputs' projections: {found}")
+        return {}, [], 0.0
+    where: dict[str, bool | None] = {names[c]: True for c in constants if found.members.get(c.name)}
+    return where, [found.how] if where else [], found.error
 
 
 def _constants_by_equation(system: System, model: RationalModel, result: ObservabilityResult,

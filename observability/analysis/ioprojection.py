@@ -1,0 +1,183 @@
+"""Input-output projections of a model with several outputs, eliminated together.
+
+With several outputs one output's own equation may be out of reach (its
+elimination does not end) while the outputs together give short relations:
+StructuralIdentifiability.jl's ``find_ioprojections`` (``src/io_equation.jl``)
+keeps one equation per output, prolongs the one its scores prefer, replaces the
+states' derivatives and the other outputs' leading derivatives through their
+own equations, and eliminates one state from every equation at a time, until
+none holds a state. The result is one polynomial P_o per output o in the jets of
+the outputs and inputs, with coefficients polynomial in the unknown constants
+(HIV: 32 and 182 monomials; Kim and Dong 1999's model: 125 and 20).
+
+**Each P_o vanishes on every solution (certain).** Each elimination takes the
+one irreducible factor of a resultant that vanishes at the jets of a solution
+modulo a prime, refusing when several do, with the argument of
+:mod:`.ioequation`: the polynomials formed lie in the ideal of the solutions'
+jets, which is prime, so a factor of each resultant lies in it, and that factor
+vanishes at the point.
+
+**What P_o's coefficients say (certain).** Nothing here claims P_o is least or
+that the P_o form a characteristic set. Only this: when its monomials' Taylor
+coefficients along one solution have rank N - 1 (N monomials; a rank modulo a
+prime is a lower bound, and P_o's coefficients lie in the kernel, so it is
+exactly N - 1), the coefficient vector is the kernel's, fixed up to a factor by
+that solution's outputs and inputs: the ratios c_j / c_0 are rational in the
+jets of the outputs and inputs, so they lie in K, the field of globally
+observable functions. A constant in their field (the membership test of
+:mod:`.ioglobal`, with its error) is then globally observable. The answer is
+only ever "globally": a constant outside one projection's ratios may lie in K.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Sequence
+from typing import Any
+
+import sympy
+
+from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, drawn
+from .ioglobal import ConstantAnswers, in_ratios_field, monomials_corank_one, point_error
+from .ioseries import SolutionSeries, solution_series
+from .rationalmodel import RationalModel
+
+__all__ = ["joint_projections", "constants_from_projections"]
+
+def joint_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str], seed: int
+                      ) -> tuple[tuple[InputOutputEquation, ...], _Ring] | str:
+    """One projection per output (named ``outputs``), eliminated together (the module's
+    argument), and their ring; or why not."""
+    ring = _Ring(model, inputs, len(model.outputs))
+
+    def attempt(rng: random.Random) -> tuple[tuple[InputOutputEquation, ...], _Ring] | None:
+        solutions = _solutions(ring, model, rng, ring.top + 1)
+        found = None if solutions is None else _eliminate_together(ring, model, _point(ring, solutions))
+        return None if found is None else \
+            (tuple(_result(ring, p, name, o) for o, (name, p) in enumerate(zip(outputs, found))), ring)
+    return drawn(ring, seed, attempt)
+
+
+def constants_from_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str],
+                               tested: Sequence[sympy.Symbol], seed: int, error: float) -> ConstantAnswers | str:
+    """The ``tested`` constants that lie in the ratios' field of a projection whose monomials
+    have corank one along a solution: globally observable (the module's argument); the
+    others are left out (not "only locally")."""
+    found = joint_projections(model, inputs, outputs, seed)
+    if isinstance(found, str):
+        return found
+    projections, ring = found
+    rng = random.Random(seed + 1)
+    members: dict[str, bool | None] = {}
+    tests, used = 0, []
+    for projection in projections:
+        open_ = [c for c in tested if c.name not in members]
+        if not open_ or not _corank_one(ring, model, projection, rng):
+            continue
+        answers, count = in_ratios_field(projection, open_, rng, error, None)
+        tests += count
+        used.append(f"{projection.output}'s ({len(projection.terms)} monomials)")
+        members |= {name: True for name, member in answers.items() if member}
+    how = (f"the outputs' input-output projections, eliminated together as StructuralIdentifiability.jl does; "
+           f"those of {', '.join(used) or 'none'} have corank one along a solution modulo 2^61 - 1, so their "
+           "coefficients' ratios are single-experiment observable; membership by Thm 3.3 of Dong, Goodbrake, "
+           "Harrington, Pogudin 2023 at a random integer point")
+    return ConstantAnswers(members, point_error(error) * tests, how)
+
+
+def _eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> list[Any] | None:
+    """SI.jl's loop (without its change of variables): the outputs' equations free of states, or
+    None when a step met no single vanishing factor. Each pass removes a state for good, so at
+    most n passes, and no output's order passes n (the ring's jets go to n + 1)."""
+    states = {f"x{i}": ring.var[f"dx{i}"] * den - num for i, (num, den) in enumerate(map(ring.pair, ring.speeds))}
+    equations = []
+    for o, h in enumerate(model.outputs):
+        num, den = ring.pair(h)
+        equations.append(ring.var[ring.output_jets[o][0]] * den - num)
+    orders = [0] * len(equations)
+    while True:
+        degrees = {o: [d for x in states if (d := ring.degree(e, x)) > 0] for o, e in enumerate(equations)}
+        scored = [(min(d) * len(equations[o]), min(d), len(equations[o]) / 30 - d.count(min(d)), len(equations[o]), o)
+                  for o, d in degrees.items() if d]
+        if not scored:
+            return equations
+        chosen = min(scored)[-1]
+        orders[chosen] += 1
+        prolonged = _prolonged(ring, equations, orders, chosen, states, point)
+        if prolonged is None:
+            return None
+        present = [x for x in states if ring.degree(equations[chosen], x) > 0]
+        state = min(present, key=lambda x: (ring.degree(equations[chosen], x), ring.degree(prolonged, x), x))
+        del states[state]
+        for x in states:
+            states[x] = _eliminate(ring, states[x], equations[chosen], state, point)
+        for o in range(len(equations)):
+            if o != chosen:
+                equations[o] = _eliminate(ring, equations[o], equations[chosen], state, point)
+        equations[chosen] = _eliminate(ring, equations[chosen], prolonged, state, point)
+        if any(e is None for e in (*states.values(), *equations)):
+            return None
+
+
+def _prolonged(ring: _Ring, equations: list[Any], orders: list[int], chosen: int, states: dict[str, Any],
+               point: list[int]) -> Any | None:
+    """The chosen output's equation differentiated, the states' derivatives and the other
+    outputs' leading derivatives replaced through their equations."""
+    prolonged = ring.derivative(equations[chosen])
+    for x, equation in states.items():
+        prolonged = _eliminate(ring, prolonged, equation, "d" + x, point)
+        if prolonged is None:
+            return None
+    for o, equation in enumerate(equations):
+        if o != chosen:
+            prolonged = _eliminate(ring, prolonged, equation, ring.output_jets[o][orders[o]], point)
+            if prolonged is None:
+                return None
+    return prolonged
+
+
+def _solutions(ring: _Ring, model: RationalModel, rng: random.Random, length: int) -> list[SolutionSeries] | None:
+    """One solution at a random point, with each output's series: the same draws for each."""
+    names = ring.names
+    speeds = [ring.pair(f) for f in ring.speeds]
+    state = rng.getstate()
+    found = []
+    for h in model.outputs:
+        rng.setstate(state)
+        solution = solution_series(speeds, ring.pair(h), names, [names.index(f"x{i}") for i in range(len(ring.states))],
+                                   [names.index(f"c{i}") for i in range(len(ring.constants))],
+                                   [names.index(f"U{j}_0") for j in range(len(ring.inputs))], length, rng, IO_PRIME)
+        if solution is None:
+            return None
+        found.append(solution)
+    return found
+
+
+def _point(ring: _Ring, solutions: list[SolutionSeries]) -> list[int]:
+    """The solution's jets at t = 0, one residue per ring variable."""
+    first = solutions[0]
+    values = {}
+    for i, x in enumerate(first.states):
+        values[f"x{i}"], values[f"dx{i}"] = first.jet(x, 0), first.jet(x, 1)
+    for jets, solution in zip(ring.output_jets, solutions):
+        values |= {y: solution.jet(solution.output, k) for k, y in enumerate(jets)}
+    for k in range(ring.top + 1):
+        values |= {f"U{j}_{k}": first.jet(u, k) for j, u in enumerate(first.inputs)}
+    values |= {f"c{i}": first.constants[f"c{i}"] for i in range(len(ring.constants))}
+    return [values[n] for n in ring.names]
+
+
+def _corank_one(ring: _Ring, model: RationalModel, projection: InputOutputEquation, rng: random.Random) -> bool:
+    """:func:`~.ioglobal.monomials_corank_one` along one solution, each output's own series."""
+    index = {y: (o, k) for o, jets in enumerate(ring.output_jets) for k, y in enumerate(jets)}
+    solutions = _solutions(ring, model, rng, ring.top + len(projection.terms) + 2)
+    if solutions is None:
+        return False
+
+    def series(name: str) -> tuple[Any, int]:
+        if name in index:
+            o, k = index[name]
+            return solutions[o].output, k
+        j, k = name[1:].split("_")
+        return solutions[0].inputs[int(j)], int(k)
+    return monomials_corank_one(projection, series)
