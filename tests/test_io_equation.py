@@ -575,9 +575,34 @@ def test_membership_adjoins_the_coordinates_the_generators_leave_free(monkeypatc
     seen = []
     real = ioglobal.sampling_range
     monkeypatch.setattr(ioglobal, "sampling_range", lambda *args: seen.append(args) or real(*args))
-    assert ioglobal._contained(d**2, [d**2], [d, e], [d, e], random.Random(2), 1e-6) == (True, True)
-    assert ioglobal._contained(d, [a * d, d**2], [a, d, e], [a, d], random.Random(2), 1e-6) == (True, True)
+    assert ioglobal.contained_at_random_point([(d**2, d**2)], [d, e], [d, e], random.Random(2), 1e-6) == (True, True)
+    assert ioglobal.contained_at_random_point([(a * d, d), (d**2, d)], [a, d], [a, d, e], random.Random(2),
+                                              1e-6) == (True, True)
     assert seen[0][0] == [(2, 2)] and seen[1][0] == [(2, 1), (2, 1)]
+
+
+def test_a_constant_transcendental_over_one_output_s_ratios_is_not_placed_by_them(monkeypatch):
+    """x1' = -a b x1, x2' = -b^2 x2, y1 = x1, y2 = x2: y1' + a b y1 = 0 and y2' + b^2 y2 = 0, so
+    K = Q(a b, b^2, x1, x2), and the flip (a, b) -> (-a, -b) keeps every Lie derivative: a and b
+    are only locally observable (locally: a = (a b) / b, b^2 fixes b up to sign). y1's ratios
+    generate Q(a b), over which a is transcendental; the test there, with b adjoined, "found" a
+    and b (a wrong "globally", before). Now y1's ratios, whose Jacobian has rank 1 below its 2
+    constants, are not tested, and y2's (b^2, over which b is algebraic) place nothing; the field's
+    step then gives a, b only locally and x1, x2 globally: two tests in all."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+    from observability.analysis.uniqueness import global_observability
+
+    _forced(monkeypatch)
+    _without_projections(monkeypatch)
+    system = System(["x1", "x2"], ["-a*b*x1", "-b**2*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
+    result = analyze(system, seed=1, directions=False)
+    answer = global_observability(system, result, seed=2, budget=None)
+    assert answer.globally == ("x1", "x2") and answer.only_locally == ("a", "b") and answer.undecided == ()
+    assert answer.error_probability == pytest.approx(2 * E, rel=1e-12)  # y2's and the field's; none on y1's F
+    monkeypatch.setattr(uniqueness, "field_members", lambda *args: "withheld")
+    answer = global_observability(system, result, seed=2, budget=None)
+    assert answer.globally == () and answer.undecided == ("x1", "x2", "a", "b")
 
 
 def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):

@@ -25,7 +25,12 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
   with its error probability, for constants algebraic over F: a locally
   observable constant is algebraic over the field of identifiable functions
   (Hong, Ovchinnikov, Pogudin, Yap, "Global identifiability of differential
-  models", Comm. Pure Appl. Math. 73(9), 2020). When P has many monomials, a
+  models", Comm. Pure Appl. Math. 73(9), 2020). With several outputs that
+  field is all the outputs' and F one output's: a constant locally observable
+  from all of them may be transcendental over F, where the test means nothing
+  (F = Q(a b) "holds" a once b is adjoined). There answers are taken only where
+  the ratios' Jacobian at the point reaches the number of constants in P (a
+  lower bound: reaching it makes each of them algebraic over F). When P has many monomials, a
   subset S of the ratios is tried first, its Jacobian's rank at a point (a
   lower bound) raised to F's transcendence degree: a constant in Q(S) is in F,
   and every constant algebraic over F is algebraic over Q(S) (same degree).
@@ -53,7 +58,7 @@ from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
            "used_constants", "contained_at_random_point", "point_off_denominators", "jacobian_at",
-           "monomials_corank_one", "in_ratios_field", "SUBSET_TERMS", "FULL_TERMS"]
+           "monomials_corank_one", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -99,7 +104,7 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     if isinstance(found, str):
         return found
     equation, corank_one = found
-    members, tests = in_ratios_field(equation, tested, random.Random(seed + 2), error, rank)
+    members, tests = _membership(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
     return ConstantAnswers(members, point_error(error) * tests, _how(equation, corank_one, None in members.values()))
@@ -197,18 +202,25 @@ def monomials_corank_one(equation: InputOutputEquation, series: Callable[[str], 
     return flint.nmod_mat(rows, IO_PRIME).rank() == count - 1
 
 
-def in_ratios_field(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
-                error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
+def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
+                    error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
-    None: past :data:`FULL_TERMS` when the subset did not place it), and the number of
-    membership tests run (each may err with probability ``error``)."""
+    None: past :data:`FULL_TERMS` when the subset did not place it, or, with ``rank`` None,
+    where F's Jacobian did not reach every constant in P), and the number of membership tests
+    run (each may err with probability ``error``)."""
     coordinates = [c for c, u in zip(equation.constants, used_constants(equation)) if u]
     answers: dict[str, bool | None] = {c.name: False for c in tested if c not in coordinates}
     inside = [c for c in tested if c in coordinates]
     tests = 0
+    # With the rank unknown (several outputs) a tested constant, locally observable from all of
+    # them, may be transcendental over F, where the test's answer means nothing (F = Q(a b) "holds"
+    # a once b is adjoined): answers are taken only where F reaches every constant in P.
+    full = len(coordinates) if rank is None else None
     for base, numerators, complete in _ratio_sets(equation, rank, rng) if inside else ():
         open_ = [c for c in inside if c.name not in answers]
-        found = _contained(base, numerators, coordinates, open_, rng, error)
+        found = contained_at_random_point([(n, base) for n in numerators], open_, coordinates, rng, error, full)
+        if found is None:
+            continue
         tests += 1
         for c, member in zip(open_, found):
             if member or complete:
@@ -255,12 +267,6 @@ def generating_ratios(equation: InputOutputEquation, rank: int | None, rng: rand
     for base, numerators, complete in _ratio_sets(equation, rank, rng, subset_first=False):
         return [(n, base) for n in numerators], complete
     return [], False
-
-
-def _contained(base: sympy.Expr, numerators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol],
-               tested: Sequence[sympy.Symbol], rng: random.Random, error: float) -> tuple[bool, ...]:
-    """Each tested constant in Q(n / base : n in numerators) (:func:`contained_at_random_point`)."""
-    return contained_at_random_point([(n, base) for n in numerators], tested, coordinates, rng, error)
 
 
 def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],

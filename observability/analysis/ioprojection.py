@@ -24,9 +24,12 @@ prime is a lower bound, and P_o's coefficients lie in the kernel, so it is
 exactly N - 1), the coefficient vector is the kernel's, fixed up to a factor by
 that solution's outputs and inputs: the ratios c_j / c_0 are rational in the
 jets of the outputs and inputs, so they lie in K, the field of globally
-observable functions. A constant in their field (the membership test of
-:mod:`.ioglobal`, with its error) is then globally observable. The answer is
-only ever "globally": a constant outside one projection's ratios may lie in K.
+observable functions. A constant in their field F (the membership test of
+:mod:`.ioglobal`, with its error) is then globally observable. The test needs
+the constant algebraic over F, which local observability does not give here
+(it is over K): F is used only where its Jacobian at the point reaches every
+constant it holds (a rank modulo a prime is a lower bound, so reaching it is
+certain). The answer is only ever "globally": a constant outside F may lie in K.
 """
 
 from __future__ import annotations
@@ -38,7 +41,8 @@ from typing import Any
 import sympy
 
 from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, drawn
-from .ioglobal import ConstantAnswers, in_ratios_field, monomials_corank_one, point_error
+from .ioglobal import (ConstantAnswers, contained_at_random_point, generating_ratios, monomials_corank_one,
+                       point_error, used_constants)
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
@@ -60,28 +64,37 @@ def joint_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outp
 
 def constants_from_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str],
                                tested: Sequence[sympy.Symbol], seed: int, error: float) -> ConstantAnswers | str:
-    """The ``tested`` constants that lie in the ratios' field of a projection whose monomials
-    have corank one along a solution: globally observable (the module's argument); the
-    others are left out (not "only locally")."""
+    """The ``tested`` constants that lie in F, the field of the ratios of the projections whose
+    monomials have corank one along a solution: globally observable (the module's argument);
+    the others are left out (not "only locally"). Tested first in all of them together, then
+    in each alone; a field is used only where its Jacobian at the point reaches every constant
+    it holds, which makes each of them algebraic over it, as the test needs (a constant locally
+    observable from all outputs may be transcendental over a smaller field: Q(a b) "holds" a
+    once b is adjoined)."""
     found = joint_projections(model, inputs, outputs, seed)
     if isinstance(found, str):
         return found
     projections, ring = found
     rng = random.Random(seed + 1)
+    usable = [p for p in projections if _corank_one(ring, model, p, rng)]
+    fields = [[(p, generating_ratios(p, None, rng)[0]) for p in usable]]
+    fields += [[field] for field in fields[0]] if len(usable) > 1 else []
     members: dict[str, bool | None] = {}
-    tests, used = 0, []
-    for projection in projections:
-        open_ = [c for c in tested if c.name not in members]
-        if not open_ or not _corank_one(ring, model, projection, rng):
-            continue
-        answers, count = in_ratios_field(projection, open_, rng, error, None)
-        tests += count
-        used.append(f"{projection.output}'s ({len(projection.terms)} monomials)")
-        members |= {name: True for name, member in answers.items() if member}
+    tests = 0
+    for field in fields:
+        coordinates = list(dict.fromkeys(c for p, _ in field for c, u in zip(p.constants, used_constants(p)) if u))
+        open_ = [c for c in tested if c in coordinates and c.name not in members]
+        generators = [pair for _, ratios in field for pair in ratios]
+        answers = contained_at_random_point(generators, open_, coordinates, rng, error, len(coordinates)) \
+            if open_ and generators else None
+        if answers is not None:
+            tests += 1
+            members |= {c.name: True for c, member in zip(open_, answers) if member}
+    used = ", ".join(f"{p.output}'s ({len(p.terms)} monomials)" for p in usable) or "none"
     how = (f"the outputs' input-output projections, eliminated together as StructuralIdentifiability.jl does; "
-           f"those of {', '.join(used) or 'none'} have corank one along a solution modulo 2^61 - 1, so their "
-           "coefficients' ratios are single-experiment observable; membership by Thm 3.3 of Dong, Goodbrake, "
-           "Harrington, Pogudin 2023 at a random integer point")
+           f"those of {used} have corank one along a solution modulo 2^61 - 1, so their coefficients' ratios are "
+           "single-experiment observable; membership by Thm 3.3 of Dong, Goodbrake, Harrington, Pogudin 2023 at a "
+           "random integer point, in their field where it reaches every constant it holds")
     return ConstantAnswers(members, point_error(error) * tests, how)
 
 
