@@ -28,9 +28,9 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
   models", Comm. Pure Appl. Math. 73(9), 2020). With several outputs that
   field is all the outputs' and F one output's: a constant locally observable
   from all of them may be transcendental over F, where the test means nothing
-  (F = Q(a b) "holds" a once b is adjoined). There answers are taken only where
-  the ratios' Jacobian at the point reaches the number of constants in P (a
-  lower bound: reaching it makes each of them algebraic over F). When P has many monomials, a
+  (F = Q(a b) "holds" a once b is adjoined). There a constant is tested only
+  once shown algebraic over F (:func:`algebraic_members`, with its own stated
+  error). When P has many monomials, a
   subset S of the ratios is tried first, its Jacobian's rank at a point (a
   lower bound) raised to F's transcendence degree: a constant in Q(S) is in F,
   and every constant algebraic over F is algebraic over Q(S) (same degree).
@@ -43,6 +43,7 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
@@ -51,14 +52,14 @@ from typing import Any
 import flint
 import sympy
 
-from ..rank.membership import contained, rank_mod_prime, sampling_range
+from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_output_equation
 from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
            "used_constants", "contained_at_random_point", "point_off_denominators", "jacobian_at",
-           "monomials_corank_one", "SUBSET_TERMS", "FULL_TERMS"]
+           "monomials_corank_one", "algebraic_members", "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -104,10 +105,10 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     if isinstance(found, str):
         return found
     equation, corank_one = found
-    members, tests = _membership(equation, tested, random.Random(seed + 2), error, rank)
+    members, spent = _membership(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
-    return ConstantAnswers(members, point_error(error) * tests, _how(equation, corank_one, None in members.values()))
+    return ConstantAnswers(members, spent, _how(equation, corank_one, None in members.values()))
 
 
 def point_error(error: float) -> float:
@@ -203,31 +204,64 @@ def monomials_corank_one(equation: InputOutputEquation, series: Callable[[str], 
 
 
 def _membership(equation: InputOutputEquation, tested: Sequence[sympy.Symbol], rng: random.Random,
-                    error: float, rank: int | None) -> tuple[dict[str, bool | None], int]:
+                error: float, rank: int | None) -> tuple[dict[str, bool | None], float]:
     """Each tested constant in F = Q(c_j / c_0) (the module's argument; absent from P: not in F;
-    None: past :data:`FULL_TERMS` when the subset did not place it, or, with ``rank`` None,
-    where F's Jacobian did not reach every constant in P), and the number of membership tests
-    run (each may err with probability ``error``)."""
+    None: past :data:`FULL_TERMS` when the subset did not place it, or, with ``rank`` None, where
+    it was not shown algebraic over F), and the error probability spent."""
     coordinates = [c for c, u in zip(equation.constants, used_constants(equation)) if u]
     answers: dict[str, bool | None] = {c.name: False for c in tested if c not in coordinates}
     inside = [c for c in tested if c in coordinates]
-    tests = 0
-    # With the rank unknown (several outputs) a tested constant, locally observable from all of
-    # them, may be transcendental over F, where the test's answer means nothing (F = Q(a b) "holds"
-    # a once b is adjoined): answers are taken only where F reaches every constant in P.
-    full = len(coordinates) if rank is None else None
+    spent = 0.0
     for base, numerators, complete in _ratio_sets(equation, rank, rng) if inside else ():
         open_ = [c for c in inside if c.name not in answers]
-        found = contained_at_random_point([(n, base) for n in numerators], open_, coordinates, rng, error, full)
-        if found is None:
-            continue
-        tests += 1
+        generators = [(n, base) for n in numerators]
+        if rank is None:  # several outputs: see algebraic_members
+            found, error_spent = algebraic_members(generators, open_, coordinates, rng, error)
+        else:
+            found, error_spent = contained_at_random_point(generators, open_, coordinates, rng, error), point_error(error)
+        spent += error_spent
         for c, member in zip(open_, found):
-            if member or complete:
+            if member or (complete and member is not None):
                 answers[c.name] = member
         if all(c.name in answers for c in inside):
             break
-    return answers | {c.name: None for c in inside if c.name not in answers}, tests
+    return answers | {c.name: None for c in inside if c.name not in answers}, spent
+
+
+def algebraic_members(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],
+                      coordinates: Sequence[sympy.Symbol], rng: random.Random, error: float
+                      ) -> tuple[tuple[bool | None, ...], float]:
+    """Each tested coordinate in F = Q(n / d) where it is shown algebraic over F (None where
+    not), and the error probability spent.
+
+    The membership test needs the tested function algebraic over F. With several outputs a
+    constant locally observable from all of them may be transcendental over the field of one
+    output's (or projection's) ratios, where the test means nothing (F = Q(a b) "holds" a once b
+    is adjoined). So each tested c is first shown algebraic: the exact rank of F's Jacobian at a
+    random integer point does not grow when c's row is added. Were c transcendental, some minor
+    of size one more than F's generic rank would be non-zero as a function yet vanish at the
+    point; times the squared denominators it is a polynomial of degree at most the sum over
+    the generators of (deg n + deg d). With those degrees and the denominators' (redrawn where
+    they vanish) summed to D, a point from [-N, N]^n with N = k D / e (k tested) errs with
+    probability at most e / (1 - e) for all k at once (Schwartz and Zippel). Where F's rank
+    there is the number of coordinates, every one is algebraic, certainly."""
+    degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
+    total = max(sum(n + 2 * d for n, d in degrees), 1)
+    bound = total * max(len(tested), 1) * math.ceil(1 / error)
+    point = point_off_denominators([d for _, d in generators], coordinates, bound, rng)
+    jacobian = jacobian_at(generators, coordinates, point)
+    rank = exact_rank(jacobian, len(coordinates))
+    if rank == len(coordinates):
+        algebraic, spent = [True] * len(tested), 0.0
+    else:
+        algebraic = [exact_rank([*jacobian, [int(x == c) for x in coordinates]], len(coordinates)) == rank
+                     for c in tested]
+        spent = point_error(error)
+    chosen = [c for c, shown in zip(tested, algebraic) if shown]
+    if not chosen:
+        return tuple(None for _ in tested), spent
+    found = iter(contained_at_random_point(generators, chosen, coordinates, rng, error))
+    return tuple(next(found) if shown else None for shown in algebraic), spent + point_error(error)
 
 
 def used_constants(equation: InputOutputEquation) -> list[bool]:

@@ -27,9 +27,9 @@ jets of the outputs and inputs, so they lie in K, the field of globally
 observable functions. A constant in their field F (the membership test of
 :mod:`.ioglobal`, with its error) is then globally observable. The test needs
 the constant algebraic over F, which local observability does not give here
-(it is over K): F is used only where its Jacobian at the point reaches every
-constant it holds (a rank modulo a prime is a lower bound, so reaching it is
-certain). The answer is only ever "globally": a constant outside F may lie in K.
+(it is over K), so that is shown first (:func:`~.ioglobal.algebraic_members`,
+with its stated error). The answer is only ever "globally": a constant outside
+F may lie in K.
 """
 
 from __future__ import annotations
@@ -41,8 +41,7 @@ from typing import Any
 import sympy
 
 from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, drawn
-from .ioglobal import (ConstantAnswers, contained_at_random_point, generating_ratios, monomials_corank_one,
-                       point_error, used_constants)
+from .ioglobal import ConstantAnswers, algebraic_members, generating_ratios, monomials_corank_one, used_constants
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
@@ -67,10 +66,9 @@ def constants_from_projections(model: RationalModel, inputs: Sequence[sympy.Symb
     """The ``tested`` constants that lie in F, the field of the ratios of the projections whose
     monomials have corank one along a solution: globally observable (the module's argument);
     the others are left out (not "only locally"). Tested first in all of them together, then
-    in each alone; a field is used only where its Jacobian at the point reaches every constant
-    it holds, which makes each of them algebraic over it, as the test needs (a constant locally
-    observable from all outputs may be transcendental over a smaller field: Q(a b) "holds" a
-    once b is adjoined)."""
+    in each alone, each constant once shown algebraic over the field, as the test needs (a
+    constant locally observable from all outputs may be transcendental over a smaller field:
+    Q(a b) "holds" a once b is adjoined)."""
     found = joint_projections(model, inputs, outputs, seed)
     if isinstance(found, str):
         return found
@@ -80,22 +78,21 @@ def constants_from_projections(model: RationalModel, inputs: Sequence[sympy.Symb
     fields = [[(p, generating_ratios(p, None, rng)[0]) for p in usable]]
     fields += [[field] for field in fields[0]] if len(usable) > 1 else []
     members: dict[str, bool | None] = {}
-    tests = 0
+    spent = 0.0
     for field in fields:
         coordinates = list(dict.fromkeys(c for p, _ in field for c, u in zip(p.constants, used_constants(p)) if u))
         open_ = [c for c in tested if c in coordinates and c.name not in members]
         generators = [pair for _, ratios in field for pair in ratios]
-        answers = contained_at_random_point(generators, open_, coordinates, rng, error, len(coordinates)) \
-            if open_ and generators else None
-        if answers is not None:
-            tests += 1
+        if open_ and generators:
+            answers, error_spent = algebraic_members(generators, open_, coordinates, rng, error)
+            spent += error_spent
             members |= {c.name: True for c, member in zip(open_, answers) if member}
     used = ", ".join(f"{p.output}'s ({len(p.terms)} monomials)" for p in usable) or "none"
     how = (f"the outputs' input-output projections, eliminated together as StructuralIdentifiability.jl does; "
            f"those of {used} have corank one along a solution modulo 2^61 - 1, so their coefficients' ratios are "
            "single-experiment observable; membership by Thm 3.3 of Dong, Goodbrake, Harrington, Pogudin 2023 at a "
-           "random integer point, in their field where it reaches every constant it holds")
-    return ConstantAnswers(members, point_error(error) * tests, how)
+           "random integer point, each constant once shown algebraic over their field")
+    return ConstantAnswers(members, spent, how)
 
 
 def _eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> list[Any] | None:
