@@ -79,9 +79,9 @@ from typing import Any
 import sympy
 
 from ..engine.lie import input_derivative
+from ..rank.membership import rank_mod_prime
 from .generators import lie_derivatives_of_outputs, reduced_pair
 from .ioequation import InputOutputEquation
-from ..rank.membership import rank_mod_prime
 from .ioglobal import (checked_equation, contained_at_random_point, generating_ratios, jacobian_at,
                        point_error, point_off_denominators, used_constants)
 from .rationalmodel import RationalModel
