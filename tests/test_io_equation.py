@@ -827,6 +827,9 @@ def test_the_verdict_s_rank_sizes_the_ratio_subset_of_a_one_output_model_only(mo
     found = iofield.field_members(two, [], ["y1", "y2"], {"y1": 1, "y2": 1}, [x1, x2], 4, seed=4, error=1e-6,
                                   known=[a, b])
     assert seen == [4, None, None] and found.how.endswith(", the constants a, b found globally observable above")
+    swap = iofield.field_members(_model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1), [], ["y"], {"y": 4},
+                                 [x1, x2], 4, seed=4, error=1e-6, known=[a, b])
+    assert "y: its Lie derivatives to order 1 (its equation's coefficients lie in Q(a, b))" in swap.how
 
 
 def test_a_known_constant_is_a_generator_and_the_rest_of_the_equation_still_counts():

@@ -273,3 +273,14 @@ def test_algebraic_members_checks_then_tests_at_the_stated_range(monkeypatch):
     assert found == (False,) and spent == pytest.approx(E, rel=1e-12)
     found, spent = ioglobal.algebraic_members([(a, b)], [a], [a, b], random.Random(1), 1e-6)
     assert found == (None,) and bounds[-1] == 3 * 10**6
+
+
+def test_one_usable_projection_is_tested_once(monkeypatch):
+    """x1' = -a b x1, x2' = -b^2 x2 with only y1's projection taken as of corank one: its field
+    Q(a b), together and alone the same, is checked once (neither a nor b algebraic over it):
+    one error, nothing placed."""
+    calls = []
+    monkeypatch.setattr(ioprojection, "monomials_corank_one", lambda *args: calls.append(1) or len(calls) == 1)
+    model = RationalModel((x1, x2, a, b), (-a * b * x1, -b**2 * x2, sympy.Integer(0), sympy.Integer(0)), (x1, x2), ())
+    found = constants_from_projections(model, [], ["y1", "y2"], [a, b], seed=1, error=1e-6)
+    assert found.members == {} and found.error == pytest.approx(E, rel=1e-12)
