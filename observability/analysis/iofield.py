@@ -76,14 +76,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+import flint
 import sympy
 
 from ..engine.lie import input_derivative
-from ..rank.membership import rank_mod_prime
+from ..rank.membership import RANK_PRIME
 from .generators import lie_derivatives_of_outputs, reduced_pair
 from .ioequation import InputOutputEquation
-from .ioglobal import (checked_equation, contained_at_random_point, generating_ratios, jacobian_at,
-                       point_error, point_off_denominators, used_constants)
+from .ioglobal import checked_equation, contained_at_random_point, generating_ratios, point_error, used_constants
 from .rationalmodel import RationalModel
 
 __all__ = ["FieldAnswers", "field_members"]
@@ -174,25 +174,27 @@ def _lowered(model: RationalModel, inputs: Sequence[sympy.Symbol], fixed: list[t
     given ``heights`` where the rank is not reached."""
     if not any(truncated):
         return heights
+    ring = derivatives[0][1].field.ring
     jets = [input_derivative(u, j) for u in inputs for j in range(max(heights) + 1)]
-    rows, candidates, position = list(fixed) + [(j, sympy.Integer(1)) for j in jets], [], 0
+    rows = [(ring.from_expr(n), ring.from_expr(d)) for n, d in fixed] + [(ring.from_expr(j), ring.one) for j in jets]
+    candidates, position = [], 0
     for output, height in enumerate(heights):
         for j in range(height + 1):
-            pair = reduced_pair(derivatives[position][1])
+            pair = (derivatives[position][1].numer, derivatives[position][1].denom)
             position += 1
             if truncated[output]:
                 candidates.append((j, output, pair))
             else:
                 rows.append(pair)
     candidates.sort(key=lambda c: c[:2])
-    coordinates = [*model.coordinates, *jets]
-    matrix = _jacobian_at_random_point([*rows, *(pair for *_, pair in candidates)], coordinates, rng)
+    columns = [ring.symbols.index(c) for c in [*model.coordinates, *jets]]
+    matrix = _jacobian_mod_prime([*rows, *(pair for *_, pair in candidates)], columns, len(ring.symbols), rng)
     base, target = matrix[:len(rows)], rank + len(jets)
-    current, highest = rank_mod_prime(base, len(coordinates)), {}
+    current, highest = _rank(base), {}
     for (j, output, _), row in zip(candidates, matrix[len(rows):]):
         if current == target:
             break
-        if rank_mod_prime([*base, row], len(coordinates)) > current:
+        if _rank([*base, row]) > current:
             base, current = [*base, row], current + 1
             highest[output] = j
     if current != target:
@@ -200,12 +202,43 @@ def _lowered(model: RationalModel, inputs: Sequence[sympy.Symbol], fixed: list[t
     return [highest.get(i, -1) + 1 if cut else h for i, (h, cut) in enumerate(zip(heights, truncated))]
 
 
-def _jacobian_at_random_point(rows: list[tuple[sympy.Expr, sympy.Expr]], coordinates: list[sympy.Symbol],
-                              rng: random.Random) -> list[list[sympy.Expr]]:
-    """Any point serves: a rank reached there modulo the prime is certain, and a bad point only
-    leaves the orders as they were."""
-    point = point_off_denominators([d for _, d in rows], coordinates, 2**31, rng)
-    return jacobian_at(rows, coordinates, point)
+def _jacobian_mod_prime(rows: list[tuple[Any, Any]], columns: list[int], variables: int, rng: random.Random
+                        ) -> list[list[int]]:
+    """The gradients of the n / d (polynomials of one ring) in the variables at ``columns``, at a
+    random point modulo :data:`RANK_PRIME`, drawn again where a denominator vanishes there: the
+    reduction of the exact Jacobian at a point, so its rank is a lower bound of the generic rank,
+    and any point serves (a bad one only keeps the orders). Exact rationals cost 60 s and more
+    on Kim and Dong 1999's Lie derivatives to order 8; these cost a pass over the terms."""
+    while True:
+        point = [rng.randrange(1, RANK_PRIME) for _ in range(variables)]
+        values = [(*_value_and_gradient(n, point, columns), *_value_and_gradient(d, point, columns)) for n, d in rows]
+        if all(d for _, _, d, _ in values):
+            break
+    matrix = []
+    for n, n_gradient, d, d_gradient in values:
+        inverse = pow(d * d % RANK_PRIME, -1, RANK_PRIME)
+        matrix.append([(dn * d - n * dd) * inverse % RANK_PRIME for dn, dd in zip(n_gradient, d_gradient)])
+    return matrix
+
+
+def _value_and_gradient(poly: Any, point: list[int], columns: list[int]) -> tuple[int, list[int]]:
+    """A polynomial's value and gradient at ``point`` modulo the prime (no coordinate zero there)."""
+    value, gradient = 0, [0] * len(columns)
+    inverses = {i: pow(point[i], -1, RANK_PRIME) for i in columns}
+    for monomial, c in poly.terms():
+        term = int(c.numerator) * pow(int(c.denominator), -1, RANK_PRIME) % RANK_PRIME
+        for i, e in enumerate(monomial):
+            if e:
+                term = term * pow(point[i], e, RANK_PRIME) % RANK_PRIME
+        value += term
+        for k, i in enumerate(columns):
+            if monomial[i]:
+                gradient[k] += term * monomial[i] * inverses[i]
+    return value % RANK_PRIME, [g % RANK_PRIME for g in gradient]
+
+
+def _rank(rows: list[list[int]]) -> int:
+    return flint.nmod_mat(rows, RANK_PRIME).rank() if rows else 0
 
 
 def _lower(plan: _Plan, height: int) -> str:
