@@ -788,6 +788,33 @@ def test_truncated_orders_are_lowered_one_past_the_rows_taken():
            "the input-output route needs states and unknown constants) (lowered from 2 over the rest)" in found.how
 
 
+def test_the_lowering_s_jacobian_modulo_the_prime_is_sympy_s_reduced():
+    """Each entry of the lowering's Jacobian is d(n/d)/dv at the point modulo 2^61 - 1: checked
+    against sympy's exact derivative evaluated at the same point and reduced, for fractions with
+    rational coefficients, a denominator, a constant numerator and a variable left out of the
+    columns. x' = 1, y = x truncated at order 0 (T = {x}, K = Q(x)): its one row is taken at order 0,
+    and "one past it" would ask for a Lie derivative not computed: the given order is kept."""
+    from observability.analysis.iofield import _jacobian_mod_prime, field_members
+    from observability.rank.membership import RANK_PRIME
+
+    u, v, w = sympy.symbols("u v w")
+    field = sympy.polys.fields.FracField([u, v, w], sympy.QQ)
+    fractions = [(u**2 * v / 3 + 5 * w - 7, sympy.Integer(1)), (2 * u - v**3 / 5, 3 * u * w + v**2 + 1),
+                 (sympy.Integer(4), u * v - w / 2)]
+    rows = [(field.ring.from_expr(n), field.ring.from_expr(d)) for n, d in fractions]
+    rng, copy = random.Random(5), random.Random(5)
+    matrix = _jacobian_mod_prime(rows, [0, 2], 3, rng)
+    point = [copy.randrange(1, RANK_PRIME) for _ in range(3)]
+    values = dict(zip((u, v, w), point))
+    for (n, d), row in zip(fractions, matrix):
+        for symbol, entry in zip((u, w), row):
+            exact = sympy.Rational(sympy.diff(n / d, symbol).subs(values))
+            assert entry == int(exact.p) * pow(int(exact.q), -1, RANK_PRIME) % RANK_PRIME
+    found = field_members(RationalModel((x,), (sympy.Integer(1),), (x,), ()), [], ["y"], {"y": 0}, [x], 1, seed=4,
+                          error=1e-6)
+    assert found.members == {"x": True} and "y: its Lie derivatives to order 0 (no equation" in found.how
+
+
 def test_a_dependent_row_is_not_taken_and_an_equation_s_order_stays():
     """x1' = x2, x2' = -x1 seen twice (y1 = y2 = x1), rank 2: rows in order of j: y1 (rank 1), y2
     (the same row: not taken), y1' = x2 (rank 2): y1 to order 2, y2 to order 0. Taking the

@@ -170,8 +170,8 @@ def _lowered(model: RationalModel, inputs: Sequence[sympy.Symbol], fixed: list[t
     taken in order of j where they raise the Jacobian's rank at a random point (modulo a
     prime, a lower bound) over ``fixed``, the other outputs' rows and the inputs'
     derivatives, until it reaches the verdict's ``rank`` plus those derivatives; each
-    truncated output then goes one order past its highest row taken (0 with none). The
-    given ``heights`` where the rank is not reached."""
+    truncated output then goes one order past its highest row taken (0 with none), never past
+    its given order. The given ``heights`` where the rank is not reached."""
     if not any(truncated):
         return heights
     ring = derivatives[0][1].field.ring
@@ -199,7 +199,8 @@ def _lowered(model: RationalModel, inputs: Sequence[sympy.Symbol], fixed: list[t
             highest[output] = j
     if current != target:
         return heights
-    return [highest.get(i, -1) + 1 if cut else h for i, (h, cut) in enumerate(zip(heights, truncated))]
+    # Never past the given order: T_i to it generates K on its own, and the greedy may take its last row.
+    return [min(highest.get(i, -1) + 1, h) if cut else h for i, (h, cut) in enumerate(zip(heights, truncated))]
 
 
 def _jacobian_mod_prime(rows: list[tuple[Any, Any]], columns: list[int], variables: int, rng: random.Random
