@@ -119,14 +119,13 @@ EQUIVALENT: dict[str, str] = {
         "output's jets): the same equation": (("ioequation.x__result", (6, 16, 40, 42, 50, 51)),),
         "a larger range (D at least 2): only when every generator is a constant, and a larger range only lowers "
         "the error": (("ioglobal.x_algebraic_members", (19,)),),
-        "c / 2 or u / 2 for c or u: the same field": (("iofield.x_field_members", (34, 89)),
-                                                       ("iofield.x__lowered", (16,))),
+        "c / 2 or u / 2 for c or u: the same field": (("iofield.x_field_members", (34, 89)),),
         "the output's name inside the elimination: text only": (("iofield.x__plan", (7,)),),
         "the input derivatives as rows and columns both: each adds one to the rank and to the target, so fewer "
         "or more change no choice; the candidates' (j, output) are distinct, so any key on them sorts alike": (
-            ("iofield.x__lowered", (9, 11, 30, 32)),),
-        "another point's range: a rank reached at any point is certain, and a bad one only keeps the orders": (
-            ("iofield.x__jacobian_at_random_point", (10, 11, 12)),),
+            ("iofield.x__lowered", (12, 34, 36)),),
+        "a power taken without the modulus and reduced after: the same residue; no rows: rank 0 either way":
+            (("iofield.x__value_and_gradient", (33, 36)), ("iofield.x__rank", (2,))),
     }.items() for name, numbers in names for k in numbers},
     **{f"observability.model.expressions.xǁ_Readerǁfail__mutmut_{k}":
        "getattr's default for col_offset: every node fail() is given is an ast expression node, which has one"

@@ -791,15 +791,15 @@ def test_truncated_orders_are_lowered_one_past_the_rows_taken():
 def test_the_lowering_s_jacobian_modulo_the_prime_is_sympy_s_reduced():
     """Each entry of the lowering's Jacobian is d(n/d)/dv at the point modulo 2^61 - 1: checked
     against sympy's exact derivative evaluated at the same point and reduced, for fractions with
-    rational coefficients, a denominator, a constant numerator and a variable left out of the
-    columns. x' = 1, y = x truncated at order 0 (T = {x}, K = Q(x)): its one row is taken at order 0,
+    rational coefficients, a denominator, a constant numerator, two terms in one variable and a
+    variable left out of the columns. x' = 1, y = x truncated at order 0 (T = {x}, K = Q(x)): its one row is taken at order 0,
     and "one past it" would ask for a Lie derivative not computed: the given order is kept."""
     from observability.analysis.iofield import _jacobian_mod_prime, field_members
     from observability.rank.membership import RANK_PRIME
 
     u, v, w = sympy.symbols("u v w")
     field = sympy.polys.fields.FracField([u, v, w], sympy.QQ)
-    fractions = [(u**2 * v / 3 + 5 * w - 7, sympy.Integer(1)), (2 * u - v**3 / 5, 3 * u * w + v**2 + 1),
+    fractions = [(u**2 * v / 3 + u * w + 5 * w - 7, sympy.Integer(1)), (2 * u - v**3 / 5, 3 * u * w + v**2 + 1),
                  (sympy.Integer(4), u * v - w / 2)]
     rows = [(field.ring.from_expr(n), field.ring.from_expr(d)) for n, d in fractions]
     rng, copy = random.Random(5), random.Random(5)
