@@ -263,8 +263,8 @@ def test_algebraic_members_checks_then_tests_at_the_stated_range(monkeypatch):
 
     c = sympy.Symbol("c")
     bounds = []
-    real = ioglobal.point_off_denominators
-    monkeypatch.setattr(ioglobal, "point_off_denominators", lambda d, coords, bound, rng: bounds.append(bound)
+    real = ioglobal._point_off_denominators
+    monkeypatch.setattr(ioglobal, "_point_off_denominators", lambda d, coords, bound, rng: bounds.append(bound)
                         or real(d, coords, bound, rng))
     one = sympy.Integer(1)
     found, spent = ioglobal.algebraic_members([(a + b, one), (a * b, one)], [a, c], [a, b, c], random.Random(1), 1e-6)

@@ -58,8 +58,8 @@ from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
-           "used_constants", "contained_at_random_point", "point_off_denominators", "jacobian_at",
-           "monomials_corank_one", "algebraic_members", "SUBSET_TERMS", "FULL_TERMS"]
+           "used_constants", "contained_at_random_point", "monomials_corank_one", "algebraic_members", "SUBSET_TERMS",
+           "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000
@@ -248,8 +248,8 @@ def algebraic_members(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], teste
     degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
     total = max(sum(n + 2 * d for n, d in degrees), 1)
     bound = total * max(len(tested), 1) * math.ceil(1 / error)
-    point = point_off_denominators([d for _, d in generators], coordinates, bound, rng)
-    jacobian = jacobian_at(generators, coordinates, point)
+    point = _point_off_denominators([d for _, d in generators], coordinates, bound, rng)
+    jacobian = _jacobian_at(generators, coordinates, point)
     rank = exact_rank(jacobian, len(coordinates))
     if rank == len(coordinates):
         algebraic, spent = [True] * len(tested), 0.0
@@ -312,15 +312,15 @@ def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]
     the generators' Jacobian there (modulo a prime, a lower bound) does not reach it."""
     degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
     bound = sampling_range(degrees, [(1, 0)] * len(tested), len(coordinates), error)
-    point = point_off_denominators([d for _, d in generators], coordinates, bound, rng)
-    jacobian = jacobian_at(generators, coordinates, point)
+    point = _point_off_denominators([d for _, d in generators], coordinates, bound, rng)
+    jacobian = _jacobian_at(generators, coordinates, point)
     if rank is not None and rank_mod_prime(jacobian, len(coordinates)) != rank:
         return None
     return contained(generators, [(c, sympy.Integer(1)) for c in tested], coordinates, point, jacobian,
                      rank_mod_prime)
 
 
-def point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol], bound: int,
+def _point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol], bound: int,
                            rng: random.Random) -> dict:
     """A point drawn uniformly from [-bound, bound]^n, drawn again while a denominator vanishes there."""
     while True:
@@ -329,7 +329,7 @@ def point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Sequ
             return point
 
 
-def jacobian_at(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
+def _jacobian_at(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
                 point: dict) -> list[list[sympy.Expr]]:
     """The Jacobian of the n / d at ``point`` by the quotient rule, on sympy's Poly (as
     expressions, differentiating SIWR's 249 ratios took 26 s), each denominator's value

@@ -241,7 +241,7 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                                                          [c for c in constants if names[c] not in where] if run else [],
                                                          names, seed, error, budget)
     where, notes, spent = where | placed, notes + more, spent + extra
-    reasons += [f"{output}: {why}" for output, why in failed.items() if not why.startswith("not computed")]
+    reasons += [f"{output}: {why}" for output, why in failed.items() if why != _NOT_NEEDED]
     # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
     # minutes), and must not cost the constants' answers.
     open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
@@ -289,6 +289,10 @@ def _constants_by_projections(system: System, model: RationalModel, constants: l
     return where, [found.how] if where else [], found.error
 
 
+#: Why an output's own equation is not computed (several outputs, every constant placed before it).
+_NOT_NEEDED = "not computed: every constant was placed without it"
+
+
 def _constants_by_equation(system: System, model: RationalModel, result: ObservabilityResult,
                            constants: list[sympy.Symbol], names: dict, seed: int, error: float, budget: float | None
                            ) -> tuple[dict[str, bool | None], list[str], dict[str, str], float]:
@@ -306,7 +310,7 @@ def _constants_by_equation(system: System, model: RationalModel, result: Observa
         open_ = [c for c in constants if names[c] not in where]
         if not open_:
             if not single:  # an equation not asked for here is not computed in the field's step either
-                failed[output] = "not computed: every constant was placed without it"
+                failed[output] = _NOT_NEEDED
             continue
         found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
                           list(system.inputs), output, open_, seed, error, result.rank if single else None)
