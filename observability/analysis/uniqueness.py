@@ -222,10 +222,12 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          ) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
     unknown constants decided through the outputs' joint projections (several outputs:
-    :mod:`.ioprojection`) and each output's input-output equation (:mod:`.ioglobal`),
-    each within ``budget``; then the states and the constants
-    still open, in the field the outputs determine, generated through those
-    equations (:mod:`.iofield`), within a budget of its own; the rest undecided.
+    :mod:`.ioprojection`); with several outputs, the states and constants still open in
+    the field the outputs determine, generated through those projections where they all
+    serve (:mod:`.iofield`); else the constants through each output's input-output
+    equation (:mod:`.ioglobal`), then the states and the constants still open in that
+    field generated through those equations; each step within ``budget``; the rest
+    undecided.
     With several outputs one output's equation says only "globally" (what one
     output's coefficients fix, the outputs fix; one output leaves open what
     another may fix); the field's step decides both ways."""
@@ -233,31 +235,10 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     constants = [c for c, f in zip(model.coordinates, model.speeds) if f == 0 and names[c] in local]
     states = [c for c, f in zip(model.coordinates, model.speeds) if f != 0 and names[c] in local]
     reasons = ["known parameters without values are not supported"] if system.free_parameters else []
-    run = bool(constants) and not reasons
-    outputs = [name for name, _ in system.outputs]
-    where, notes, spent = _constants_by_projections(system, model, constants if run else [], names, seed, error,
-                                                    budget, reasons)
-    placed, more, failed, extra = _constants_by_equation(system, model, result,
-                                                         [c for c in constants if names[c] not in where] if run else [],
-                                                         names, seed, error, budget)
-    where, notes, spent = where | placed, notes + more, spent + extra
-    reasons += [f"{output}: {why}" for output, why in failed.items() if why != _NOT_NEEDED]
-    # The field's step has a budget of its own: its test is the longer one (SIWR's did not end in 10
-    # minutes), and must not cost the constants' answers.
-    open_ = [c for c in (*states, *constants) if names[c] not in where] if run else []
-    # An output whose equation was not found (its budget spent) gives its truncated Lie derivatives
-    # at once: the field's step would only spend its own budget on the same elimination.
-    # The constants found globally join the generators (K is the same): with them an equation's ratios
-    # become numbers, and its output needs only y, ..., y^(d) (SIWR's states: 4 unknowns, not 11).
-    known = [c for c in constants if where.get(names[c]) is True]
-    field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, result.rank, seed,
-                      error, failed, known) if open_ else None
-    if isinstance(field, str):
-        reasons.append(f"the outputs' field: {field}")
-    elif field is not None:
-        where |= {names[c]: field.members[c.name] for c in open_}
-        notes.append(field.how)
-        spent += field.error
+    progress = _Progress({}, [], 0.0, reasons)
+    if constants and not reasons:
+        _io_route(system, model, result, orders, _Open(states, constants, names), seed, error, budget, progress)
+    where, notes, spent = progress.where, progress.notes, progress.spent
     if not notes:
         why = "; ".join(reasons) or "no locally observable unknown constant"
         return GlobalVerdict((), (), local, None, f"undecided: {reason}; the input-output route: {why}")
@@ -272,21 +253,104 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                          generation="not tested: the fibre's answers are undecided")
 
 
+@dataclass
+class _Progress:
+    """What the input-output route has placed so far (``where``), how, the error spent, and why the
+    rest was not placed."""
+
+    where: dict[str, bool | None]
+    notes: list[str]
+    spent: float
+    reasons: list[str]
+
+    def add(self, where: dict[str, bool | None], note: str, spent: float) -> None:
+        self.where, self.notes, self.spent = self.where | where, [*self.notes, note], self.spent + spent
+
+
+@dataclass(frozen=True)
+class _Open:
+    """The locally observable states and unknown constants, and the names of the model's coordinates."""
+
+    states: list[sympy.Symbol]
+    constants: list[sympy.Symbol]
+    names: dict[sympy.Symbol, str]
+
+
+def _io_route(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int], items: _Open,
+              seed: int, error: float, budget: float | None, progress: _Progress) -> None:
+    """The steps of :func:`_through_io_equation`, each adding to ``progress``. With several outputs
+    the field through the projections comes right after the constants they place: where they all
+    serve it decides states and constants both ways at once (Kim and Dong 1999's: 1 s, where each
+    output's own elimination does not end); else each output's equation, then the field through
+    those equations."""
+    outputs = [name for name, _ in system.outputs]
+    _constants_by_projections(system, model, items.constants, items.names, seed, error, budget, progress)
+    jointly, at = None, len(progress.reasons)
+    if len(outputs) > 1:
+        jointly = _field_step(model, system, outputs, orders, items, progress.where, result.rank, seed, error, budget,
+                              {}, True)
+        if not isinstance(jointly, str):
+            if jointly is not None:
+                progress.add(*jointly)
+            return
+    placed, more, failed, extra = _constants_by_equation(
+        system, model, result, [c for c in items.constants if items.names[c] not in progress.where], items.names, seed,
+        error, budget)
+    progress.where, progress.notes, progress.spent = progress.where | placed, progress.notes + more, \
+        progress.spent + extra
+    progress.reasons += [f"{output}: {why}" for output, why in failed.items() if why != _NOT_NEEDED]
+    field = _field_step(model, system, outputs, orders, items, progress.where, result.rank, seed, error, budget, failed,
+                        False)
+    if isinstance(field, str):
+        progress.reasons.append(f"the outputs' field: {field}")
+    elif field is not None:
+        progress.add(*field)
+    if jointly is not None and any(progress.where.get(items.names[c]) is None
+                                   for c in (*items.states, *items.constants)):
+        progress.reasons.insert(at, f"the outputs' field through their projections: {jointly}")
+
+
+def _field_step(model: RationalModel, system: System, outputs: list[str], orders: dict[str, int], items: _Open,
+                where: dict, rank: int, seed: int, error: float, budget: float | None, failed: dict[str, str],
+                joint: bool) -> tuple[dict[str, bool | None], str, float] | str | None:
+    """The states and constants ``where`` leaves open, in the field the outputs determine
+    (:func:`~.iofield.field_members`; ``joint``: through the projections), within a budget of
+    its own: the answers, how, and the error spent; why not; None when nothing is open.
+
+    Its own budget, as its test is the longer one (SIWR's did not end in 10 minutes) and must not
+    cost the constants' answers. An output whose equation was not found (``failed``, its budget
+    spent) gives its truncated Lie derivatives at once: the step would only spend its budget on the
+    same elimination. The constants found globally join the generators (K is the same): with them
+    an equation's ratios become numbers, and its output needs only y, ..., y^(d) (SIWR's states: 4
+    unknowns, not 11)."""
+    open_ = [c for c in (*items.states, *items.constants) if items.names[c] not in where]
+    if not open_:
+        return None
+    known = [c for c in items.constants if where.get(items.names[c]) is True]
+    field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, rank, seed, error,
+                      failed, known, joint)
+    if isinstance(field, str):
+        return field
+    return {items.names[c]: field.members[c.name] for c in open_}, field.how, field.error
+
+
 def _constants_by_projections(system: System, model: RationalModel, constants: list[sympy.Symbol], names: dict,
-                              seed: int, error: float, budget: float | None, reasons: list[str]
-                              ) -> tuple[dict[str, bool | None], list[str], float]:
+                              seed: int, error: float, budget: float | None, progress: _Progress) -> None:
     """With several outputs, the constants found globally observable through the outputs'
-    projections eliminated together (:mod:`.ioprojection`), within ``budget``: the answers,
-    the note (when any was found) and the error spent; why not is added to ``reasons``."""
-    if len(system.outputs) < 2 or not constants:
-        return {}, [], 0.0
+    projections eliminated together (:mod:`.ioprojection`), within ``budget``, added to
+    ``progress`` (a note when any was found; the error spent either way), or why not."""
+    if len(system.outputs) < 2:
+        return
     found = _budgeted(constants_from_projections, budget, model, list(system.inputs),
                       [name for name, _ in system.outputs], constants, seed, error)
     if isinstance(found, str):
-        reasons.append(f"the outputs' projections: {found}")
-        return {}, [], 0.0
+        progress.reasons.append(f"the outputs' projections: {found}")
+        return
     where: dict[str, bool | None] = {names[c]: True for c in constants if found.members.get(c.name)}
-    return where, [found.how] if where else [], found.error
+    if where:
+        progress.add(where, found.how, found.error)
+    else:
+        progress.spent += found.error
 
 
 #: Why an output's own equation is not computed (several outputs, every constant placed before it).
