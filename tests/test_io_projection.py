@@ -342,12 +342,19 @@ def test_projections_that_do_not_serve_are_refused(monkeypatch):
         monkeypatch.setattr(ioprojection, "joint_projections", lambda *args, p=projections: (p, ring))
         assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1) == reason
     monkeypatch.setattr(ioprojection, "joint_projections", lambda *args: real)
-    monkeypatch.setattr(ioprojection, "_leading_coefficient_at", lambda *args: 0)
-    assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1) == \
-        "y1's projection's leading coefficient vanishes at a solution"
+    with monkeypatch.context() as patched:
+        patched.setattr(ioprojection, "_leading_coefficient_at", lambda *args: 0)
+        assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1) == \
+            "y1's projection's leading coefficient vanishes at a solution"
     monkeypatch.setattr(ioprojection, "monomials_corank_one", lambda *args: False)
     assert field_members(_squared(), [], ["y1", "y2"], {"y1": 2, "y2": 2}, [x1], 4, 1, 1e-6, joint=True) == \
         "the projections do not serve: y1's projection's monomials have corank above one along a solution"
+    # with a found in K, y1's coefficients (1, 2a) lie in Q(a) whatever the corank; y2's still need it
+    assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], 1, [a]) == \
+        "y2's projection's monomials have corank above one along a solution"
+    found = field_members(_squared(), [], ["y1", "y2"], {"y1": 2, "y2": 2}, [x1, x2], 4, 1, 1e-6, known=[a, b],
+                          joint=True)
+    assert found.members == {"x1": False, "x2": True}
 
 
 def test_the_leading_coefficient_against_sympy():

@@ -90,7 +90,8 @@ from ..engine.lie import input_derivative
 from ..rank.membership import RANK_PRIME
 from .generators import lie_derivatives_of_outputs, reduced_pair
 from .ioequation import InputOutputEquation
-from .ioglobal import checked_equation, contained_at_random_point, generating_ratios, point_error, used_constants
+from .ioglobal import (checked_equation, contained_at_random_point, fixed_by, generating_ratios, point_error,
+                       used_constants)
 from .ioprojection import generating_projections
 from .rationalmodel import RationalModel
 
@@ -167,12 +168,12 @@ def _joint_plans(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: 
                  known: Sequence[sympy.Symbol], rng: random.Random) -> list[_Plan] | str:
     """Each output's part of G through the projections eliminated together, when they all
     serve (:func:`~.ioprojection.generating_projections`); why not otherwise."""
-    found = generating_projections(model, inputs, outputs, seed)
+    found = generating_projections(model, inputs, outputs, seed, known)
     if isinstance(found, str):
         return f"the projections do not serve: {found}"
     plans = []
     for projection, order in found:
-        ratios, complete = ([], True) if _fixed_by(projection, known) else generating_ratios(projection, None, rng)
+        ratios, complete = ([], True) if fixed_by(projection, known) else generating_ratios(projection, None, rng)
         if not complete:
             return f"{projection.output}'s projection is too long for its ratios to be used whole"
         plans.append(_Plan(ratios, order, False, "its projection's ratios and " if ratios else "", ""))
@@ -185,7 +186,7 @@ def _plan(model: RationalModel, inputs: Sequence[sympy.Symbol], index: int, name
     has one that serves, else through its truncation T_i to ``order``."""
     found = (failed or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
                                                          name, seed)
-    if not isinstance(found, str) and _fixed_by(found[0], known):
+    if not isinstance(found, str) and fixed_by(found[0], known):
         ratios, complete = [], True
     else:
         ratios, complete = ([], False) if isinstance(found, str) or not found[1] else \
@@ -289,16 +290,11 @@ def _lie_order(equation: InputOutputEquation) -> int:
     return d - 1 if d >= 1 and max(key[top] for key, _ in equation.terms) == 1 else d
 
 
-def _fixed_by(equation: InputOutputEquation, known: Sequence[sympy.Symbol]) -> bool:
-    """Whether every constant in P's coefficients is among ``known`` (then its ratios lie in Q(known))."""
-    return {c for c, used in zip(equation.constants, used_constants(equation)) if used} <= set(known)
-
-
 def _why(found: tuple | str, ratios: list, complete: bool, known: Sequence[sympy.Symbol]) -> str:
     """Why an output's Lie derivatives go to the truncation order rather than its equation's."""
     if isinstance(found, str):
         return f" (no equation: {found})"
-    if _fixed_by(found[0], known):
+    if fixed_by(found[0], known):
         inside = [c.name for c, used in zip(found[0].constants, used_constants(found[0])) if used]
         return f" (its equation's coefficients lie in Q{'(' + ', '.join(inside) + ')' if inside else ''})"
     if not found[1]:

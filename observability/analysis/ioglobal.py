@@ -58,7 +58,7 @@ from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
-           "used_constants", "contained_at_random_point", "monomials_corank_one", "algebraic_members", "SUBSET_TERMS",
+           "used_constants", "fixed_by", "contained_at_random_point", "monomials_corank_one", "algebraic_members", "SUBSET_TERMS",
            "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
@@ -267,6 +267,11 @@ def algebraic_members(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], teste
 def used_constants(equation: InputOutputEquation) -> list[bool]:
     """For each constant of the ring, whether P's coefficients hold it."""
     return [any(c.degrees()[i] for _, c in equation.terms) for i in range(len(equation.constants))]
+
+
+def fixed_by(equation: InputOutputEquation, known: Sequence[sympy.Symbol]) -> bool:
+    """Whether every constant in P's coefficients is among ``known`` (then its ratios lie in Q(known))."""
+    return {c for c, used in zip(equation.constants, used_constants(equation)) if used} <= set(known)
 
 
 def _ratio_sets(equation: InputOutputEquation, rank: int | None, rng: random.Random, subset_first: bool = True

@@ -32,9 +32,11 @@ with its stated error). The answer is only ever "globally": a constant outside
 F may lie in K.
 
 **What they generate together (certain).** When every P_o serves, the ratios of
-all of them, y_o, ..., y_o^(e_o) for each output and the inputs' derivatives
-generate K, as one output's equation does in :mod:`.iofield`. P_o serves when
-(a) its coefficients' ratios lie in K (corank one, above); (b) it holds its own
+all of them (or, for a P_o whose coefficients hold only constants already found
+in K, those constants), y_o, ..., y_o^(e_o) for each output and the inputs'
+derivatives generate K, as one output's equation does in :mod:`.iofield`. P_o serves when
+(a) its coefficients' ratios lie in K (corank one, above; or its coefficients
+hold only constants already found in K); (b) it holds its own
 output's jets to an order d_o >= 0 and every other output p's only below P_p's
 order d_p (SI.jl's loop gives this: an output's leading derivative is replaced
 wherever another equation is prolonged, but it is checked on the result); (c)
@@ -59,7 +61,8 @@ from typing import Any
 import sympy
 
 from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, drawn
-from .ioglobal import ConstantAnswers, algebraic_members, generating_ratios, monomials_corank_one, used_constants
+from .ioglobal import (ConstantAnswers, algebraic_members, fixed_by, generating_ratios, monomials_corank_one,
+                       used_constants)
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
@@ -113,10 +116,11 @@ def constants_from_projections(model: RationalModel, inputs: Sequence[sympy.Symb
     return ConstantAnswers(members, spent, how)
 
 
-def generating_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str], seed: int
-                           ) -> list[tuple[InputOutputEquation, int]] | str:
+def generating_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str], seed: int,
+                           known: Sequence[sympy.Symbol] = ()) -> list[tuple[InputOutputEquation, int]] | str:
     """The projections with the order e_o each output's jets are needed to, when every one
-    serves to generate K (the module's argument: (a) to (c)); else why not."""
+    serves to generate K (the module's argument: (a) to (c)); else why not. ``known``: constants
+    found in K; a projection whose coefficients hold no other needs no corank one for (a)."""
     found = joint_projections(model, inputs, outputs, seed)
     if isinstance(found, str):
         return found
@@ -129,7 +133,7 @@ def generating_projections(model: RationalModel, inputs: Sequence[sympy.Symbol],
     for o, p in enumerate(projections):
         if any(_highest(p, f"Y{q}_") >= orders[q] for q in range(len(projections)) if q != o):
             return f"{p.output}'s projection holds another output's jet at or above that output's own order"
-        if not _corank_one(ring, model, p, rng):
+        if not fixed_by(p, known) and not _corank_one(ring, model, p, rng):
             return f"{p.output}'s projection's monomials have corank above one along a solution"
     solutions = _solutions(ring, model, rng, ring.top + 1)
     if solutions is None:
