@@ -248,7 +248,7 @@ def test_the_projections_get_the_budget_and_a_note_only_when_they_place_somethin
     system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
     result = analyze(system, seed=1, directions=False)
     global_observability(system, result, seed=2, budget=7.0)
-    assert ("constants_from_projections", 7.0) in budgets
+    assert ("constants_from_projections", 7.0) in budgets and ("field_members", 7.0) in budgets
     monkeypatch.setattr(uniqueness, "constants_from_projections", lambda *args: ConstantAnswers({}, 0.0, "nothing"))
     monkeypatch.setattr(uniqueness, "constants_from_io_equation", lambda *args: "withheld")
     monkeypatch.setattr(uniqueness, "field_members", lambda *args: "withheld")
@@ -358,11 +358,16 @@ def test_projections_that_do_not_serve_are_refused(monkeypatch):
 
 
 def test_the_leading_coefficient_against_sympy():
-    """dP / dy1' of each of the squared model's projections at random residues, against sympy's
-    derivative of the projection written out, evaluated and reduced modulo the prime."""
+    """dP / dy_o' of each projection of x1' = -a x1 / (1 + x1), x2' = -b x2 (y1 = x1, y2 = x2) at
+    random residues, against sympy's derivative of the projection written out, evaluated and
+    reduced modulo the prime. y1's, y1' (1 + y1) + a y1, holds its leader in two terms."""
     from observability.analysis.ioequation import IO_PRIME
 
-    (projections, _) = ioprojection.joint_projections(_squared(), [], ["y1", "y2"], seed=1)
+    model = RationalModel((x1, x2, a, b), (-a * x1 / (1 + x1), -b * x2, sympy.Integer(0), sympy.Integer(0)), (x1, x2),
+                          ())
+    (projections, _) = ioprojection.joint_projections(model, [], ["y1", "y2"], seed=1)
+    lead = projections[0].jets.index("Y0_1")
+    assert sum(1 for key, _ in projections[0].terms if key[lead]) == 2
     rng = random.Random(4)
     for o, p in enumerate(projections):
         jets = sympy.symbols(p.jets)
@@ -394,3 +399,66 @@ def test_structural_identifiability_jl_two_output_cases_through_the_projections_
     labels = {s: "globally" for s in answer.globally} | {s: "locally" for s in answer.only_locally}
     assert labels == expected and not answer.undecided
     assert "generated through their projections eliminated together" in answer.details
+    if line == 203:  # y2 - N, linear in y2 itself: y2 is no generator, N (found global) fixes it
+        assert "; y2: none of its Lie derivatives, the constants N, b found globally observable above" \
+            in answer.details
+
+
+def test_projections_that_place_nothing_still_count_their_error(monkeypatch):
+    """x1' = -a b x1, x2' = -b^2 x2, y1 = x1, y2 = x2, the fibre's route forced to give up. The
+    projections y1' + a b y1 and y2' + b^2 y2 place nothing (the flip (a, b) -> (-a, -b) keeps
+    every ratio) yet spend 3 errors: together (a b, b^2: rank 2, the algebraicity check free) one
+    membership test; y1's alone (rank 1 of 2) the check, which shows neither algebraic, so no
+    test; y2's alone (b only: full rank, free) one test of b. The field through the projections
+    then gives x1, x2 globally and a, b only locally, one test more: 4 in all."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+
+    def gives_up(*args):
+        raise uniqueness.Undecided("forced")
+
+    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
+    system = System(["x1", "x2"], ["-a*b*x1", "-b**2*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b"])
+    answer = uniqueness.global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
+    assert answer.globally == ("x1", "x2") and answer.only_locally == ("a", "b") and answer.undecided == ()
+    assert answer.error_probability == pytest.approx(4 * E, rel=1e-12)
+    assert answer.details.startswith("the input-output route: membership")  # the projections placed nothing
+
+
+def test_the_point_holds_each_output_s_jets_to_the_top_order():
+    """The jets of one solution at t = 0 (what the leading coefficients are evaluated at): each
+    output's Y{o}_k, k up to the ring's top order n + 1 = 3, is sympy's L^k h_o at the solution's
+    initial state and constants, and each dx_i its speed there, modulo the prime."""
+    from observability.analysis.ioequation import IO_PRIME, _Ring
+
+    model = _swap()
+    ring = _Ring(model, [], 2)
+    values = dict(zip(ring.names, ioprojection._point(ring, model, random.Random(2))))
+    at = {x1: values["x0"], x2: values["x1"], a: values["c0"], b: values["c1"]}
+    for o, h in enumerate(model.outputs):
+        for k in range(ring.top + 1):
+            assert values[f"Y{o}_{k}"] == int(h.xreplace(at)) % IO_PRIME
+            h = sum(sympy.diff(h, c) * f for c, f in zip(model.coordinates, model.speeds))
+    assert [values["dx0"], values["dx1"]] == [int(f.xreplace(at)) % IO_PRIME for f in model.speeds[:2]]
+    assert ring.top == 3
+
+
+def test_the_joint_plans_are_never_lowered():
+    """The lowering of a truncated output's orders rests on the truncation's closure argument;
+    the projections' orders e_o rest on their own, so no joint plan is marked truncated."""
+    from observability.analysis import iofield
+
+    plans = iofield._joint_plans(_squared(), [], ["y1", "y2"], 1, [], random.Random(1))
+    assert [(plan.order, plan.truncated) for plan in plans] == [(0, False), (0, False)]
+
+
+def test_a_projection_too_long_for_its_ratios_is_refused(monkeypatch):
+    """Past FULL_TERMS terms only a subset of a projection's ratios is formed, whose field may be
+    smaller than F: the argument needs all of them, so the step is refused (here with both limits
+    at zero, on the squared model), never run on the subset."""
+    from observability.analysis import iofield, ioglobal
+
+    monkeypatch.setattr(ioglobal, "FULL_TERMS", 0)
+    monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 0)
+    assert iofield.field_members(_squared(), [], ["y1", "y2"], {"y1": 2, "y2": 2}, [x1], 4, 1, 1e-6, joint=True) == \
+        "y1's projection is too long for its ratios to be used whole"

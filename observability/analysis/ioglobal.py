@@ -58,8 +58,8 @@ from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
 
 __all__ = ["ConstantAnswers", "constants_from_io_equation", "checked_equation", "generating_ratios", "point_error",
-           "used_constants", "fixed_by", "contained_at_random_point", "monomials_corank_one", "algebraic_members", "SUBSET_TERMS",
-           "FULL_TERMS"]
+           "used_constants", "fixed_by", "contained_at_random_point", "monomials_corank_one", "algebraic_members",
+           "SUBSET_TERMS", "FULL_TERMS"]
 
 #: Above this many terms in P's coefficients, a full-rank subset of the ratios is tried first.
 SUBSET_TERMS = 3000

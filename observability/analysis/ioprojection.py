@@ -75,8 +75,8 @@ def joint_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outp
     ring = _Ring(model, inputs, len(model.outputs))
 
     def attempt(rng: random.Random) -> tuple[tuple[InputOutputEquation, ...], _Ring] | None:
-        solutions = _solutions(ring, model, rng, ring.top + 1)
-        found = None if solutions is None else _eliminate_together(ring, model, _point(ring, solutions))
+        point = _point(ring, model, rng)
+        found = None if point is None else _eliminate_together(ring, model, point)
         return None if found is None else \
             (tuple(_result(ring, p, name, o) for o, (name, p) in enumerate(zip(outputs, found))), ring)
     return drawn(ring, seed, attempt)
@@ -135,10 +135,10 @@ def generating_projections(model: RationalModel, inputs: Sequence[sympy.Symbol],
             return f"{p.output}'s projection holds another output's jet at or above that output's own order"
         if not fixed_by(p, known) and not _corank_one(ring, model, p, rng):
             return f"{p.output}'s projection's monomials have corank above one along a solution"
-    solutions = _solutions(ring, model, rng, ring.top + 1)
-    if solutions is None:
+    point = _point(ring, model, rng)
+    if point is None:
         return "the solution drawn to check the leading coefficients met a pole"
-    values = dict(zip(ring.names, _point(ring, solutions)))
+    values = dict(zip(ring.names, point))
     needed = []
     for o, p in enumerate(projections):
         lead = p.jets.index(f"Y{o}_{p.order}")
@@ -236,8 +236,12 @@ def _solutions(ring: _Ring, model: RationalModel, rng: random.Random, length: in
     return found
 
 
-def _point(ring: _Ring, solutions: list[SolutionSeries]) -> list[int]:
-    """The solution's jets at t = 0, one residue per ring variable."""
+def _point(ring: _Ring, model: RationalModel, rng: random.Random) -> list[int] | None:
+    """The jets at t = 0 of one solution drawn at random, one residue per ring variable (each
+    output's to the ring's top order); None where the solution met a pole."""
+    solutions = _solutions(ring, model, rng, ring.top + 1)
+    if solutions is None:
+        return None
     first = solutions[0]
     values = {}
     for i, x in enumerate(first.states):
