@@ -23,13 +23,12 @@ import sys
 import time
 from pathlib import Path
 
-from identifiable import arguments, print_table
+from identifiable import TIMINGS, arguments, print_table, si_seconds
 
 from observability import analyze
 from observability.analysis.uniqueness import global_observability
 from observability.model.sijl import parse_si_model
 
-TIMINGS = "timings_(normalforms, 2)_with_states"
 
 
 def row(folder: Path, budget: float) -> str:
@@ -40,12 +39,9 @@ def row(folder: Path, budget: float) -> str:
     start = time.perf_counter()
     answer = global_observability(system, result, seed=3, budget=budget)
     seconds = time.perf_counter() - start
-    stored = folder / TIMINGS  # absent where SI.jl's run did not finish (SEUIR, NFkB, ...): no time to compare
-    lines = stored.read_text().splitlines()[1:] if stored.exists() else []
-    timings = dict(line.split(", ") for line in lines if ", " in line)
     field = "-" if answer.field is None else ("yes" if answer.field.generates else "?")
     return (f"| {name} | {system.n} | {result.rank} | {len(answer.globally)} | {len(answer.only_locally)} "
-            f"| {len(answer.undecided)} | {field} | {seconds:.1f} | {float(timings.get('id_total', 'nan')):.1f} |")
+            f"| {len(answer.undecided)} | {field} | {seconds:.1f} | {si_seconds(folder):.1f} |")
 
 
 def main(argv: list[str]) -> int:

@@ -55,6 +55,14 @@ RESULT = "result_(normalforms, 2)_with_states"
 TIMINGS = "timings_(normalforms, 2)_with_states"
 
 
+def si_seconds(folder: Path) -> float:
+    """SI.jl's stored ``id_total`` for the model in ``folder`` (seconds on its maintainers' machine);
+    nan where its run stored none (SEUIR, NFkB, ...)."""
+    stored = folder / TIMINGS
+    lines = stored.read_text().splitlines()[1:] if stored.exists() else []
+    return float(dict(line.split(", ") for line in lines if ", " in line).get("id_total", "nan"))
+
+
 def _generators(text: str, names: dict[str, sympy.Symbol], source: str) -> list[sympy.Expr]:
     """SI.jl's printed list ``Frac{...}[a, b//c, ...]`` as expressions, by the safe parser."""
     body = _unreserved(text[text.index("[", text.index("}")) + 1:text.rindex("]")])
@@ -96,8 +104,7 @@ def compare(folder: Path, budget: float) -> dict[str, object]:
     row["trdeg_theirs"] = jacobian_rank_at(system, theirs, 7)
     row["trdeg_ours"] = jacobian_rank_at(system, ours, 7)
     row["closure"] = jacobian_rank_at(system, ours + theirs, 7) == row["trdeg_ours"] == row["trdeg_theirs"]
-    timings = dict(line.split(", ") for line in (folder / TIMINGS).read_text().splitlines()[1:] if ", " in line)
-    row["si_jl"] = float(timings.get("id_total", "nan"))
+    row["si_jl"] = si_seconds(folder)
     coordinates = list(system.states)
     for key, generators, tested in (("ours_in_theirs", theirs, ours), ("theirs_in_ours", ours, theirs)):
         try:

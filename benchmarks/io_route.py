@@ -5,7 +5,10 @@ this script runs the local verdict, then only the input-output route of the glob
 analysis (:func:`observability.analysis.uniqueness._through_io_equation`, as if the
 fibre's route had given no answer), with a CPU budget per step, and prints the
 states and unknown constants found globally observable, only locally, and
-undecided, with the route's wall time. Each answer is then checked against the field
+undecided, with the route's wall time beside SI.jl's stored ``id_total`` (its
+``find_identifiable_functions`` with states, on its maintainers' machine: more
+work than this route, which only places each state and constant, and another
+machine, so a scale rather than a ratio). Each answer is then checked against the field
 SI.jl's ``find_identifiable_functions`` stored (``result_(normalforms, 2)_with_states``,
 generators of the field of globally identifiable functions of states and
 parameters): a "globally" item must lie in it, an "only locally" one must not
@@ -22,7 +25,7 @@ import sys
 import time
 from pathlib import Path
 
-from identifiable import RESULT, _contained, _generators, arguments, print_table
+from identifiable import RESULT, _contained, _generators, arguments, print_table, si_seconds
 
 from observability import analyze
 from observability.analysis import uniqueness
@@ -66,12 +69,14 @@ def row(folder: Path, budget: float) -> str:
     else:
         check = "agrees" + (f" ({unknown} ?)" if unknown else "")
     return (f"| {name} | {len(system.outputs)} | {', '.join(answer.globally)} | {', '.join(answer.only_locally)} "
-            f"| {len(answer.undecided)} of {len(result.observable_states or ())} | {seconds:.1f} | {check} |")
+            f"| {len(answer.undecided)} of {len(result.observable_states or ())} | {seconds:.1f} "
+            f"| {si_seconds(folder):.1f} | {check} |")
 
 
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], RESULT, 60.0, "CPU seconds per step")
-    print_table("model | outputs | globally | only locally | undecided | route s (wall) | against SI.jl's field", folders, budget, row)
+    print_table("model | outputs | globally | only locally | undecided | route s (wall) | SI.jl s (its machine) "
+                "| against SI.jl's field", folders, budget, row)
     return 0
 
 

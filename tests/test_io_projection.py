@@ -346,6 +346,9 @@ def test_projections_that_do_not_serve_are_refused(monkeypatch):
         patched.setattr(ioprojection, "_leading_coefficient_at", lambda *args: 0)
         assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1) == \
             "y1's projection's leading coefficient vanishes at a solution"
+        patched.setattr(ioprojection, "_point", lambda *args: None)
+        assert ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1) == \
+            "the solution drawn to check the leading coefficients met a pole"
     monkeypatch.setattr(ioprojection, "monomials_corank_one", lambda *args: False)
     assert field_members(_squared(), [], ["y1", "y2"], {"y1": 2, "y2": 2}, [x1], 4, 1, 1e-6, joint=True) == \
         "the projections do not serve: y1's projection's monomials have corank above one along a solution"
