@@ -465,3 +465,21 @@ def test_a_projection_too_long_for_its_ratios_is_refused(monkeypatch):
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 0)
     assert iofield.field_members(_squared(), [], ["y1", "y2"], {"y1": 2, "y2": 2}, [x1], 4, 1, 1e-6, joint=True) == \
         "y1's projection is too long for its ratios to be used whole"
+
+
+def test_the_projections_after_a_change_of_variables_vanish_on_the_solutions(monkeypatch):
+    """y1 = x1 (x2 + c), y2 = x2^2 with x1' = -a x1, x2' = -b x2: y1's equation is linear in x1 with
+    coefficient x2 + c, so SI.jl's change x2 -> x2 + c is made once on the way (counted). Both
+    projections still vanish on every solution (sympy's Lie derivatives substituted: the
+    change moves the states only, and the point with them)."""
+    from observability.analysis import ioprojection as module
+
+    c = sympy.Symbol("c")
+    model = RationalModel((x1, x2, a, b, c), (-a * x1, -b * x2, sympy.Integer(0), sympy.Integer(0), sympy.Integer(0)),
+                          (x1 * (x2 + c), x2**2), ())
+    real, moves = module.change_of_variables, []
+    monkeypatch.setattr(module, "change_of_variables", lambda *args: (found := real(*args)) and
+                        (moves.append(found[2] != args[-1]) or found))
+    projections, _ = joint_projections(model, [], ["y1", "y2"], seed=1)
+    assert moves.count(True) == 1
+    assert all(_vanishes_on_solutions(model, p) for p in projections)

@@ -60,7 +60,7 @@ from typing import Any
 
 import sympy
 
-from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, drawn
+from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, change_of_variables, drawn
 from .ioglobal import (ConstantAnswers, algebraic_members, fixed_by, generating_ratios, monomials_corank_one,
                        used_constants)
 from .ioseries import SolutionSeries, solution_series
@@ -169,7 +169,7 @@ def _leading_coefficient_at(projection: InputOutputEquation, lead: int, values: 
 
 
 def _eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> list[Any] | None:
-    """SI.jl's loop (without its change of variables): the outputs' equations free of states, or
+    """SI.jl's loop, with its change of variables: the outputs' equations free of states, or
     None when a step met no single vanishing factor. Each pass removes a state for good, so at
     most n passes, and no output's order passes n (the ring's jets go to n + 1)."""
     states = {f"x{i}": ring.var[f"dx{i}"] * den - num for i, (num, den) in enumerate(map(ring.pair, ring.speeds))}
@@ -191,6 +191,11 @@ def _eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> 
             return None
         present = [x for x in states if ring.degree(equations[chosen], x) > 0]
         state = min(present, key=lambda x: (ring.degree(equations[chosen], x), ring.degree(prolonged, x), x))
+        if ring.degree(equations[chosen], state) == 1:
+            changed = change_of_variables(ring, equations[chosen], state, states, [*equations, prolonged], point)
+            if changed is None:
+                return None
+            states, (*equations, prolonged), point = changed
         del states[state]
         for x in states:
             states[x] = _eliminate(ring, states[x], equations[chosen], state, point)
