@@ -1030,3 +1030,65 @@ def test_substitution_and_coefficients_against_sympy():
     free = 7 * v["Y0"]**2
     assert ioequation._substituted(ring, free, "x0", numerator, denominator) == free
     assert len(ioequation._by_degree(ring, free, "x0")) == 2  # c_0 and a zero c_1, asked for by the change
+
+
+def test_a_change_of_variables_holds_on_every_solution():
+    """change_of_variables on a hand-made equation, states p, q, r, s (ring x0..x3) with p' = -c p,
+    q' = r - q, r' = -2 r, s' = s, the output h = p. E = p (2 q s + 2 (Y0 + c) r + 2 s) + Y1: its
+    coefficient in p is linear in q, r, s. For q, A = 2 s holds a state: skipped, not stopped at;
+    for r, A = 2 (Y0 + c), B = 2 s (q + 1), their common factor 2 taken out: r becomes
+    r + s (q + 1) / (Y0 + c), after which E's coefficient in p is 2 (Y0 + c) r (E times Y0 + c,
+    clearing the denominator). Reference: sympy.
+    Each changed state equation, with the new r written as r + s (q + 1) / (Y0 + c), its
+    derivative as r' + (that ratio)', every dx as its speed and Y_k as L^k h, is zero as a
+    rational function (it holds on every solution); r's own holds no other state's derivative;
+    the moved point's r and dr are the old plus the ratio and its derivative there."""
+    from observability.analysis import ioequation
+    from observability.analysis.ioequation import IO_PRIME, _solution, change_of_variables
+
+    p_, q_, r_, s_, c = sympy.symbols("p q r s c")
+    speeds = (-c * p_, r_ - q_, -2 * r_, s_)
+    model = RationalModel((p_, q_, r_, s_, c), (*speeds, sympy.Integer(0)), (p_,), ())
+    ring = _Ring(model, [])
+    v = ring.var
+    states = {}
+    for i, f in enumerate(ring.speeds):
+        num, den = ring.pair(f)
+        states[f"x{i}"] = v[f"dx{i}"] * den - num
+    equation = v["x0"] * (2 * v["x1"] * v["x3"] + 2 * (v["Y0"] + v["c0"]) * v["x2"] + 2 * v["x3"]) + v["Y1"]
+    point = ioequation._point(ring, _solution(ring, model, random.Random(3), ring.top + 1))
+    changed, (changed_equation,), moved = change_of_variables(ring, equation, "x0", states, [equation], point)
+    # E's coefficient in p is 2 (Y0 + c) r, times the Y0 + c that clears the denominator
+    assert ioequation._by_degree(ring, changed_equation, "x0")[1] == 2 * (v["Y0"] + v["c0"])**2 * v["x2"]
+    lie = [p_]
+    for _ in range(ring.top):
+        lie.append(sum(sympy.diff(lie[-1], z) * f for z, f in zip(model.coordinates, model.speeds)))
+    ratio = s_ * (q_ + 1) / (lie[0] + c)
+    rate = sum(sympy.diff(ratio, z) * f for z, f in zip(model.coordinates, model.speeds))
+    back = {"x0": p_, "x1": q_, "x2": r_ + ratio, "x3": s_, "dx0": speeds[0], "dx1": speeds[1],
+            "dx2": speeds[2] + rate, "dx3": speeds[3], "c0": c, **{f"Y{k}": lie[k] for k in range(ring.top + 1)}}
+    symbols = dict(zip(ring.names, sympy.symbols(ring.names)))
+    for name, polynomial in changed.items():
+        written = sympy.sympify(str(polynomial).replace("^", "**"), locals=symbols)
+        assert sympy.cancel(written.xreplace({symbols[k]: e for k, e in back.items()})) == 0, name
+    assert [ring.degree(changed["x2"], f"dx{i}") for i in (0, 1, 3)] == [0, 0, 0]
+    at = dict(zip(ring.names, point))
+
+    def value(expr):
+        n, d = sympy.fraction(sympy.cancel(expr))
+        values = {p_: at["x0"], q_: at["x1"], r_: at["x2"], s_: at["x3"], c: at["c0"]}
+        return int(n.xreplace(values)) * pow(int(d.xreplace(values)), -1, IO_PRIME) % IO_PRIME
+    slot, rate_slot = ring.names.index("x2"), ring.names.index("dx2")
+    assert moved[slot] == (at["x2"] + value(ratio)) % IO_PRIME
+    assert moved[rate_slot] == (at["dx2"] + value(rate)) % IO_PRIME
+    assert [m for i, m in enumerate(moved) if i not in (slot, rate_slot)] == \
+        [m for i, m in enumerate(point) if i not in (slot, rate_slot)]
+
+
+def test_a_zero_polynomial_stays_zero_under_substitution():
+    """_substituted of the zero polynomial (degree taken as 0) is zero."""
+    from observability.analysis import ioequation
+
+    ring = _Ring(_model((x, k), (-k * x, 0), x), [])
+    zero = ring.ctx.from_dict({})
+    assert ioequation._substituted(ring, zero, "x0", ring.var["x0"], ring.var["c0"] + 1).is_zero()

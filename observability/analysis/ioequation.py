@@ -273,7 +273,7 @@ def _by_degree(ring: _Ring, poly: Any, name: str) -> list[Any]:
     parts: dict[int, dict[tuple[int, ...], Any]] = {}
     for monomial, c in zip(poly.monoms(), poly.coeffs()):
         parts.setdefault(monomial[slot], {})[(*monomial[:slot], 0, *monomial[slot + 1:])] = c
-    return [ring.ctx.from_dict(parts.get(k, {})) for k in range(max(1, *parts) + 1)]
+    return [ring.ctx.from_dict(parts.get(k, {})) for k in range(max([1, *parts]) + 1)]
 
 
 def _substituted(ring: _Ring, poly: Any, name: str, numerator: Any, denominator: Any) -> Any:
