@@ -264,7 +264,10 @@ class _Progress:
     reasons: list[str]
 
     def add(self, where: dict[str, bool | None], note: str, spent: float) -> None:
-        self.where, self.notes, self.spent = self.where | where, [*self.notes, note], self.spent + spent
+        self.extend(where, [note], spent)
+
+    def extend(self, where: dict[str, bool | None], notes: list[str], spent: float) -> None:
+        self.where, self.notes, self.spent = self.where | where, [*self.notes, *notes], self.spent + spent
 
 
 @dataclass(frozen=True)
@@ -296,8 +299,7 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
     placed, more, failed, extra = _constants_by_equation(
         system, model, result, [c for c in items.constants if items.names[c] not in progress.where], items.names, seed,
         error, budget)
-    progress.where, progress.notes, progress.spent = progress.where | placed, progress.notes + more, \
-        progress.spent + extra
+    progress.extend(placed, more, extra)
     progress.reasons += [f"{output}: {why}" for output, why in failed.items() if why != _NOT_NEEDED]
     field = _field_step(model, system, outputs, orders, items, progress.where, result.rank, seed, error, budget, failed,
                         False)
