@@ -47,7 +47,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
-    "global": (["observability/analysis/uniqueness.py", "observability/analysis/fibre.py",
+    "global": (["observability/analysis/uniqueness.py", "observability/analysis/mirrors.py",
+                "observability/analysis/fibre.py",
                 "observability/analysis/rationalmodel.py",
                 "observability/analysis/generators.py", "observability/analysis/globalfield.py",
                 "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py",
@@ -276,7 +277,7 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.jets.x__solve_linear__mutmut_13": "the caller catches the ZeroDivisionError and draws another point: its text is never shown",
     **{f"observability.analysis.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
        for k in (10, 14, 15)},
-    **{f"observability.analysis.uniqueness.x__mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
+    **{f"observability.analysis.mirrors.x_mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
     "observability.analysis.uniqueness.x__truncation__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
     **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},

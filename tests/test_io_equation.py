@@ -407,7 +407,7 @@ def test_one_output_decides_constants_and_states(monkeypatch):
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
     assert answer.globally == ("x1",) and answer.only_locally == ("x2", "a", "b") and answer.undecided == ()
     assert answer.error_probability == pytest.approx(2 * E, rel=1e-12)
-    assert answer.generation == "not tested: the fibre's answers are undecided"
+    assert answer.generation == "" and answer.functions == ()  # full rank: no function printed, as on the fibre's
     assert answer.details.startswith("the input-output route: the input-output equation of y (order 2")
     assert "several outputs" not in answer.details and answer.details.endswith("the fibre's route: forced "
                                                                                "(the Lie derivatives y 0..4, their "
@@ -652,7 +652,7 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
         ranks.append(rank)
         return ConstantAnswers({c.name: None for c in tested}, 0.0, "recorded")
 
-    def field(model, inputs, outputs, orders, tested, rank, seed, error, failed, known, joint):
+    def field(model, inputs, outputs, orders, tested, rank, seed, error, failed, known, joint, functions):
         fields.append(([s.name for s in tested], orders, rank, failed, joint))
         return "recorded"
 

@@ -483,3 +483,32 @@ def test_the_projections_after_a_change_of_variables_vanish_on_the_solutions(mon
     projections, _ = joint_projections(model, [], ["y1", "y2"], seed=1)
     assert moves.count(True) == 1
     assert all(_vanishes_on_solutions(model, p) for p in projections)
+
+
+def test_the_verdict_s_functions_are_tested_and_generate_the_field_on_this_route(monkeypatch):
+    """x1' = -(a + b) x1, x2' = -c x2, y1 = x1, y2 = x2 with the fibre's own step forced to give up
+    (the generation test still runs): the verdict prints x1, x2, c, a + b (a proven rank, 4). The
+    projections y1' + (a + b) y1 and y2' + c y2 give c; their field (a + b, c, y1, y2) gives x1, x2
+    and the function a + b globally, in the same test. The four printed functions then generate K:
+    every Lie derivative, -(a + b)^k x1 and (-c)^k x2, is a polynomial in them."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+
+    real = uniqueness._over_q_then_modulo_primes
+
+    def fibre_gives_up(func, *args):
+        if func is uniqueness._decide:
+            raise uniqueness.Undecided("forced")
+        return real(func, *args)
+
+    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", fibre_gives_up)
+    system = System(["x1", "x2"], ["-(a + b)*x1", "-c*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b", "c"])
+    result = analyze(system, seed=1)
+    assert result.observable_functions == ("x1", "x2", "c", "a + b") and result.proof == "proven"
+    answer = uniqueness.global_observability(system, result, seed=2, budget=None)
+    assert answer.globally == ("x1", "x2", "c") and answer.functions == (("a + b", True),)
+    assert answer.generates_field is True and answer.field.generators == ("x1", "x2", "c", "a + b")
+    assert answer.generation.startswith("every Lie derivative up to the truncation lies in their field")
+    # the projections' check and test of c (a, b, c: rank 2 of 3), the field's test (x1, x2 and a + b
+    # together), the generation test's 10^-6, and the local verdict's own
+    assert answer.error_probability == pytest.approx(3 * E + 1e-6 + (result.error_probability or 0.0), rel=1e-12)

@@ -100,17 +100,19 @@ __all__ = ["FieldAnswers", "field_members"]
 
 @dataclass(frozen=True)
 class FieldAnswers:
-    """Each tested symbol: True (globally), False (only locally); the test's error; how."""
+    """Each tested symbol: True (globally), False (only locally); each tested function, in order,
+    the same; the test's error; how."""
 
     members: dict[str, bool]
     error: float
     how: str
+    functions: tuple[bool, ...] = ()
 
 
 def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str],
                   orders: dict[str, int], tested: Sequence[sympy.Symbol], rank: int, seed: int,
                   error: float, failed: Mapping[str, str] | None = None, known: Sequence[sympy.Symbol] = (),
-                  joint: bool = False) -> FieldAnswers | str:
+                  joint: bool = False, functions: Sequence[tuple[sympy.Expr, sympy.Expr]] = ()) -> FieldAnswers | str:
     """Whether each locally observable state or constant ``tested`` lies in K (the
     module's argument), or why it was not decided. ``outputs``: the names of the
     model's outputs, in order; ``orders``: the truncation orders of each output's
@@ -118,7 +120,9 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
     ``failed``: outputs whose equation was not found before, with the reason (their
     truncated Lie derivatives are used at once); ``known``: constants already found
     in K (their error is the caller's to add: the answers here rest on theirs); ``joint``: G
-    from the outputs' projections eliminated together (the module's argument), else why not."""
+    from the outputs' projections eliminated together (the module's argument), else why not;
+    ``functions``: reduced (n, d) pairs in the model's coordinates, algebraic over K (the
+    verdict's observable functions under a proven rank), tested in the same test."""
     rng = random.Random(seed + 3)
     if joint:
         plans = _joint_plans(model, inputs, outputs, seed, known, rng)
@@ -136,7 +140,8 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
     generators = fixed + [reduced_pair(derivatives[offset + j][1]) for offset, height in zip(offsets, heights)
                           for j in range(height + 1)]
     generators += [(j, sympy.Integer(1)) for j in jets]
-    members = contained_at_random_point(generators, tested, [*model.coordinates, *jets], rng, error, rank + len(jets))
+    members = contained_at_random_point(generators, tested, [*model.coordinates, *jets], rng, error, rank + len(jets),
+                                        functions)
     if members is None:
         with_jets = f" (the verdict's {rank} and {len(jets)} input derivatives)" if jets else ""
         return f"the Jacobian of the field's generators did not reach the rank {rank + len(jets)}{with_jets} at the " \
@@ -149,7 +154,8 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
            "the outputs determine, generated" + (" through their projections eliminated together" if joint else "")
            + " by " + "; ".join(parts)
            + (", and the inputs' derivatives" if jets else "") + besides)
-    return FieldAnswers({s.name: m for s, m in zip(tested, members)}, point_error(error), how)
+    return FieldAnswers({s.name: m for s, m in zip(tested, members)}, point_error(error), how,
+                        tuple(members[len(tested):]))
 
 
 @dataclass(frozen=True)

@@ -310,19 +310,22 @@ def generating_ratios(equation: InputOutputEquation, rank: int | None, rng: rand
 
 def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], tested: Sequence[sympy.Symbol],
                               coordinates: Sequence[sympy.Symbol], rng: random.Random, error: float,
-                              rank: int | None = None) -> tuple[bool, ...] | None:
-    """Each tested symbol in Q(n / d : (n, d) in generators), by
-    :func:`~observability.rank.membership.contained` at a point drawn from its
-    sampling range where no denominator vanishes; None when ``rank`` is given and
-    the generators' Jacobian there (modulo a prime, a lower bound) does not reach it."""
+                              rank: int | None = None, functions: Sequence[tuple[sympy.Expr, sympy.Expr]] = ()
+                              ) -> tuple[bool, ...] | None:
+    """Each tested symbol, then each of ``functions`` (reduced n / d pairs), in
+    Q(n / d : (n, d) in generators), by :func:`~observability.rank.membership.contained`
+    at a point drawn from its sampling range where no denominator vanishes (the
+    functions' denominators too); None when ``rank`` is given and the generators'
+    Jacobian there (modulo a prime, a lower bound) does not reach it."""
+    pairs = [*((c, sympy.Integer(1)) for c in tested), *functions]
     degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in generators]
-    bound = sampling_range(degrees, [(1, 0)] * len(tested), len(coordinates), error)
-    point = _point_off_denominators([d for _, d in generators], coordinates, bound, rng)
+    tested_degrees = [(polynomial_degree(n, coordinates), polynomial_degree(d, coordinates)) for n, d in pairs]
+    bound = sampling_range(degrees, tested_degrees, len(coordinates), error)
+    point = _point_off_denominators([d for _, d in (*generators, *functions)], coordinates, bound, rng)
     jacobian = _jacobian_at(generators, coordinates, point)
     if rank is not None and rank_mod_prime(jacobian, len(coordinates)) != rank:
         return None
-    return contained(generators, [(c, sympy.Integer(1)) for c in tested], coordinates, point, jacobian,
-                     rank_mod_prime)
+    return contained(generators, pairs, coordinates, point, jacobian, rank_mod_prime)
 
 
 def _point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Sequence[sympy.Symbol], bound: int,

@@ -69,9 +69,10 @@ from ..model.expressions import parse_expression
 from .fibre import exact_fibre, fibre_equations, known_variables
 from .modularfibre import members_modulo_prime
 from .reducedfibre import radical_range
-from .generators import generate_the_field
+from .generators import generate_the_field, reduced_pair
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .iofield import field_members
+from .mirrors import mirrors
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
@@ -187,7 +188,7 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     except Undecided as exc:
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
-        return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget)
+        return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget, functions)
     members, bits, probability, angles, mirrors, paired, how = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
@@ -218,8 +219,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
 
 
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
-                         reason: str, orders: dict[str, int], seed: int, error: float, budget: float | None
-                         ) -> GlobalVerdict:
+                         reason: str, orders: dict[str, int], seed: int, error: float, budget: float | None,
+                         functions: list[tuple[str, sympy.Expr]] = ()) -> GlobalVerdict:
     """The verdict when the fibre gave no answer (``reason``): the locally observable
     unknown constants decided through the outputs' joint projections (several outputs:
     :mod:`.ioprojection`); with several outputs, the states and constants still open in
@@ -230,14 +231,17 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     undecided.
     With several outputs one output's equation says only "globally" (what one
     output's coefficients fix, the outputs fix; one output leaves open what
-    another may fix); the field's step decides both ways."""
+    another may fix); the field's step decides both ways. The verdict's observable
+    ``functions`` (under a proven rank) are tested in the field's step too, and whether
+    they generate the field then as on the fibre's route (:func:`_generation`)."""
     names = {c: name for name, c in zip((s.name for s in system.states), model.coordinates)}
     constants = [c for c, f in zip(model.coordinates, model.speeds) if f == 0 and names[c] in local]
     states = [c for c, f in zip(model.coordinates, model.speeds) if f != 0 and names[c] in local]
     reasons = ["known parameters without values are not supported"] if system.free_parameters else []
     progress = _Progress({}, [], 0.0, reasons)
+    pairs = [reduced_pair(model.rewrite(f)) for _, f in functions]
     if constants and not reasons:
-        _io_route(system, model, result, orders, _Open(states, constants, names), seed, error, budget, progress)
+        _io_route(system, model, result, orders, _Open(states, constants, names, pairs), seed, error, budget, progress)
     where, notes, spent = progress.where, progress.notes, progress.spent
     if not notes:
         why = "; ".join(reasons) or "no locally observable unknown constant"
@@ -246,11 +250,17 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
                f"outputs; the fibre's route: {reason}")
     if reasons:
         details += f"; not decided by the input-output route: {'; '.join(reasons)}"
+    answers = tuple((text, member) for (text, _), member in
+                    zip(functions, progress.functions or (None,) * len(functions)))
+    generates, generation, added = _generation(system, model, result, orders, {s: where.get(s) for s in local},
+                                               answers, seed, error, budget)
+    spent += (error + added) if added is not None else 0.0
+    field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
+        if generates else None
     return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
                          tuple(s for s in local if where.get(s) is False),
                          tuple(s for s in local if where.get(s) is None),
-                         spent + (result.error_probability or 0.0), details,
-                         generation="not tested: the fibre's answers are undecided")
+                         spent + (result.error_probability or 0.0), details, (), answers, generates, generation, field)
 
 
 @dataclass
@@ -262,6 +272,7 @@ class _Progress:
     notes: list[str]
     spent: float
     reasons: list[str]
+    functions: tuple[bool, ...] | None = None
 
     def add(self, where: dict[str, bool | None], note: str, spent: float) -> None:
         self.extend(where, [note], spent)
@@ -272,11 +283,13 @@ class _Progress:
 
 @dataclass(frozen=True)
 class _Open:
-    """The locally observable states and unknown constants, and the names of the model's coordinates."""
+    """The locally observable states and unknown constants, the names of the model's coordinates,
+    and the verdict's observable functions to test beside them, as reduced (n, d) pairs."""
 
     states: list[sympy.Symbol]
     constants: list[sympy.Symbol]
     names: dict[sympy.Symbol, str]
+    functions: list[tuple[sympy.Expr, sympy.Expr]]
 
 
 def _io_route(system: System, model: RationalModel, result: ObservabilityResult, orders: dict[str, int], items: _Open,
@@ -294,7 +307,8 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
                               {}, True)
         if not isinstance(jointly, str):
             if jointly is not None:
-                progress.add(*jointly)
+                progress.add(*jointly[:3])
+                progress.functions = jointly[3]
             return
     placed, more, failed, extra = _constants_by_equation(
         system, model, result, [c for c in items.constants if items.names[c] not in progress.where], items.names, seed,
@@ -306,7 +320,8 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
     if isinstance(field, str):
         progress.reasons.append(f"the outputs' field: {field}")
     elif field is not None:
-        progress.add(*field)
+        progress.add(*field[:3])
+        progress.functions = field[3]
     if jointly is not None and any(progress.where.get(items.names[c]) is None
                                    for c in (*items.states, *items.constants)):
         progress.reasons.insert(at, f"the outputs' field through their projections: {jointly}")
@@ -314,10 +329,11 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
 
 def _field_step(model: RationalModel, system: System, outputs: list[str], orders: dict[str, int], items: _Open,
                 where: dict, rank: int, seed: int, error: float, budget: float | None, failed: dict[str, str],
-                joint: bool) -> tuple[dict[str, bool | None], str, float] | str | None:
+                joint: bool) -> tuple[dict[str, bool | None], str, float, tuple[bool, ...]] | str | None:
     """The states and constants ``where`` leaves open, in the field the outputs determine
     (:func:`~.iofield.field_members`; ``joint``: through the projections), within a budget of
-    its own: the answers, how, and the error spent; why not; None when nothing is open.
+    its own, with the verdict's observable functions (``items.functions``): the answers, how, the
+    error spent and the functions' answers; why not; None when nothing is open or tested.
 
     Its own budget, as its test is the longer one (SIWR's did not end in 10 minutes) and must not
     cost the constants' answers. An output whose equation was not found (``failed``, its budget
@@ -326,14 +342,14 @@ def _field_step(model: RationalModel, system: System, outputs: list[str], orders
     an equation's ratios become numbers, and its output needs only y, ..., y^(d) (SIWR's states: 4
     unknowns, not 11)."""
     open_ = [c for c in (*items.states, *items.constants) if items.names[c] not in where]
-    if not open_:
+    if not open_ and not items.functions:
         return None
     known = [c for c in items.constants if where.get(items.names[c]) is True]
     field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, rank, seed, error,
-                      failed, known, joint)
+                      failed, known, joint, items.functions)
     if isinstance(field, str):
         return field
-    return {items.names[c]: field.members[c.name] for c in open_}, field.how, field.error
+    return {items.names[c]: field.members[c.name] for c in open_}, field.how, field.error, field.functions
 
 
 def _constants_by_projections(system: System, model: RationalModel, constants: list[sympy.Symbol], names: dict,
@@ -520,7 +536,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     outside = {i for i, member in enumerate(members) if member is False}
     found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
     return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
-        _mirrors(system, model, only), found, how
+        mirrors(system, model, only), found, how
 
 
 def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
@@ -534,36 +550,6 @@ def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
     bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
     return max(bound, radical_range(model, heights, known, error)) if modular else bound
-
-
-def _mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
-    """Discrete symmetries sigma among sign flips (of one only-locally state, of
-    all of them, of every state) and half-turns of only-locally angles
-    (a -> a + pi, T -> -1/T), with h(sigma x) = h(x) and f(sigma x) = D sigma f(x)
-    for every input, checked as rational identities: x and sigma(x) then give
-    the same outputs for all time, a second real solution wherever sigma moves x."""
-    if not only:
-        return ()
-    names = [s.name for s in system.states]
-    angles = {a.name for a in model.angles}
-    candidates = [(group, "flip") for group in dict.fromkeys([*((n,) for n in only), only, tuple(names)])]
-    turning = tuple(n for n in only if n in angles)
-    candidates += [(group, "turn") for group in dict.fromkeys([*((n,) for n in turning), turning]) if group]
-    found = []
-    for group, kind in candidates:
-        if _is_symmetry(model, [names.index(n) for n in group], kind):
-            found.append(", ".join(group) + " -> " + ", ".join(f"-{n}" if kind == "flip" else f"{n} + pi" for n in group))
-    return tuple(found)
-
-
-def _is_symmetry(model: RationalModel, moved: list[int], kind: str) -> bool:
-    """sigma negates (flip) or sends T to -1/T (turn) the coordinates ``moved``;
-    its Jacobian is diagonal: -1, or 1/T^2."""
-    coordinates = model.coordinates
-    image = {coordinates[i]: -coordinates[i] if kind == "flip" else -1 / coordinates[i] for i in moved}
-    factor = [(-1 if kind == "flip" else 1 / c**2) if i in moved else 1 for i, c in enumerate(coordinates)]
-    return all(sympy.cancel(h.xreplace(image) - h) == 0 for h in model.outputs) and all(
-        sympy.cancel(v.xreplace(image) - k * v) == 0 for v, k in zip(model.speeds, factor))
 
 
 def _supported(system: System) -> None:
