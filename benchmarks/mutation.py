@@ -100,7 +100,8 @@ EQUIVALENT: dict[str, str] = {
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after
     # new tests 614 killed, 3 timeouts and the 19 survivors listed here, 2 killed by a later test.
     # SI.jl's change of variables: 427 killed, 28 survivors; after the test on a moving A and B,
-    # 442 killed, 1 timeout, these 11 equivalent.
+    # 442 killed, 1 timeout, these 11 equivalent. The functions on this route: 576 killed, 2
+    # timeouts, 24 survivors; 17 killed by new tests, the rest equivalent.
     **{f"observability.analysis.{name}__mutmut_{k}": why for why, names in {
         "another seed or no seed: the answers' arguments hold at any point drawn": (
             ("ioglobal.x_constants_from_io_equation", (22, 23, 24)), ("ioprojection.x_joint_projections", (43,)),
@@ -128,7 +129,13 @@ EQUIVALENT: dict[str, str] = {
         "output's jets): the same equation": (("ioequation.x__result", (6, 16, 40, 42, 50, 51)),),
         "a larger range (D at least 2): only when every generator is a constant, and a larger range only lowers "
         "the error": (("ioglobal.x_algebraic_members", (19,)),),
-        "c / 2 or u / 2 for c or u: the same field": (("iofield.x_field_members", (48, 103)),),
+        "c / 2 or u / 2 for c or u: the same field": (("iofield.x_field_members", (48, 103)),
+                                                         ("ioglobal.x_contained_at_random_point", (3,))),
+        "a tested function's denominator's degree in every symbol: at least that in the coordinates, so the "
+        "range only grows; the exact rank for the completing columns: a full completion either way": (
+            ("ioglobal.x_contained_at_random_point", (19, 65)),),
+        "another seed for the generation test's point: its answer holds at any point drawn": (
+            ("uniqueness.x__through_io_equation", (109,)),),
         "-2 or -1 for no jet: compared only with a projection's own order, already shown >= 0": (
             ("ioprojection.x__highest", (12,)),),
         "the projections' constants step comes first: the error spent before it is 0, so = and += agree": (

@@ -509,6 +509,64 @@ def test_the_verdict_s_functions_are_tested_and_generate_the_field_on_this_route
     assert answer.globally == ("x1", "x2", "c") and answer.functions == (("a + b", True),)
     assert answer.generates_field is True and answer.field.generators == ("x1", "x2", "c", "a + b")
     assert answer.generation.startswith("every Lie derivative up to the truncation lies in their field")
+    assert answer.field.generates is True and answer.field.how == answer.generation and answer.field.error == 0.0
+    assert answer.mirrors == ()
     # the projections' check and test of c (a, b, c: rank 2 of 3), the field's test (x1, x2 and a + b
     # together), the generation test's 10^-6, and the local verdict's own
     assert answer.error_probability == pytest.approx(3 * E + 1e-6 + (result.error_probability or 0.0), rel=1e-12)
+
+
+def _fibre_gives_up(monkeypatch, calls=None):
+    """Only the fibre's own step gives up; every other budgeted step runs (recorded in ``calls``)."""
+    from observability.analysis import uniqueness
+
+    real = uniqueness._over_q_then_modulo_primes
+
+    def gives_up(func, arguments, modular, budget):
+        if calls is not None:
+            calls.append((func.__name__, budget))
+        if func is uniqueness._decide:
+            raise uniqueness.Undecided("forced")
+        return real(func, arguments, modular, None)
+    monkeypatch.setattr(uniqueness, "_over_q_then_modulo_primes", gives_up)
+
+
+def test_the_generation_on_this_route_gets_the_budget_and_its_error(monkeypatch):
+    """On the x1' = -(a + b) x1, x2' = -c x2 model: the generation test is asked with the verdict's
+    budget; the error its primes add (here a made-up 0.5, as the modular route reports it) is added
+    to the verdict's with the test's own 10^-6 and kept in the field's generators; where it does not
+    decide, no generators are claimed."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+
+    calls = []
+    _fibre_gives_up(monkeypatch, calls)
+    system = System(["x1", "x2"], ["-(a + b)*x1", "-c*x2"], {"y1": "x1", "y2": "x2"}, unknown_parameters=["a", "b", "c"])
+    result = analyze(system, seed=1)
+    exact = uniqueness.global_observability(system, result, seed=2, budget=7.0)
+    assert ("generate_the_field", 7.0) in calls
+    monkeypatch.setattr(uniqueness, "_generation", lambda *args: (True, "made up", 0.5))
+    primes = uniqueness.global_observability(system, result, seed=2, budget=None)
+    assert primes.error_probability == pytest.approx(exact.error_probability + 0.5, rel=1e-12)
+    assert primes.field.error == 0.5 and primes.field.how == "made up"
+    monkeypatch.setattr(uniqueness, "_generation", lambda *args: (None, "undecided: made up", None))
+    undecided = uniqueness.global_observability(system, result, seed=2, budget=None)
+    assert undecided.field is None and undecided.generates_field is None
+    assert undecided.error_probability == pytest.approx(exact.error_probability - 1e-6, rel=1e-9)
+
+
+def test_functions_are_tested_on_the_one_output_route_and_with_nothing_else_open(monkeypatch):
+    """One output: x1' = -(a + b) x1 + c, y = x1 prints x1, c, a + b (c from the equation's
+    ratios, x1 and a + b in the field's step: y' = -(a + b) y + c). And x' = -c x, y = a x prints
+    c, a*x, with no state locally observable: once c is placed the field's step still runs, for
+    a*x alone (it is y). Both then generate the field."""
+    from observability import System, analyze
+    from observability.analysis import uniqueness
+
+    _fibre_gives_up(monkeypatch)
+    for system, functions in ((System(["x1"], ["-(a + b)*x1 + c"], {"y": "x1"}, unknown_parameters=["a", "b", "c"]),
+                               (("a + b", True),)),
+                              (System(["x"], ["-c*x"], {"y": "a*x"}, unknown_parameters=["a", "c"]),
+                               (("a*x", True),))):
+        answer = uniqueness.global_observability(system, analyze(system, seed=1), seed=2, budget=None)
+        assert answer.functions == functions and answer.undecided == () and answer.generates_field is True
