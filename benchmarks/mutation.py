@@ -101,7 +101,7 @@ EQUIVALENT: dict[str, str] = {
     # new tests 614 killed, 3 timeouts and the 19 survivors listed here, 2 killed by a later test.
     # SI.jl's change of variables: 427 killed, 28 survivors; after the test on a moving A and B,
     # 442 killed, 1 timeout, these 11 equivalent. The functions on this route: 576 killed, 2
-    # timeouts, 24 survivors; 17 killed by new tests, the rest equivalent.
+    # timeouts, 24 survivors; 15 killed by new tests (checked by a second run), 9 equivalent.
     **{f"observability.analysis.{name}__mutmut_{k}": why for why, names in {
         "another seed or no seed: the answers' arguments hold at any point drawn": (
             ("ioglobal.x_constants_from_io_equation", (22, 23, 24)), ("ioprojection.x_joint_projections", (43,)),
