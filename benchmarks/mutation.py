@@ -118,8 +118,7 @@ EQUIVALENT: dict[str, str] = {
         "constants agree across them": (("ioprojection.x__point", (14,)), ("ioprojection.x__corank_one", (24,))),
         "SI.jl's scores, the state chosen, a leader's order: they choose which polynomials are formed, and every "
         "one formed stays in the ideal; the claims rest only on each projection vanishing and its corank": (
-            ("ioprojection.x__eliminate_together", (33, 34, 35, 36, 43, 69, 71)),
-            ("ioequation.x__eliminate_states", (46, 48))),
+            ("ioequation.x_eliminate_together", (33, 34, 35, 36, 43, 69, 71)),),
         "the zero polynomial gives zero at any degree; a part past the degree is zero and skipped": (
             ("ioequation.x__substituted", (15, 20)),),
         "Bezout's matrix or FLINT's resultant, a row's factor taken out or not: each gives a non-zero multiple of "

@@ -191,10 +191,12 @@ def test_a_pole_is_drawn_again_and_never_taken_for_corank_one(monkeypatch):
 def test_what_the_route_refuses(monkeypatch):
     """No unknown constant: nothing to eliminate for; no single vanishing factor at any of the
     points drawn: refused with the reason, never a projection."""
+    from observability.analysis import ioequation
+
     still = RationalModel((x1, x2), (-x1 + x2, -x2), (x1, x2), ())
     assert joint_projections(still, [], ["y1", "y2"], seed=1) == \
         "the input-output route needs states and unknown constants"
-    monkeypatch.setattr(ioprojection, "_eliminate", lambda *args: None)
+    monkeypatch.setattr(ioequation, "_eliminate", lambda *args: None)
     assert constants_from_projections(_swap(), [], ["y1", "y2"], [a, b], seed=1, error=1e-6) == \
         "no point among those drawn chose a single factor (a pole, or two factors vanishing there)"
 
@@ -472,7 +474,7 @@ def test_the_projections_after_a_change_of_variables_vanish_on_the_solutions(mon
     coefficient x2 + c, so SI.jl's change x2 -> x2 + c is made once on the way (counted). Both
     projections still vanish on every solution (sympy's Lie derivatives substituted: the
     change moves the states only, and the point with them)."""
-    from observability.analysis import ioprojection as module
+    from observability.analysis import ioequation as module
 
     c = sympy.Symbol("c")
     model = RationalModel((x1, x2, a, b, c), (-a * x1, -b * x2, sympy.Integer(0), sympy.Integer(0), sympy.Integer(0)),

@@ -45,7 +45,8 @@ import sympy
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
-__all__ = ["InputOutputEquation", "input_output_equation", "drawn", "change_of_variables", "IO_PRIME"]
+__all__ = ["InputOutputEquation", "input_output_equation", "drawn", "eliminate_together", "change_of_variables",
+           "IO_PRIME"]
 
 #: The prime of the solutions' jets (Mersenne): a wrong factor vanishes there with probability ~ degree / 2^61.
 IO_PRIME = 2**61 - 1
@@ -143,8 +144,8 @@ def input_output_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], 
 
     def attempt(rng: random.Random) -> tuple[InputOutputEquation, SolutionSeries, _Ring] | None:
         solution = _solution(ring, model, rng, ring.top + 1)
-        found = None if solution is None else _eliminate_states(ring, model, _point(ring, solution))
-        return None if found is None else (_result(ring, found, name), solution, ring)
+        found = None if solution is None else eliminate_together(ring, model, _point(ring, solution))
+        return None if found is None else (_result(ring, found[0], name), solution, ring)
     return drawn(ring, seed, attempt)
 
 
@@ -187,40 +188,61 @@ def _point(ring: _Ring, solution: SolutionSeries) -> list[int]:
     return [values[n] for n in ring.names]
 
 
-def _eliminate_states(ring: _Ring, model: RationalModel, point: list[int]) -> Any | None:
-    """SI.jl's loop: prolong the output's equation, replace the derivatives, change variables where
-    :func:`change_of_variables` applies, eliminate one state."""
-    n = len(ring.states)
-    states = {}
-    for i, f in enumerate(ring.speeds):
-        num, den = ring.pair(f)
-        states[f"x{i}"] = ring.var[f"dx{i}"] * den - num
-    num, den = ring.pair(model.outputs[0])
-    output = ring.var["Y0"] * den - num
-    for _ in range(n):
-        present = [x for x in states if ring.degree(output, x) > 0]
-        if not present:
-            break
-        prolonged = ring.derivative(output)
-        for x, equation in states.items():
-            prolonged = _eliminate(ring, prolonged, equation, "d" + x, point)
-            if prolonged is None:
-                return None
-        chosen = min(present, key=lambda x: (ring.degree(output, x), ring.degree(prolonged, x), x))
-        if ring.degree(output, chosen) == 1:
-            changed = change_of_variables(ring, output, chosen, states, [output, prolonged], point)
+def eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> list[Any] | None:
+    """SI.jl's loop (``find_ioprojections``), with its change of variables: the outputs' equations
+    free of states (one output: its input-output equation; several: :mod:`.ioprojection`'s
+    projections), or None when a step met no single vanishing factor. Each pass removes a state for good, so at
+    most n passes, and no output's order passes n (the ring's jets go to n + 1)."""
+    states = {f"x{i}": ring.var[f"dx{i}"] * den - num for i, (num, den) in enumerate(map(ring.pair, ring.speeds))}
+    equations = []
+    for o, h in enumerate(model.outputs):
+        num, den = ring.pair(h)
+        equations.append(ring.var[ring.output_jets[o][0]] * den - num)
+    orders = [0] * len(equations)
+    while True:
+        degrees = {o: [d for x in states if (d := ring.degree(e, x)) > 0] for o, e in enumerate(equations)}
+        scored = [(min(d) * len(equations[o]), min(d), len(equations[o]) / 30 - d.count(min(d)), len(equations[o]), o)
+                  for o, d in degrees.items() if d]
+        if not scored:
+            return equations
+        chosen = min(scored)[-1]
+        orders[chosen] += 1
+        prolonged = _prolonged(ring, equations, orders, chosen, states, point)
+        if prolonged is None:
+            return None
+        present = [x for x in states if ring.degree(equations[chosen], x) > 0]
+        state = min(present, key=lambda x: (ring.degree(equations[chosen], x), ring.degree(prolonged, x), x))
+        if ring.degree(equations[chosen], state) == 1:
+            changed = change_of_variables(ring, equations[chosen], state, states, [*equations, prolonged], point)
             if changed is None:
                 return None
-            states, (output, prolonged), point = changed
-        del states[chosen]
-        for x in list(states):
-            states[x] = _eliminate(ring, states[x], output, chosen, point)
-            if states[x] is None:
-                return None
-        output = _eliminate(ring, output, prolonged, chosen, point)
-        if output is None:
+            states, (*equations, prolonged), point = changed
+        del states[state]
+        for x in states:
+            states[x] = _eliminate(ring, states[x], equations[chosen], state, point)
+        for o in range(len(equations)):
+            if o != chosen:
+                equations[o] = _eliminate(ring, equations[o], equations[chosen], state, point)
+        equations[chosen] = _eliminate(ring, equations[chosen], prolonged, state, point)
+        if any(e is None for e in (*states.values(), *equations)):
             return None
-    return output  # free of states: each pass removes one for good, and the passes run until none is left
+
+
+def _prolonged(ring: _Ring, equations: list[Any], orders: list[int], chosen: int, states: dict[str, Any],
+               point: list[int]) -> Any | None:
+    """The chosen output's equation differentiated, the states' derivatives and the other
+    outputs' leading derivatives replaced through their equations."""
+    prolonged = ring.derivative(equations[chosen])
+    for x, equation in states.items():
+        prolonged = _eliminate(ring, prolonged, equation, "d" + x, point)
+        if prolonged is None:
+            return None
+    for o, equation in enumerate(equations):
+        if o != chosen:
+            prolonged = _eliminate(ring, prolonged, equation, ring.output_jets[o][orders[o]], point)
+            if prolonged is None:
+                return None
+    return prolonged
 
 
 def change_of_variables(ring: _Ring, equation: Any, eliminated: str, states: dict[str, Any], others: list[Any],

@@ -60,7 +60,7 @@ from typing import Any
 
 import sympy
 
-from .ioequation import IO_PRIME, InputOutputEquation, _eliminate, _result, _Ring, change_of_variables, drawn
+from .ioequation import IO_PRIME, InputOutputEquation, _result, _Ring, drawn, eliminate_together
 from .ioglobal import (ConstantAnswers, algebraic_members, fixed_by, generating_ratios, monomials_corank_one,
                        used_constants)
 from .ioseries import SolutionSeries, solution_series
@@ -76,7 +76,7 @@ def joint_projections(model: RationalModel, inputs: Sequence[sympy.Symbol], outp
 
     def attempt(rng: random.Random) -> tuple[tuple[InputOutputEquation, ...], _Ring] | None:
         point = _point(ring, model, rng)
-        found = None if point is None else _eliminate_together(ring, model, point)
+        found = None if point is None else eliminate_together(ring, model, point)
         return None if found is None else \
             (tuple(_result(ring, p, name, o) for o, (name, p) in enumerate(zip(outputs, found))), ring)
     return drawn(ring, seed, attempt)
@@ -166,62 +166,6 @@ def _leading_coefficient_at(projection: InputOutputEquation, lead: int, values: 
                 term = term * pow(values[name], e - (name == projection.jets[lead]), IO_PRIME) % IO_PRIME
             total += term
     return total % IO_PRIME
-
-
-def _eliminate_together(ring: _Ring, model: RationalModel, point: list[int]) -> list[Any] | None:
-    """SI.jl's loop, with its change of variables: the outputs' equations free of states, or
-    None when a step met no single vanishing factor. Each pass removes a state for good, so at
-    most n passes, and no output's order passes n (the ring's jets go to n + 1)."""
-    states = {f"x{i}": ring.var[f"dx{i}"] * den - num for i, (num, den) in enumerate(map(ring.pair, ring.speeds))}
-    equations = []
-    for o, h in enumerate(model.outputs):
-        num, den = ring.pair(h)
-        equations.append(ring.var[ring.output_jets[o][0]] * den - num)
-    orders = [0] * len(equations)
-    while True:
-        degrees = {o: [d for x in states if (d := ring.degree(e, x)) > 0] for o, e in enumerate(equations)}
-        scored = [(min(d) * len(equations[o]), min(d), len(equations[o]) / 30 - d.count(min(d)), len(equations[o]), o)
-                  for o, d in degrees.items() if d]
-        if not scored:
-            return equations
-        chosen = min(scored)[-1]
-        orders[chosen] += 1
-        prolonged = _prolonged(ring, equations, orders, chosen, states, point)
-        if prolonged is None:
-            return None
-        present = [x for x in states if ring.degree(equations[chosen], x) > 0]
-        state = min(present, key=lambda x: (ring.degree(equations[chosen], x), ring.degree(prolonged, x), x))
-        if ring.degree(equations[chosen], state) == 1:
-            changed = change_of_variables(ring, equations[chosen], state, states, [*equations, prolonged], point)
-            if changed is None:
-                return None
-            states, (*equations, prolonged), point = changed
-        del states[state]
-        for x in states:
-            states[x] = _eliminate(ring, states[x], equations[chosen], state, point)
-        for o in range(len(equations)):
-            if o != chosen:
-                equations[o] = _eliminate(ring, equations[o], equations[chosen], state, point)
-        equations[chosen] = _eliminate(ring, equations[chosen], prolonged, state, point)
-        if any(e is None for e in (*states.values(), *equations)):
-            return None
-
-
-def _prolonged(ring: _Ring, equations: list[Any], orders: list[int], chosen: int, states: dict[str, Any],
-               point: list[int]) -> Any | None:
-    """The chosen output's equation differentiated, the states' derivatives and the other
-    outputs' leading derivatives replaced through their equations."""
-    prolonged = ring.derivative(equations[chosen])
-    for x, equation in states.items():
-        prolonged = _eliminate(ring, prolonged, equation, "d" + x, point)
-        if prolonged is None:
-            return None
-    for o, equation in enumerate(equations):
-        if o != chosen:
-            prolonged = _eliminate(ring, prolonged, equation, ring.output_jets[o][orders[o]], point)
-            if prolonged is None:
-                return None
-    return prolonged
 
 
 def _solutions(ring: _Ring, model: RationalModel, rng: random.Random, length: int) -> list[SolutionSeries] | None:
