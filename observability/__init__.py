@@ -15,7 +15,7 @@ trajectory (:mod:`.trajectory`), reports (:mod:`.report`) and the command line
 #: top-level modules and subpackages of one stage. The first holds what every
 #: stage may use (errors, CPU budgets, progress lines, the task runner).
 STAGES = (
-    "errors budget progress parallel",
+    "errors budget progress parallel intervals",
     "model",
     "models",
     "engine",

@@ -11,7 +11,8 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.rank.balls import ball, independent_at_a_real_point
+from observability.intervals import ball
+from observability.rank.balls import independent_at_a_real_point
 from observability.report.proofs import proof_evidence
 
 z, x, w = sympy.symbols("z x w")

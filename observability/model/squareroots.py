@@ -1,7 +1,7 @@
 """Outputs that are a square root, analysed through their radicand.
 
-An output h = a*sqrt(g) + b (a != 0 and b free of states and inputs; a range
-sqrt((lx - x)^2 + (ly - y)^2)) carries the same information as g wherever
+An output h = a*sqrt(g) + b (a and b free of states and inputs, a not the zero
+function; a range sqrt((lx - x)^2 + (ly - y)^2)) carries the same information as g wherever
 g > 0: g = ((h - b)/a)^2 and h are smooth functions of each other there, so by
 induction every L_f^k h is a function of g, L_f g, ..., L_f^k g and back
 (L_f^k h = a (L_f^k g) / (2 sqrt g) + terms in the lower ones: a triangular
@@ -12,24 +12,33 @@ directions are those of the model with g as the output -- which the exact
 routes can prove, while a square root's branches at a random point mod p
 cannot be (see :mod:`observability.engine.independence`). Points and sets are not
 rewritten: there g may vanish.
+
+The rewriting drops the factor a, so it is made only where a is *proven* not
+identically zero (:func:`observability.intervals.nonzero`: a ball without 0 at
+a rational point of the parameters): a coefficient that is 0 but not written as
+0, such as log(6) - log(2) - log(3) or (p + 1)^2 - p^2 - 2p - 1, would turn an
+output that carries nothing into one that carries g. Where a cannot be proven
+non-zero the output is left as written, for the engine to analyse.
 """
 
 from __future__ import annotations
 
 import sympy
 
+from ..intervals import nonzero
 from .system import System
 
 __all__ = ["without_square_root_outputs"]
 
 
 def _radicand(expr: sympy.Expr, variables: set[sympy.Symbol]) -> sympy.Expr | None:
-    """g when ``expr`` is a*sqrt(g) + b with a, b free of ``variables`` (a != 0)."""
+    """g when ``expr`` is a*sqrt(g) + b with a, b free of ``variables`` and a
+    proven not identically zero."""
     roots = [t for t in sympy.Add.make_args(expr) if t.free_symbols & variables]
     if len(roots) != 1:
         return None
     coefficient, factor = roots[0].as_independent(*variables, as_Add=False)
-    if coefficient == 0 or not (isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)):
+    if not (isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)) or not nonzero(coefficient):
         return None
     return factor.base
 

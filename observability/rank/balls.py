@@ -14,53 +14,15 @@ vanishes only on a nowhere dense set: the fields are generically independent.
 from __future__ import annotations
 
 import random
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
 import flint
 import sympy
-from flint import arb, arb_mat, fmpq
+from flint import arb_mat
 
-__all__ = ["independent_at_a_real_point", "ball"]
+from ..intervals import PRECISION, ball, rational_point
 
-#: Bits of the balls' midpoints.
-PRECISION = 128
-#: The boxes the points are drawn from, in turn (bounds, scaled by 2^19, of the numerators over 2^19).
-_BOXES = ((0, 2), (-2, 0), (2, 32), (-32, -2))
-
-_FUNCTIONS: dict[type, Callable[[arb], arb]] = {
-    sympy.exp: arb.exp, sympy.log: arb.log, sympy.sin: arb.sin, sympy.cos: arb.cos, sympy.tan: arb.tan,
-    sympy.atan: arb.atan,
-}
-
-
-def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
-    """``expr`` at ``point`` as a ball holding its true value (not finite where
-    it is undefined: a negative radicand, a zero denominator); ValueError for a
-    construct not evaluated here or a symbol without a value."""
-    if expr.is_Symbol:
-        if expr not in point:
-            raise ValueError(f"no value for {expr}")
-        return point[expr]
-    if expr.is_Rational:
-        return arb(fmpq(int(expr.p), int(expr.q)))
-    if expr is sympy.pi:
-        return arb.pi()
-    if expr.is_Add or expr.is_Mul:
-        parts = [ball(a, point) for a in expr.args]
-        total = parts[0]
-        for part in parts[1:]:
-            total = total + part if expr.is_Add else total * part
-        return total
-    if expr.is_Pow and expr.exp.is_Rational:
-        base, p, q = ball(expr.base, point), int(expr.exp.p), int(expr.exp.q)
-        root = base if q == 1 else base.sqrt() if q == 2 else (base.log() / q).exp()  # not finite for base < 0
-        return root**p if p >= 0 else 1 / root ** (-p)
-    if isinstance(expr, sympy.atan2):
-        return arb.atan2(ball(expr.args[0], point), ball(expr.args[1], point))
-    function = _FUNCTIONS.get(type(expr))
-    if function is None:
-        raise ValueError(f"{expr.func} is not evaluated in ball arithmetic here")
-    return function(ball(expr.args[0], point))
+__all__ = ["independent_at_a_real_point"]
 
 
 def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols: Sequence[sympy.Symbol],
@@ -75,8 +37,7 @@ def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols:
     old, flint.ctx.prec = flint.ctx.prec, PRECISION
     try:
         for attempt in range(attempts):
-            low, high = _BOXES[attempt % len(_BOXES)]
-            point = {s: arb(fmpq(rng.randint(low << 19, high << 19) or high, 1 << 19)) for s in symbols}
+            point = rational_point(symbols, rng, attempt)
             try:
                 rows = [[ball(sympy.sympify(e), point) for e in v] for v in fields]
             except (ValueError, ZeroDivisionError):

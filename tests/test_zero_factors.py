@@ -1,0 +1,61 @@
+"""A rewriting that drops a factor proves it non-zero first (issue 61, item 1).
+
+An output a*sqrt(g) + b is analysed through g only where a is proven not
+identically zero (observability/intervals.py, ``nonzero``). The references are
+hand identities: log(6) - log(2) - log(3) = 0 (log 6 = log 2 + log 3),
+(p + 1)^2 - p^2 - 2p - 1 = 0 (expanded), cos(1)^2 + sin(1)^2 - 1 = 0
+(Pythagoras), e e^sqrt(2) - e^(1 + sqrt(2)) = 0, atan(1/3) + atan(1/2) = pi/4 (Machin-like): each output is the zero function, every Lie
+derivative is 0, and the true rank is 0, never 1.
+"""
+
+import pytest
+import sympy
+
+from observability import System, analyze
+from observability.intervals import nonzero
+from observability.model.squareroots import without_square_root_outputs
+
+#: Zero, but not written as 0 (sympy keeps each unevaluated).
+ZERO_COEFFICIENTS = ["log(6) - log(2) - log(3)", "(p + 1)**2 - p**2 - 2*p - 1", "cos(1)**2 + sin(1)**2 - 1",
+                     "exp(1)*exp(sqrt(2)) - exp(1 + sqrt(2))", "atan(1/3) + atan(1/2) - pi/4"]
+
+
+@pytest.mark.parametrize("coefficient", ZERO_COEFFICIENTS)
+def test_an_output_that_is_zero_is_never_observable(coefficient):
+    """y = a*sqrt(x) with a = 0 (not written as 0), x' = 0: rank 0 (or
+    undecided), never "observable (rank 1 of 1)" as before the fix."""
+    system = System(["x"], {"x": "0"}, {"y": f"({coefficient})*sqrt(x)"}, parameters=["p"])
+    result = analyze(system, seed=1)
+    assert result.observable is not True and result.rank in (0, None)
+    assert "radicand" not in result.details
+
+
+@pytest.mark.parametrize("coefficient", ZERO_COEFFICIENTS)
+def test_a_zero_coefficient_is_not_dropped(coefficient):
+    """The rewriting leaves the output as written when a is zero."""
+    system = System(["x"], {"x": "0"}, {"y": f"({coefficient})*sqrt(x)"}, parameters=["p"])
+    rewritten, note = without_square_root_outputs(system)
+    assert note == "" and rewritten is system
+
+
+@pytest.mark.parametrize("coefficient, proven", [
+    ("p", True), ("p*(p - 1)", True), ("log(6) - log(2)", True),
+    # log 6 - log 2 - log 3 + 10^-100: a float evaluation cancels to noise of size 1e-16,
+    # 128-bit balls (radius about 1e-38) hold 0, the 1024-bit ones exclude it.
+    ("log(6) - log(2) - log(3) + 10**-100", True),
+    ("pi - 314159265358979/100000000000000", True), ("E - exp(1)", False), ("0", False),
+] + [(c, False) for c in ZERO_COEFFICIENTS])
+def test_nonzero_is_proven_only_for_what_is_not_zero(coefficient, proven):
+    """Hand references: each True is a non-zero number or polynomial (pi's 15
+    digits differ from pi), each False is 0 by an identity."""
+    p = sympy.Symbol("p")
+    assert nonzero(sympy.sympify(coefficient, locals={"p": p})) is proven
+
+
+def test_a_non_zero_coefficient_still_gives_the_radicand():
+    """y = p*sqrt(x) + 3 and y = (log(6) - log(2))*sqrt(x): the rewriting to x
+    stays (a = p and log 3 are non-zero), and the rank is 1 (y^2 = p^2 x)."""
+    system = System(["x"], {"x": "0"}, {"y": "p*sqrt(x) + 3", "z": "(log(6) - log(2))*sqrt(x)"}, parameters=["p"])
+    rewritten, note = without_square_root_outputs(system)
+    assert [str(e) for _, e in rewritten.outputs] == ["x", "x"] and "radicand" in note
+    assert analyze(system, seed=1).rank == 1
