@@ -85,6 +85,9 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "flint-mod-p": (["observability/rank/flintmod.py", "observability/rank/primefield.py"],
                     ["tests/test_flintmod.py", "tests/test_modular.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
+    # The factors a rewriting drops, proven non-zero first (issue 61, item 1).
+    "zero-factors": (["observability/intervals.py", "observability/model/squareroots.py"],
+                     ["tests/test_zero_factors.py", "tests/test_balls.py", "tests/test_proof.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
