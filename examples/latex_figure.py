@@ -1,4 +1,4 @@
-"""Render the LaTeX observability matrix of planar SLAM to docs/latex-slam2d.png (the README's image).
+"""Render the LaTeX observability matrix of planar SLAM to docs/images/latex-slam2d.png (the docs' image).
 
     python examples/latex_figure.py            # needs pdflatex and pypdfium2 (pip install -e '.[test]')
 
@@ -20,7 +20,7 @@ from observability import analyze, models
 from observability.report.files import write_bytes
 from observability.report.latex import latex_document
 
-OUT = Path(__file__).resolve().parents[1] / "docs" / "latex-slam2d.png"
+OUT = Path(__file__).resolve().parents[1] / "docs" / "images" / "latex-slam2d.png"
 
 
 def main() -> int:

@@ -4,19 +4,19 @@ From the same symbolic :class:`~observability.model.system.System` the rank test
 analyses, :func:`filter_functions` builds named casadi Functions with named
 inputs and outputs:
 
-========  ===============================  ==========================
-name      inputs                           output
-========  ===============================  ==========================
-f         x, u, w, p                       x_next = F(x, u + w_u) + w_x
-F_X, F_w  x, u, w, p                       d x_next / d x, d x_next / d w
-g         x, u, w, p                       x_prev (inverse motion model)
-G_X, G_w  x, u, w, p                       d x_prev / d x, d x_prev / d w
-h         x, x_prev, p                     y
-H_Xk      x, x_prev, p                     d y / d x
-H_Xk_1    x, x_prev, p                     d y / d x_prev
-motion    x, u, w, p                       x_next, F_X, F_w (one call)
-measurement x, x_prev, p                   y, H_Xk, H_Xk_1 (one call)
-========  ===============================  ==========================
+===========  ===============================  ==============================
+name         inputs                           output
+===========  ===============================  ==============================
+f            x, u, w, p                       x_next = F(x, u + w_u) + w_x
+F_X, F_w     x, u, w, p                       d x_next / d x, d x_next / d w
+g            x, u, w, p                       x_prev (inverse motion model)
+G_X, G_w     x, u, w, p                       d x_prev / d x, d x_prev / d w
+h            x, x_prev, p                     y
+H_Xk         x, x_prev, p                     d y / d x
+H_Xk_1       x, x_prev, p                     d y / d x_prev
+motion       x, u, w, p                       x_next, F_X, F_w (one call)
+measurement  x, x_prev, p                     y, H_Xk, H_Xk_1 (one call)
+===========  ===============================  ==============================
 
 The process noise ``w`` enters where the model says: additively on named states
 (x_next = F + w_x) and/or on named inputs (u + w_u). ``p`` holds the free known

@@ -51,7 +51,7 @@ RANK_TOLERANCE = 1e-9
 @dataclass(frozen=True)
 class WeakDirection:
     """An eigenvector of the window's Fisher information (unit length), its
-    eigenvalue, and its |cosine| with each named direction."""
+    eigenvalue, and its absolute cosine with each named direction."""
 
     vector: dict[str, float]
     information: float

@@ -59,7 +59,7 @@ def _projected(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:
 class ObservabilityConstrainedEKF(_Base):
     """The OC-EKF (module docstring). ``null_space`` is N(x, p) -> n x d, e.g.
     :func:`null_space_function` of a proven analysis. ``residuals`` records,
-    per step, max |H* N| and max |Phi* N_k - N_k+1| (zero up to rounding);
+    per step, ``max |H* N|`` and ``max |Phi* N_k - N_k+1|`` (zero up to rounding);
     with ``record``, ``used`` keeps the Jacobians the filter used, ("F" or "H",
     step, matrix), for :func:`~observability.filters.linearized.observability_of`."""
 

@@ -66,7 +66,7 @@ def static_states(functions: FilterFunctions) -> np.ndarray:
 class FirstEstimatesEKF(_Base):
     """The FEJ-EKF (module docstring): Jacobians at first estimates.
 
-    ``residuals`` holds (step, max |f(x̄_k, u, w̃) - x̄_k+1|); with ``record``,
+    ``residuals`` holds (step, ``max |f(x̄_k, u, w̃) - x̄_k+1|``); with ``record``,
     ``used`` keeps ("F" or "H", step, matrix) for
     :func:`~observability.filters.linearized.observability_of`.
     """
