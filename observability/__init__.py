@@ -6,7 +6,8 @@ built-in ones in :mod:`.models`), the engine that turns it into exact numbers
 observable functions (:mod:`.directions`), the verdict (:mod:`.analysis`),
 answers about motions, sets and points (:mod:`.where`), the casadi bridge
 (:mod:`.codegen`), the filters (:mod:`.filters`), observability along a
-trajectory (:mod:`.trajectory`), reports (:mod:`.report`) and the command line
+trajectory (:mod:`.trajectory`), planning what to change to observe more
+(:mod:`.planning`: which sensors to add), reports (:mod:`.report`) and the command line
 (:mod:`.cli`). A module imports only from its own stage or earlier ones
 (tests/test_layout.py checks it).
 """
@@ -26,6 +27,7 @@ STAGES = (
     "codegen",
     "filters",
     "trajectory",
+    "planning",
     "report",
     "cli __main__",
 )

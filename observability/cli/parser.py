@@ -10,6 +10,7 @@ from ..model.methods import METHODS, PREVIOUS_METHODS
 from .arguments import (Parser, count, identifier, out_directory, out_file, pages, positive, seconds, seed_value)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
+from .planning import sensors_command
 
 __all__ = ["build_parser"]
 
@@ -176,6 +177,21 @@ def build_parser() -> argparse.ArgumentParser:
                             help="CPU time for the symbolic minors of each motion (default 20); beyond it the "
                                  "conditions are reported undecided")
     degenerate.set_defaults(func=degenerate_command)
+    sensors = sub.add_parser(
+        "sensors", help="the cheapest sets of candidate outputs that make a model observable (exit 0 some set "
+                        "does, 1 none does, 3 undecided)")
+    _model_arguments(sensors)
+    sensors.add_argument("--candidate", action="append", default=[], required=True, metavar="NAME=EXPR",
+                         help="a candidate output in the model's names (repeatable), e.g. --candidate range="
+                              "'sqrt((lx - x)**2 + (ly - y)**2)'")
+    sensors.add_argument("--cost", default=None, metavar="NAME=C,...",
+                         help="each candidate's price (default 1 each: the smallest sets)")
+    sensors.add_argument("--format", choices=("text", "json"), default="text",
+                         help="text for people, or {model, n_states, base, target, minimal_sets: [...], ...}")
+    sensors.add_argument("--seed", type=seed_value, default=None, help="seed of the random points")
+    sensors.add_argument("--budget", type=seconds, default=60.0, metavar="SECONDS",
+                         help="CPU time for each verdict's symbolic steps (default 60)")
+    sensors.set_defaults(func=sensors_command)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=models_command)
     return parser
