@@ -446,7 +446,6 @@ def _trajectory_directions(system: System, parameters: dict[str, float], args: a
     from ..trajectory import named_directions
 
     valued = system.with_values(**parameters) if parameters else system
-    valued.require_known_inputs("the trajectory analysis")
     result = analyze(valued, seed=args.seed or 0, functions=False)
     directions = named_directions(system, result.unobservable_directions, parameters)
     if args.degenerate:

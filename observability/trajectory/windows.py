@@ -198,7 +198,7 @@ def _functions(system: System, parameters: dict[str, float], dt: float):
         parameters["dt"] = dt  # the model's own step parameter is the step
     step = "dt" if "dt" in parameters else dt
     discrete = discretize(system, step, "rk4") if system.time == "continuous" else system
-    return discrete, filter_functions(discrete, [], dt=step)
+    return discrete, filter_functions(discrete, [], dt=step, inverse=False)  # f, h and Jacobians suffice
 
 
 def _as_named(directions) -> tuple[NamedDirection, ...]:
