@@ -195,14 +195,18 @@ def _windows(capsys, argv: list[str]) -> list[dict]:
 def test_a_states_csv_through_a_pole(tmp_path, capsys):
     """Issue 63: d from -1 to 1 by 0.1 crosses d = 0 at t = 1 (the given path
     keeps g = 1). Exact reference per window (rows (1/d, -g/d^2) at its
-    samples): 2, 2, undefined, 2; the third window is reported with why."""
+    samples): 2, 2, undefined, 2; the third window is reported with why, and
+    drawn as a gap in the figure."""
     model = _file(tmp_path, "mono.toml", MONO_TOML.format(out="h"))
     rows = [(sympy.Integer(1), sympy.Rational(k - 10, 10)) for k in range(21)]
     states = _file(tmp_path, "pole.csv", "t,g,d\n" + "".join(f"{k / 10},{g},{float(d)}\n" for k, (g, d) in
                                                              enumerate(rows)))
-    windows = _windows(capsys, ["trajectory", model, "--states-csv", states, "--input", "u=1", "--window", "0.5"])
+    figure = tmp_path / "pole.png"
+    windows = _windows(capsys, ["trajectory", model, "--states-csv", states, "--input", "u=1", "--window", "0.5",
+                                "--plot", str(figure)])
     assert [w["rank"] for w in windows] == [_mono_rank(rows[5 * k:5 * k + 5]) for k in range(4)] == [2, 2, None, 2]
     assert windows[2]["reason"].startswith("not evaluated: the outputs' sensitivity") and "t = 1 " in windows[2]["reason"]
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # the window not evaluated is a gap in the figure
 
 
 @pytest.mark.parametrize("start, ranks, words", [
