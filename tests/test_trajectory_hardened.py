@@ -159,10 +159,12 @@ def test_the_default_step_resolves_the_window(tmp_path, capsys):
 
 @pytest.mark.parametrize("noise, words", [("h=0", "--noise h: the variance must be a finite number > 0"),
                                           ("h=-1", "--noise h: the variance must be a finite number > 0"),
+                                          ("h=1e-320", "--noise h: the variance must be a finite number > 0 whose inverse is finite"),
                                           ("y=-1", "--noise: 'y' is not an output")])
 def test_a_variance_must_be_positive(tmp_path, capsys, noise, words):
     """Issue 62 item 5 and 63: a zero variance made every window rank 0 and
-    "loses no state"; a negative one crashed the SVD (exit 4). Refused, one line."""
+    "loses no state"; a negative one crashed the SVD (exit 4); one whose inverse
+    overflows (a subnormal) weighs every row infinitely. Refused, one line."""
     model = _file(tmp_path, "mono.toml", MONO_TOML.format(out="h"))
     _refused(capsys, ["trajectory", model, "--initial", "g=2,d=3", "--input", "u=1", "--duration", "2", "--window", "1",
                       "--noise", noise], words)

@@ -178,7 +178,7 @@ def _grid(duration: float, window: float, dt: float, rows_per_sample: int, n: in
 
 
 def _variances(noise: Mapping[str, float] | float, outputs: Sequence[str]) -> np.ndarray:
-    """The measurement variance of each output, each finite and positive."""
+    """The measurement variance of each output, each finite and positive (and its inverse finite)."""
     if isinstance(noise, Mapping):
         unknown = [k for k in noise if k not in outputs]
         if unknown:
@@ -187,8 +187,9 @@ def _variances(noise: Mapping[str, float] | float, outputs: Sequence[str]) -> np
     else:
         given = {o: float(noise) for o in outputs}
     for name, value in given.items():
-        if not (math.isfinite(value) and value > 0):
-            raise ModelError(f"--noise {name}: the variance must be a finite number > 0, got {value:g}")
+        if not (math.isfinite(value) and value > 0 and math.isfinite(1 / value)):  # 1/R weighs the rows
+            raise ModelError(f"--noise {name}: the variance must be a finite number > 0 whose inverse is finite, "
+                             f"got {value:g}")
     return np.array(list(given.values()))
 
 
