@@ -16,9 +16,9 @@ information of the window's first state is F = O^T R^-1 O; its rank and
 condition number say whether and how well, and the minimum error variances are
 the diagonal of (F + lambda I)^-1 with lambda = ``PRIOR`` (a prior of variance
 1/lambda on every state: a lost state shows that variance, not infinity). All
-of it comes from the singular value decomposition of R, the triangular factor
+of it comes from the singular value decomposition of T, the triangular factor
 of R^-1/2 O (accumulated by QR a segment of rows at a time, so a window's
-memory is bounded however long it is): O^T R^-1 O = R^T R. The
+memory is bounded however long it is): O^T R^-1 O = T^T T. The
 weakest directions are F's eigenvectors of the smallest eigenvalues, each with
 its cosine to every unobservable direction the caller names (the analysis's
 symmetries at the window's first state). Since a window may lose several

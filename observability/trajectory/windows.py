@@ -121,10 +121,10 @@ def _windows(fns, trajectory, controls, p, weights, named, weakest, dt, count, p
         factors, bad = _factors(fns, trajectory, controls, p, weights, per_window, range(first, last), segment)
         starts = trajectory[first * per_window:last * per_window:per_window]
         frames = [_directions_at(d, starts) for d in named]
-        for k, (R, at) in enumerate(zip(factors, bad)):
+        for k, (T, at) in enumerate(zip(factors, bad)):
             t0, t1 = (first + k) * per_window * dt, (first + k + 1) * per_window * dt
             x = trajectory[(first + k) * per_window:(first + k + 1) * per_window]
-            windows.append(_window(R, at, x, fns.states, t0, t1, dt, [(d, f[k]) for d, f in zip(named, frames)],
+            windows.append(_window(T, at, x, fns.states, t0, t1, dt, [(d, f[k]) for d, f in zip(named, frames)],
                                    weakest))
         if progress is not None:
             progress(f"window {last} of {count}")
@@ -249,13 +249,13 @@ def _jacobians(fns, trajectory: np.ndarray, controls: np.ndarray, p: np.ndarray,
 
 
 def _factors(fns, trajectory, controls, p, weights, per_window: int, windows: range, segment: int):
-    """Per window, the triangular factor R of R^-1/2 O (QR of its rows, a
-    segment at a time: O^T R^-1 O = R^T R, and R has the singular values and
+    """Per window, the triangular factor T of R^-1/2 O (QR of its rows, a
+    segment at a time: O^T R^-1 O = T^T T, and T has the singular values and
     right singular vectors of R^-1/2 O), and the first step (from the window's
     start) whose sensitivity is not finite, -1 when every one is."""
     count, n = len(windows), len(fns.states)
     phi, phi_previous = np.broadcast_to(np.eye(n), (count, n, n)), None
-    R, bad = np.zeros((count, 0, n)), np.full(count, -1)
+    T, bad = np.zeros((count, 0, n)), np.full(count, -1)
     scale = np.sqrt(weights)[None, None, :, None]
     for j0 in range(0, per_window, segment):
         size = min(per_window - j0, segment)
@@ -268,8 +268,8 @@ def _factors(fns, trajectory, controls, p, weights, per_window: int, windows: ra
         finite = np.isfinite(scaled).all(axis=(2, 3))
         bad = np.where((bad < 0) & ~finite.all(axis=1), j0 + np.argmin(finite, axis=1), bad)
         scaled = np.where((bad < 0)[:, None, None, None], scaled, 0.0).reshape(count, -1, n)
-        R = np.linalg.qr(np.concatenate([R, scaled], axis=1), mode="r")
-    return R, bad
+        T = np.linalg.qr(np.concatenate([T, scaled], axis=1), mode="r")
+    return T, bad
 
 
 def _segment(H: np.ndarray, H_prev: np.ndarray, F: np.ndarray, phi: np.ndarray, phi_previous: np.ndarray | None):
@@ -293,9 +293,9 @@ def _segment(H: np.ndarray, H_prev: np.ndarray, F: np.ndarray, phi: np.ndarray, 
     return blocks, F[:, -1] @ chain[:, -1], chain[:, -1]
 
 
-def _window(R: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: float, t1: float, dt: float,
+def _window(T: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: float, t1: float, dt: float,
             directions: Sequence[tuple[NamedDirection, np.ndarray]], count: int) -> Window:
-    """One window from its factor R (or why it is not evaluated) and the named directions at its first state."""
+    """One window from its factor T (or why it is not evaluated) and the named directions at its first state."""
     broken = ~np.isfinite(x).all(axis=1)
     if broken.any():
         return _not_evaluated(t0, t1, f"the simulated state is not finite from t = {t0 + np.argmax(broken) * dt:g} "
@@ -304,7 +304,7 @@ def _window(R: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: f
         return _not_evaluated(t0, t1, f"the outputs' sensitivity to the window's first state is not finite at t = "
                                       f"{t0 + bad * dt:g} (a pole of the model there, or values beyond floating point)")
     try:
-        _, sigma, right = np.linalg.svd(R)
+        _, sigma, right = np.linalg.svd(T)
     except np.linalg.LinAlgError as exc:
         return _not_evaluated(t0, t1, str(exc))
     with np.errstate(over="ignore"):
