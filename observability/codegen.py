@@ -228,6 +228,7 @@ def filter_functions(
     *,
     dt: str | float = "dt",
     method: str = "euler",
+    inverse: bool = True,
 ) -> FilterFunctions:
     """Build the filter's casadi Functions from ``system``.
 
@@ -241,6 +242,10 @@ def filter_functions(
         The time step of a continuous-time system: the name of a parameter (the
         default "dt", added to the parameter vector p when new) or a number
         (then p does not hold it; ``parameters`` lists what p holds).
+    inverse : bool
+        Whether to derive the inverse motion model g (up to
+        ``CODEGEN_INVERSE_BUDGET`` CPU seconds); a caller that needs only f, h
+        and their Jacobians skips it.
 
     Raises
     ------
@@ -278,9 +283,9 @@ def filter_functions(
     y = casadi.vertcat(*(to_casadi(e.xreplace(values), table) for _, e in system.outputs))
     motion_in, motion_names = [x, u, w, p], ["x", "u", "w", "p"]
     functions = _motion_and_measurement(x_next, y, x, x_prev, u, w, p)
-    inverse = _inverse(system, noise)
-    if inverse is not None:
-        x_back = casadi.vertcat(*(to_casadi(e.xreplace(values), table | _noise_table(noise, w)) for e in inverse))
+    backward = _inverse(system, noise) if inverse else None
+    if backward is not None:
+        x_back = casadi.vertcat(*(to_casadi(e.xreplace(values), table | _noise_table(noise, w)) for e in backward))
         functions |= {
             "g": casadi.Function("g", motion_in, [x_back], motion_names, ["x_prev"]),
             "G_X": casadi.Function("G_X", motion_in, [casadi.densify(casadi.jacobian(x_back, x))], motion_names, ["G_X"]),

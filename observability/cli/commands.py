@@ -386,21 +386,39 @@ def trajectory_command(args: argparse.Namespace) -> int:
                                                         "lost": list(_lost(windows))}
                                        for text, windows in runs.items()}}, indent=2))
         return 0
-    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}")
-    generic = {d.name for d in result.unobservable_directions}
+    print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}"
+          + ("" if args.dt is not None or args.states_csv is not None or system.time == "discrete"
+             else f" (the default: {round(args.window / dt)} samples per window)"))
     for text, windows in runs.items():
         lost = _lost(windows)
-        print(f"inputs {text or '(none)'}: " + (f"loses {', '.join(lost)}" if lost else "loses no state"))
+        print(f"inputs {text or '(none)'}: " + _losses(lost, windows))
         for w in windows:
-            weakest = w.weakest[0]
-            aligned = max(weakest.alignment.items(), key=lambda kv: kv[1], default=None)
-            print(f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
-                  + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
-                  + (f" (|cos| {aligned[1]:.3f} with {aligned[0]})" if aligned else ""))
-            beyond = [f"{k} ({v:.3f})" for k, v in (w.in_null_space or {}).items() if k not in generic and v > 0.99]
+            print(_window_line(w))
+            beyond = [f"{a.direction.label} ({a.cosine:.3f})" for a in w.in_null_space
+                      if a.direction.motion and a.cosine > 0.99]
             if beyond:
                 print(f"    lost beyond the generic directions (cosine with the window's null space): {', '.join(beyond)}")
     return 0
+
+
+def _window_line(w) -> str:
+    """One window: its rank, condition number and weakest direction, or why it was not evaluated."""
+    if w.rank is None:
+        return f"  [{w.t0:g}, {w.t1:g}] {w.reason}"
+    weakest = w.weakest[0]
+    aligned = max((a for a in weakest.alignment if a.cosine == a.cosine), key=lambda a: a.cosine, default=None)
+    return (f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
+            + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
+            + (f" (|cos| {aligned.cosine:.3f} with {aligned.direction.label})" if aligned else ""))
+
+
+def _losses(lost: tuple[str, ...], windows) -> str:
+    """What the run loses, and in how many windows that could be evaluated (each other line says why not)."""
+    count = sum(w.rank is None for w in windows)
+    if count == len(windows):
+        return "no window could be evaluated"
+    said = f"loses {', '.join(lost)}" if lost else "loses no state"
+    return said + (f" in the windows evaluated ({count} of {len(windows)} not evaluated)" if count else "")
 
 
 def _trajectory_source(system: System, args: argparse.Namespace):
@@ -410,7 +428,9 @@ def _trajectory_source(system: System, args: argparse.Namespace):
     if args.states_csv is None:
         if args.duration is None:
             raise UsageError("--duration is needed with --initial")
-        return None, 1.0 if args.dt is None else args.dt, args.duration
+        from ..trajectory import default_step
+
+        return None, default_step(system, args.window) if args.dt is None else args.dt, args.duration
     from ..trajectory import states_from_csv
 
     step, states = states_from_csv(args.states_csv.read_text(), str(args.states_csv), [s.name for s in system.states])
@@ -431,11 +451,8 @@ def _trajectory_directions(system: System, parameters: dict[str, float], args: a
     if args.degenerate:
         from ..where.motions import degenerate_motions
 
-        known = {d.name for d in result.unobservable_directions}
         for row in degenerate_motions(valued, seed=args.seed or 0)[1:]:
-            lost = [d for d in row.result.unobservable_directions if d.lost_on or d.name not in known]
-            named = named_directions(system, lost, parameters)
-            directions |= {f"{row.motion.name}: {name}": at for name, at in named.items()}
+            directions += named_directions(system, row.beyond, parameters, motion=row.motion.name)
     return result, directions
 
 

@@ -152,7 +152,8 @@ def build_parser() -> argparse.ArgumentParser:
                             help="simulated time (s or steps; default with --states-csv: the whole trajectory)")
     trajectory.add_argument("--window", type=float, required=True, help="length of each window")
     trajectory.add_argument("--dt", type=float, default=None,
-                            help="integration step (RK4; default 1, a discrete map's; with --states-csv: its step)")
+                            help="integration step (RK4; default: the window over 10 samples, or over as many as give as "
+                                 "many output rows as states; 1, a discrete map's; with --states-csv: its step)")
     trajectory.add_argument("--degenerate", action="store_true",
                             help="also align with the directions the degenerate-motion scan names for each motion")
     trajectory.add_argument("--seed", type=seed_value, default=None, help="seed of the rank check that names the directions")

@@ -1,7 +1,8 @@
 """The figure of observability along a trajectory, one column per input
 profile: each state's minimum error variance over time (log scale), and the
 same as a heatmap (states by windows, log10 of the variance, one colour scale
-for every profile, from fully informed to the prior's variance: a lost state)."""
+for every profile, from fully informed to the prior's variance: a lost state).
+A window that could not be evaluated (a pole, an overflow) is a gap in both."""
 
 from __future__ import annotations
 
@@ -36,10 +37,15 @@ def variance_figure(runs: Mapping[str, Sequence[Window]], model: str, path: Path
         plt.close(figure)
 
 
+def _states(windows: Sequence[Window]) -> list[str]:
+    """The states, from the first window that was evaluated (none when no window was)."""
+    return next((list(w.min_error_variance) for w in windows if w.rank is not None), [])
+
+
 def _curves(axis, profile: str, windows: Sequence[Window]) -> None:
     middles = [(w.t0 + w.t1) / 2 for w in windows]
-    for state in windows[0].min_error_variance:
-        axis.step(middles, [w.min_error_variance[state] for w in windows], where="mid", label=state)
+    for state in _states(windows):
+        axis.step(middles, [w.min_error_variance.get(state, float("nan")) for w in windows], where="mid", label=state)
     axis.axhline(1 / PRIOR, color="0.6", linestyle=":", label="prior (state lost)")
     axis.set_yscale("log")
     axis.set_xlabel("time (window middle)")
@@ -50,10 +56,14 @@ def _curves(axis, profile: str, windows: Sequence[Window]) -> None:
 def _heatmap(axis, windows: Sequence[Window]):
     import numpy as np
 
-    states = list(windows[0].min_error_variance)
-    values = np.log10([[max(w.min_error_variance[s], 1e-300) for w in windows] for s in states])
-    image = axis.imshow(values, aspect="auto", origin="upper", cmap="viridis", vmin=min(values.min(), -6),
-                        vmax=np.log10(1 / PRIOR), extent=(windows[0].t0, windows[-1].t1, len(states) - 0.5, -0.5),
+    states = _states(windows)
+    table = np.array([[w.min_error_variance.get(s, np.nan) for w in windows] for s in states], dtype=float)
+    # nan stays: a gap; one empty row when no window was evaluated
+    values = np.log10(np.maximum(table.reshape(len(states), len(windows)), 1e-300)) if states else np.full(
+        (1, len(windows)), np.nan)
+    lowest = np.nanmin(values, initial=-6.0, where=np.isfinite(values))
+    image = axis.imshow(values, aspect="auto", origin="upper", cmap="viridis", vmin=min(lowest, -6),
+                        vmax=np.log10(1 / PRIOR), extent=(windows[0].t0, windows[-1].t1, len(values) - 0.5, -0.5),
                         interpolation="nearest")
     axis.set_yticks(range(len(states)), states)
     axis.set_xlabel("time")

@@ -8,9 +8,12 @@ model file); every model with inputs also gets the standard input profiles
 (all inputs zero, all constant, and each input alone zero). For each motion the
 rank at a generic point of the motion is computed (:func:`analyze` with the
 profile and the constraint set), with the directions lost beyond the generic
-ones: named when the motion is an input profile (the restricted system is a
-system like any other), counted on a constraint set (where the directions
-search does not apply).
+ones: on an input profile (the restricted system is a system like any other)
+those of its null fields that are independent of the generic ones (the
+restricted null space also holds the generic directions, possibly combined
+anew, e.g. a rotation about the robot instead of the origin: a name differing
+from every generic name does not make a direction new), on a constraint set
+those the search on the set found independent of them.
 """
 
 from __future__ import annotations
@@ -18,11 +21,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import sympy
+
 from ..analysis.result import ObservabilityResult
 from ..analysis.verdict import analyze
 from .conditions import RankDrop, rank_drops
+from ..directions.find import UnobservableDirection
+from ..directions.symmetry import independent_basis
+from ..engine.taylor import Redraw
 from ..errors import ModelError
 from .restrict import restrict
+from ..model.expressions import parse_expression
 from ..model.system import Motion, System
 
 __all__ = ["MotionResult", "catalogue", "degenerate_motions"]
@@ -38,6 +47,7 @@ class MotionResult:
     generic_rank: int | None
     rank_drops: tuple[RankDrop, ...] = ()  # where the rank falls further, on this motion
     rank_drops_note: str = ""  # why the conditions were not (all) computed
+    beyond: tuple[UnobservableDirection, ...] = ()  # the directions behind lost_directions, when named
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -72,16 +82,16 @@ def catalogue(system: System) -> list[Motion]:
 
 
 def _analyse(system: System, motion: Motion, seed: int, conditions: bool, budget: float | None
-             ) -> tuple[ObservabilityResult, list[RankDrop], str]:
+             ) -> tuple[System, ObservabilityResult, list[RankDrop], str]:
     restricted = restrict(system, motion.inputs, where=motion.where, what=f"motion {motion.name!r}: input",
                           where_name=f"motion {motion.name!r}:", both=("the motion's inputs", "its where"))
     result = analyze(restricted.system, seed=seed, input_derivatives=restricted.input_derivatives,
                      where=restricted.constraint, functions=False)
     if not conditions or restricted.constraint is not None:
-        return result, [], ""
+        return restricted.system, result, [], ""
     drops, note = rank_drops(restricted.system, result, seed=seed, budget=budget,
                              input_derivatives=restricted.input_derivatives)
-    return result, drops, note
+    return restricted.system, result, drops, note
 
 
 def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | None = None,
@@ -104,21 +114,70 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
     generic: ObservabilityResult | None = None
     for motion in motions if motions is not None else catalogue(system):
         try:
-            result, drops, note = _analyse(system, motion, seed, conditions, budget)
+            restricted, result, drops, note = _analyse(system, motion, seed, conditions, budget)
         except ModelError as exc:
             raise ModelError(f"motion {motion.name!r}: {exc}") from None
         if generic is None:
             generic = result
         lost: tuple[str, ...] = ()
+        beyond: tuple[UnobservableDirection, ...] = ()
         if result.rank is not None and generic.rank is not None and result.rank < generic.rank:
             extra = generic.rank - result.rank
-            known = {d.name for d in generic.unobservable_directions}
-            beyond = [_compact(d) for d in result.unobservable_directions
-                      if (d.lost_on if motion.where else d.name not in known)]
-            lost = tuple(beyond) if len(beyond) == extra else (
-                f"{extra} more direction(s)" + ("" if not beyond else f": {'; '.join(beyond)}"),)
-        out.append(MotionResult(motion, result, lost, generic.rank, tuple(drops), note))
+            beyond = (tuple(d for d in result.unobservable_directions if d.lost_on) if motion.where
+                      else _independent(restricted, generic.unobservable_directions, system.n - generic.rank,
+                                        result.unobservable_directions, extra, seed))
+            named = [_compact(d) for d in beyond]
+            lost = tuple(named) if len(named) == extra else (
+                f"{extra} more direction(s)" + ("" if not named else f", of them: {'; '.join(named)}"),)
+        out.append(MotionResult(motion, result, lost, generic.rank, tuple(drops), note, beyond))
     return out
+
+
+def _independent(system: System, generic: tuple[UnobservableDirection, ...], nullity: int,
+                 found: tuple[UnobservableDirection, ...], extra: int, seed: int) -> tuple[UnobservableDirection, ...]:
+    """At most ``extra`` of the motion's directions ``found``, each independent of
+    the generic ones and of those kept before it, as fields.
+
+    Certain when kept: a candidate is kept only when the generic fields, the ones
+    kept and it are independent at one random point mod p
+    (:func:`~observability.directions.symmetry.independent_basis`), and a
+    dependence over the field of functions of the state would persist at every
+    point where the fields are defined (mod p too: a minor that vanishes
+    identically vanishes at every point). A candidate not kept is, with high
+    probability, a combination of the others. The comparison needs the generic
+    directions as exact fields: when one is not (a vector of floating-point
+    numbers at one point), or does not parse, nothing is kept and the motion's
+    row gives the count alone; so too when the generic directions found are fewer
+    than the generic nullity (a candidate could be one of those missing)."""
+    names = {q.name: q for q in (*system.states, *system.parameters)}
+    basis = [_field(d, system, names) for d in generic]
+    if any(v is None for v in basis) or len(basis) != nullity:
+        return ()
+    kept: list[UnobservableDirection] = []
+    for direction in found:
+        vector = _field(direction, system, names)
+        if len(kept) == extra or vector is None:
+            continue
+        try:
+            _, chosen = independent_basis(system, len(basis) + 1, [], extra=[*basis, vector], seed=seed)
+        except Redraw:
+            return tuple(kept)
+        if len(chosen) == len(basis) + 1:
+            basis.append(vector)
+            kept.append(direction)
+    return tuple(kept)
+
+
+def _field(direction: UnobservableDirection, system: System, names: dict[str, sympy.Symbol]
+           ) -> list[sympy.Expr] | None:
+    """The direction as exact expressions in the states, or None when it is a
+    vector of floating-point numbers (at one point, not a field) or does not parse."""
+    try:
+        vector = [parse_expression(direction.vector.get(s.name, "0"), names, where=direction.name)
+                  for s in system.states]
+    except ModelError:
+        return None
+    return None if any(e.atoms(sympy.Float) for e in vector) else vector
 
 
 def _compact(direction) -> str:
