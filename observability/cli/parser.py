@@ -10,7 +10,7 @@ from ..model.methods import METHODS, PREVIOUS_METHODS
 from .arguments import (Parser, count, identifier, out_directory, out_file, pages, positive, seconds, seed_value)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
-from .planning import sensors_command
+from .planning import design_command, sensors_command
 
 __all__ = ["build_parser"]
 
@@ -193,6 +193,27 @@ def build_parser() -> argparse.ArgumentParser:
     sensors.add_argument("--budget", type=seconds, default=60.0, metavar="SECONDS",
                          help="CPU time for each verdict's symbolic steps (default 60)")
     sensors.set_defaults(func=sensors_command)
+    design = sub.add_parser(
+        "design", help="a piecewise-constant input profile that maximises the weakest window's information")
+    _model_arguments(design)
+    design.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
+    design.add_argument("--duration", type=float, required=True, help="the horizon")
+    design.add_argument("--window", type=float, required=True, help="each window's length")
+    design.add_argument("--bounds", required=True, metavar="NAME=LO:HI,...", help="the inputs to design and their bounds")
+    design.add_argument("--input", default=None, metavar="NAME=VALUE,...",
+                        help="the baseline (constant) and the value of inputs not designed (default: mid-range)")
+    design.add_argument("--dt", type=float, default=None, help="the step (default: the trajectory's)")
+    design.add_argument("--pieces", type=positive, default=None, help="constant pieces over the horizon (default: 2 a window)")
+    design.add_argument("--smoothness", type=float, default=0.0, help="weight of the squared steps between pieces")
+    design.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
+    design.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
+    design.add_argument("--out", type=out_file, default=None, metavar="FILE.csv",
+                        help="write the inputs as a CSV that trajectory --inputs-csv reads")
+    design.add_argument("--plot", type=out_file, default=None, metavar="FILE.png", help="the inputs and windows' information")
+    design.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    design.add_argument("--seed", type=seed_value, default=None, help="seed of the start and of the analysis")
+    design.add_argument("--budget", type=seconds, default=60.0, metavar="SECONDS", help="CPU time of the solver (default 60)")
+    design.set_defaults(func=design_command)
     listing = sub.add_parser("models", help="list the built-in models")
     listing.set_defaults(func=models_command)
     return parser

@@ -1,14 +1,16 @@
-"""The planning commands: which sensors to add (``sensors``)."""
+"""The planning commands: which sensors to add (``sensors``), which inputs to apply (``design``)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 
+from ..progress import clear_line, status_line
+from ..report.files import write_text
 from .arguments import EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, model_options
 from .commands import _about, _numbers, resolve_model
 
-__all__ = ["sensors_command"]
+__all__ = ["sensors_command", "design_command"]
 
 
 def _candidates(items: list[str]) -> dict[str, str]:
@@ -58,3 +60,65 @@ def sensors_command(args: argparse.Namespace) -> int:
     if choice.minimality == "undecided":
         return EXIT_UNDECIDED
     return EXIT_OBSERVABLE if choice.observable else EXIT_NOT_OBSERVABLE
+
+
+def _bounds(text: str) -> dict[str, tuple[float, float]]:
+    """``NAME=LO:HI,...`` as name -> (low, high), each an exactly read finite number."""
+    from ..model.expressions import parse_number
+
+    bounds: dict[str, tuple[float, float]] = {}
+    for item in filter(None, (part.strip() for part in text.split(","))):
+        name, equals, span = item.partition("=")
+        low, colon, high = span.partition(":")
+        if not (equals and colon and name.strip()):
+            raise UsageError(f"--bounds {item!r}: expected NAME=LO:HI")
+        if name.strip() in bounds:
+            raise UsageError(f"--bounds {name.strip()}: given twice")
+        bounds[name.strip()] = (float(parse_number(low.strip(), f"--bounds {name}")),
+                                float(parse_number(high.strip(), f"--bounds {name}")))
+    return bounds
+
+
+def design_command(args: argparse.Namespace) -> int:
+    from ..planning.design import design_inputs
+
+    with _about(args.model):
+        system = resolve_model(args.model, model_options(args.option), args.time)
+        show = status_line()
+        if show is not None:
+            show("designing the inputs (IPOPT)")
+        design = design_inputs(
+            system, _numbers(args.initial, "--initial"), duration=args.duration, window=args.window,
+            bounds=_bounds(args.bounds), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
+            noise=_numbers(args.noise, "--noise") or 1.0, parameters=_numbers(args.parameters, "--parameters"),
+            smoothness=args.smoothness, seed=args.seed or 0, budget=args.budget)
+        clear_line()
+    if args.out is not None:
+        write_text(args.out, design.csv())
+    if args.plot is not None:
+        from ..report.design_figure import design_figure
+
+        design_figure(design, args.plot)
+    if args.format == "json":
+        print(json.dumps(design.to_dict(), indent=2, allow_nan=False))
+        return 0
+    print(_design_text(design, args.out))
+    return 0
+
+
+def _design_text(design, out) -> str:
+    ratio = design.improvement
+    gain = (f"{ratio:.3g} times the baseline's" if ratio != float("inf") else "where the baseline's is zero")
+    lines = [f"{design.model}: the weakest window's information {min(design.designed_weakest):.4g}, {gain} "
+             f"({min(design.baseline_weakest):.4g}); solver: {design.solver}"]
+    if design.projected:
+        lines.append(f"  never observable, left out of the objective: {'; '.join(design.projected)}")
+    for i, (ours, theirs) in enumerate(zip(design.designed_weakest, design.baseline_weakest)):
+        lines.append(f"  window [{i * design.window:g}, {(i + 1) * design.window:g}]: designed {ours:.4g}, "
+                     f"baseline {theirs:.4g}")
+    lines.append("  inputs: " + "; ".join(f"{name} = " + ", ".join(f"{v:.3g}" for v in values)
+                                         for name, values in design.inputs.items())
+                 + f" (pieces from t = {', '.join(f'{t:g}' for t in design.times)})")
+    if out is not None:
+        lines.append(f"  wrote {out} (observability trajectory MODEL --inputs-csv {out} checks it)")
+    return "\n".join(lines)

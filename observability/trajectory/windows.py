@@ -14,7 +14,8 @@ from ..errors import ModelError
 from ..model.system import System
 from .results import PRIOR, Alignment, NamedDirection, WeakDirection, Window
 
-__all__ = ["MAX_STEPS", "default_step", "windowed_observability"]
+__all__ = ["MAX_STEPS", "check_request", "default_step", "discrete_functions", "grid", "variances",
+           "windowed_observability"]
 
 #: Singular values of R^-1/2 O below this fraction of the largest count as zero.
 RANK_TOLERANCE = 1e-9
@@ -98,11 +99,11 @@ def windowed_observability(
         given trajectory of the wrong shape, too short or not finite.
     """
     parameters = dict(parameters or {})
-    _checked(system, initial if states is None else {x.name: 0.0 for x in system.states}, inputs, parameters)
-    steps, per_window = _grid(duration, window, dt, len(system.outputs), system.n)
-    discrete, fns = _functions(system, parameters, dt)
+    check_request(system, initial if states is None else {x.name: 0.0 for x in system.states}, inputs, parameters)
+    steps, per_window = grid(duration, window, dt, len(system.outputs), system.n)
+    discrete, fns = discrete_functions(system, parameters, dt)
     p = np.array([parameters[name] for name in fns.parameters], dtype=float)
-    weights = 1.0 / _variances(noise, fns.outputs)
+    weights = 1.0 / variances(noise, fns.outputs)
     controls = _controls(discrete, inputs, steps, dt)
     trajectory = (_simulate(fns, np.array([float(initial[s]) for s in fns.states]), controls, p) if states is None
                   else _given(states, steps, len(fns.states)))
@@ -142,7 +143,8 @@ def _controls(system: System, inputs: Mapping, steps: int, dt: float) -> np.ndar
     return np.array([_inputs_at(system, inputs, k * dt) for k in range(steps + 1)], dtype=float)
 
 
-def _checked(system: System, initial: Mapping[str, float], inputs: Mapping, parameters: Mapping[str, float]):
+def check_request(system: System, initial: Mapping[str, float], inputs: Mapping, parameters: Mapping[str, float]):
+    """Refuse (ModelError, naming what) an unknown input, a state, input or parameter without a value."""
     system.require_known_inputs("the trajectory analysis")
     states = [s.name for s in system.states]
     missing = [s for s in states if s not in initial]
@@ -160,7 +162,7 @@ def _checked(system: System, initial: Mapping[str, float], inputs: Mapping, para
         raise ModelError(f"no value for the parameter {unset[0]} (give it with -o or System.with_values)")
 
 
-def _grid(duration: float, window: float, dt: float, rows_per_sample: int, n: int) -> tuple[int, int]:
+def grid(duration: float, window: float, dt: float, rows_per_sample: int, n: int) -> tuple[int, int]:
     """(steps, steps per window), checked: finite, ordered, bounded by
     ``MAX_STEPS``, and enough output rows per window for rank n."""
     if not (all(map(math.isfinite, (dt, window, duration))) and 0 < dt <= window <= duration):
@@ -177,7 +179,7 @@ def _grid(duration: float, window: float, dt: float, rows_per_sample: int, n: in
     return steps, per_window
 
 
-def _variances(noise: Mapping[str, float] | float, outputs: Sequence[str]) -> np.ndarray:
+def variances(noise: Mapping[str, float] | float, outputs: Sequence[str]) -> np.ndarray:
     """The measurement variance of each output, each finite and positive (and its inverse finite)."""
     if isinstance(noise, Mapping):
         unknown = [k for k in noise if k not in outputs]
@@ -193,7 +195,7 @@ def _variances(noise: Mapping[str, float] | float, outputs: Sequence[str]) -> np
     return np.array(list(given.values()))
 
 
-def _functions(system: System, parameters: dict[str, float], dt: float):
+def discrete_functions(system: System, parameters: dict[str, float], dt: float):
     """The discrete-time system (RK4 at the step in continuous time) and its casadi functions."""
     if "dt" in {q.name for q in system.free_parameters}:
         parameters["dt"] = dt  # the model's own step parameter is the step

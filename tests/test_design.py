@@ -1,0 +1,121 @@
+"""Input design (issue 70, item 1): a piecewise-constant input profile maximising the weakest window's
+Fisher information, checked by an independent route.
+
+- A closed form: x' = u x, y = x. RK4 with the input held over a step multiplies x by
+  r(u dt) = 1 + z + z^2/2 + z^3/6 + z^4/24 (z = u dt), so the sensitivity of x_j to the window's first
+  state is r^j and the window's information is sum_{j<J} r(u dt)^(2j) (H = 1, unit variance): increasing
+  in u for u dt > -1, so the optimum holds u at its upper bound on every piece.
+- The mono-camera (g' = u, d' = 0, h = g/d: standing still loses the scale) and a unicycle ranging a
+  known beacon: the written CSV is read back by the trajectory analysis (numpy QR of the stacked rows, not
+  the design's casadi graph), whose windows must have the generic rank and the weakest information the
+  design reports, above the baseline's.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import cli
+from observability import System
+from observability.errors import ModelError
+from observability.planning.design import design_inputs
+from observability.trajectory import inputs_from_csv, windowed_observability
+
+MONO = System(["g", "d"], {"g": "u", "d": "0"}, {"h": "g/d"}, inputs=["u"], name="mono")
+UNICYCLE = System(["x", "y", "th"], {"x": "v*cos(th)", "y": "v*sin(th)", "th": "w"},
+                  {"r": "sqrt((x - 2)**2 + (y - 1)**2)"}, inputs=["v", "w"], name="unicycle-range")
+
+
+def _rk4(z: float) -> float:
+    return 1 + z + z * z / 2 + z ** 3 / 6 + z ** 4 / 24
+
+
+def test_the_closed_form_optimum():
+    scalar = System(["x"], {"x": "u*x"}, {"y": "x"}, inputs=["u"], name="scalar")
+    design = design_inputs(scalar, {"x": 1.0}, duration=2, window=1, dt=0.1, bounds={"u": (-1.0, 0.5)})
+    assert np.allclose(design.inputs["u"], 0.5, atol=1e-6)
+    best = sum(_rk4(0.05) ** (2 * j) for j in range(10))
+    assert design.designed_weakest == pytest.approx((best, best), rel=1e-9)
+    middle = sum(_rk4(-0.025) ** (2 * j) for j in range(10))  # the baseline: mid-range u = -1/4
+    assert design.baseline_weakest == pytest.approx((middle, middle), rel=1e-9)
+    noisy = design_inputs(scalar, {"x": 1.0}, duration=1, window=1, dt=0.1, bounds={"u": (-1.0, 0.5)}, noise={"y": 4.0})
+    assert noisy.designed_weakest == pytest.approx((best / 4,), rel=1e-9)  # R^-1 = 1/4 weighs every row
+
+
+def _weakest_by_trajectory(system, initial, design, inputs=None, duration=2.0):
+    """Per window: (rank, the smallest information beyond the generic null space) from the trajectory route."""
+    inputs = inputs if inputs is not None else inputs_from_csv(design.csv(), "designed.csv")
+    windows = windowed_observability(system, initial, inputs, duration=duration, window=design.window, dt=design.dt,
+                                     weakest=system.n)
+    lost = len(design.projected)
+    return [(w.rank, sorted(d.information for d in w.weakest)[lost]) for w in windows]
+
+
+def test_the_mono_camera_gains_the_scale():
+    """Standing still (the baseline u = 0) the scale is lost in every window (information 0); the design
+    moves, and the trajectory route sees rank 2 and the design's weakest information in each window."""
+    design = design_inputs(MONO, {"g": 2.0, "d": 3.0}, duration=2, window=0.5, bounds={"u": (-1.0, 1.0)},
+                           baseline={"u": 0.0})
+    assert design.baseline_weakest == (0.0,) * 4 and design.projected == ()
+    checked = _weakest_by_trajectory(MONO, {"g": 2.0, "d": 3.0}, design)
+    assert [rank for rank, _ in checked] == [2, 2, 2, 2]
+    assert [info for _, info in checked] == pytest.approx(design.designed_weakest, rel=1e-6)
+    assert min(design.designed_weakest) > 1e-4
+
+
+def test_the_unicycle_beats_its_baseline_beyond_the_rotation_it_never_sees():
+    initial = {"x": 0.0, "y": 0.0, "th": 0.0}
+    design = design_inputs(UNICYCLE, initial, duration=4, window=1, bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    assert design.projected == ("rotation about (x, y) = (2, 1)",)
+    checked = _weakest_by_trajectory(UNICYCLE, initial, design, duration=4.0)
+    assert [rank for rank, _ in checked] == [2] * 4  # the generic rank in every window
+    assert [info for _, info in checked] == pytest.approx(design.designed_weakest, rel=1e-6)
+    baseline = _weakest_by_trajectory(UNICYCLE, initial, design, {"v": 0.75, "w": 0.0}, duration=4.0)
+    assert min(i for _, i in checked) > 1.5 * min(i for _, i in baseline)
+    assert [i for _, i in baseline] == pytest.approx(design.baseline_weakest, rel=1e-6)
+
+
+@pytest.mark.parametrize("bounds, baseline, words", [
+    ({"u": (1.0, 0.0)}, {}, "expected finite bounds with LO < HI"),
+    ({"q": (0.0, 1.0)}, {}, "--bounds q: not an input"),
+    ({}, {}, "at least one input must be free"),
+    ({"v": (0.0, 1.0)}, {}, "--input: no value for the input w"),
+])
+def test_bad_requests_are_refused(bounds, baseline, words):
+    system = MONO if "u" in bounds or not bounds else UNICYCLE
+    with pytest.raises(ModelError, match=words):
+        design_inputs(system, {"g": 1.0, "d": 1.0} if system is MONO else {"x": 0, "y": 0, "th": 0}, duration=1,
+                      window=0.5, bounds=bounds, baseline=baseline)
+
+
+def test_the_graph_is_bounded():
+    with pytest.raises(ModelError, match="the design's graph holds at most"):
+        design_inputs(MONO, {"g": 1.0, "d": 1.0}, duration=100, window=1, dt=0.01, bounds={"u": (0.0, 1.0)})
+
+
+def test_the_command_line(tmp_path):
+    model = tmp_path / "mono.toml"
+    model.write_text('name = "mono"\nstates = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n'
+                     '[outputs]\nh = "g/d"\n')
+    out = cli("design", model, "--initial", "g=2,d=3", "--duration", "2", "--window", "0.5", "--bounds", "u=-1:1",
+              "--input", "u=0", "--out", tmp_path / "u.csv", "--format", "json")
+    data = json.loads(out.stdout, parse_constant=lambda c: pytest.fail(f"non-strict JSON constant {c}"))
+    assert out.returncode == 0 and data["improvement"] is None and min(data["designed_weakest"]) > 0
+    assert (tmp_path / "u.csv").read_text().splitlines()[0] == "t,u"
+    check = cli("trajectory", model, "--initial", "g=2,d=3", "--inputs-csv", tmp_path / "u.csv", "--duration", "2",
+                "--window", "0.5")
+    assert check.returncode == 0 and "loses no state" in check.stdout
+    for bad in (["--bounds", "u=1:0"], ["--bounds", "u"], ["--bounds", "u=0:1", "--out", tmp_path / "no" / "u.csv"]):
+        out = cli("design", model, "--initial", "g=2,d=3", "--duration", "2", "--window", "0.5", *bad)
+        assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
+
+
+def test_a_solver_that_ends_below_its_start_never_returns_a_worse_profile():
+    """The baseline at the optimum (u = 1/2, by the closed form) and a solver stopped at once: the
+    perturbed start is worse (u below 1/2 on some piece), so the baseline is handed back, and said."""
+    scalar = System(["x"], {"x": "u*x"}, {"y": "x"}, inputs=["u"], name="scalar")
+    design = design_inputs(scalar, {"x": 1.0}, duration=2, window=1, dt=0.1, bounds={"u": (-1.0, 0.5)},
+                           baseline={"u": 0.5}, budget=1e-9)
+    assert design.inputs["u"] == (0.5,) * 4 and design.solver.endswith("no better profile found: the baseline kept")
+    assert design.designed_weakest == design.baseline_weakest
