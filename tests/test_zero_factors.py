@@ -12,7 +12,7 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.intervals import nonzero
+from observability.intervals import ball, nonzero
 from observability.model.squareroots import without_square_root_outputs
 
 #: Zero, but not written as 0 (sympy keeps each unevaluated).
@@ -59,3 +59,38 @@ def test_a_non_zero_coefficient_still_gives_the_radicand():
     rewritten, note = without_square_root_outputs(system)
     assert [str(e) for _, e in rewritten.outputs] == ["x", "x"] and "radicand" in note
     assert analyze(system, seed=1).rank == 1
+
+
+def test_a_construct_the_balls_cannot_evaluate_proves_nothing():
+    """sinh(1)^2 - cosh(1)^2 + 1 = 0 (the hyperbolic identity), and sinh is not evaluated in
+    balls: nonzero() must answer False, never True."""
+    assert nonzero(sympy.sinh(1) ** 2 - sympy.cosh(1) ** 2 + 1) is False
+
+
+def test_powers_at_zero_are_exact():
+    """x^2, x^3 and sqrt(x) at x = 0 are 0 exactly (a power of 0, not 1/0^-p), and x^-1 is not finite."""
+    from flint import arb
+
+    x = sympy.Symbol("x")
+    zero = {x: arb(0)}
+    for power in (x ** 2, x ** 3, sympy.sqrt(x)):
+        value = ball(power, zero)
+        assert value.is_finite() and value.mid() == 0 and value.rad() == 0
+    assert not ball(1 / x, zero).is_finite()
+
+
+def test_a_coefficient_with_a_previous_state_is_not_dropped():
+    """y = prev(x)*sqrt(x): the factor in front holds a variable, so this is not a*sqrt(g) with a
+    constant a; left as written."""
+    system = System(["x"], {"x": "x/2"}, {"y": "prev(x)*sqrt(x)"}, time="discrete")
+    rewritten, note = without_square_root_outputs(system)
+    assert rewritten is system and note == ""
+
+
+def test_the_note_names_every_rewritten_output():
+    """Word for word, for one output and for two."""
+    one = System(["x"], {"x": "0"}, {"r": "2*sqrt(x) + 3"})
+    two = System(["x", "z"], {"x": "0", "z": "0"}, {"r": "sqrt(x)", "s": "sqrt(z + 1)"})
+    tail = " analysed through the radicand: the same rows wherever it is positive (observability/model/squareroots.py)"
+    assert without_square_root_outputs(one)[1] == "output r = sqrt(x)" + tail
+    assert without_square_root_outputs(two)[1] == "outputs r = sqrt(x); s = sqrt(z + 1)" + tail
