@@ -352,11 +352,13 @@ def digest(model: dict) -> str:
 
 
 def _same_system(proof_model: dict, model: dict) -> None:
-    """Rejected unless the proof's system is ``model``'s: the same time, states,
+    """Rejected unless the proof's system is ``model``'s: the same name, time, states,
     inputs and parameters (in order), the same parameter values, dynamics and
     outputs as expressions (equal in sympy's normal form, or their difference
     cancelling to 0)."""
     ours, theirs = _equations(proof_model), _equations(model)
+    if proof_model["name"] != model["name"]:
+        raise Rejected("the proof is not about the model given: its name differs")
     for part in ("time", "states", "inputs"):
         if ours[part] != theirs[part]:
             raise Rejected(f"the proof is not about the model given: its {part} differ")
@@ -383,11 +385,11 @@ def _answer(text: str, model: dict | None) -> tuple[bool, list[str]]:
                             "check --proof printed, or give --model MODEL)"]
     except Rejected as exc:
         return False, [f"rejected: {str(exc)[:1000]}"]
-    except MemoryError:
-        return False, [f"rejected: the check needed more than its {MEMORY >> 20} MB of memory"]
     except (KeyError, TypeError, ValueError, AttributeError, IndexError, RecursionError, ZeroDivisionError,
             sympy.SympifyError) as exc:
         return False, [f"rejected: malformed proof ({type(exc).__name__}: {str(exc)[:200]})"]
+    except Exception as exc:  # noqa: BLE001 - whatever sympy raises on a strange file, nothing is accepted on it
+        return False, [f"rejected: the check could not be completed ({type(exc).__name__}: {str(exc)[:200]})"]
 
 
 def verify(path: str, model: dict | None = None, seconds: float = CPU_SECONDS) -> tuple[bool, str]:
@@ -428,7 +430,11 @@ def _in_child(answer: Callable[[], tuple[bool, list[str]]], seconds: float) -> t
             with open("/proc/self/statm") as statm:
                 held = int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
             resource.setrlimit(resource.RLIMIT_AS, (held + MEMORY, held + MEMORY))
-            data = json.dumps(answer()).encode()
+            try:
+                answered = answer()
+            except MemoryError:
+                answered = (False, [f"rejected: the check needed more than its {MEMORY >> 20} MB of memory"])
+            data = json.dumps(answered).encode()
             while data:
                 data = data[os.write(writing, data):]
         finally:

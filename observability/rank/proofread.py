@@ -23,8 +23,6 @@ class Rejected(Exception):
 #: Functions a proof's expressions may call; nothing else is ever evaluated.
 _FUNCTIONS = {"sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan, "exp": sympy.exp, "log": sympy.log,
               "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "Abs": sympy.Abs, "abs": sympy.Abs}
-_BINARY = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-           ast.Div: lambda a, b: a / b, ast.Pow: lambda a, b: a**b}
 #: Bounds that keep a hostile file from hanging the checker (9**9**9**9, ((x + 2)**1000)**1000):
 #: characters, syntax nodes and nesting depth of an expression, the size of an exponent, and
 #: bounds on its degree in the names and on the bits of its numbers (exponents multiply both).
@@ -33,7 +31,7 @@ MAX_DEGREE, MAX_BITS = 1_000, 100_000
 #: The longest number of a point or a minor (characters).
 MAX_NUMBER = 1_000
 RATIONAL = re.compile(r"-?[0-9]+(/[0-9]+)?")
-DECIMAL = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?")
+DECIMAL = re.compile(r"-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
 
 def parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
     """An expression of a proof file, read by walking its syntax tree: names of
@@ -70,16 +68,17 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
         operand, degree, bits = _node(node.operand, symbols, depth + 1)
         return (-operand if isinstance(node.op, ast.USub) else operand), degree, bits
-    if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+        return _chain(node, symbols, depth)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Div, ast.Pow)):
         (left, dl, bl), (right, dr, br) = _node(node.left, symbols, depth + 1), _node(node.right, symbols, depth + 1)
         if isinstance(node.op, ast.Pow):
             if not (right.is_Rational and abs(right) <= MAX_EXPONENT):
                 raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
             return _bounded(left**right, dl * abs(right), bl * abs(right) + br)
-        if isinstance(node.op, ast.Div) and right == 0:
+        if right == 0:
             raise Rejected("division by zero in an expression")
-        degree = max(dl, dr) if isinstance(node.op, (ast.Add, ast.Sub)) else dl + dr
-        return _bounded(_BINARY[type(node.op)](left, right), degree, bl + br + 1)
+        return _bounded(left / right, dl + dr, bl + br + 1)
     if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
             and not node.keywords):
         args = [_node(a, symbols, depth + 1) for a in node.args]
@@ -89,6 +88,25 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[
             raise Rejected(f"{node.func.id} with {len(args)} argument(s)") from None
         return _bounded(value, max((d for _, d, _ in args), default=0), sum(b for _, _, b in args))
     raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
+
+
+def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:
+    """A sum (a + b - c ...) or a product (a * b * c ...) read as one level of
+    nesting: the parser writes it as a left-leaning tree as deep as it is long,
+    which is no nesting a hostile file could use (its terms are counted by MAX_NODES)."""
+    product = isinstance(node.op, ast.Mult)
+    operands: list[tuple[ast.AST, bool]] = []
+    while isinstance(node, ast.BinOp) and (isinstance(node.op, ast.Mult) if product else
+                                           isinstance(node.op, (ast.Add, ast.Sub))):
+        operands.append((node.right, isinstance(node.op, ast.Sub)))
+        node = node.left
+    operands.append((node, False))
+    read = [(_node(operand, symbols, depth + 1), negated) for operand, negated in reversed(operands)]
+    terms = [-e if negated else e for (e, _, _), negated in read]
+    degrees, bits = [d for (_, d, _), _ in read], sum(b for (_, _, b), _ in read) + len(read)
+    if product:
+        return _bounded(sympy.Mul(*terms), sum(degrees), bits)
+    return _bounded(sympy.Add(*terms), max(degrees), bits)
 
 
 def _bounded(expr: sympy.Expr, degree: float, bits: float) -> tuple[sympy.Expr, float, float]:
