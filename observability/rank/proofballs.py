@@ -96,8 +96,6 @@ def independent(vectors: sympy.Matrix) -> bool:
         return vectors.rank() == vectors.rows
     with flint.ctx.workprec(PRECISIONS[1]):
         balls = [[ball(e) for e in row] for row in vectors.tolist()]
-    if not all(b.is_finite() for row in balls for b in row):
-        return False
     with mpmath.workdps(60):
         mids = mpmath.matrix([[mpmath.mpf(b.mid().str(60, radius=False)) for b in row] for row in balls])
         columns = _pivot_columns(mids)
