@@ -80,7 +80,7 @@ def budgeted_runs(monkeypatch, module, run):
 # by the checker tied to its model (`verify-proof --model`), and the session fails on a refusal.
 _WRITTEN: dict[str, tuple[str, dict]] = {}
 _ACCEPTED: set[str] = set()
-_real_evidence, _real_check = _proofs.proof_evidence, _proofcheck.check
+_real_evidence, _real_check, _real_verify = _proofs.proof_evidence, _proofcheck.check, _proofcheck.verify
 
 
 def _recording_evidence(system, *args, **kwargs):
@@ -95,7 +95,15 @@ def _recording_check(proof, model=None):
     return line
 
 
-_proofs.proof_evidence, _proofcheck.check = _recording_evidence, _recording_check
+def _recording_verify(path, model=None, *args, **kwargs):
+    accepted, lines = _real_verify(path, model, *args, **kwargs)  # checked in a child: marked here
+    if accepted and model is not None:
+        with open(path, encoding="utf-8") as handle:
+            _ACCEPTED.add(json.dumps(json.load(handle), sort_keys=True))
+    return accepted, lines
+
+
+_proofs.proof_evidence, _proofcheck.check, _proofcheck.verify = _recording_evidence, _recording_check, _recording_verify
 
 
 @pytest.fixture(scope="session", autouse=True)

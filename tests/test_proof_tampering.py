@@ -77,7 +77,7 @@ def _claimed(p: dict, rank: int, n: int) -> None:
 def _edits(proof: dict) -> dict:
     """Every field the checker reads, edited so that the proof no longer holds."""
     n, r = proof["n_states"], proof["rank"]
-    lower, upper, model = proof["lower_bound"], proof["upper_bound"], proof["model"]
+    lower, model = proof["lower_bound"], proof["model"]
     others = [*model["parameters"], *model["inputs"], *model["outputs"]]
     first = model["states"][0]
     minor = lower["minor"]

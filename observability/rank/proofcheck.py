@@ -352,8 +352,8 @@ def digest(model: dict) -> str:
 
 
 def _same_system(proof_model: dict, model: dict) -> None:
-    """Rejected unless the proof's system is ``model``'s: the same name, time, states,
-    inputs and parameters (in order), the same parameter values, dynamics and
+    """Rejected unless the proof's system is ``model``'s: the same name, time, states
+    and inputs (in order), parameters and outputs (by name), parameter values, dynamics and
     outputs as expressions (equal in sympy's normal form, or their difference
     cancelling to 0)."""
     ours, theirs = _equations(proof_model), _equations(model)
@@ -362,7 +362,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
     for part in ("time", "states", "inputs"):
         if ours[part] != theirs[part]:
             raise Rejected(f"the proof is not about the model given: its {part} differ")
-    if list(ours["parameters"]) != list(theirs["parameters"]) or list(ours["outputs"]) != list(theirs["outputs"]):
+    if sorted(ours["parameters"]) != sorted(theirs["parameters"]) or sorted(ours["outputs"]) != sorted(theirs["outputs"]):
         raise Rejected("the proof is not about the model given: its parameters or outputs differ")
     symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
     for part in ("parameters", "dynamics", "outputs"):
