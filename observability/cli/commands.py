@@ -219,8 +219,9 @@ def _write_proof(system: System, result, args: argparse.Namespace) -> int | None
     from ..rank.proofcheck import digest
 
     write_json(args.proof, evidence)
+    given = " ".join([args.model, *(f"-o {o}" for o in args.option), *([f"--time {args.time}"] if args.time else [])])
     print(f"wrote the proof to {args.proof}, its equations sha256 {digest(evidence['model'])} (re-check it with: "
-          f"observability verify-proof {args.proof} --model {args.model})", file=sys.stderr)
+          f"observability verify-proof {args.proof} --model {given})", file=sys.stderr)
     return None
 
 
