@@ -425,11 +425,10 @@ def _in_child(answer: Callable[[], tuple[bool, list[str]]], seconds: float) -> t
     if pid == 0:  # the child: answer, write, and leave without running the parent's exit handlers
         try:
             os.close(reading)
-            limit = max(1, math.ceil(seconds))
-            resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 1))
             with open("/proc/self/statm") as statm:
                 held = int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-            resource.setrlimit(resource.RLIMIT_AS, (held + MEMORY, held + MEMORY))
+            _limit(resource.RLIMIT_CPU, max(1, math.ceil(seconds)))  # SIGXCPU past it
+            _limit(resource.RLIMIT_AS, held + MEMORY)  # MemoryError past it
             try:
                 answered = answer()
             except MemoryError:
@@ -451,3 +450,9 @@ def _in_child(answer: Callable[[], tuple[bool, list[str]]], seconds: float) -> t
     if os.WIFSIGNALED(status) and os.WTERMSIG(status) in (signal.SIGXCPU, signal.SIGKILL):
         return False, [f"rejected: not verified within {seconds:g} CPU seconds"]
     return False, [f"rejected: the check ended without an answer (status {status})"]
+
+
+def _limit(kind: int, value: int) -> None:
+    """The soft limit ``kind`` lowered to ``value`` (never above the hard limit, which stays)."""
+    _, hard = resource.getrlimit(kind)
+    resource.setrlimit(kind, (value if hard == resource.RLIM_INFINITY else min(value, hard), hard))
