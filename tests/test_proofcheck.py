@@ -340,3 +340,23 @@ def test_the_model_given_is_compared_as_expressions():
 def _tied_pendulum() -> tuple[str, dict, dict]:
     proof = _pendulum_proof()
     return proofcheck.check(proof), proof, proof_model(_pendulum())
+
+
+def test_balls_enclose_the_true_value_or_are_not_finite():
+    """ball() against values by hand: sqrt(2 - sqrt 3) = (sqrt 6 - sqrt 2)/2 =
+    0.5176380902..., atan2(1, -1) = 3 pi/4, |1 - pi| = pi - 1, e^(-1) = 1/e, each
+    enclosed by a ball of radius below 1e-50 overlapping the ball of the hand value;
+    the root of sqrt 3 - 2 < 0 (left unevaluated by sympy) is not real, and log 0
+    (sympy's zoo) no number: their balls are not finite."""
+    from observability.rank.proofballs import ball
+
+    with __import__("flint").ctx.workprec(200):
+        for number, value in ((sympy.sqrt(2 - sympy.sqrt(3)), (sympy.sqrt(6) - sympy.sqrt(2)) / 2),
+                              (sympy.atan2(1, -1), 3 * sympy.pi / 4), (sympy.Abs(1 - sympy.pi), sympy.pi - 1),
+                              (sympy.exp(-1), 1 / sympy.E)):
+            enclosure = ball(number)
+            assert enclosure.is_finite() and enclosure.overlaps(ball(value)), number  # two enclosures of one real
+            assert enclosure.rad() < 1e-50
+        root = sympy.sqrt(sympy.sqrt(3) - 2)
+        assert root.is_Pow and not ball(root).is_finite()
+        assert not ball(sympy.log(sympy.Integer(0))).is_finite()

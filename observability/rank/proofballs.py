@@ -38,7 +38,7 @@ def ball(number: sympy.Expr) -> flint.arb:
         base = ball(number.base)
         if number.exp.is_Integer:
             return base ** int(number.exp)
-        return (base.log() * ball(number.exp)).exp() if base > 0 else flint.arb.nan()
+        return (base.log() * ball(number.exp)).exp()  # not finite unless the base is proven positive
     args = [ball(a) for a in number.args]
     if isinstance(number, sympy.Add):
         return sum(args[1:], args[0])
