@@ -38,10 +38,12 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                       ["tests/test_mutation_guards.py", "tests/test_engine.py", "tests/test_densetaylor.py",
                        "tests/test_soundness.py", "tests/test_special_points.py"]),
     "proofs": (["observability/directions/symmetry.py", "observability/rank/proof.py", "observability/report/proofs.py",
-                "observability/rank/proofcheck.py"],
+                "observability/rank/proofcheck.py", "observability/rank/proofread.py", "observability/rank/proofballs.py"],
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py",
-                "tests/test_symmetry_verification.py", "tests/test_proof_exact.py"]),
-    "checker": (["observability/rank/proofcheck.py"], ["tests/test_proof.py"]),
+                "tests/test_symmetry_verification.py", "tests/test_proof_exact.py", "tests/test_proofcheck.py",
+                "tests/test_proof_tampering.py"]),
+    "checker": (["observability/rank/proofcheck.py", "observability/rank/proofread.py", "observability/rank/proofballs.py"],
+                ["tests/test_proof.py", "tests/test_proofcheck.py", "tests/test_proof_tampering.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
@@ -231,23 +233,6 @@ EQUIVALENT: dict[str, str] = {
         "the third attempt (expand_trig, then simplify) only adds identities simplify alone misses; none is known "
         "to us (sin(x + y), tan(x + y), cos(3x) expansions all fall to simplify), and without it the checker "
         "only refuses more",
-    **{f"observability.rank.proofcheck.x_verify__mutmut_{k}":
-       "the encoding of open(): the platform default is UTF-8 here (a C-locale run would tell them apart; mutmut "
-       "runs in this locale), and codec names are case-insensitive" for k in (2, 4, 6)},
-    "observability.rank.proofcheck.x_verify__mutmut_10":
-        "reading two characters past the limit sees the same excess as reading one",
-    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the name of a Dummy symbol"
-       for k in (2, 6)},
-    "observability.rank.proofcheck.x__minor_checked__mutmut_21": "sympy's det lower-cases its method name",
-    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
-       "one digit more in a 60-digit evaluation changes no comparison at 1e-25 or 1e-30" for k in (32, 40)},
-    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}":
-       "< or <= (> or >=) against a tolerance differ only at exact equality of two 60-digit numbers"
-       for k in (46, 53)},
-    **{f"observability.rank.proofcheck.x__minor_checked__mutmut_{k}": "mpmath reads 1E-25 as 1e-25"
-       for k in (49, 58)},
-    **{f"observability.rank.proofcheck.x__is_root_of__mutmut_{k}":
-       "as_Add matters only for a sum; the term split is a single product" for k in (8, 10)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "the array of casadi.is_equal's Python bools is of dtype bool with or without dtype=bool" for k in (20, 22)},
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
@@ -476,18 +461,6 @@ EQUIVALENT: dict[str, str] = {
            "x__independent_exponents": (6, 7, 10, 11, 12, 17, 18, 19, 24, 25),
            "x__independent_on_the_circle": (2, 3, 6, 9, 10, 11, 16, 17, 18, 23, 24, 28, 29, 30, 35, 36, 37, 42, 43,
                                             47, 48, 49, 54, 55, 60, 61)}.items() for k in numbers},
-    **{f"observability.rank.proofcheck.x__row_functions__mutmut_{k}": why for why, numbers in {
-        "the name of a Dummy symbol": (9, 61),
-        "the chain of an input's derivatives one longer, or shifted to start at a Dummy: each row of order k uses "
-        "its first k + 1 entries, which keep their values; the extra one is never used": (12, 16),
-        "one input value more read than the rows use, given to a derivative no row holds": (23,)}.items()
-       for k in numbers},
-    **{f"observability.rank.proofcheck.x__verified_generator__mutmut_{k}": "the input's rate term subtracted or "
-       "divided by its rate: the rate is a fresh symbol no other term holds, so the bracket is zero exactly when "
-       "dv/du is zero and the rest vanishes, whatever the sign or the power of the rate" for k in (50, 70)},
-    **{f"observability.rank.proofcheck.x_check__mutmut_{k}": "rank(simplify=...) at the point: sympy's rank decides "
-       "the zero pivots of these numbers (rationals, roots, values of sin, exp, log, atan at rationals) the same "
-       "without simplification (tried on trigonometric, logarithmic and exponential identities)" for k in (178, 181)},
     **{f"observability.analysis.fibre.x_known_variables__mutmut_{k}": "max over the outputs' orders with another "
        "default, or one more input derivative: a System has an output, and a derivative no Lie derivative holds "
        "is drawn and never read" for k in (3, 5, 6, 13)},

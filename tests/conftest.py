@@ -1,6 +1,11 @@
+import json
 import os
 
+import pytest
 from hypothesis import settings
+
+import observability.report.proofs as _proofs
+from observability.rank import proofcheck as _proofcheck
 
 settings.register_profile("default", deadline=None, max_examples=25, derandomize=True)
 settings.register_profile("thorough", deadline=None, max_examples=300)
@@ -65,3 +70,51 @@ def budgeted_runs(monkeypatch, module, run):
             pass
 
     monkeypatch.setattr(module, "BudgetedRun", Simulated)
+
+
+# ---------------------------------------------------------------- every proof the suite writes, re-verified
+# Installed when the tests are collected (this file is imported first), so that the names the test
+# modules import are the recording ones: each proof written in this process (proof_evidence, which
+# `check --proof` calls too) is recorded with the model it was written for, each proof the checker
+# accepts is marked; at the end of the session every proof written and never accepted is verified
+# by the checker tied to its model (`verify-proof --model`), and the session fails on a refusal.
+_WRITTEN: dict[str, tuple[str, dict]] = {}
+_ACCEPTED: set[str] = set()
+_real_evidence, _real_check, _real_verify = _proofs.proof_evidence, _proofcheck.check, _proofcheck.verify
+
+
+def _recording_evidence(system, *args, **kwargs):
+    evidence = _real_evidence(system, *args, **kwargs)
+    _WRITTEN[json.dumps(evidence, sort_keys=True)] = (system.name, _proofs.proof_model(system))
+    return evidence
+
+
+def _recording_check(proof, model=None):
+    line = _real_check(proof, model)
+    _ACCEPTED.add(json.dumps(proof, sort_keys=True))
+    return line
+
+
+def _recording_verify(path, model=None, *args, **kwargs):
+    accepted, lines = _real_verify(path, model, *args, **kwargs)  # checked in a child: marked here
+    if accepted and model is not None:
+        with open(path, encoding="utf-8") as handle:
+            _ACCEPTED.add(json.dumps(json.load(handle), sort_keys=True))
+    return accepted, lines
+
+
+_proofs.proof_evidence, _proofcheck.check, _proofcheck.verify = _recording_evidence, _recording_check, _recording_verify
+
+
+@pytest.fixture(scope="session", autouse=True)
+def every_written_proof_is_verified():
+    """The session's last word on proofs: each one the suite wrote and no test had
+    accepted is verified now (in the checker's bounded child, 120 CPU seconds each)."""
+    yield
+    refused = []
+    for text, (name, model) in list(_WRITTEN.items()):
+        if text not in _ACCEPTED:
+            accepted, lines = _proofcheck._in_child(lambda: _proofcheck._answer(text, model), 120)
+            if not accepted:
+                refused.append(f"{name}: {lines[0]}")
+    assert not refused, "proofs the suite wrote that verify-proof refuses:\n" + "\n".join(refused)

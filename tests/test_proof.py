@@ -370,17 +370,24 @@ def test_the_engine_does_not_prove_an_upper_bound_with_a_field_that_moves_with_a
 
 
 def test_the_checker_imports_nothing_of_the_package():
-    """Independent of the code that wrote the proof: the checker's module
-    imports nothing of this package, neither by name nor relatively (read from
-    its syntax tree, not its behaviour; today: ast, json, mpmath, sympy)."""
+    """Independent of the code that wrote the proof: the checker's trusted base
+    (proofcheck.py, its reader proofread.py and its numbers proofballs.py) imports
+    nothing of this package but its own modules, neither by name nor relatively
+    (read from their syntax trees, not their behaviour; today: ast, hashlib, json,
+    math, os, re, resource, signal, unicodedata, flint, mpmath, sympy)."""
     import ast
 
-    tree = ast.parse((ROOT / "observability" / "rank" / "proofcheck.py").read_text())
-    imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
-    imported |= {node.module.split(".")[0] if node.module else "." for node in ast.walk(tree)
-                 if isinstance(node, ast.ImportFrom) and node.level == 0}
-    relative = [node for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.level > 0]
-    assert not relative and "observability" not in imported, imported
+    base = {"proofcheck", "proofread", "proofballs"}
+    for module in base:
+        tree = ast.parse((ROOT / "observability" / "rank" / f"{module}.py").read_text())
+        imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import)
+                    for alias in node.names}
+        imported |= {node.module.split(".")[0] for node in ast.walk(tree)
+                     if isinstance(node, ast.ImportFrom) and node.level == 0}
+        relative = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.level > 0}
+        assert relative <= base and all(node.level == 1 for node in ast.walk(tree)
+                                         if isinstance(node, ast.ImportFrom) and node.level > 0), (module, relative)
+        assert "observability" not in imported, (module, imported)
 
 
 def test_verify_proof_command_refuses_an_unreadable_or_tampered_file(tmp_path, capsys):
@@ -714,10 +721,11 @@ def test_the_checker_reads_expressions_exactly_and_refuses_the_rest_word_for_wor
     pi and E, unary plus and minus, ^ as a power; refusals of a non-string, a text
     that is not an expression (quoted, cut at 80 characters), a syntax tree above
     MAX_NODES (and not at it), an unknown name; a rank that is not an integer."""
-    checker = _checker()
+    from observability.rank import proofread as checker
+
     x, y = sympy.symbols("x y")
     symbols = {"x": x, "y": y}
-    parse = checker._parse
+    parse = checker.parse
     assert parse("pi", symbols) == sympy.pi and parse("E", symbols) == sympy.E
     assert parse("+x - -y", symbols) == x + y and parse("-x", symbols) == -x
     assert parse("x^2", symbols) == x**2 and parse(3, symbols) == 3
@@ -744,7 +752,7 @@ def test_the_checker_reads_expressions_exactly_and_refuses_the_rest_word_for_wor
     assert str(refused.value) == f"not allowed in a proof's expression: {('z' * 100)[:80]!r}"
     proof = {"rank": "2", "n_states": 2, "model": {"name": "m"}}
     with pytest.raises(checker.Rejected) as refused:
-        checker._claim(proof, 2)
+        _checker()._claim(proof, 2)
     assert str(refused.value) == "rank '2' of n_states 2 does not fit the model's 2 states"
 
 
@@ -768,7 +776,7 @@ def test_the_checker_compares_the_minor_with_the_file_word_for_word():
         checker._minor_checked(root, {"minor": "1", "exact": True})
     assert str(refused.value) == "the file says the minor is exact; its entries say otherwise"
     assert checker._minor_checked(root, {"minor": "1.0000000000000000000000000000000000001", "exact": False}) == \
-        "to 60 digits"
+        "by balls"
     with pytest.raises(checker.Rejected) as refused:
         checker._minor_checked(root, {"minor": "1.000001", "exact": False})
     assert str(refused.value) == "the minor is 1.0, the file says 1.000001"
@@ -778,16 +786,21 @@ def test_the_checker_compares_the_minor_with_the_file_word_for_word():
 
 
 def test_the_checker_knows_a_root_form_by_hand():
-    """_is_root_of: 3 sqrt(x^2 + y^2) + 5 is a root of x^2 + y^2 (a constant beside
-    it changes no row); sqrt(x^2 + y^2) + x is not (two terms move with the
-    states), nor is x^2 + y^2 itself, nor a root of another radicand."""
+    """_root_coefficient: 3 sqrt(x^2 + y^2) + 5 is a root of x^2 + y^2 with
+    coefficient 3 (a constant beside it changes no row); sqrt(x^2 + y^2) + x is
+    not (two terms move with the states), nor is x^2 + y^2 itself, nor a root of
+    another radicand. (log 6 - log 2 - log 3) sqrt(x) has the form, with a
+    coefficient that is 0: the form says nothing about it, check() proves the
+    coefficient non-zero at the point (issue 61 item 2: the form alone accepted it)."""
     checker = _checker()
     x, y = sympy.symbols("x y")
     g = x**2 + y**2
-    assert checker._is_root_of(3 * sympy.sqrt(g) + 5, g, {x, y})
-    assert not checker._is_root_of(sympy.sqrt(g) + x, g, {x, y})
-    assert not checker._is_root_of(g, g, {x, y})
-    assert not checker._is_root_of(sympy.sqrt(g + 1), g, {x, y})
+    assert checker._root_coefficient(3 * sympy.sqrt(g) + 5, g, {x, y}) == 3
+    assert checker._root_coefficient(sympy.sqrt(g) + x, g, {x, y}) is None
+    assert checker._root_coefficient(g, g, {x, y}) is None
+    assert checker._root_coefficient(sympy.sqrt(g + 1), g, {x, y}) is None
+    zero = sympy.log(6) - sympy.log(2) - sympy.log(3)
+    assert checker._root_coefficient(zero * sympy.sqrt(x), x, {x}) == zero
 
 
 def test_a_rank_zero_proof_is_written_and_accepted():
@@ -854,8 +867,11 @@ def test_the_checker_reads_a_proof_file_and_refuses_a_bad_minor_or_generators(tm
     data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     path = tmp_path / "p.json"
     path.write_text(json.dumps(data), encoding="utf-8")
-    accepted, line = checker.verify(str(path))
+    accepted, lines = checker.verify(str(path))
+    line, about = lines.split("\n")
     assert accepted and line == checker.check(data) and line.startswith("accepted: the generic rank")
+    assert about == (f"about the equations in the file, sha256 {checker.digest(data['model'])} (compare with what "
+                     "check --proof printed, or give --model MODEL)")
     size = len(path.read_text(encoding="utf-8"))
     monkeypatch.setattr(checker, "MAX_FILE", size)
     assert checker.verify(str(path))[0]
@@ -926,11 +942,20 @@ def test_the_checker_reads_no_more_than_its_limit_and_cuts_long_reasons(tmp_path
     checker = _checker()
     system = models.build("slam1.5d")
     data = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
-    data["lower_bound"]["columns"][0] = "x" * 300
     path = tmp_path / "p.json"
     path.write_text(json.dumps(data), encoding="utf-8")
+
+    def malformed(proof, model=None):
+        raise KeyError("x" * 300)
+
+    monkeypatch.setattr(checker, "check", malformed)
     accepted, line = checker.verify(str(path))
     assert not accepted and line == f"rejected: malformed proof (KeyError: {repr('x' * 300)[:200]})"
+    monkeypatch.undo()
+    data["claim"] = "x" * 3000  # a refusal quoting the file is cut at 1,000 characters
+    path.write_text(json.dumps(data), encoding="utf-8")
+    accepted, line = checker.verify(str(path))
+    assert not accepted and len(line) == len("rejected: ") + 1000 and line.startswith("rejected: the claim 'xxx")
     asked = []
     real_open = builtins.open
 

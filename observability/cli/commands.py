@@ -216,9 +216,12 @@ def _write_proof(system: System, result, args: argparse.Namespace) -> int | None
         except Undecided as exc:
             print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
             return EXIT_UNDECIDED
+    from ..rank.proofcheck import digest
+
     write_json(args.proof, evidence)
-    print(f"wrote the proof to {args.proof} (re-check it with: observability verify-proof {args.proof})",
-          file=sys.stderr)
+    given = " ".join([args.model, *(f"-o {o}" for o in args.option), *([f"--time {args.time}"] if args.time else [])])
+    print(f"wrote the proof to {args.proof}, its equations sha256 {digest(evidence['model'])} (re-check it with: "
+          f"observability verify-proof {args.proof} --model {given})", file=sys.stderr)
     return None
 
 
@@ -465,10 +468,22 @@ def _lost(windows) -> tuple[str, ...]:
 
 
 def verify_proof_command(args: argparse.Namespace) -> int:
-    from ..rank.proofcheck import verify  # sympy only: independent of the code that wrote the proof
+    """``verify-proof FILE [--model MODEL]``: 0 accepted, 1 not verified, 2 unreadable (or a bad MODEL)."""
+    from ..rank.proofcheck import Unreadable, verify  # its own parser: independent of the code that wrote the proof
 
-    accepted, line = verify(str(args.file))
-    print(line)
+    expected = None
+    if args.model is not None:
+        from ..report.proofs import proof_model
+
+        with _about(args.model):
+            expected = proof_model(resolve_model(args.model, model_options(args.option), args.time))
+    elif args.option or args.time:
+        raise UsageError("-o and --time describe the model given with --model")
+    try:
+        accepted, lines = verify(str(args.file), expected, seconds=args.budget)
+    except Unreadable as exc:
+        raise UsageError(str(exc)) from None
+    print(lines)
     return EXIT_OBSERVABLE if accepted else EXIT_NOT_OBSERVABLE
 
 

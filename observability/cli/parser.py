@@ -162,8 +162,17 @@ def build_parser() -> argparse.ArgumentParser:
                             help="each state's minimum error variance over time and as a heatmap, per input profile")
     trajectory.set_defaults(func=trajectory_command)
     verify = sub.add_parser(
-        "verify-proof", help="re-check a proof file (check --proof) with sympy alone: exit 0 accepted, 1 rejected")
+        "verify-proof", help="re-check a proof file (check --proof) independently: exit 0 accepted, 1 not verified, "
+                             "2 unreadable")
     verify.add_argument("file", type=Path, help="the proof file (JSON)")
+    verify.add_argument("--model", default=None, metavar="MODEL",
+                        help="the model the proof must be about (built-in name or .toml file, with its -o and "
+                             "--time): refused unless its equations are the proof's; without it, the digest of the "
+                             "file's equations is printed")
+    verify.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
+    verify.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
+    verify.add_argument("--budget", type=seconds, default=300.0, metavar="SECONDS",
+                        help="CPU time allowed for the whole check (default 300); beyond it: not verified")
     verify.set_defaults(func=verify_proof_command)
     degenerate = sub.add_parser(
         "degenerate", help="which motions lose observability: the rank on each motion of the model's catalogue")

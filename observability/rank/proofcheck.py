@@ -1,93 +1,70 @@
-"""Re-check a proof written by `observability check MODEL --proof FILE`, with sympy alone.
+"""Re-check a proof written by `observability check MODEL --proof FILE`: the trusted base.
 
-    observability verify-proof FILE     # exit 0: accepted, 1: rejected (with the reason)
+    observability verify-proof FILE [--model MODEL]   # exit 0: accepted, 1: not verified, 2: unreadable
 
-Nothing else of the observability package is imported (a test keeps it so): the
-Lie derivatives, the minor, the identities and the independence of the
-generators are all recomputed here from the model's equations in the file,
-independently of the code that wrote the proof.
+Nothing of the observability package is imported but this base's reader
+(:mod:`~observability.rank.proofread`) and numbers (:mod:`~observability.rank.proofballs`)
+(a test keeps it so): the model is read by its own parser, and the Lie derivatives, the minor,
+the identities and the independence of the generators are recomputed here from
+the model's equations, independently of the code that wrote the proof. sympy
+does the algebra, python-flint's ball arithmetic (arb) the transcendental numbers.
 
 * Lower bound: the rows of order k are the gradients of L_f^k h (continuous time,
   inputs generic: u, u', u'', ... take the listed values) or of h(x_k, u_k) with
-  x_0 = x, x_(k+1) = F(x_k, u_k) (discrete time). The listed r x r minor at the
-  listed exact point must equal the recorded value (exactly when it is rational,
-  else to 30 significant digits, the entries evaluated to
-  60 digits) and be non-zero.
+  x_0 = x, x_(k+1) = F(x_k, u_k) (discrete time), each taken with respect to the
+  listed states. The listed r x r minor at the listed exact point is non-zero
+  *proven*: its exact rational value, or a ball (arb) that contains its true
+  value and excludes 0, and it is the recorded value (exactly, or to 30 digits).
+  A non-zero minor at one point is non-zero as a function, so the generic rank is
+  at least r. No proof needs a row above order n - 1 (continuous) or n (discrete):
+  the rank is final there (the codistribution filtration is stationary from the
+  first order that adds nothing); higher orders are refused, not computed.
+* Square-root outputs a*sqrt(g) + b are analysed through g (the same rows wherever
+  a != 0 and g != 0): a is free of the states and inputs and proven non-zero at
+  the point (exactly or by a ball), so a is not the zero function.
 * Upper bound: each generator v satisfies L_v h = 0 for every output and
   [f, v] + sum_u dv/du u' = 0 (continuous: a generator that depends on an input
   moves with it) or v(F(x, u), u+) - DF(x, u) v(x, u) = 0 (discrete, u+ the next
   step's input), shown by sympy's simplification; the generators are independent
-  at the point.
+  at the point. Then every row annihilates them, and the rank is at most n - (their number).
 * Nothing is taken on the file's word: n_states, the exact flag and the claim
   must be what the model and the verified rank say, and the printed claim is
-  the one derived here.
+  the one derived here, about the model given with ``--model`` (whose equations
+  must be the proof's) or, without it, about the file's equations, whose digest
+  is printed. Nothing read from the file is printed with its control characters.
+* Every step is bounded: the file's size, each expression's length, syntax
+  nodes, depth, degree and digits, the rows' orders, and (``verify``) the CPU
+  time and memory of the whole check, run in a child process. What does not
+  fit is "not verified", with the reason.
 * Then r <= rank <= n - (number of generators) = r.
 """
 
 from __future__ import annotations
 
-import ast
+import hashlib
 import json
+import math
+import os
+import resource
+import signal
+from collections.abc import Callable
 
 import mpmath
 import sympy
 
+from .proofballs import determinant, independent, nonzero
+from .proofread import DECIMAL, MAX_NODES, Rejected, number, parse, printable, rational
 
-class Rejected(Exception):
-    pass
+__all__ = ["check", "verify", "digest", "Rejected", "Unreadable", "MAX_NODES"]
 
-
-#: Functions a proof's expressions may call; nothing else is ever evaluated.
-_FUNCTIONS = {"sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan, "exp": sympy.exp, "log": sympy.log,
-              "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "Abs": sympy.Abs, "abs": sympy.Abs}
-_BINARY = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-           ast.Div: lambda a, b: a / b, ast.Pow: lambda a, b: a**b}
-#: Bounds that keep a hostile file from hanging the checker (9**9**9**9).
-MAX_TEXT, MAX_NODES, MAX_EXPONENT = 200_000, 50_000, 1_000
 #: The largest proof file read (characters).
 MAX_FILE = 20_000_000
+#: CPU seconds (by default) and bytes of memory (beyond what is loaded) for the whole check.
+CPU_SECONDS, MEMORY = 300.0, 4 << 30
 
 
-def _parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
-    """An expression of a proof file, read by walking its syntax tree: names of
-    the model, numbers, + - * / **, and the calls of ``_FUNCTIONS``. A proof is
-    something people receive from others, so nothing in it is executed
-    (``sympify`` would ``eval`` it)."""
-    if not isinstance(text, (str, int)) or isinstance(text, bool):
-        raise Rejected(f"an expression must be a string, got {type(text).__name__}")
-    text = str(text)
-    if len(text) > MAX_TEXT:
-        raise Rejected(f"an expression of {len(text)} characters (at most {MAX_TEXT})")
-    try:
-        tree = ast.parse(text.replace("^", "**"), mode="eval")
-    except (SyntaxError, ValueError, RecursionError):
-        raise Rejected(f"not an expression: {text[:80]!r}") from None
-    if sum(1 for _ in ast.walk(tree)) > MAX_NODES:
-        raise Rejected(f"an expression of more than {MAX_NODES} syntax nodes")
-    return _node(tree.body, symbols)
-
-
-def _node(node: ast.AST, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
-    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
-        return sympy.Rational(str(node.value))
-    if isinstance(node, ast.Name) and node.id in symbols:
-        return symbols[node.id]
-    if isinstance(node, ast.Name) and node.id in ("pi", "E"):
-        return sympy.pi if node.id == "pi" else sympy.E
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        operand = _node(node.operand, symbols)
-        return -operand if isinstance(node.op, ast.USub) else operand
-    if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
-        left, right = _node(node.left, symbols), _node(node.right, symbols)
-        if isinstance(node.op, ast.Pow) and not (right.is_Rational and abs(right) <= MAX_EXPONENT):
-            raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
-        if isinstance(node.op, ast.Div) and right == 0:
-            raise Rejected("division by zero in an expression")
-        return _BINARY[type(node.op)](left, right)
-    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
-            and not node.keywords):
-        return _FUNCTIONS[node.func.id](*(_node(a, symbols) for a in node.args))
-    raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
+class Unreadable(Exception):
+    """The file cannot be read as text (exit 2)."""
 
 
 def _zero(expr: sympy.Expr) -> bool:
@@ -99,17 +76,19 @@ def _zero(expr: sympy.Expr) -> bool:
     return False
 
 
-def _is_root_of(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> bool:
-    """Whether ``output`` is a*sqrt(radicand) + b, a and b free of the states and
-    inputs, a != 0: then output and radicand carry the same rows wherever the
-    radicand is positive (each is a smooth function of the other, and so are
-    their derivatives along the motion)."""
+def _root_coefficient(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> sympy.Expr | None:
+    """a when ``output`` is a*sqrt(radicand) + b with a and b free of the states
+    and inputs (None otherwise): then, wherever a != 0 and the radicand is not 0,
+    output and radicand carry the same rows (each is a smooth function of the
+    other, and so are their derivatives along the motion). That a is not the
+    zero function is proven at the point by the caller (``check``)."""
     terms = [t for t in sympy.Add.make_args(output) if t.free_symbols & variables]
     if len(terms) != 1:
-        return False
+        return None
     coefficient, factor = terms[0].as_independent(*variables, as_Add=False)
-    return (coefficient != 0 and isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)
-            and sympy.expand(factor.base - radicand) == 0)
+    if isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2) and sympy.expand(factor.base - radicand) == 0:
+        return coefficient
+    return None
 
 
 def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict) -> list:
@@ -119,7 +98,7 @@ def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: lis
     bracket), in discrete time the next step has its own input."""
     rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
     following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
-    v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+    v = _vector(g, model, symbols, known)
     for name, h in outputs.items():
         if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
             raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
@@ -146,7 +125,7 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
     the generators."""
     vectors = []
     for g in generators:
-        v = [_parse(g["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+        v = _vector(g, model, symbols, known)
         if any(e.has(*(symbols[u] for u in model["inputs"])) for e in v):
             raise Rejected(f"generator {g['name']!r}: an invariant span needs generators free of inputs")
         for name, h in outputs.items():
@@ -156,10 +135,9 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
     # The span is kept where it is taken: at x ([f, v_a]), or at F(x) (DF(x) v_a(x)) in discrete time.
     continuous = model["time"] == "continuous"
     basis = sympy.Matrix(vectors if continuous else [[e.xreplace(dict(zip(x, f))) for e in v] for v in vectors]).T
-    at_point = basis.xreplace(values)
-    _, pivots = at_point.T.rref()
+    _, pivots = basis.xreplace(values).T.rref()
     rows = list(pivots)
-    if len(rows) != len(vectors):
+    if len(rows) != len(vectors) or not independent(basis.extract(rows, list(range(len(vectors)))).T.xreplace(values)):
         raise Rejected("the generators are not independent at the point")
     square = basis.extract(rows, list(range(len(vectors))))
     for g, v in zip(generators, vectors):
@@ -174,6 +152,16 @@ def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x:
     return vectors
 
 
+
+
+def _vector(generator: dict, model: dict, symbols: dict, known: dict) -> list[sympy.Expr]:
+    """A generator's components, in the order of the states (a missing one is 0)."""
+    others = [k for k in generator["vector"] if k not in model["states"]]
+    if others:
+        raise Rejected(f"generator {generator['name']!r}: {others[0]!r} is not a state")
+    return [parse(generator["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
+
+
 def _claim(proof: dict, n: int) -> tuple[int, str]:
     """The rank and the claim the file may make for a model of n states;
     Rejected when its rank, n_states or claim text say anything else."""
@@ -186,71 +174,110 @@ def _claim(proof: dict, n: int) -> tuple[int, str]:
     return rank, claim
 
 
-def check(proof: dict) -> str:
-    """The claim of ``proof`` if every part of it holds ("accepted: ..."); :class:`Rejected` otherwise."""
-    model, symbols, x, known, f, outputs = _model(proof)
-    n = len(x)
-    rank, claim = _claim(proof, n)
-    lower = proof["lower_bound"]
-    rows = [(str(o), int(k)) for o, k in lower["rows"]]
-    columns = [symbols[c] for c in lower["columns"]]
-    if len(rows) != rank or len(columns) != rank or len(set(rows)) != rank or len(set(columns)) != rank:
-        raise Rejected("the minor is not rank x rank with distinct rows and columns")
-    orders = max((k for _, k in rows), default=0)
-    point = lower["point"]
-    free = [p for p, v in model["parameters"].items() if v is None]
-    if sorted(point["states"]) != sorted(model["states"]) or sorted(point["parameters"]) != sorted(free):
-        raise Rejected("the point does not give exactly the states and the parameters without a value")
-    values = {symbols[s]: sympy.Rational(v) for s, v in point["states"].items()}
-    values |= {symbols[p]: sympy.Rational(v) for p, v in point["parameters"].items()}
-    steps = orders + 1
-    if sorted(point["inputs"]) != sorted(model["inputs"]) or any(len(v) < steps for v in point["inputs"].values()):
-        raise Rejected(f"the point does not give every input {steps} value(s)")
+def check(proof: dict, model: dict | None = None) -> str:
+    """The claim of ``proof`` if every part of it holds ("accepted: ..."); :class:`Rejected` otherwise.
 
-    functions = _row_functions(model, symbols, x, f, outputs, orders, point, values)
+    With ``model`` (a proof's "model" table, as ``check --proof`` writes it for
+    the model the user names) the proof's system must be that model's, and the
+    claim names it."""
+    parsed = _model(proof)
+    if model is not None:
+        _same_system(parsed[0], model)
+    spec, symbols, x, known, f, outputs, roots = parsed
+    n = len(x)
+    rank, _ = _claim(proof, n)
+    lower = proof["lower_bound"]
+    rows, columns = _minor_labels(lower, spec, symbols, rank, n)
+    values = _point(lower["point"], spec, symbols, max((k for _, k in rows), default=0))
+    for name, coefficient in roots.items():
+        nonzero(coefficient.xreplace(values), f"the coefficient of the square root in output {name!r}")
+    functions = _row_functions(spec, symbols, x, f, outputs, max((k for _, k in rows), default=0), lower["point"],
+                               values)
     missing = [r for r in rows if r not in functions]
     if missing:
         raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
     minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
     how = _minor_checked(minor, lower)
-    # The upper bound.
     generators = proof["upper_bound"]["generators"]
     if len(generators) != n - rank:
         raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
     kind = proof["upper_bound"].get("kind", "symmetries")
     if kind == "symmetries":
-        fields = [_verified_generator(g, model, symbols, known, x, f, outputs) for g in generators]
+        fields = [_verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
     elif kind == "invariant span":
-        fields = _verified_span(generators, model, symbols, known, x, f, outputs, values)
+        fields = _verified_span(generators, spec, symbols, known, x, f, outputs, values)
     else:
-        raise Rejected(f"unknown kind of upper bound {kind!r} for {model['time']} time")
-    if fields and sympy.Matrix(fields).xreplace(values).rank(simplify=True) != len(fields):
+        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
+    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
         raise Rejected("the generators are not independent at the point")
-    return (f"accepted: {claim} (minor non-zero {how}; {len(fields)} generator(s) verified as identities "
-            "and independent)")
+    name = (model or spec)["name"]
+    return (f"accepted: the generic rank of the observability matrix of {name} is {rank} of {n} (minor non-zero "
+            f"{how}; {len(fields)} generator(s) verified as identities and independent)")
+
+
+def _minor_labels(lower: dict, model: dict, symbols: dict, rank: int, n: int) -> tuple[list, list]:
+    """The minor's rows (output, order) and columns (states), Rejected unless there
+    are rank of each, distinct, the columns states and the orders at most what
+    the model needs (n - 1 in continuous time, n in discrete time)."""
+    highest = n - 1 if model["time"] == "continuous" else n
+    rows = []
+    for label in lower["rows"]:
+        output, order = label
+        if not isinstance(order, int) or isinstance(order, bool) or not 0 <= order <= max(highest, 0):
+            raise Rejected(f"row order {order!r}: a proof of {n} states needs orders 0 to {max(highest, 0)}")
+        rows.append((str(output), order))
+    others = [c for c in lower["columns"] if c not in model["states"]]
+    if others:
+        raise Rejected(f"the minor's column {others[0]!r} is not a state")
+    columns = [symbols[c] for c in lower["columns"]]
+    if len(rows) != rank or len(columns) != rank or len(set(rows)) != rank or len(set(columns)) != rank:
+        raise Rejected("the minor is not rank x rank with distinct rows and columns")
+    return rows, columns
+
+
+def _point(point: dict, model: dict, symbols: dict, orders: int) -> dict:
+    """The point's values of the states and free parameters, by symbol (Rejected
+    unless it gives exactly those, and every input orders + 1 values)."""
+    free = [p for p, v in model["parameters"].items() if v is None]
+    if sorted(point["states"]) != sorted(model["states"]) or sorted(point["parameters"]) != sorted(free):
+        raise Rejected("the point does not give exactly the states and the parameters without a value")
+    values = {symbols[s]: rational(v, f"the point's {s}") for s, v in point["states"].items()}
+    values |= {symbols[p]: rational(v, f"the point's {p}") for p, v in point["parameters"].items()}
+    steps = orders + 1
+    if sorted(point["inputs"]) != sorted(model["inputs"]) or any(
+            not isinstance(v, list) or len(v) < steps for v in point["inputs"].values()):
+        raise Rejected(f"the point does not give every input {steps} value(s)")
+    return values
 
 
 def _model(proof: dict) -> tuple:
     """The model the proof is about, parsed: (model, symbols, states, known
-    parameter values, dynamics, outputs with radicands in place of square roots)."""
+    parameter values, dynamics, outputs with radicands in place of square roots,
+    the coefficients of those roots by output)."""
     if proof.get("format") != "observability proof 1":
         raise Rejected(f"unknown format {proof.get('format')!r}")
     model = proof["model"]
     declared = [*model["states"], *model["inputs"], *model["parameters"]]
     if not all(isinstance(name, str) and name.isidentifier() for name in declared) or len(set(declared)) != len(declared):
         raise Rejected("the model's names are not distinct identifiers")
+    if model["time"] not in ("continuous", "discrete") or not isinstance(model["name"], str):
+        raise Rejected("the model's time is neither continuous nor discrete, or its name is not text")
+    if sorted(model["dynamics"]) != sorted(model["states"]):
+        raise Rejected("the model's dynamics do not give exactly one equation per state")
     symbols = {name: sympy.Symbol(name) for name in declared}
     x = [symbols[s] for s in model["states"]]
-    known = {symbols[p]: _parse(v, {}) for p, v in model["parameters"].items() if v is not None}
-    f = [_parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
-    outputs = {name: _parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
+    known = {symbols[p]: parse(v, {}) for p, v in model["parameters"].items() if v is not None}
+    f = [parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
+    outputs = {name: parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
     variables = {symbols[v] for v in [*model["states"], *model["inputs"]]}
+    roots = {}
     for name, text in model.get("analysed_outputs", {}).items():
-        radicand = _parse(text, symbols).xreplace(known)
-        if name not in outputs or not _is_root_of(outputs[name], radicand, variables):
-            raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with constant a != 0 and b")
-        outputs[name] = radicand  # the same rows wherever the radicand is positive
-    return model, symbols, x, known, f, outputs
+        radicand = parse(text, symbols).xreplace(known)
+        roots[name] = _root_coefficient(outputs[name], radicand, variables) if name in outputs else None
+        if roots[name] is None:
+            raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with a and b free of the states and inputs")
+        outputs[name] = radicand  # the same rows wherever the radicand is not 0 (and a != 0: checked at the point)
+    return model, symbols, x, known, f, outputs, roots
 
 
 def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, orders: int, point: dict,
@@ -262,7 +289,7 @@ def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, 
         chains = {u: [symbols[u]] + [sympy.Dummy(f"{u}_d{j}") for j in range(1, orders + 2)] for u in model["inputs"]}
         for u, chain in chains.items():
             for j, value in enumerate(point["inputs"][u][: orders + 1]):
-                values[chain[j]] = sympy.Rational(value)
+                values[chain[j]] = rational(value, f"the point's {u}")
         current = dict(outputs)
         for k in range(orders + 1):
             for name, e in current.items():
@@ -277,7 +304,7 @@ def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, 
         for k in range(orders + 1):
             step = {symbols[u]: sympy.Dummy(f"{u}_{k}") for u in model["inputs"]}
             for u, d in step.items():
-                values[d] = sympy.Rational(point["inputs"][str(u)][k])
+                values[d] = rational(point["inputs"][str(u)][k], f"the point's {u}")
             at = dict(zip(x, state)) | step
             for name, e in outputs.items():
                 functions[(name, k)] = e.xreplace(at)
@@ -286,42 +313,146 @@ def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, 
 
 
 def _minor_checked(minor: sympy.Matrix, lower: dict) -> str:
-    """How the minor was found non-zero and equal to the recorded value ("exactly" or "to 60 digits")."""
+    """How the minor was proven non-zero and equal to the recorded value: "exactly"
+    (rational entries, the determinant over Q) or "by balls" (a ball that excludes
+    0, its midpoint equal to the recorded value to 30 digits)."""
     recorded = lower["minor"]
     if lower["exact"] is not all(e.is_Rational for e in minor):
         raise Rejected(f"the file says the minor is {'' if lower['exact'] else 'not '}exact; its entries say otherwise")
     if lower["exact"]:
         value = minor.det(method="bareiss")
-        if value != sympy.Rational(recorded) or value == 0:
+        if value == 0 or value != rational(recorded, "the minor"):
             raise Rejected(f"the minor is {value}, the file says {recorded}")
-        how = "exactly"
-    else:
-        # Transcendental entries at the exact point: each to 60 digits (sympy's
-        # evalf), the determinant in mpmath at 60 digits.
-        with mpmath.workdps(60):
-            entries = [[mpmath.mpf(str(sympy.N(e, 60))) for e in row] for row in minor.tolist()]
-            value = mpmath.det(mpmath.matrix(entries))
-            if abs(value) < mpmath.mpf("1e-25") or abs(value - mpmath.mpf(recorded)) > abs(value) * mpmath.mpf("1e-30"):
-                raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
-        how = "to 60 digits"
-    return how
+        return "exactly"
+    ball = determinant(minor, "the minor")
+    with mpmath.workdps(60):
+        value = mpmath.mpf(ball.mid().str(60, radius=False))
+        if abs(value - mpmath.mpf(number(recorded, "the minor", DECIMAL))) > abs(value) * mpmath.mpf("1e-30"):
+            raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
+    return "by balls"
 
 
-def verify(path: str) -> tuple[bool, str]:
-    """(accepted, the line to print) for the proof file at ``path``.
+def _equations(model: dict) -> dict:
+    """The model's equations read by this module's parser, as text in sympy's
+    normal form: what a digest and a comparison with another model see."""
+    symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
+    return {
+        "time": model["time"], "states": list(model["states"]), "inputs": list(model["inputs"]),
+        "parameters": {p: None if v is None else str(parse(v, {})) for p, v in model["parameters"].items()},
+        "dynamics": {s: str(parse(model["dynamics"][s], symbols)) for s in model["states"]},
+        "outputs": {name: str(parse(e, symbols)) for name, e in model["outputs"].items()},
+    }
+
+
+def digest(model: dict) -> str:
+    """The SHA-256 of a proof's model (time, states, inputs, parameters and their
+    values, dynamics and outputs, read by this module's parser): the same for the
+    proof ``check --proof`` writes and the model it was written for."""
+    return hashlib.sha256(json.dumps(_equations(model), sort_keys=True).encode()).hexdigest()
+
+
+def _same_system(proof_model: dict, model: dict) -> None:
+    """Rejected unless the proof's system is ``model``'s: the same name, time, states
+    and inputs (in order), parameters and outputs (by name), parameter values, dynamics and
+    outputs as expressions (equal in sympy's normal form, or their difference
+    cancelling to 0)."""
+    ours, theirs = _equations(proof_model), _equations(model)
+    if proof_model["name"] != model["name"]:
+        raise Rejected("the proof is not about the model given: its name differs")
+    for part in ("time", "states", "inputs"):
+        if ours[part] != theirs[part]:
+            raise Rejected(f"the proof is not about the model given: its {part} differ")
+    if sorted(ours["parameters"]) != sorted(theirs["parameters"]) or sorted(ours["outputs"]) != sorted(theirs["outputs"]):
+        raise Rejected("the proof is not about the model given: its parameters or outputs differ")
+    symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
+    for part in ("parameters", "dynamics", "outputs"):
+        for key, text in ours[part].items():
+            other = theirs[part][key]
+            if text != other and (text is None or other is None
+                                  or sympy.cancel(parse(text, symbols) - parse(other, symbols)) != 0):
+                raise Rejected(f"the proof is not about the model given: {part} {key!r} differ")
+
+
+def _answer(text: str, model: dict | None) -> tuple[bool, list[str]]:
+    """(accepted, the lines to print) for a proof file's text."""
+    try:
+        proof = json.loads(text)
+        line = check(proof, model)
+        if model is not None:
+            return True, [line, "the proof's system is the model given (its states, inputs, parameters, dynamics and "
+                                "outputs)"]
+        return True, [line, f"about the equations in the file, sha256 {digest(proof['model'])} (compare with what "
+                            "check --proof printed, or give --model MODEL)"]
+    except Rejected as exc:
+        return False, [f"rejected: {str(exc)[:1000]}"]
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, RecursionError, ZeroDivisionError,
+            sympy.SympifyError) as exc:
+        return False, [f"rejected: malformed proof ({type(exc).__name__}: {str(exc)[:200]})"]
+    except Exception as exc:  # noqa: BLE001 - whatever sympy raises on a strange file, nothing is accepted on it
+        return False, [f"rejected: the check could not be completed ({type(exc).__name__}: {str(exc)[:200]})"]
+
+
+def verify(path: str, model: dict | None = None, seconds: float = CPU_SECONDS) -> tuple[bool, str]:
+    """(accepted, the lines to print, free of control characters) for the proof
+    file at ``path``, checked against ``model`` (a proof's "model" table) when
+    given, in a child process bounded to ``seconds`` of CPU time and MEMORY bytes.
 
     Raises
     ------
     OSError
         The file cannot be read.
+    Unreadable
+        It is not UTF-8 text.
     """
     with open(path, encoding="utf-8") as handle:
-        text = handle.read(MAX_FILE + 1)
+        try:
+            text = handle.read(MAX_FILE + 1)
+        except UnicodeDecodeError as exc:
+            raise Unreadable(f"{path} is not UTF-8 text (byte {exc.start})") from None
     if len(text) > MAX_FILE:
         return False, f"rejected: a proof file of more than {MAX_FILE} characters"
-    try:
-        return True, check(json.loads(text))
-    except Rejected as exc:
-        return False, f"rejected: {exc}"
-    except (KeyError, TypeError, ValueError, AttributeError, RecursionError, sympy.SympifyError) as exc:
-        return False, f"rejected: malformed proof ({type(exc).__name__}: {str(exc)[:200]})"
+    accepted, lines = _in_child(lambda: _answer(text, model), seconds)
+    return accepted, "\n".join(printable(line) for line in lines)
+
+
+def _in_child(answer: Callable[[], tuple[bool, list[str]]], seconds: float) -> tuple[bool, list[str]]:
+    """``answer()`` computed in a forked child whose CPU time (RLIMIT_CPU: the
+    kernel stops it) and address space (RLIMIT_AS: MEMORY beyond what it holds
+    when forked, then MemoryError) are bounded; a child stopped or failing
+    without an answer is a refusal that says so."""
+    reading, writing = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: answer, write, and leave without running the parent's exit handlers
+        try:
+            os.close(reading)
+            with open("/proc/self/statm") as statm:
+                held = int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+            _limit(resource.RLIMIT_CPU, max(1, math.ceil(seconds)))  # SIGXCPU past it
+            _limit(resource.RLIMIT_AS, held + MEMORY)  # MemoryError past it
+            try:
+                answered = answer()
+            except MemoryError:
+                answered = (False, [f"rejected: the check needed more than its {MEMORY >> 20} MB of memory"])
+            data = json.dumps(answered).encode()
+            while data:
+                data = data[os.write(writing, data):]
+        finally:
+            os._exit(0)
+    os.close(writing)
+    chunks = []
+    with os.fdopen(reading, "rb") as pipe:
+        while chunk := pipe.read(1 << 16):
+            chunks.append(chunk)
+    _, status = os.waitpid(pid, 0)
+    if chunks:
+        accepted, lines = json.loads(b"".join(chunks))
+        return accepted, lines
+    if os.WIFSIGNALED(status) and os.WTERMSIG(status) in (signal.SIGXCPU, signal.SIGKILL):
+        return False, [f"rejected: not verified within {seconds:g} CPU seconds"]
+    return False, [f"rejected: the check ended without an answer (status {status})"]
+
+
+def _limit(kind: int, value: int) -> None:
+    """The soft limit ``kind`` lowered to ``value`` (never above the hard limit, which stays)."""
+    _, hard = resource.getrlimit(kind)
+    resource.setrlimit(kind, (value if hard == resource.RLIM_INFINITY else min(value, hard), hard))

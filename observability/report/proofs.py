@@ -39,7 +39,7 @@ from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
 from ..model.system import System
 
-__all__ = ["proof_evidence", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
+__all__ = ["proof_evidence", "proof_model", "EVIDENCE_FORMAT", "EVIDENCE_BUDGET"]
 
 #: What the generators satisfy, by kind of upper bound (the checker verifies it).
 IDENTITIES = {
@@ -129,6 +129,27 @@ def _point_json(system: System, point: dict, orders: int) -> dict[str, Any]:
     }
 
 
+def proof_model(system: System) -> dict[str, Any]:
+    """The "model" table of a proof of ``system``, with the rewritings the verdict
+    makes (outputs through the previous state; square-root outputs analysed
+    through their radicands, listed beside the outputs as written):
+    ``verify-proof --model`` compares it with the proof's."""
+    written = prepare(system, square_roots=False).system
+    prepared = prepare(written).system
+    return {
+        "name": prepared.name,
+        "time": prepared.time,
+        "states": [s.name for s in prepared.states],
+        "inputs": [u.name for u in prepared.inputs],
+        "parameters": {p.name: None for p in prepared.free_parameters}
+        | {p.name: str(v) for p, v in prepared.parameter_values},
+        "dynamics": {s.name: str(e) for s, e in zip(prepared.states, prepared.dynamics)},
+        "outputs": {name: str(e) for name, e in written.outputs},
+        # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
+        "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(prepared.outputs, written.outputs) if e != w},
+    }
+
+
 def proof_evidence(system: System, result: ObservabilityResult, budget: float | None = EVIDENCE_BUDGET) -> dict[str, Any]:
     """The artefact of a proven verdict, as a JSON-ready dict.
 
@@ -166,18 +187,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         "format": EVIDENCE_FORMAT,
         "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
         "conventions": CONVENTIONS,
-        "model": {
-            "name": system.name,
-            "time": system.time,
-            "states": [s.name for s in system.states],
-            "inputs": [u.name for u in system.inputs],
-            "parameters": {p.name: None for p in system.free_parameters}
-            | {p.name: str(v) for p, v in system.parameter_values},
-            "dynamics": {s.name: str(e) for s, e in zip(system.states, system.dynamics)},
-            "outputs": {name: str(e) for name, e in written.outputs},
-            # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
-            "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(system.outputs, written.outputs) if e != w},
-        },
+        "model": proof_model(written),
         "rank": result.rank,
         "n_states": result.n_states,
         "lower_bound": {

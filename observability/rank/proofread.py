@@ -1,0 +1,137 @@
+"""The reader of the proof checker's trusted base (:mod:`observability.rank.proofcheck`):
+expressions and numbers of a proof file, read by walking their syntax trees with
+every size bounded, and text made safe to print. It imports nothing of the package.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import re
+import unicodedata
+
+import sympy
+
+__all__ = ["Rejected", "parse", "number", "rational", "printable", "RATIONAL", "DECIMAL"]
+
+
+class Rejected(Exception):
+    """The proof is not verified (exit 1): the reason is the message."""
+
+
+
+#: Functions a proof's expressions may call; nothing else is ever evaluated.
+_FUNCTIONS = {"sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan, "exp": sympy.exp, "log": sympy.log,
+              "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "Abs": sympy.Abs, "abs": sympy.Abs}
+#: Bounds that keep a hostile file from hanging the checker (9**9**9**9, ((x + 2)**1000)**1000):
+#: characters, syntax nodes and nesting depth of an expression, the size of an exponent, and
+#: bounds on its degree in the names and on the bits of its numbers (exponents multiply both).
+MAX_TEXT, MAX_NODES, MAX_DEPTH, MAX_EXPONENT = 200_000, 50_000, 200, 1_000
+MAX_DEGREE, MAX_BITS = 1_000, 100_000
+#: The longest number of a point or a minor (characters).
+MAX_NUMBER = 1_000
+RATIONAL = re.compile(r"-?[0-9]+(/[0-9]+)?")
+DECIMAL = re.compile(r"-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
+
+def parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
+    """An expression of a proof file, read by walking its syntax tree: names of
+    the model, numbers, + - * / **, and the calls of ``_FUNCTIONS``. A proof is
+    something people receive from others, so nothing in it is executed
+    (``sympify`` would ``eval`` it), and its size is bounded as it is read."""
+    if not isinstance(text, (str, int)) or isinstance(text, bool):
+        raise Rejected(f"an expression must be a string, got {type(text).__name__}")
+    text = str(text)
+    if len(text) > MAX_TEXT:
+        raise Rejected(f"an expression of {len(text)} characters (at most {MAX_TEXT})")
+    try:
+        tree = ast.parse(text.replace("^", "**"), mode="eval")
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        raise Rejected(f"not an expression: {text[:80]!r}") from None
+    if sum(1 for _ in ast.walk(tree)) > MAX_NODES:
+        raise Rejected(f"an expression of more than {MAX_NODES} syntax nodes")
+    return _node(tree.body, symbols, 0)[0]
+
+
+def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:
+    """(expression, a bound on its degree in the names, a bound on the bits of its numbers)."""
+    if depth > MAX_DEPTH:
+        raise Rejected(f"an expression nested more than {MAX_DEPTH} deep")
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+        if not math.isfinite(node.value):
+            raise Rejected(f"not a finite number: {ast.unparse(node)[:80]!r}")
+        number = sympy.Rational(str(node.value))
+        return _bounded(number, 0, int(number.p).bit_length() + int(number.q).bit_length())
+    if isinstance(node, ast.Name) and node.id in symbols:
+        return symbols[node.id], 1, 0
+    if isinstance(node, ast.Name) and node.id in ("pi", "E"):
+        return (sympy.pi if node.id == "pi" else sympy.E), 0, 0
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        operand, degree, bits = _node(node.operand, symbols, depth + 1)
+        return (-operand if isinstance(node.op, ast.USub) else operand), degree, bits
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+        return _chain(node, symbols, depth)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Div, ast.Pow)):
+        (left, dl, bl), (right, dr, br) = _node(node.left, symbols, depth + 1), _node(node.right, symbols, depth + 1)
+        if isinstance(node.op, ast.Pow):
+            if not (right.is_Rational and abs(right) <= MAX_EXPONENT):
+                raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
+            return _bounded(left**right, dl * abs(right), bl * abs(right) + br)
+        if right == 0:
+            raise Rejected("division by zero in an expression")
+        return _bounded(left / right, dl + dr, bl + br + 1)
+    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
+            and not node.keywords):
+        args = [_node(a, symbols, depth + 1) for a in node.args]
+        try:
+            value = _FUNCTIONS[node.func.id](*(a for a, _, _ in args))
+        except TypeError:
+            raise Rejected(f"{node.func.id} with {len(args)} argument(s)") from None
+        return _bounded(value, max((d for _, d, _ in args), default=0), sum(b for _, _, b in args))
+    raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
+
+
+def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:
+    """A sum (a + b - c ...) or a product (a * b * c ...) read as one level of
+    nesting: the parser writes it as a left-leaning tree as deep as it is long,
+    which is no nesting a hostile file could use (its terms are counted by MAX_NODES)."""
+    product = isinstance(node.op, ast.Mult)
+    operands: list[tuple[ast.AST, bool]] = []
+    while isinstance(node, ast.BinOp) and (isinstance(node.op, ast.Mult) if product else
+                                           isinstance(node.op, (ast.Add, ast.Sub))):
+        operands.append((node.right, isinstance(node.op, ast.Sub)))
+        node = node.left
+    operands.append((node, False))
+    read = [(_node(operand, symbols, depth + 1), negated) for operand, negated in reversed(operands)]
+    terms = [-e if negated else e for (e, _, _), negated in read]
+    degrees, bits = [d for (_, d, _), _ in read], sum(b for (_, _, b), _ in read) + len(read)
+    if product:
+        return _bounded(sympy.Mul(*terms), sum(degrees), bits)
+    return _bounded(sympy.Add(*terms), max(degrees), bits)
+
+
+def _bounded(expr: sympy.Expr, degree: float, bits: float) -> tuple[sympy.Expr, float, float]:
+    if degree > MAX_DEGREE:
+        raise Rejected(f"an expression of degree above {MAX_DEGREE}")
+    if bits > MAX_BITS:
+        raise Rejected(f"an expression whose numbers have more than {MAX_BITS} bits")
+    return expr, degree, bits
+
+
+def number(text: object, what: str, pattern: re.Pattern = RATIONAL) -> str:
+    """``text`` if it is a number written as ``pattern`` wants (a rational p/q with q != 0,
+    or a decimal) of at most MAX_NUMBER characters; Rejected otherwise."""
+    if not (isinstance(text, str) and len(text) <= MAX_NUMBER and pattern.fullmatch(text)) or \
+            re.fullmatch(r"-?[0-9]+/0+", str(text)):
+        raise Rejected(f"{what} is not a number of the proof's form: {str(text)[:80]!r}")
+    return text
+
+
+def rational(text: object, what: str) -> sympy.Rational:
+    return sympy.Rational(number(text, what))
+
+
+def printable(text: str) -> str:
+    """``text`` with every control, format or unassigned character (ANSI escapes,
+    bidirectional overrides) written as its escape: nothing read from a file can
+    move the terminal's cursor or reorder what is shown."""
+    return "".join(c if unicodedata.category(c)[0] != "C" else ascii(c)[1:-1] for c in text)
