@@ -19,7 +19,7 @@ from observability.model.notation import component_latex
 
 def _file(tmp_path, text: str, name: str = "m.toml") -> str:
     path = tmp_path / name
-    path.write_text(text)
+    path.write_text(text, encoding="utf-8")
     return str(path)
 
 

@@ -61,6 +61,7 @@ import sympy
 
 from ..budget import BudgetedRun, Undecided, with_budget
 from ..errors import ModelError
+from ..model.constants import as_known_parameter
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import sampling_range
@@ -168,8 +169,23 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         modulo random primes, started beside it once it has run :data:`ALONE`
         seconds (its answer used when the route over Q has none); "undecided"
         past both.
+
+    A model's one transcendental constant (pi, log(2)) is a known parameter without a
+    value here, which decides the same (:mod:`observability.model.constants`); other
+    irrational constants are refused (ModelError).
     """
     _supported(system)
+    system, constant = as_known_parameter(system, "--global")
+    verdict = _global(system, result, seed, error, budget)
+    if constant is None:
+        return verdict
+    return replace(verdict, details=f"{verdict.details}; {sympy.sstr(constant)} as a known constant without a value "
+                   "(transcendental: the answers for it and for a generic value are the same)")
+
+
+def _global(system: System, result: ObservabilityResult, seed: int, error: float, budget: float | None
+            ) -> GlobalVerdict:
+    """:func:`global_observability` of a system whose constants are rational."""
     local = tuple(result.observable_states or ())
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
