@@ -36,11 +36,34 @@ def test_a_path_that_is_not_a_regular_file_is_refused_by_name(tmp_path):
     assert list(folder.iterdir()) == []
 
 
-def test_missing_parent_directories_are_made(tmp_path):
-    """a/b/c/out.json: every missing level is created (parents=True)."""
-    path = tmp_path / "a" / "b" / "c" / "out.json"
+def test_json_is_written_sorted_and_indented(tmp_path):
+    path = tmp_path / "out.json"
     files.write_json(path, {"b": 1, "a": [2]})
     assert path.read_text() == '{\n  "a": [\n    2\n  ],\n  "b": 1\n}\n'
+
+
+def test_missing_folders_are_never_made(tmp_path):
+    """Issue 63 item 4 (this test said the opposite before: every missing level was
+    created, also for --proof missing/x.json, while --plot and latex --out refused
+    it): a/b/c/out.json is refused, naming the folder, and nothing is created."""
+    with pytest.raises(OptionError, match=r"the folder .*a/b/c does not exist"):
+        files.write_json(tmp_path / "a" / "b" / "c" / "out.json", {"a": 1})
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_dangling_link_is_written_through_only_to_an_existing_folder(tmp_path):
+    """A link to far/away/x.json (far missing) created far/away anywhere the link
+    pointed; now refused, naming the link and its target. A dangling link whose
+    target's folder exists is written through: the target is created, the link kept."""
+    link = tmp_path / "link.json"
+    link.symlink_to(tmp_path / "far" / "away" / "x.json")
+    with pytest.raises(OptionError, match=r"link\.json links to .*far/away/x\.json, but the folder"):
+        files.write_text(link, "x")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.json"]
+    near = tmp_path / "near.json"
+    near.symlink_to(tmp_path / "target.json")
+    files.write_text(near, "y")
+    assert near.is_symlink() and (tmp_path / "target.json").read_text() == "y"
 
 
 def test_the_temporary_file_is_beside_its_target_and_says_partial(tmp_path, monkeypatch):

@@ -161,3 +161,34 @@ def test_every_variable_given_to_a_set_or_a_motion(tmp_path, capsys):
     assert "rank 2 of 2" in capsys.readouterr().out
     assert main(["degenerate", model, "--seed", "1", "--format", "json"]) == 0
     assert '"rank": 2' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["check", "{m}", "--proof", "{link}"], "argument --proof: {link} links to"),
+    (["latex", "{m}", "--out", "{link}"], "argument --out: {link} links to"),
+    (["trajectory", "{m}", "--initial", "x=0", "--duration", "1", "--window", "1", "--plot", "{link}"],
+     "argument --plot: {link} links to"),
+    (["check", "{m}", "--proof", "{d}/missing/x.json"], "the folder {d}/missing does not exist"),
+    (["latex", "{m}", "--out", "{d}/missing/x.tex"], "the folder {d}/missing does not exist"),
+    (["codegen", "{m}", "--out", "{link}"], "which is not an existing directory"),
+    (["codegen", "{m}", "--out", "{d}/missing/c"], "the folder {d}/missing does not exist"),
+])
+def test_no_folder_is_made_for_an_output(tmp_path, capsys, argv, words):
+    """Issue 63 item 4: --proof, --plot and latex --out through a link to far/a/b/...
+    created far/a/b; --proof missing/x.json created missing/ while --plot and
+    latex --out refused it. One rule now: the folder must exist (exit 2, before
+    any work), through a link too; nothing is created."""
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x"\n')
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "far" / "a" / "b")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    _refused(capsys, [a.format(m=model, d=tmp_path, link=link) for a in argv], words.format(d=tmp_path, link=link))
+    assert sorted(p.name for p in tmp_path.iterdir()) == before and not (tmp_path / "far").exists()
+
+
+def test_a_name_given_twice_is_refused(tmp_path, capsys):
+    """--initial g=1,d=2,g=3 was accepted (the last value won)."""
+    model = _file(tmp_path, 'states = ["g", "d"]\n[dynamics]\ng = "d"\nd = "0"\n[outputs]\ny = "g"\n')
+    _refused(capsys, ["trajectory", model, "--initial", "g=1,d=2,g=3", "--duration", "1", "--window", "1"],
+             "--initial: g is given twice (1 and 3)")
+    _refused(capsys, ["check", model, "--point", "g=1, g=1"], "--point: g is given twice")

@@ -239,15 +239,19 @@ def codegen_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def _point(text: str | None) -> dict[str, str] | None:
-    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly)."""
+def _point(text: str | None, flag: str = "--point") -> dict[str, str] | None:
+    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly);
+    ``flag`` names the option in messages. A name given twice is refused (the
+    last value would win silently)."""
     if text is None:
         return None
     point = {}
     for pair in filter(None, (p.strip() for p in text.split(","))):
         key, sep, value = pair.partition("=")
         if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"--point expects name=value pairs separated by commas, got {pair!r}")
+            raise UsageError(f"{flag} expects name=value pairs separated by commas, got {pair!r}")
+        if key.strip() in point:
+            raise UsageError(f"{flag}: {key.strip()} is given twice ({point[key.strip()]} and {value.strip()})")
         point[key.strip()] = value.strip()
     return point
 
@@ -346,7 +350,7 @@ def _numbers(text: str | None, flag: str) -> dict[str, float]:
     from ..model.expressions import parse_number
 
     values = {}
-    for key, value in (_point(text) or {}).items():
+    for key, value in (_point(text, flag) or {}).items():
         number = float(parse_number(value, f"{flag} {key}"))
         if not math.isfinite(number):
             raise UsageError(f"{flag} {key}: {value!r} is not a finite number")

@@ -14,26 +14,35 @@ from typing import Any
 
 from ..errors import OptionError
 
-__all__ = ["write_text", "write_bytes", "write_json", "save_figure", "staged_directory"]
+__all__ = ["output_target", "write_text", "write_bytes", "write_json", "save_figure", "staged_directory"]
 
 
-def _target(path: Path) -> Path:
-    """Where to write: a symbolic link is written through (its target is replaced,
-    not the link); an existing path that is not a regular file (a device, a
-    directory, a pipe) is refused."""
+def output_target(path: Path) -> Path:
+    """Where a file asked for at ``path`` is written: ``path`` itself, or, for a
+    symbolic link, its final target (written through: the target is replaced,
+    not the link). One rule for every output file: its folder must exist (no
+    folder is ever created for it, through a link or not), and an existing
+    path that is not a regular file (a device, a directory, a pipe) is refused.
+
+    Raises
+    ------
+    OptionError
+        Naming the path (and the link's target) and what is wrong.
+    """
     path = Path(path)
-    if path.is_symlink():
-        path = path.resolve()
-    if path.exists() and not stat.S_ISREG(path.stat().st_mode):
-        raise OptionError(f"{path}: exists and is not a regular file; refusing to replace it")
-    return path
+    target = path.resolve() if path.is_symlink() else path
+    if target.exists() and not stat.S_ISREG(target.stat().st_mode):
+        raise OptionError(f"{target}: exists and is not a regular file; refusing to replace it")
+    if not target.parent.is_dir():
+        via = f"{path} links to {target}, but " if target != path else ""
+        raise OptionError(f"{via}the folder {target.parent} does not exist (no folder is created for a file)")
+    return target
 
 
 def _atomic(path: Path, write: Callable[[Path], None], suffix: str) -> Path:
     """Write through a uniquely named temporary file beside ``path`` and rename
     it into place; the temporary file is removed whatever happens."""
-    path = _target(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    path = output_target(path)
     handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
     os.close(handle)
     partial = Path(name)
@@ -80,7 +89,7 @@ def staged_directory(out: Path) -> Iterator[Path]:
         yield stage
         out.mkdir(parents=True, exist_ok=True)
         for item in sorted(stage.iterdir()):
-            _target(out / item.name)
+            output_target(out / item.name)
             os.replace(item, out / item.name)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
