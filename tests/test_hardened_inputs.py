@@ -192,3 +192,30 @@ def test_a_name_given_twice_is_refused(tmp_path, capsys):
     _refused(capsys, ["trajectory", model, "--initial", "g=1,d=2,g=3", "--duration", "1", "--window", "1"],
              "--initial: g is given twice (1 and 3)")
     _refused(capsys, ["check", model, "--point", "g=1, g=1"], "--point: g is given twice")
+
+
+@pytest.mark.parametrize("encode", [
+    lambda text: b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode(),  # Excel's "CSV UTF-8"
+    lambda text: text.replace("\n", "\r").encode(),  # old Mac line ends
+    lambda text: text.replace("\n", "\r\n").encode("utf-16"),  # "Unicode text": UTF-16 with a mark
+])
+def test_a_csv_as_spreadsheets_save_it_is_read(tmp_path, capsys, encode):
+    """Issue 63 item 5: a byte-order mark made the header "\\ufefft", reported as a
+    missing header (exit 2), and under the C locale the read itself failed (exit 4).
+    Reference: the same rows saved as plain UTF-8 with LF give the same JSON."""
+    model = _file(tmp_path, 'states = ["x", "v"]\n[dynamics]\nx = "v"\nv = "0"\n[outputs]\ny = "x"\n')
+    text = "t,x,v\n0,0,1\n0.5,0.5,1\n1,1,1\n1.5,1.5,1\n2,2,1\n"
+    outputs = []
+    for name, data in (("plain.csv", text.encode()), ("saved.csv", encode(text))):
+        (tmp_path / name).write_bytes(data)
+        assert main(["trajectory", model, "--states-csv", str(tmp_path / name), "--window", "1",
+                     "--format", "json"]) == 0, capsys.readouterr().err
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0] == outputs[1] and '"generic_rank": 2' in outputs[0]
+
+
+def test_a_csv_that_is_not_text_is_refused_by_name(tmp_path, capsys):
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x"\n')
+    (tmp_path / "bad.csv").write_bytes(b"t,x\n0,1\n\xff,2\n")
+    _refused(capsys, ["trajectory", model, "--states-csv", str(tmp_path / "bad.csv"), "--window", "1"],
+             "bad.csv: not UTF-8 text (byte 8")  # t , x \\n 0 , 1 \\n: 8 bytes before it

@@ -4,9 +4,9 @@ text, JSON or files, each returning its exit code."""
 from __future__ import annotations
 
 import argparse
+import codecs
 import contextlib
 import dataclasses
-import json
 import math
 import os
 import sys
@@ -14,8 +14,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..budget import Undecided, with_budget
-from ..errors import ObservabilityError
+from ..errors import ModelError, ObservabilityError
 from ..progress import clear_line, status_line
+from ..report.files import json_text
 from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError,
                         model_options)
 
@@ -149,7 +150,7 @@ def check_command(args: argparse.Namespace) -> int:
                 # The text table has no column for the observable functions; JSON keeps them.
                 results.append(_analyze(system, args, functions=args.format == "json"))
         if args.format == "json":
-            print(json.dumps([r.to_dict() for r in results], indent=2))
+            print(json_text([r.to_dict() for r in results]))
         else:
             print(_table(results))
         return 0
@@ -179,7 +180,7 @@ def check_command(args: argparse.Namespace) -> int:
     try:
         if args.format == "json":
             record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
-            print(json.dumps(record, indent=2), flush=True)
+            print(json_text(record), flush=True)
         else:
             print(result.text(args.brief) + ("\n" + at_point.text() if at_point is not None else ""), flush=True)
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
@@ -358,6 +359,18 @@ def _numbers(text: str | None, flag: str) -> dict[str, float]:
     return values
 
 
+def _csv_text(path: Path) -> str:
+    """A CSV as spreadsheet programs save it: UTF-8 with or without a byte-order mark,
+    or UTF-16 with one, whatever the locale; CRLF and CR line endings read as LF."""
+    data = path.read_bytes()
+    utf16 = data[:2] in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)
+    try:
+        text = data.decode("utf-16" if utf16 else "utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the CSV as UTF-8") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
 def trajectory_command(args: argparse.Namespace) -> int:
     from ..trajectory import windowed_observability
 
@@ -370,7 +383,7 @@ def trajectory_command(args: argparse.Namespace) -> int:
         if args.inputs_csv is not None:
             from ..trajectory import inputs_from_csv
 
-            table = inputs_from_csv(args.inputs_csv.read_text(), str(args.inputs_csv))
+            table = inputs_from_csv(_csv_text(args.inputs_csv), str(args.inputs_csv))
             profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
                         for text, inputs in profiles.items()}
         show = status_line()
@@ -385,10 +398,10 @@ def trajectory_command(args: argparse.Namespace) -> int:
 
         variance_figure(runs, system.name, args.plot)
     if args.format == "json":
-        print(json.dumps({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
+        print(json_text({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
                           "profiles": {text or "none": {"windows": [w.to_dict() for w in windows],
                                                         "lost": list(_lost(windows))}
-                                       for text, windows in runs.items()}}, indent=2))
+                                       for text, windows in runs.items()}}))
         return 0
     print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}")
     generic = {d.name for d in result.unobservable_directions}
@@ -417,7 +430,7 @@ def _trajectory_source(system: System, args: argparse.Namespace):
         return None, 1.0 if args.dt is None else args.dt, args.duration
     from ..trajectory import states_from_csv
 
-    step, states = states_from_csv(args.states_csv.read_text(), str(args.states_csv), [s.name for s in system.states])
+    step, states = states_from_csv(_csv_text(args.states_csv), str(args.states_csv), [s.name for s in system.states])
     if args.dt is not None and not math.isclose(args.dt, step, rel_tol=1e-9):
         raise UsageError(f"--dt {args.dt:g} differs from the step {step:g} of {args.states_csv}")
     return states, step, (len(states) - 1) * step if args.duration is None else args.duration
@@ -466,7 +479,7 @@ def degenerate_command(args: argparse.Namespace) -> int:
         system = resolve_model(args.model, model_options(args.option), args.time)
         rows = degenerate_motions(system, seed=args.seed or 0, conditions=args.conditions, budget=args.budget)
     if args.format == "json":
-        print(json.dumps({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}, indent=2))
+        print(json_text({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}))
         return 0
     table = [("motion", "rank", "verdict", "lost beyond the generic directions", "observable states")]
     for r in rows:

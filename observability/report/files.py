@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import shutil
 import stat
@@ -14,7 +15,7 @@ from typing import Any
 
 from ..errors import OptionError
 
-__all__ = ["output_target", "write_text", "write_bytes", "write_json", "save_figure", "staged_directory"]
+__all__ = ["output_target", "write_text", "write_bytes", "json_text", "write_json", "save_figure", "staged_directory"]
 
 
 def output_target(path: Path) -> Path:
@@ -66,8 +67,48 @@ def write_bytes(path: Path, data: bytes) -> Path:
     return _atomic(Path(path), lambda p: p.write_bytes(data), ".partial")
 
 
+def _finite(value: Any, pointer: str, notes: dict[str, str]) -> Any:
+    """``value`` with every non-finite float as None, each recorded in ``notes`` under
+    its JSON Pointer (RFC 6901) below ``pointer``."""
+    if isinstance(value, float) and not math.isfinite(value):
+        notes[pointer] = "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+        return None
+    if isinstance(value, dict):
+        return {key: _finite(item, f"{pointer}/{str(key).replace('~', '~0').replace('/', '~1')}", notes)
+                for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item, f"{pointer}/{i}", notes) for i, item in enumerate(value)]
+    return value
+
+
+def _annotated(value: Any) -> Any:
+    """``value`` without non-finite floats; an object gets the member ``nonfinite``
+    when it had any (:func:`json_text`)."""
+    notes: dict[str, str] = {}
+    cleaned = _finite(value, "", notes)
+    if notes and isinstance(cleaned, dict):
+        cleaned[NONFINITE] = notes
+    return cleaned
+
+
+#: The member that says what each null standing for a non-finite number was.
+NONFINITE = "nonfinite"
+
+
+def json_text(data: Any, sort_keys: bool = False) -> str:
+    """``data`` as strict JSON (RFC 8259: no NaN or Infinity, which only Python's
+    parser reads), indented. Every float that is not finite is written null, and
+    the object (the document, or each object of a top-level list) gets a member
+    ``nonfinite`` mapping the JSON Pointer (RFC 6901) of each such null to what
+    it was: "Infinity", "-Infinity" or "NaN" (a rank-deficient window's condition
+    number is "Infinity")."""
+    cleaned = [_annotated(item) for item in data] if isinstance(data, list) else _annotated(data)
+    return json.dumps(cleaned, indent=2, sort_keys=sort_keys, allow_nan=False)
+
+
 def write_json(path: Path, data: Any) -> Path:
-    return write_text(path, json.dumps(data, indent=2, sort_keys=True) + "\n")
+    """``data`` as strict JSON (:func:`json_text`, keys sorted), completely or not at all."""
+    return write_text(path, json_text(data, sort_keys=True) + "\n")
 
 
 def save_figure(figure, path: Path) -> Path:
