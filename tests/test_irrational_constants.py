@@ -35,7 +35,7 @@ def test_pi_in_the_dynamics_is_decided_as_a_transcendental_constant(tmp_path, ca
     model = _file(tmp_path, 'states = ["x"]\nunknown_parameters = ["a"]\n[dynamics]\nx = "-pi*a*x"\n[outputs]\ny = "x"\n')
     answer = _global(capsys, ["check", model])
     assert answer["globally_observable_states"] == ["x", "a"] and answer["undecided"] == []
-    assert "pi as a known constant without a value" in answer["details"]
+    assert "pi taken as a known constant without a value" in answer["details"]
 
 
 def test_pi_in_an_output_can_make_a_state_only_locally_observable(tmp_path, capsys):
@@ -47,6 +47,19 @@ def test_pi_in_an_output_can_make_a_state_only_locally_observable(tmp_path, caps
     assert answer["only_locally_observable_states"] == ["x"] and answer["globally_observable_states"] == []
     julia = _file(tmp_path, "ode = @ODEmodel(x'(t) = 0, y(t) = x(t)^2 + π * x(t))", "m.jl")
     assert _global(capsys, ["check", julia])["only_locally_observable_states"] == ["x"]
+
+
+def test_a_function_written_with_the_constant_is_tested_with_it(tmp_path, capsys):
+    """x' = z' = 0, y = x + log(2) z: the output itself, x + log(2) z, is the observable
+    function (rank 1, by hand) and globally observable (it is y). Its text holds
+    log(2), which the analysis reads as its parameter (was exit 4: "NotRational:
+    log(2)"), and the answer names it with log(2) again."""
+    model = _file(tmp_path, 'states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny = "x + log(2)*z"\n')
+    answer = _global(capsys, ["check", model])
+    x, z = sympy.symbols("x z")
+    (text, member), = answer["functions"].items()
+    assert member is True and sympy.simplify(sympy.sympify(text) - (x + sympy.log(2) * z)) == 0
+    assert answer["globally_observable_functions"] == [text]
 
 
 @pytest.mark.parametrize("dynamics, words", [

@@ -61,12 +61,12 @@ import sympy
 
 from ..budget import BudgetedRun, Undecided, with_budget
 from ..errors import ModelError
-from ..model.constants import as_known_parameter
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
+from .constantfield import with_parameter, written_back
 from .fibre import exact_fibre, fibre_equations, known_variables
 from .modularfibre import members_modulo_prime
 from .reducedfibre import radical_range
@@ -171,16 +171,13 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         past both.
 
     A model's one transcendental constant (pi, log(2)) is a known parameter without a
-    value here, which decides the same (:mod:`observability.model.constants`); other
-    irrational constants are refused (ModelError).
+    value here, which decides the same (:mod:`.constantfield`); other irrational
+    constants are refused (ModelError).
     """
     _supported(system)
-    system, constant = as_known_parameter(system, "--global")
+    system, result, constant = with_parameter(system, result, "--global")
     verdict = _global(system, result, seed, error, budget)
-    if constant is None:
-        return verdict
-    return replace(verdict, details=f"{verdict.details}; {sympy.sstr(constant)} as a known constant without a value "
-                   "(transcendental: the answers for it and for a generic value are the same)")
+    return verdict if constant is None else written_back(verdict, constant)
 
 
 def _global(system: System, result: ObservabilityResult, seed: int, error: float, budget: float | None

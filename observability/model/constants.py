@@ -26,6 +26,7 @@ isomorphic to Q(t).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 
 import sympy
@@ -71,10 +72,12 @@ def transcendence(constant: sympy.Expr) -> str | None:
     return "not known here to be transcendental"
 
 
-def as_known_parameter(system: System, what: str) -> tuple[System, sympy.Expr | None]:
+def as_known_parameter(system: System, what: str
+                       ) -> tuple[System, tuple[sympy.Expr, sympy.Symbol] | None]:
     """``system`` with its one irrational constant c (if any) replaced by a known
-    parameter without a value named as c prints, and c; the system unchanged and
-    None when it has none. Parameter values are substituted first (a value may be c).
+    parameter t without a value, and (c, t); the system unchanged and None when it
+    has none. t is named as c in words that are a name (pi, E, log_2), new in the
+    system. Parameter values are substituted first (a value may be c).
 
     Raises
     ------
@@ -99,7 +102,7 @@ def as_known_parameter(system: System, what: str) -> tuple[System, sympy.Expr | 
                          "works over the rationals with at most one transcendental constant (pi, E, exp or log of a "
                          "rational) adjoined")
     taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}
-    name = sympy.sstr(constant)
+    name = re.sub(r"\W+", "_", sympy.sstr(constant)).strip("_")
     while name in taken:
         name += "_"
     t = sympy.Symbol(name)
@@ -107,4 +110,4 @@ def as_known_parameter(system: System, what: str) -> tuple[System, sympy.Expr | 
     replaced = system.replace(dynamics=[f.xreplace({constant: t}) for f in dynamics],
                               outputs={n: h.xreplace({constant: t}) for n, h in outputs.items()},
                               parameters=(*system.parameters, t), parameter_values=values)
-    return replaced, constant
+    return replaced, (constant, t)
