@@ -219,3 +219,12 @@ def test_a_csv_that_is_not_text_is_refused_by_name(tmp_path, capsys):
     (tmp_path / "bad.csv").write_bytes(b"t,x\n0,1\n\xff,2\n")
     _refused(capsys, ["trajectory", model, "--states-csv", str(tmp_path / "bad.csv"), "--window", "1"],
              "bad.csv: not UTF-8 text (byte 8")  # t , x \\n 0 , 1 \\n: 8 bytes before it
+
+
+def test_a_model_file_with_a_byte_order_mark_is_read(tmp_path, capsys):
+    """A TOML saved by a Windows editor starts with a UTF-8 byte-order mark: it was
+    "TOML syntax error: Invalid statement (at line 1, column 1)". x' = v, v' = 0,
+    y = x: rank 2 (y, y' = v), by hand."""
+    path = tmp_path / "m.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + 'states = ["x", "v"]\r\n[dynamics]\r\nx = "v"\r\nv = "0"\r\n[outputs]\r\ny = "x"\r\n'.encode())
+    assert main(["check", str(path), "--seed", "1"]) == 0 and "rank 2 of 2" in capsys.readouterr().out
