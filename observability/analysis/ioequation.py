@@ -347,9 +347,9 @@ def _resultant_factors(a: Any, b: Any, slot: int) -> list[Any] | None:
                 factors.append(f)
         return factors
     except (OverflowError, RuntimeError) as exc:
-        degrees = max(a.degrees()[slot], b.degrees()[slot]), max(max(a.degrees()), max(b.degrees()))
-        raise Undecided(f"FLINT could not eliminate a variable of degree {degrees[0]} from polynomials of degree up "
-                        f"to {degrees[1]} in one variable ({type(exc).__name__}: {exc})") from None
+        degree, top = max(a.degrees()[slot], b.degrees()[slot]), max(*a.degrees(), *b.degrees())
+        raise Undecided(f"FLINT refused a resultant in a variable of degree {degree} (degrees up to {top}): "
+                        f"{type(exc).__name__}: {exc}") from None
 
 
 def _multiple_of_resultant(a: Any, b: Any, slot: int) -> tuple[Any, list[Any]] | None:

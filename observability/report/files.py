@@ -15,7 +15,8 @@ from typing import Any
 
 from ..errors import OptionError
 
-__all__ = ["output_target", "write_text", "write_bytes", "json_text", "write_json", "save_figure", "staged_directory"]
+__all__ = ["output_target", "write_text", "write_bytes", "json_text", "write_json", "NONFINITE", "save_figure",
+           "staged_directory"]
 
 
 def output_target(path: Path) -> Path:
@@ -67,6 +68,10 @@ def write_bytes(path: Path, data: bytes) -> Path:
     return _atomic(Path(path), lambda p: p.write_bytes(data), ".partial")
 
 
+#: The member that says what each null standing for a non-finite number was.
+NONFINITE = "nonfinite"
+
+
 def _finite(value: Any, pointer: str, notes: dict[str, str]) -> Any:
     """``value`` with every non-finite float as None, each recorded in ``notes`` under
     its JSON Pointer (RFC 6901) below ``pointer``."""
@@ -89,10 +94,6 @@ def _annotated(value: Any) -> Any:
     if notes and isinstance(cleaned, dict):
         cleaned[NONFINITE] = notes
     return cleaned
-
-
-#: The member that says what each null standing for a non-finite number was.
-NONFINITE = "nonfinite"
 
 
 def json_text(data: Any, sort_keys: bool = False) -> str:
