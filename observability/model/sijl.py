@@ -23,8 +23,7 @@ so that a model from SI.jl's benchmarks (SEIRT's ``lambda``, SEIR 34's
 What would otherwise be read silently as something else is refused, naming it:
 a state or an output defined twice, an output on a right-hand side (SI.jl:
 "output variables may appear only on the left-hand side of their equations"),
-a name that is both a function of t and a bare constant, a state written
-without ``(t)``, and time itself on a right-hand side (a bare ``t``, or
+and time itself on a right-hand side (a bare ``t``, or
 ``sin(t)``: the models are autonomous). Julia's ``π`` and ``ℯ`` are pi and
 Euler's number.
 """
@@ -105,7 +104,8 @@ def _equations(body: str, source: str) -> tuple[dict[str, str], dict[str, str]]:
 
 def _checked_names(dynamics: dict[str, str], outputs: dict[str, str], source: str) -> tuple[list[str], list[str]]:
     """The inputs (functions of t that are neither states nor outputs) and the unknown
-    constants (bare names), refusing what SI.jl would not read so (module docstring)."""
+    constants (bare names of nothing else: as in SI.jl's macro, a bare state or input
+    name is that state or input), refusing what SI.jl would not read so (module docstring)."""
     sides = [*dynamics.values(), *outputs.values()]
     of_t = {f for rhs in sides for f in _OF_T.findall(rhs)}
     bare = {n for rhs in sides for n in _NAME.findall(_OF_T.sub("", rhs))}
@@ -118,11 +118,8 @@ def _checked_names(dynamics: dict[str, str], outputs: dict[str, str], source: st
         where = f"{timed[0]}(t)" if timed else "a bare t"
         raise ModelFileError(f"{source}: time itself ({where}) on a right-hand side: the model must be autonomous "
                              "(make time a state, T'(t) = 1)")
-    for name in sorted(bare & (set(dynamics) | of_t)):
-        what = "a state" if name in dynamics else "an input"
-        raise ModelFileError(f"{source}: {name} is {what}, written {name}(t), and also appears without (t)")
     inputs = sorted(of_t - set(dynamics))
-    constants = sorted(bare - set(FUNCTIONS) - set(CONSTANTS))
+    constants = sorted(bare - set(dynamics) - of_t - set(FUNCTIONS) - set(CONSTANTS))
     return inputs, constants
 
 
