@@ -346,6 +346,8 @@ def _resultant_factors(a: Any, b: Any, slot: int) -> list[Any] | None:
             if all(f != g for g in factors):
                 factors.append(f)
         return factors
+    except RecursionError:  # a RuntimeError too, but ours: the budget reports it as a resource limit
+        raise
     except (OverflowError, RuntimeError) as exc:
         degree, top = max(a.degrees()[slot], b.degrees()[slot]), max(*a.degrees(), *b.degrees())
         raise Undecided(f"FLINT refused a resultant in a variable of degree {degree} (degrees up to {top}): "
