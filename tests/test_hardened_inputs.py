@@ -19,7 +19,7 @@ from observability.model.notation import component_latex
 
 def _file(tmp_path, text: str, name: str = "m.toml") -> str:
     path = tmp_path / name
-    path.write_text(text)
+    path.write_text(text, encoding="utf-8")
     return str(path)
 
 
@@ -161,3 +161,70 @@ def test_every_variable_given_to_a_set_or_a_motion(tmp_path, capsys):
     assert "rank 2 of 2" in capsys.readouterr().out
     assert main(["degenerate", model, "--seed", "1", "--format", "json"]) == 0
     assert '"rank": 2' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["check", "{m}", "--proof", "{link}"], "argument --proof: {link} links to"),
+    (["latex", "{m}", "--out", "{link}"], "argument --out: {link} links to"),
+    (["trajectory", "{m}", "--initial", "x=0", "--duration", "1", "--window", "1", "--plot", "{link}"],
+     "argument --plot: {link} links to"),
+    (["check", "{m}", "--proof", "{d}/missing/x.json"], "the folder {d}/missing does not exist"),
+    (["latex", "{m}", "--out", "{d}/missing/x.tex"], "the folder {d}/missing does not exist"),
+    (["codegen", "{m}", "--out", "{link}"], "which is not an existing directory"),
+    (["codegen", "{m}", "--out", "{d}/missing/c"], "the folder {d}/missing does not exist"),
+])
+def test_no_folder_is_made_for_an_output(tmp_path, capsys, argv, words):
+    """Issue 63 item 4: --proof, --plot and latex --out through a link to far/a/b/...
+    created far/a/b; --proof missing/x.json created missing/ while --plot and
+    latex --out refused it. One rule now: the folder must exist (exit 2, before
+    any work), through a link too; nothing is created."""
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x"\n')
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "far" / "a" / "b")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    _refused(capsys, [a.format(m=model, d=tmp_path, link=link) for a in argv], words.format(d=tmp_path, link=link))
+    assert sorted(p.name for p in tmp_path.iterdir()) == before and not (tmp_path / "far").exists()
+
+
+def test_a_name_given_twice_is_refused(tmp_path, capsys):
+    """--initial g=1,d=2,g=3 was accepted (the last value won)."""
+    model = _file(tmp_path, 'states = ["g", "d"]\n[dynamics]\ng = "d"\nd = "0"\n[outputs]\ny = "g"\n')
+    _refused(capsys, ["trajectory", model, "--initial", "g=1,d=2,g=3", "--duration", "1", "--window", "1"],
+             "--initial: g is given twice (1 and 3)")
+    _refused(capsys, ["check", model, "--point", "g=1, g=1"], "--point: g is given twice")
+
+
+@pytest.mark.parametrize("encode", [
+    lambda text: b"\xef\xbb\xbf" + text.replace("\n", "\r\n").encode(),  # Excel's "CSV UTF-8"
+    lambda text: text.replace("\n", "\r").encode(),  # old Mac line ends
+    lambda text: text.replace("\n", "\r\n").encode("utf-16"),  # "Unicode text": UTF-16 with a mark
+])
+def test_a_csv_as_spreadsheets_save_it_is_read(tmp_path, capsys, encode):
+    """Issue 63 item 5: a byte-order mark made the header "\\ufefft", reported as a
+    missing header (exit 2), and under the C locale the read itself failed (exit 4).
+    Reference: the same rows saved as plain UTF-8 with LF give the same JSON."""
+    model = _file(tmp_path, 'states = ["x", "v"]\n[dynamics]\nx = "v"\nv = "0"\n[outputs]\ny = "x"\n')
+    text = "t,x,v\n0,0,1\n0.5,0.5,1\n1,1,1\n1.5,1.5,1\n2,2,1\n"
+    outputs = []
+    for name, data in (("plain.csv", text.encode()), ("saved.csv", encode(text))):
+        (tmp_path / name).write_bytes(data)
+        assert main(["trajectory", model, "--states-csv", str(tmp_path / name), "--window", "1",
+                     "--format", "json"]) == 0, capsys.readouterr().err
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0] == outputs[1] and '"generic_rank": 2' in outputs[0]
+
+
+def test_a_csv_that_is_not_text_is_refused_by_name(tmp_path, capsys):
+    model = _file(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x"\n')
+    (tmp_path / "bad.csv").write_bytes(b"t,x\n0,1\n\xff,2\n")
+    _refused(capsys, ["trajectory", model, "--states-csv", str(tmp_path / "bad.csv"), "--window", "1"],
+             "bad.csv: not UTF-8 text (byte 8")  # t , x \\n 0 , 1 \\n: 8 bytes before it
+
+
+def test_a_model_file_with_a_byte_order_mark_is_read(tmp_path, capsys):
+    """A TOML saved by a Windows editor starts with a UTF-8 byte-order mark: it was
+    "TOML syntax error: Invalid statement (at line 1, column 1)". x' = v, v' = 0,
+    y = x: rank 2 (y, y' = v), by hand."""
+    path = tmp_path / "m.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + 'states = ["x", "v"]\r\n[dynamics]\r\nx = "v"\r\nv = "0"\r\n[outputs]\r\ny = "x"\r\n'.encode())
+    assert main(["check", str(path), "--seed", "1"]) == 0 and "rank 2 of 2" in capsys.readouterr().out

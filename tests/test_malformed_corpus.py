@@ -221,3 +221,49 @@ def test_the_attacks_stay_below_one_gigabyte(tmp_path):
 @pytest.mark.parametrize("attack", ATTACKS, ids=range(len(ATTACKS)))
 def test_every_attack_in_an_output(in_tmp, attack):
     _check_one(in_tmp, _attack_text(attack))
+
+
+VALID_JL = """ode = @ODEmodel(
+    x1'(t) = -(a01 + a21) * x1(t) + a12 * x2(t) + u(t),
+    x2'(t) = a21 * x1(t) - a12 * x2(t),
+    y(t) = x1(t)
+)
+"""
+#: Pieces of SI.jl text put anywhere (issue 63 item 3: what Julia accepts and what it does not).
+JL_TOKENS = ["x1'(t) = 1,", "y(t) = x2(t),", "y(t)", "t", "θ'(t) = 0,", "θ(t)", "π", "ℯ", "x₁", "sin(t)", "u",
+             "x1", "//", "^", "'", "(t)", "@ODEmodel(", ")", ",", "#", "lambda", "1e308", "sqrt(2)", "log(2)"]
+
+
+def _check_jl(tmp: Path, text: str, *flags: str) -> None:
+    """Like :func:`_check_one` for a .jl file (``flags``: e.g. --global)."""
+    path = tmp / "model.jl"
+    path.write_text(text, encoding="utf-8")
+    before = set(os.listdir(tmp))
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["check", str(path), "--format", "json", "--seed", "1", "--budget", "0.5", *flags])
+    assert code in (0, 1, 2, 3) and "Traceback" not in err.getvalue(), (code, err.getvalue(), text)
+    if code == 2:
+        lines = err.getvalue().strip().splitlines()
+        assert len(lines) == 1 and str(path) in lines[0], (err.getvalue(), text)
+    else:
+        json.loads(out.getvalue())
+    assert set(os.listdir(tmp)) == before
+
+
+@settings(max_examples=60, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.integers(min_value=0, max_value=2**32))
+def test_mutated_si_models(tmp_path_factory, seed):
+    """SI.jl text with pieces inserted: a verdict or one line naming the file (issue 63)."""
+    rng = random.Random(seed)
+    text = VALID_JL
+    for _ in range(rng.randint(1, 3)):
+        pos = rng.randrange(len(text) + 1)
+        text = text[:pos] + rng.choice(JL_TOKENS) + text[pos:]
+    _check_jl(tmp_path_factory.mktemp("jl"), text)
+
+
+@pytest.mark.parametrize("constant", ["pi", "π", "ℯ", "sqrt(2)", "log(2)", "exp(2)", "pi + log(3)", "2^(1//3)"])
+def test_irrational_constants_under_global(tmp_path, constant):
+    """Issue 63 item 1: each was exit 4 ("TypeError: invalid input: pi + ...")."""
+    _check_jl(tmp_path, VALID_JL.replace("+ u(t)", f"+ {constant} * x2(t)"), "--global")

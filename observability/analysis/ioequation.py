@@ -42,6 +42,7 @@ from typing import Any
 import flint
 import sympy
 
+from ..budget import Undecided
 from .ioseries import SolutionSeries, solution_series
 from .rationalmodel import RationalModel
 
@@ -325,7 +326,37 @@ def _resultant_factors(a: Any, b: Any, slot: int) -> list[Any] | None:
     """The irreducible factors of a multiple of res(a, b) in the variable at ``slot`` (None: it
     is zero). Up to :data:`_BEZOUT_DEGREE`, the determinant of Bezout's matrix (the resultant times
     a power of a leading coefficient, as SI.jl's ``eliminate_var``: 49 s against 2 s on SIWR's
-    last step in FLINT's own resultant), each row's common factor taken out first."""
+    last step in FLINT's own resultant), each row's common factor taken out first.
+
+    Raises
+    ------
+    Undecided
+        FLINT refused the resultant or its factorization (exponents past its word size,
+        "factorisation failed"): the route says so instead of answering.
+    """
+    try:
+        found = _multiple_of_resultant(a, b, slot)
+        if found is None:
+            return None
+        product, parts = found
+        # Distinct factors: one may divide a row's common factor and the determinant both (y = x**2 gives
+        # (2 y - y')**2 that way), and counted twice it would look like two factors vanishing at the point.
+        factors: list[Any] = []
+        for f in (f for p in (product, *parts) for f, _ in p.factor()[1]):
+            if all(f != g for g in factors):
+                factors.append(f)
+        return factors
+    except RecursionError:  # a RuntimeError too, but ours: the budget reports it as a resource limit
+        raise
+    except (OverflowError, RuntimeError) as exc:
+        degree, top = max(a.degrees()[slot], b.degrees()[slot]), max(*a.degrees(), *b.degrees())
+        raise Undecided(f"FLINT refused a resultant in a variable of degree {degree} (degrees up to {top}): "
+                        f"{type(exc).__name__}: {exc}") from None
+
+
+def _multiple_of_resultant(a: Any, b: Any, slot: int) -> tuple[Any, list[Any]] | None:
+    """The resultant, or Bezout's determinant and the rows' common factors (:func:`_resultant_factors`);
+    None when it is zero."""
     degree = max(a.degrees()[slot], b.degrees()[slot])
     if degree < 2 or degree > _BEZOUT_DEGREE:
         product, parts = a.resultant(b, a.context().names()[slot]), []
@@ -342,15 +373,7 @@ def _resultant_factors(a: Any, b: Any, slot: int) -> list[Any] | None:
                 rows[i] = [entry / common for entry in row]
                 parts.append(common)
         product = _determinant(rows)
-    if product.is_zero():
-        return None
-    # Distinct factors: one may divide a row's common factor and the determinant both (y = x**2 gives
-    # (2 y - y')**2 that way), and counted twice it would look like two factors vanishing at the point.
-    factors: list[Any] = []
-    for f in (f for p in (product, *parts) for f, _ in p.factor()[1]):
-        if all(f != g for g in factors):
-            factors.append(f)
-    return factors
+    return None if product.is_zero() else (product, parts)
 
 
 def _bezout_matrix(a: Any, b: Any, slot: int, n: int) -> list[list[Any]]:

@@ -66,6 +66,7 @@ from ..model.system import System
 from ..rank.membership import sampling_range
 from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
+from .constantfield import with_parameter, written_back
 from .fibre import exact_fibre, fibre_equations, known_variables
 from .modularfibre import members_modulo_prime
 from .reducedfibre import radical_range
@@ -168,8 +169,20 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         modulo random primes, started beside it once it has run :data:`ALONE`
         seconds (its answer used when the route over Q has none); "undecided"
         past both.
+
+    A model's one transcendental constant (pi, log(2)) is a known parameter without a
+    value here, which decides the same (:mod:`.constantfield`); other irrational
+    constants are refused (ModelError).
     """
     _supported(system)
+    system, result, constant = with_parameter(system, result, "--global")
+    verdict = _global(system, result, seed, error, budget)
+    return verdict if constant is None else written_back(verdict, constant)
+
+
+def _global(system: System, result: ObservabilityResult, seed: int, error: float, budget: float | None
+            ) -> GlobalVerdict:
+    """:func:`global_observability` of a system whose constants are rational."""
     local = tuple(result.observable_states or ())
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")

@@ -76,30 +76,44 @@ def seed_value(text: str) -> int:
 
 
 def out_directory(text: str) -> Path:
-    """argparse type: a directory to write into, that exists or can be made
-    (checked before any work: no ancestor may be a file)."""
+    """argparse type: a directory to write into, that exists or is made in a folder
+    that exists (checked before any work: no missing folders are created above it,
+    and a link is followed only to an existing directory)."""
     path = Path(text)
     if text == "-":
         raise argparse.ArgumentTypeError("a directory is expected, not '-' (these commands write several files)")
-    for ancestor in [path, *path.parents]:
-        if ancestor.exists():
-            if not ancestor.is_dir():
-                raise argparse.ArgumentTypeError(f"{ancestor} is a file, not a directory")
-            break
+    if path.is_symlink() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{path} links to {path.resolve()}, which is not an existing directory")
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{path} is a file, not a directory")
+    if not path.exists():
+        parent = path.parent
+        if parent.exists() and not parent.is_dir():
+            raise argparse.ArgumentTypeError(f"{parent} is a file, not a directory")
+        if not parent.is_dir():
+            raise argparse.ArgumentTypeError(f"the folder {parent} does not exist (only {path.name} is created)")
+    return path
+
+
+def out_path(text: str) -> Path:
+    """argparse type: a file to write; its folder must exist (through a link too) and
+    the path must not be a folder or another non-regular file (checked before any work)."""
+    from ..errors import OptionError
+    from ..report.files import output_target
+
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{path} is a directory; give a file name")
+    try:
+        output_target(path)
+    except OptionError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
     return path
 
 
 def out_file(text: str) -> Path | None:
-    """argparse type: the file to write, or '-' (None) for standard output; its
-    folder must exist and the path must not be a folder (checked before any work)."""
-    if text == "-":
-        return None
-    path = Path(text)
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{path} is a directory; give a file name")
-    if not path.parent.is_dir():
-        raise argparse.ArgumentTypeError(f"the folder {path.parent} does not exist")
-    return path
+    """argparse type: :func:`out_path`, or '-' (None) for standard output."""
+    return None if text == "-" else out_path(text)
 
 
 def identifier(text: str) -> str:

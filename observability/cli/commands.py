@@ -4,9 +4,9 @@ text, JSON or files, each returning its exit code."""
 from __future__ import annotations
 
 import argparse
+import codecs
 import contextlib
 import dataclasses
-import json
 import math
 import os
 import sys
@@ -14,8 +14,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..budget import Undecided, with_budget
-from ..errors import ObservabilityError
+from ..errors import ModelError, ObservabilityError
 from ..progress import clear_line, status_line
+from ..report.files import json_text
 from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError,
                         model_options)
 
@@ -149,7 +150,7 @@ def check_command(args: argparse.Namespace) -> int:
                 # The text table has no column for the observable functions; JSON keeps them.
                 results.append(_analyze(system, args, functions=args.format == "json"))
         if args.format == "json":
-            print(json.dumps([r.to_dict() for r in results], indent=2))
+            print(json_text([r.to_dict() for r in results]))
         else:
             print(_table(results))
         return 0
@@ -179,7 +180,7 @@ def check_command(args: argparse.Namespace) -> int:
     try:
         if args.format == "json":
             record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
-            print(json.dumps(record, indent=2), flush=True)
+            print(json_text(record), flush=True)
         else:
             print(result.text(args.brief) + ("\n" + at_point.text() if at_point is not None else ""), flush=True)
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
@@ -242,15 +243,19 @@ def codegen_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def _point(text: str | None) -> dict[str, str] | None:
-    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly)."""
+def _point(text: str | None, flag: str = "--point") -> dict[str, str] | None:
+    """``--point "cx=1, cy=1/2"`` as a mapping (values are parsed later, exactly);
+    ``flag`` names the option in messages. A name given twice is refused (the
+    last value would win silently)."""
     if text is None:
         return None
     point = {}
     for pair in filter(None, (p.strip() for p in text.split(","))):
         key, sep, value = pair.partition("=")
         if not sep or not key.strip() or not value.strip():
-            raise UsageError(f"--point expects name=value pairs separated by commas, got {pair!r}")
+            raise UsageError(f"{flag} expects name=value pairs separated by commas, got {pair!r}")
+        if key.strip() in point:
+            raise UsageError(f"{flag}: {key.strip()} is given twice ({point[key.strip()]} and {value.strip()})")
         point[key.strip()] = value.strip()
     return point
 
@@ -349,12 +354,24 @@ def _numbers(text: str | None, flag: str) -> dict[str, float]:
     from ..model.expressions import parse_number
 
     values = {}
-    for key, value in (_point(text) or {}).items():
+    for key, value in (_point(text, flag) or {}).items():
         number = float(parse_number(value, f"{flag} {key}"))
         if not math.isfinite(number):
             raise UsageError(f"{flag} {key}: {value!r} is not a finite number")
         values[key] = number
     return values
+
+
+def _csv_text(path: Path) -> str:
+    """A CSV as spreadsheet programs save it: UTF-8 with or without a byte-order mark,
+    or UTF-16 with one, whatever the locale; CRLF and CR line endings read as LF."""
+    data = path.read_bytes()
+    utf16 = data[:2] in (codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)
+    try:
+        text = data.decode("utf-16" if utf16 else "utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); save the CSV as UTF-8") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def trajectory_command(args: argparse.Namespace) -> int:
@@ -369,7 +386,7 @@ def trajectory_command(args: argparse.Namespace) -> int:
         if args.inputs_csv is not None:
             from ..trajectory import inputs_from_csv
 
-            table = inputs_from_csv(args.inputs_csv.read_text(), str(args.inputs_csv))
+            table = inputs_from_csv(_csv_text(args.inputs_csv), str(args.inputs_csv))
             profiles = {f"{text}, {args.inputs_csv.name}" if text else args.inputs_csv.name: inputs | table
                         for text, inputs in profiles.items()}
         show = status_line()
@@ -384,10 +401,10 @@ def trajectory_command(args: argparse.Namespace) -> int:
 
         variance_figure(runs, system.name, args.plot)
     if args.format == "json":
-        print(json.dumps({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
+        print(json_text({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
                           "profiles": {text or "none": {"windows": [w.to_dict() for w in windows],
                                                         "lost": list(_lost(windows))}
-                                       for text, windows in runs.items()}}, indent=2))
+                                       for text, windows in runs.items()}}))
         return 0
     print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}"
           + ("" if args.dt is not None or args.states_csv is not None or system.time == "discrete"
@@ -436,7 +453,7 @@ def _trajectory_source(system: System, args: argparse.Namespace):
         return None, default_step(system, args.window) if args.dt is None else args.dt, args.duration
     from ..trajectory import states_from_csv
 
-    step, states = states_from_csv(args.states_csv.read_text(), str(args.states_csv), [s.name for s in system.states])
+    step, states = states_from_csv(_csv_text(args.states_csv), str(args.states_csv), [s.name for s in system.states])
     if args.dt is not None and not math.isclose(args.dt, step, rel_tol=1e-9):
         raise UsageError(f"--dt {args.dt:g} differs from the step {step:g} of {args.states_csv}")
     return states, step, (len(states) - 1) * step if args.duration is None else args.duration
@@ -494,7 +511,7 @@ def degenerate_command(args: argparse.Namespace) -> int:
         system = resolve_model(args.model, model_options(args.option), args.time)
         rows = degenerate_motions(system, seed=args.seed or 0, conditions=args.conditions, budget=args.budget)
     if args.format == "json":
-        print(json.dumps({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}, indent=2))
+        print(json_text({"model": system.name, "n_states": system.n, "motions": [r.to_dict() for r in rows]}))
         return 0
     table = [("motion", "rank", "verdict", "lost beyond the generic directions", "observable states")]
     for r in rows:

@@ -7,7 +7,8 @@ from pathlib import Path
 
 from .. import __version__
 from ..model.methods import METHODS, PREVIOUS_METHODS
-from .arguments import (Parser, count, identifier, out_directory, out_file, pages, positive, seconds, seed_value)
+from .arguments import (Parser, count, identifier, out_directory, out_file, out_path, pages, positive, seconds,
+                        seed_value)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
 from .planning import design_command, sensors_command
@@ -46,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
                        help="discrete time: rewrite prev(x) by the inverse motion model or carry the previous state")
     check.add_argument("--format", choices=("text", "json"), default="text",
                        help="text for people, json for programs (one object, or a list with --all)")
-    check.add_argument("--proof", type=Path, default=None, metavar="FILE",
+    check.add_argument("--proof", type=out_path, default=None, metavar="FILE",
                        help="write the proof of a proven verdict as JSON (the minor at an exact point, the generators "
                             "and their identities), for `observability verify-proof`; exit 3 when the verdict is not proven")
     check.add_argument("--brief", action="store_true",

@@ -108,7 +108,7 @@ def load_model(path: str | Path) -> System:
             data = handle.read(MAX_FILE_BYTES + 1)
         if len(data) > MAX_FILE_BYTES:
             raise ModelFileError(f"{path}: above the limit of {MAX_FILE_BYTES} bytes for a model file")
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark, as Windows editors save, is not text
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelFileError(f"{path}: cannot read model file ({exc.__class__.__name__}: {exc})") from None
     if path.suffix.lower() == ".jl":

@@ -146,7 +146,8 @@ def _explanation(verdicts: dict[str, str]) -> str:
 
 
 def write_consistency_report(out: Path, study: ConsistencyStudy = ConsistencyStudy(), run: Runner | None = None) -> dict:
-    """Write ``consistency.md`` and ``consistency_nees.png`` into ``out``; return the summary."""
+    """Write ``consistency.md`` and ``consistency_nees.png`` into ``out`` (made if missing,
+    in a folder that exists); return the summary."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -165,6 +166,7 @@ def write_consistency_report(out: Path, study: ConsistencyStudy = ConsistencyStu
     ax.set_ylabel(f"average NEES over {study.runs} runs (2 states)")
     ax.legend()
     fig.tight_layout()
+    Path(out).mkdir(exist_ok=True)  # the folder asked for, not its parents (report/files.py's rule)
     save_figure(fig, Path(out) / "consistency_nees.png")
     plt.close(fig)
     lines = [

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..errors import ModelError
+from ..model.constants import irrational_constants
 from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
 
@@ -161,6 +162,11 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         expr = parse_expression(f"({sides[0]}) - ({sides[1]})", names, where=f"--where {piece!r}")
         # A parameter with a value is that value on the set too (x1 = a with a = 0 is x1 = 0).
         expr = system.substitute_values(expr)
+        irrational = irrational_constants([expr])
+        if irrational:
+            raise ModelError(f"--where {piece!r}: {sympy.sstr(irrational[0])} is irrational; sets are solved and "
+                             "their random points drawn exactly over the rationals, where it has no exact value: "
+                             "give rational values (such as 1/2)")
         if expr.free_symbols & inputs:
             if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
                 raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
@@ -198,7 +204,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
         candidates = [s for s in order if s in expr.free_symbols and s not in chosen and s not in circle
                       and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
         if not candidates:
-            raise ModelError(f"--where: cannot solve {expr} = 0 rationally for a state or parameter")
+            written = expr.xreplace({x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)})
+            raise ModelError(f"--where: cannot solve {sympy.sstr(written)} = 0 rationally for a state or parameter")
         chosen.append(candidates[0])
     solutions = sympy.solve(list(equations), chosen, dict=True)
     others = [s for s in order if s not in chosen] + [x for _, sine, cosine in angles for x in (sine, cosine)]
