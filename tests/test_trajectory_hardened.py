@@ -298,3 +298,12 @@ def test_a_window_longer_than_the_memory_bound_is_taken_in_segments(monkeypatch)
         np.testing.assert_allclose(window.condition_number, eigenvalues[1] / eigenvalues[0], rtol=1e-9)
         np.testing.assert_allclose(list(window.min_error_variance.values()),
                                    np.diag(np.linalg.inv(fisher + 1e-6 * np.eye(2))), rtol=1e-9)
+
+
+def test_a_byte_order_mark_is_not_part_of_the_header():
+    """Text as a spreadsheet saves it (a byte-order mark, CRLF): the same inputs as without."""
+    from observability.trajectory import inputs_from_csv
+
+    plain = inputs_from_csv("t,u\n0,1\n1,2\n", "plain.csv")
+    marked = inputs_from_csv("\ufefft,u\r\n0,1\r\n1,2\r\n", "marked.csv")
+    assert [marked["u"](t) for t in (0, 0.5, 1, 2)] == [plain["u"](t) for t in (0, 0.5, 1, 2)] == [1, 1, 2, 2]

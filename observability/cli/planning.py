@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..progress import clear_line, status_line
-from ..report.files import write_text
+from ..report.files import json_text, write_text
 from .arguments import EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, model_options
 from .commands import _about, _numbers, resolve_model
 
@@ -54,7 +53,7 @@ def sensors_command(args: argparse.Namespace) -> int:
         system = resolve_model(args.model, model_options(args.option), args.time)
         choice = select_sensors(system, candidates, costs, seed=args.seed or 0, budget=args.budget)
     if args.format == "json":
-        print(json.dumps(choice.to_dict(), indent=2, allow_nan=False))
+        print(json_text(choice.to_dict()))
     else:
         print(_text(choice))
     if choice.minimality == "undecided":
@@ -100,7 +99,7 @@ def design_command(args: argparse.Namespace) -> int:
 
         design_figure(design, args.plot)
     if args.format == "json":
-        print(json.dumps(design.to_dict(), indent=2, allow_nan=False))
+        print(json_text(design.to_dict()))
         return 0
     print(_design_text(design, args.out))
     return 0

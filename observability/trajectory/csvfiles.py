@@ -73,8 +73,9 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
 
 def _csv_table(text: str, source: str, what: str, least: int) -> tuple[list[str], list[list[float]]]:
     """A CSV table's header (first column t) and its rows of finite numbers, at
-    least ``least`` and at most ``MAX_ROWS`` of them; ModelError naming the line otherwise."""
-    lines = text.splitlines()
+    least ``least`` and at most ``MAX_ROWS`` of them; ModelError naming the line otherwise.
+    A byte-order mark before the header (what spreadsheet programs save) is not part of it."""
+    lines = text.removeprefix("\ufeff").splitlines()
     if len(lines) > MAX_ROWS + 1:
         raise ModelError(f"{source}: {len(lines) - 1} rows, above the bound of {MAX_ROWS} rows of a table")
     rows = [r for r in csv.reader(lines) if r and any(c.strip() for c in r)]
