@@ -1,0 +1,143 @@
+"""Over the reals: whether an "only locally" state has a second real value.
+
+Field membership (:mod:`.uniqueness`) answers over the complex numbers: a
+state outside the field the outputs determine takes several values on the
+fibre of the outputs, but these may all be non-real but one (x' = -p^3 x + u,
+y = x fixes p^3, and p is the real cube root). Each such state gets one of
+three answers:
+
+**A second real value (certain)**: a verified mirror moves the state
+(:mod:`.mirrors`: a map of real states onto real states keeping every output).
+
+**Unique among real values**: at the random point of the fibre
+(:func:`~.fibre.fibre_equations`), the values the state takes on the
+(complex) fibre are the roots of the generator P of the fibre's ideal
+intersected with Q[x_i] (the elimination ideal of a zero-dimensional ideal:
+its zeros are exactly the projections of the fibre's points; the last element
+of the ideal's reduced lexicographic basis with x_i smallest, by sympy's FGLM
+from the degree-reverse-lexicographic basis). Sturm's theorem counts P's
+distinct real roots exactly (sympy's ``count_roots`` on the square-free part).
+One real root, the true value, means every real point of the fibre has that
+value of x_i: at that point the state is unique among real values. That the
+count holds at every generic real point, not only at the one drawn, follows
+from P's shape: when P(T - b) = T^d - c for the shift b = a_(d-1) / d (a
+binomial, Tschirnhaus's reduction) with d odd, it has exactly one real root
+whatever the real b and c. The shape at the random point is the generic one
+unless a coefficient of the generic eliminant vanishes there by chance (the
+randomness the membership test already relies on). The coordinates the fibre
+fixes to complete a transcendence basis do not change P generically: x_i is
+algebraic over the outputs' field K, and its minimal polynomial over K stays
+irreducible over K extended by algebraically independent elements.
+
+**Other complex values, undecided over the reals**: otherwise (several real
+roots of P, which need not belong to real points of the fibre; one real root
+but no odd binomial shape, so the count could change elsewhere; or the
+elimination did not end in its budget). Never a bare "only locally".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy
+
+from ..budget import Undecided, with_budget
+from .fibre import FibreEquations
+
+__all__ = ["RealAnswer", "real_answers", "REAL_BUDGET"]
+
+#: CPU seconds the eliminant of one state may take (sympy's bases, in Python).
+REAL_BUDGET = 10.0
+
+
+@dataclass(frozen=True)
+class RealAnswer:
+    """One only-locally state over the reals.
+
+    Attributes
+    ----------
+    name : str
+    unique : bool or None
+        True: unique among real values; False: a second real value (a mirror
+        moves it); None: other complex values, the reals undecided.
+    how : str
+        The argument, or why undecided.
+    """
+
+    name: str
+    unique: bool | None
+    how: str
+
+    def to_dict(self) -> dict:
+        return {"unique_among_real_values": self.unique, "how": self.how}
+
+
+def real_answers(equations: FibreEquations | None, coordinates: dict[str, sympy.Symbol], only: tuple[str, ...],
+                 mirrors: tuple[str, ...], budget: float | None) -> tuple[RealAnswer, ...]:
+    """Each state of ``only`` over the reals (the module's three answers): moved
+    by one of ``mirrors`` ("a, b -> -a, -b"), or by its eliminant on the fibre
+    ``equations`` (None: not available) within ``budget`` seconds each (at most
+    :data:`REAL_BUDGET`; None: no limit)."""
+    moved = {name: text for text in mirrors for name in text.split(" -> ")[0].split(", ")}
+    seconds = None if budget is None else min(budget, REAL_BUDGET)  # None: no limit, as the caller's
+    out = []
+    for name in only:
+        if name in moved:
+            out.append(RealAnswer(name, False, f"the mirror {moved[name]} gives a second real state"))
+        elif equations is None:
+            out.append(RealAnswer(name, None, "other complex values; over the reals undecided (no fibre over Q)"))
+        else:
+            try:
+                eliminant = with_budget(_eliminant, equations, coordinates[name], seconds=seconds)
+            except Undecided as exc:
+                out.append(RealAnswer(name, None, f"other complex values; over the reals undecided ({exc})"))
+                continue
+            out.append(_answer(name, eliminant))
+    return tuple(out)
+
+
+def _answer(name: str, eliminant: sympy.Poly | str) -> RealAnswer:
+    """The answer from the eliminant P (or why there is none)."""
+    if isinstance(eliminant, str):
+        return RealAnswer(name, None, f"other complex values; over the reals undecided ({eliminant})")
+    real = eliminant.sqf_part().count_roots()
+    said = f"its values on the fibre at the random point are the roots of {eliminant.as_expr()}"
+    if real == 1 and _odd_binomial(eliminant):
+        return RealAnswer(name, True, f"{said}: one real (Sturm), the other {eliminant.degree() - 1} complex; a "
+                                      "polynomial (T - b)^d - c of odd degree d has one real root for every real b, c")
+    if real == 1:
+        return RealAnswer(name, None, f"other complex values; {said}: one real (Sturm) there, but the count may "
+                                      "differ at other points")
+    return RealAnswer(name, None, f"other complex values; {said}: {real} real (Sturm), not known to belong to "
+                                  "real states")
+
+
+def _odd_binomial(p: sympy.Poly) -> bool:
+    """Whether p(T - b) = lc (T^d - c) for b = a_(d-1) / (d lc), d odd."""
+    d = p.degree()
+    if d % 2 == 0:
+        return False
+    t = p.gen
+    monic = p.monic()
+    shift = monic.nth(d - 1) / d
+    shifted = sympy.Poly(monic.as_expr().xreplace({t: t - shift}), t)
+    return all(shifted.nth(k) == 0 for k in range(1, d))
+
+
+def _eliminant(equations: FibreEquations, variable: sympy.Symbol) -> sympy.Poly | str:
+    """The generator of the fibre's ideal (saturated at its denominators)
+    intersected with Q[``variable``], as a polynomial in ``variable``; or why
+    not (the ideal is not zero-dimensional)."""
+    others = [u for u in equations.unknowns if u != variable]
+    relations = list(equations.equations)
+    if sympy.Poly(equations.saturation, *equations.unknowns).total_degree() > 0:
+        t = sympy.Dummy("t")  # t * saturation = 1: the zeros where a denominator vanishes are not the model's
+        relations.append(t * equations.saturation - 1)
+        others.insert(0, t)
+    basis = sympy.groebner(relations, *others, variable, order="grevlex")
+    if not basis.is_zero_dimensional:
+        return "the fibre's ideal is not zero-dimensional"
+    last = basis.fglm("lex").exprs[-1]
+    if last.free_symbols != {variable}:
+        return "no univariate element in the lexicographic basis"
+    return sympy.Poly(last, variable)
