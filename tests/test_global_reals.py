@@ -89,3 +89,18 @@ def test_the_eliminant_s_shape_decides():
     assert "one real (Sturm) there" in _answer("T", sympy.Poly(T**3 + T + 5, T)).how
     assert _answer("T", sympy.Poly(T**4 - 2, T)).how.endswith("2 real (Sturm), not known to belong to real states")
     assert "3 real (Sturm)" in _answer("T", sympy.Poly(T**5 - 7 * T + 1, T)).how
+
+
+def test_the_eliminants_of_a_hand_fibre():
+    """x^2 + y^2 = 5, x - y = 1: the points (2, 1) and (-1, -2), so x takes the roots of
+    (x - 2)(x + 1) = x^2 - x - 2 and y those of (y - 1)(y + 2) = y^2 + y - 2. With the zeros where
+    z = 0 removed (saturation at z): z (z - 1)(z + 3) = 0 leaves z in {1, -3}: z^2 + 2 z - 3."""
+    from observability.analysis.fibre import FibreEquations
+    from observability.analysis.realvalues import _eliminants
+
+    x, y, z = sympy.symbols("x y z")
+    found = _eliminants(FibreEquations((x**2 + y**2 - 5, x - y - 1), (x, y), sympy.Integer(1), {}, {}),
+                        {"x": x, "y": y})
+    assert found["x"].as_expr() == x**2 - x - 2 and found["y"].as_expr() == y**2 + y - 2
+    saturated = _eliminants(FibreEquations((z * (z - 1) * (z + 3),), (z,), z, {}, {}), {"z": z})
+    assert saturated["z"].as_expr() == z**2 + 2 * z - 3

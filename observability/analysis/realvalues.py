@@ -13,9 +13,9 @@ three answers:
 (:func:`~.fibre.fibre_equations`), the values the state takes on the
 (complex) fibre are the roots of the generator P of the fibre's ideal
 intersected with Q[x_i] (the elimination ideal of a zero-dimensional ideal:
-its zeros are exactly the projections of the fibre's points; the last element
-of the ideal's reduced lexicographic basis with x_i smallest, by sympy's FGLM
-from the degree-reverse-lexicographic basis). Sturm's theorem counts P's
+its zeros are exactly the projections of the fibre's points; found as the
+minimal polynomial of the multiplication by x_i modulo the ideal's
+degree-reverse-lexicographic basis). Sturm's theorem counts P's
 distinct real roots exactly (sympy's ``count_roots`` on the square-free part).
 One real root, the true value, means every real point of the fibre has that
 value of x_i: at that point the state is unique among real values. That the
@@ -40,13 +40,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import sympy
+from sympy.polys.matrices import DomainMatrix
 
 from ..budget import Undecided, with_budget
 from .fibre import FibreEquations
 
 __all__ = ["RealAnswer", "real_answers", "REAL_BUDGET"]
 
-#: CPU seconds the eliminant of one state may take (sympy's bases, in Python).
+#: CPU seconds the eliminants of all the states may take (sympy's basis, in Python).
 REAL_BUDGET = 10.0
 
 
@@ -76,24 +77,20 @@ def real_answers(equations: FibreEquations | None, coordinates: dict[str, sympy.
                  mirrors: tuple[str, ...], budget: float | None) -> tuple[RealAnswer, ...]:
     """Each state of ``only`` over the reals (the module's three answers): moved
     by one of ``mirrors`` ("a, b -> -a, -b"), or by its eliminant on the fibre
-    ``equations`` (None: not available) within ``budget`` seconds each (at most
-    :data:`REAL_BUDGET`; None: no limit)."""
+    ``equations`` (None: not available), all of them within ``budget`` seconds
+    (at most :data:`REAL_BUDGET`; None: no limit)."""
     moved = {name: text for text in mirrors for name in text.split(" -> ")[0].split(", ")}
-    seconds = None if budget is None else min(budget, REAL_BUDGET)  # None: no limit, as the caller's
-    out = []
-    for name in only:
-        if name in moved:
-            out.append(RealAnswer(name, False, f"the mirror {moved[name]} gives a second real state"))
-        elif equations is None:
-            out.append(RealAnswer(name, None, "other complex values; over the reals undecided (no fibre over Q)"))
-        else:
-            try:
-                eliminant = with_budget(_eliminant, equations, coordinates[name], seconds=seconds)
-            except Undecided as exc:
-                out.append(RealAnswer(name, None, f"other complex values; over the reals undecided ({exc})"))
-                continue
-            out.append(_answer(name, eliminant))
-    return tuple(out)
+    rest = [name for name in only if name not in moved]
+    eliminants: dict[str, sympy.Poly | str] = {name: "no fibre over Q" for name in rest}
+    if equations is not None and rest:
+        seconds = None if budget is None else min(budget, REAL_BUDGET)  # None: no limit, as the caller's
+        try:
+            eliminants = with_budget(_eliminants, equations, {name: coordinates[name] for name in rest},
+                                     seconds=seconds)
+        except Undecided as exc:
+            eliminants = {name: str(exc) for name in rest}
+    return tuple(RealAnswer(name, False, f"the mirror {moved[name]} gives a second real state") if name in moved
+                 else _answer(name, eliminants[name]) for name in only)
 
 
 def _answer(name: str, eliminant: sympy.Poly | str) -> RealAnswer:
@@ -124,20 +121,40 @@ def _odd_binomial(p: sympy.Poly) -> bool:
     return all(shifted.nth(k) == 0 for k in range(1, d))
 
 
-def _eliminant(equations: FibreEquations, variable: sympy.Symbol) -> sympy.Poly | str:
-    """The generator of the fibre's ideal (saturated at its denominators)
-    intersected with Q[``variable``], as a polynomial in ``variable``; or why
-    not (the ideal is not zero-dimensional)."""
-    others = [u for u in equations.unknowns if u != variable]
+def _eliminants(equations: FibreEquations, variables: dict[str, sympy.Symbol]) -> dict[str, sympy.Poly | str]:
+    """For each variable, the generator of the fibre's ideal (saturated at its
+    denominators) intersected with Q[variable], or why not. For a
+    zero-dimensional ideal I that generator is the minimal polynomial of the
+    multiplication by the variable on Q[unknowns]/I: the first linear relation
+    among the normal forms of 1, v, v^2, ... (exact, over Q) modulo one
+    degree-reverse-lexicographic basis, computed once for all variables."""
+    unknowns = list(equations.unknowns)
     relations = list(equations.equations)
-    if sympy.Poly(equations.saturation, *equations.unknowns).total_degree() > 0:
+    if sympy.Poly(equations.saturation, *unknowns).total_degree() > 0:
         t = sympy.Dummy("t")  # t * saturation = 1: the zeros where a denominator vanishes are not the model's
         relations.append(t * equations.saturation - 1)
-        others.insert(0, t)
-    basis = sympy.groebner(relations, *others, variable, order="grevlex")
+        unknowns.insert(0, t)
+    basis = sympy.groebner(relations, *unknowns, order="grevlex")
     if not basis.is_zero_dimensional:
-        return "the fibre's ideal is not zero-dimensional"
-    last = basis.fglm("lex").exprs[-1]
-    if last.free_symbols != {variable}:
-        return "no univariate element in the lexicographic basis"
-    return sympy.Poly(last, variable)
+        return {name: "the fibre's ideal is not zero-dimensional" for name in variables}
+    return {name: _minimal_polynomial(basis, unknowns, v) for name, v in variables.items()}
+
+
+#: The highest degree of an eliminant sought (the number of the fibre's points bounds it).
+MAX_ELIMINANT_DEGREE = 48
+
+
+def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Symbol) -> sympy.Poly | str:
+    """The monic minimal polynomial of ``variable`` modulo the zero-dimensional ``basis``."""
+    forms: list[dict] = []
+    for k in range(MAX_ELIMINANT_DEGREE + 1):
+        _, remainder = basis.reduce(variable**k)
+        forms.append(sympy.Poly(remainder, *unknowns, domain="QQ").as_dict())
+        monomials = sorted({m for form in forms for m in form})
+        matrix = DomainMatrix([[sympy.QQ.from_sympy(sympy.S(form.get(m, 0))) for form in forms] for m in monomials],
+                              (len(monomials), len(forms)), sympy.QQ)
+        null = matrix.nullspace().to_Matrix()
+        if null.rows:
+            coefficients = list(null.row(0))
+            return sympy.Poly(list(reversed(coefficients)), variable).monic()
+    return f"no eliminant of degree <= {MAX_ELIMINANT_DEGREE}"
