@@ -1,4 +1,4 @@
-"""Unobservable directions without a polynomial generator, as vectors at a point.
+"""Unobservable directions the polynomial search did not find, as vectors at a point.
 
 When neither the exact ansatz (:mod:`observability.directions.discovery`) nor a brief
 symbolic null space gives them (a model of more than 24 states, or whose
