@@ -84,11 +84,13 @@ def test_the_eliminant_s_shape_decides():
     one real root (its derivative is positive) but not that shape; T^4 - 2 two real roots; T^5 - 7 T + 1
     three (sign changes at -2, -1, 0, 1, 2: -21, 7, 1, -5, 19)."""
     T = sympy.Symbol("T")
-    assert _answer("T", sympy.Poly((T - 1)**3 + 2, T)).unique is True
-    assert _answer("T", sympy.Poly(T**3 + T + 5, T)).unique is None
-    assert "one real (Sturm) there" in _answer("T", sympy.Poly(T**3 + T + 5, T)).how
-    assert _answer("T", sympy.Poly(T**4 - 2, T)).how.endswith("2 real (Sturm), not known to belong to real states")
-    assert "3 real (Sturm)" in _answer("T", sympy.Poly(T**5 - 7 * T + 1, T)).how
+    assert _answer("T", (sympy.Poly((T - 1)**3 + 2, T), True)).unique is True
+    assert _answer("T", (sympy.Poly(T**3 + T + 5, T), True)).unique is None
+    assert "one real (Sturm) there" in _answer("T", (sympy.Poly(T**3 + T + 5, T), True)).how
+    assert _answer("T", (sympy.Poly(T**4 - 2, T), False)).how.endswith("2 real (Sturm), not known to belong to real "
+                                                                        "states")
+    assert _answer("T", (sympy.Poly(T**4 - 2, T), True)).unique is False  # shape position: real roots, real points
+    assert "3 real (Sturm)" in _answer("T", (sympy.Poly(T**5 - 7 * T + 1, T), False)).how
 
 
 def test_the_eliminants_of_a_hand_fibre():
@@ -101,6 +103,20 @@ def test_the_eliminants_of_a_hand_fibre():
     x, y, z = sympy.symbols("x y z")
     found = _eliminants(FibreEquations((x**2 + y**2 - 5, x - y - 1), (x, y), sympy.Integer(1), {}, {}),
                         {"x": x, "y": y})
-    assert found["x"].as_expr() == x**2 - x - 2 and found["y"].as_expr() == y**2 + y - 2
+    assert found["x"][0].as_expr() == x**2 - x - 2 and found["y"][0].as_expr() == y**2 + y - 2
+    assert found["x"][1] and found["y"][1]  # y = x - 1, x = y + 1: each a polynomial in the other
     saturated = _eliminants(FibreEquations((z * (z - 1) * (z + 3),), (z,), z, {}, {}), {"z": z})
-    assert saturated["z"].as_expr() == z**2 + 2 * z - 3
+    assert saturated["z"][0].as_expr() == z**2 + 2 * z - 3
+    circle = _eliminants(FibreEquations((x**2 + y**2 - 5, y**2 - 1), (x, y), sympy.Integer(1), {}, {}), {"x": x})
+    assert circle["x"][0].as_expr() == x**2 - 4 and not circle["x"][1]  # y = +-1 over each x: no g with y = g(x)
+
+
+def test_a_second_real_root_in_shape_position_is_a_real_state():
+    """y = x^2 + x, x at rest: x and -1 - x give the same output (x (x + 1) = (-1 - x)(-x)), both
+    real; no sign flip keeps y, so no mirror is found, but the fibre's eliminant T^2 + T - c has
+    discriminant 1 + 4 c = (2 a + 1)^2 > 0 (two real roots) and the fibre is x's alone: other real
+    states, certain."""
+    system = System(["x"], {"x": "0"}, {"y": "x**2 + x"})
+    answer = global_observability(system, analyze(system, seed=1), seed=0, budget=None)
+    assert answer.only_locally == ("x",) and not answer.mirrors and answer.over_the_reals("x") is False
+    assert "2 real (Sturm), each a real point of the fibre" in answer.reals[0].how

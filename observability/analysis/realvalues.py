@@ -7,7 +7,12 @@ y = x fixes p^3, and p is the real cube root). Each such state gets one of
 three answers:
 
 **A second real value (certain)**: a verified mirror moves the state
-(:mod:`.mirrors`: a map of real states onto real states keeping every output).
+(:mod:`.mirrors`: a map of real states onto real states keeping every output);
+or, at the random point of the fibre (below), its eliminant P has two or more
+real roots and the fibre is in shape position for the state (every unknown is
+a polynomial g_u(x_i) with rational coefficients modulo the ideal): every zero
+is then (r, g(r)) for a root r of P, real where r is, so a second real root is
+a second real state with the same outputs, there and, its roots simple, nearby.
 
 **Unique among real values**: at the random point of the fibre
 (:func:`~.fibre.fibre_equations`), the values the state takes on the
@@ -30,7 +35,8 @@ algebraic over the outputs' field K, and its minimal polynomial over K stays
 irreducible over K extended by algebraically independent elements.
 
 **Other complex values, undecided over the reals**: otherwise (several real
-roots of P, which need not belong to real points of the fibre; one real root
+roots of P without shape position, which need not belong to real points of the
+fibre; one real root
 but no odd binomial shape, so the count could change elsewhere; or the
 elimination did not end in its budget). Never a bare "only locally".
 """
@@ -81,7 +87,7 @@ def real_answers(equations: FibreEquations | None, coordinates: dict[str, sympy.
     (at most :data:`REAL_BUDGET`; None: no limit)."""
     moved = {name: text for text in mirrors for name in text.split(" -> ")[0].split(", ")}
     rest = [name for name in only if name not in moved]
-    eliminants: dict[str, sympy.Poly | str] = {name: "no fibre over Q" for name in rest}
+    eliminants: dict[str, tuple[sympy.Poly, bool] | str] = {name: "no fibre over Q" for name in rest}
     if equations is not None and rest:
         seconds = None if budget is None else min(budget, REAL_BUDGET)  # None: no limit, as the caller's
         try:
@@ -93,10 +99,12 @@ def real_answers(equations: FibreEquations | None, coordinates: dict[str, sympy.
                  else _answer(name, eliminants[name]) for name in only)
 
 
-def _answer(name: str, eliminant: sympy.Poly | str) -> RealAnswer:
-    """The answer from the eliminant P (or why there is none)."""
+def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str) -> RealAnswer:
+    """The answer from the eliminant P and whether the fibre is in shape
+    position for it (or why there is none)."""
     if isinstance(eliminant, str):
         return RealAnswer(name, None, f"other complex values; over the reals undecided ({eliminant})")
+    eliminant, shape = eliminant
     real = eliminant.sqf_part().count_roots()
     said = f"its values on the fibre at the random point are the roots of {eliminant.as_expr()}"
     if real == 1 and _odd_binomial(eliminant):
@@ -105,6 +113,9 @@ def _answer(name: str, eliminant: sympy.Poly | str) -> RealAnswer:
     if real == 1:
         return RealAnswer(name, None, f"other complex values; {said}: one real (Sturm) there, but the count may "
                                       "differ at other points")
+    if shape:
+        return RealAnswer(name, False, f"{said}: {real} real (Sturm), each a real point of the fibre (every "
+                                       f"unknown there a polynomial in {name} modulo its ideal)")
     return RealAnswer(name, None, f"other complex values; {said}: {real} real (Sturm), not known to belong to "
                                   "real states")
 
@@ -121,7 +132,8 @@ def _odd_binomial(p: sympy.Poly) -> bool:
     return all(shifted.nth(k) == 0 for k in range(1, d))
 
 
-def _eliminants(equations: FibreEquations, variables: dict[str, sympy.Symbol]) -> dict[str, sympy.Poly | str]:
+def _eliminants(equations: FibreEquations, variables: dict[str, sympy.Symbol]
+                ) -> dict[str, tuple[sympy.Poly, bool] | str]:
     """For each variable, the generator of the fibre's ideal (saturated at its
     denominators) intersected with Q[variable], or why not. For a
     zero-dimensional ideal I that generator is the minimal polynomial of the
@@ -144,17 +156,30 @@ def _eliminants(equations: FibreEquations, variables: dict[str, sympy.Symbol]) -
 MAX_ELIMINANT_DEGREE = 48
 
 
-def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Symbol) -> sympy.Poly | str:
-    """The monic minimal polynomial of ``variable`` modulo the zero-dimensional ``basis``."""
+def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Symbol) -> tuple[sympy.Poly, bool] | str:
+    """The monic minimal polynomial P of ``variable`` modulo the zero-dimensional
+    ``basis``, and whether every unknown is a polynomial in ``variable`` modulo
+    the ideal (its normal form in the span of those of 1, ..., variable^(d-1)):
+    then every zero of the ideal is (r, g(r)) for a root r of P with rational
+    polynomials g, so each real root of P is a real point of the fibre."""
     forms: list[dict] = []
     for k in range(MAX_ELIMINANT_DEGREE + 1):
-        _, remainder = basis.reduce(variable**k)
-        forms.append(sympy.Poly(remainder, *unknowns, domain="QQ").as_dict())
-        monomials = sorted({m for form in forms for m in form})
-        matrix = DomainMatrix([[sympy.QQ.from_sympy(sympy.S(form.get(m, 0))) for form in forms] for m in monomials],
-                              (len(monomials), len(forms)), sympy.QQ)
-        null = matrix.nullspace().to_Matrix()
+        forms.append(_normal_form(basis, unknowns, variable**k))
+        null = _matrix(forms).nullspace().to_Matrix()
         if null.rows:
             coefficients = list(null.row(0))
-            return sympy.Poly(list(reversed(coefficients)), variable).monic()
+            shape = all(_matrix([*forms[:-1], _normal_form(basis, unknowns, u)]).rank() == k for u in unknowns)
+            return sympy.Poly(list(reversed(coefficients)), variable).monic(), shape
     return f"no eliminant of degree <= {MAX_ELIMINANT_DEGREE}"
+
+
+def _normal_form(basis, unknowns: list[sympy.Symbol], expr: sympy.Expr) -> dict:
+    _, remainder = basis.reduce(expr)
+    return sympy.Poly(remainder, *unknowns, domain="QQ").as_dict()
+
+
+def _matrix(forms: list[dict]) -> DomainMatrix:
+    """The normal forms as the columns of a matrix over Q (rows: their monomials)."""
+    monomials = sorted({m for form in forms for m in form})
+    return DomainMatrix([[sympy.QQ.from_sympy(sympy.S(form.get(m, 0))) for form in forms] for m in monomials],
+                        (len(monomials), len(forms)), sympy.QQ)
