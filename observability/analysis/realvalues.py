@@ -149,17 +149,20 @@ def _eliminants(equations: FibreEquations, variables: dict[str, sympy.Symbol]
     basis = sympy.groebner(relations, *unknowns, order="grevlex")
     if not basis.is_zero_dimensional:
         return {name: "the fibre's ideal is not zero-dimensional" for name in variables}
-    return {name: _minimal_polynomial(basis, unknowns, v) for name, v in variables.items()}
+    each = [_normal_form(basis, unknowns, u) for u in unknowns]  # the same for every variable's shape test
+    return {name: _minimal_polynomial(basis, unknowns, v, each) for name, v in variables.items()}
 
 
 #: The highest degree of an eliminant sought (the number of the fibre's points bounds it).
 MAX_ELIMINANT_DEGREE = 48
 
 
-def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Symbol) -> tuple[sympy.Poly, bool] | str:
+def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Symbol,
+                        each: list[dict]) -> tuple[sympy.Poly, bool] | str:
     """The monic minimal polynomial P of ``variable`` modulo the zero-dimensional
     ``basis``, and whether every unknown is a polynomial in ``variable`` modulo
-    the ideal (its normal form in the span of those of 1, ..., variable^(d-1)):
+    the ideal (its normal form, in ``each``, in the span of those of 1, ...,
+    variable^(d-1)):
     then every zero of the ideal is (r, g(r)) for a root r of P with rational
     polynomials g, so each real root of P is a real point of the fibre."""
     forms: list[dict] = []
@@ -168,7 +171,7 @@ def _minimal_polynomial(basis, unknowns: list[sympy.Symbol], variable: sympy.Sym
         null = _matrix(forms).nullspace().to_Matrix()
         if null.rows:
             coefficients = list(null.row(0))
-            shape = all(_matrix([*forms[:-1], _normal_form(basis, unknowns, u)]).rank() == k for u in unknowns)
+            shape = all(_matrix([*forms[:-1], form]).rank() == k for form in each)
             return sympy.Poly(list(reversed(coefficients)), variable).monic(), shape
     return f"no eliminant of degree <= {MAX_ELIMINANT_DEGREE}"
 
