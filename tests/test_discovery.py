@@ -126,6 +126,9 @@ def test_the_numbers_at_a_point_complete_the_fields_found(monkeypatch):
     translation, numeric = result.unobservable_directions
     assert translation.vector == {"x": "1", "w": "-1"}
     assert numeric.name == "unnamed direction"
+    # Degrees 0..2 searched to the end (3 variables, nullity 2): an absence that was searched, said so.
+    assert numeric.description.startswith("no polynomial generator of degree <= 2 in the states and parameters "
+                                          "(exact ansatz mod p at random points): its vector at the point ")
     z0 = float(re.search(r"z = ([-0-9.e]+)", numeric.description).group(1))
     v = [float(numeric.vector.get(k, "0")) for k in ("x", "z", "w")]
     assert abs(v[0] + math.exp(z0) * v[1] + v[2]) < 1e-4 * (1 + math.exp(z0))

@@ -286,7 +286,9 @@ def test_the_command_line_reports_the_mirror_in_json():
     assert record["globally_observable_states"] == ["x"]
     assert record["only_locally_observable_states"] == ["y"]
     assert record["global"]["mirrors"] == ["y -> -y"] and record["global"]["error_probability"] < 1e-5
+    assert record["global"]["only_locally_over_the_reals"]["y"]["unique_among_real_values"] is False
     assert set(record["global"]) == {"globally_observable_states", "only_locally_observable_states", "undecided",
+                                     "only_locally_over_the_reals",
                                      "error_probability", "details", "mirrors", "functions",
                                      "functions_generate_the_field", "generation", "globally_observable_functions",
                                      "globally_observable_functions_generate", "globally_observable_functions_how"}

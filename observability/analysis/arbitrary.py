@@ -13,7 +13,7 @@ import time
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..directions.discovery import classify
+from ..directions.naming import classify
 from ..directions.find import DIRECTIONS_BUDGET, UnobservableDirection, components
 from ..model.system import System
 from ..model.unknowninputs import input_model

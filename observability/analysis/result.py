@@ -211,8 +211,7 @@ class ObservabilityResult:
                     self.functions_complete])
             if self.unknown_parameters and self.observable_states is not None:
                 lines.append("  unknown parameters: " + "; ".join(
-                    f"{c} {'identifiable' if c in self.observable_states else 'NOT identifiable'}"
-                    for c in self.unknown_parameters))
+                    f"{c} {self._identifiable(c)}" for c in self.unknown_parameters))
             if self.unknown_inputs and self.observable_states is not None:
                 lines.append("  unknown inputs: " + "; ".join(
                     f"{u} {'observable' if u in self.observable_states else 'NOT observable'}" for u in self.unknown_inputs
@@ -224,18 +223,43 @@ class ObservabilityResult:
         return "\n".join(lines)
 
 
+    def _identifiable(self, name: str) -> str:
+        """An unknown constant's answer: locally, and with --global how globally."""
+        if name not in self.observable_states:
+            return "NOT identifiable"
+        answer = self.global_answer
+        if answer is None:
+            return "identifiable"
+        if name in answer.globally:
+            return "identifiable (globally)"
+        if name in answer.only_locally:
+            return {False: "identifiable only locally (other real values)",
+                    True: "identifiable, unique among real values (other values complex)",
+                    None: "identifiable only locally (other complex values)"}[answer.over_the_reals(name)]
+        return "identifiable (locally; globally undecided)"
+
     def _global_lines(self, states: Callable[[tuple[str, ...] | None], str]) -> list[str]:
         answer = self.global_answer
         if answer is None:
             return []
         lines = [f"  globally observable (unique): {states(answer.globally)}"]
-        if answer.only_locally:
-            lines.append(f"  only locally observable (other states give the same outputs): {states(answer.only_locally)}")
+        # Never a bare "only locally": a reader takes it for real states (:mod:`.realvalues`).
+        real = {False: [], True: [], None: []}
+        for name in answer.only_locally:
+            real[answer.over_the_reals(name)].append(name)
+        for unique, said in ((False, "only locally observable (other real states give the same outputs)"),
+                             (True, "unique among real values (the other states with the same outputs are complex)"),
+                             (None, "only locally observable (other complex states give the same outputs; over the "
+                                    "reals undecided)")):
+            if real[unique]:
+                lines.append(f"  {said}: {states(tuple(real[unique]))}")
+        if answer.reals and any(r.unique is not False for r in answer.reals):
+            lines.append("  over the reals: " + "; ".join(f"{r.name}: {r.how}" for r in answer.reals))
         if answer.undecided:
             lines.append(f"  global answer undecided: {states(answer.undecided)}")
         if answer.functions:
             lines.append("  observable functions: " + "; ".join(
-                f"{f} {({True: 'unique', False: 'only locally', None: 'undecided'})[unique]}"
+                f"{f} {({True: 'unique', False: 'only locally (other complex values)', None: 'undecided'})[unique]}"
                 for f, unique in answer.functions))
         if answer.generation:
             verdict = {True: "the observable functions generate", False: "the observable functions do not generate",

@@ -48,7 +48,8 @@ Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
 observable modulo 2 pi. "Only locally" is a statement over the complex
 numbers: other complex states give the same outputs; over the reals they may not
-(y = x**3 determines a real x).
+(y = x**3 determines a real x): :mod:`.realvalues` says which have a second real
+value, which are unique among real values, and which are undecided there.
 """
 
 from __future__ import annotations
@@ -74,6 +75,7 @@ from .generators import generate_the_field, reduced_pair
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .iofield import field_members
 from .mirrors import mirrors
+from .realvalues import RealAnswer, real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
@@ -99,7 +101,9 @@ class GlobalVerdict:
     globally : tuple of str
         States and unknown constants determined uniquely (angles modulo 2 pi).
     only_locally : tuple of str
-        Locally observable, not globally: other (complex) states share the outputs.
+        Locally observable, not globally: other (complex) states share the outputs;
+        ``reals`` says which of them have a second real value, which are unique
+        among real values, and which are undecided over the reals.
     undecided : tuple of str
         Locally observable states the test could not decide (``details`` says why).
     error_probability : float or None
@@ -120,6 +124,9 @@ class GlobalVerdict:
         (``generation`` says why).
     generation : str
         The reason for ``generates_field``.
+    reals : tuple of RealAnswer
+        The states of ``only_locally`` over the reals (:mod:`.realvalues`), with
+        the argument; a state without one has only other complex values known.
     field : FieldGenerators or None
         Generators of the field of globally observable functions: the printed
         functions when they generate it, else those of :mod:`.globalfield`;
@@ -136,10 +143,17 @@ class GlobalVerdict:
     generates_field: bool | None = None
     generation: str = ""
     field: FieldGenerators | None = None
+    reals: tuple[RealAnswer, ...] = ()
+
+    def over_the_reals(self, name: str) -> bool | None:
+        """For a state of ``only_locally``: True unique among real values, False a
+        second real value, None only other complex values known (:mod:`.realvalues`)."""
+        return next((r.unique for r in self.reals if r.name == name), None)
 
     def to_dict(self) -> dict[str, Any]:
         return {"globally_observable_states": list(self.globally),
                 "only_locally_observable_states": list(self.only_locally),
+                "only_locally_over_the_reals": {r.name: r.to_dict() for r in self.reals},
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
                 "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions),
                 "functions_generate_the_field": self.generates_field, "generation": self.generation,
@@ -202,8 +216,10 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
         return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget, functions)
-    members, bits, probability, angles, mirrors, paired, how = decided
+    members, bits, probability, angles, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
+    index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
+    reals = real_answers(equations, index, tuple(s for s in local if where[s] is False), mirrors, budget)
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
@@ -219,7 +235,6 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
         if generates else None
     if generates is not True:
-        index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
         unique = [(s, index[s]) for s in local if where[s]]
         unique += [(text, model.rewrite(f)) for (text, f), (_, member) in zip(functions, answers) if member]
         unique += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
@@ -228,7 +243,7 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         probability += (error + field.error) if field.generates else 0.0
     return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                          tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
-                         generates, generation, field)
+                         generates, generation, field, reals)
 
 
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
@@ -270,10 +285,10 @@ def _through_io_equation(system: System, model: RationalModel, result: Observabi
     spent += (error + added) if added is not None else 0.0
     field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
         if generates else None
-    return GlobalVerdict(tuple(s for s in local if where.get(s) is True),
-                         tuple(s for s in local if where.get(s) is False),
-                         tuple(s for s in local if where.get(s) is None),
-                         spent + (result.error_probability or 0.0), details, (), answers, generates, generation, field)
+    only = tuple(s for s in local if where.get(s) is False)  # over the reals undecided: no fibre over Q here
+    return GlobalVerdict(tuple(s for s in local if where.get(s) is True), only,
+                         tuple(s for s in local if where.get(s) is None), spent + (result.error_probability or 0.0),
+                         details, (), answers, generates, generation, field, real_answers(None, {}, only, (), None))
 
 
 @dataclass
@@ -549,7 +564,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     outside = {i for i, member in enumerate(members) if member is False}
     found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
     return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
-        mirrors(system, model, only), found, how
+        mirrors(system, model, only), found, how, None if modular else equations
 
 
 def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],

@@ -2,8 +2,9 @@
 
 Takes a System and the rank's nullity and gives the unobservable directions:
 declared symmetries verified (:mod:`.symmetry`), polynomial null fields found by
-an exact ansatz (:mod:`.nullfields`) and named from their structure
-(:mod:`.discovery`), the rest as vectors at a point (:mod:`.atpoint`),
+an exact ansatz (:mod:`.nullfields`, :mod:`.discovery`; on a set in the set's
+own coordinates, :mod:`.coordinates`) and named from their structure
+(:mod:`.naming`), the rest as vectors at a point (:mod:`.atpoint`),
 everything assembled in :mod:`.find`; and the observable functions, invariants
 of those directions (:mod:`.invariants`).
 """

@@ -1,4 +1,4 @@
-"""Unobservable directions without a polynomial generator, as vectors at a point.
+"""Unobservable directions the polynomial search did not find, as vectors at a point.
 
 When neither the exact ansatz (:mod:`observability.directions.discovery`) nor a brief
 symbolic null space gives them (a model of more than 24 states, or whose
@@ -35,10 +35,13 @@ def directions_at_a_point(
     seed: int,
     input_derivatives: int | None,
     previous: str,
+    why: str,
 ) -> tuple[list[tuple[dict[str, str], str]], str]:
     """``missing`` null vectors at a random point, independent of the ``known``
     fields there: each as ``({state: value}, description)``, the largest
     component 1, six significant digits; and a note (empty when all were given).
+    ``why`` says what the polynomial search found of them (its
+    :meth:`~observability.directions.discovery.Discovery.reason`).
     """
     import numpy as np
 
@@ -46,7 +49,7 @@ def directions_at_a_point(
 
     rank = system.n - missing - len(known)
     if system.n > MAX_STATES:
-        return [], f"{missing} direction(s) not found (no polynomial generator of degree <= 2; n > {MAX_STATES})"
+        return [], f"{missing} direction(s) not found ({why}; n > {MAX_STATES}: no vectors at a point)"
     try:
         at = float_rank(system, seed=seed, input_derivatives=input_derivatives, previous=previous)
     except (SingularModelError, Redraw) as exc:
@@ -71,6 +74,6 @@ def directions_at_a_point(
     for vector in complement[:missing]:
         vector = vector / vector[np.argmax(np.abs(vector))]
         components = {s.name: f"{x:.6g}" for s, x in zip(system.states, vector) if abs(x) > 1e-9}
-        out.append((components, "no polynomial generator of degree <= 2 found: its vector at the point "
-                                f"{where} (floating point; --symbolic-directions gives a symbolic null space 20 s)"))
+        out.append((components, f"{why}: its vector at the point {where} (floating point; "
+                                "--symbolic-directions gives a symbolic null space 20 s)"))
     return out, ""

@@ -17,9 +17,7 @@ rotation plus multiples of translations); the other null fields, which include
 every multiple phi(x) v(x) of a null field, fill in what symmetries do not span,
 lowest degree and fewest terms first.
 
-The fields are then named from their structure (:func:`classify`): a constant
-field is a translation, a linear one with a diagonal part a scaling, with a
-skew-symmetric part a rotation; anything else is reported with its vector.
+The fields are then named from their structure (:mod:`.naming`).
 """
 
 from __future__ import annotations
@@ -29,6 +27,7 @@ import itertools
 import math
 import random
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import sympy
 
@@ -39,8 +38,9 @@ from ..engine.program import PRIME, Program
 from ..rank.randomized import dense_suits
 from ..model.system import System
 from ..engine.taylor import Redraw, TaylorEvaluator
+from .coordinates import coordinates
 
-__all__ = ["discover_directions", "classify", "monomials", "polynomial", "primitive", "rational_reconstruction",
+__all__ = ["Discovery", "discover_directions", "monomials", "polynomial", "primitive", "rational_reconstruction",
            "MAX_UNKNOWNS"]
 
 #: Above this many unknown coefficients (of the free components, or of an
@@ -108,10 +108,9 @@ class _Points:
                  dynamics: bool, dense: bool = False, constraint=None) -> None:
         self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
         self.constraint = constraint
-        # On a set, the monomials are in the variables it does not solve for (its coordinates).
-        solved = set() if constraint is None else {v for v, _ in constraint.solution}
-        variables = (*system.states, *system.free_parameters)
-        self.coordinates = [i for i, v in enumerate(variables) if v not in solved]
+        # On a set, the monomials are in its own coordinates (the variables it does not
+        # solve for, its angles' sines and cosines).
+        self.coordinates = coordinates(system, constraint)
         self.input_derivatives, self.dynamics = input_derivatives, dynamics
         self.dense = dense  # points mod a small prime on the dense evaluator (decided again once compiled)
         self.expansion: Expansion | None = None
@@ -155,7 +154,7 @@ class _Points:
             echelon.add_row(row)
         values = evaluator.variable_values(system)
         if not self.dynamics:
-            return [values[i] for i in self.coordinates], echelon.pivot_rows
+            return self.coordinates.values(values, evaluator.circles), echelon.pivot_rows
         if not all(values):
             raise Redraw(-1, "a variable is zero at the point")  # d m / d x_s = e_s m / x_s needs x_s != 0
         at = [evaluator.coefficient(i, 0) for i in self.dynamics_nodes]
@@ -254,6 +253,54 @@ def _combined(first, second, p: int, q: int) -> list[int]:
     return [int(a) + p * ((int(b) - int(a)) * inverse % q) for a, b in zip(first, second)]
 
 
+@dataclass(frozen=True)
+class Discovery:
+    """What the exact ansatz found, and how far its search is complete.
+
+    Attributes
+    ----------
+    fields : tuple of tuple of Expr
+        Polynomial null fields, independent at a random point, lowest degree and
+        fewest terms first (components per state; on a set, in sin and cos of
+        its angles where those are the coordinates).
+    complete : int
+        The highest degree D whose search ended with every field of the space
+        brought back and checked (-1: none). Then the fields found span, at
+        generic points, every polynomial null field of degree <= D in
+        ``coordinates``: the space of fields of degree D holds those of lower
+        degree, it is found mod p from the conditions at random points (every
+        true field satisfies them: the space found can only be larger), each of
+        its basis fields came back to rationals and was null at a fresh point
+        (so none is spurious and the two spaces are equal), and a maximal subset
+        independent at a random point was kept. An absence below that degree
+        is therefore an answer, with the probability of the random points.
+    stopped : str
+        Why no higher degree was searched completely ("" when the fields span
+        the null space or ``max_degree`` was reached).
+    coordinates : str
+        The variables of the polynomials, as text.
+    """
+
+    fields: tuple[tuple[sympy.Expr, ...], ...]
+    complete: int
+    stopped: str
+    coordinates: str
+
+    def reason(self) -> str:
+        """Why directions beyond the fields have none: absent among the
+        polynomials of degree <= ``complete`` where that was searched, and what
+        stopped a higher degree."""
+        if self.complete < 0:
+            return f"not found by the polynomial search ({self.stopped})"
+        said = (f"no polynomial generator of degree <= {self.complete} in {self.coordinates} "
+                "(exact ansatz mod p at random points)")
+        return f"{said}; {self.stopped}" if self.stopped else said
+
+    def missing(self, count: int, what: str) -> str:
+        """A note on ``count`` directions of ``what`` the fields leave ("" for none)."""
+        return f"{count} direction(s) of {what}: {self.reason()}" if count > 0 else ""
+
+
 def discover_directions(
     system: System,
     nullity: int,
@@ -264,7 +311,7 @@ def discover_directions(
     input_derivatives: int | None = None,
     previous: str = "inverse",
     constraint=None,
-) -> list[tuple[sympy.Expr, ...]]:
+) -> Discovery:
     """Polynomial fields (degree <= ``max_degree`` in the states and free
     parameters) spanning as much of the ``nullity``-dimensional null space as
     such fields can, lowest degree and fewest terms first. Symmetries (fields
@@ -272,16 +319,17 @@ def discover_directions(
     rotation, not a rotation plus multiples of translations); where they do not
     span the null space, other null fields fill in. Each is checked at a fresh
     random point modulo the 61-bit prime; a model whose null space has no
-    polynomial generator of that degree yields fewer fields (never a wrong one).
+    polynomial generator of that degree yields fewer fields (never a wrong one),
+    and :attr:`Discovery.complete` says up to which degree that absence was searched.
 
     With a ``constraint`` (:class:`~observability.where.sets.ConstraintSet`) the
     fields are null at the points of the set (``nullity`` is the set's), every
     point is drawn on it, and the fields are polynomials in the set's own
-    coordinates (the variables the set does not solve for), which are
-    independent on it: no field that merely vanishes on the set is returned.
-    Symmetries are not sought there."""
+    coordinates (:mod:`.coordinates`: the variables the set does not solve for,
+    the sines and cosines of its angles), which are independent on it: no field
+    that merely vanishes on the set is returned. Symmetries are not sought there."""
     if nullity <= 0:
-        return []
+        return Discovery((), max_degree, "", "")
     # numpy and its BLAS are loaded only when a search runs: a rank check needs neither.
     from .nullfields import single_threaded
 
@@ -290,286 +338,99 @@ def discover_directions(
 
 
 def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: int, input_derivatives,
-              previous: str, constraint=None) -> list[tuple[sympy.Expr, ...]]:
-    from .nullfields import SECOND_PRIME, SMALL_PRIME, KernelSampler, null_fields
+              previous: str, constraint=None) -> Discovery:
+    from .nullfields import SECOND_PRIME, SMALL_PRIME, KernelSampler
     rng = random.Random(seed)
     dense = dense_suits(system)
     if dense:  # a model with dense gradients: its many points on the dense evaluator, below 2^28
         from ..engine.densetaylor import DENSE_PRIME, DENSE_SECOND_PRIME
 
-        search_prime, second_prime = DENSE_PRIME, DENSE_SECOND_PRIME
+        primes = (DENSE_PRIME, DENSE_SECOND_PRIME)
     else:
-        search_prime, second_prime = SMALL_PRIME, SECOND_PRIME
-    solved = set() if constraint is None else {v for v, _ in constraint.solution}
-    variables = [v for v in (*system.states, *system.free_parameters) if v not in solved]
-    n = system.n
-    found: list[tuple[sympy.Expr, ...]] = []
-    span = ModularEchelon(n, PRIME)
+        primes = (SMALL_PRIME, SECOND_PRIME)
     symmetries = constraint is None and (previous == "inverse" or not system.uses_previous_state)
     points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense and constraint is None,
                      constraint)
-    probe = None
+    where = "the states and parameters" if constraint is None else f"the set's coordinates ({points.coordinates.text()})"
+    search = _Search(system, nullity, symmetries, points.coordinates)
     for _ in range(8):
         try:
-            probe = points(PRIME)
+            search.probe = points(PRIME)
             break
         except Redraw:
             continue
-    if probe is None:
-        return []
-    sampler = KernelSampler(n, nullity, lambda: points(search_prime), search_prime)
-    # Drawn from only when a coefficient does not come back from the first prime alone.
-    second = KernelSampler(n, nullity, lambda: points(second_prime), second_prime)
+    if search.probe is None:
+        return Discovery((), -1, "no regular random point to check fields at", where)
+    # The second sampler is drawn from only when a coefficient does not come back from the first prime alone.
+    samplers = tuple(KernelSampler(system.n, nullity, lambda q=q: points(q), q) for q in primes)
+    complete, stopped = -1, ""
     for degree in range(max_degree + 1):
-        size = math.comb(len(variables) + degree, degree)  # counted before any is built: they may be millions
+        size = math.comb(len(points.coordinates.symbols) + degree, degree)  # counted before any is built
         if nullity * size > MAX_UNKNOWNS:
+            stopped = f"degree {degree} not searched ({nullity} x {size} unknowns, more than {MAX_UNKNOWNS})"
             break
-        exponents = monomials(len(variables), degree)
-        fields = null_fields(sampler, exponents, MAX_POINTS, symmetries)
+        stopped = search.degree(degree, samplers, primes)
+        if len(search.found) == nullity:
+            stopped = ""
+            break
+        if stopped:
+            break
+        complete = degree
+    return Discovery(tuple(search.found), complete, stopped, where)
+
+
+class _Search:
+    """The fields found so far, degree by degree, and the random point they are checked at."""
+
+    def __init__(self, system: System, nullity: int, symmetries: bool, coordinates) -> None:
+        self.system, self.nullity, self.symmetries, self.coordinates = system, nullity, symmetries, coordinates
+        self.found: list[tuple[sympy.Expr, ...]] = []
+        self.span = ModularEchelon(system.n, PRIME)
+        self.probe: tuple | None = None
+
+    def degree(self, degree: int, samplers, primes) -> str:
+        """Search the fields of ``degree``, keeping those independent of the ones
+        found; "" when every field of the space came back and was checked, else
+        what failed (the degree is then incomplete)."""
+        from .nullfields import null_fields
+
+        n, symmetries = self.system.n, self.symmetries
+        exponents = self.coordinates.reduced(monomials(len(self.coordinates.symbols), degree))
+        size = len(exponents)
+        fields = null_fields(samplers[0], exponents, MAX_POINTS, symmetries)
         if fields is None:
-            break
-        at_probe = _monomial_values(exponents, probe[0])
-        kinds = [True, False] if symmetries else [False]
-        for symmetric in kinds:
+            return f"degree {degree} not searched (more than {MAX_POINTS} random points needed, or none regular)"
+        at_probe = _monomial_values(exponents, self.probe[0])
+        failed = ""
+        for symmetric in [True, False] if symmetries else [False]:
             try:
                 candidates = fields.simplest(symmetric)
-            except Redraw:
-                return found
+            except Redraw as exc:
+                return f"degree {degree} not searched to the end ({exc.reason})"
             position = fields.positions()
             again: dict[int, object] | None = None  # the same canonical rows mod the second prime, by pivot
             for row in candidates:
-                field = _rational_field(row.tolist(), n, size, search_prime)
+                field = _rational_field(row.tolist(), n, size, primes[0])
                 if field is None:
                     if again is None:
-                        again = _by_pivot(null_fields(second, exponents, MAX_POINTS, symmetries), symmetric)
+                        again = _by_pivot(null_fields(samplers[1], exponents, MAX_POINTS, symmetries), symmetric)
                     other = again.get(int(position[row != 0].min()))
-                    if other is None:
-                        continue
-                    field = _rational_field(_combined(row, other, search_prime, second_prime), n, size,
-                                            search_prime * second_prime)
+                    field = None if other is None else _rational_field(
+                        _combined(row, other, *primes), n, size, primes[0] * primes[1])
                     if field is None:
+                        failed = f"a field of degree {degree} has coefficients beyond rational reconstruction"
                         continue
                 v = _field_at(field, at_probe)
-                if any(sum(r * v[i] for i, r in pivot_row.items()) % PRIME for pivot_row in probe[1].values()):
-                    continue  # O(x) v(x) != 0 at a fresh point: not a null field
-                if not span.add_row({i: value for i, value in enumerate(v) if value}):
+                if any(sum(r * v[i] for i, r in pivot_row.items()) % PRIME for pivot_row in self.probe[1].values()):
+                    failed = f"a field of degree {degree} mod p is not null at a fresh point"
                     continue
-                vector = [polynomial(comp, exponents, variables) for comp in primitive(field)]
+                if not self.span.add_row({i: value for i, value in enumerate(v) if value}):
+                    continue
+                vector = [self.coordinates.expression(polynomial(comp, exponents, self.coordinates.symbols))
+                          for comp in primitive(field)]
                 # One sign convention for a line: the first component does not start with a minus.
                 first = next(e for e in vector if e != 0)
-                found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))
-                if len(found) == nullity:
-                    return found
-    return found
-
-
-def _listing(names: list[str], limit: int = 6) -> str:
-    shown = ", ".join(names[:limit])
-    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
-
-
-def _norm_preserving(system: System, group: list[sympy.Symbol]) -> bool:
-    """Whether the dynamics move ``group`` by a skew-symmetric linear map of it
-    (q' = Omega q, or q+ = q + Omega q in discrete time), as quaternion
-    kinematics do: the norm of the group is then constant."""
-    index = {s: i for i, s in enumerate(system.states)}
-    step = 1 if system.time == "discrete" else 0
-    jacobian = [[sympy.expand(sympy.diff(system.dynamics[index[a]], b) - (step if a == b else 0)) for b in group]
-                for a in group]
-    return all(not (e.free_symbols & set(group)) for row in jacobian for e in row) and all(
-        sympy.expand(jacobian[i][j] + jacobian[j][i]) == 0 for i in range(4) for j in range(4))
-
-
-def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
-    """A name and a description from the structure of a field: constant
-    (translation), linear with a diagonal part (scaling, about its centre; four
-    states scaled alike about zero whose motion keeps their norm: "the norm of"
-    them, a quaternion's gauge),
-    with a skew-symmetric part (rotation, about its centre); otherwise "unnamed
-    direction". Names of found fields say what they are; declared candidates
-    keep their own names."""
-    states = list(system.states)
-    moved = [s.name for s, v in zip(states, vector) if v != 0]
-    if all(v.free_symbols.isdisjoint(states) for v in vector):
-        return f"translation of {_listing(moved)}", "moves these states together"
-    if any(not v.is_polynomial(*states) for v in vector):
-        return "unnamed direction", "not a polynomial field"
-    terms = [sympy.Poly(v, *states).as_dict() if v != 0 else {} for v in vector]
-    if any(sum(powers) > 1 for t in terms for powers in t):
-        return _rotation_with_attitude(vector, terms, system) or (
-            "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}")
-    n = len(states)
-    A = [[0] * n for _ in range(n)]
-    b = [sympy.Integer(0)] * n
-    for i, t in enumerate(terms):
-        for powers, c in t.items():
-            if any(powers):
-                A[i][powers.index(1)] = c
-            else:
-                b[i] = c
-    off = [(i, j) for i in range(n) for j in range(n) if i != j and A[i][j] != 0]
-    diagonal = [i for i in range(n) if A[i][i] != 0]
-    if not off and diagonal:
-        if len(diagonal) == 4 and len({A[i][i] for i in diagonal}) == 1 and not any(b) and _norm_preserving(
-                system, [states[i] for i in diagonal]):
-            # Four states scaled together about zero whose motion keeps their norm:
-            # an attitude quaternion, of which the outputs see only the direction.
-            group = ", ".join(states[i].name for i in diagonal)
-            return f"the norm of ({group})", f"scales ({group}) together: only their direction is seen (a quaternion's norm)"
-        weights = ", ".join(f"{states[i].name}: {A[i][i]}" for i in diagonal)
-        shifted = [states[i].name for i in range(n) if b[i] != 0 and A[i][i] == 0]
-        if shifted:
-            # Some states only shift while others scale (x + log(z): (1, -z)): not a scaling about a centre.
-            scaled = _listing([states[i].name for i in diagonal])
-            return (f"scaling of {scaled} with translation of {_listing(shifted)}",
-                    f"scales {scaled} with weights {weights} and shifts {_listing(shifted)}")
-        centre = [(states[i].name, sympy.cancel(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
-        about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
-        return f"scaling{about}", f"scales the states with weights {weights}"
-    if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
-        return _rotation(A, b, sorted({(min(i, j), max(i, j)) for i, j in off}), system)
-    return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
-
-
-def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], system: System) -> tuple[str, str]:
-    """Name a field x' = A x + b with A skew-symmetric and ``pairs`` its coupled
-    states: attitude quaternions turning about an axis are set apart
-    (:func:`_attitudes`); the rest is a rotation of planes, named by its centre
-    when the pairs are disjoint (each state in one plane), else a rotation of
-    the states it couples, without a centre."""
-    states = list(system.states)
-    attitudes = _attitudes(A, b, pairs, system)
-    turned_attitudes = [k for group, _ in attitudes for k in group]
-    pairs = [p for p in pairs if p[0] not in turned_attitudes]
-    said = [f"the attitude ({', '.join(states[k].name for k in group)}) about the axis {axis}" for group, axis in attitudes]
-    if not pairs:
-        group, axis = attitudes[0]
-        return (f"rotation of {said[0]}",
-                f"multiplies ({', '.join(states[k].name for k in group)}) by a pure quaternion along the axis "
-                f"(Hamilton product, scalar first): the attitude turns about {axis}"
-                + (f"; also turns {_listing(said[1:])}" if len(said) > 1 else ""))
-    coupled = [k for p in pairs for k in p]
-    if len(set(coupled)) < len(coupled):  # a state in two planes: a rotation of three or more states together
-        moved = _listing(sorted({states[k].name for k in coupled}, key=[s.name for s in states].index))
-        kept = ", keeping the sum of their squares" if not any(b[k] for k in coupled) else ""
-        return f"rotation of ({moved})", f"turns ({moved}) together by a skew-symmetric linear map{kept}"
-    n = len(states)
-    i, j = pairs[0]
-    rate = A[j][i]
-    centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
-    in_pairs = {k for pair in pairs for k in pair} | set(turned_attitudes)
-    turned = [states[k].name for k in range(n) if k not in in_pairs and b[k] != 0]
-    description = "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
-    description += f" and turns {_listing(turned)} with them" if turned else ""
-    description += f", and turns {_listing(said)} with them" if said else ""
-    axis = _axis([(states[p].name, states[q].name) for p, q in pairs], {x.name for x in states})
-    if axis and centre == (0, 0):
-        return f"rotation about the {axis}-axis", description
-    about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
-    return f"rotation{about}", description
-
-
-def _attitudes(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]],
-               system: System) -> list[tuple[list[int], str]]:
-    """The quaternions the field turns: groups of four states (a connected
-    block of the coupled pairs, or two blocks of two), unshifted, whose
-    dynamics keep their norm (:func:`_norm_preserving`) and whose block of A is
-    the left or right multiplication by a pure quaternion (0, a) in the
-    Hamilton product with the scalar first: the attitude turns about the axis
-    a. Each with that axis as text."""
-    blocks: list[list[int]] = []
-    for p in pairs:
-        joined = [blk for blk in blocks if set(blk) & set(p)]
-        blocks = [blk for blk in blocks if blk not in joined] + [sorted(set(p).union(*joined))]
-    candidates = [blk for blk in blocks if len(blk) == 4]
-    candidates += [sorted(x + y) for x, y in itertools.combinations([blk for blk in blocks if len(blk) == 2], 2)]
-    found: list[tuple[list[int], str]] = []
-    states = list(system.states)
-    for group in candidates:
-        if any(set(group) & set(g) for g, _ in found) or any(b[k] != 0 for k in group):
-            continue
-        axis = _pure_quaternion([[A[r][c] for c in group] for r in group])
-        if axis and _norm_preserving(system, [states[k] for k in group]) and _coupled(system, [states[k] for k in group]):
-            found.append((group, axis))
-    return found
-
-
-def _coupled(system: System, group: list[sympy.Symbol]) -> bool:
-    """Whether the dynamics of ``group`` couple all of it (the graph of its
-    non-zero Jacobian entries is connected), as the rate of a quaternion does
-    and two static landmarks, also "norm-preserving", do not."""
-    index = {s: i for i, s in enumerate(system.states)}
-    reached, frontier = {group[0]}, [group[0]]
-    while frontier:
-        a = frontier.pop()
-        for c in group:
-            if c not in reached and (sympy.diff(system.dynamics[index[a]], c) != 0
-                                     or sympy.diff(system.dynamics[index[c]], a) != 0):
-                reached.add(c)
-                frontier.append(c)
-    return len(reached) == len(group)
-
-
-def _pure_quaternion(block: list[list]) -> str | None:
-    """The axis a, as text, when ``block`` is the matrix of q -> (0, a) q (an
-    axis of the reference frame: R(q) v = q v q* is the body-to-reference
-    rotation) or q -> q (0, a) (of the body frame), in the Hamilton product
-    with q = (w, x, y, z); else None."""
-    a = [block[1][0], block[2][0], block[3][0]]
-    left = [[0, -a[0], -a[1], -a[2]], [a[0], 0, -a[2], a[1]], [a[1], a[2], 0, -a[0]], [a[2], -a[1], a[0], 0]]
-    right = [[0, -a[0], -a[1], -a[2]], [a[0], 0, a[2], -a[1]], [a[1], -a[2], 0, a[0]], [a[2], a[1], -a[0], 0]]
-    same = lambda m: all(sympy.expand(m[r][c] - block[r][c]) == 0 for r in range(4) for c in range(4))  # noqa: E731
-    if not any(a) or not (same(left) or same(right)):
-        return None
-    if all(sympy.sympify(e).is_Rational for e in a):  # a line: shown by its smallest integer direction
-        den = math.lcm(*(sympy.Rational(e).q for e in a))
-        whole = [int(sympy.Rational(e) * den) for e in a]
-        a = [sympy.Integer(e // math.gcd(*whole)) for e in whole]
-    first = next(sympy.sympify(e) for e in a if e != 0)
-    if first.could_extract_minus_sign():
-        a = [-e for e in a]
-    frame = "reference" if same(left) else "body"
-    return f"({', '.join(str(e) for e in a)}) of the {frame} frame"
-
-
-def _rotation_with_attitude(vector: Sequence[sympy.Expr], terms: list[dict], system: System) -> tuple[str, str] | None:
-    """A rotation of the states whose components are linear, which moves the
-    others nonlinearly (a Gibbs vector or another attitude turning with the
-    scene): named as the rotation, the others said to turn with it; None when
-    the linear part is not a rotation or the nonlinear components reach a state
-    of the rotation."""
-    nonlinear = {i for i, t in enumerate(terms) if any(sum(powers) > 1 for powers in t)}
-    states = list(system.states)
-    if any(states[i] in vector[j].free_symbols for j in range(len(vector)) if j not in nonlinear for i in nonlinear):
-        return None  # the linear part depends on the moved attitude: not a rotation of its own
-    linear = [v if i not in nonlinear else sympy.Integer(0) for i, v in enumerate(vector)]
-    name, description = classify(linear, system)
-    if not name.startswith("rotation"):
-        return None
-    moved = _listing([states[i].name for i in sorted(nonlinear)])
-    return name, f"{description}, and moves {moved} with it (an attitude turning with the scene)"
-
-
-#: The axis a rotation of the components (i, j) of 3-vectors turns about.
-_AXES = {("0", "1"): "z", ("1", "2"): "x", ("0", "2"): "y"}
-
-
-def _axis(pairs: list[tuple[str, str]], names: set[str]) -> str | None:
-    """The axis when every pair is the same two components of a 3-vector state
-    (p_0, p_1 of p[3]: about z), as a vector model writes a yaw; else None."""
-    found = set()
-    for a, b in pairs:
-        base_a, _, i = a.rpartition("_")
-        base_b, _, j = b.rpartition("_")
-        if base_a and base_a == base_b and _quaternion(base_a, names):
-            continue  # the attitude quaternion turning with the scene (its components pair up, at half rate)
-        three = {f"{base_a}_{k}" for k in range(3)} <= names and f"{base_a}_3" not in names
-        if not base_a or base_a != base_b or (i, j) not in _AXES or not three:
-            return None
-        found.add(_AXES[(i, j)])
-    return found.pop() if len(found) == 1 else None
-
-
-def _quaternion(base: str, names: set[str]) -> bool:
-    """Whether ``base`` is a 4-vector state (q_0..q_3 of q[4])."""
-    return {f"{base}_{k}" for k in range(4)} <= names and f"{base}_4" not in names
+                self.found.append(tuple(-e for e in vector) if first.could_extract_minus_sign() else tuple(vector))
+                if len(self.found) == self.nullity:
+                    return ""
+        return failed

@@ -19,7 +19,8 @@ from ..budget import Undecided, with_budget
 from ..model.system import System
 from ..rank.symbolic import null_space, observability_rows
 from .atpoint import directions_at_a_point
-from .discovery import classify, discover_directions
+from .discovery import Discovery, discover_directions
+from .naming import classify
 from .symmetry import independent_basis, verify_all
 
 __all__ = ["UnobservableDirection", "components", "unobservable_directions", "directions_on_set", "DIRECTIONS_BUDGET"]
@@ -111,11 +112,12 @@ def unobservable_directions(
     basis: list[list[sympy.Expr]] | None = [v for _, v in named] if len(named) == nullity else None
     unnamed: list[list[sympy.Expr]] = []
     note = ""
+    search = Discovery((), 2, "", "the states and parameters")  # not run: the named symmetries span
     if len(named) < nullity:
-        found = discover_directions(
+        search = discover_directions(
             system, nullity, orders, seed=seed, input_derivatives=input_derivatives, previous=previous
         )
-        named, unnamed = independent_basis(system, nullity, verified, extra=found, seed=seed)
+        named, unnamed = independent_basis(system, nullity, verified, extra=list(search.fields), seed=seed)
         if len(named) + len(unnamed) == nullity:
             basis = [v for _, v in named] + [list(v) for v in unnamed]
     numeric: list[tuple[dict[str, str], str]] = []
@@ -150,7 +152,8 @@ def unobservable_directions(
     if basis is None and len(named) + len(unnamed) < nullity:
         known = [v for _, v in named] + [list(v) for v in unnamed]
         numeric, missing = directions_at_a_point(system, nullity - len(known), known, seed=seed,
-                                                 input_derivatives=input_derivatives, previous=previous)
+                                                 input_derivatives=input_derivatives, previous=previous,
+                                                 why=search.reason())
         note = "; ".join(x for x in (note, missing) if x)
     directions = [UnobservableDirection(s.name, components(system.states, v), s.description) for s, v in named]
     for v in unnamed:
@@ -174,41 +177,65 @@ def directions_on_set(system: System, constraint, nullity: int, orders: int, gen
 
     ``nullity`` is the set's (n minus the rank at its generic point). The fields
     come from the exact ansatz on the set (:func:`~.discovery.discover_directions`
-    with ``constraint``: polynomials in the set's own coordinates, each checked at
-    a fresh point of the set); named ones are preferred. A field is kept when it
-    is independent of ``generic`` and of the fields kept before at a random
-    rational point of the set, in exact rational arithmetic: independence at one
-    point is independence at the generic point of the set, so no direction
-    returned is a combination of the generic ones. That each is null on the set
-    is checked at a fresh random point of it mod p (as the rank on a set is):
-    likely, not proven."""
+    with ``constraint``: polynomials in the set's own coordinates, the sines and
+    cosines of its angles among them, each checked at a fresh point of the set);
+    named ones are preferred. A field is kept when it is independent of
+    ``generic`` and of the fields kept before at a random rational point of the
+    set, in exact rational arithmetic: independence at one point is independence
+    at the generic point of the set, so no direction returned is a combination
+    of the generic ones. That each is null on the set is checked at a fresh
+    random point of it mod p (as the rank on a set is): likely, not proven.
+
+    What is left is said absent only as far as the search was complete
+    (:meth:`~.discovery.Discovery.reason`: no polynomial generator of degree <= D
+    in the set's coordinates, named): the generic fields and those found, all
+    null on the set, leave that many dimensions, so the polynomial fields of
+    degree <= D alone leave at least as many. The rational point is refused
+    (another drawn) where the generic fields or the fields found, each set
+    independent at a random point, are dependent: there the count would be too
+    high."""
     if nullity <= 0:
         return (), ""
-    fields = discover_directions(system, nullity, orders, seed=seed, input_derivatives=input_derivatives,
+    search = discover_directions(system, nullity, orders, seed=seed, input_derivatives=input_derivatives,
                                  previous=previous, constraint=constraint)
-    named = sorted(fields, key=lambda v: classify(list(v), system)[0] == "unnamed direction")
-    point = _rational_point_of(system, constraint, seed)
-    if point is None:
-        return (), "no rational point of the set found to compare the fields at"
-    rows = [[c.xreplace(point) for c in v] for v in generic]
-    values = [[c.xreplace(point) for c in v] for v in named]
-    if not all(e.is_Rational for row in (*rows, *values) for e in row):
-        return (), "the fields could not be compared at a rational point of the set"
-    rank = sympy.Matrix(rows).rank() if rows else 0
+    named = sorted(search.fields, key=lambda v: classify(list(v), system)[0] == "unnamed direction")
+    for attempt in range(3):
+        point = _rational_point_of(system, constraint, seed + attempt)
+        if point is None:
+            return (), "no rational point of the set found to compare the fields at"
+        rows = [[c.xreplace(point) for c in v] for v in generic]
+        values = [[c.xreplace(point) for c in v] for v in named]
+        if not all(e.is_Rational for row in (*rows, *values) for e in row):
+            return (), "the fields could not be compared at a rational point of the set"
+        if _rank(rows) == len(rows) and _rank(values) == len(values):
+            break
+    else:
+        return (), "the fields could not be compared at a rational point of the set (dependent at every one drawn)"
+    rank = len(rows)
     extras = []
     for v, at in zip(named, values):
         if rank == nullity:
             break
-        if sympy.Matrix([*rows, at]).rank() > rank:
+        if _rank([*rows, at]) > rank:
             rows, rank = [*rows, at], rank + 1
             extras.append(v)
     found = []
     for v in extras:
         name, description = classify(list(v), system)
+        if description == "not a polynomial field":  # polynomial in the set's sines and cosines
+            description = f"polynomial in {search.coordinates}"
         found.append(UnobservableDirection(name, components(system.states, list(v)), description, constraint.text))
-    missing = nullity - rank
-    note = f"{missing} direction(s) lost on the set have no polynomial generator of degree <= 2" if missing else ""
-    return tuple(found), note
+    return tuple(found), search.missing(nullity - rank, "the null space on the set")
+
+
+def _rank(rows: list[list[sympy.Rational]]) -> int:
+    """The exact rank of rational rows, over Q's dense domain (not Matrix.rank's generic elimination)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    if not rows:
+        return 0
+    return DomainMatrix([[sympy.QQ(int(e.p), int(e.q)) for e in row] for row in rows],
+                        (len(rows), len(rows[0])), sympy.QQ).rank()
 
 
 def _rational_point_of(system: System, constraint, seed: int) -> dict | None:
