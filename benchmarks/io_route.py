@@ -42,7 +42,7 @@ def row(folder: Path, budget: float) -> str:
     result = analyze(system, seed=1, directions=False)
     prepared = prepare(system).system
     model = rational_model(prepared)
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     if isinstance(orders, str):
         return f"| {name} | refused: {orders[:80]} |"
     start = time.perf_counter()

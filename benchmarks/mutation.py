@@ -49,7 +49,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
-    "global": (["observability/analysis/uniqueness.py", "observability/analysis/mirrors.py",
+    "global": (["observability/analysis/uniqueness.py", "observability/analysis/truncation.py", "observability/analysis/mirrors.py",
                 "observability/analysis/fibre.py",
                 "observability/analysis/rationalmodel.py",
                 "observability/analysis/generators.py", "observability/analysis/globalfield.py",
@@ -288,14 +288,14 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
        for k in (10, 14, 15)},
     **{f"observability.analysis.mirrors.x_mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
-    "observability.analysis.uniqueness.x__truncation__mutmut_3":
+    "observability.analysis.truncation.x_truncation_orders__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
-    **{f"observability.analysis.uniqueness.x__orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
+    **{f"observability.analysis.truncation.x_lie_orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
     "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
     **{f"observability.analysis.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
        "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
     "observability.analysis.uniqueness.x_global_observability__mutmut_2": "the API's default budget, 60 or 61 s (the CLI passes its own)",
-    "observability.analysis.uniqueness.x__truncation__mutmut_5": "an unseeded point for the rank: as mutant 3",
+    "observability.analysis.truncation.x_truncation_orders__mutmut_5": "an unseeded point for the rank: as mutant 3",
     **{k: "the expression's text cut at 81 characters instead of 80" for k in (
         "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13",
         "observability.analysis.rationalmodel.x_rational_model__mutmut_47")},

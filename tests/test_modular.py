@@ -156,7 +156,7 @@ def _modular(system: System, seed: int = 3):
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     model = rational_model(prepared)
-    orders = uniqueness._truncation(prepared, result.rank, seed)
+    orders = uniqueness.truncation_orders(prepared, result.rank, seed)
     local = tuple(result.observable_states)
     return local, uniqueness._decide(prepared, model, orders, result.rank, local, [], 1e-6, seed, True)
 
@@ -260,7 +260,7 @@ def test_the_equations_are_those_of_the_exact_route():
     system = System(["x"], ["1"], {"y": "x**2"})
     result = analyze(system, seed=5, directions=False)
     model = rational_model(system)
-    orders = uniqueness._truncation(system, result.rank, 3)
+    orders = uniqueness.truncation_orders(system, result.rank, 3)
     a = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3), False)
     b = fibre_equations(system, model, orders, result.rank, 1000, random.Random(3), False)
     answers = members_modulo_prime(a, [(sympy.Symbol("x"), sympy.Integer(1))], random.Random(1))
@@ -418,7 +418,7 @@ def test_a_polynomial_models_fibre_gets_a_shorter_prime():
                     unknown_parameters=["a01", "a12", "a21"])
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     system = modular._IntegerSystem(fibre, ["u"])
     n = len(system.variables)
@@ -459,7 +459,7 @@ def test_a_rational_models_jets_become_definitions():
     system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S*I/(S + I) - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     integral = modular._IntegerSystem(fibre, [])
     n = len(integral.variables)
@@ -533,7 +533,7 @@ def test_a_linear_denominator_is_saturated():
     system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     fibre = fibre_equations(prepared, rational_model(prepared), orders, result.rank, 1000, random.Random(3), False)
     assert sympy.Poly(fibre.saturation, *fibre.unknowns).total_degree() == 1
     integral = modular._IntegerSystem(fibre, [])

@@ -63,7 +63,7 @@ def test_the_modular_route_draws_its_point_from_the_radical_range():
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     model = rational_model(prepared)
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     local = tuple(result.observable_states)
     modular = uniqueness._decide(prepared, model, orders, result.rank, local, [], 1e-6, 3, True)
     exact = uniqueness._decide(prepared, model, orders, result.rank, local, [], 1e-6, 3)
@@ -156,7 +156,7 @@ def test_a_rank_modulo_the_prime_that_falls_short_says_so(monkeypatch):
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system
     model = rational_model(prepared)
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     decided = uniqueness._decide(prepared, model, orders, result.rank, ("x",), [], 1e-6, 3, True)
     assert decided == ("the Jacobian of the Lie derivatives did not reach the verdict's rank 1 at the random point "
                        "(its rank modulo 2^61 - 1)")
@@ -223,7 +223,7 @@ def test_each_route_takes_its_ranks_where_it_should(monkeypatch):
     monkeypatch.setattr(modularfibre, "exact_rank", exact)
     system, prepared, model = _decay()
     result = analyze(system, seed=5, directions=False)
-    orders = uniqueness._truncation(prepared, result.rank, 3)
+    orders = uniqueness.truncation_orders(prepared, result.rank, 3)
     uniqueness._decide(prepared, model, orders, result.rank, ("x", "a"), [], 1e-6, 3)
     assert spies[fibre].calls == 0
     uniqueness._decide(prepared, model, orders, result.rank, ("x", "a"), [], 1e-6, 3, True)

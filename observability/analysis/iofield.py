@@ -116,7 +116,7 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
     """Whether each locally observable state or constant ``tested`` lies in K (the
     module's argument), or why it was not decided. ``outputs``: the names of the
     model's outputs, in order; ``orders``: the truncation orders of each output's
-    Lie derivatives (:func:`~.uniqueness._orders`); ``rank``: the verdict's;
+    Lie derivatives (:func:`~.truncation.lie_orders`); ``rank``: the verdict's;
     ``failed``: outputs whose equation was not found before, with the reason (their
     truncated Lie derivatives are used at once); ``known``: constants already found
     in K (their error is the caller's to add: the answers here rest on theirs); ``joint``: G

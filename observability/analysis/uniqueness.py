@@ -65,7 +65,6 @@ from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
 from ..rank.membership import sampling_range
-from ..rank.randomized import randomized_rank
 from ..model.expressions import parse_expression
 from .constantfield import with_parameter, written_back
 from .fibre import exact_fibre, fibre_equations, known_variables
@@ -79,6 +78,7 @@ from .realvalues import RealAnswer, real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
+from .truncation import truncation_orders
 
 if TYPE_CHECKING:
     from .result import ObservabilityResult
@@ -205,7 +205,7 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     functions = _functions(prepared, result)
     if not local and not functions:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
-    orders = _truncation(prepared, result.rank, seed)
+    orders = truncation_orders(prepared, result.rank, seed)
     if isinstance(orders, str):
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
@@ -585,27 +585,3 @@ def _supported(system: System) -> None:
         raise ModelError("--global: continuous time only (in discrete time the outputs' field is not closed "
                          "under the shift at a bounded order, so no truncation is certain)")
     system.require_known_inputs("the global analysis")
-
-
-def _truncation(system: System, rank: int, seed: int) -> dict[str, int] | str:
-    """The orders of T (:func:`_orders`) from the independent rows at a random point, or
-    why they are not known: a rank there other than the verdict's. The model is
-    rational after tan(angle/2) (checked before), so its only transcendental terms
-    are sines and cosines of distinct states, independent atoms: a non-zero minor
-    mod p at the point makes those rows independent generically."""
-    lower = randomized_rank(system, seed=seed)
-    if lower.rank != rank or not lower.complete:
-        return (f"the rank at a random point ({lower.rank}) is not the verdict's ({rank}), so the independent rows "
-                "are not known")
-    return _orders(system, tuple(lower.row_labels[i] for i in lower.independent_rows))
-
-
-def _orders(system: System, labels: tuple[tuple[str, int], ...]) -> dict[str, int]:
-    """Output -> the highest Lie order T needs: one past its highest independent row
-    (``labels``: the independent rows' (output, order), non-zero minor at a point, so
-    independent generically; their number is the generic rank, so they are a
-    transcendence basis)."""
-    highest = {name: -1 for name, _ in system.outputs}
-    for name, order in labels:
-        highest[name] = max(highest.get(name, -1), order)
-    return {name: k + 1 for name, k in highest.items()}
