@@ -18,7 +18,7 @@ import flint
 import sympy
 from flint import arb, fmpq
 
-__all__ = ["ball", "rational_point", "nonzero", "PRECISION"]
+__all__ = ["ball", "rational_point", "nonzero", "positive_somewhere", "PRECISION"]
 
 #: Bits of the balls' midpoints.
 PRECISION = 128
@@ -112,6 +112,29 @@ def nonzero(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bool:
                     return False
                 if value.is_finite() and not value.contains(0):
                     return True
+        return False
+    finally:
+        flint.ctx.prec = old
+
+
+def positive_somewhere(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bool:
+    """Whether ``expr`` is proven positive on an open set: a ball above 0 at a
+    rational point where every part is finite (``expr`` is continuous there, so
+    positive near it). False proves nothing. Where a radicand is never positive
+    (-x^2, -x^2 - 1) every ball holds 0 or lies below it: False."""
+    expr = sympy.sympify(expr)
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    rng = random.Random(seed)
+    old = flint.ctx.prec
+    flint.ctx.prec = PRECISION
+    try:
+        for attempt in range(attempts if symbols else 1):
+            try:
+                value = ball(expr, rational_point(symbols, rng, attempt))
+            except (ValueError, ZeroDivisionError):
+                return False
+            if value.is_finite() and value > 0:
+                return True
         return False
     finally:
         flint.ctx.prec = old

@@ -217,11 +217,17 @@ def _write_proof(system: System, result, args: argparse.Namespace) -> int | None
         except Undecided as exc:
             print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
             return EXIT_UNDECIDED
-    from ..rank.proofcheck import digest
+    from ..rank.proofcheck import Rejected, digest
 
+    try:  # the checker's own reader must read the model, or the file would be a proof nobody can check
+        sha = digest(evidence["model"])
+    except Rejected as exc:
+        print(f"observability: no proof written to {args.proof}: the independent checker cannot read the model "
+              f"({exc})", file=sys.stderr)
+        return EXIT_UNDECIDED
     write_json(args.proof, evidence)
     given = " ".join([args.model, *(f"-o {o}" for o in args.option), *([f"--time {args.time}"] if args.time else [])])
-    print(f"wrote the proof to {args.proof}, its equations sha256 {digest(evidence['model'])} (re-check it with: "
+    print(f"wrote the proof to {args.proof}, its equations sha256 {sha} (re-check it with: "
           f"observability verify-proof {args.proof} --model {given})", file=sys.stderr)
     return None
 

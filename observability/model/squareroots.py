@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import sympy
 
-from ..intervals import nonzero
+from ..intervals import nonzero, positive_somewhere
 from .system import System
 
 __all__ = ["without_square_root_outputs"]
@@ -39,6 +39,8 @@ def _radicand(expr: sympy.Expr, variables: set[sympy.Symbol]) -> sympy.Expr | No
         return None
     coefficient, factor = roots[0].as_independent(*variables, as_Add=False)
     if not (isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)) or not nonzero(coefficient):
+        return None
+    if not positive_somewhere(factor.base):  # the rows are g's only where g > 0: that set must not be empty
         return None
     return factor.base
 

@@ -47,6 +47,7 @@ import math
 import os
 import resource
 import signal
+import unicodedata
 from collections.abc import Callable
 
 import mpmath
@@ -258,8 +259,10 @@ def _model(proof: dict) -> tuple:
         raise Rejected(f"unknown format {proof.get('format')!r}")
     model = proof["model"]
     declared = [*model["states"], *model["inputs"], *model["parameters"]]
-    if not all(isinstance(name, str) and name.isidentifier() for name in declared) or len(set(declared)) != len(declared):
-        raise Rejected("the model's names are not distinct identifiers")
+    if not all(isinstance(name, str) and name.isidentifier() and unicodedata.normalize("NFKC", name) == name
+               for name in declared) or len(set(declared)) != len(declared):
+        # Python's parser folds identifiers by NFKC: a name not in that form could stand for another (x for ｘ)
+        raise Rejected("the model's names are not distinct identifiers in NFKC form")
     if model["time"] not in ("continuous", "discrete") or not isinstance(model["name"], str):
         raise Rejected("the model's time is neither continuous nor discrete, or its name is not text")
     if sorted(model["dynamics"]) != sorted(model["states"]):
@@ -338,6 +341,7 @@ def _equations(model: dict) -> dict:
     symbols = {name: sympy.Symbol(name) for name in [*model["states"], *model["inputs"], *model["parameters"]]}
     return {
         "time": model["time"], "states": list(model["states"]), "inputs": list(model["inputs"]),
+        "unknown_inputs": list(model.get("unknown_inputs", [])),
         "parameters": {p: None if v is None else str(parse(v, {})) for p, v in model["parameters"].items()},
         "dynamics": {s: str(parse(model["dynamics"][s], symbols)) for s in model["states"]},
         "outputs": {name: str(parse(e, symbols)) for name, e in model["outputs"].items()},
@@ -359,7 +363,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
     ours, theirs = _equations(proof_model), _equations(model)
     if proof_model["name"] != model["name"]:
         raise Rejected("the proof is not about the model given: its name differs")
-    for part in ("time", "states", "inputs"):
+    for part in ("time", "states", "inputs", "unknown_inputs"):
         if ours[part] != theirs[part]:
             raise Rejected(f"the proof is not about the model given: its {part} differ")
     if sorted(ours["parameters"]) != sorted(theirs["parameters"]) or sorted(ours["outputs"]) != sorted(theirs["outputs"]):

@@ -141,6 +141,8 @@ def proof_model(system: System) -> dict[str, Any]:
         "time": prepared.time,
         "states": [s.name for s in prepared.states],
         "inputs": [u.name for u in prepared.inputs],
+        # What is assumed unknown changes the claim: verify-proof --model compares it.
+        "unknown_inputs": list(prepared.unknown_inputs),
         "parameters": {p.name: None for p in prepared.free_parameters}
         | {p.name: str(v) for p, v in prepared.parameter_values},
         "dynamics": {s.name: str(e) for s, e in zip(prepared.states, prepared.dynamics)},
