@@ -281,3 +281,19 @@ def test_on_the_paper_simulation_fej_and_oc_are_the_ekf():
     assert comparison.transition_depends_on_state is False
     assert comparison.max_difference_fej < 1e-9 and comparison.max_difference_oc < 1e-9
     assert "FEJ and OC are the conventional EKF here" in comparison.reading()
+
+
+def test_the_paper_comparison_takes_the_steps_it_is_given(tmp_path):
+    """Issue 63: ``consistency --study slam2d-paper --steps N`` ran the paper's
+    400 steps whatever N; now the simulation lasts N steps (duration N dt) and
+    the summary says so."""
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-paper",
+                          "--steps", "7", "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    summary = json.loads((tmp_path / "slam2d-paper" / "summary.json").read_text())
+    assert summary["steps"] == 7 and summary["runs"] == 1 and "1 runs of 7 steps" in summary["reading"]

@@ -92,12 +92,18 @@ class FirstEstimatesEKF(_Base):
         """x̄_step: the moving states at the prior, the static ones at their first estimate."""
         return np.where(self.static, previous, prior)
 
-    def _carrying_noise(self, start: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, float]:
-        """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left."""
+    def _carrying_noise(self, start: np.ndarray, u: np.ndarray, target: np.ndarray, where: str) -> tuple[np.ndarray, float]:
+        """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left.
+
+        A motion that overflows at the first estimates is refused with a
+        FilterError naming ``where``: LAPACK's least squares given a non-finite
+        matrix fails (or loops) instead of answering."""
         w = np.array(self.w0)
         for _ in range(CARRY_STEPS):
             x_next, _, Fw = self._motion(start, u, w)
             r = wrap_angles(x_next - target, self._state_angles)
+            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(Fw))):
+                raise FilterError(f"{where}: the motion at the first estimates is not finite (overflow)")
             if np.max(np.abs(r), initial=0.0) < CARRY_TOLERANCE or Fw.size == 0:
                 break
             w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
@@ -109,10 +115,12 @@ class FirstEstimatesEKF(_Base):
         u = self._inputs(u, state.step + 1)
         where = f"step {state.step + 1} (prediction)"
         x_next, _, Fw = self._motion(state.x, u)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
         x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
-        w, residual = self._carrying_noise(first, u, first_next)
+        w, residual = self._carrying_noise(first, u, first_next, where)
         _, Phi, _ = self._motion(first, u, w)
         self.residuals.append((state.step + 1, residual))
         if self.record:

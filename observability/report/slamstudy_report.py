@@ -102,11 +102,19 @@ def write_slam_study(out: Path, study: SlamStudy, run: Runner | None = None) -> 
     return result
 
 
-def write_paper_comparison(out: Path, runs: int) -> PaperComparison:
-    """Compare FEJ and OC with the EKF on the paper simulation; write ``out/summary.json`` and ``README.md``."""
+def write_paper_comparison(out: Path, runs: int, steps: int | None = None, seed: int | None = None) -> PaperComparison:
+    """Compare FEJ and OC with the EKF on the paper simulation; write ``out/summary.json`` and ``README.md``.
+    ``steps`` sets the simulation's duration (steps * dt), ``seed`` its streams; None keeps the paper's."""
     import dataclasses
 
-    comparison = compare_on_paper_simulation(runs=runs)
+    from .simulation import SimulationConfig
+
+    config = SimulationConfig()
+    if steps is not None:
+        config = dataclasses.replace(config, duration=steps * config.dt)
+    if seed is not None:
+        config = dataclasses.replace(config, seed=seed)
+    comparison = compare_on_paper_simulation(config, runs=runs)
     with staged_directory(Path(out)) as stage:
         write_json(stage / "summary.json", dataclasses.asdict(comparison) | {"reading": comparison.reading()})
         write_text(stage / "README.md", "\n".join([
