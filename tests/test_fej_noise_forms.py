@@ -27,7 +27,7 @@ from observability.codegen import filter_functions
 from observability.filters import FirstEstimatesEKF, IdealEKF, null_space_function
 from observability.filters.linearized import recorded_observability
 from observability.model.modelfile import parse_model
-from test_firstestimates import ODOMETRY, R, _hand_H, _wrap
+from test_firstestimates import ODOMETRY, R, _hand_H, _hand_update, _wrap
 
 TWO_INPUTS = (ODOMETRY.replace('inputs = ["v", "s", "om"]', 'inputs = ["v", "om"]')
               .replace("x + dt*(v*cos(th) - s*sin(th))", "x + dt*v*cos(th)")
@@ -82,18 +82,7 @@ def _huang(name, Q, x0, P0, ys, truth=None):
         P = Phi @ P @ Phi.T
         P[:3, :3] += G @ Q @ G.T
         x, first = x_next, first_next
-        H = _hand_H(first)
-        h = []
-        for j in (3, 5):
-            d = x[j:j + 2] - x[:2]
-            h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
-        nu = y - np.array(h)
-        nu[1::2] = _wrap(nu[1::2])
-        S = H @ P @ H.T + R
-        K = P @ H.T @ np.linalg.inv(S)
-        A = np.eye(7) - K @ H
-        x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
-        x[2] = _wrap(x[2])
+        x, P = _hand_update(x, P, _hand_H(first), y)
         out.append((x.copy(), P.copy()))
     return out
 

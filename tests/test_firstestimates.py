@@ -124,19 +124,25 @@ def _hand_filter(x0, P0, ys, steps, rule, truth=None):
             H = _hand_H(x) - _hand_H(x) @ N @ np.linalg.pinv(N)
         else:
             H = _hand_H(first)
-        h = []
-        for j in (3, 5):
-            d = x[j:j + 2] - x[:2]
-            h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
-        nu = ys[k] - np.array(h)
-        nu[1::2] = _wrap(nu[1::2])
-        S = H @ P @ H.T + R
-        K = P @ H.T @ np.linalg.inv(S)
-        A = np.eye(7) - K @ H
-        x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
-        x[2] = _wrap(x[2])
+        x, P = _hand_update(x, P, H, ys[k])
         out.append((x.copy(), P.copy()))
     return out
+
+
+def _hand_update(x, P, H, y):
+    """The Joseph-form update with range and bearing of both landmarks at ``x``."""
+    h = []
+    for j in (3, 5):
+        d = x[j:j + 2] - x[:2]
+        h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
+    nu = y - np.array(h)
+    nu[1::2] = _wrap(nu[1::2])
+    S = H @ P @ H.T + R
+    K = P @ H.T @ np.linalg.inv(S)
+    A = np.eye(7) - K @ H
+    x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
+    x[2] = _wrap(x[2])
+    return x, P
 
 
 def test_static_states_are_read_from_the_model(model):
