@@ -255,16 +255,19 @@ def test_the_study_writes_its_summary(tmp_path):
     write_slam_study(folder, SlamStudy(landmarks=3, runs=2, steps=15, window=15), _serial)
     records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
     assert set(records) == {"ekf", "fej", "oc", "ideal"}
-    keys = {"filter", "anees_pose", "anees_bounds", "fraction_in_band", "rmse_position", "rmse_heading",
-            "filter_unobservable_dimension", "analysis_unobservable_dimension"}
+    keys = {"filter", "anees_pose", "anees_pose_bounds", "anees_pose_interval", "verdict", "fraction_in_band",
+            "rmse_position", "rmse_heading", "anees_landmarks", "anees_landmarks_interval", "anis", "anis_interval",
+            "gated", "warnings", "filter_unobservable_dimension", "analysis_unobservable_dimension"}
     assert all(keys <= set(r) for r in records.values())
     assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "ideal": 3}
     assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
     assert records["oc"]["max_constraint_residual"] < 1e-9
-    lo, hi = records["ekf"]["anees_bounds"]
+    lo, hi = records["ekf"]["anees_pose_bounds"]
     assert 0 < lo < 3 < hi  # the two-sided band of an average of 2 chi-square(3) draws contains 3
+    assert all(r["verdict"] == "inconclusive" for r in records.values())  # 2 runs decide nothing
+    assert records["fej"]["warnings"] == [] and records["ideal"]["warnings"] == []
     assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
-    assert "| OC-EKF |" in (folder / "README.md").read_text()
+    assert "| OC-EKF (projection) |" in (folder / "README.md").read_text()
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):

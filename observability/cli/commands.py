@@ -334,9 +334,9 @@ def _slam_study(args: argparse.Namespace) -> int:
     with engine(args.scheduler, args.workers) as run:
         result = write_slam_study(out, study, run)
     for r in result.records:
-        lo, hi = r["anees_bounds"]
-        print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f}  band [{lo:.2f}, {hi:.2f}]  in band "
-              f"{r['fraction_in_band']:.2f}  unobservable dim. {r['filter_unobservable_dimension']} "
+        (lo, hi), (low, high) = r["anees_pose_bounds"], r["anees_pose_interval"]
+        print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f} [{low:.2f}, {high:.2f}]  band [{lo:.2f}, {hi:.2f}]  "
+              f"{r['verdict']:14} unobservable dim. {r['filter_unobservable_dimension']} "
               f"(analysis {r['analysis_unobservable_dimension']})")
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
     return 0

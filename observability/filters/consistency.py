@@ -71,6 +71,8 @@ def degree_of_observability(
 VERDICTS = ("consistent", "overconfident", "underconfident", "inconclusive")
 #: Bootstrap resamples of the runs: the interval's ends move by about 0.01 of its width between seeds.
 RESAMPLES = 4000
+#: Fewer runs than this give no verdict: a percentile bootstrap of so few values covers far less than it says.
+MIN_RUNS = 10
 
 
 @dataclass(frozen=True)
@@ -120,6 +122,8 @@ def anees_interval(per_run: np.ndarray, dof: int, seed: int, confidence: float =
 
     The verdict holds at the interval's confidence, under the bootstrap's
     approximation; a single mean, however far out, decides nothing by itself.
+    With fewer than :data:`MIN_RUNS` runs the percentile bootstrap covers too
+    little to trust, and the verdict is "inconclusive" whatever the interval.
 
     Raises
     ------
@@ -137,8 +141,8 @@ def anees_interval(per_run: np.ndarray, dof: int, seed: int, confidence: float =
     tail = 100 * (1 - confidence) / 2
     low, high = (float(v) for v in np.percentile(boot, [tail, 100 - tail]))
     lo, hi = chi2_bounds(dof, means.size, confidence)
-    verdict = ("overconfident" if low > hi else "underconfident" if high < lo
-               else "consistent" if lo <= low and high <= hi else "inconclusive")
+    verdict = ("inconclusive" if means.size < MIN_RUNS else "overconfident" if low > hi
+               else "underconfident" if high < lo else "consistent" if lo <= low and high <= hi else "inconclusive")
     return AneesInterval(float(means.mean()), low, high, confidence, (lo, hi), int(means.size), verdict)
 
 
