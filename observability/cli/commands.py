@@ -338,6 +338,8 @@ def _slam_study(args: argparse.Namespace) -> int:
         print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f} [{low:.2f}, {high:.2f}]  band [{lo:.2f}, {hi:.2f}]  "
               f"{r['verdict']:14} unobservable dim. {r['filter_unobservable_dimension']} "
               f"(analysis {r['analysis_unobservable_dimension']})")
+        for warning in r["warnings"]:
+            print(f"observability: warning: {r['filter']} (run 0): {warning}", file=sys.stderr)
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
     return 0
 

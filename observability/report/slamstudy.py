@@ -92,15 +92,16 @@ def _run(shared: Shared, stream: np.random.SeedSequence, observe: bool) -> dict:
                 update, rejected = gated_update(ekf, state, ys[k], groups, study.gate)
                 state, gated = update.state, gated + rejected
                 values[:4, k] = _errors(study, truth[k + 1], state.x, state.P)
-                values[4:, k] = nees(update.innovation, update.S), len(update.used)
+                if update.used:  # every landmark gated: no innovation at this step
+                    values[4:, k] = nees(update.innovation, update.S), len(update.used)
         except FilterError as error:
             refusal = str(error)
         record = {"values": values, "refusal": refusal, "gated": gated, "warnings": getattr(ekf, "warnings", ())}
         if observe:
             record["nullity"] = _nullity(shared, ekf, priors, posteriors, u)
         if name == "oc":
-            record["residual"] = max(r for _, r in ekf.residuals)
-            record["block_change"] = np.max([c[1:] for c in ekf.block_change], axis=0).tolist()
+            record["residual"] = max((r for _, r in ekf.residuals), default=0.0)
+            record["block_change"] = np.max([c[1:] for c in ekf.block_change] or [[0.0, 0.0]], axis=0).tolist()
         out[name] = record
     return out
 
