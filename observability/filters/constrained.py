@@ -117,8 +117,8 @@ class ObservabilityConstrainedEKF(_Base):
         h, H, _ = (np.array(a) for a in self.fn["measurement"](state.x, x_prev, self.p))
         N = self._N(state.x)
         H = _projected(H, N, np.zeros((H.shape[0], N.shape[1])))
-        if self.record:
-            self.used.append(("H", state.step, H))
+        if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
+            self.used.append(("H", state.step, H[used]))
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])

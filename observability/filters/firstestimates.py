@@ -188,8 +188,8 @@ class FirstEstimatesEKF(_Base):
         _, H, H_prev = self._measurement(first, first_prev)
         if self.null_space is not None:
             self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
-        if self.record:
-            self.used.append(("H", state.step, H))
+        if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
+            self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
         K, S = self._gain(state.P, H, W, state.step)

@@ -58,13 +58,17 @@ def _filters(shared: Shared, truth: np.ndarray, record: bool) -> dict:
             "ideal": IdealEKF(fns, Q, R, truth, record=record, null_space=N)}
 
 
-def _errors(study: SlamStudy, truth: np.ndarray, x: np.ndarray, P: np.ndarray) -> tuple[float, float, float, float]:
-    """Pose NEES (3 dof), squared position error, squared heading error, landmark NEES (2 L dof)."""
+def _errors(study: SlamStudy, truth: np.ndarray, x: np.ndarray, P: np.ndarray,
+            landmarks: list[int] | None = None) -> tuple[float, float, float, float]:
+    """Pose NEES (3 dof), squared position error, squared heading error, landmark NEES (2 L dof; over the
+    ``landmarks`` given, by index, scaled to 2 L dof, NaN when none is given)."""
     pose = study.pose
     e = np.r_[truth[:2] - x[:2], wrap_angles([truth[pose[2]] - x[pose[2]]], [True])]
-    landmarks = slice(study.robot, None)
-    return (nees(e, P[np.ix_(pose, pose)]), float(e[:2] @ e[:2]), float(e[2] ** 2),
-            nees(truth[landmarks] - x[landmarks], P[landmarks, landmarks]))
+    which = range(study.landmarks) if landmarks is None else landmarks
+    slots = [study.robot + 2 * i + c for i in which for c in (0, 1)]
+    mapped = (nees(truth[slots] - x[slots], P[np.ix_(slots, slots)]) * 2 * study.landmarks / len(slots)
+              if slots else np.nan)
+    return nees(e, P[np.ix_(pose, pose)]), float(e[:2] @ e[:2]), float(e[2] ** 2), mapped
 
 
 def _groups(study: SlamStudy) -> list[list[int]]:
@@ -117,6 +121,11 @@ def _nullity(shared: Shared, ekf, priors: list, posteriors: list, u: np.ndarray)
 
 def _chunk(shared: Shared, streams: list, first: int) -> list[dict]:
     """A Dask task: consecutive runs; the study's run 0 also reports the nullities."""
+    if shared.study.sensor_range > 0:
+        from .slamstudy_exploration import run_exploration
+
+        return [run_exploration(shared, stream, first + i == 0, _filters, _errors, _groups(shared.study))
+                for i, stream in enumerate(streams)]
     return [_run(shared, stream, first + i == 0) for i, stream in enumerate(streams)]
 
 

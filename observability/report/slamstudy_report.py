@@ -80,7 +80,10 @@ def _page(result: SlamStudyResult) -> str:
         f"w = {s.turn_rate} rad/s, dt = {s.dt} s) among {s.landmarks} landmarks and measures each one's {measured} "
         f"(range {s.sigma_range} m, bearing {s.sigma_bearing} rad) at every step; {s.steps} steps, {s.runs} Monte "
         f"Carlo runs, seed {s.seed}. "
-        + (f"Landmarks start from a prior map, each drawn {s.sigma_landmark} m (1 sigma) around the truth. "
+        + (f"Landmarks are seen within {s.sensor_range} m only and each enters the state at its first sight, "
+           "from that range and bearing (the covariance of the inversion and its correlation with the pose); "
+           "landmark NEES is over those entered so far. " if s.sensor_range > 0 else
+           f"Landmarks start from a prior map, each drawn {s.sigma_landmark} m (1 sigma) around the truth. "
            if s.bearing_only or s.landmark_prior else
            "Landmarks start from a first range and bearing taken at the start, with that inversion's covariance. ")
         + "The analysis of the model gives the unobservable directions N; the FEJ-EKF and the ideal EKF keep them "
