@@ -142,8 +142,9 @@ def _serial(function, arguments, shared=None, label=""):
     return [function(shared, *a) for a in arguments]
 
 
-@pytest.mark.parametrize("noise_form", ["odometry3", "odometry", "additive", "vio"])
-def test_every_study_form_keeps_the_analysis_nullity(noise_form):
+@pytest.mark.parametrize("noise_form, bearing_only", [("odometry3", False), ("odometry3", True), ("odometry", False),
+                                                      ("additive", False), ("vio", False)])
+def test_every_study_form_keeps_the_analysis_nullity(noise_form, bearing_only):
     """Each study's model (2 landmarks, 2 runs of 15 steps): the analysis proves
     3 directions unobservable; the EKF's linearisation keeps 2 (Huang et al.
     2010), FEJ, OC and the ideal EKF keep 3, with no warning from FEJ or ideal
@@ -151,7 +152,8 @@ def test_every_study_form_keeps_the_analysis_nullity(noise_form):
     vy, th, has full column rank, so the moving block can carry it)."""
     from observability.report.slamstudy import STUDIES, SlamStudy, run_slam_study
 
-    study = SlamStudy(name=f"form-{noise_form}", noise_form=noise_form, landmarks=2, runs=2, steps=15, window=15)
+    study = SlamStudy(name=f"form-{noise_form}", noise_form=noise_form, landmarks=2, runs=2, steps=15, window=15,
+                      bearing_only=bearing_only)
     records = {r["filter"]: r for r in run_slam_study(study, _serial).records}
     assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3,
                                                                                         "ideal": 3}
