@@ -180,6 +180,7 @@ def _synthetic() -> list[dict]:
     for name in ("conventional", "generalized", "generalized-total", "cloning"):
         rows.append({"truth": "matched", "beacons": 3, "disparity_variance": 74.0, "gate": True, "filter": name,
                      "runs": 50, "runs_finished": 50, "anees_position": 2.0, "anees_bounds": [1.5, 2.6],
+                     "anees_interval": [1.8, 2.2], "consistency": "consistent",
                      "trace_ratio": 1.0, "trace_ratio_ci": [0.98, 1.02], "mse_ratio": 1.0, "mse_ratio_ci": [0.97, 1.03],
                      "diverged": 0, "diverged_explained": ""})
     return rows
@@ -199,7 +200,7 @@ def test_verdict_sentences_follow_the_numbers():
 
     rows = _synthetic()
     rows[1] |= {"trace_ratio": 0.5, "trace_ratio_ci": [0.45, 0.55], "mse_ratio": 1.4, "mse_ratio_ci": [1.2, 1.6],
-                "anees_position": 9.0}
+                "anees_position": 9.0, "anees_interval": [8.1, 9.9], "consistency": "overconfident"}
     text = "\n".join(verdict(rows, HEADLINE))
     assert "as Fig. 4 claims? Yes" in text
     assert "actual error? No, the error is higher" in text

@@ -124,19 +124,25 @@ def _hand_filter(x0, P0, ys, steps, rule, truth=None):
             H = _hand_H(x) - _hand_H(x) @ N @ np.linalg.pinv(N)
         else:
             H = _hand_H(first)
-        h = []
-        for j in (3, 5):
-            d = x[j:j + 2] - x[:2]
-            h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
-        nu = ys[k] - np.array(h)
-        nu[1::2] = _wrap(nu[1::2])
-        S = H @ P @ H.T + R
-        K = P @ H.T @ np.linalg.inv(S)
-        A = np.eye(7) - K @ H
-        x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
-        x[2] = _wrap(x[2])
+        x, P = _hand_update(x, P, H, ys[k])
         out.append((x.copy(), P.copy()))
     return out
+
+
+def _hand_update(x, P, H, y):
+    """The Joseph-form update with range and bearing of both landmarks at ``x``."""
+    h = []
+    for j in (3, 5):
+        d = x[j:j + 2] - x[:2]
+        h += [np.hypot(*d), np.arctan2(d[1], d[0]) - x[2]]
+    nu = y - np.array(h)
+    nu[1::2] = _wrap(nu[1::2])
+    S = H @ P @ H.T + R
+    K = P @ H.T @ np.linalg.inv(S)
+    A = np.eye(7) - K @ H
+    x, P = x + K @ nu, A @ P @ A.T + K @ R @ K.T
+    x[2] = _wrap(x[2])
+    return x, P
 
 
 def test_static_states_are_read_from_the_model(model):
@@ -249,16 +255,19 @@ def test_the_study_writes_its_summary(tmp_path):
     write_slam_study(folder, SlamStudy(landmarks=3, runs=2, steps=15, window=15), _serial)
     records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
     assert set(records) == {"ekf", "fej", "oc", "ideal"}
-    keys = {"filter", "anees_pose", "anees_bounds", "fraction_in_band", "rmse_position", "rmse_heading",
-            "filter_unobservable_dimension", "analysis_unobservable_dimension"}
+    keys = {"filter", "anees_pose", "anees_pose_bounds", "anees_pose_interval", "verdict", "fraction_in_band",
+            "rmse_position", "rmse_heading", "anees_landmarks", "anees_landmarks_interval", "anis", "anis_interval",
+            "gated", "warnings", "filter_unobservable_dimension", "analysis_unobservable_dimension"}
     assert all(keys <= set(r) for r in records.values())
     assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "ideal": 3}
     assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
     assert records["oc"]["max_constraint_residual"] < 1e-9
-    lo, hi = records["ekf"]["anees_bounds"]
+    lo, hi = records["ekf"]["anees_pose_bounds"]
     assert 0 < lo < 3 < hi  # the two-sided band of an average of 2 chi-square(3) draws contains 3
+    assert all(r["verdict"] == "inconclusive" for r in records.values())  # 2 runs decide nothing
+    assert records["fej"]["warnings"] == [] and records["ideal"]["warnings"] == []
     assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
-    assert "| OC-EKF |" in (folder / "README.md").read_text()
+    assert "| OC-EKF (projection) |" in (folder / "README.md").read_text()
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):
@@ -281,3 +290,19 @@ def test_on_the_paper_simulation_fej_and_oc_are_the_ekf():
     assert comparison.transition_depends_on_state is False
     assert comparison.max_difference_fej < 1e-9 and comparison.max_difference_oc < 1e-9
     assert "FEJ and OC are the conventional EKF here" in comparison.reading()
+
+
+def test_the_paper_comparison_takes_the_steps_it_is_given(tmp_path):
+    """Issue 63: ``consistency --study slam2d-paper --steps N`` ran the paper's
+    400 steps whatever N; now the simulation lasts N steps (duration N dt) and
+    the summary says so."""
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-paper",
+                          "--steps", "7", "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    summary = json.loads((tmp_path / "slam2d-paper" / "summary.json").read_text())
+    assert summary["steps"] == 7 and summary["runs"] == 1 and "1 runs of 7 steps" in summary["reading"]

@@ -162,3 +162,23 @@ def test_a_filter_state_without_first_estimates_starts_from_its_estimate(odometr
     assert np.allclose(a.x, b.x, atol=1e-14) and np.allclose(a.P, b.P, atol=1e-14)
     direct = fej.update(bare, [4.0, 0.1, 3.0, 1.5]).state
     assert np.allclose(direct.x, fej.update(start, [4.0, 0.1, 3.0, 1.5]).state.x, atol=1e-14)
+
+
+def test_an_overflow_at_the_first_estimates_is_a_filter_error_naming_the_step(capfd):
+    """Issue 63: with the heading noise inside the cosine (a midpoint model), F_w
+    depends on the noise; a first estimate 1e308 away from the estimate made the
+    carrying least squares see inf, and numpy raised LinAlgError after LAPACK
+    printed "DLASCL parameter number 4 had an illegal value". Now a FilterError
+    naming the step, as the conventional EKF gives, and nothing printed."""
+    midpoint = ODOMETRY.replace("x + dt*(v*cos(th) - s*sin(th))", "x + dt*v*cos(th + dt*om/2)").replace(
+        "y + dt*(v*sin(th) + s*cos(th))", "y + dt*v*sin(th + dt*om/2)")
+    fns = filter_functions(parse_model(midpoint, "midpoint.toml").with_values(dt=1.0), ["v", "s", "om"])
+    fej = FirstEstimatesEKF(fns, Q, R)
+    state = fej.initial(np.array([0.0, 0.0, 0.3, 4.0, 2.0, -1.0, 3.0]), np.eye(7) * 0.01)
+    far = dataclasses.replace(state, x=np.array([1e308, 0.0, 0.3, 4.0, 2.0, -1.0, 3.0]),
+                              first=np.array([-1e308, 0.0, 0.3, 4.0, 2.0, -1.0, 3.0]))
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the motion at the first estimates is not finite"):
+        fej.predict(far, [1.0, 0.0, 0.1])
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite"):
+        fej.predict(dataclasses.replace(state, x=np.array([1e308, 0.0, 0.0, 4.0, 2.0, -1.0, 3.0])), [1e308, 0.0, 0.0])
+    assert "DLASCL" not in "".join(capfd.readouterr())

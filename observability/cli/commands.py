@@ -317,7 +317,7 @@ def consistency_command(args: argparse.Namespace) -> int:
 
     if args.study != "odometry":
         return _slam_study(args)
-    study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=args.seed)
+    study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=7 if args.seed is None else args.seed)
     with engine(args.scheduler, args.workers) as run:
         summary = write_consistency_report(args.out, study, run)
     for name, row in summary.items():
@@ -336,21 +336,24 @@ def _slam_study(args: argparse.Namespace) -> int:
     if args.study == "slam2d-paper":
         from ..report.slamstudy_report import write_paper_comparison
 
-        comparison = write_paper_comparison(args.out / args.study, args.runs or 3)
+        comparison = write_paper_comparison(args.out / args.study, args.runs or 3, args.steps, args.seed)
         print(comparison.reading())
         print(f"wrote {args.out / args.study / 'README.md'} and {args.out / args.study / 'summary.json'}")
         return 0
     base = STUDIES[args.study]
-    study = dataclasses.replace(base, runs=args.runs or base.runs, steps=args.steps or base.steps, seed=args.seed,
+    study = dataclasses.replace(base, runs=args.runs or base.runs, steps=args.steps or base.steps,
+                                seed=base.seed if args.seed is None else args.seed,
                                 window=min(base.window, args.steps or base.steps))
     out = args.out / args.study
     with engine(args.scheduler, args.workers) as run:
         result = write_slam_study(out, study, run)
     for r in result.records:
-        lo, hi = r["anees_bounds"]
-        print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f}  band [{lo:.2f}, {hi:.2f}]  in band "
-              f"{r['fraction_in_band']:.2f}  unobservable dim. {r['filter_unobservable_dimension']} "
+        (lo, hi), (low, high) = r["anees_pose_bounds"], r["anees_pose_interval"]
+        print(f"{r['filter']:6} ANEES pose {r['anees_pose']:8.2f} [{low:.2f}, {high:.2f}]  band [{lo:.2f}, {hi:.2f}]  "
+              f"{r['verdict']:14} unobservable dim. {r['filter_unobservable_dimension']} "
               f"(analysis {r['analysis_unobservable_dimension']})")
+        for warning in r["warnings"]:
+            print(f"observability: warning: {r['filter']} (run 0): {warning}", file=sys.stderr)
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
     return 0
 

@@ -1,13 +1,16 @@
-"""Filter consistency: NEES, NIS and their chi-square bounds; degree of observability."""
+"""Filter consistency: NEES, NIS and their chi-square bounds; degree of observability;
+the verdict of a Monte Carlo study from a bootstrap interval of its ANEES."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import mpmath
 import numpy as np
 
-__all__ = ["nees", "nis", "chi2_bounds", "degree_of_observability"]
+__all__ = ["AneesInterval", "VERDICTS", "agreed_verdict", "anees_interval", "chi2_bounds", "degree_of_observability",
+           "nees", "nis"]
 
 
 def nees(error: np.ndarray, P: np.ndarray) -> float:
@@ -62,3 +65,88 @@ def degree_of_observability(
             "trace": np.array([np.trace(S) for S in sub]),
         }
     return out
+
+
+#: The words a consistency verdict may take.
+VERDICTS = ("consistent", "overconfident", "underconfident", "inconclusive")
+#: Bootstrap resamples of the runs: the interval's ends move by about 0.01 of its width between seeds.
+RESAMPLES = 4000
+#: Fewer runs than this give no verdict: a percentile bootstrap of so few values covers far less than it says.
+MIN_RUNS = 10
+
+
+@dataclass(frozen=True)
+class AneesInterval:
+    """The ANEES of a Monte Carlo study with its bootstrap interval and the verdict.
+
+    Attributes
+    ----------
+    mean : the ANEES, the mean over runs of each run's mean NEES over its steps
+    low, high : the percentile bootstrap interval of that mean, resampling runs
+    band : the two-sided chi-square band of an average of ``runs`` NEES values
+    runs : the runs that entered (a run without a finite NEES does not)
+    verdict : one of :data:`VERDICTS` (:func:`anees_interval`)
+    """
+
+    mean: float
+    low: float
+    high: float
+    confidence: float
+    band: tuple[float, float]
+    runs: int
+    verdict: str
+
+    def describe(self) -> str:
+        """The interval and the verdict in words."""
+        return (f"ANEES {self.mean:.2f}, {100 * self.confidence:.0f}% interval [{self.low:.2f}, {self.high:.2f}] "
+                f"over {self.runs} runs, band [{self.band[0]:.2f}, {self.band[1]:.2f}]: {self.verdict}")
+
+
+def anees_interval(per_run: np.ndarray, dof: int, seed: int, confidence: float = 0.95,
+                   resamples: int = RESAMPLES) -> AneesInterval:
+    """The ANEES of ``per_run`` ((runs, steps) NEES values, NaN where a run has
+    none) with a bootstrap interval over runs, and the verdict it supports.
+
+    Runs are independent, so resampling whole runs (with replacement, from a
+    generator seeded by ``seed``) keeps the correlation of a run's steps in the
+    interval. The band [lo, hi] is :func:`chi2_bounds` (dof, runs): how far an
+    average of ``runs`` NEES values of a consistent filter strays from ``dof``.
+    The verdict reads the whole interval against the band:
+
+    * "overconfident": the interval lies above hi; the filter's expected NEES
+      exceeds dof by more than chance spreads a consistent filter's average;
+    * "underconfident": the interval lies below lo;
+    * "consistent": the interval lies inside the band;
+    * "inconclusive": the interval crosses an end of the band, so these runs
+      cannot tell (the answer of a mean near an end, or of too few runs).
+
+    The verdict holds at the interval's confidence, under the bootstrap's
+    approximation; a single mean, however far out, decides nothing by itself.
+    With fewer than :data:`MIN_RUNS` runs the percentile bootstrap covers too
+    little to trust, and the verdict is "inconclusive" whatever the interval.
+
+    Raises
+    ------
+    ValueError
+        With fewer than two runs that have a finite NEES.
+    """
+    values = np.atleast_2d(np.asarray(per_run, dtype=float))
+    with np.errstate(invalid="ignore"):
+        means = np.array([np.nanmean(row) if np.any(np.isfinite(row)) else np.nan for row in values])
+    means = means[np.isfinite(means)]
+    if means.size < 2:
+        raise ValueError(f"an ANEES interval needs at least 2 runs with a finite NEES, got {means.size}")
+    rng = np.random.default_rng(seed)
+    boot = means[rng.integers(0, means.size, (resamples, means.size))].mean(axis=1)
+    tail = 100 * (1 - confidence) / 2
+    low, high = (float(v) for v in np.percentile(boot, [tail, 100 - tail]))
+    lo, hi = chi2_bounds(dof, means.size, confidence)
+    verdict = ("inconclusive" if means.size < MIN_RUNS else "overconfident" if low > hi
+               else "underconfident" if high < lo else "consistent" if lo <= low and high <= hi else "inconclusive")
+    return AneesInterval(float(means.mean()), low, high, confidence, (lo, hi), int(means.size), verdict)
+
+
+def agreed_verdict(verdicts: Sequence[str]) -> str:
+    """The verdict of several seeds: their common word, "inconclusive" if they differ."""
+    words = set(verdicts)
+    return words.pop() if len(words) == 1 else "inconclusive"

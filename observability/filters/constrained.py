@@ -1,4 +1,4 @@
-"""The observability-constrained EKF: the analysis's null space kept by the filter.
+"""The observability-constrained EKF, projection variant: the analysis's null space kept by the filter.
 
 A standard EKF linearises the motion at the posterior and the measurement at
 the prior; the observability matrix of that linearisation loses unobservable
@@ -12,7 +12,16 @@ the analysis proved is kept:
     H*   = H - H N_k N_k^+,                   (so H* N_k = 0 and Phi* N_k = N_k+1)
 
 with N^+ the pseudo-inverse. Then every product H*_j Phi*_(j-1) ... Phi*_k N_k
-vanishes: the linearisation has at least the analysis's null space. N(x) comes
+vanishes: the linearisation has at least the analysis's null space.
+
+This is the projection of Hesch et al. (T-RO 2014, OC-VINS), not Huang et
+al.'s 2010 OC-EKF: Huang keeps Phi's static (landmark) block the identity and
+meets the constraint by choosing the linearisation points. The projection
+changes every row: with N at estimates that move between steps the landmark
+block of Phi* is no longer the identity and landmark-to-pose terms appear, so
+the landmarks' covariance changes in the prediction. ``block_change`` records,
+per step, how far: max |Phi* - Phi| on the static states' rows, and on the
+moving rows' static columns. N(x) comes
 from the unobservable directions of :func:`observability.analyze` (a proven
 verdict gives them exactly), compiled to casadi (:func:`null_space_function`).
 Outputs that use the previous state are updated as the conventional EKF does
@@ -31,6 +40,7 @@ from ..model.expressions import parse_expression
 from ..model.system import System
 from .manifolds import wrap_angles
 from .ekf import FilterError, FilterState, Update, _Base, _symmetric
+from .firstestimates import static_states
 
 __all__ = ["ObservabilityConstrainedEKF", "null_space_function"]
 
@@ -57,20 +67,22 @@ def _projected(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:
 
 
 class ObservabilityConstrainedEKF(_Base):
-    """The OC-EKF (module docstring). ``null_space`` is N(x, p) -> n x d, e.g.
+    """The OC-EKF by projection (module docstring). ``null_space`` is N(x, p) -> n x d, e.g.
     :func:`null_space_function` of a proven analysis. ``residuals`` records,
     per step, ``max |H* N|`` and ``max |Phi* N_k - N_k+1|`` (zero up to rounding);
     with ``record``, ``used`` keeps the Jacobians the filter used, ("F" or "H",
     step, matrix), for :func:`~observability.filters.linearized.observability_of`."""
 
     fused = False
-    variant = "observability-constrained"
+    variant = "observability-constrained (projection)"
 
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, null_space: Callable,
                  parameters: Sequence[float] = (), record: bool = False) -> None:
         super().__init__(functions, Q, R, parameters)
         self.null_space = null_space
         self.residuals: list[tuple[int, float]] = []
+        self.block_change: list[tuple[int, float, float]] = []
+        self.static = static_states(functions)
         self.record = record
         self.used: list[tuple[str, int, np.ndarray]] = []
         self._output_angles = [o in functions.angles for o in functions.outputs]
@@ -85,7 +97,11 @@ class ObservabilityConstrainedEKF(_Base):
         x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
         x_next = self._on_manifold(wrap_angles(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
         N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
-        F = _projected(F, N_k, N_next)
+        projected = _projected(F, N_k, N_next)
+        change, moving = np.abs(projected - F), ~self.static
+        self.block_change.append((state.step + 1, float(np.max(change[self.static], initial=0.0)),
+                                  float(np.max(change[np.ix_(moving, self.static)], initial=0.0))))
+        F = projected
         if self.record:
             self.used.append(("F", state.step, F))
         self.residuals.append((state.step + 1, float(np.max(np.abs(F @ N_k - N_next), initial=0.0))))
@@ -101,8 +117,8 @@ class ObservabilityConstrainedEKF(_Base):
         h, H, _ = (np.array(a) for a in self.fn["measurement"](state.x, x_prev, self.p))
         N = self._N(state.x)
         H = _projected(H, N, np.zeros((H.shape[0], N.shape[1])))
-        if self.record:
-            self.used.append(("H", state.step, H))
+        if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
+            self.used.append(("H", state.step, H[used]))
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])

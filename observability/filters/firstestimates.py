@@ -18,6 +18,15 @@ in every Jacobian that contains it.
   the moving states). For odometry models this is Huang's difference form:
   in 2-D, d(p_k+1)/d(theta_k) = J C(theta) (d + w̃) = J (p̄_k+1 - p̄_k).
   ``residuals`` records max |f(x̄_k, u_k, w̃_k) - x̄_k+1| per step.
+* Given the analysis's null space N(x) (``null_space``), Phi_k is then changed
+  least on the moving states' block so that Phi_k N(x̄_k) = N(x̄_k+1) holds by
+  construction (:func:`~observability.filters.constraint.kept_transition`): for
+  noise the argument below does not cover (two odometry inputs, additive
+  world-frame noise, an IMU-driven model) this is what keeps the null space,
+  and for planar odometry it is Huang's difference form exactly. Each step's
+  Phi N_k - N_k+1 and H N_k are checked; a violation is recorded in
+  ``warnings`` with its reason. Without N nothing can be checked, and
+  ``warnings`` says that too.
 
 Why the null space is kept: let a symmetry flow phi_s of the model leave the
 outputs invariant, h(phi_s x) = h(x), and commute with the motion for every
@@ -28,7 +37,9 @@ With the points above, Phi_k N(x̄_k) = N(x̄_k+1) when the residual is zero, so
 H_j Phi_j-1 ... Phi_0 N(x̄_0) = H_j N(x̄_j) = 0 for every j: the filter's
 linearisation has every such direction in its null space, as the model has.
 A nonzero residual (noise that cannot carry x̄_k to x̄_k+1) voids the argument
-for that step; the residuals say so.
+for that step, and so does noise that does not commute with the symmetries
+(additive world-frame noise: the residual is zero, yet Phi_k N(x̄_k) differs
+from N(x̄_k+1)). Hence the correction with N and the checks above.
 
 :class:`IdealEKF` is the same filter with the true states as the points (and
 so the true noise as w̃): the reference the consistency study compares with.
@@ -36,12 +47,13 @@ so the true noise as w̃): the reference the consistency study compares with.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import casadi
 import numpy as np
 
 from ..codegen import FilterFunctions
+from .constraint import ConstraintLog, kept_transition
 from .ekf import FilterError, FilterState, Update, _Base, _quiet, _symmetric
 from .manifolds import wrap_angles
 
@@ -49,6 +61,8 @@ __all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states"]
 
 #: Gauss-Newton steps for the noise carrying x̄_k to x̄_k+1, and the residual at which it stops.
 CARRY_STEPS, CARRY_TOLERANCE = 20, 1e-12
+#: A carrying residual above this, without a null space to correct Phi, is recorded as a warning.
+CARRY_WARNING = 1e-9
 
 
 def static_states(functions: FilterFunctions) -> np.ndarray:
@@ -66,6 +80,11 @@ def static_states(functions: FilterFunctions) -> np.ndarray:
 class FirstEstimatesEKF(_Base):
     """The FEJ-EKF (module docstring): Jacobians at first estimates.
 
+    ``null_space`` is N(x, p) -> n x d, e.g.
+    :func:`~observability.filters.constrained.null_space_function` of the
+    analysis; with it Phi keeps N by construction and both constraints are
+    checked per step (``constraint``, a
+    :class:`~observability.filters.constraint.ConstraintLog`; ``warnings``).
     ``residuals`` holds (step, ``max |f(x̄_k, u, w̃) - x̄_k+1|``); with ``record``,
     ``used`` keeps ("F" or "H", step, matrix) for
     :func:`~observability.filters.linearized.observability_of`.
@@ -75,10 +94,16 @@ class FirstEstimatesEKF(_Base):
     variant = "first-estimates"
 
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, parameters: Sequence[float] = (),
-                 record: bool = False) -> None:
+                 record: bool = False, null_space: Callable | None = None) -> None:
         super().__init__(functions, Q, R, parameters)
         self.static = static_states(functions)
         self.record = record
+        self.null_space = null_space
+        self.constraint = ConstraintLog()
+        if null_space is None:
+            self.constraint.note("unchecked", None, "no null space was given: Phi N(x_k) = N(x_k+1) is neither kept nor "
+                                                 "checked (the first estimates keep it only for noise that carries "
+                                                 "each first estimate to the next and commutes with the symmetries)")
         self.residuals: list[tuple[int, float]] = []
         self.used: list[tuple[str, int, np.ndarray]] = []
         self._output_angles = [o in functions.angles for o in functions.outputs]
@@ -92,12 +117,41 @@ class FirstEstimatesEKF(_Base):
         """x̄_step: the moving states at the prior, the static ones at their first estimate."""
         return np.where(self.static, previous, prior)
 
-    def _carrying_noise(self, start: np.ndarray, u: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, float]:
-        """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left."""
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Where the filter's linearisation may not keep the analysis's null space, and why."""
+        return self.constraint.warnings
+
+    def _N(self, x: np.ndarray) -> np.ndarray:
+        return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
+
+    def _transition(self, first: np.ndarray, first_next: np.ndarray, u: np.ndarray, step: int, where: str) -> np.ndarray:
+        """Phi_k: F_X at x̄_k with the carrying noise, then kept on N (module docstring)."""
+        w, residual = self._carrying_noise(first, u, first_next, where)
+        _, Phi, _ = self._motion(first, u, w)
+        self.residuals.append((step, residual))
+        if self.null_space is None:
+            if residual > CARRY_WARNING:
+                self.constraint.note("carry", step, f"the noise cannot carry the first estimate to the next (residual "
+                                                    f"{residual:.1e}): the Jacobian may lose an unobservable direction")
+            return Phi
+        N_k, N_next = self._N(first), self._N(first_next)
+        Phi = kept_transition(Phi, N_k, N_next, ~self.static)
+        self.constraint.transition_step(step, Phi, N_k, N_next, ~self.static)
+        return Phi
+
+    def _carrying_noise(self, start: np.ndarray, u: np.ndarray, target: np.ndarray, where: str) -> tuple[np.ndarray, float]:
+        """w̃ with f(start, u, w̃) = target in the least-squares sense, and the residual left.
+
+        A motion that overflows at the first estimates is refused with a
+        FilterError naming ``where``: LAPACK's least squares given a non-finite
+        matrix fails (or loops) instead of answering."""
         w = np.array(self.w0)
         for _ in range(CARRY_STEPS):
             x_next, _, Fw = self._motion(start, u, w)
             r = wrap_angles(x_next - target, self._state_angles)
+            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(Fw))):
+                raise FilterError(f"{where}: the motion at the first estimates is not finite (overflow)")
             if np.max(np.abs(r), initial=0.0) < CARRY_TOLERANCE or Fw.size == 0:
                 break
             w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
@@ -109,12 +163,12 @@ class FirstEstimatesEKF(_Base):
         u = self._inputs(u, state.step + 1)
         where = f"step {state.step + 1} (prediction)"
         x_next, _, Fw = self._motion(state.x, u)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
         x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
-        w, residual = self._carrying_noise(first, u, first_next)
-        _, Phi, _ = self._motion(first, u, w)
-        self.residuals.append((state.step + 1, residual))
+        Phi = self._transition(first, first_next, u, state.step + 1, where)
         if self.record:
             self.used.append(("F", state.step, Phi))
         P = _symmetric(Phi @ state.P @ Phi.T + Fw @ self.Q @ Fw.T)
@@ -131,9 +185,11 @@ class FirstEstimatesEKF(_Base):
         first = state.first if state.first is not None else state.x
         first_prev = first if state.first_prev is None else state.first_prev
         h, _, _ = self._measurement(state.x, x_prev)
-        _, H, _ = self._measurement(first, first_prev)
-        if self.record:
-            self.used.append(("H", state.step, H))
+        _, H, H_prev = self._measurement(first, first_prev)
+        if self.null_space is not None:
+            self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
+        if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
+            self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
         K, S = self._gain(state.P, H, W, state.step)
@@ -148,13 +204,14 @@ class IdealEKF(FirstEstimatesEKF):
     """The EKF with every Jacobian at the true state (``truth[k]`` at step k),
     Phi_k with the true noise (the one carrying truth[k] to truth[k+1]): not
     a filter one can run on a robot, the reference for consistency studies
-    (Huang et al. 2010's "ideal EKF")."""
+    (Huang et al. 2010's "ideal EKF"). With ``null_space``, Phi keeps N
+    between true states as the FEJ-EKF's does between first estimates."""
 
     variant = "ideal"
 
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, truth: Sequence[Sequence[float]],
-                 parameters: Sequence[float] = (), record: bool = False) -> None:
-        super().__init__(functions, Q, R, parameters, record)
+                 parameters: Sequence[float] = (), record: bool = False, null_space: Callable | None = None) -> None:
+        super().__init__(functions, Q, R, parameters, record, null_space)
         self.truth = np.array(truth, dtype=float)
         if self.truth.ndim != 2 or self.truth.shape[1] != self.n or not np.all(np.isfinite(self.truth)):
             raise FilterError(f"IdealEKF setup: truth must be finite states of length {self.n}, one per step")

@@ -5,7 +5,8 @@ p_k - p_{k-1} (a measurement of the previous state, like the paper's
 disparity). Monte Carlo runs of the naive EKF (W_k = R_k), the paper's
 generalized EKF (eq. 8) and the stochastic-cloning EKF; the average NEES per
 step against the two-sided 95% chi-square bounds says which filters report the
-uncertainty they really have.
+uncertainty they really have; each filter's verdict follows the bootstrap
+interval of its ANEES over runs (:func:`~observability.filters.consistency.anees_interval`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 from ..codegen import FilterFunctions, filter_functions
 from ..errors import OptionError
 from ..filters import CloningEKF, ConventionalEKF, GeneralizedEKF, chi2_bounds, nees
+from ..filters.consistency import AneesInterval, anees_interval
 from ..filters.batch import BatchFilter
 from ..parallel import Runner, run_tasks
 from ..model.system import System
@@ -67,14 +69,18 @@ class ConsistencyResult:
     study: ConsistencyStudy
     average_nees: dict[str, np.ndarray] = field(repr=False)
     bounds: tuple[float, float] = (0.0, 0.0)
+    intervals: dict[str, AneesInterval] = field(default_factory=dict)
 
-    def summary(self) -> dict[str, dict[str, float]]:
+    def summary(self) -> dict[str, dict]:
+        """Per filter: the mean NEES after the burn-in, its interval and verdict, the fraction of steps outside the band."""
         lo, hi = self.bounds
         out = {}
         for name, values in self.average_nees.items():
-            tail = values[self.study.burn_in :]
+            tail, interval = values[self.study.burn_in :], self.intervals[name]
             out[name] = {
                 "mean_nees": float(tail.mean()),
+                "interval": [interval.low, interval.high],
+                "verdict": interval.verdict,
                 "fraction_outside": float(np.mean((tail < lo) | (tail > hi))),
             }
         return out
@@ -127,8 +133,10 @@ def run_consistency(study: ConsistencyStudy = ConsistencyStudy(), run: Runner | 
     streams = np.random.SeedSequence(study.seed).spawn(study.runs)
     chunks = [(study, streams[i:i + RUNS_PER_TASK]) for i in range(0, study.runs, RUNS_PER_TASK)]
     results = run_tasks(_chunk, chunks, filter_functions(study.system()), "consistency Monte Carlo", run)
-    average = {name: np.concatenate([r[name] for r in results]).mean(axis=0) for name in FILTERS}
-    return ConsistencyResult(study, average, chi2_bounds(2, study.runs))
+    values = {name: np.concatenate([r[name] for r in results]) for name in FILTERS}  # (runs, steps)
+    intervals = {name: anees_interval(v[:, study.burn_in:], 2, study.seed) for name, v in values.items()}
+    return ConsistencyResult(study, {name: v.mean(axis=0) for name, v in values.items()}, chi2_bounds(2, study.runs),
+                             intervals)
 
 
 def _explanation(verdicts: dict[str, str]) -> str:
@@ -178,17 +186,20 @@ def write_consistency_report(out: Path, study: ConsistencyStudy = ConsistencyStu
         f"and odometry p_k - p_(k-1) (variance {study.r_odometry}); process noise variances "
         f"{study.q_position} (position) and {study.q_velocity} (velocity); {study.runs} Monte Carlo runs of "
         f"{study.steps} steps, seed {study.seed}. Average NEES per step against the two-sided 95% "
-        f"chi-square bounds [{lo:.2f}, {hi:.2f}] (2 dof, {study.runs} runs); statistics after step {study.burn_in}.",
+        f"chi-square bounds [{lo:.2f}, {hi:.2f}] (2 dof, {study.runs} runs); statistics after step {study.burn_in}. "
+        "The verdict reads the 95% bootstrap interval of the mean NEES over runs against the bounds: "
+        "overconfident (underconfident) when it lies above (below) them, consistent when inside, inconclusive "
+        "when it crosses one.",
         "",
-        "| filter | mean NEES | fraction of steps outside the bounds | verdict |",
+        "| filter | mean NEES [95%] | fraction of steps outside the bounds | verdict |",
         "|---|---|---|---|",
     ]
     verdicts = {}
     for name, row in summary.items():
-        verdict = "consistent" if lo <= row["mean_nees"] <= hi else ("overconfident" if row["mean_nees"] > hi else "pessimistic")
-        verdicts[name] = verdict
-        row["verdict"] = verdict
-        lines.append(f"| {name} | {row['mean_nees']:.2f} | {row['fraction_outside']:.2f} | {verdict} |")
+        verdicts[name] = row["verdict"]
+        low, high = row["interval"]
+        lines.append(f"| {name} | {row['mean_nees']:.2f} [{low:.2f}, {high:.2f}] | {row['fraction_outside']:.2f} | "
+                     f"{row['verdict']} |")
     lines += ["", _explanation(verdicts), "", "![average NEES](consistency_nees.png)", ""]
     write_text(Path(out) / "consistency.md", "\n".join(lines))
     return summary

@@ -44,6 +44,7 @@ class PaperComparison:
     static_states: tuple[str, ...]
     transition_depends_on_state: bool
     runs: int
+    steps: int
     max_difference_fej: float
     max_difference_oc: float
 
@@ -60,7 +61,7 @@ class PaperComparison:
             reasons.append("the constant-velocity transition Jacobian does not depend on the state")
         same = max(self.max_difference_fej, self.max_difference_oc) < 1e-9
         verdict = "FEJ and OC are the conventional EKF here" if same else "FEJ and OC differ from the EKF here"
-        return (f"On the paper's slam2d ({self.runs} runs of its simulation): {'; '.join(reasons) or 'none of the three facts hold'}. "
+        return (f"On the paper's slam2d ({self.runs} runs of {self.steps} steps of its simulation): {'; '.join(reasons) or 'none of the three facts hold'}. "
                 f"{verdict}: largest difference of the estimates {self.max_difference_fej:.1e} (FEJ) and "
                 f"{self.max_difference_oc:.1e} (OC).")
 
@@ -107,4 +108,4 @@ def compare_on_paper_simulation(config: SimulationConfig = SimulationConfig(), r
             oc_gap = max(oc_gap, float(np.max(np.abs(states[2].x - states[0].x))))
     static = tuple(s for s, flag in zip(functions.states, static_states(functions)) if flag)
     return PaperComparison(count, system.n - verdict.rank, static, _transition_depends_on_state(functions), runs,
-                           fej_gap, oc_gap)
+                           config.steps, fej_gap, oc_gap)
