@@ -13,14 +13,15 @@ vanishes only on a nowhere dense set: the fields are generically independent.
 
 from __future__ import annotations
 
+import contextlib
 import random
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import flint
 import sympy
 from flint import arb, arb_mat, fmpq
 
-__all__ = ["independent_at_a_real_point", "ball"]
+__all__ = ["independent_at_a_real_point", "ball", "pivots", "precision", "random_point", "balls_at"]
 
 #: Bits of the balls' midpoints.
 PRECISION = 128
@@ -55,6 +56,8 @@ def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
         base, p, q = ball(expr.base, point), int(expr.exp.p), int(expr.exp.q)
         root = base if q == 1 else base.sqrt() if q == 2 else (base.log() / q).exp()  # not finite for base < 0
         return root**p if p >= 0 else 1 / root ** (-p)
+    if expr.is_Pow:  # a symbolic exponent: exp(e log b), not finite for b <= 0
+        return (ball(expr.exp, point) * ball(expr.base, point).log()).exp()
     if isinstance(expr, sympy.atan2):
         return arb.atan2(ball(expr.args[0], point), ball(expr.args[1], point))
     function = _FUNCTIONS.get(type(expr))
@@ -72,38 +75,60 @@ def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols:
     root of -z, a logarithm of z - 5). False proves nothing."""
     rng = random.Random(seed)
     k = len(fields)
-    old, flint.ctx.prec = flint.ctx.prec, PRECISION
-    try:
+    with precision():
         for attempt in range(attempts):
-            low, high = _BOXES[attempt % len(_BOXES)]
-            point = {s: arb(fmpq(rng.randint(low << 19, high << 19) or high, 1 << 19)) for s in symbols}
             try:
-                rows = [[ball(sympy.sympify(e), point) for e in v] for v in fields]
+                rows = balls_at(fields, random_point(rng, attempt, symbols))
             except (ValueError, ZeroDivisionError):
                 return False
-            if not all(value.is_finite() for row in rows for value in row):
+            if rows is None:
                 continue
-            columns = _pivots([[float(value.mid()) for value in row] for row in rows])
+            columns = [j for _, j in pivots([[float(value.mid()) for value in row] for row in rows])]
             if len(columns) == k and not arb_mat([[row[c] for c in columns] for row in rows]).det().contains(0):
                 return True
         return False
+
+
+@contextlib.contextmanager
+def precision() -> Iterator[None]:
+    """Balls of ``PRECISION`` bits inside, the caller's precision restored after."""
+    old, flint.ctx.prec = flint.ctx.prec, PRECISION
+    try:
+        yield
     finally:
         flint.ctx.prec = old
 
 
-def _pivots(matrix: list[list[float]]) -> list[int]:
-    """Columns of a well-conditioned square block, by Gaussian elimination with
-    full pivoting on the midpoints (only a choice: the ball determinant decides)."""
-    rows = [list(r) for r in matrix]
-    chosen: list[int] = []
-    for _ in range(len(rows)):
-        candidates = [(abs(v), i, j) for i, r in enumerate(rows) for j, v in enumerate(r) if j not in chosen]
+def random_point(rng: random.Random, attempt: int, symbols: Sequence[sympy.Symbol]) -> dict[sympy.Symbol, arb]:
+    """A random rational point of ``symbols`` in the box of ``attempt`` ((0, 2] first,
+    then [-2, 0), (2, 32], [-32, -2) in turn), as exact balls."""
+    low, high = _BOXES[attempt % len(_BOXES)]
+    return {s: arb(fmpq(rng.randint(low << 19, high << 19) or high, 1 << 19)) for s in symbols}
+
+
+def balls_at(rows: Sequence[Sequence[sympy.Expr]], point: dict[sympy.Symbol, arb]) -> list[list[arb]] | None:
+    """The entries of ``rows`` as balls at ``point``; None when one is not
+    finite (undefined there). ValueError or ZeroDivisionError from :func:`ball`
+    pass through."""
+    values = [[ball(sympy.sympify(e), point) for e in row] for row in rows]
+    return values if all(v.is_finite() for row in values for v in row) else None
+
+
+def pivots(matrix: list[list[float]]) -> list[tuple[int, int]]:
+    """(row, column) pairs of a well-conditioned square block, by Gaussian
+    elimination with full pivoting on the midpoints (only a choice: the ball
+    determinant decides)."""
+    rows = {i: list(r) for i, r in enumerate(matrix)}
+    chosen: list[tuple[int, int]] = []
+    for _ in range(len(matrix)):
+        taken = {j for _, j in chosen}
+        candidates = [(abs(v), i, j) for i, r in rows.items() for j, v in enumerate(r) if j not in taken]
         if not candidates:
             break
         size, i, j = max(candidates)
         if size == 0.0:
             break
-        chosen.append(j)
+        chosen.append((i, j))
         pivot = rows.pop(i)
-        rows = [[a - r[j] / pivot[j] * b for a, b in zip(r, pivot)] for r in rows]
+        rows = {k: [a - r[j] / pivot[j] * b for a, b in zip(r, pivot)] for k, r in rows.items()}
     return chosen
