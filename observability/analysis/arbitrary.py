@@ -89,8 +89,14 @@ def _plain_outputs(system: System) -> bool:
     """Whether every output is a rational function (no transcendental term):
     then the rows of order 0 at the point are the true ones however the model's
     other terms are valued."""
+    return _rational(system, [h for _, h in system.outputs])
+
+
+def _rational(system: System, expressions: list | None = None) -> bool:
+    """Whether ``expressions`` (default: the dynamics) are rational functions."""
     symbols = [*system.states, *system.inputs, *system.parameters]
-    return all(system.substitute_values(h).is_rational_function(*symbols) for _, h in system.outputs)
+    return all(system.substitute_values(e).is_rational_function(*symbols)
+               for e in (system.dynamics if expressions is None else expressions))
 
 
 def _how(jet: JetRank, seed: int, trusted: bool, found: set[str]) -> str:
@@ -110,11 +116,13 @@ def _how(jet: JetRank, seed: int, trusted: bool, found: set[str]) -> str:
 def _symmetries(system: System, budget: float | None, open_names: set[str]) -> tuple[Compensated, int]:
     """The compensated symmetries of degree <= 1, then of degree <= 2 when
     they leave a name neither observable nor moved (and the ansatz is small
-    enough), each within the CPU budget (none found when it runs out)."""
+    enough, the dynamics rational: with transcendental terms its identities
+    grow large), each within the CPU budget (none found when it runs out)."""
     seconds = DIRECTIONS_BUDGET if budget is None else min(budget, DIRECTIONS_BUDGET)
     found, degree = Compensated((), ()), 1
     for degree in (1, 2):
-        if degree == 2 and system.n * math.comb(system.n + 2, 2) > MAX_QUADRATIC_UNKNOWNS:
+        if degree == 2 and (system.n * math.comb(system.n + 2, 2) > MAX_QUADRATIC_UNKNOWNS
+                            or not _rational(system)):
             return found, 1
         try:
             found = with_budget(compensated_symmetries, system, degree, seconds=seconds)
