@@ -111,7 +111,7 @@ class _Span:
     def coordinates(self, vector: list[sympy.Expr]) -> list[sympy.Expr]:
         """The coefficients a, on the basis columns, with G_B a = ``vector``."""
         own = sympy.Matrix([vector[i] for i in self.rows])
-        return [sympy.cancel(e / self.det) for e in self.adjugate * own] if self.basis else []
+        return [e / self.det for e in self.adjugate * own] if self.basis else []
 
     def nonzero(self, values: list[sympy.Expr]) -> list[bool]:
         """Which ``values`` are certainly non-zero at the real point (a ball
@@ -196,7 +196,7 @@ def _input_directions(span: _Span, w: tuple[sympy.Symbol, ...]) -> list[Compensa
             continue
         vector = [sympy.Integer(0)] * len(w)
         for j, a in zip(span.basis, span.coordinates(column)):
-            vector[j] = a
+            vector[j] = sympy.cancel(a)
         vector[k] = sympy.Integer(-1)
         moved = [k] + [j for j, certain in zip(span.basis, span.nonzero(vector[j] for j in span.basis)) if certain]
         directions.append(CompensatedField((), tuple(w[j].name for j in sorted(moved)), tuple(vector)))
