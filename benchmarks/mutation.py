@@ -70,6 +70,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "routes": (["observability/budget.py", "observability/analysis/uniqueness.py"],
                ["tests/test_concurrent_routes.py", "tests/test_edges.py", "tests/test_modular.py",
                 "tests/test_modular_field.py"]),
+    # Unknown inputs that may be any function of time: the jet rank, the compensated fields, the verdict.
+    "unknown-inputs": (["observability/rank/unknown.py", "observability/rank/compensated.py",
+                        "observability/analysis/arbitrary.py"],
+                       ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
     # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
     "io-route": (["observability/analysis/ioequation.py", "observability/analysis/ioglobal.py",
                   "observability/analysis/ioseries.py", "observability/analysis/uniqueness.py",
