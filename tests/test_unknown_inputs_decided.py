@@ -41,12 +41,13 @@ def _bracket(v: list[sympy.Expr], f: list[sympy.Expr], x) -> list[sympy.Expr]:
             for fi, vi in zip(f, v)]
 
 
-@pytest.mark.parametrize("last", ["w1 + w2", "w1 + x1*w2"])
+@pytest.mark.parametrize("last", ["w1 + w2", "w1 + x1*w2", "2*w1 + x1*w2"])
 def test_two_inputs_along_one_direction_prove_no_false_field(last):
     """x1' = x2, x2' = x3, x3' = w1 + w2 (or w1 + x1 w2), y = x1: y, y', y''
     are x1, x2, x3, so every state is observable, and y''' = w1 + w2 (w1 +
-    x1 w2) is the only input information: w1 and w2 are not observable (w ->
-    w + c(t) (1, -1), or (x1, -1), leaves the dynamics unchanged). Rank 4 of 5.
+    x1 w2, 2 w1 + x1 w2) is the only input information: w1 and w2 are not
+    observable (w -> w + c(t) (1, -1), (x1, -1), (x1, -2), leaves the dynamics
+    unchanged). Rank 4 of 5.
     The old span test (the 3-minors of [G | v] with G of rank 1) vanished for
     every v and "proved" eight false fields (translation of x2, ...)."""
     system = System(["x1", "x2", "x3"], {**CHAIN, "x3": last}, {"y": "x1"}, unknown_inputs=["w1", "w2"])

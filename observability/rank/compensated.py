@@ -96,22 +96,21 @@ class _Span:
 
     def __init__(self, g: sympy.Matrix, basis: list[int], rows: list[int], point: dict) -> None:
         self.g, self.basis, self.rows, self.point = g, basis, rows, point
-        block = g.extract(rows, basis)
-        self.det = block.det(method="berkowitz") if basis else sympy.Integer(1)
-        self.adjugate = block.adjugate(method="berkowitz") if basis else sympy.zeros(0, 0)
+        block = g.extract(rows, basis)  # 0 x 0 when r = 0: determinant 1, empty adjugate
+        # Berkowitz: free of division, so the entries stay polynomials in those of G.
+        self.det = block.det(method="berkowitz")
+        self.adjugate = block.adjugate(method="berkowitz")
 
     def conditions(self, vector: list[sympy.Expr]) -> list[sympy.Expr]:
         """Expressions that all vanish identically exactly when ``vector`` lies
         in the span of the basis columns (on the set where the minor is not 0)."""
-        own = sympy.Matrix([vector[i] for i in self.rows])
-        solved = self.adjugate * own if self.basis else sympy.zeros(0, 1)
-        return [self.det * vector[i] - (self.g.extract([i], self.basis) * solved)[0, 0] if self.basis
-                else vector[i] for i in range(self.g.rows) if i not in self.rows]
+        solved = self.adjugate * sympy.Matrix(len(self.rows), 1, [vector[i] for i in self.rows])
+        return [self.det * vector[i] - (self.g.extract([i], self.basis) * solved)[0, 0]
+                for i in range(self.g.rows) if i not in self.rows]
 
     def coordinates(self, vector: list[sympy.Expr]) -> list[sympy.Expr]:
         """The coefficients a, on the basis columns, with G_B a = ``vector``."""
-        own = sympy.Matrix([vector[i] for i in self.rows])
-        return [e / self.det for e in self.adjugate * own] if self.basis else []
+        return [e / self.det for e in self.adjugate * sympy.Matrix(len(self.rows), 1, [vector[i] for i in self.rows])]
 
     def nonzero(self, values: list[sympy.Expr]) -> list[bool]:
         """Which ``values`` are certainly non-zero at the real point (a ball
