@@ -30,7 +30,7 @@ _BOXES = ((0, 2), (-2, 0), (2, 32), (-32, -2))
 
 _FUNCTIONS: dict[type, Callable[[arb], arb]] = {
     sympy.exp: arb.exp, sympy.log: arb.log, sympy.sin: arb.sin, sympy.cos: arb.cos, sympy.tan: arb.tan,
-    sympy.atan: arb.atan,
+    sympy.atan: arb.atan, sympy.sinh: arb.sinh, sympy.cosh: arb.cosh, sympy.tanh: arb.tanh,
 }
 
 
@@ -46,6 +46,8 @@ def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
         return arb(fmpq(int(expr.p), int(expr.q)))
     if expr is sympy.pi:
         return arb.pi()
+    if expr is sympy.E:
+        return arb(1).exp()
     if expr.is_Add or expr.is_Mul:
         parts = [ball(a, point) for a in expr.args]
         total = parts[0]
