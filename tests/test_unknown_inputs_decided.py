@@ -216,3 +216,27 @@ def test_the_stated_probability_of_two_hand_cases():
     assert jet_rank(growth, seed=1, orders=2).error_probability == 24 / (2**61 - 1)
     assert PRIME == 2**61 - 1
     assert analyze(force, seed=1).error_probability == 20 / (2**61 - 1)
+
+
+def test_a_true_symmetry_moves_no_input():
+    """x1' = w, x2' = 0, y = x1: y' = w, so x1 and w are observable and x2 is
+    not (its translation leaves f unchanged: [v, f] = 0, no compensation).
+    The translation must not be said to move w (a compensation that is 0 at
+    the ball point is not a proof of a non-zero one): rank 2 of 3."""
+    system = System(["x1", "x2"], {"x1": "w", "x2": "0"}, {"y": "x1"}, unknown_inputs=["w"])
+    fields = compensated_symmetries(system).fields
+    assert fields and all(f.moved_inputs == () for f in fields if f.vector == (0, 1))
+    result = analyze(system, seed=1)
+    assert result.rank == 2 and result.observable_states == ("x1", "w") and result.unobservable_states == ("x2",)
+
+
+def test_the_input_basis_is_sought_beyond_a_point_where_g_is_undefined():
+    """x1' = w log(x2 - 3), x2' = 0, y = x2: G = (log(x2 - 3), 0) is undefined
+    on the first box of points ((0, 2]); the next boxes give the basis. Then
+    the scaling x1 d/dx1 is a compensated field ([v, f] = -f = -G w, in span
+    G, w compensating) beside the translation of x1: two fields, the scaling
+    moving w. Without a basis only [v, f] = 0 would pass (the translation)."""
+    system = System(["x1", "x2"], {"x1": "w*log(x2 - 3)", "x2": "0"}, {"y": "x2"}, unknown_inputs=["w"])
+    x1 = sympy.Symbol("x1")
+    fields = {f.vector: f.moved_inputs for f in compensated_symmetries(system).fields}
+    assert fields[(1, 0)] == () and fields[(x1, 0)] == ("w",)
