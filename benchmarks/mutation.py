@@ -99,6 +99,19 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    # The unknown-input route (issue 62, 2026-12-07): rank/compensated.py's first 112 mutants, 83 killed;
+    # the survivors of the empty-basis branches went with the branches (a 0 x 0 minor is 1), the ones
+    # below are equivalent, the rest killed by the tests added (a true symmetry, a basis past an undefined
+    # point, a basis minor other than 1).
+    **{f"observability.rank.compensated.xǁ_Spanǁnonzero__mutmut_{k}": "the branch of a ValueError from ball(), "
+       "unreachable: every construct a model may hold (check_supported) and their derivatives are evaluated in "
+       "ball arithmetic, and the point holds every symbol of f and h (an arb division by 0 gives nan, no error)"
+       for k in (8, 9, 10)},
+    **{f"observability.rank.compensated.x__input_span__mutmut_{k}": "another seed for the real points: any point "
+       "gives a basis whose minor is proven non-zero there, and the conditions are exact for any such basis of "
+       "the generic rank (the points only choose which one)" for k in (1, 3)},
+    "observability.rank.compensated.x__input_span__mutmut_8": "the empty basis's point None: with no basis "
+       "nonzero() is given no value, so the point is never read",
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the
     # session changed; 1,328 killed, 2 timeouts, these equivalent (and two killed by later tests).
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after
