@@ -112,6 +112,21 @@ EQUIVALENT: dict[str, str] = {
        "the generic rank (the points only choose which one)" for k in (1, 3)},
     "observability.rank.compensated.x__input_span__mutmut_8": "the empty basis's point None: with no basis "
        "nonzero() is given no value, so the point is never read",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_5": "the targets listed first instead of the other "
+       "columns: the loop over [*first, *targets] then gives each target a position >= len(targets) (its last "
+       "one) and leaves every input-derivative column at 0, so they all still rank before every target; ties "
+       "among them only choose which derivative column a row pivots on, and the rows pivoting on targets (free "
+       "of every lower-ranked column, reduced) are the same",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_9": "[1] * n instead of [0] * n: the loop writes "
+       "every column's position",
+    **{f"observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_{k}": "ModularEchelon's column count None: it "
+       "is read only by free_columns and null_space, which the sink never calls" for k in (13, 26)},
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_22": "final None instead of False before the test "
+       "order: read only as a condition (falsy either way), and set to a bool once the test order is reached",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_24": "from_outputs None at first: order 0 is always "
+       "expanded, and its last row sets it (a new sink for each point drawn)",
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_11": "row.get(c, None) instead of 0: only its "
+       "truth is read, and a missing entry is falsy either way",
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the
     # session changed; 1,328 killed, 2 timeouts, these equivalent (and two killed by later tests).
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after

@@ -240,3 +240,28 @@ def test_the_input_basis_is_sought_beyond_a_point_where_g_is_undefined():
     x1 = sympy.Symbol("x1")
     fields = {f.vector: f.moved_inputs for f in compensated_symmetries(system).fields}
     assert fields[(1, 0)] == () and fields[(x1, 0)] == ("w",)
+
+
+def test_a_row_mixing_an_input_derivative_and_an_input_is_eliminated_on_the_derivative():
+    """x1' = x2 + w1, x2' = w2, y = x1: y' = x2 + w1, y'' = w1' + w2. Only x1
+    and x2 + w1 are determined (w2 hides behind w1', which is free): rank 2
+    of 4, final at order 1 (dy'/dw = (1, 0) has rank 1 = q). Eliminating
+    y'' on w2 instead of w1' (a column order that does not put the input
+    derivatives first) would count it: rank 3."""
+    system = System(["x1", "x2"], {"x1": "x2 + w1", "x2": "w2"}, {"y": "x1"}, unknown_inputs=["w1", "w2"])
+    jet = jet_rank(system, seed=1, orders=4)
+    assert jet.rank == 2 and jet.observable == ("x1",) and jet.final
+    assert _jet_rank(system, 4) == (2, {"x1"})
+    result = analyze(system, seed=1)
+    assert result.rank == 2 and result.observable_states == ("x1",)
+
+
+def test_two_outputs_make_the_rank_final_when_both_see_the_inputs():
+    """x1' = w1 + x3, x2' = w2, x3' = 0, y = (x1, x2): dy'/dw is the 2 x 2
+    identity, rank 2 = q, so the rank is final after order 1 (both rows of
+    order 2 enter the test): x1, x2, w2 and x3 + w1, rank 4 of 5."""
+    system = System(["x1", "x2", "x3"], {"x1": "w1 + x3", "x2": "w2", "x3": "0"}, {"y1": "x1", "y2": "x2"},
+                    unknown_inputs=["w1", "w2"])
+    jet = jet_rank(system, seed=1, orders=6)
+    assert jet.final and jet.orders == 2 and jet.rank == 4
+    assert _jet_rank(system, 4) == (4, {"x1", "x2", "w2"})
