@@ -127,6 +127,14 @@ EQUIVALENT: dict[str, str] = {
        "expanded, and its last row sets it (a new sink for each point drawn)",
     "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_11": "row.get(c, None) instead of 0: only its "
        "truth is read, and a missing entry is falsy either way",
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_13": "row.get(c) (default None) instead of 0: only "
+       "its truth is read",
+    **{f"observability.rank.unknown.x__polynomial_model__mutmut_{k}": "a degree one higher (or 1 instead of 0) "
+       "without an output through w: the extra derivative's column is zero in every row computed (it first "
+       "enters the order after the last), and the test columns and order do not depend on it (a degree 1 at "
+       "orders <= 1 only makes a test order 2 that is never reached)" for k in (6, 11, 13)},
+    "observability.rank.unknown.x__polynomial_model__mutmut_35": "test columns also at degree 0: then orders <= 1 "
+       "(0 with an output through w), and the expansion ends before the test order (2, or 1)",
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the
     # session changed; 1,328 killed, 2 timeouts, these equivalent (and two killed by later tests).
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after

@@ -265,3 +265,31 @@ def test_two_outputs_make_the_rank_final_when_both_see_the_inputs():
     jet = jet_rank(system, seed=1, orders=6)
     assert jet.final and jet.orders == 2 and jet.rank == 4
     assert _jet_rank(system, 4) == (4, {"x1", "x2", "w2"})
+
+
+def test_an_output_through_the_input_is_final_at_order_0():
+    """x' = -x + w, y = x + w: dh/dw = 1 has rank 1 = q, so each y^(m), m >= 1,
+    brings w^(m) and nothing else: only x + w is determined, rank 1 of 2,
+    neither x nor w observable (no field is sought when an output uses w:
+    the final rank decides). A model one derivative short (degree orders - 1,
+    as without the output through w) would read y'' = x - w without w'' and
+    call both observable."""
+    system = System(["x"], {"x": "-x + w"}, {"y": "x + w"}, unknown_inputs=["w"])
+    result = analyze(system, seed=1)
+    assert result.rank == 1 and result.observable_states == () and result.unobservable_states == ("x", "w")
+    assert _jet_rank(system, 3) == (1, set())
+
+
+def test_related_atoms_trust_the_outputs_rows_only():
+    """x1' = x2, x2' = (x3 / (1 + x3))**k + w, x3' = 0, y = x1 (k an unknown
+    constant: the power is exp(k log(x3 / (1 + x3))), atoms not proven
+    independent). The rows of order 0 are x1's alone; x2
+    (= y', observable in truth) is not claimed from the rows of a point whose
+    atoms may break the relation, so it stays undecided. k, x3 and w are
+    moved: the translations of k and x3 change x2' only by terms in span
+    df/dw, w compensating."""
+    system = System(["x1", "x2", "x3"], {"x1": "x2", "x2": "(x3/(1 + x3))**k + w", "x3": "0"}, {"y": "x1"},
+                    unknown_parameters=["k"], unknown_inputs=["w"])
+    result = analyze(system, seed=1)
+    assert result.observable_states == ("x1",) and result.undecided_states == ("x2",)
+    assert set(result.unobservable_states) == {"x3", "k", "w"} and result.verdict() == "NOT observable"

@@ -72,8 +72,9 @@ def arbitrary_inputs_verdict(system: System, seed: int | None, input_derivatives
     rank = jet.rank if trusted and (final or (not undecided and jet.rank + span == len(targets))) else None
     shown_not = len(found) < len(targets) and (final or bool(moved))
     details = listing + (
-        f"; undecided: {state_list(undecided)} (neither shown observable at these orders nor moved by a compensated "
-        f"symmetry of degree <= {degree}; more orders (--max-order) may show more)" if undecided else "")
+        f"; undecided: {state_list(undecided)} (neither shown observable nor moved by a compensated symmetry of "
+        f"degree <= {degree}; " + ("more orders (--max-order) may show more)" if trusted else
+                                   "the rows beyond order 0 are not trusted with these atoms)") if undecided else "")
     if rank is None and trusted:
         details += f"; the rank is undecided between {jet.rank} (at these orders) and {len(targets) - span}"
     return ObservabilityResult(
