@@ -129,10 +129,6 @@ EQUIVALENT: dict[str, str] = {
        "truth is read, and a missing entry is falsy either way",
     "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_13": "row.get(c) (default None) instead of 0: only "
        "its truth is read",
-    **{f"observability.rank.unknown.x__polynomial_model__mutmut_{k}": "a degree one higher (or 1 instead of 0) "
-       "without an output through w: the extra derivative's column is zero in every row computed (it first "
-       "enters the order after the last), and the test columns and order do not depend on it (a degree 1 at "
-       "orders <= 1 only makes a test order 2 that is never reached)" for k in (6, 11, 13)},
     "observability.rank.unknown.x__polynomial_model__mutmut_35": "test columns also at degree 0: then orders <= 1 "
        "(0 with an output through w), and the expansion ends before the test order (2, or 1)",
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the

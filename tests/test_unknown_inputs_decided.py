@@ -209,11 +209,17 @@ def test_the_stated_probability_of_two_hand_cases():
 
     x' = x w, y = x: degree 1 (orders 2), states x, w, w'; m = 2 (x w); the
     expansion ends at order 1 with x and w read (rank 2), so 3 rows,
-    d = 1 + 1 (2 - 1) = 2 and D = 6: (2 + 2) 6 / p = 24 / p."""
+    d = 1 + 1 (2 - 1) = 2 and D = 6: (2 + 2) 6 / p = 24 / p.
+
+    x' = w, y = x with orders 1: degree 0, states x, w (w' = 0), so the model
+    has 2 columns and the minors at most 2 rows (rank 2, all read at order 1,
+    capped by the columns); m = 1, d = 1, D = 2: (2 + 2) 2 / p = 8 / p."""
     force = System(["p", "v"], {"p": "v", "v": "F"}, {"y": "p"}, unknown_inputs=["F"])
     assert jet_rank(force, seed=1, orders=4).error_probability == 20 / (2**61 - 1)
     growth = System(["x"], {"x": "x*w"}, {"y": "x"}, unknown_inputs=["w"])
     assert jet_rank(growth, seed=1, orders=2).error_probability == 24 / (2**61 - 1)
+    driven = System(["x"], {"x": "w"}, {"y": "x"}, unknown_inputs=["w"])
+    assert jet_rank(driven, seed=1, orders=1).error_probability == 8 / (2**61 - 1)
     assert PRIME == 2**61 - 1
     assert analyze(force, seed=1).error_probability == 20 / (2**61 - 1)
 
