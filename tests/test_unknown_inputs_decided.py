@@ -300,3 +300,17 @@ def test_related_atoms_trust_the_outputs_rows_only():
     result = analyze(system, seed=1)
     assert result.observable_states == ("x1",) and result.undecided_states == ("x2",)
     assert set(result.unobservable_states) == {"x3", "k", "w"} and result.verdict() == "NOT observable"
+
+
+def test_an_order_that_adds_nothing_ends_the_growth():
+    """x1' = k x1, x3' = w, y = x1 (k an unknown constant): y' = k x1 and
+    y'' = k^2 x1 is a function of y and y' (its differential lies in their
+    span), so order 2 adds nothing to the rank of all the rows, and by the
+    stationarity of the filtration nothing later does (rank/unknown.py): the
+    rank 2 (x1, k) is final at order 2, though w never reaches the outputs
+    (no block rule applies: dy'/dw = 0)."""
+    system = System(["x1", "x3"], {"x1": "k*x1", "x3": "w"}, {"y": "x1"}, unknown_parameters=["k"],
+                    unknown_inputs=["w"])
+    jet = jet_rank(system, seed=1, orders=6)
+    assert jet.final and jet.orders == 2 and jet.rank == 2 and jet.observable == ("x1", "k")
+    assert _jet_rank(system, 5) == (2, {"x1", "k"})

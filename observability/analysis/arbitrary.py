@@ -109,8 +109,8 @@ def _how(jet: JetRank, seed: int, trusted: bool, found: set[str]) -> str:
                 "not trusted with unknown inputs" + (
                     f"; the outputs themselves (order 0, no transcendental term) show observable "
                     f"{state_list(tuple(t for t in jet.targets if t in found))} ({where})" if found else ""))
-    final = ("; the rank is final (the inputs' first derivatives enter the outputs' derivatives with full rank, so "
-             "no higher order adds to it)" if jet.final else "")
+    final = ("; the rank is final (an order added nothing, or the inputs' first derivatives enter the outputs' "
+             "derivatives with full rank: no higher order adds to it)" if jet.final else "")
     return f"at orders 0..{jet.orders} the outputs determine {jet.rank} of {len(jet.targets)} directions ({where}){final}"
 
 

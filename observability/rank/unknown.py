@@ -41,8 +41,14 @@ V_1 ∩ span(dx, dw) (V_0 ∩ ...) for every M: the rank and the observable targ
 are final, and a target outside is not observable (at generic points, with the
 stated probability). The rank of B mod p is a certain lower bound (a minor
 non-zero mod p is not the zero function), so "final" needs no extra probability.
-A JetRank says so with ``final``; otherwise the rank at the orders computed is
-only a lower bound. Which targets the rows of order 0 alone show observable is
+The rank is final too when an order k >= 1 adds nothing to the rank of all the
+rows (input derivatives included): y^(k+1) = D y^(k) with D the total
+derivative (the field prolonged to the jets), and d commutes with it, so
+dy^(k) = sum_{j<k} c_j dy^(j) gives dy^(k+1) = sum_j (D c_j dy^(j) + c_j
+dy^(j+1)), in the span again: the filtration is stationary from k on (the
+continuous-time stopping rule, on the jet space; the rows up to the orders
+computed are the jet's own). A JetRank says so with ``final``; otherwise the
+rank at the orders computed is only a lower bound. Which targets the rows of order 0 alone show observable is
 kept too (``from_outputs``): when the outputs contain no transcendental term,
 those rows do not depend on how the model's atoms are valued.
 
@@ -130,13 +136,18 @@ class _JetSink:
         self.final = False
         self.from_outputs: list[int] = []
         self._block = ModularEchelon(len(block), PRIME)
+        self._before = 0
 
     def add_row(self, row: dict) -> bool:
+        if self.rows % self.outputs == 0:
+            self._before = self.echelon.rank
         added = self.echelon.add_row(row)
         order, self.rows = self.rows // self.outputs, self.rows + 1
         if order == self.block_order:
             self._block.add_row({k: row[c] for k, c in enumerate(self.block) if row.get(c, 0)})
             self.final = self._block.rank == self.outputs
+        if self.rows % self.outputs == 0 and order >= 1 and self.echelon.rank == self._before:
+            self.final = True  # an order that adds nothing: the filtration is stationary (module docstring)
         if self.rows == self.outputs:
             self.from_outputs = self.observable()
         return added
