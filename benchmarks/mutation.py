@@ -131,6 +131,13 @@ EQUIVALENT: dict[str, str] = {
        "its truth is read",
     "observability.rank.unknown.x__polynomial_model__mutmut_35": "test columns also at degree 0: then orders <= 1 "
        "(0 with an output through w), and the expansion ends before the test order (2, or 1)",
+    **{f"observability.rank.unknown.x__polynomial_model__mutmut_{k}": "another test order for an empty column list: "
+       "an empty block has rank 0 < q, so the rule never fires" for k in (61, 62, 63)},
+    **{f"observability.rank.unknown.x_jet_rank__mutmut_{k}": "discrete None or left out: the evaluator's default is "
+       "False, and the continuous-time expansion passes False" for k in (13, 18)},
+    **{f"observability.rank.unknown.x_jet_rank__mutmut_{k}": "a non-exhaustive expansion: its only extra stop is the "
+       "first order that adds nothing (continuous time), where the sink's stationarity rule already ends it, "
+       "final" for k in (25, 31, 32)},
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the
     # session changed; 1,328 killed, 2 timeouts, these equivalent (and two killed by later tests).
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after

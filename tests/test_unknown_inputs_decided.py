@@ -314,3 +314,16 @@ def test_an_order_that_adds_nothing_ends_the_growth():
     jet = jet_rank(system, seed=1, orders=6)
     assert jet.final and jet.orders == 2 and jet.rank == 2 and jet.observable == ("x1", "k")
     assert _jet_rank(system, 5) == (2, {"x1", "k"})
+
+
+def test_the_jet_rank_reports_its_seed_its_progress_and_why_atoms_are_not_trusted():
+    """The seed given is the one reported; the expansion reports each order
+    (the CLI's status line); related atoms are named with the reason (the
+    power x2**k with k unknown is exp(k log(x2 / (1 + x3))), not a monomial)."""
+    messages: list[str] = []
+    force = System(["p", "v"], {"p": "v", "v": "F"}, {"y": "p"}, unknown_inputs=["F"])
+    jet = jet_rank(force, seed=11, orders=4, progress=messages.append)
+    assert jet.seed == 11 and messages and messages[0].startswith("order 0")
+    related = System(["x2", "x3"], {"x2": "(x2/(1 + x3))**k + w", "x3": "0"}, {"y": "x2"},
+                     unknown_parameters=["k"], unknown_inputs=["w"])
+    assert "not a monomial" in jet_rank(related, seed=1, orders=2).related_atoms
