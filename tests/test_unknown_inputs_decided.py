@@ -327,3 +327,15 @@ def test_the_jet_rank_reports_its_seed_its_progress_and_why_atoms_are_not_truste
     related = System(["x2", "x3"], {"x2": "(x2/(1 + x3))**k + w", "x3": "0"}, {"y": "x2"},
                      unknown_parameters=["k"], unknown_inputs=["w"])
     assert "not a monomial" in jet_rank(related, seed=1, orders=2).related_atoms
+
+
+def test_a_known_input_held_constant_hides_what_its_changes_show():
+    """x1' = u x2 - x3 (u known), x2' = x3' = 0, x4' = w (unknown), y = (x1, x4):
+    y1'' = u' x2, so x2 and then x3 are observable when u varies (rank 5 of
+    5), but with u constant (input_derivatives = 0) only u x2 - x3 is: rank 4,
+    x2 and x3 not observable. w = y2' either way."""
+    system = System(["x1", "x2", "x3", "x4"], {"x1": "u*x2 - x3", "x2": "0", "x3": "0", "x4": "w"},
+                    {"y1": "x1", "y2": "x4"}, inputs=["u"], unknown_inputs=["w"])
+    assert jet_rank(system, seed=1, orders=6).rank == 5
+    held = jet_rank(system, seed=1, orders=6, input_derivatives=0)
+    assert held.rank == 4 and held.observable == ("x1", "x4", "w")
