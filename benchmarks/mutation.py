@@ -125,9 +125,9 @@ EQUIVALENT: dict[str, str] = {
        "order: read only as a condition (falsy either way), and set to a bool once the test order is reached",
     "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_24": "from_outputs None at first: order 0 is always "
        "expanded, and its last row sets it (a new sink for each point drawn)",
-    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_11": "row.get(c, None) instead of 0: only its "
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_15": "row.get(c, None) instead of 0: only its "
        "truth is read, and a missing entry is falsy either way",
-    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_13": "row.get(c) (default None) instead of 0: only "
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_17": "row.get(c) (default None) instead of 0: only "
        "its truth is read",
     "observability.rank.unknown.x__polynomial_model__mutmut_35": "test columns also at degree 0: then orders <= 1 "
        "(0 with an output through w), and the expansion ends before the test order (2, or 1)",

@@ -339,3 +339,15 @@ def test_a_known_input_held_constant_hides_what_its_changes_show():
     assert jet_rank(system, seed=1, orders=6).rank == 5
     held = jet_rank(system, seed=1, orders=6, input_derivatives=0)
     assert held.rank == 4 and held.observable == ("x1", "x4", "w")
+
+
+def test_an_output_through_the_input_keeps_its_top_derivative():
+    """x1' = x2, x2' = 0, y = (x1 w, x2): x2 = y2; y1 = x1 w and its
+    derivatives y1^(m) = x1 w^(m) + ... each bring a new w^(m), so only x2 and
+    x1 w are determined: rank 2 of 3, x2 alone observable (the sympy jet). A
+    model one derivative short (degree orders - 1) reads the top row without
+    its w^(m) and calls all three observable."""
+    system = System(["x1", "x2"], {"x1": "x2", "x2": "0"}, {"y1": "x1*w", "y2": "x2"}, unknown_inputs=["w"])
+    jet = jet_rank(system, seed=1, orders=4)
+    assert jet.rank == 2 and jet.observable == ("x2",)
+    assert _jet_rank(system, 4) == (2, {"x2"})
