@@ -72,6 +72,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "routes": (["observability/budget.py", "observability/analysis/uniqueness.py"],
                ["tests/test_concurrent_routes.py", "tests/test_edges.py", "tests/test_modular.py",
                 "tests/test_modular_field.py"]),
+    # Unknown inputs that may be any function of time: the jet rank, the compensated fields, the verdict.
+    "unknown-inputs": (["observability/rank/unknown.py", "observability/rank/compensated.py",
+                        "observability/analysis/arbitrary.py"],
+                       ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
     # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
     "io-route": (["observability/analysis/ioequation.py", "observability/analysis/ioglobal.py",
                   "observability/analysis/ioseries.py", "observability/analysis/uniqueness.py",
@@ -115,6 +119,45 @@ EQUIVALENT: dict[str, str] = {
        "argument holds at any point drawn" for k in (9, 11, 12, 14)},
     **{f"observability.model.squareroots.x__radicand__mutmut_{k}": "as_Add of as_independent on a term of a sum "
        "(a product or a power, never a sum): not read" for k in (7, 9)},
+    # The unknown-input route (issue 62, 2026-12-07): rank/compensated.py's first 112 mutants, 83 killed;
+    # the survivors of the empty-basis branches went with the branches (a 0 x 0 minor is 1), the ones
+    # below are equivalent, the rest killed by the tests added (a true symmetry, a basis past an undefined
+    # point, a basis minor other than 1).
+    **{f"observability.rank.compensated.xǁ_Spanǁnonzero__mutmut_{k}": "the branch of a ValueError from ball(), "
+       "unreachable: every construct a model may hold (check_supported) and their derivatives are evaluated in "
+       "ball arithmetic, and the point holds every symbol of f and h (an arb division by 0 gives nan, no error)"
+       for k in (8, 9, 10)},
+    **{f"observability.rank.compensated.x__input_span__mutmut_{k}": "another seed for the real points: any point "
+       "gives a basis whose minor is proven non-zero there, and the conditions are exact for any such basis of "
+       "the generic rank (the points only choose which one)" for k in (1, 3)},
+    "observability.rank.compensated.x__input_span__mutmut_8": "the empty basis's point None: with no basis "
+       "nonzero() is given no value, so the point is never read",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_5": "the targets listed first instead of the other "
+       "columns: the loop over [*first, *targets] then gives each target a position >= len(targets) (its last "
+       "one) and leaves every input-derivative column at 0, so they all still rank before every target; ties "
+       "among them only choose which derivative column a row pivots on, and the rows pivoting on targets (free "
+       "of every lower-ranked column, reduced) are the same",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_9": "[1] * n instead of [0] * n: the loop writes "
+       "every column's position",
+    **{f"observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_{k}": "ModularEchelon's column count None: it "
+       "is read only by free_columns and null_space, which the sink never calls" for k in (13, 26)},
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_22": "final None instead of False before the test "
+       "order: read only as a condition (falsy either way), and set to a bool once the test order is reached",
+    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_24": "from_outputs None at first: order 0 is always "
+       "expanded, and its last row sets it (a new sink for each point drawn)",
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_15": "row.get(c, None) instead of 0: only its "
+       "truth is read, and a missing entry is falsy either way",
+    "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_17": "row.get(c) (default None) instead of 0: only "
+       "its truth is read",
+    "observability.rank.unknown.x__polynomial_model__mutmut_35": "test columns also at degree 0: then orders <= 1 "
+       "(0 with an output through w), and the expansion ends before the test order (2, or 1)",
+    **{f"observability.rank.unknown.x__polynomial_model__mutmut_{k}": "another test order for an empty column list: "
+       "an empty block has rank 0 < q, so the rule never fires" for k in (61, 62, 63)},
+    **{f"observability.rank.unknown.x_jet_rank__mutmut_{k}": "discrete None or left out: the evaluator's default is "
+       "False, and the continuous-time expansion passes False" for k in (13, 18)},
+    **{f"observability.rank.unknown.x_jet_rank__mutmut_{k}": "a non-exhaustive expansion: its only extra stop is the "
+       "first order that adds nothing (continuous time), where the sink's stationarity rule already ends it, "
+       "final" for k in (25, 31, 32)},
     # The input-output route (issue 27, 2026-12-06): io-route with --only on the functions the
     # session changed; 1,328 killed, 2 timeouts, these equivalent (and two killed by later tests).
     # The field through the projections (the eighth session): 628 killed, 30 survivors, then after

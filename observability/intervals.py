@@ -30,7 +30,7 @@ _BOXES = ((0, 2), (-2, 0), (2, 32), (-32, -2))
 
 _FUNCTIONS: dict[type, Callable[[arb], arb]] = {
     sympy.exp: arb.exp, sympy.log: arb.log, sympy.sin: arb.sin, sympy.cos: arb.cos, sympy.tan: arb.tan,
-    sympy.atan: arb.atan,
+    sympy.atan: arb.atan, sympy.sinh: arb.sinh, sympy.cosh: arb.cosh, sympy.tanh: arb.tanh,
 }
 #: Named real constants sympy keeps as symbols of their own.
 _CONSTANTS: dict[sympy.Expr, Callable[[], arb]] = {
@@ -60,6 +60,8 @@ def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
         base, p, q = ball(expr.base, point), int(expr.exp.p), int(expr.exp.q)
         root = base if q == 1 else base.sqrt() if q == 2 else (base.log() / q).exp()  # not finite for base < 0
         return root**p if p >= 0 else 1 / root ** (-p)
+    if expr.is_Pow:  # a symbolic exponent: exp(e log b), not finite for b <= 0
+        return (ball(expr.exp, point) * ball(expr.base, point).log()).exp()
     if isinstance(expr, sympy.atan2):
         return arb.atan2(ball(expr.args[0], point), ball(expr.args[1], point))
     function = _FUNCTIONS.get(type(expr))

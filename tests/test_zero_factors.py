@@ -62,8 +62,10 @@ def test_a_non_zero_coefficient_still_gives_the_radicand():
 
 
 def test_a_construct_the_balls_cannot_evaluate_proves_nothing():
-    """sinh(1)^2 - cosh(1)^2 + 1 = 0 (the hyperbolic identity), and sinh is not evaluated in
-    balls: nonzero() must answer False, never True."""
+    """|p| - sqrt(p^2) = 0 for real p, and Abs is not evaluated in balls: nonzero() must answer
+    False, never True; sinh(1)^2 - cosh(1)^2 + 1 = 0 (evaluated: a ball around 0) too."""
+    p = sympy.Symbol("p")
+    assert nonzero(sympy.Abs(p) - sympy.sqrt(p ** 2)) is False
     assert nonzero(sympy.sinh(1) ** 2 - sympy.cosh(1) ** 2 + 1) is False
 
 

@@ -41,6 +41,10 @@ class ObservabilityResult:
     the floating-point method, whose reliability is described by its gap).
     ``observable_states`` is None when it is not known (the symbolic null space
     was not computed), never an empty tuple that would read as "none".
+    ``undecided_states``: the states (and unknown inputs) neither shown
+    observable nor shown not observable, when the verdict decides some names
+    but not all (unknown inputs that may be any function of time); the others
+    not in ``observable_states`` are then the ones shown not observable.
     ``lower_bound`` is a rank that is certain when the verdict is undecided
     (e.g. the orders allowed were cut while the rank was still growing).
     ``proof``: "proven" (the rank is certain from both sides: a certified lower
@@ -84,6 +88,7 @@ class ObservabilityResult:
     restriction: str = ""  # the input profile or constraint set the rank is computed on ("" : generic)
     functions_complete: bool | None = None
     global_answer: GlobalVerdict | None = None  # check --global: which states are determined uniquely
+    undecided_states: tuple[str, ...] = ()
 
     @property
     def n_states(self) -> int:
@@ -93,7 +98,13 @@ class ObservabilityResult:
     def unobservable_states(self) -> tuple[str, ...] | None:
         if self.observable_states is None:
             return None
-        return tuple(s for s in self.states if s not in self.observable_states)
+        return tuple(s for s in self.states if s not in self.observable_states and s not in self.undecided_states)
+
+    def _decided(self, names: tuple[str, ...]) -> dict[str, bool | None]:
+        """Each name: observable (True), not (False), undecided or unknown (None)."""
+        if self.observable_states is None:
+            return dict.fromkeys(names)
+        return {c: None if c in self.undecided_states else c in self.observable_states for c in names}
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dictionary (the CLI's ``--format json``)."""
@@ -110,15 +121,9 @@ class ObservabilityResult:
             "orders": self.orders,
             "rank_lower_bound": self.lower_bound,
             "proof": self.proof,
-            "unknown_inputs": (
-                {u: u in self.observable_states for u in self.unknown_inputs}
-                if self.observable_states is not None else dict.fromkeys(self.unknown_inputs)
-            ),
+            "unknown_inputs": self._decided(self.unknown_inputs),
             "unknown_input_model": self.unknown_input_model,
-            "unknown_parameters": (
-                {c: c in self.observable_states for c in self.unknown_parameters}
-                if self.observable_states is not None else dict.fromkeys(self.unknown_parameters)
-            ),
+            "unknown_parameters": self._decided(self.unknown_parameters),
             "restriction": self.restriction,
             "observable_states": list(self.observable_states) if self.observable_states is not None else None,
             "observable_functions": (
@@ -126,8 +131,11 @@ class ObservabilityResult:
             ),
             "observable_functions_complete": self.functions_complete,
             "unobservable_states": (
-                list(self.unobservable_states) if self.observable is not None and self.observable_states is not None else None
+                list(self.unobservable_states)
+                if (self.observable is not None or self.undecided_states) and self.observable_states is not None
+                else None
             ),
+            "undecided_states": list(self.undecided_states),
             "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
             "singular_values": list(self.singular_values) if self.singular_values is not None else None,
             "details": self.details,
@@ -202,6 +210,8 @@ class ObservabilityResult:
             lines.append(f"  observable states: {states(self.observable_states)}")
             if not self.observable:
                 lines.append(f"  not observable: {states(self.unobservable_states)}")
+            if self.undecided_states:
+                lines.append(f"  undecided: {states(self.undecided_states)}")
             lines += self._global_lines(states)
             if self.observable_functions:
                 lines.append(f"  observable functions: {states(self.observable_functions)}" + {
@@ -209,15 +219,16 @@ class ObservabilityResult:
                           "algebraic over them)",
                     False: " (incomplete: their transcendence degree is below the rank)", None: ""}[
                     self.functions_complete])
-            if self.unknown_parameters and self.observable_states is not None:
-                lines.append("  unknown parameters: " + "; ".join(
-                    f"{c} {self._identifiable(c)}" for c in self.unknown_parameters))
-            if self.unknown_inputs and self.observable_states is not None:
-                lines.append("  unknown inputs: " + "; ".join(
-                    f"{u} {'observable' if u in self.observable_states else 'NOT observable'}" for u in self.unknown_inputs
-                ))
-        elif self.lower_bound is not None:
-            lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
+            lines += self._name_lines()
+        else:
+            if self.lower_bound is not None:
+                lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
+            if self.observable_states is not None and self.undecided_states:
+                lines.append(f"  observable states: {states(self.observable_states)}")
+                if self.unobservable_states:
+                    lines.append(f"  not observable: {states(self.unobservable_states)}")
+                lines.append(f"  undecided: {states(self.undecided_states)}")
+                lines += self._name_lines()
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
@@ -237,6 +248,17 @@ class ObservabilityResult:
                     True: "identifiable, unique among real values (other values complex)",
                     None: "identifiable only locally (other complex values)"}[answer.over_the_reals(name)]
         return "identifiable (locally; globally undecided)"
+
+    def _name_lines(self) -> list[str]:
+        """The unknown parameters and inputs, each with its answer."""
+        lines = []
+        for kind, names in (("parameters", self.unknown_parameters), ("inputs", self.unknown_inputs)):
+            decided = self._decided(names)
+            if names and self.observable_states is not None:
+                lines.append(f"  unknown {kind}: " + "; ".join(
+                    f"{c} {'undecided' if d is None else self._identifiable(c) if kind == 'parameters' else 'observable' if d else 'NOT observable'}"
+                    for c, d in decided.items()))
+        return lines
 
     def _global_lines(self, states: Callable[[tuple[str, ...] | None], str]) -> list[str]:
         answer = self.global_answer

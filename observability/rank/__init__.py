@@ -6,6 +6,7 @@ error probability), :mod:`.symbolic` (over the rational-function field),
 :mod:`.numeric` (SVD in floats, ball-checked), :mod:`.certificate` (a rank
 proven at a real point in ball arithmetic), :mod:`.proof` (upper bounds from
 fields verified as identities), :mod:`.unknown` (unknown inputs that may be any
-function of time) and :mod:`.evidence` (the methods behind one interface).
+function of time: the jet rank) with :mod:`.compensated` (the motions those
+inputs hide, proven as identities) and :mod:`.evidence` (the methods behind one interface).
 :mod:`.proofcheck` re-checks a written proof and imports nothing of the package.
 """

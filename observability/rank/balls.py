@@ -13,16 +13,17 @@ vanishes only on a nowhere dense set: the fields are generically independent.
 
 from __future__ import annotations
 
+import contextlib
 import random
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 import flint
 import sympy
-from flint import arb_mat
+from flint import arb, arb_mat
 
 from ..intervals import PRECISION, ball, rational_point
 
-__all__ = ["independent_at_a_real_point"]
+__all__ = ["independent_at_a_real_point", "pivots", "precision", "random_point", "balls_at"]
 
 
 def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols: Sequence[sympy.Symbol],
@@ -34,37 +35,58 @@ def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols:
     root of -z, a logarithm of z - 5). False proves nothing."""
     rng = random.Random(seed)
     k = len(fields)
-    old, flint.ctx.prec = flint.ctx.prec, PRECISION
-    try:
+    with precision():
         for attempt in range(attempts):
-            point = rational_point(symbols, rng, attempt)
             try:
-                rows = [[ball(sympy.sympify(e), point) for e in v] for v in fields]
+                rows = balls_at(fields, random_point(rng, attempt, symbols))
             except (ValueError, ZeroDivisionError):
                 return False
-            if not all(value.is_finite() for row in rows for value in row):
+            if rows is None:
                 continue
-            columns = _pivots([[float(value.mid()) for value in row] for row in rows])
+            columns = [j for _, j in pivots([[float(value.mid()) for value in row] for row in rows])]
             if len(columns) == k and not arb_mat([[row[c] for c in columns] for row in rows]).det().contains(0):
                 return True
         return False
+
+
+@contextlib.contextmanager
+def precision() -> Iterator[None]:
+    """Balls of ``PRECISION`` bits inside, the caller's precision restored after."""
+    old, flint.ctx.prec = flint.ctx.prec, PRECISION
+    try:
+        yield
     finally:
         flint.ctx.prec = old
 
 
-def _pivots(matrix: list[list[float]]) -> list[int]:
-    """Columns of a well-conditioned square block, by Gaussian elimination with
-    full pivoting on the midpoints (only a choice: the ball determinant decides)."""
-    rows = [list(r) for r in matrix]
-    chosen: list[int] = []
-    for _ in range(len(rows)):
-        candidates = [(abs(v), i, j) for i, r in enumerate(rows) for j, v in enumerate(r) if j not in chosen]
+def random_point(rng: random.Random, attempt: int, symbols: Sequence[sympy.Symbol]) -> dict[sympy.Symbol, arb]:
+    """A random rational point of ``symbols`` in the box of ``attempt`` (:func:`~observability.intervals.rational_point`)."""
+    return rational_point(symbols, rng, attempt)
+
+
+def balls_at(rows: Sequence[Sequence[sympy.Expr]], point: dict[sympy.Symbol, arb]) -> list[list[arb]] | None:
+    """The entries of ``rows`` as balls at ``point``; None when one is not
+    finite (undefined there). ValueError or ZeroDivisionError from :func:`ball`
+    pass through."""
+    values = [[ball(sympy.sympify(e), point) for e in row] for row in rows]
+    return values if all(v.is_finite() for row in values for v in row) else None
+
+
+def pivots(matrix: list[list[float]]) -> list[tuple[int, int]]:
+    """(row, column) pairs of a well-conditioned square block, by Gaussian
+    elimination with full pivoting on the midpoints (only a choice: the ball
+    determinant decides)."""
+    rows = {i: list(r) for i, r in enumerate(matrix)}
+    chosen: list[tuple[int, int]] = []
+    for _ in range(len(matrix)):
+        taken = {j for _, j in chosen}
+        candidates = [(abs(v), i, j) for i, r in rows.items() for j, v in enumerate(r) if j not in taken]
         if not candidates:
             break
         size, i, j = max(candidates)
         if size == 0.0:
             break
-        chosen.append(j)
+        chosen.append((i, j))
         pivot = rows.pop(i)
-        rows = [[a - r[j] / pivot[j] * b for a, b in zip(r, pivot)] for r in rows]
+        rows = {k: [a - r[j] / pivot[j] * b for a, b in zip(r, pivot)] for k, r in rows.items()}
     return chosen

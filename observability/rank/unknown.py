@@ -29,31 +29,38 @@ vector appended, so with probability at most (targets + 2) D / p
 (Schwartz-Zippel). The dimension grows with m and is only a lower bound at
 orders 0..m while something is left unobservable.
 
-**What is not observable** is proven, not inferred from a stall: a vector
-field v(x) with v(h) = 0 whose brackets with the dynamics stay in the span of
-the input directions, f = f0(x) + G(x) w (affine in w) with [v, f0] and
-[v, g_j] in span G, moves every trajectory of the system into another one with
-the same outputs and another (smooth) input: its flow maps span G into itself
-and f0 into f0 + span G, so x~(t) = phi_s(x(t)) solves the dynamics with the
-input w~ that G w~ = D phi_s f(x, w) - f0(phi_s(x)) defines. Every state that
-v moves is then not observable, and so is every input that the compensation
-G dw = [v, f] changes. Such fields are found by an exact linear ansatz of
-degree <= 1 in the states (translations, rotations, scalings), each condition
-an identity in the states, inputs and parameters (checked coefficient by
-coefficient, which may miss fields but never accepts a wrong one); when
-independent fields account for every dimension the rank leaves (rank + fields
-= states + inputs), the verdict is decided.
+**When the rank is final.** Let B = dy'/dw (q x p, q outputs; B = dh/dw when
+an output uses w). The highest input derivative in y^(k) is w^(k-1) (w^(k)),
+and its coefficient block is B at every order: d y^(k+1) / d w^(k) =
+d y^(k) / d w^(k-1) (differentiate y^(k) = B w^(k-1) + lower terms). If B has
+rank q at the point, take any combination sum_k c_k dy^(k) of orders <= M that
+lies in span(dx, dw): for M >= 2 (>= 1) the columns of w^(M-1) (w^(M)), an input
+derivative, appear only in dy^(M), with the block B, so c_M B = 0 and c_M = 0;
+downwards, every c_k with k >= 2 (k >= 1) vanishes. So V_M ∩ span(dx, dw) =
+V_1 ∩ span(dx, dw) (V_0 ∩ ...) for every M: the rank and the observable targets
+are final, and a target outside is not observable (at generic points, with the
+stated probability). The rank of B mod p is a certain lower bound (a minor
+non-zero mod p is not the zero function), so "final" needs no extra probability.
+The rank is final too when an order k >= 1 adds nothing to the rank of all the
+rows (input derivatives included): y^(k+1) = D y^(k) with D the total
+derivative (the field prolonged to the jets), and d commutes with it, so
+dy^(k) = sum_{j<k} c_j dy^(j) gives dy^(k+1) = sum_j (D c_j dy^(j) + c_j
+dy^(j+1)), in the span again: the filtration is stationary from k on (the
+continuous-time stopping rule, on the jet space; the rows up to the orders
+computed are the jet's own). A JetRank says so with ``final``; otherwise the
+rank at the orders computed is only a lower bound. Which targets the rows of order 0 alone show observable is
+kept too (``from_outputs``): when the outputs contain no transcendental term,
+those rows do not depend on how the model's atoms are valued.
+
+What is not observable is proven by :mod:`.compensated` (fields checked as
+identities).
 """
 
 from __future__ import annotations
 
-import itertools
 import random
 from collections.abc import Callable
 from dataclasses import dataclass
-
-import sympy
-from sympy.polys.matrices import DomainMatrix
 
 from ..engine.echelon import ModularEchelon
 from ..engine.expansion import expand_rows
@@ -64,12 +71,10 @@ from ..model.unknowninputs import with_unknown_inputs
 from ..model.system import System
 from ..engine.taylor import PRIME, Redraw, TaylorEvaluator
 
-__all__ = ["JetRank", "jet_rank", "compensated_symmetries", "CompensatedField"]
+__all__ = ["JetRank", "jet_rank"]
 
 #: Random points tried before a model whose every point hits a pole is given up.
 _ATTEMPTS = 32
-#: The exact ansatz is not tried above this many states (its unknowns grow as n^2).
-MAX_ANSATZ_STATES = 16
 
 
 @dataclass(frozen=True)
@@ -92,6 +97,12 @@ class JetRank:
         Empty when the model's transcendental terms are provably independent;
         otherwise why the point's values may break a relation among them (the
         rank is then not trusted).
+    final : bool
+        Whether no higher order can raise the rank (module docstring): the
+        targets not observable are then not observable at any order.
+    from_outputs : tuple[str, ...]
+        The targets whose differential lies in the span of the outputs' own
+        (order 0).
     """
 
     targets: tuple[str, ...]
@@ -101,13 +112,18 @@ class JetRank:
     error_probability: float
     seed: int
     related_atoms: str = ""
+    final: bool = False
+    from_outputs: tuple[str, ...] = ()
 
 
 class _JetSink:
     """An echelon form with the input-derivative columns ranked first, which
-    reports a full rank (ending the expansion) once every target is read."""
+    reports a full rank (ending the expansion) once every target is read or
+    the rank is final (module docstring): ``outputs`` rows an order, and the
+    rows of order ``block_order`` tested on the ``block`` columns (each
+    input's first derivative)."""
 
-    def __init__(self, n_columns: int, targets: list[int]) -> None:
+    def __init__(self, n_columns: int, targets: list[int], outputs: int, block_order: int, block: list[int]) -> None:
         self.targets = targets
         self.n = n_columns
         first = [c for c in range(n_columns) if c not in set(targets)]
@@ -115,9 +131,26 @@ class _JetSink:
         for position, column in enumerate([*first, *targets]):
             order[column] = position
         self.echelon = ModularEchelon(n_columns, PRIME, order=order)
+        self.outputs, self.block_order, self.block = outputs, block_order, block
+        self.rows = 0
+        self.final = False
+        self.from_outputs: list[int] = []
+        self._block = ModularEchelon(len(block), PRIME)
+        self._before = 0
 
     def add_row(self, row: dict) -> bool:
-        return self.echelon.add_row(row)
+        if self.rows % self.outputs == 0:
+            self._before = self.echelon.rank
+        added = self.echelon.add_row(row)
+        order, self.rows = self.rows // self.outputs, self.rows + 1
+        if order == self.block_order:
+            self._block.add_row({k: row[c] for k, c in enumerate(self.block) if row.get(c, 0)})
+            self.final = self._block.rank == self.outputs
+        if self.rows % self.outputs == 0 and order >= 1 and self.echelon.rank == self._before:
+            self.final = True  # an order that adds nothing: the filtration is stationary (module docstring)
+        if self.rows == self.outputs:
+            self.from_outputs = self.observable()
+        return added
 
     def observable(self) -> list[int]:
         rows = self.echelon.pivot_rows
@@ -128,12 +161,13 @@ class _JetSink:
 
     @property
     def rank(self) -> int:
-        return self.n if len(self.observable()) == len(self.targets) else self.echelon.rank
+        return self.n if self.final or len(self.observable()) == len(self.targets) else self.echelon.rank
 
 
-def _polynomial_model(system: System, orders: int) -> tuple[System, list[int]]:
+def _polynomial_model(system: System, orders: int) -> tuple[System, list[int], _JetSink]:
     """The degree-M model whose rows of orders 0..``orders`` are the arbitrary
-    input's, and the columns of the targets (states, then each w itself)."""
+    input's, the columns of the targets (states, then each w itself), and a
+    sink for its rows."""
     unknown = [u.name for u in system.arbitrary_inputs]
     feedthrough = any(h.has(*system.arbitrary_inputs) for _, h in system.outputs)
     degree = orders if feedthrough else max(orders - 1, 0)
@@ -141,7 +175,10 @@ def _polynomial_model(system: System, orders: int) -> tuple[System, list[int]]:
     model = with_unknown_inputs(known, unknown, degree)
     n = system.n
     targets = list(range(n)) + [n + k * (degree + 1) for k in range(len(unknown))]
-    return model, targets
+    # The first derivatives' columns, in the rows of order 1 (2): B (module docstring).
+    block = [n + k * (degree + 1) + 1 for k in range(len(unknown))] if degree >= 1 else []
+    order = 1 if feedthrough else 2
+    return model, targets, _JetSink(model.n, targets, len(system.outputs), order if block else -1, block)
 
 
 def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int | None = None,
@@ -149,11 +186,9 @@ def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int |
     """The rank of the outputs' derivatives of orders 0..``orders`` on the
     states and the arbitrary unknown inputs of ``system`` (module docstring),
     ending early once every state and input is observable."""
-    model, targets = _polynomial_model(system, orders)
-    names = tuple(model.states[c].name for c in targets)
     rng = random.Random(seed)
     for _ in range(_ATTEMPTS):
-        sink = _JetSink(model.n, targets)
+        model, targets, sink = _polynomial_model(system, orders)
 
         def make(program: Program, discrete: bool) -> TaylorEvaluator:
             return TaylorEvaluator(program, model.n, rng, input_degree=input_derivatives, discrete=discrete)
@@ -166,112 +201,14 @@ def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int |
                              min(sink.echelon.rank + 1, model.n), expansion.orders)
         related = dependence(expansion.program, model.n)
         return JetRank(
-            targets=names,
+            targets=tuple(model.states[c].name for c in targets),
             rank=sink.target_rank(),
             observable=tuple(model.states[c].name for c in sink.observable()),
             orders=expansion.orders,
             error_probability=min(1.0, (len(targets) + 2) * bound / PRIME),
             seed=seed,
             related_atoms="" if related is None else str(related),
+            final=sink.final,
+            from_outputs=tuple(model.states[c].name for c in sink.from_outputs),
         )
     raise Redraw(-1, f"every random point of {system.name} hits a pole")
-
-
-@dataclass(frozen=True)
-class CompensatedField:
-    """A field v(x) proven to leave the outputs unchanged when the unknown
-    inputs compensate (module docstring): ``vector`` over the states, and the
-    inputs whose compensation is non-zero (they are not observable either)."""
-
-    vector: tuple[sympy.Expr, ...]
-    moved_inputs: tuple[str, ...]
-
-
-def _bracket(v: list[sympy.Expr], f: list[sympy.Expr], x: tuple[sympy.Symbol, ...]) -> list[sympy.Expr]:
-    """[v, f] = Df v - Dv f."""
-    return [sum(sympy.diff(fi, xk) * vk - sympy.diff(vi, xk) * fk for xk, vk, fk in zip(x, v, f))
-            for fi, vi in zip(f, v)]
-
-
-def _in_span(columns: sympy.Matrix, vector: list[sympy.Expr]) -> list[sympy.Expr]:
-    """Expressions that all vanish exactly when ``vector`` lies in the span of
-    the p ``columns``: the (p+1)-minors of [columns | vector], expanded along
-    the vector."""
-    n, p = columns.shape
-    conditions = []
-    for rows in itertools.combinations(range(n), p + 1):
-        conditions.append(sum(
-            (-1) ** (i + p) * vector[r] * columns.extract([q for q in rows if q != r], list(range(p))).det()
-            for i, r in enumerate(rows)
-        ))
-    return conditions
-
-
-def _linear_equations(conditions: list[sympy.Expr], unknowns: list[sympy.Symbol]) -> sympy.Matrix:
-    """The coefficient rows of identities linear in ``unknowns``: each
-    condition's numerator, term by term, grouped by its monomial in everything
-    else (distinct monomials taken as independent: sound, perhaps too strict)."""
-    index = {c: i for i, c in enumerate(unknowns)}
-    rows: dict[tuple[int, sympy.Expr], dict[int, sympy.Expr]] = {}
-    for which, condition in enumerate(conditions):
-        numerator = sympy.numer(sympy.together(condition))
-        for term in sympy.Add.make_args(sympy.expand(numerator)):
-            if term == 0:
-                continue
-            rest, unknown = term.as_independent(*unknowns, as_Add=False)
-            number, monomial = rest.as_coeff_Mul()
-            row = rows.setdefault((which, monomial), {})
-            row[index[unknown]] = row.get(index[unknown], 0) + number
-    matrix = sympy.zeros(len(rows), len(unknowns))
-    for i, row in enumerate(rows.values()):
-        for j, value in row.items():
-            matrix[i, j] = value
-    return matrix
-
-
-def compensated_symmetries(system: System) -> tuple[list[CompensatedField], str]:
-    """The fields of degree <= 1 in the states that the unknown inputs
-    compensate (module docstring), a basis; with a note when none can be
-    sought (an output using w, dynamics not affine in w, too many states)."""
-    x, w = system.states, system.arbitrary_inputs
-    f = [system.substitute_values(e) for e in system.dynamics]
-    h = [system.substitute_values(e) for _, e in system.outputs]
-    if any(e.has(*w) for e in h):
-        return [], "an output uses an unknown input directly"
-    if system.n > MAX_ANSATZ_STATES:
-        return [], f"more than {MAX_ANSATZ_STATES} states"
-    g = sympy.Matrix([[sympy.diff(fi, wk) for wk in w] for fi in f])
-    if any(sympy.diff(entry, wk) != 0 for entry in g for wk in w):
-        return [], "the dynamics are not affine in the unknown inputs"
-    f0 = [fi.xreplace(dict.fromkeys(w, sympy.Integer(0))) for fi in f]
-    coefficients = [[sympy.Dummy(f"c{i}_{k}") for k in range(system.n + 1)] for i in range(system.n)]
-    v = [c[0] + sum(ck * xk for ck, xk in zip(c[1:], x)) for c in coefficients]
-    conditions = [sum(vi * sympy.diff(hj, xi) for vi, xi in zip(v, x)) for hj in h]
-    for field in [f0, *(list(g.col(j)) for j in range(len(w)))]:
-        conditions += _in_span(g, _bracket(v, field, x))
-    unknowns = [c for row in coefficients for c in row]
-    matrix = _linear_equations(conditions, unknowns)
-    basis = DomainMatrix.from_Matrix(matrix).to_field().nullspace().to_Matrix() if matrix.rows else sympy.eye(len(unknowns))
-    fields = []
-    for k in range(basis.rows):
-        values = dict(zip(unknowns, basis.row(k)))
-        vector = tuple(sympy.expand(vi.xreplace(values)) for vi in v)
-        fields.append(CompensatedField(vector, _moved_inputs(vector, f, g, x, w)))
-    return fields, ""
-
-
-def _moved_inputs(vector, f, g, x, w) -> tuple[str, ...]:
-    """The inputs whose compensation G dw = [v, f] is non-zero at a random
-    rational point (non-zero at a point: not identically zero)."""
-    rng = random.Random(0)
-    bracket = _bracket(list(vector), f, x)
-    symbols = set().union(*(e.free_symbols for e in (*bracket, *g)))
-    for _ in range(8):
-        at = {s: sympy.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for s in symbols}
-        columns = g.xreplace(at)
-        if columns.rank() < len(w):
-            continue
-        target = sympy.Matrix([e.xreplace(at) for e in bracket])
-        solution = (columns.T * columns).LUsolve(columns.T * target)
-        return tuple(u.name for u, d in zip(w, solution) if d != 0)
-    return ()
