@@ -233,7 +233,6 @@ class ObservabilityResult:
             lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
 
-
     def _identifiable(self, name: str) -> str:
         """An unknown constant's answer: locally, and with --global how globally."""
         if name not in self.observable_states:
@@ -249,15 +248,20 @@ class ObservabilityResult:
                     None: "identifiable only locally (other complex values)"}[answer.over_the_reals(name)]
         return "identifiable (locally; globally undecided)"
 
+    def _answer(self, kind: str, name: str, decided: bool | None) -> str:
+        if decided is None:
+            return "undecided"
+        if kind == "parameters":
+            return self._identifiable(name)
+        return "observable" if decided else "NOT observable"
+
     def _name_lines(self) -> list[str]:
         """The unknown parameters and inputs, each with its answer."""
         lines = []
         for kind, names in (("parameters", self.unknown_parameters), ("inputs", self.unknown_inputs)):
             decided = self._decided(names)
             if names and self.observable_states is not None:
-                lines.append(f"  unknown {kind}: " + "; ".join(
-                    f"{c} {'undecided' if d is None else self._identifiable(c) if kind == 'parameters' else 'observable' if d else 'NOT observable'}"
-                    for c, d in decided.items()))
+                lines.append(f"  unknown {kind}: " + "; ".join(f"{c} {self._answer(kind, c, d)}" for c, d in decided.items()))
         return lines
 
     def _global_lines(self, states: Callable[[tuple[str, ...] | None], str]) -> list[str]:
