@@ -530,7 +530,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
         every, probability, how = answers.members, probability + answers.error, answers.how
     else:
         fibre = exact_fibre(equations)
-        every = tuple(fibre.constant_on(f) for f in (*fractions, *paired))
+        every, how = tuple(fibre.constant_on(f) for f in (*fractions, *paired)), fibre.basis.how
     members = every[:len(fractions)]
     only = tuple(s for s, member in zip(local, members[:len(local)]) if member is False)
     outside = {i for i, member in enumerate(members) if member is False}

@@ -23,6 +23,7 @@ Python loops over fractions took 9.2 s.
 from __future__ import annotations
 
 import math
+import random
 from collections.abc import Sequence
 from typing import Any
 
@@ -30,9 +31,13 @@ import flint
 import sympy
 
 from ..engine.fractions import RationalFunctions
+from .certifiedbasis import certified_basis
 from .order import degrevlex_key
 
-__all__ = ["ReducedBasis", "saturated_basis", "groebner_basis"]
+__all__ = ["ReducedBasis", "saturated_basis", "groebner_basis", "ENGINE_SECONDS"]
+
+#: CPU seconds of each msolve run (the caller's budget bounds the whole; this bounds the engine's share).
+ENGINE_SECONDS = 60.0
 
 
 def _reduced_by(p: Any, divisors: Sequence[Any], ring: Any) -> Any:
@@ -84,12 +89,21 @@ def groebner_basis(polynomials: Sequence[Any], ring: Any) -> list[Any]:
 
 
 class ReducedBasis:
-    """The reduced Groebner basis of an ideal of Q[``unknowns``], for membership tests."""
+    """The reduced Groebner basis of an ideal of Q[``unknowns``], for membership tests: msolve's,
+    certified (:mod:`.certifiedbasis`), where msolve is installed and its candidate passes the
+    checks; else this module's Buchberger algorithm. ``how`` says which, and why."""
 
     def __init__(self, equations: Sequence[sympy.Expr], unknowns: Sequence[sympy.Symbol]) -> None:
         self.field = RationalFunctions(list(unknowns), order="degrevlex")
         self.ring = flint.fmpz_mpoly_ctx.get(self.field.context.names(), "degrevlex")
-        self.integral = groebner_basis([self._polynomial(e) for e in equations], self.ring)
+        polynomials = [self._polynomial(e) for e in equations]
+        certified = certified_basis(polynomials, self.ring, ENGINE_SECONDS, random.Random(len(polynomials)))
+        if isinstance(certified, str):
+            self.integral = groebner_basis(polynomials, self.ring)
+            self.how = f"the Groebner basis over Q (Buchberger's algorithm here: {certified})"
+        else:
+            self.integral = certified
+            self.how = "the Groebner basis over Q (msolve's, certified by its homogenized basis)"
 
     def _polynomial(self, expr: sympy.Expr) -> Any:
         """``expr`` times the least common denominator of its coefficients."""
