@@ -75,6 +75,7 @@ from .iofield import field_members
 from .mirrors import mirrors
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
+from .outputforms import carried_over
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 
 if TYPE_CHECKING:
@@ -174,7 +175,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
     prepared = prepare(system).system
-    model = rational_model(prepared)
+    try:
+        model = rational_model(prepared)
+    except ModelError as exc:  # a well-formed model outside the rational test: undecided, not bad input
+        return GlobalVerdict((), (), local, None, f"undecided: {str(exc).removeprefix('--global: ')}")
     functions = _functions(prepared, result)
     if not local and not functions:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
@@ -188,7 +192,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     except Undecided as exc:
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
-        return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget, functions)
+        return carried_over(_through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget,
+                                                 functions), model.output_forms, [name for name, _ in prepared.outputs])
     members, bits, probability, angles, mirrors, paired, how = decided
     where = dict(zip(local, members))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
@@ -213,9 +218,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
         probability += (error + field.error) if field.generates else 0.0
-    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
-                         tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
-                         generates, generation, field)
+    return carried_over(GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
+                                      tuple(s for s in local if where[s] is None), probability, details, mirrors,
+                                      answers, generates, generation, field),
+                        model.output_forms, [name for name, _ in prepared.outputs])
 
 
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
