@@ -101,9 +101,33 @@ def test_without_the_engine_the_basis_is_buchberger_s_and_says_why(monkeypatch):
 
 
 def test_with_the_engine_the_basis_says_it_is_msolve_s(monkeypatch):
+    """Buchberger's algorithm given no time alone: the certified basis (engine played by sympy)."""
     monkeypatch.setattr(msolve, "basis", _sympy_engine)
+    monkeypatch.setattr(msolve, "engine", lambda: "sympy")
+    monkeypatch.setattr(ideal, "FIRST_SECONDS", 0)
     x, y, z = SYMBOLS
     basis = ideal.ReducedBasis([x * y - 1, 3 * x * z - 2 * y, z**3 - z], SYMBOLS)
     assert [g.to_dict() for g in basis.integral] == [g.to_dict() for g in _reference(CASES[2])]
     assert basis.contains(z**2 - 1) and not basis.contains(z - 1)
     assert basis.how == "the Groebner basis over Q (msolve's, certified by its homogenized basis)"
+
+
+def test_buchberger_s_algorithm_answers_first_when_it_ends_within_its_time(monkeypatch):
+    """An engine that would fail is never asked when Buchberger's algorithm ends within FIRST_SECONDS."""
+    monkeypatch.setattr(msolve, "engine", lambda: "sympy")
+    monkeypatch.setattr(msolve, "basis", lambda *arguments, **options: pytest.fail("msolve was asked"))
+    x, y, z = SYMBOLS
+    basis = ideal.ReducedBasis([x * y - 1, 3 * x * z - 2 * y, z**3 - z], SYMBOLS)
+    assert [g.to_dict() for g in basis.integral] == [g.to_dict() for g in _reference(CASES[2])]
+    assert basis.how == f"the Groebner basis over Q (Buchberger's algorithm here, within its first " \
+                        f"{ideal.FIRST_SECONDS:g} s)"
+
+
+def test_a_failed_certificate_falls_back_to_buchberger_s_algorithm_and_says_why(monkeypatch):
+    monkeypatch.setattr(msolve, "engine", lambda: "sympy")
+    monkeypatch.setattr(msolve, "basis", lambda *arguments, **options: "msolve was stopped by SIGSEGV")
+    monkeypatch.setattr(ideal, "FIRST_SECONDS", 0)
+    x, y, z = SYMBOLS
+    basis = ideal.ReducedBasis([x * y - 1, 3 * x * z - 2 * y, z**3 - z], SYMBOLS)
+    assert [g.to_dict() for g in basis.integral] == [g.to_dict() for g in _reference(CASES[2])]
+    assert basis.how == "the Groebner basis over Q (Buchberger's algorithm here: msolve was stopped by SIGSEGV)"

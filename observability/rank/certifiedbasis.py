@@ -18,9 +18,11 @@ dim_Q (Q[x,h]/J)_d; modulo p it is (F_p[x,h]/J_A mod p)_d, of the same
 dimension, and J_A mod p is an ideal containing each F^h mod p, so J_p: the
 quotient by J_p is at least as large. []
 
-**Lemma 2.** If (a) every S-polynomial of G whose leading monomials are not
-coprime reduces to 0 by G (Buchberger's criterion with his first criterion:
-G is a Groebner basis of K = (G)), (b) every F^h reduces to 0 by G (J in K)
+**Lemma 2.** If (a) every S-polynomial of the pairs of G that Gebauer and
+Moeller's criteria keep (:mod:`.pairs`, registered as
+:func:`~.ideal.groebner_basis` registers its input) reduces to 0 by G (a run
+of Buchberger's algorithm on G that adds nothing, so G is a Groebner basis of
+K = (G)), (b) every F^h reduces to 0 by G (J in K)
 and (c) G's leading monomials generate the same monomial ideal as those of the
 reduced basis of J_p, then K = J and G is a Groebner basis of J. *Proof.* The
 standard monomials give dim (Q[x,h]/K)_d = dim (F_p[x,h]/J_p)_d (by (a), (c)),
@@ -56,6 +58,7 @@ import flint
 
 from . import msolve
 from .order import degrevlex_key
+from .pairs import CriticalPairs
 from .transfer import random_prime
 
 __all__ = ["certified_basis", "PRIMES_TRIED"]
@@ -91,12 +94,14 @@ def _is_groebner(basis: list[Any], generators: list[Any], ring: Any) -> str:
     if any(not f.reduction_primitive_part(vector).is_zero() for f in generators):
         return "a generator does not reduce to 0 by msolve's basis"
     leading = [tuple(g.monomial(0)) for g in basis]
-    for i in range(len(basis)):
-        for j in range(i):
-            if all(not (a and b) for a, b in zip(leading[i], leading[j])):
-                continue  # coprime leading monomials: Buchberger's first criterion
-            if not basis[i].spoly(basis[j]).reduction_primitive_part(vector).is_zero():
-                return "an S-polynomial of msolve's basis does not reduce to 0"
+    order = sorted(range(len(basis)), key=lambda i: degrevlex_key(leading[i]))
+    pairs = CriticalPairs(ring.nvars())
+    for i in order:  # as groebner_basis registers its interreduced input
+        pairs.add(leading[i])
+    while len(pairs):
+        a, b = pairs.pop()
+        if not basis[order[a]].spoly(basis[order[b]]).reduction_primitive_part(vector).is_zero():
+            return "an S-polynomial of msolve's basis does not reduce to 0"
     return ""
 
 
