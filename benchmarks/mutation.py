@@ -88,8 +88,6 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                        "observability/analysis/globalfield.py"],
                       ["tests/test_reduced_fibre.py", "tests/test_modular.py", "tests/test_modular_field.py",
                        "tests/test_global_exact.py", "tests/test_global_field.py", "tests/test_global.py"]),
-    "flint-mod-p": (["observability/rank/flintmod.py", "observability/rank/primefield.py"],
-                    ["tests/test_flintmod.py", "tests/test_modular.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     # The factors a rewriting drops, proven non-zero first (issue 61, item 1).
     "zero-factors": (["observability/intervals.py", "observability/model/squareroots.py"],
@@ -576,26 +574,8 @@ EQUIVALENT: dict[str, str] = {
             (("xǁIntegerPrimeRingǁmonic", (13,)),),
         "the filler w^3, or a capacity (a vector grown one element earlier, or larger)":
             (("xǁ_Divisorsǁ__init__", (6, 13)), ("xǁ_Divisorsǁupdate", (1, 7, 9))),
-        "the list read before the first update: extend_basis updates before every division":
-            (("xǁ_ListedDivisorsǁ__init__", (2,)),),
-        "u scaled by 2: u g - 1 has a zero exactly when 2 u g - 1 has": (("xǁModularPrimeRingǁgen", (6,)),),
         "pairs formed within a basis that already is a Groebner basis: they reduce to zero":
             (("x_extend_basis", (15, 17, 20)),),
-    }.items() for name, numbers in names for k in numbers},
-    # the flint-mod-p group (2026-12-04): the C division through ctypes
-    **{f"observability.rank.flintmod.{name}__mutmut_{k}": why for why, names in {
-        "the system's libflint, looked for only after python-flint's own, which is found first here":
-            (("x__load", (21, 22)),),
-        "a scratch integer's first value (always set before it is read), hexadecimal digits in capitals (FLINT "
-        "reads either)": (("xǁ_Integerǁ__init__", (1,)), ("xǁ_Integerǁset", (12,))),
-        "a leak only (a string or a polynomial not freed)": (("xǁ_Integerǁget", (15,)),
-                                                             ("xǁModularPolynomialǁ__del__", (2, 3, 4))),
-        "a context FLINT's function does not read (init, length, a coefficient: the polynomial's own fields)":
-            (("xǁModularPolynomialǁ__init__", (5,)), ("xǁModularPolynomialǁ__len__", (2,)),
-             ("xǁModularPolynomialǁcoefficient", (6,))),
-        "the quotient pool grown earlier or larger, or replaced by a fresh one still as long as the division needs "
-        "(2n - old > n), or its address array before the first growth (never read: the first division grows it)":
-            (("xǁDividerǁremainder", (2, 4, 6, 7)), ("xǁDividerǁ__init__", (2,))),
     }.items() for name, numbers in names for k in numbers},
     **{f"observability.analysis.modularfibre.{name}__mutmut_{k}": why for why, names in {
         "a variable's or a message's name": (("xǁ_IntegerSystemǁ__init__", (2, 3, 4)),

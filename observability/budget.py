@@ -9,8 +9,6 @@ refuses with a clear reason) instead of hanging.
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
 import gc
 import math
 import multiprocessing
@@ -31,23 +29,26 @@ class Undecided(Exception):
 
 
 def _bound_self(seconds: float, parent: int) -> None:
-    """The child's own bounds, so that nothing outlives the command: it is killed
-    when its parent dies (Linux PR_SET_PDEATHSIG; the parent may be killed by a
-    timeout or the OOM killer before its polling loop stops the child), and the
-    kernel stops it after a little more CPU time than the budget (RLIMIT_CPU:
-    SIGXCPU at the soft limit, SIGKILL at the hard one)."""
+    """The child's own bounds, so that nothing outlives the command: it ends when
+    its parent dies (the parent may be killed by a timeout or the OOM killer
+    before its polling loop stops the child): a timer looks every
+    :data:`_WATCH` seconds whether the parent is still the one that started it
+    (Python runs the handler between instructions, so within a long call in C
+    the CPU limit is what stops it); and the kernel stops it after a little more
+    CPU time than the budget (RLIMIT_CPU: SIGXCPU at the soft limit, SIGKILL at
+    the hard one). (Linux's PR_SET_PDEATHSIG, reached through ctypes, did the
+    first: the package keeps no ctypes, issue 66.)"""
     limit = math.ceil(seconds) + 2
     with contextlib.suppress(ValueError, OSError):
         resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
-    with contextlib.suppress(OSError, AttributeError):
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    if os.getppid() != parent:  # the parent died before the request was made
+    signal.signal(signal.SIGALRM, lambda *_: os.getppid() != parent and os._exit(1))
+    signal.setitimer(signal.ITIMER_REAL, _WATCH, _WATCH)  # not inherited by the child's own children
+    if os.getppid() != parent:  # the parent died before the timer was set
         os._exit(1)
 
 
-#: prctl option: the signal a process gets when its parent dies (linux/prctl.h).
-_PR_SET_PDEATHSIG = 1
+#: Seconds between two looks at the parent.
+_WATCH = 0.5
 
 
 def _child(conn: Any, func: Callable[..., Any], args: tuple, seconds: float, parent: int) -> None:

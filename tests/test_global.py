@@ -19,6 +19,7 @@ from observability.analysis.fibre import _free_coordinates
 from observability.analysis.uniqueness import GLOBAL_ERROR, GlobalVerdict, global_observability
 from observability.errors import ModelError
 from observability.analysis.rationalmodel import degree_bounds, rational_model
+from observability.model.prepare import prepare
 from observability.engine.jets import jet_equations
 from observability.model.sijl import parse_si_model
 from observability.rank.membership import groebner_contains, sampling_range
@@ -244,12 +245,16 @@ def test_a_jacobian_below_the_verdict_s_rank_at_the_point_is_undecided(monkeypat
 
 def test_a_non_rational_model_is_refused():
     """exp(x); an angle that also appears outside its sine and cosine; a sine of a product; a
-    function with a bare angle: each refused, the message naming what."""
+    function with a bare angle: each refused by the rational model, the message naming what; the
+    global answer for such a well-formed model is undecided with that reason (issue 66, item 3)."""
     system = System(["x"], ["1"], {"y": "exp(x)"})
     result = analyze(system, seed=1, directions=False)
     with pytest.raises(ModelError, match=r"^--global: exp\(x\) is not rational in the states; the test covers "
                                          r"rational models, with sines and cosines of states$"):
-        global_observability(system, result)
+        rational_model(prepare(system).system)
+    assert global_observability(system, result) == GlobalVerdict(
+        (), (), ("x",), None, "undecided: exp(x) is not rational in the states; the test covers rational models, "
+        "with sines and cosines of states")
     system = System(["x", "th"], ["cos(th)", "1"], {"y": "x + th"})
     with pytest.raises(ModelError, match=r"^--global: .*th.* is not rational in the states"):
         rational_model(system)

@@ -20,7 +20,6 @@ from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
 from observability.rank import transfer
 from observability.rank.ideal import ReducedBasis
-from observability.rank import flintmod
 from observability.rank.primefield import extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
 from observability.rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
 from test_global import SI_CASES
@@ -88,17 +87,12 @@ def _mod(expr, xs, ring, p):
 
 def _normal(poly, p):
     """The terms read back: python-flint's own reader for its integer polynomials (without the
-    marker variable), FLINT's accessors for its polynomials mod p."""
-    terms = poly.terms() if isinstance(poly, flintmod.ModularPolynomial) else \
-        {m[:-1]: c for m, c in poly.to_dict().items()}
+    marker variable)."""
+    terms = {m[:-1]: c for m, c in poly.to_dict().items()}
     return sorted((m, int(c) % p) for m, c in terms.items())
 
 
-BOTH = pytest.mark.parametrize("in_c", [True, False], ids=["flint-mod-p", "integers-mod-p"])
-
-
-@BOTH
-def test_bases_mod_p_are_the_exact_bases_reduced(in_c):
+def test_bases_mod_p_are_the_exact_bases_reduced():
     """On 40 random ideals in 4 variables, the reduced basis mod a 61-bit prime is the reduced basis
     over Q (:mod:`observability.rank.ideal`, itself checked against sympy) reduced mod p."""
     xs = sympy.symbols("x0:4")
@@ -108,14 +102,13 @@ def test_bases_mod_p_are_the_exact_bases_reduced(in_c):
                                 * xs[rng.randrange(4)] ** rng.randint(0, 1) for _ in range(3)) + rng.randint(-3, 3))
                for _ in range(rng.randint(2, 4))]
         eqs = [e for e in eqs if e != 0]
-        ring = prime_ring([str(x) for x in xs], p, in_c)
+        ring = prime_ring([str(x) for x in xs], p)
         modular = groebner_basis_mod_p([_mod(e, xs, ring, p) for e in eqs], ring)
         exact = [_mod(e, xs, ring, p) for e in ReducedBasis(eqs, xs).expressions()]
         assert [_normal(g, p) for g in modular] == [_normal(g, p) for g in exact]
 
 
-@BOTH
-def test_katsura_5_mod_p_is_its_exact_basis_reduced(in_c):
+def test_katsura_5_mod_p_is_its_exact_basis_reduced():
     """Katsura-5 (6 unknowns; Buchberger's algorithm adds more than 16 polynomials, past the first
     capacity of the integer route's divisor vector): the reduced basis mod a 127-bit prime is the
     exact reduced basis over Q reduced mod p."""
@@ -124,29 +117,27 @@ def test_katsura_5_mod_p_is_its_exact_basis_reduced(in_c):
     u = lambda i: xs[abs(i)] if abs(i) <= n else 0  # noqa: E731 - Katsura's u_{-i} = u_i, 0 past n
     eqs = [sum(u(i) for i in range(-n, n + 1)) - 1] + \
         [sympy.expand(sum(u(i) * u(m - i) for i in range(-n, n + 1)) - u(m)) for m in range(n)]
-    ring = prime_ring([str(x) for x in xs], p, in_c)
+    ring = prime_ring([str(x) for x in xs], p)
     modular = groebner_basis_mod_p([_mod(e, xs, ring, p) for e in eqs], ring)
     exact = [_mod(e, xs, ring, p) for e in ReducedBasis(eqs, xs).expressions()]
     assert len(exact) > 5 and [_normal(g, p) for g in modular] == [_normal(g, p) for g in exact]
 
 
-@BOTH
-def test_a_remainder_that_vanishes_only_mod_p_is_zero(in_c):
+def test_a_remainder_that_vanishes_only_mod_p_is_zero():
     """x y + 3 by x y - 4 leaves 7 over Z: zero mod 7 (flint's primitive part alone would give 1);
     mod 11 it is 7, a unit: the basis with it is {1}."""
     xs = sympy.symbols("x y")
     for p, zero in ((7, True), (11, False)):
-        ring = prime_ring(["x", "y"], p, in_c)
+        ring = prime_ring(["x", "y"], p)
         f, g = _mod(xs[0] * xs[1] + 3, xs, ring, p), _mod(xs[0] * xs[1] - 4, xs, ring, p)
         assert reduce_mod(f, [g], ring).is_zero() == zero
         assert is_one(extend_basis([g], [f], ring)) != zero
 
 
-@BOTH
-def test_negative_leading_coefficients_are_made_monic(in_c):
+def test_negative_leading_coefficients_are_made_monic():
     """-x + 2 and x y - 1 mod 13: the basis is x - 2, y - 7 (2 * 7 = 14 = 1 mod 13)."""
     xs = sympy.symbols("x y")
-    ring = prime_ring(["x", "y"], 13, in_c)
+    ring = prime_ring(["x", "y"], 13)
     basis = groebner_basis_mod_p([_mod(-xs[0] + 2, xs, ring, 13), _mod(xs[0] * xs[1] - 1, xs, ring, 13)], ring)
     assert [_normal(g, 13) for g in basis] == [[((0, 0), 11), ((1, 0), 1)], [((0, 0), 6), ((0, 1), 1)]]
 
@@ -161,14 +152,11 @@ def _modular(system: System, seed: int = 3):
     return local, uniqueness._decide(prepared, model, orders, result.rank, local, [], 1e-6, seed, True)
 
 
-@BOTH
-def test_range_only_fix_modulo_a_prime_keeps_the_mirror(in_c, monkeypatch):
+def test_range_only_fix_modulo_a_prime_keeps_the_mirror(monkeypatch):
     """Ranges to (0, 0) and (d, 0): x unique, y up to its sign (test_global's hand derivation). y's
     answer needs no radical; x's does, and the point's range (iii) makes the fibre radical: no second
     prime, the test (ii) never runs, and the error is the membership theorem's 1e-6 plus the range's
-    1e-6 (each over 1 - 1e-6, for the redrawn poles) plus one prime's 1e-9 at most. The same with
-    either representation of the prime field."""
-    monkeypatch.setattr(flintmod, "AVAILABLE", in_c)
+    1e-6 (each over 1 - 1e-6, for the redrawn poles) plus one prime's 1e-9 at most."""
     monkeypatch.setattr(modular, "_radical", None)
     system = System(["x", "y"], ["0", "0"], {"r1": "sqrt(x**2 + y**2)", "r2": "sqrt((x - d)**2 + y**2)"},
                     parameters=["d"])

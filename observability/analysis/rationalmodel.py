@@ -1,8 +1,9 @@
 """A continuous-time model as rational functions of coordinates, and bounds on its Lie derivatives' degrees.
 
 Angles (states inside sin, cos, tan) become T = tan(angle/2), so a model whose
-only transcendental functions are those is rational; anything else is refused
-with the expression that is not.
+only transcendental functions are those is rational; an output with atan2, atan
+or log is replaced by its tan or exp first (:mod:`.outputforms`); anything else
+is refused with the expression that is not.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import sympy
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles
 from ..errors import ModelError
 from ..model.system import System
+from .outputforms import rational_form
 
 __all__ = ["RationalModel", "rational_model", "degree_bounds", "polynomial_degree"]
 
@@ -28,6 +30,7 @@ class RationalModel:
     outputs: tuple[sympy.Expr, ...]
     angles: tuple[sympy.Symbol, ...]
     half_angles: tuple[tuple[sympy.Symbol, sympy.Symbol], ...] = ()  # (angle state, its T)
+    output_forms: tuple[str, ...] = ()  # per output: "" (itself), or the function of it used (:mod:`.outputforms`)
 
     def rewrite(self, expr: sympy.Expr) -> sympy.Expr:
         """A function of the states in these coordinates (refused when not rational there)."""
@@ -40,7 +43,8 @@ class RationalModel:
 def rational_model(system: System) -> RationalModel:
     """``system`` (continuous time, parameter values substituted) in rational coordinates."""
     dynamics = [system.substitute_values(f) for f in system.dynamics]
-    outputs = [system.substitute_values(h) for _, h in system.outputs]
+    forms = [rational_form(system.substitute_values(h)) for _, h in system.outputs]
+    outputs = [h for h, _ in forms]
     angles = half_angles(system.states, [*dynamics, *outputs])
     if angles is None:
         raise ModelError("--global: a sine or cosine of something other than a state")
@@ -52,7 +56,8 @@ def rational_model(system: System) -> RationalModel:
         if expr.free_symbols & set(angles) or not expr.is_rational_function(*symbols):
             raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the states; the test covers "
                              "rational models, with sines and cosines of states")
-    return RationalModel(coordinates, speeds, rewritten, tuple(angles), tuple(angles.items()))
+    return RationalModel(coordinates, speeds, rewritten, tuple(angles), tuple(angles.items()),
+                         tuple(form for _, form in forms))
 
 
 def degree_bounds(model: RationalModel, orders: Sequence[int], known: Sequence[sympy.Symbol]) -> list[tuple[int, int]]:

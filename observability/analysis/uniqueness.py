@@ -77,6 +77,7 @@ from .mirrors import mirrors
 from .realvalues import RealAnswer, real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
+from .outputforms import carried_over
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
 from .truncation import truncation_orders
 
@@ -201,7 +202,10 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
     prepared = prepare(system).system
-    model = rational_model(prepared)
+    try:
+        model = rational_model(prepared)
+    except ModelError as exc:  # a well-formed model outside the rational test: undecided, not bad input
+        return GlobalVerdict((), (), local, None, f"undecided: {str(exc).removeprefix('--global: ')}")
     functions = _functions(prepared, result)
     if not local and not functions:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
@@ -215,7 +219,8 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     except Undecided as exc:
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
     if isinstance(decided, str):
-        return _through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget, functions)
+        return carried_over(_through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget,
+                                                 functions), model.output_forms, [name for name, _ in prepared.outputs])
     members, bits, probability, angles, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
     index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
@@ -241,9 +246,10 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         field = _field(prepared, model, orders, sorted(unique, key=lambda m: len(m[0])), result.rank, seed, error,
                        budget)
         probability += (error + field.error) if field.generates else 0.0
-    return GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
-                         tuple(s for s in local if where[s] is None), probability, details, mirrors, answers,
-                         generates, generation, field, reals)
+    return carried_over(GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
+                                      tuple(s for s in local if where[s] is None), probability, details, mirrors,
+                                      answers, generates, generation, field, reals),
+                        model.output_forms, [name for name, _ in prepared.outputs])
 
 
 def _through_io_equation(system: System, model: RationalModel, result: ObservabilityResult, local: tuple[str, ...],
@@ -558,7 +564,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
         every, probability, how = answers.members, probability + answers.error, answers.how
     else:
         fibre = exact_fibre(equations)
-        every = tuple(fibre.constant_on(f) for f in (*fractions, *paired))
+        every, how = tuple(fibre.constant_on(f) for f in (*fractions, *paired)), fibre.basis.how
     members = every[:len(fractions)]
     only = tuple(s for s, member in zip(local, members[:len(local)]) if member is False)
     outside = {i for i, member in enumerate(members) if member is False}

@@ -3,21 +3,18 @@
 Buchberger's algorithm with Gebauer and Moeller's criteria (the pair
 bookkeeping of :mod:`.pairs`) over Z/pZ, degree reverse lexicographic: no
 coefficient grows past p, which is what makes a fibre whose basis over Q runs
-into 100,000-bit coefficients tractable. Two representations, the same
-algorithm and the same bases:
-
-- :class:`ModularPrimeRing` (used wherever it loads): FLINT's own polynomials
-  mod p, divided by the basis in C (:mod:`.flintmod`), every coefficient below
-  p throughout a division.
-- :class:`IntegerPrimeRing`: python-flint's integer polynomials, every
-  coefficient taken mod p after each operation (python-flint's own polynomials
-  mod p prove the modulus prime when their context is made, 50 s for a prime of
-  2,100 bits, where :mod:`.transfer` has already bounded the chance that it is
-  not). Every polynomial is kept monic, so flint's division by the basis
-  (quasi-division over Z, in C) needs no multiplier and its remainder is exact
-  (:meth:`IntegerPrimeRing._remainder` says how a factor p of its content is
-  seen); but within one division the coefficients grow by p's size a step,
-  which made it 7 times slower modulo a 525-bit prime.
+into 100,000-bit coefficients tractable. The polynomials are python-flint's
+integer ones (:class:`IntegerPrimeRing`), every coefficient taken mod p after
+each operation (python-flint's own polynomials mod p prove the modulus prime
+when their context is made, 50 s for a prime of 2,100 bits, where
+:mod:`.transfer` has already bounded the chance that it is not). Every
+polynomial is kept monic, so flint's division by the basis (quasi-division over
+Z, in C) needs no multiplier and its remainder is exact
+(:meth:`IntegerPrimeRing._remainder` says how a factor p of its content is
+seen); within one division the coefficients grow by p's size a step. (A
+division mod p in C through ctypes into FLINT's opaque structures was 7 times
+faster modulo a 525-bit prime, and crashed the process under mutation: it was
+removed, issue 66.)
 
 The basis is a Groebner basis of the ideal over F_p, so a system has no common
 zero over the closure of F_p exactly when its basis is {1} (the weak
@@ -32,18 +29,16 @@ from typing import Any
 
 import flint
 
-from . import flintmod
 from .order import degrevlex_key
 from .pairs import CriticalPairs
 
-__all__ = ["PrimeRing", "IntegerPrimeRing", "ModularPrimeRing", "prime_ring", "groebner_basis_mod_p", "extend_basis",
+__all__ = ["PrimeRing", "IntegerPrimeRing", "prime_ring", "groebner_basis_mod_p", "extend_basis",
            "is_one", "reduce_mod"]
 
 class IntegerPrimeRing:
     """Polynomials over Z/``prime`` in ``names`` (degree reverse lexicographic), as
     python-flint's integer polynomials whose coefficients are reduced mod ``prime``,
-    with one more variable w at the end that only :meth:`_remainder` uses: the
-    route where FLINT's C polynomials mod p (:mod:`.flintmod`) cannot be loaded."""
+    with one more variable w at the end that only :meth:`_remainder` uses."""
 
     def __init__(self, names: Sequence[str], prime: int) -> None:
         self.context = flint.fmpz_mpoly_ctx.get((*names, "w_remainder_marker"), "degrevlex")
@@ -103,51 +98,12 @@ class IntegerPrimeRing:
         return (r - self.term(self.marker, marked)) % self.prime
 
 
-class ModularPrimeRing:
-    """Polynomials over Z/``prime`` in ``names`` (degree reverse lexicographic), as FLINT's
-    own polynomials mod p, divided in C (:mod:`.flintmod`)."""
-
-    def __init__(self, names: Sequence[str], prime: int) -> None:
-        self.context = flintmod.ModularContext(len(names), prime)
-        self.divider = flintmod.Divider(self.context)
-        self.width = len(names)
-
-    def nvars(self) -> int:
-        return self.width
-
-    def from_dict(self, terms: dict) -> Any:
-        return self.context.polynomial(terms)
-
-    def gen(self, i: int) -> Any:
-        return self.context.polynomial({tuple(int(k == i) for k in range(self.width)): 1})
-
-    def monic(self, p: Any) -> Any:
-        return p.monic()
-
-    def spolynomial(self, a: Any, b: Any) -> Any:
-        la, lb = a.monomial(0), b.monomial(0)
-        common = tuple(map(max, la, lb))
-        return (a * self.context.polynomial({tuple(x - y for x, y in zip(common, la)): 1})
-                - b * self.context.polynomial({tuple(x - y for x, y in zip(common, lb)): 1}))
-
-    def divisors(self) -> _ListedDivisors:
-        return _ListedDivisors()
-
-    def reduce(self, p: Any, divisors: Sequence[Any]) -> Any:
-        return self.divider.remainder(p, divisors)
-
-    def remainder(self, p: Any, divisors: _ListedDivisors) -> Any:
-        return self.divider.remainder(p, divisors.listed)
+PrimeRing = IntegerPrimeRing
 
 
-PrimeRing = IntegerPrimeRing | ModularPrimeRing
-
-
-def prime_ring(names: Sequence[str], prime: int, in_c: bool | None = None) -> PrimeRing:
-    """Polynomials over Z/``prime`` in ``names``: FLINT's own mod p where it can be called
-    (``in_c`` None), else, or with ``in_c`` False, python-flint's integer ones."""
-    use_c = flintmod.AVAILABLE if in_c is None else in_c
-    return ModularPrimeRing(names, prime) if use_c else IntegerPrimeRing(names, prime)
+def prime_ring(names: Sequence[str], prime: int) -> PrimeRing:
+    """Polynomials over Z/``prime`` in ``names``: python-flint's integer ones, reduced mod p."""
+    return IntegerPrimeRing(names, prime)
 
 
 def _vector(divisors: Sequence[Any], ring: IntegerPrimeRing) -> Any:
@@ -183,23 +139,6 @@ class _Divisors:
             self.vector[g] = self.filler
         for g in set(after) - set(before):
             self.vector[g] = polys[g]
-
-
-class _ListedDivisors:
-    """The basis as a list for FLINT's division mod p (its array of pointers is built per
-    division: microseconds against milliseconds of division)."""
-
-    def __init__(self) -> None:
-        self.active: dict[int, Any] = {}
-        self.listed: list[Any] = []
-
-    def update(self, polys: Sequence[Any], before: Sequence[int], after: Sequence[int]) -> None:
-        """Elements of ``before`` not in ``after`` dropped, those of ``after`` new to it added."""
-        for g in set(before) - set(after):
-            del self.active[g]
-        for g in set(after) - set(before):
-            self.active[g] = polys[g]
-        self.listed = list(self.active.values())
 
 
 def extend_basis(basis: Sequence[Any], extra: Sequence[Any], ring: PrimeRing) -> list[Any]:

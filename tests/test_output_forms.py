@@ -1,0 +1,70 @@
+"""Outputs that are not rational under ``--global`` (:mod:`observability.analysis.outputforms`): a
+bearing through atan2 read through its tangent, a logarithm through its exponential, and what of
+the answer carries over; hand derivations in each docstring."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import sympy
+
+from observability import System, analyze
+from observability.analysis.outputforms import EXP, TAN, rational_form
+from observability.analysis.uniqueness import global_observability
+
+
+def _global(system: System):
+    return global_observability(system, analyze(system, seed=1, directions=False), seed=3, budget=60)
+
+
+def test_a_bearing_s_tangent_is_rational_in_the_heading_s_tangent():
+    """tan(atan2(a, b) - th) = (a/b - tan th)/(1 + (a/b) tan th) = (a - b tan th)/(b + a tan th)."""
+    a, b, th = sympy.symbols("a b th")
+    form, kind = rational_form(sympy.atan2(a, b) - th)
+    assert kind == TAN and sympy.simplify(form - (a - b * sympy.tan(th)) / (b + a * sympy.tan(th))) == 0
+
+
+def test_logarithms_become_their_exponential():
+    """exp(log x + 2 log s - log y) = x s^2 / y; an output free of logs and arctangents is kept."""
+    x, y, s = sympy.symbols("x y s")
+    assert rational_form(sympy.log(x) + 2 * sympy.log(s) - sympy.log(y)) == (x * s**2 / y, EXP)
+    assert rational_form(x / y) == (x / y, "")
+
+
+def test_bearings_to_three_known_beacons_give_the_position_and_leave_the_heading_undecided():
+    """A robot at rest at (x, y) with heading th measures the bearings atan2(Y_i - y, X_i - x) - th to
+    beacons at (0, 0), (1, 0), (0, 2). Differences of bearings are the angles under which the robot
+    sees each pair of beacons, and (modulo pi, which is what the tangents keep) such an angle puts
+    the robot on one circle through the pair (the inscribed angle theorem): two circles through the
+    beacon at (0, 0) meet in one more point, so x, y are unique from the tangents, hence from the
+    bearings: globally. The tangents do not change when th moves by pi (every bearing moves by pi),
+    so th is only locally determined by them, while the bearings themselves fix th modulo 2 pi: that
+    "only locally" does not carry over, and th must come out undecided, not only locally."""
+    system = System(["x", "y", "th"], ["0", "0", "0"],
+                    {"b1": "atan2(-y, -x) - th", "b2": "atan2(-y, 1 - x) - th", "b3": "atan2(2 - y, -x) - th"})
+    answer = _global(system)
+    assert set(answer.globally) == {"x", "y"} and answer.undecided == ("th",) and answer.only_locally == ()
+    assert "tan is one-to-one only modulo pi" in answer.details and answer.field is None
+
+
+def test_a_logarithm_s_answers_carry_over_both_ways():
+    """x' = -k x, y = log(x^2): exp(y) = x^2, so x and -x share the output (only locally, both for
+    x^2 and, on the reals, for log(x^2) = 2 log|x|), and y' = -2 k gives k: globally."""
+    system = System(["x", "k"], ["-k*x", "0"], {"y": "log(x**2)"})
+    answer = _global(system)
+    assert answer.globally == ("k",) and answer.only_locally == ("x",)
+    assert "y by exp(y)" in answer.details
+
+
+def test_a_model_outside_the_rational_test_is_undecided_not_bad_input(tmp_path):
+    """x' = log(x) is a well-formed model whose dynamics is not rational: the global answer is
+    undecided with the reason, and the command does not exit 2."""
+    system = System(["x"], ["log(x)"], {"y": "x"})
+    answer = _global(system)
+    assert answer.undecided == ("x",) and answer.details.startswith("undecided: ") and "log(x)" in answer.details
+    model = tmp_path / "m.toml"
+    model.write_text('states = ["x"]\n[dynamics]\nx = "log(x)"\n[outputs]\ny = "x + 1"\n')
+    run = subprocess.run([sys.executable, "-m", "observability", "check", str(model), "--global", "--budget", "20"],
+                         capture_output=True, text=True, check=False)
+    assert run.returncode != 2 and "undecided: " in run.stdout, run.stderr
