@@ -16,7 +16,9 @@ rank is complete with certainty (the verdict's ``functions_complete``, under a
 proven rank). Candidates are reduced one by one against the echelon form of
 the rows kept, so the work grows with the list, not with its square.
 Expressions longer than :data:`MAX_COMPLETION_CHARS` are not printed: the list
-then stays incomplete, as said.
+then stays incomplete, as said; so it does when more than :data:`MAX_ADDED`
+functions are missing (each costs a symbolic Lie derivative: the outputs of
+slam2d with 1,000 landmarks, listed when the search is not run, miss 1,002).
 """
 
 from __future__ import annotations
@@ -35,12 +37,15 @@ from ..errors import UnsupportedExpressionError
 from ..model.system import System
 from ..rank.membership import RANK_PRIME
 
-__all__ = ["completed", "jacobian_rank_at", "MAX_COMPLETION_CHARS", "COMPLETION_BUDGET"]
+__all__ = ["completed", "jacobian_rank_at", "MAX_COMPLETION_CHARS", "COMPLETION_BUDGET", "MAX_ADDED"]
 
 #: Longest Lie-derivative coefficient (characters) added to the printed functions.
 MAX_COMPLETION_CHARS = 2000
 #: CPU seconds for the symbolic Lie derivatives of the completion (a 3-D model's took minutes).
 COMPLETION_BUDGET = 3.0
+#: Most functions the completion tries to add: beyond, its budget would be spent for nothing
+#: (a symbolic Lie derivative, its coefficients and their lengths per candidate, tens of milliseconds).
+MAX_ADDED = 50
 
 
 def _rational(seed: int, name: str) -> sympy.Rational:
@@ -108,20 +113,21 @@ def _coefficients(expr: sympy.Expr, system: System) -> list[sympy.Expr]:
 def completed(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: int,
               budget: float = COMPLETION_BUDGET) -> tuple[tuple[sympy.Expr, ...], int | None]:
     """``functions`` with Lie-derivative coefficients added until their Jacobian
-    reaches ``rank`` at a random point (or nothing short enough is left, or the
-    symbolic Lie derivatives take more than ``budget`` CPU seconds: then
-    ``functions`` as they are), and the exact rank of the returned functions'
-    Jacobian at the point of ``seed`` (None when not computed): a certain lower
-    bound on their transcendence degree, which the verdict reuses."""
-    # Already at the rank (the usual case: the invariants are complete), or no point to
-    # judge by: said without a child process or a Lie derivative (a fifth of the
+    reaches ``rank`` at a random point (or nothing short enough is left, or more
+    than :data:`MAX_ADDED` are missing, or the symbolic Lie derivatives take more
+    than ``budget`` CPU seconds: then ``functions`` as they are), and the rank of
+    the returned functions' Jacobian at the point of ``seed`` (None when not
+    computed): a certain lower bound on their transcendence degree, which the
+    verdict reuses."""
+    # Already at the rank (the usual case: the invariants are complete), too far from it, or
+    # no point to judge by: said without a child process or a Lie derivative (a fifth of the
     # verdict of 40-state slam3d). ``budget=None`` grows the list in this process.
     angles = _angles(system)
     rows = _gradients(system, functions, angles, seed) if functions else []
     if rows is None:
         return functions, None
     span = _span(system, rows)
-    if span.rank >= rank:
+    if span.rank >= rank or rank - span.rank > MAX_ADDED:
         return functions, span.rank
     try:
         return with_budget(_grown, system, functions, rank, seed, angles, span, seconds=budget)
