@@ -55,7 +55,8 @@ def test_each_step_of_a_1000_landmark_verdict_does_linear_work(monkeypatch):
     result = analyze(system, seed=1)
     assert result.rank == system.n - 4 == 2002
     assert len(result.row_labels) <= 4 * LANDMARKS  # orders 0..3 of one output per landmark
-    assert result.observable_functions is not None and len(result.observable_functions) == LANDMARKS
+    # Beyond the invariant search's 1,200 variables no list is printed (it would be the outputs), and said so.
+    assert result.observable_functions is None and "not searched above 1200 variables" in result.details
     assert counts.get("_coefficient", 0) > 100 * LANDMARKS  # the counter saw the rank's work
 
 
