@@ -20,7 +20,7 @@ import sympy
 
 from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
-from ..directions.invariants import observable_functions
+from ..directions.invariants import MAX_MONOMIALS, observable_functions
 from ..errors import ModelError
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
@@ -148,9 +148,14 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     details = evidence.details + upper + (f"; {note}" if note else "") + (
         f"; {prepared.rewritten}" if prepared.rewritten else "")
     observable_states = _observable_states(system, evidence, basis)
-    functions, reached = _functions(system, basis, rank, evidence.seed or 0) if functions else (None, None)
+    # Above the search's size the list would be the outputs themselves, printed (a second per thousand).
+    too_many = rank < n and basis is not None and n + len(system.free_parameters) > MAX_MONOMIALS
+    functions, reached = (_functions(system, basis, rank, evidence.seed or 0) if functions and not too_many
+                          else (None, None))
     if observable_states is None:
         details += "; observable states unknown"
+    if functions is None and too_many:
+        details += f"; observable functions not searched above {MAX_MONOMIALS} variables"
     return ObservabilityResult(
         model=system.name, states=tuple(s.name for s in system.states), rank=rank, observable=rank == n,
         method=method, seed=evidence.seed, error_probability=probability, orders=evidence.orders,

@@ -11,13 +11,16 @@ rational point of the unit circle (a Pythagorean triple), atan2 and log whose
 values never reach a row (only their rational derivatives do) get any value,
 and anything else (exp, pi, an irrational root) makes the route give way
 (:class:`NotRational`) to the symbolic one.
+
+The same arithmetic at order 0 gives the gradients of any functions at a
+rational point (:func:`gradients_at`): the Jacobian of observable functions.
 """
 
 from __future__ import annotations
 
 import math
 import random
-from collections.abc import Mapping
+from collections.abc import Callable, Collection, Mapping, Sequence
 
 import sympy
 from flint import fmpq, fmpz
@@ -28,7 +31,7 @@ from .program import Op, Program
 from ..model.system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["NotRational", "rows_at_point"]
+__all__ = ["NotRational", "gradients_at", "rows_at_point"]
 
 #: Points of the unit circle with small rational coordinates (sin, cos).
 _TRIPLES = [(3, 4, 5), (4, 3, 5), (5, 12, 13), (12, 5, 13), (8, 15, 17)]
@@ -95,30 +98,40 @@ class _RationalEvaluator(TaylorEvaluator):
         return self.inputs[key]
 
 
-def _angles(program: Program, system: System) -> set[sympy.Symbol]:
-    """The symbols whose sine and cosine the program takes, each a leaf used by
-    nothing else; NotRational for any other transcendental value that matters."""
-    matters = _value_matters(program, system.n)
+def _angles(program: Program, system: System, dynamics: int | None = None,
+            declared: frozenset = frozenset()) -> set[sympy.Symbol]:
+    """The symbols whose sine and cosine the program takes, with those ``declared``
+    angles that it holds, each a leaf whose own value reaches no row;
+    NotRational for any other transcendental value that matters. ``dynamics``:
+    how many of the program's first roots are dynamics (default: the states';
+    0 for a program of functions, whose gradients need no root's value)."""
+    dynamics = system.n if dynamics is None else dynamics
+    matters = _value_matters(program, dynamics)
     consumers: dict[int, list[int]] = {}
     for i, (op, args) in enumerate(zip(program.ops, program.args)):
         if op not in (Op.STATE, Op.INPUT, Op.CONST, Op.RANDOM):
             for a in args:
                 consumers.setdefault(a, []).append(i)
-    roots = set(program.roots[: system.n])
-    angles = set()
+    roots = set(program.roots[:dynamics])
+    leaves: dict[int, object] = {}
     for i, (op, args) in enumerate(zip(program.ops, program.args)):
         if op is Op.EXP or (op in (Op.LOG, Op.ATAN2) and matters[i]):
             raise NotRational(f"{program.source.get(i, op.name)} has an irrational value that reaches the rows")
-        if op is not Op.TRIG:
-            continue
-        leaf = args[0]
-        kind, key = program.ops[leaf], program.args[leaf][0]
-        symbol = program.states[key] if kind is Op.STATE else key if kind is Op.RANDOM else None
+        if op is Op.TRIG:
+            leaves[args[0]] = _symbol(program, args[0])
+        elif op in (Op.STATE, Op.RANDOM) and _symbol(program, i) in declared:
+            leaves[i] = _symbol(program, i)
+    for leaf, symbol in leaves.items():
         if not isinstance(symbol, sympy.Symbol) or leaf in roots or not all(
                 _only_added(program, matters, leaf, c) for c in consumers.get(leaf, [])):
             raise NotRational("a sine or cosine of something other than a lone angle")
-        angles.add(symbol)
-    return angles
+    return set(leaves.values())
+
+
+def _symbol(program: Program, node: int) -> object:
+    """The state or parameter a leaf stands for (None for any other node)."""
+    kind, key = program.ops[node], program.args[node][0]
+    return program.states[key] if kind is Op.STATE else key if kind is Op.RANDOM else None
 
 
 def _only_added(program: Program, matters: list[bool], leaf: int, consumer: int) -> bool:
@@ -189,6 +202,51 @@ def rows_at_point(system: System, orders: int, given: Mapping[sympy.Symbol, symp
             rows.append(((name, k), [_rational(gradient.get(j, 0) * factorial) for j in range(system.n)]))
         by_order.append(rows)
     return by_order, shown
+
+
+def gradients_at(system: System, functions: Sequence[sympy.Expr], value: Callable[[sympy.Symbol], sympy.Rational],
+                 angles: Collection[sympy.Symbol] = ()) -> list[dict[int, fmpq]]:
+    """The gradients in the states of ``functions`` at a rational point, exactly:
+    ``{state index: derivative}``, the states a function does not hold left out.
+
+    Order-0 series arithmetic over Q on one program of the functions (the
+    evaluator of the rows, no symbolic derivative): each function costs its own
+    size, whatever the number of states. ``value(symbol)`` gives every symbol's
+    value, and for an angle, one whose sine and cosine the functions take or one of
+    ``angles``, t = tan(angle / 2): the angle sits at (sin, cos) = (2t, 1 - t^2) /
+    (1 + t^2), a real point of the unit circle with rational coordinates, so that
+    gradients computed apart with the same ``value`` and ``angles`` belong to one
+    point. Known parameters take their values.
+
+    Raises
+    ------
+    NotRational
+        When an angle's own value (not through its sine and cosine) or another
+        irrational value (an exponential) reaches a gradient.
+    Redraw
+        When the point is a pole of a function.
+    UnsupportedExpressionError
+        When a function cannot be compiled.
+    """
+    program = Program(system.states, system.inputs, where=system.name)
+    roots = [program.add(system.substitute_values(sympy.sympify(f))) for f in functions]
+    circled = _angles(program, system, dynamics=0, declared=frozenset(angles))
+    values, circles = {}, {}
+    for symbol in {*system.states, *(program.args[i][0] for i, op in enumerate(program.ops) if op is Op.RANDOM)}:
+        if symbol in circled:
+            t = _fraction(value(symbol))
+            circles[symbol] = (2 * t / (1 + t * t), (1 - t * t) / (1 + t * t))
+            values[symbol] = fmpq(0)  # never read: _angles saw that no gradient needs it
+        elif isinstance(symbol, sympy.Symbol):
+            values[symbol] = _fraction(value(symbol))
+    evaluator = _RationalEvaluator(program, system, values, circles,
+                                   lambda j, k: _fraction(value(system.inputs[j])) if k == 0 else fmpq(0))
+    evaluator.extend()
+    return [{j: fmpq(v) for j, v in evaluator.coefficient(root, 0)[1].items()} for root in roots]
+
+
+def _fraction(value: sympy.Rational) -> fmpq:
+    return fmpq(int(value.p), int(value.q))
 
 
 def _rational(value) -> sympy.Rational:

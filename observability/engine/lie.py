@@ -39,8 +39,11 @@ class LieRow:
 
 
 def lie_derivative(h: sympy.Expr, f: sympy.Matrix | list, x: list | tuple) -> sympy.Expr:
-    """The Lie derivative L_f h = sum_i dh/dx_i f_i."""
-    return sympy.Add(*(sympy.diff(h, xi) * fi for xi, fi in zip(x, f)))
+    """The Lie derivative L_f h = sum_i dh/dx_i f_i, over the x_i that h holds
+    (the others' derivatives are 0: a landmark's output is not differentiated by
+    the thousands of other landmarks)."""
+    held = h.free_symbols
+    return sympy.Add(*(sympy.diff(h, xi) * fi for xi, fi in zip(x, f) if xi in held))
 
 
 def input_derivative(u: sympy.Symbol, j: int) -> sympy.Symbol:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import random
 from typing import Any
 
+import flint
 import mpmath
 import sympy
 
@@ -33,8 +34,11 @@ from ..budget import with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression
 from ..model.prepare import prepare
+from ..engine.exactrows import NotRational
 from ..engine.halfangles import square_roots
 from ..engine.lie import input_derivative, lie_derivatives, step_input
+from ..engine.pointrows import exact_possible, exact_rows
+from ..engine.taylor import Redraw
 from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
 from ..rank.randomized import randomized_rank
 from ..model.system import System
@@ -69,9 +73,55 @@ def _rational(rng: random.Random) -> sympy.Rational:
 
 
 def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int):
-    """The chosen minor at an exact random point: (point, value, exact)."""
+    """The chosen minor at an exact random point: (point, value, exact).
+
+    Rows that are rational at a rational point (no sine, exponential, ...: a
+    quaternion or Gibbs attitude, polynomial models) come from the series
+    arithmetic at the point (:mod:`observability.engine.pointrows`) and the
+    minor from flint's exact determinant: no symbolic Lie derivative (those of
+    ``vins`` did not end within the 60 s budget). Others from the symbolic rows
+    (:func:`_symbolic_minor`), their entries to 60 digits where not rational."""
     if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below
         return {}, "1", True
+    if not exact_possible(system, rows):
+        return _symbolic_minor(system, rows, columns, seed)
+    symbols = sorted(_point_symbols(system, max(k for _, k in rows)), key=str)
+    rng = random.Random(seed)
+    # A symbol under a square root takes the square of a rational: the root is
+    # rational too (and real), so the minor stays exact.
+    rooted = square_roots(symbols, [system.substitute_values(e) for e in (*system.dynamics,
+                                                                         *(h for _, h in system.outputs))])
+    for _ in range(_ATTEMPTS):
+        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+        try:
+            value = _exact_minor(system, rows, columns, point)
+        except Redraw:
+            continue
+        except NotRational:  # an irrational root at the point: the symbolic route says how far
+            return _symbolic_minor(system, rows, columns, seed)
+        if value is not None:
+            return point, value, True
+    raise ObservabilityError(
+        f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
+    )
+
+
+def _point_symbols(system: System, orders: int) -> list[sympy.Symbol]:
+    """The symbols the point gives: states, free parameters, and the inputs'
+    derivatives (continuous time) or step values (discrete) up to ``orders``."""
+    inputs = input_derivative if system.time == "continuous" else step_input
+    return [*system.states, *system.free_parameters, *(inputs(u, k) for u in system.inputs for k in range(orders + 1))]
+
+
+def _exact_minor(system: System, rows, columns, point) -> str | None:
+    """The minor over Q at ``point``; None when it is 0 there."""
+    found = exact_rows(system, rows, point)
+    value = flint.fmpq_mat([[found[r].get(c, 0) for c in columns] for r in rows]).det()
+    return None if value == 0 else str(sympy.Rational(int(value.p), int(value.q)))
+
+
+def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int):
+    """:func:`_minor` from the symbolic Lie derivatives, where the rows are not all rational."""
     wanted = set(rows)
     highest = max(order for _, order in rows)
     expressions: dict[tuple[str, int], sympy.Expr] = {}

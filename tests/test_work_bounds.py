@@ -1,0 +1,71 @@
+"""The work of each step of the verdict on a 1,000-landmark model grows linearly (issue 64 item 1).
+
+Counts, not seconds: the symbolic derivatives taken (sympy ``diff``), the Lie
+derivatives built, the Taylor coefficients evaluated (rank, directions and the
+Jacobian of the observable functions all run on them) and the rows of the
+observability matrix. A counter that passes its bound raises at once, so a
+quadratic step fails the test in its first second instead of running for
+minutes: the completion that differentiated every listed function (the 1,000
+outputs) by every one of the 2,006 states took 2,006,000 ``diff`` calls.
+
+The bounds are per landmark, from the counts at N = 100 and N = 1,000 (147 and
+161 Taylor coefficients per landmark: linear), with room for a constant factor.
+"""
+
+from __future__ import annotations
+
+import sympy
+
+from observability import analyze, models
+from observability.analysis import completion
+from observability.engine import lie, taylor
+
+LANDMARKS = 1000
+
+
+class Exceeded(AssertionError):
+    pass
+
+
+def _counter(monkeypatch, owner, name: str, bound: int, counts: dict) -> None:
+    """Replace ``owner.name`` by the same function counting its calls, raising past ``bound``."""
+    real = getattr(owner, name)
+
+    def counted(*args, **kwargs):
+        counts[name] = counts.get(name, 0) + 1
+        if counts[name] > bound:
+            raise Exceeded(f"more than {bound} calls of {name} on {LANDMARKS} landmarks")
+        return real(*args, **kwargs)
+    monkeypatch.setattr(owner, name, counted)
+
+
+def test_each_step_of_a_1000_landmark_verdict_does_linear_work(monkeypatch):
+    """slam2d with 1,000 landmarks and no beacon (n = 2,006, rank n - 4: the planar
+    translations, rotation and scale; Manzoor & Muhammad's model): the whole
+    verdict, functions included, within linear counts of work."""
+    system = models.build("slam2d", {"landmarks": str(LANDMARKS), "beacons": "0"})
+    counts: dict[str, int] = {}
+    _counter(monkeypatch, sympy, "diff", 10 * LANDMARKS, counts)
+    _counter(monkeypatch, lie, "lie_derivative", 10 * LANDMARKS, counts)
+    _counter(monkeypatch, taylor.TaylorEvaluator, "_coefficient", 250 * LANDMARKS, counts)
+    # The completion runs in this process (budget None), so that its work is counted too.
+    real = completion.completed
+    monkeypatch.setattr("observability.analysis.verdict.completed",
+                        lambda *args, **kwargs: real(*args, **{**kwargs, "budget": None}))
+    result = analyze(system, seed=1)
+    assert result.rank == system.n - 4 == 2002
+    assert len(result.row_labels) <= 4 * LANDMARKS  # orders 0..3 of one output per landmark
+    # Beyond the invariant search's 1,200 variables no list is printed (it would be the outputs), and said so.
+    assert result.observable_functions is None and "not searched above 1200 variables" in result.details
+    assert counts.get("_coefficient", 0) > 100 * LANDMARKS  # the counter saw the rank's work
+
+
+def test_the_functions_jacobian_differentiates_nothing_symbolically(monkeypatch):
+    """The Jacobian rank of the 1,000 outputs (each holding 5 of the 2,006 states)
+    comes from the series evaluator, without a single sympy ``diff``; at most 1,000
+    (each output's two landmark states, the camera's position and heading): rank 1,000."""
+    system = models.build("slam2d", {"landmarks": str(LANDMARKS), "beacons": "0"})
+    counts: dict[str, int] = {}
+    _counter(monkeypatch, sympy, "diff", 0, counts)
+    outputs = [h for _, h in system.outputs]
+    assert completion.jacobian_rank_at(system, outputs, seed=3) == LANDMARKS
