@@ -37,7 +37,8 @@ def _radicand(expr: sympy.Expr, variables: set[sympy.Symbol]) -> sympy.Expr | No
     roots = [t for t in sympy.Add.make_args(expr) if t.free_symbols & variables]
     if len(roots) != 1:
         return None
-    coefficient, factor = roots[0].as_independent(*variables, as_Add=False)
+    # only the variables the term holds: all n of them made the rewriting quadratic in the outputs
+    coefficient, factor = roots[0].as_independent(*(roots[0].free_symbols & variables), as_Add=False)
     if not (isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2)) or not nonzero(coefficient):
         return None
     if not positive_somewhere(factor.base):  # the rows are g's only where g > 0: that set must not be empty
