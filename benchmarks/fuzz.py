@@ -1,0 +1,128 @@
+"""The differential fuzzer's long run (issue 62): thousands of generated models,
+every answer kind compared with the first-principles references of tests/.
+
+Suites, strategies, references and the known bugs are those of the CI test
+(tests/fuzz_run.py, fuzz_models.py, fuzz_compare.py, fuzz_reference.py); here
+every suite draws ``--models / 6`` models from hypothesis seeded with
+``--seed`` (printed, so a run can be repeated), and the generic suite also
+draws the 61.1 class. Each model's comparisons are stopped after ``--cap``
+CPU seconds (counted apart as "over the cap").
+
+Printed per answer kind: agree, disagree, tool undecided, reference
+undecided, and each known bug's count (issue 62's items, fixed elsewhere).
+Each disagreement is written as a reproducer under ``--out``: the model file
+and the outcome, with the command to run.
+
+Not a test: ``nice python benchmarks/fuzz.py [--models 2000] [--seed S] [--cap 60] [--out reports/fuzz]``
+(about 40 minutes of CPU for 2,000 models). Numbers: docs/fuzzing.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import os
+import random
+import signal
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from hypothesis import HealthCheck, Phase, given, seed, settings  # noqa: E402
+
+from fuzz_compare import DISAGREE, Outcome  # noqa: E402
+from fuzz_run import SUITES, outcomes  # noqa: E402
+
+COLUMNS = ("agree", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 62.6", "known 61.1")
+
+
+class Capped(Exception):
+    pass
+
+
+def _stop(*_):
+    raise Capped
+
+
+def capped(suite, spec, number, folder, cap):
+    """The model's outcomes, or one "over the cap" outcome after ``cap`` CPU seconds."""
+    signal.signal(signal.SIGPROF, _stop)
+    signal.setitimer(signal.ITIMER_PROF, cap)
+    try:
+        return outcomes(suite, spec, number, folder)
+    except Capped:
+        return [Outcome("any", "over the cap", f"more than {cap} s of CPU")]
+    except Exception as error:  # a crash of the tool or of a reference is a finding, written out
+        return [Outcome("crash", DISAGREE, f"{type(error).__name__}: {error}"[:300])]
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+
+
+def reproducer(out: Path, suite: str, number: int, spec, outcome: Outcome) -> None:
+    stem = out / f"{suite.replace(' ', '-')}-{number}"
+    stem.with_suffix(".toml").write_text(spec.toml())
+    stem.with_suffix(".txt").write_text(
+        f"suite: {suite}\nmodel seed: {number}\nkind: {outcome.kind}\ncertain: {outcome.certain}\n"
+        f"detail: {outcome.detail}\nspec: {spec!r}\ncommand: observability check {stem.with_suffix('.toml')} "
+        f"--seed {number} --format json (plus the suite's option: --point/--where/--global/trajectory)\n")
+
+
+def run_suite(suite, count, run_seed, cap, out, folder, tally, log):
+    number = iter(range(run_seed * 10**6, run_seed * 10**6 + 10**6))
+
+    @seed(run_seed)
+    @settings(max_examples=count, database=None, deadline=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
+    @given(SUITES[suite])
+    def one(spec):
+        k = next(number)
+        for o in capped(suite, spec, k % 2**31, folder, cap):
+            tally[o.kind][o.status] += 1
+            if o.status == DISAGREE:
+                reproducer(out, suite, k % 2**31, spec, o)
+                log.append({"suite": suite, "seed": k % 2**31, "kind": o.kind, "detail": o.detail})
+        tally["models"][suite] += 1
+
+    one()
+
+
+def table(tally) -> str:
+    kinds = sorted(k for k in tally if k != "models")
+    lines = [f"{'kind':22}" + "".join(f"{c:>21}" for c in (*COLUMNS, "over the cap"))]
+    for kind in kinds:
+        lines.append(f"{kind:22}" + "".join(f"{tally[kind][c]:>21}" for c in (*COLUMNS, "over the cap")))
+    lines.append("models: " + ", ".join(f"{s} {n}" for s, n in tally["models"].items())
+                 + f"; total {sum(tally['models'].values())}")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--models", type=int, default=2000)
+    parser.add_argument("--seed", type=int, default=random.SystemRandom().randrange(10**6))
+    parser.add_argument("--cap", type=float, default=60.0)
+    parser.add_argument("--out", type=Path, default=Path("reports/fuzz"))
+    parser.add_argument("--suites", nargs="*", default=list(SUITES))
+    args = parser.parse_args()
+    os.nice(10)
+    args.out.mkdir(parents=True, exist_ok=True)
+    print(f"seed {args.seed}, {args.models} models, cap {args.cap} s CPU per model", flush=True)
+    tally = collections.defaultdict(collections.Counter)
+    log: list[dict] = []
+    start = time.process_time()
+    with tempfile.TemporaryDirectory() as folder:
+        for i, suite in enumerate(args.suites):
+            run_suite(suite, args.models // len(args.suites), args.seed + i, args.cap, args.out, Path(folder), tally,
+                      log)
+            print(f"after {suite}: {time.process_time() - start:.0f} s CPU\n{table(tally)}", flush=True)
+    print(table(tally))
+    (args.out / "summary.json").write_text(json.dumps(
+        {"seed": args.seed, "models": dict(tally["models"]), "cpu_seconds": round(time.process_time() - start),
+         "kinds": {k: dict(v) for k, v in tally.items() if k != "models"}, "disagreements": log}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
