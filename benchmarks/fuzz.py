@@ -13,8 +13,9 @@ undecided, and each known bug's count (issue 62's items, fixed elsewhere).
 Each disagreement is written as a reproducer under ``--out``: the model file
 and the outcome, with the command to run.
 
-Not a test: ``nice python benchmarks/fuzz.py [--models 2000] [--seed S] [--cap 60] [--out reports/fuzz]``
-(about 40 minutes of CPU for 2,000 models). Numbers: docs/fuzzing.md.
+Not a test: ``nice python benchmarks/fuzz.py [--models 2000] [--seed S] [--cap 60] [--out reports/fuzz]
+[--suites point set ...]`` (runs of single suites may go side by side), then ``--merge FOLDER ...`` adds
+their numbers up and runs each reproducer again with the current references. Numbers: docs/fuzzing.md.
 """
 
 from __future__ import annotations
@@ -70,7 +71,7 @@ def reproducer(out: Path, suite: str, number: int, spec, outcome: Outcome) -> No
         f"--seed {number} --format json (plus the suite's option: --point/--where/--global/trajectory)\n")
 
 
-def run_suite(suite, count, run_seed, cap, out, folder, tally, log):
+def run_suite(suite, count, run_seed, cap, out, folder, tally, log, report):
     number = iter(range(run_seed * 10**6, run_seed * 10**6 + 10**6))
 
     @seed(run_seed)
@@ -85,6 +86,8 @@ def run_suite(suite, count, run_seed, cap, out, folder, tally, log):
                 reproducer(out, suite, k % 2**31, spec, o)
                 log.append({"suite": suite, "seed": k % 2**31, "kind": o.kind, "detail": o.detail})
         tally["models"][suite] += 1
+        if sum(tally["models"].values()) % 25 == 0:
+            report()
 
     one()
 
@@ -99,6 +102,28 @@ def table(tally) -> str:
     return "\n".join(lines)
 
 
+def merged(folders: list[Path]) -> None:
+    """The runs' summaries added up, and each written reproducer run again with
+    the current references (a reference fixed since the run reclassifies it)."""
+    from fuzz_reference import Spec
+
+    tally = collections.defaultdict(collections.Counter)
+    for folder in folders:
+        data = json.loads((folder / "summary.json").read_text())
+        tally["models"].update(data["models"])
+        for kind, counts in data["kinds"].items():
+            tally[kind].update(counts)
+        print(f"{folder}: seed {data['seed']}, suites {data['suites']}, {sum(data['models'].values())} models")
+    print(table(tally))
+    with tempfile.TemporaryDirectory() as scratch:
+        for text in sorted(p for folder in folders for p in folder.glob("*.txt")):
+            fields = dict(line.split(": ", 1) for line in text.read_text().splitlines() if ": " in line)
+            spec = eval(fields["spec"], {"Spec": Spec, "frozenset": frozenset})  # our own repr, written above
+            again = [o for o in outcomes(fields["suite"], spec, int(fields["model seed"]), Path(scratch))
+                     if o.kind == fields["kind"] and o.status == DISAGREE]
+            print(f"{text.name}: {fields['detail'][:150]}\n  now: {again[0].detail[:150] if again else 'no disagreement'}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", type=int, default=2000)
@@ -106,22 +131,32 @@ def main() -> None:
     parser.add_argument("--cap", type=float, default=60.0)
     parser.add_argument("--out", type=Path, default=Path("reports/fuzz"))
     parser.add_argument("--suites", nargs="*", default=list(SUITES))
+    parser.add_argument("--nice", type=int, default=10, help="niceness added (a shared machine)")
+    parser.add_argument("--merge", type=Path, nargs="*", help="add up these runs' folders and recheck their reproducers")
     args = parser.parse_args()
-    os.nice(10)
+    if args.merge:
+        return merged(args.merge)
+    os.nice(args.nice)
     args.out.mkdir(parents=True, exist_ok=True)
     print(f"seed {args.seed}, {args.models} models, cap {args.cap} s CPU per model", flush=True)
     tally = collections.defaultdict(collections.Counter)
     log: list[dict] = []
     start = time.process_time()
+
+    def report() -> None:  # after every 25 models: a run cut short still leaves its numbers
+        print(f"{sum(tally['models'].values())} models, {time.process_time() - start:.0f} s CPU", flush=True)
+        (args.out / "summary.json").write_text(json.dumps(
+            {"seed": args.seed, "suites": args.suites, "models": dict(tally["models"]),
+             "cpu_seconds": round(time.process_time() - start),
+             "kinds": {k: dict(v) for k, v in tally.items() if k != "models"}, "disagreements": log}, indent=1))
+
     with tempfile.TemporaryDirectory() as folder:
         for i, suite in enumerate(args.suites):
             run_suite(suite, args.models // len(args.suites), args.seed + i, args.cap, args.out, Path(folder), tally,
-                      log)
-            print(f"after {suite}: {time.process_time() - start:.0f} s CPU\n{table(tally)}", flush=True)
+                      log, report)
+            print(f"after {suite}:\n{table(tally)}", flush=True)
+    report()
     print(table(tally))
-    (args.out / "summary.json").write_text(json.dumps(
-        {"seed": args.seed, "models": dict(tally["models"]), "cpu_seconds": round(time.process_time() - start),
-         "kinds": {k: dict(v) for k, v in tally.items() if k != "models"}, "disagreements": log}, indent=1))
 
 
 if __name__ == "__main__":

@@ -420,7 +420,8 @@ def compare_global(spec: Spec, folder, seed: int) -> list[Outcome]:
     code, data, err = run_cli(spec, folder, "check", "--global", "--seed", seed)
     if data is None or "global" not in data:
         return [Outcome("global", TOOL, f"exit {code}: {err.strip()[:160] or (data or {}).get('details', '')[:120]}")]
-    x0 = {s: sympy.Integer(rng.choice([-3, -2, 2, 3, 5, 7])) for s in model.x}
+    # Distinct absolute values: a point that a symmetry fixes (x1 = x2 under a swap) is not generic.
+    x0 = {s: sympy.Integer(rng.choice([-1, 1]) * v) for s, v in zip(model.x, rng.sample(range(2, 60), model.n))}
     kept = second_solutions(model, x0)
     if kept is None:
         return [Outcome("global", REFERENCE, "the truncated fibre is not zero-dimensional or over budget")]
