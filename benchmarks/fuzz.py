@@ -35,7 +35,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 from hypothesis import HealthCheck, Phase, given, seed, settings  # noqa: E402
 
 from fuzz_compare import DISAGREE, Outcome  # noqa: E402
-from fuzz_run import SUITES, outcomes  # noqa: E402
+from fuzz_run import KNOWN, SUITES, outcomes  # noqa: E402
+from observability.errors import ObservabilityError  # noqa: E402
 
 COLUMNS = ("agree", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 62.6", "known 61.1")
 
@@ -56,6 +57,9 @@ def capped(suite, spec, number, folder, cap):
         return outcomes(suite, spec, number, folder)
     except Capped:
         return [Outcome("any", "over the cap", f"more than {cap} s of CPU")]
+    except ObservabilityError as error:  # a documented refusal (exit 2), with its reason: not an answer
+        known = [item for item in KNOWN if item in spec.tags]
+        return [Outcome("refused", f"known {known[0]}" if known else "tool undecided", str(error)[:300])]
     except Exception as error:  # a crash of the tool or of a reference is a finding, written out
         return [Outcome("crash", DISAGREE, f"{type(error).__name__}: {error}"[:300])]
     finally:

@@ -4,7 +4,7 @@
 coefficients, optional known inputs, known symbolic parameters and unknown
 constants, continuous or discrete time, in four families: polynomial,
 rational (a term over 1 + x^2 or 2 + x), trigonometric (sin/cos of a state)
-and exponential (exp of a state). A third of the models take a structure that
+and exponential (exp of a state), the last two in continuous time only. A third of the models take a structure that
 loses observability on purpose (a rotation-invariant pair, a state nothing
 sees), since random sparse models are mostly observable.
 
@@ -55,7 +55,9 @@ def specs(draw, *, time: str | None = None, states=(2, 4), inputs: bool = True, 
           parameters: bool = True, families=FAMILIES, zero_constant: bool = False, name: str = "fuzz") -> Spec:
     """A small model with known inputs (when ``inputs``) as a :class:`Spec`."""
     time = time or draw(st.sampled_from(["continuous", "discrete"]))
-    family = draw(st.sampled_from(families))
+    # The reference has no exact point of a discrete map through sin, cos or exp (fuzz_reference).
+    family = draw(st.sampled_from(families if time == "continuous" else
+                                  [f for f in families if f in ("polynomial", "rational")] or ["polynomial"]))
     n = draw(st.integers(*states))
     x = sympy.symbols(f"x1:{n + 1}")
     u = sympy.symbols("u1:2") if inputs and draw(st.booleans()) else ()

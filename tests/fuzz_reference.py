@@ -18,7 +18,9 @@ probability at most deg/|S| for coordinates drawn from a set S
 **Rows.** Continuous time: the outputs' Lie derivatives along f, each known
 input's derivatives u__j new symbols (d/dt u__j = u__{j+1}); discrete time:
 the outputs at x_k = F(x_{k-1}, u_{k-1}), each step its own input, with their
-Jacobian in x_0 by the chain rule (forward mode, exact rationals).
+Jacobian in x_0 by the chain rule (forward mode, exact rationals): rational
+maps only, since sin, cos or exp would take x_1 out of the rationals (and
+independent atom values at each step would be no point of the system).
 """
 
 from __future__ import annotations
@@ -241,6 +243,9 @@ class Observability:
     def at(self, values: dict, rng: random.Random) -> list[list[sympy.Rational]]:
         if self.entries is not None:
             return matrix_at(self.entries, values)
+        if any(e.atoms(sympy.sin, sympy.cos, sympy.exp) for e in (*self.model.f, *self.model.h)):
+            # x_k = F^k(x_0) leaves the rationals at the first step through sin/cos/exp: no exact point.
+            raise PointError("a discrete map through sin, cos or exp")
         return discrete_rows(self.model, values, self.order, rng)
 
     def points(self, rng: random.Random, count: int, tries: int = 12):
