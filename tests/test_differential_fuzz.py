@@ -9,9 +9,9 @@ from :mod:`fuzz_run`. A few derandomized examples per suite (a few seconds of
 CPU each); ``benchmarks/fuzz.py`` is the long run, with its numbers in
 docs/fuzzing.md.
 
-Excluded here, exactly, because other engineers are fixing them (issue 62):
+Excluded here, exactly, while they were being fixed (issue 62):
 models with two unknown inputs along one direction (62.1, tagged by the
-strategy and filtered out), the 61.1 class (an identically-zero constant in
+strategy; drawn again since its fix), the 61.1 class (an identically-zero constant in
 front of sqrt: the CI strategy does not draw it), and a global 'only locally'
 whose second solutions are all complex (62.6: :func:`fuzz_run.outcomes` marks it
 "known 62.6", which this test does not count as a disagreement).
@@ -31,9 +31,7 @@ EXAMPLES = {"point": 4, "set": 3, "trajectory": 3, "unknown inputs": 4, "global"
 
 
 def _fuzzed(suite: str):
-    strategy = SUITES[suite]
-    if suite == "unknown inputs":
-        strategy = strategy.filter(lambda spec: "62.1" not in spec.tags)  # 62.1: fixed elsewhere
+    strategy = SUITES[suite]  # 62.1's class (two unknown inputs along one direction) is drawn: it is fixed
 
     @settings(max_examples=EXAMPLES[suite], derandomize=True, deadline=None, database=None,
               suppress_health_check=list(HealthCheck))
