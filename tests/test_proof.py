@@ -618,7 +618,7 @@ def test_each_refusal_of_the_checker_says_what_is_wrong():
         (lambda p: p["lower_bound"]["point"]["states"].pop("x1"),
          "the point does not give exactly the states and the parameters without a value"),
         (lambda p: p["lower_bound"]["point"]["inputs"].update(u=["1"]), "the point does not give every input 2 value(s)"),
-        (lambda p: p["model"].update(states=["x1", "x2", "x2"]), "the model's names are not distinct identifiers"),
+        (lambda p: p["model"].update(states=["x1", "x2", "x2"]), "the model's names are not distinct identifiers in NFKC form"),
     ]
     for change, reason in cases:
         with pytest.raises(checker.Rejected) as caught:
@@ -909,7 +909,7 @@ def test_the_checker_reads_the_model_of_a_proof_file_word_for_word():
     odd["model"]["inputs"] = [*odd["model"]["inputs"], "u v"]
     with pytest.raises(checker.Rejected) as refused:
         checker.check(odd)
-    assert str(refused.value) == "the model's names are not distinct identifiers"
+    assert str(refused.value) == "the model's names are not distinct identifiers in NFKC form"
 
 
 def test_the_checker_takes_symmetries_by_default_and_no_input_in_a_span():

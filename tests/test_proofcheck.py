@@ -360,3 +360,51 @@ def test_balls_enclose_the_true_value_or_are_not_finite():
         root = sympy.sqrt(sympy.sqrt(3) - 2)
         assert root.is_Pow and not ball(root).is_finite()
         assert not ball(sympy.log(sympy.Integer(0))).is_finite()
+
+
+def _genuine(tmp_path, text: str, name: str = "m"):
+    from conftest import cli
+
+    model = tmp_path / f"{name}.toml"
+    model.write_text(text)
+    out = cli("check", model, "--proof", tmp_path / f"{name}.json", "--seed", "1")
+    return model, tmp_path / f"{name}.json", out
+
+
+def test_names_that_python_folds_together_are_refused(tmp_path):
+    """x and fullwidth x are one identifier to Python's parser (NFKC): a proof declaring both states, with
+    y1 = x and y2 = (fullwidth x)**2, has true rank 2 but would read as 1 (adversarial review of issue 61)."""
+    import json
+
+    from conftest import cli
+
+    _, proof, out = _genuine(tmp_path, 'states = ["x", "z"]\n[dynamics]\nx = "0"\nz = "0"\n[outputs]\ny1 = "x"\ny2 = "z**2"\n')
+    assert out.returncode == 0
+    data = json.loads(proof.read_text())
+    text = json.dumps(data).replace('"z"', '"\\uff58"').replace("z**2", "\\uff58**2")
+    proof.write_text(text)
+    checked = cli("verify-proof", proof)
+    assert checked.returncode == 1 and "NFKC" in checked.stdout
+
+
+def test_a_model_with_an_unknown_input_is_not_the_model_with_it_known(tmp_path):
+    """The proof of x1' = x2 + w, x2' = 0, y = x1 with w a known input (rank 2) is not a proof about the
+    model where w is unknown (any function of time: x2 is then not observable, by hand: w can absorb it)."""
+    from conftest import cli
+
+    known = 'states = ["x1", "x2"]\ninputs = ["w"]\n[dynamics]\nx1 = "x2 + w"\nx2 = "0"\n[outputs]\ny = "x1"\n'
+    _, proof, out = _genuine(tmp_path, known, "known")
+    assert out.returncode == 0
+    unknown = tmp_path / "unknown.toml"
+    unknown.write_text(known.replace('inputs = ["w"]', 'unknown_inputs = ["w"]'))
+    assert cli("verify-proof", proof, "--model", tmp_path / "known.toml").returncode == 0
+    checked = cli("verify-proof", proof, "--model", unknown)
+    assert checked.returncode == 1 and "not about the model given" in checked.stdout
+
+
+def test_no_proof_is_written_that_the_checker_cannot_read(tmp_path):
+    """y = tanh(x), x' = 0: proven (rank 1 of 1), but the independent checker's reader has no tanh: exit 3,
+    no file, one line saying why (it was exit 4 after writing the file)."""
+    model, proof, out = _genuine(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "tanh(x)"\n')
+    assert out.returncode == 3 and not proof.exists()
+    assert "the independent checker cannot read the model" in out.stderr and out.stderr.count("\n") == 1
