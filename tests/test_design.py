@@ -119,3 +119,13 @@ def test_a_solver_that_ends_below_its_start_never_returns_a_worse_profile():
                            baseline={"u": 0.5}, budget=1e-9)
     assert design.inputs["u"] == (0.5,) * 4 and design.solver.endswith("no better profile found: the baseline kept")
     assert design.designed_weakest == design.baseline_weakest
+
+
+def test_bounds_beyond_floating_point_are_refused_and_a_failed_solve_keeps_the_baseline():
+    """|u| up to 1e308 would square past floating point (refused, one line); up to 1e99 the solver
+    diverges (IPOPT says so) and nothing better than the baseline is handed back (adversarial review)."""
+    with pytest.raises(ModelError, match="at most 1e\\+100 in absolute value"):
+        design_inputs(MONO, {"g": 1.0, "d": 2.0}, duration=2, window=1, bounds={"u": (-1e308, 1e308)})
+    design = design_inputs(MONO, {"g": 1.0, "d": 2.0}, duration=2, window=1, bounds={"u": (-1e99, 1e99)})
+    if design.solver != "Solve_Succeeded":
+        assert design.inputs["u"] == (0.0,) * 4 and design.solver.endswith("the baseline kept")

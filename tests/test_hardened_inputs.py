@@ -228,3 +228,14 @@ def test_a_model_file_with_a_byte_order_mark_is_read(tmp_path, capsys):
     path = tmp_path / "m.toml"
     path.write_bytes(b"\xef\xbb\xbf" + 'states = ["x", "v"]\r\n[dynamics]\r\nx = "v"\r\nv = "0"\r\n[outputs]\r\ny = "x"\r\n'.encode())
     assert main(["check", str(path), "--seed", "1"]) == 0 and "rank 2 of 2" in capsys.readouterr().out
+
+
+def test_monte_carlo_studies_are_bounded():
+    """consistency --steps 10^8 or --runs 10^8 ran until killed (adversarial review of issue 63): refused
+    with one line naming the bound; a negative count says 'positive'."""
+    from conftest import cli
+
+    for args, words in ((["--steps", "100000000"], "at most 100000 steps"), (["--runs", "100000000"], "at most 10000 runs"),
+                        (["--steps", "-5"], "expected a positive integer, got -5")):
+        out = cli("consistency", *args)
+        assert out.returncode == 2 and words in out.stderr and out.stderr.count("\n") == 1

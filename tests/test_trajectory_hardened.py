@@ -307,3 +307,14 @@ def test_a_byte_order_mark_is_not_part_of_the_header():
     plain = inputs_from_csv("t,u\n0,1\n1,2\n", "plain.csv")
     marked = inputs_from_csv("\ufefft,u\r\n0,1\r\n1,2\r\n", "marked.csv")
     assert [marked["u"](t) for t in (0, 0.5, 1, 2)] == [plain["u"](t) for t in (0, 0.5, 1, 2)] == [1, 1, 2, 2]
+
+
+def test_an_information_that_underflows_claims_no_rank():
+    """g' = u, d' = 0, h = g/d at g = d = 1e308: dh/dg = 1/d = 1e-308, whose square (the information)
+    is below the smallest float: the window must not claim rank 2 (it did, with singular values 0)."""
+    from observability import System
+    from observability.trajectory import windowed_observability
+
+    mono = System(["g", "d"], {"g": "u", "d": "0"}, {"h": "g/d"}, inputs=["u"], name="mono")
+    windows = windowed_observability(mono, {"g": 1e308, "d": 1e308}, {"u": 0.0}, duration=0.5, window=0.5, dt=0.05)
+    assert windows[0].rank is None and "underflows" in windows[0].reason

@@ -35,9 +35,32 @@ def count(text: str) -> int:
 
 def positive(text: str) -> int:
     """argparse type: a positive integer."""
-    value = count(text)
-    if value == 0:
-        raise argparse.ArgumentTypeError("expected a positive integer, got 0")
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+#: Monte Carlo runs and steps a study may ask for at most (the work grows with their product).
+MAX_RUNS, MAX_STUDY_STEPS = 10_000, 100_000
+
+
+def runs(text: str) -> int:
+    """argparse type: a number of Monte Carlo runs, positive and at most ``MAX_RUNS``."""
+    value = positive(text)
+    if value > MAX_RUNS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_RUNS} runs, got {value}")
+    return value
+
+
+def study_steps(text: str) -> int:
+    """argparse type: a number of filter steps, positive and at most ``MAX_STUDY_STEPS``."""
+    value = positive(text)
+    if value > MAX_STUDY_STEPS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_STUDY_STEPS} steps, got {value}")
     return value
 
 

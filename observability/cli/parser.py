@@ -7,8 +7,8 @@ from pathlib import Path
 
 from .. import __version__
 from ..model.methods import METHODS, PREVIOUS_METHODS
-from .arguments import (Parser, count, identifier, out_directory, out_file, out_path, pages, positive, seconds,
-                        seed_value)
+from .arguments import (Parser, count, identifier, out_directory, out_file, out_path, pages, positive, runs, seconds,
+                        seed_value, study_steps)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
 from .planning import design_command, sensors_command
@@ -118,7 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
     reproduce.add_argument("--out", type=out_directory, default=None,
                            help="directory of the reports (default: reports; reports-quick with --quick)")
     reproduce.add_argument("--quick", action="store_true", help="a smoke run: few, short Monte Carlo runs")
-    reproduce.add_argument("--runs", type=positive, default=None, help="Monte Carlo runs of the simulation (default 50)")
+    reproduce.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs of the simulation (default 50)")
     reproduce.set_defaults(func=reproduce_command)
     consistency = sub.add_parser("consistency", help="Monte Carlo NEES of the EKF family on a model with known truth")
     consistency.add_argument("--out", type=out_directory, default=Path("reports"), help="directory of the report (default: reports)")
@@ -132,8 +132,8 @@ def build_parser() -> argparse.ArgumentParser:
                                   "inputs, world-frame noise, a VIO-like model; slam2d-exploration: landmarks seen within 3 m, "
                                   "each added to the state when first seen; slam2d-paper: what FEJ and OC change on the paper's simulation "
                                   "(reports in OUT/STUDY)")
-    consistency.add_argument("--runs", type=positive, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3)")
-    consistency.add_argument("--steps", type=positive, default=None, help="time steps per run (default 80; SLAM 400)")
+    consistency.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3)")
+    consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400)")
     consistency.add_argument("--seed", type=seed_value, default=None,
                              help="seed of the Monte Carlo streams (default 7; paper: its simulation's, 2013)")
     for command in (reproduce, consistency):

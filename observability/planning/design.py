@@ -46,6 +46,8 @@ __all__ = ["InputDesign", "design_inputs", "MAX_VARIABLES"]
 MAX_VARIABLES = 400
 #: Simulated steps the graph may hold at most (each carries an n x n sensitivity).
 MAX_GRAPH_STEPS = 5_000
+#: Bound on the inputs' magnitude: squares of sensitivities must stay inside floating point.
+MAX_INPUT = 1e100
 
 
 @dataclass(frozen=True)
@@ -128,6 +130,8 @@ def _problem(system: System, initial: Mapping[str, float], duration: float, wind
             raise ModelError(f"--bounds {name}: not an input of {system.name} ({', '.join(names) or 'none'})")
         if not (math.isfinite(low) and math.isfinite(high) and low < high):
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: expected finite bounds with LO < HI")
+        if max(abs(low), abs(high)) > MAX_INPUT:  # the windows' information would leave floating point's range
+            raise ModelError(f"--bounds {name}={low:g}:{high:g}: at most {MAX_INPUT:g} in absolute value")
     base = {n: float(baseline[n]) if n in baseline else sum(bounds[n]) / 2 for n in names if n in baseline or n in bounds}
     check_request(system, initial, base, parameters)
     if any(e.free_symbols & set(system.previous_states) for _, e in system.outputs):
@@ -175,6 +179,9 @@ def _weakest(values: list[tuple[np.ndarray, np.ndarray]]) -> tuple[float, ...]:
     1e-12 of the largest (rounding: the window does not see that direction)."""
     weakest = []
     for F, P in values:
+        if not (np.isfinite(F).all() and np.isfinite(P).all()):  # LAPACK is not handed non-finite numbers
+            weakest.append(math.nan)
+            continue
         complement = np.linalg.svd(np.eye(len(F)) - P)[0][:, : len(F) - round(np.trace(P))]
         reduced = complement.T @ F @ complement
         if not reduced.size:
@@ -204,6 +211,9 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
     evaluate = casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
     n = informations[0][0].shape[0]
     initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
+    if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
+        raise ModelError("the windows' information is not finite at the start (values beyond floating point's range: "
+                         "smaller bounds, initial state or noise)")
     scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
     c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
     t, slack, constraints, guesses = casadi.MX.sym("t"), [], [], []
@@ -300,8 +310,11 @@ def design_inputs(system: System, initial: Mapping[str, float], *, duration: flo
         blocks = np.vsplit(np.array(evaluate(values)), problem.windows)
         return _weakest([(b[:n], b[n:]) for b in blocks])
 
-    ours, theirs = weakest(designed), weakest(base)
-    if min(ours) < min(theirs):  # a local solver may end below its start: never hand back a worse profile
+    with np.errstate(all="ignore"):  # a non-finite window is judged below, not warned about
+        ours, theirs = weakest(designed), weakest(base)
+    better = min(ours) > min(theirs) or (min(ours) == min(theirs) and status == "Solve_Succeeded")
+    if not (all(map(math.isfinite, (*theirs, *ours))) and better and np.isfinite(designed).all()):
+        # a local solver may end below its start or in non-finite numbers: never hand back a worse profile
         designed, ours, status = base, theirs, f"{status}; no better profile found: the baseline kept"
     times = tuple((i * problem.steps // problem.pieces) * problem.dt for i in range(problem.pieces))
     names = list(problem.bounds) + [u for u in problem.baseline if u not in problem.bounds]

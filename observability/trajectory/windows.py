@@ -314,8 +314,11 @@ def _window(T: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: f
     if not np.isfinite(information).all():
         return _not_evaluated(t0, t1, "the Fisher information overflows floating point (values or variances "
                                       "beyond its range)")
+    if information[0] < np.finfo(float).tiny:  # squares below the smallest normal float: no rank can be read
+        return _not_evaluated(t0, t1, "the Fisher information underflows floating point (values or variances "
+                                      "beyond its range)")
     n = len(states)
-    rank = int(np.sum(sigma > RANK_TOLERANCE * sigma[0]))
+    rank = int(np.sum((sigma > RANK_TOLERANCE * sigma[0]) & (information >= np.finfo(float).tiny)))
     null = right[rank:].T  # an orthonormal basis of the numerical null space
     regular = rank == n
     condition = float((sigma[0] / sigma[-1]) ** 2) if regular else float("inf")
