@@ -318,3 +318,20 @@ def test_an_information_that_underflows_claims_no_rank():
     mono = System(["g", "d"], {"g": "u", "d": "0"}, {"h": "g/d"}, inputs=["u"], name="mono")
     windows = windowed_observability(mono, {"g": 1e308, "d": 1e308}, {"u": 0.0}, duration=0.5, window=0.5, dt=0.05)
     assert windows[0].rank is None and "underflows" in windows[0].reason
+
+
+def test_the_text_says_the_window_ranks_are_numerical():
+    """y2 = x2/1e10 with x1' = x2' = 0: the exact rank is 2 (check proves it), the window's singular
+    values are 1 and 1e-10 times the sampled rows, below the 1e-9 cut: the text must say 'numerical rank'
+    (adversarial review of issue 62), never a bare rank."""
+    from conftest import cli
+
+    import tempfile
+    from pathlib import Path
+
+    folder = Path(tempfile.mkdtemp())
+    model = folder / "scaled.toml"
+    model.write_text('states = ["x1", "x2"]\n[dynamics]\nx1 = "0"\nx2 = "0"\n[outputs]\ny1 = "x1"\ny2 = "x2/10000000000"\n')
+    out = cli("trajectory", model, "--initial", "x1=1,x2=1", "--duration", "1", "--window", "1")
+    assert out.returncode == 0 and "numerical rank 1" in out.stdout and "numerical ranks (singular values" in out.stdout
+    assert cli("check", model, "--seed", "1").returncode == 0  # observable, rank 2 of 2, exactly

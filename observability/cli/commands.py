@@ -417,7 +417,9 @@ def trajectory_command(args: argparse.Namespace) -> int:
         return 0
     print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}"
           + ("" if args.dt is not None or args.states_csv is not None or system.time == "discrete"
-             else f" (the default: {round(args.window / dt)} samples per window)"))
+             else f" (the default: {round(args.window / dt)} samples per window)")
+          + "; numerical ranks (singular values above 1e-9 of the largest: an ill-conditioned window may show less "
+            "than its exact rank, which check decides)")
     for text, windows in runs.items():
         lost = _lost(windows)
         print(f"inputs {text or '(none)'}: " + _losses(lost, windows))
@@ -436,7 +438,7 @@ def _window_line(w) -> str:
         return f"  [{w.t0:g}, {w.t1:g}] {w.reason}"
     weakest = w.weakest[0]
     aligned = max((a for a in weakest.alignment if a.cosine == a.cosine), key=lambda a: a.cosine, default=None)
-    return (f"  [{w.t0:g}, {w.t1:g}] rank {w.rank}, condition {w.condition_number:.3g}, weakest "
+    return (f"  [{w.t0:g}, {w.t1:g}] numerical rank {w.rank}, condition {w.condition_number:.3g}, weakest "
             + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
             + (f" (|cos| {aligned.cosine:.3f} with {aligned.direction.label})" if aligned else ""))
 
