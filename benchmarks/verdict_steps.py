@@ -19,7 +19,7 @@ CPU seconds are user + system of the process and of the children it waited for
 (budgeted symbolic steps run in forked children). Memory is the peak resident
 set size (ru_maxrss) reached by the end of the step, children included, in MiB.
 
-Not a test: ``python benchmarks/verdict_steps.py [--slam2d 10 100 1000] [--slam3d 100 1000]
+Not a test: ``python benchmarks/verdict_steps.py [--slam2d 10 100 1000 10000] [--slam3d 100 1000]
 [--imu] [--cli] [--proof]``; ``--slam2d 10000`` takes about half a minute of CPU.
 """
 
@@ -104,7 +104,7 @@ STEPS = ("build", "prepare", "rank", "directions", "proof", "functions", "comple
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--slam2d", type=int, nargs="*", default=[10, 100, 1000], help="landmarks (0 beacons)")
+    parser.add_argument("--slam2d", type=int, nargs="*", default=[10, 100, 1000, 10000], help="landmarks (0 beacons)")
     parser.add_argument("--slam3d", type=int, nargs="*", default=[10, 100], help="landmarks (0 beacons)")
     parser.add_argument("--imu", action="store_true", help="the IMU models of up to 40 states")
     parser.add_argument("--cli", action="store_true", help="also time the command, start-up included")

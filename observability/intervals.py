@@ -11,14 +11,15 @@ certifies minors with it (:mod:`observability.rank.balls`).
 
 from __future__ import annotations
 
+import contextlib
 import random
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import flint
 import sympy
 from flint import arb, fmpq
 
-__all__ = ["ball", "rational_point", "nonzero", "positive_somewhere", "PRECISION"]
+__all__ = ["ball", "rational_point", "precision", "nonzero", "positive_somewhere", "PRECISION"]
 
 #: Bits of the balls' midpoints.
 PRECISION = 128
@@ -70,6 +71,16 @@ def ball(expr: sympy.Expr, point: dict[sympy.Symbol, arb]) -> arb:
     return function(ball(expr.args[0], point))
 
 
+@contextlib.contextmanager
+def precision(bits: int = PRECISION) -> Iterator[None]:
+    """Balls of ``bits`` bits inside, the caller's precision restored after."""
+    old, flint.ctx.prec = flint.ctx.prec, bits
+    try:
+        yield
+    finally:
+        flint.ctx.prec = old
+
+
 def rational_point(symbols: Sequence[sympy.Symbol], rng: random.Random, attempt: int) -> dict[sympy.Symbol, arb]:
     """A random rational point of ``symbols`` (numerators over 2^19), in the box
     of ``attempt``: (0, 2] first (where logarithms and roots of sums of squares
@@ -102,21 +113,17 @@ def nonzero(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bool:
         return True
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     rng = random.Random(seed)
-    old = flint.ctx.prec
-    try:
-        for attempt in range(attempts if symbols else 1):
-            point = rational_point(symbols, rng, attempt)
-            for bits in (PRECISION, _HIGH_PRECISION):
-                flint.ctx.prec = bits
+    for attempt in range(attempts if symbols else 1):
+        point = rational_point(symbols, rng, attempt)
+        for bits in (PRECISION, _HIGH_PRECISION):
+            with precision(bits):
                 try:
                     value = ball(expr, point)
                 except (ValueError, ZeroDivisionError):
                     return False
                 if value.is_finite() and not value.contains(0):
                     return True
-        return False
-    finally:
-        flint.ctx.prec = old
+    return False
 
 
 def positive_somewhere(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bool:
@@ -127,9 +134,7 @@ def positive_somewhere(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bo
     expr = sympy.sympify(expr)
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     rng = random.Random(seed)
-    old = flint.ctx.prec
-    flint.ctx.prec = PRECISION
-    try:
+    with precision():
         for attempt in range(attempts if symbols else 1):
             try:
                 value = ball(expr, rational_point(symbols, rng, attempt))
@@ -137,6 +142,4 @@ def positive_somewhere(expr: sympy.Expr, seed: int = 0, attempts: int = 8) -> bo
                 return False
             if value.is_finite() and value > 0:
                 return True
-        return False
-    finally:
-        flint.ctx.prec = old
+    return False

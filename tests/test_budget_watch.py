@@ -1,8 +1,8 @@
 """A budgeted child ends when its parent dies (:func:`observability.budget._bound_self`), without
 ctypes. (Killing a real parent does not test it here: this machine's init ends orphans at once.) A
 forked process sets its bounds, then sees a parent that is not its own (os.getppid replaced, as
-after its parent's death, when it is adopted): it must end with status 1 within a few timer ticks,
-long before the 20 s it would otherwise sleep."""
+after its parent's death, when it is adopted): it must end with status 1 (the timer's exit), not 7 (what the
+child does once its 20 s sleep is over): the status alone tells, no clock is read."""
 
 from __future__ import annotations
 
@@ -13,7 +13,6 @@ from observability import budget
 
 
 def test_a_child_ends_when_its_parent_is_no_longer_the_one_that_started_it():
-    began = time.monotonic()
     pid = os.fork()
     if pid == 0:  # pragma: no cover - the child
         try:
@@ -23,4 +22,4 @@ def test_a_child_ends_when_its_parent_is_no_longer_the_one_that_started_it():
         finally:
             os._exit(7)
     _, status = os.waitpid(pid, 0)
-    assert os.waitstatus_to_exitcode(status) == 1 and time.monotonic() - began < 15
+    assert os.waitstatus_to_exitcode(status) == 1

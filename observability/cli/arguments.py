@@ -148,12 +148,21 @@ def identifier(text: str) -> str:
     return text
 
 
-def model_options(pairs: Sequence[str]) -> dict[str, str]:
+def key_values(pairs: Sequence[str], option: str = "-o", once: bool = False) -> dict[str, str]:
+    """Repeated ``KEY=VALUE`` items of ``option`` as a dict (a value may hold '='); with ``once``
+    a key given twice is refused, otherwise the last one counts."""
     options: dict[str, str] = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         key, value = key.strip(), value.strip()
         if not sep or not key or not value:
-            raise UsageError(f"-o expects key=value, got {pair!r}")
+            raise UsageError(f"{option} expects key=value, got {pair!r}")
+        if once and key in options:
+            raise UsageError(f"{option} {key}: given twice")
         options[key] = value
     return options
+
+
+def model_options(pairs: Sequence[str]) -> dict[str, str]:
+    """``-o KEY=VALUE`` (repeatable): model options and known parameter values."""
+    return key_values(pairs)

@@ -22,6 +22,11 @@ _TIME_HELP = "time form of a built-in model (default: the model's)"
 def _model_arguments(parser: argparse.ArgumentParser) -> None:
     """MODEL, -o and --time, the same for every command that takes a model."""
     parser.add_argument("model", help="built-in model name or path to a .toml model file")
+    _option_arguments(parser)
+
+
+def _option_arguments(parser: argparse.ArgumentParser) -> None:
+    """-o and --time: a built-in model's options and time form, a file's parameter values."""
     parser.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
     parser.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
 
@@ -175,8 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="the model the proof must be about (built-in name or .toml file, with its -o and "
                              "--time): refused unless its equations are the proof's; without it, the digest of the "
                              "file's equations is printed")
-    verify.add_argument("-o", "--option", action="append", default=[], metavar="KEY=VALUE", help=_OPTION_HELP)
-    verify.add_argument("--time", choices=("continuous", "discrete"), default=None, help=_TIME_HELP)
+    _option_arguments(verify)
     verify.add_argument("--budget", type=seconds, default=300.0, metavar="SECONDS",
                         help="CPU time allowed for the whole check (default 300); beyond it: not verified")
     verify.set_defaults(func=verify_proof_command)

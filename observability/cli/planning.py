@@ -6,24 +6,10 @@ import argparse
 
 from ..progress import clear_line, status_line
 from ..report.files import json_text, write_text
-from .arguments import EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, model_options
+from .arguments import EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, key_values, model_options
 from .commands import _about, _numbers, resolve_model
 
 __all__ = ["sensors_command", "design_command"]
-
-
-def _candidates(items: list[str]) -> dict[str, str]:
-    """``--candidate NAME=EXPR`` (repeatable) as name -> expression text, each name once."""
-    candidates: dict[str, str] = {}
-    for item in items:
-        name, equals, expr = item.partition("=")
-        name, expr = name.strip(), expr.strip()
-        if not equals or not name or not expr:
-            raise UsageError(f"--candidate {item!r}: expected NAME=EXPRESSION")
-        if name in candidates:
-            raise UsageError(f"--candidate {name}: given twice")
-        candidates[name] = expr
-    return candidates
 
 
 def _text(choice) -> str:
@@ -47,7 +33,7 @@ def _text(choice) -> str:
 def sensors_command(args: argparse.Namespace) -> int:
     from ..planning.sensors import select_sensors
 
-    candidates = _candidates(args.candidate)
+    candidates = key_values(args.candidate, "--candidate", once=True)
     costs = _numbers(args.cost, "--cost")
     with _about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)

@@ -31,7 +31,7 @@ from .program import Op, Program
 from ..model.system import System
 from .taylor import Redraw, TaylorEvaluator
 
-__all__ = ["NotRational", "gradients_at", "rows_at_point"]
+__all__ = ["NotRational", "RationalEvaluator", "circle_angles", "gradients_at", "rows_at_point"]
 
 #: Points of the unit circle with small rational coordinates (sin, cos).
 _TRIPLES = [(3, 4, 5), (4, 3, 5), (5, 12, 13), (12, 5, 13), (8, 15, 17)]
@@ -41,7 +41,7 @@ class NotRational(Exception):
     """The rows are not rational at the point (or not by this route)."""
 
 
-class _RationalEvaluator(TaylorEvaluator):
+class RationalEvaluator(TaylorEvaluator):
     """Taylor series over Q at a given point (module docstring)."""
 
     def __init__(self, program: Program, system: System, values: dict[sympy.Symbol, fmpq],
@@ -98,8 +98,8 @@ class _RationalEvaluator(TaylorEvaluator):
         return self.inputs[key]
 
 
-def _angles(program: Program, system: System, dynamics: int | None = None,
-            declared: frozenset = frozenset()) -> set[sympy.Symbol]:
+def circle_angles(program: Program, system: System, dynamics: int | None = None,
+                  declared: frozenset = frozenset()) -> set[sympy.Symbol]:
     """The symbols whose sine and cosine the program takes, with those ``declared``
     angles that it holds, each a leaf whose own value reaches no row;
     NotRational for any other transcendental value that matters. ``dynamics``:
@@ -163,7 +163,7 @@ def rows_at_point(system: System, orders: int, given: Mapping[sympy.Symbol, symp
     for expr in system.dynamics:
         program.add(system.substitute_values(expr))
     roots = [program.add(system.substitute_values(expr)) for _, expr in system.outputs]
-    angles = _angles(program, system)
+    angles = circle_angles(program, system)
     shown: dict[sympy.Symbol, sympy.Expr] = {}
     values: dict[sympy.Symbol, fmpq] = {}
     circles: dict[sympy.Symbol, tuple[fmpq, fmpq]] = {}
@@ -191,7 +191,7 @@ def rows_at_point(system: System, orders: int, given: Mapping[sympy.Symbol, symp
             shown[symbol] = value
         return fmpq(int(shown[symbol].p), int(shown[symbol].q))
 
-    evaluator = _RationalEvaluator(program, system, values, circles, input_value)
+    evaluator = RationalEvaluator(program, system, values, circles, input_value)
     by_order = []
     for k in range(orders + 1):
         evaluator.step()
@@ -230,16 +230,16 @@ def gradients_at(system: System, functions: Sequence[sympy.Expr], value: Callabl
     """
     program = Program(system.states, system.inputs, where=system.name)
     roots = [program.add(system.substitute_values(sympy.sympify(f))) for f in functions]
-    circled = _angles(program, system, dynamics=0, declared=frozenset(angles))
+    circled = circle_angles(program, system, dynamics=0, declared=frozenset(angles))
     values, circles = {}, {}
     for symbol in {*system.states, *(program.args[i][0] for i, op in enumerate(program.ops) if op is Op.RANDOM)}:
         if symbol in circled:
             t = _fraction(value(symbol))
             circles[symbol] = (2 * t / (1 + t * t), (1 - t * t) / (1 + t * t))
-            values[symbol] = fmpq(0)  # never read: _angles saw that no gradient needs it
+            values[symbol] = fmpq(0)  # never read: circle_angles saw that no gradient needs it
         elif isinstance(symbol, sympy.Symbol):
             values[symbol] = _fraction(value(symbol))
-    evaluator = _RationalEvaluator(program, system, values, circles,
+    evaluator = RationalEvaluator(program, system, values, circles,
                                    lambda j, k: _fraction(value(system.inputs[j])) if k == 0 else fmpq(0))
     evaluator.extend()
     return [{j: fmpq(v) for j, v in evaluator.coefficient(root, 0)[1].items()} for root in roots]

@@ -23,7 +23,7 @@ from collections.abc import Mapping, Sequence
 import sympy
 from flint import fmpq
 
-from .exactrows import NotRational, _angles, _RationalEvaluator
+from .exactrows import NotRational, RationalEvaluator, circle_angles
 from .expansion import AllRows, expand_rows
 from .lie import discrete_nodes, input_derivative
 from .program import Program
@@ -95,8 +95,8 @@ def exact_rows(system: System, rows: Sequence[tuple[str, int]], point: Mapping[s
     """
     values, input_value = _values(system, point)
 
-    def make(program: Program, discrete: bool) -> _RationalEvaluator:
-        evaluator = _RationalEvaluator(program, system, values, {}, input_value)
+    def make(program: Program, discrete: bool) -> RationalEvaluator:
+        evaluator = RationalEvaluator(program, system, values, {}, input_value)
         evaluator.discrete = discrete
         return evaluator
     return _rows(system, rows, make)
@@ -121,7 +121,7 @@ def exact_possible(system: System, rows: Sequence[tuple[str, int]]) -> bool:
         for _ in range(max(k for _, k in rows) + 1):
             program.roots.extend(node for _, node in next(blocks))
     try:
-        angles = _angles(program, system, dynamics=system.n if continuous else 0)
+        angles = circle_angles(program, system, dynamics=system.n if continuous else 0)
     except NotRational:
         return False
     return not angles

@@ -13,17 +13,15 @@ vanishes only on a nowhere dense set: the fields are generically independent.
 
 from __future__ import annotations
 
-import contextlib
 import random
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 
-import flint
 import sympy
 from flint import arb, arb_mat
 
-from ..intervals import PRECISION, ball, rational_point
+from ..intervals import ball, precision, rational_point
 
-__all__ = ["independent_at_a_real_point", "pivots", "precision", "random_point", "balls_at"]
+__all__ = ["independent_at_a_real_point", "pivots", "balls_at"]
 
 
 def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols: Sequence[sympy.Symbol],
@@ -38,7 +36,7 @@ def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols:
     with precision():
         for attempt in range(attempts):
             try:
-                rows = balls_at(fields, random_point(rng, attempt, symbols))
+                rows = balls_at(fields, rational_point(symbols, rng, attempt))
             except (ValueError, ZeroDivisionError):
                 return False
             if rows is None:
@@ -47,21 +45,6 @@ def independent_at_a_real_point(fields: Sequence[Sequence[sympy.Expr]], symbols:
             if len(columns) == k and not arb_mat([[row[c] for c in columns] for row in rows]).det().contains(0):
                 return True
         return False
-
-
-@contextlib.contextmanager
-def precision() -> Iterator[None]:
-    """Balls of ``PRECISION`` bits inside, the caller's precision restored after."""
-    old, flint.ctx.prec = flint.ctx.prec, PRECISION
-    try:
-        yield
-    finally:
-        flint.ctx.prec = old
-
-
-def random_point(rng: random.Random, attempt: int, symbols: Sequence[sympy.Symbol]) -> dict[sympy.Symbol, arb]:
-    """A random rational point of ``symbols`` in the box of ``attempt`` (:func:`~observability.intervals.rational_point`)."""
-    return rational_point(symbols, rng, attempt)
 
 
 def balls_at(rows: Sequence[Sequence[sympy.Expr]], point: dict[sympy.Symbol, arb]) -> list[list[arb]] | None:

@@ -56,8 +56,8 @@ from flint import arb_mat
 from sympy.polys.matrices import DomainMatrix
 
 from ..model.system import System
-from ..intervals import ball
-from .balls import balls_at, pivots, precision, random_point
+from ..intervals import ball, precision, rational_point
+from .balls import balls_at, pivots
 
 __all__ = ["CompensatedField", "Compensated", "compensated_symmetries", "MAX_ANSATZ_STATES"]
 
@@ -136,7 +136,7 @@ def _input_span(g: sympy.Matrix, symbols: list[sympy.Symbol], seed: int = 0) -> 
     best: _Span = _Span(g, [], [], {})
     with precision():
         for attempt in range(_ATTEMPTS):
-            point = random_point(rng, attempt, symbols)
+            point = rational_point(symbols, rng, attempt)
             try:
                 values = balls_at(g.tolist(), point)
             except (ValueError, ZeroDivisionError):
