@@ -129,3 +129,10 @@ def test_bounds_beyond_floating_point_are_refused_and_a_failed_solve_keeps_the_b
     design = design_inputs(MONO, {"g": 1.0, "d": 2.0}, duration=2, window=1, bounds={"u": (-1e99, 1e99)})
     if design.solver != "Solve_Succeeded":
         assert design.inputs["u"] == (0.0,) * 4 and design.solver.endswith("the baseline kept")
+
+
+@pytest.mark.parametrize("weight", [float("nan"), float("inf"), -1.0])
+def test_a_smoothness_weight_that_is_not_a_finite_non_negative_number_is_refused(weight):
+    """nan reached IPOPT, which warned 'NaN detected' and returned exit 0 (found re-reading the change)."""
+    with pytest.raises(ModelError, match="--smoothness .*: expected a finite number >= 0"):
+        design_inputs(MONO, {"g": 1.0, "d": 2.0}, duration=1, window=1, bounds={"u": (0.0, 1.0)}, smoothness=weight)

@@ -281,12 +281,15 @@ def design_inputs(system: System, initial: Mapping[str, float], *, duration: flo
     Raises
     ------
     ModelError
-        Bounds on something that is not an input, empty or infinite bounds, an input with neither
+        A smoothness weight that is negative or not finite, bounds on something that is not an input,
+        empty or infinite bounds, an input with neither
         bounds nor a baseline value, a missing state or parameter value, an unknown input, outputs
         through prev(), or a problem larger than the graph's bounds.
     """
     import casadi
 
+    if not (math.isfinite(smoothness) and smoothness >= 0):
+        raise ModelError(f"--smoothness {smoothness:g}: expected a finite number >= 0")
     parameters = dict(parameters or {})
     problem = _problem(system, initial, duration, window, dt, pieces, bounds, baseline or {}, parameters)
     discrete, fns = discrete_functions(system, parameters, problem.dt)
