@@ -136,3 +136,86 @@ def test_a_smoothness_weight_that_is_not_a_finite_non_negative_number_is_refused
     """nan reached IPOPT, which warned 'NaN detected' and returned exit 0 (found re-reading the change)."""
     with pytest.raises(ModelError, match="--smoothness .*: expected a finite number >= 0"):
         design_inputs(MONO, {"g": 1.0, "d": 2.0}, duration=1, window=1, bounds={"u": (0.0, 1.0)}, smoothness=weight)
+
+
+OSCILLATOR = System(["x1", "x2"], {"x1": "x2", "x2": "-u*x1"}, {"y": "x1"}, inputs=["u"], name="oscillator")
+
+
+def _oscillator_scores(u: float) -> tuple[float, float]:
+    """(smallest eigenvalue, largest diagonal of the inverse) of the window's information, by hand:
+    RK4 on the linear x' = A x is exactly Phi = I + M + M^2/2 + M^3/6 + M^4/24 (M = A dt), so the
+    window's information is sum_{j<20} (H Phi^j)^T (H Phi^j), H = (1, 0)."""
+    M = np.array([[0.0, 1.0], [-u, 0.0]]) * 0.1
+    phi = np.eye(2) + M + M @ M / 2 + M @ M @ M / 6 + M @ M @ M @ M / 24
+    F, power = np.zeros((2, 2)), np.eye(2)
+    for _ in range(20):
+        row = power[:1]
+        F, power = F + row.T @ row, phi @ power
+    return float(np.linalg.eigvalsh(F)[0]), float(np.max(np.diag(np.linalg.inv(F))))
+
+
+def _best_by_golden_section(score, low: float, high: float) -> float:
+    """The minimiser of a unimodal score on [low, high], to 1e-7 (an independent search)."""
+    ratio = (5 ** 0.5 - 1) / 2
+    while high - low > 1e-7:
+        a, b = high - ratio * (high - low), low + ratio * (high - low)
+        low, high = (low, b) if score(a) < score(b) else (a, high)
+    return (low + high) / 2
+
+
+@pytest.mark.parametrize("objective, index, sign", [("information", 0, -1.0), ("variance", 1, 1.0)])
+def test_each_objective_reaches_its_own_interior_optimum(objective, index, sign):
+    """x1' = x2, x2' = -u x1, y = x1 over one window of 20 steps, u constant in [0.1, 4]: the smallest
+    eigenvalue peaks near u = 1.57 and the largest Cramer-Rao variance bottoms near u = 1.45 (a grid
+    of numpy evaluations by hand, then a golden-section search): two different optima, each found by
+    its own objective, and the reported scores equal the hand route's."""
+    best = _best_by_golden_section(lambda u: sign * _oscillator_scores(u)[index], 0.1, 4.0)
+    design = design_inputs(OSCILLATOR, {"x1": 1.0, "x2": 0.0}, duration=2, window=2, dt=0.1, pieces=1,
+                           bounds={"u": (0.1, 4.0)}, objective=objective)
+    assert design.solver == "Solve_Succeeded" and design.objective == objective
+    assert design.inputs["u"][0] == pytest.approx(best, abs=2e-3)
+    weakest, variance = _oscillator_scores(design.inputs["u"][0])
+    assert design.designed_weakest == pytest.approx((weakest,), rel=1e-9)
+    assert design.designed_variance == pytest.approx((variance,), rel=1e-9)
+    assert design.baseline_variance == pytest.approx((_oscillator_scores(2.05)[1],), rel=1e-9)  # mid-range u
+    assert abs(best - {"information": 1.45, "variance": 1.57}[objective]) > 0.05  # the other objective's optimum
+
+
+def test_a_design_over_a_distribution_of_initial_states_reports_its_worst_sample():
+    """Each window's reported information is the smallest over the samples, each sample's checked by
+    the trajectory route on the written inputs (not the design's graph); the first sample is the mean."""
+    from observability.planning.design import initial_samples
+
+    mean = {"x": 0.0, "y": 0.0, "th": 0.0}
+    samples = initial_samples(mean, {"x": 0.5, "y": 0.5}, 3, seed=1)
+    assert samples[0] == mean and all(s["th"] == 0.0 for s in samples) and len({s["x"] for s in samples}) == 3
+    design = design_inputs(UNICYCLE, samples, duration=2, window=1, bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    assert design.samples == 3
+    each = [[info for _, info in _weakest_by_trajectory(UNICYCLE, s, design)] for s in samples]
+    assert list(design.designed_weakest) == pytest.approx([min(c) for c in zip(*each)], rel=1e-6)
+
+
+@pytest.mark.parametrize("spread, count, words", [
+    ({"z": 1.0}, 3, "--spread z: not a state"), ({"x": -1.0}, 3, "expected a finite standard deviation"),
+    ({"x": 1.0}, 0, "--samples 0: between 1 and 64"), ({"x": float("nan")}, 2, "finite standard deviation")])
+def test_bad_distributions_are_refused(spread, count, words):
+    from observability.planning.design import initial_samples
+
+    with pytest.raises(ModelError, match=words):
+        initial_samples({"x": 0.0, "y": 0.0, "th": 0.0}, spread, count)
+
+
+def test_the_command_line_designs_for_a_distribution_and_the_variance(tmp_path):
+    model = tmp_path / "mono.toml"
+    model.write_text('name = "mono"\nstates = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n'
+                     '[outputs]\nh = "g/d"\n')
+    out = cli("design", model, "--initial", "g=2,d=3", "--spread", "d=0.2", "--samples", "3", "--objective",
+              "variance", "--duration", "2", "--window", "1", "--bounds", "u=-1:1", "--input", "u=0",
+              "--plot", tmp_path / "d.png")
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "d.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # an infinite baseline variance drawn
+    assert "largest minimum-error variance" in out.stdout and "the worst of 3 initial states" in out.stdout
+    assert "where the baseline's window sees nothing" in out.stdout  # u = 0 never sees the scale
+    bad = cli("design", model, "--initial", "g=2,d=3", "--samples", "3", "--duration", "2", "--window", "1",
+              "--bounds", "u=-1:1")
+    assert bad.returncode == 2 and "--samples: needs --spread" in bad.stderr

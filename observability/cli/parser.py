@@ -224,6 +224,13 @@ def build_parser() -> argparse.ArgumentParser:
     design.add_argument("--dt", type=float, default=None, help="the step (default: the trajectory's)")
     design.add_argument("--pieces", type=positive, default=None, help="constant pieces over the horizon (default: 2 a window)")
     design.add_argument("--smoothness", type=float, default=0.0, help="weight of the squared steps between pieces")
+    design.add_argument("--objective", choices=("information", "variance"), default="information",
+                        help="maximise the weakest window's smallest Fisher eigenvalue (default), or minimise its "
+                             "largest minimum-error variance")
+    design.add_argument("--spread", default=None, metavar="NAME=SD,...",
+                        help="standard deviations of the initial state: design for the worst of --samples draws")
+    design.add_argument("--samples", type=positive, default=None,
+                        help="initial states drawn with --spread, the given one first (default 8 with --spread)")
     design.add_argument("--parameters", default=None, metavar="NAME=VALUE,...", help="values of free parameters")
     design.add_argument("--noise", default=None, metavar="OUTPUT=VARIANCE,...", help="measurement variances (default 1)")
     design.add_argument("--out", type=out_file, default=None, metavar="FILE.csv",

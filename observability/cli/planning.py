@@ -64,6 +64,18 @@ def _bounds(text: str) -> dict[str, tuple[float, float]]:
     return bounds
 
 
+def _initials(args: argparse.Namespace):
+    """The initial state, or samples of its distribution when ``--spread`` is given."""
+    from ..planning.design import initial_samples
+
+    initial = _numbers(args.initial, "--initial")
+    if args.spread is None:
+        if args.samples is not None:
+            raise UsageError("--samples: needs --spread (the standard deviations of the initial state)")
+        return initial
+    return initial_samples(initial, _numbers(args.spread, "--spread"), args.samples or 8, seed=args.seed or 0)
+
+
 def design_command(args: argparse.Namespace) -> int:
     from ..planning.design import design_inputs
 
@@ -73,10 +85,10 @@ def design_command(args: argparse.Namespace) -> int:
         if show is not None:
             show("designing the inputs (IPOPT)")
         design = design_inputs(
-            system, _numbers(args.initial, "--initial"), duration=args.duration, window=args.window,
+            system, _initials(args), duration=args.duration, window=args.window,
             bounds=_bounds(args.bounds), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
             noise=_numbers(args.noise, "--noise") or 1.0, parameters=_numbers(args.parameters, "--parameters"),
-            smoothness=args.smoothness, seed=args.seed or 0, budget=args.budget)
+            smoothness=args.smoothness, objective=args.objective, seed=args.seed or 0, budget=args.budget)
         clear_line()
     if args.out is not None:
         write_text(args.out, design.csv())
@@ -93,14 +105,20 @@ def design_command(args: argparse.Namespace) -> int:
 
 def _design_text(design, out) -> str:
     ratio = design.improvement
-    gain = (f"{ratio:.3g} times the baseline's" if ratio != float("inf") else "where the baseline's is zero")
-    lines = [f"{design.model}: the weakest window's information {min(design.designed_weakest):.4g}, {gain} "
-             f"({min(design.baseline_weakest):.4g}); solver: {design.solver}"]
+    variance = design.objective == "variance"
+    ours, theirs = ((design.designed_variance, design.baseline_variance) if variance else
+                    (design.designed_weakest, design.baseline_weakest))
+    best, what = (max, "largest minimum-error variance") if variance else (min, "weakest information")
+    gain = (f"{ratio:.3g} times better than the baseline's" if ratio != float("inf") else
+            "where the baseline's window sees nothing")
+    worst = f" (the worst of {design.samples} initial states)" if design.samples > 1 else ""
+    lines = [f"{design.model}: the windows' {what} {best(ours):.4g}{worst}, {gain} ({best(theirs):.4g}); "
+             f"solver: {design.solver}"]
     if design.projected:
         lines.append(f"  never observable, left out of the objective: {'; '.join(design.projected)}")
-    for i, (ours, theirs) in enumerate(zip(design.designed_weakest, design.baseline_weakest)):
-        lines.append(f"  window [{i * design.window:g}, {(i + 1) * design.window:g}]: designed {ours:.4g}, "
-                     f"baseline {theirs:.4g}")
+    for i, (a, b) in enumerate(zip(ours, theirs)):
+        lines.append(f"  window [{i * design.window:g}, {(i + 1) * design.window:g}]: designed {a:.4g}, "
+                     f"baseline {b:.4g}")
     lines.append("  inputs: " + "; ".join(f"{name} = " + ", ".join(f"{v:.3g}" for v in values)
                                          for name, values in design.inputs.items())
                  + f" (pieces from t = {', '.join(f'{t:g}' for t in design.times)})")

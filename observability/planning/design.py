@@ -8,7 +8,8 @@ the state at step s + j to the state at s. Here the same quantities are built
 as one casadi graph of the input values, so that casadi's NLP solver (IPOPT,
 which ships with casadi) gets exact derivatives.
 
-The objective is the smallest eigenvalue of F_w over the windows, maximised:
+Two objectives, the user's choice. ``information`` (the default) is the
+smallest eigenvalue of F_w over the windows, maximised:
 max t subject to F_w + c P_w - t I = L_w L_w^T (L_w lower triangular, a free
 slack per window), the usual smooth form of an eigenvalue bound. P_w projects
 onto the directions the model never observes, named by the analysis (its
@@ -17,6 +18,20 @@ generic null space at the window's first state): F_w vanishes on them exactly
 the other eigenvalues alone and takes those directions out of the objective:
 the design is about what an input can change. Everything is scaled by the
 baseline profile's information, so t is relative to it.
+
+``variance`` minimises the largest minimum-error variance: for each window and
+state i, the Cramer-Rao bound [C (C^T F_w C)^-1 C^T]_ii, C an orthonormal basis
+of the complement of the never-observable directions (the bound of an unbiased
+estimator whose error is kept off those directions). F_w + c P_w is block
+diagonal in (complement, range P_w) since F_w P_w = 0, so its inverse is
+C (C^T F_w C)^-1 C^T + P_w / c and the solver's smooth form is
+s >= [(F_w + c P_w)^-1]_ii - [P_w]_ii / c, min log s. The reported variances
+are computed afterwards from the complement itself, so they do not rest on
+F_w P_w = 0 holding to rounding.
+
+A distribution of initial states is given by samples of it (the given state
+first, then draws: :func:`initial_samples`); the objective is then the worst
+over samples and windows, and each window reports its worst sample.
 
 What the answer guarantees: IPOPT finds a local optimum (not a global one); the
 reported objective of the designed and of the baseline profile is evaluated
@@ -28,8 +43,7 @@ reaches is for :mod:`observability.trajectory` to check on the written inputs
 from __future__ import annotations
 
 import math
-import random
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,7 +54,7 @@ from ..model.system import System
 from ..trajectory.directions import direction_functions
 from ..trajectory.windows import check_request, default_step, discrete_functions, grid, variances
 
-__all__ = ["InputDesign", "design_inputs", "MAX_VARIABLES"]
+__all__ = ["InputDesign", "design_inputs", "initial_samples", "OBJECTIVES", "MAX_VARIABLES", "MAX_SAMPLES"]
 
 #: Input values (pieces x inputs) the solver may choose at most.
 MAX_VARIABLES = 400
@@ -48,6 +62,10 @@ MAX_VARIABLES = 400
 MAX_GRAPH_STEPS = 5_000
 #: Bound on the inputs' magnitude: squares of sensitivities must stay inside floating point.
 MAX_INPUT = 1e100
+#: Initial states a design may be made robust over at most.
+MAX_SAMPLES = 64
+#: What a design optimises (module docstring).
+OBJECTIVES = ("information", "variance")
 
 
 @dataclass(frozen=True)
@@ -64,11 +82,19 @@ class InputDesign:
         The profile compared with (constant in time).
     designed_weakest, baseline_weakest : tuple of float
         Per window, the smallest eigenvalue of the Fisher information without
-        the never-observable directions.
+        the never-observable directions (the worst over the initial states).
+    designed_variance, baseline_variance : tuple of float
+        Per window, the largest minimum-error (Cramer-Rao) variance of a state
+        off those directions (the worst over the initial states; inf where the
+        window does not see every other direction).
     projected : tuple of str
         Those directions, named by the analysis.
     solver : str
         IPOPT's return status.
+    objective : {"information", "variance"}
+        What was optimised.
+    samples : int
+        The number of initial states the design is robust over.
     """
 
     model: str
@@ -81,10 +107,19 @@ class InputDesign:
     baseline_weakest: tuple[float, ...]
     projected: tuple[str, ...]
     solver: str
+    designed_variance: tuple[float, ...]
+    baseline_variance: tuple[float, ...]
+    objective: str
+    samples: int
 
     @property
     def improvement(self) -> float:
-        """The weakest window's information, designed over baseline (inf when the baseline has none)."""
+        """The objective's gain over the baseline, as a factor above 1 when better: the weakest window's
+        information designed over baseline, or the largest variance baseline over designed (inf when
+        the baseline's window sees nothing)."""
+        if self.objective == "variance":
+            base, designed = max(self.baseline_variance), max(self.designed_variance)
+            return base / designed if math.isfinite(base) else math.inf
         base, designed = min(self.baseline_weakest), min(self.designed_weakest)
         return designed / base if base > 0 else math.inf
 
@@ -101,13 +136,15 @@ class InputDesign:
         return {"model": self.model, "times": list(self.times), "inputs": {k: list(v) for k, v in self.inputs.items()},
                 "baseline": self.baseline, "window": self.window, "dt": self.dt,
                 "designed_weakest": list(self.designed_weakest), "baseline_weakest": list(self.baseline_weakest),
+                "designed_variance": list(self.designed_variance), "baseline_variance": list(self.baseline_variance),
+                "objective": self.objective, "samples": self.samples,
                 "improvement": improvement if math.isfinite(improvement) else None,
                 "projected": list(self.projected), "solver": self.solver}
 
 
 @dataclass(frozen=True)
 class _Problem:
-    """The checked request: steps, pieces and which input is free within which bounds."""
+    """The checked request: steps, pieces, which input is free within which bounds, and the initial states."""
 
     steps: int
     per_window: int
@@ -116,11 +153,45 @@ class _Problem:
     dt: float
     bounds: dict[str, tuple[float, float]]
     baseline: dict[str, float]
+    initials: tuple[Mapping[str, float], ...]
 
 
-def _problem(system: System, initial: Mapping[str, float], duration: float, window: float, dt: float | None,
-             pieces: int | None, bounds: Mapping[str, tuple[float, float]], baseline: Mapping[str, float],
-             parameters: Mapping[str, float]) -> _Problem:
+def initial_samples(initial: Mapping[str, float], spread: Mapping[str, float], count: int,
+                    seed: int = 0) -> tuple[dict[str, float], ...]:
+    """Samples of a normal distribution of initial states, for a design robust over them.
+
+    Parameters
+    ----------
+    initial : mapping state -> value
+        The mean; it is the first sample.
+    spread : mapping state -> standard deviation
+        States not named keep their value in every sample.
+    count : int
+        The number of samples (1 to :data:`MAX_SAMPLES`).
+    seed : int
+
+    Raises
+    ------
+    ModelError
+        A spread on a name that is not in ``initial``, a standard deviation that is not a finite
+        number >= 0, or a count outside 1 to :data:`MAX_SAMPLES`.
+    """
+    if not 1 <= count <= MAX_SAMPLES:
+        raise ModelError(f"--samples {count}: between 1 and {MAX_SAMPLES}")
+    for name, sd in spread.items():
+        if name not in initial:
+            raise ModelError(f"--spread {name}: not a state given in --initial ({', '.join(initial)})")
+        if not (math.isfinite(sd) and sd >= 0):
+            raise ModelError(f"--spread {name}={sd:g}: expected a finite standard deviation >= 0")
+    rng = np.random.default_rng(seed)
+    draws = [{k: float(v) + (float(rng.normal(0.0, spread[k])) if k in spread else 0.0) for k, v in initial.items()}
+             for _ in range(count - 1)]
+    return (dict(initial), *draws)
+
+
+def _problem(system: System, initials: tuple[Mapping[str, float], ...], duration: float, window: float,
+             dt: float | None, pieces: int | None, bounds: Mapping[str, tuple[float, float]],
+             baseline: Mapping[str, float], parameters: Mapping[str, float]) -> _Problem:
     """The request checked as the trajectory checks its own (ModelError naming what is wrong)."""
     names = [u.name for u in system.inputs]
     if not bounds:
@@ -133,20 +204,25 @@ def _problem(system: System, initial: Mapping[str, float], duration: float, wind
         if max(abs(low), abs(high)) > MAX_INPUT:  # the windows' information would leave floating point's range
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: at most {MAX_INPUT:g} in absolute value")
     base = {n: float(baseline[n]) if n in baseline else sum(bounds[n]) / 2 for n in names if n in baseline or n in bounds}
-    check_request(system, initial, base, parameters)
+    if not 1 <= len(initials) <= MAX_SAMPLES:
+        raise ModelError(f"{len(initials)} initial states: between 1 and {MAX_SAMPLES}")
+    for initial in initials:
+        check_request(system, initial, base, parameters)
+        if not all(math.isfinite(float(v)) for v in initial.values()):
+            raise ModelError("--initial: every value must be a finite number")
     if any(e.free_symbols & set(system.previous_states) for _, e in system.outputs):
         raise ModelError("outputs through prev(): not supported by the input design")
     dt = dt if dt is not None else default_step(system, window)
     steps, per_window = grid(duration, window, dt, len(system.outputs), system.n)
     windows = steps // per_window
-    if windows * per_window > MAX_GRAPH_STEPS:
-        raise ModelError(f"{windows * per_window} steps: the design's graph holds at most {MAX_GRAPH_STEPS} "
-                         "(a larger --dt, fewer windows)")
+    if len(initials) * windows * per_window > MAX_GRAPH_STEPS:
+        raise ModelError(f"{len(initials)} x {windows * per_window} steps: the design's graph holds at most "
+                         f"{MAX_GRAPH_STEPS} (a larger --dt, fewer windows or samples)")
     pieces = pieces or 2 * windows
     if not 1 <= pieces <= windows * per_window or pieces * len(bounds) > MAX_VARIABLES:
         raise ModelError(f"--pieces {pieces}: between 1 and the number of steps ({windows * per_window}), and at most "
                          f"{MAX_VARIABLES} values in all")
-    return _Problem(windows * per_window, per_window, windows, pieces, dt, dict(bounds), base)
+    return _Problem(windows * per_window, per_window, windows, pieces, dt, dict(bounds), base, tuple(initials))
 
 
 def _informations(fns, problem: _Problem, x0, controls, p, weights, null):
@@ -174,22 +250,33 @@ def _informations(fns, problem: _Problem, x0, controls, p, weights, null):
     return informations
 
 
-def _weakest(values: list[tuple[np.ndarray, np.ndarray]]) -> tuple[float, ...]:
-    """Per window, the smallest eigenvalue of F on the complement of the projector's range; 0 below
-    1e-12 of the largest (rounding: the window does not see that direction)."""
-    weakest = []
-    for F, P in values:
-        if not (np.isfinite(F).all() and np.isfinite(P).all()):  # LAPACK is not handed non-finite numbers
-            weakest.append(math.nan)
-            continue
-        complement = np.linalg.svd(np.eye(len(F)) - P)[0][:, : len(F) - round(np.trace(P))]
-        reduced = complement.T @ F @ complement
-        if not reduced.size:
-            weakest.append(math.inf)
-            continue
-        eigenvalues = np.linalg.eigvalsh((reduced + reduced.T) / 2)
-        weakest.append(float(eigenvalues[0]) if eigenvalues[0] > 1e-12 * max(eigenvalues[-1], 0.0) else 0.0)
-    return tuple(weakest)
+def _window_scores(F: np.ndarray, P: np.ndarray) -> tuple[float, float]:
+    """(the smallest eigenvalue of F, the largest Cramer-Rao variance) on the complement of the
+    projector's range. An eigenvalue below 1e-12 of the largest counts as 0 (rounding: the window
+    does not see that direction) and makes the variance inf; nan for non-finite information."""
+    if not (np.isfinite(F).all() and np.isfinite(P).all()):  # LAPACK is not handed non-finite numbers
+        return math.nan, math.nan
+    complement = np.linalg.svd(np.eye(len(F)) - P)[0][:, : len(F) - round(np.trace(P))]
+    reduced = complement.T @ F @ complement
+    if not reduced.size:
+        return math.inf, 0.0
+    eigenvalues, vectors = np.linalg.eigh((reduced + reduced.T) / 2)
+    if eigenvalues[0] <= 1e-12 * max(eigenvalues[-1], 0.0):
+        return 0.0, math.inf
+    basis = complement @ vectors
+    return float(eigenvalues[0]), float(np.max((basis ** 2) @ (1.0 / eigenvalues)))
+
+
+def _scores(values: list[tuple[np.ndarray, np.ndarray]], windows: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Per window, the worst over the initial states (blocks sample by sample) of both scores."""
+    scores = [_window_scores(F, P) for F, P in values]
+    worst_information, worst_variance = [], []
+    for w in range(windows):
+        column = scores[w::windows]
+        nan = any(math.isnan(a) or math.isnan(b) for a, b in column)
+        worst_information.append(math.nan if nan else min(a for a, _ in column))
+        worst_variance.append(math.nan if nan else max(b for _, b in column))
+    return tuple(worst_information), tuple(worst_variance)
 
 
 def _controls(system: System, problem: _Problem, U):
@@ -204,18 +291,25 @@ def _controls(system: System, problem: _Problem, U):
     return casadi.horzcat(*columns)
 
 
-def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float):
-    """IPOPT on max t s.t. F_w / s + c P_w - t I = L_w L_w^T; returns (U*, status)."""
+@dataclass(frozen=True)
+class _Form:
+    """An objective in the solver's smooth form: minimise ``goal`` over the inputs and ``variables``
+    (started at ``guess``, bounded below by ``lower``) subject to lbg <= constraints <= ubg."""
+
+    goal: object
+    variables: object
+    guess: list
+    lower: list
+    constraints: list
+    lbg: list
+    ubg: list
+
+
+def _eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
+    """max t s.t. F_w / s + c P_w - t I = L_w L_w^T, one lower-triangular slack L_w a block."""
     import casadi
 
-    evaluate = casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
-    n = informations[0][0].shape[0]
-    initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
-    if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
-        raise ModelError("the windows' information is not finite at the start (values beyond floating point's range: "
-                         "smaller bounds, initial state or noise)")
-    scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
-    c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
+    n = initial[0][0].shape[0]
     t, slack, constraints, guesses = casadi.MX.sym("t"), [], [], []
     lower = [(i, j) for i in range(n) for j in range(i + 1)]
     t0 = 0.5 * min(float(np.linalg.eigvalsh(F / scale + c * P)[0]) for F, P in initial)
@@ -228,36 +322,107 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
         constraints += [gap[i, j] for i, j in lower]
         slack.append(entries)
         chol = np.linalg.cholesky(F0 / scale + c * P0 - t0 * np.eye(n) + 1e-12 * np.eye(n))
-        guesses.append([chol[i, j] for i, j in lower])
+        guesses += [chol[i, j] for i, j in lower]
+    count = 1 + len(guesses)
+    return _Form(-t, casadi.vertcat(t, *slack), [t0, *guesses], count * [-casadi.inf], constraints,
+                 len(constraints) * [0], len(constraints) * [0])
+
+
+def _variance_form(informations, initial, scale: float, c: float) -> _Form:
+    """min log v s.t. v >= [(F_w / s + c P_w)^-1]_ii - [P_w]_ii / c for every block and state
+    (module docstring: the Cramer-Rao variances off the never-observable directions)."""
+    import casadi
+
+    n = initial[0][0].shape[0]
+    v, constraints, start = casadi.MX.sym("v"), [], []
+    for (F, P), (F0, P0) in zip(informations, initial):
+        variances = casadi.diag(casadi.solve(F / scale + c * P, casadi.MX.eye(n))) - casadi.diag(P) / c
+        constraints += [v - variances[i] for i in range(n)]
+        with np.errstate(all="ignore"):
+            values = np.diag(np.linalg.pinv(F0 / scale + c * P0)) - np.diag(P0) / c
+        start.append(float(np.max(values)))
+    v0 = 1.01 * max(x for x in start if math.isfinite(x)) if any(map(math.isfinite, start)) else 1.0
+    v0 = max(v0, 1e-300)
+    return _Form(casadi.log(v), v, [v0], [1e-12 * v0], constraints, len(constraints) * [0],
+                 len(constraints) * [casadi.inf])
+
+
+def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str):
+    """IPOPT on the objective's smooth form; returns (U*, status, the blocks' evaluation)."""
+    import casadi
+
+    evaluate = casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
+    n = informations[0][0].shape[0]
+    initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
+    if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
+        raise ModelError("the windows' information is not finite at the start (values beyond floating point's range: "
+                         "smaller bounds, initial state or noise)")
+    scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
+    c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
+    form = (_variance_form if objective == "variance" else _eigenvalue_form)(informations, initial, scale, c)
     ranges = np.array([[high - low] for low, high in problem.bounds.values()])
     steps = casadi.diff(U, 1, 1) / casadi.DM(ranges) if problem.pieces > 1 else casadi.MX(0)
-    objective = -t + smoothness * casadi.sumsqr(steps)
-    z = casadi.vertcat(casadi.vec(U), t, *slack)
+    z = casadi.vertcat(casadi.vec(U), form.variables)
     low = [lo for _ in range(problem.pieces) for lo, _ in problem.bounds.values()]
     high = [hi for _ in range(problem.pieces) for _, hi in problem.bounds.values()]
-    unbounded = (1 + len(lower) * len(informations)) * [-casadi.inf]
-    solver = casadi.nlpsol("design", "ipopt", {"x": z, "f": objective, "g": casadi.vertcat(*constraints)},
+    solver = casadi.nlpsol("design", "ipopt", {"x": z, "f": form.goal + smoothness * casadi.sumsqr(steps),
+                                               "g": casadi.vertcat(*form.constraints)},
                            {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes", "max_iter": 300,
                                                           "max_cpu_time": budget,
                                                           "hessian_approximation": "limited-memory"}})
-    guess = np.concatenate([start.ravel(order="F"), [t0], *guesses])
-    answer = solver(x0=guess, lbx=low + unbounded, ubx=high + [-v for v in unbounded], lbg=0, ubg=0)
+    guess = np.concatenate([start.ravel(order="F"), form.guess])
+    answer = solver(x0=guess, lbx=low + form.lower, ubx=high + len(form.lower) * [casadi.inf],
+                    lbg=form.lbg, ubg=form.ubg)
     values = np.array(answer["x"]).ravel()[: U.numel()].reshape(U.shape, order="F")
     return np.clip(values, [[lo] for lo, _ in problem.bounds.values()], [[hi] for _, hi in problem.bounds.values()]), \
         solver.stats()["return_status"], evaluate
 
 
-def design_inputs(system: System, initial: Mapping[str, float], *, duration: float, window: float,
-                  bounds: Mapping[str, tuple[float, float]], baseline: Mapping[str, float] | None = None,
+def _better(objective: str, ours, theirs, status: str) -> bool:
+    """Whether the designed scores beat the baseline's on the objective (ties go to a converged solve);
+    never with a nan, nor with an information that is not finite."""
+    (ours_w, ours_v), (theirs_w, theirs_v) = ours, theirs
+    if any(map(math.isnan, (*ours_w, *ours_v, *theirs_w, *theirs_v))) or \
+            not all(map(math.isfinite, (*ours_w, *theirs_w))):
+        return False
+    if objective == "variance":
+        a, b = max(theirs_v), max(ours_v)
+    else:
+        a, b = min(ours_w), min(theirs_w)
+    return a > b or (a == b and status == "Solve_Succeeded")
+
+
+def _graph(system: System, problem: _Problem, parameters: Mapping[str, float], noise, seed: int):
+    """The inputs' symbols U, every (sample, window) block's information as casadi expressions of U,
+    and the never-observable directions' names (the analysis's generic null space)."""
+    import casadi
+
+    discrete, fns = discrete_functions(system, parameters, problem.dt)
+    p = casadi.DM([parameters[name] for name in fns.parameters])
+    weights = casadi.DM(1.0 / variances(noise, fns.outputs))
+    generic = analyze(system, seed=seed, functions=False)
+    functions = direction_functions(system, generic.unobservable_directions, parameters)
+    null = (lambda x: casadi.horzcat(*(f(x) for f in functions))) if functions else None
+    U = casadi.MX.sym("U", len(problem.bounds), problem.pieces)
+    controls = _controls(discrete, problem, U)
+    informations = [block for start in problem.initials for block in
+                    _informations(fns, problem, [float(start[s]) for s in fns.states], controls, p, weights, null)]
+    return U, informations, tuple(d.name for d in generic.unobservable_directions)
+
+
+def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mapping[str, float]], *, duration: float,
+                  window: float, bounds: Mapping[str, tuple[float, float]], baseline: Mapping[str, float] | None = None,
                   dt: float | None = None, pieces: int | None = None, noise: Mapping[str, float] | float = 1.0,
-                  parameters: Mapping[str, float] | None = None, smoothness: float = 0.0, seed: int = 0,
-                  budget: float = 60.0) -> InputDesign:
-    """A piecewise-constant input profile maximising the weakest window's information (module docstring).
+                  parameters: Mapping[str, float] | None = None, smoothness: float = 0.0,
+                  objective: str = "information", seed: int = 0, budget: float = 60.0) -> InputDesign:
+    """A piecewise-constant input profile that makes the weakest window best observed (module docstring).
 
     Parameters
     ----------
     system : System
-    initial : mapping state -> value
+    initial : mapping state -> value, or a sequence of them
+        The initial state, or samples of a distribution of initial states
+        (:func:`initial_samples`): the design is then for the worst of them.
     duration, window : float
         The horizon and each window's length (windows back to back from t = 0).
     bounds : mapping input -> (low, high)
@@ -273,6 +438,9 @@ def design_inputs(system: System, initial: Mapping[str, float], *, duration: flo
         As for :func:`~observability.trajectory.windowed_observability`.
     smoothness : float
         Weight of the squared steps between pieces (relative to each input's range).
+    objective : {"information", "variance"}
+        Maximise the weakest window's smallest Fisher eigenvalue, or minimise its
+        largest minimum-error variance.
     seed : int
         The start's perturbation of the baseline and the analysis's random point.
     budget : float
@@ -281,47 +449,40 @@ def design_inputs(system: System, initial: Mapping[str, float], *, duration: flo
     Raises
     ------
     ModelError
-        A smoothness weight that is negative or not finite, bounds on something that is not an input,
-        empty or infinite bounds, an input with neither
-        bounds nor a baseline value, a missing state or parameter value, an unknown input, outputs
-        through prev(), or a problem larger than the graph's bounds.
+        An unknown objective, a smoothness weight that is negative or not finite, bounds on something
+        that is not an input, empty or infinite bounds, an input with neither bounds nor a baseline
+        value, a missing or non-finite state value, a missing parameter value, an unknown input,
+        outputs through prev(), or a problem larger than the graph's bounds.
     """
-    import casadi
-
+    if objective not in OBJECTIVES:
+        raise ModelError(f"--objective {objective!r}: expected one of {', '.join(OBJECTIVES)}")
     if not (math.isfinite(smoothness) and smoothness >= 0):
         raise ModelError(f"--smoothness {smoothness:g}: expected a finite number >= 0")
+    initials = (initial,) if isinstance(initial, Mapping) else tuple(initial)
     parameters = dict(parameters or {})
-    problem = _problem(system, initial, duration, window, dt, pieces, bounds, baseline or {}, parameters)
-    discrete, fns = discrete_functions(system, parameters, problem.dt)
-    p = casadi.DM([parameters[name] for name in fns.parameters])
-    weights = casadi.DM(1.0 / variances(noise, fns.outputs))
-    generic = analyze(system, seed=seed, functions=False)
-    functions = direction_functions(system, generic.unobservable_directions, parameters)
-    null = (lambda x: casadi.horzcat(*(f(x) for f in functions))) if functions else None
-    U = casadi.MX.sym("U", len(problem.bounds), problem.pieces)
-    x0 = [float(initial[s]) for s in fns.states]
-    informations = _informations(fns, problem, x0, _controls(discrete, problem, U), p, weights, null)
+    problem = _problem(system, initials, duration, window, dt, pieces, bounds, baseline or {}, parameters)
+    U, informations, projected = _graph(system, problem, parameters, noise, seed)
     base = np.array([[problem.baseline[u]] * problem.pieces for u in problem.bounds])
     rng = np.random.default_rng(seed)
     spread = np.array([[high - low] for low, high in problem.bounds.values()])
     start = np.clip(base + 0.1 * spread * rng.uniform(-1, 1, base.shape), *zip(*[([lo], [hi]) for lo, hi in
                                                                                   problem.bounds.values()]))
-    designed, status, evaluate = _solve(informations, U, problem, start, smoothness, budget)
+    designed, status, evaluate = _solve(informations, U, problem, start, smoothness, budget, objective)
     n = system.n
 
-    def weakest(values: np.ndarray) -> tuple[float, ...]:
-        blocks = np.vsplit(np.array(evaluate(values)), problem.windows)
-        return _weakest([(b[:n], b[n:]) for b in blocks])
+    def scores(values: np.ndarray):
+        blocks = np.vsplit(np.array(evaluate(values)), len(informations))
+        return _scores([(b[:n], b[n:]) for b in blocks], problem.windows)
 
     with np.errstate(all="ignore"):  # a non-finite window is judged below, not warned about
-        ours, theirs = weakest(designed), weakest(base)
-    better = min(ours) > min(theirs) or (min(ours) == min(theirs) and status == "Solve_Succeeded")
-    if not (all(map(math.isfinite, (*theirs, *ours))) and better and np.isfinite(designed).all()):
+        ours, theirs = scores(designed), scores(base)
+    if not (np.isfinite(designed).all() and _better(objective, ours, theirs, status)):
         # a local solver may end below its start or in non-finite numbers: never hand back a worse profile
         designed, ours, status = base, theirs, f"{status}; no better profile found: the baseline kept"
     times = tuple((i * problem.steps // problem.pieces) * problem.dt for i in range(problem.pieces))
     names = list(problem.bounds) + [u for u in problem.baseline if u not in problem.bounds]
     values = {u: tuple(float(v) for v in designed[list(problem.bounds).index(u)]) if u in problem.bounds else
               (problem.baseline[u],) * problem.pieces for u in names}
-    return InputDesign(system.name, times, values, dict(problem.baseline), window, problem.dt, ours, theirs,
-                       tuple(d.name for d in generic.unobservable_directions), status)
+    return InputDesign(system.name, times, values, dict(problem.baseline), window, problem.dt, ours[0], theirs[0],
+                       projected, status, ours[1], theirs[1], objective,
+                       len(problem.initials))

@@ -1,6 +1,7 @@
 """The figure of an input design: the designed and the baseline inputs over time
 (one panel per designed input), and each window's weakest information for both
-(log scale: what the design gained, window by window)."""
+(log scale: what the design gained, window by window), or each window's
+largest minimum-error variance when that was the objective."""
 
 from __future__ import annotations
 
@@ -30,12 +31,15 @@ def design_figure(design: InputDesign, path: Path) -> Path:
     axes[0][0].legend(loc="best", fontsize="small")
     ax = axes[-1][0]
     starts = [i * design.window for i in range(len(design.designed_weakest) + 1)]
-    for label, weakest, style in (("designed", design.designed_weakest, "-"),
-                                  ("baseline", design.baseline_weakest, ":")):
-        shown = [max(w, 1e-300) for w in weakest]  # a window that sees nothing: drawn at the bottom
+    variance = design.objective == "variance"
+    series = ((design.designed_variance, design.baseline_variance) if variance else
+              (design.designed_weakest, design.baseline_weakest))
+    for label, scores, style in zip(("designed", "baseline"), series, ("-", ":")):
+        # a window that sees nothing: information drawn at the bottom, an infinite variance left blank
+        shown = [(s if s < float("inf") else float("nan")) if variance else max(s, 1e-300) for s in scores]
         ax.step(starts, [*shown, shown[-1]], where="post", linestyle=style, label=label)
     ax.set_yscale("log")
-    ax.set_ylabel("weakest information")
+    ax.set_ylabel("largest variance" if variance else "weakest information")
     ax.set_xlabel("time")
     ax.legend(loc="best", fontsize="small")
     figure.suptitle(f"{design.model}: designed inputs", fontsize="medium")
