@@ -82,7 +82,7 @@ from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rati
 from .truncation import truncation_orders
 
 if TYPE_CHECKING:
-    from .result import ObservabilityResult
+    from ..analysis.result import ObservabilityResult
 
 __all__ = ["GlobalVerdict", "global_observability", "GLOBAL_ERROR"]
 
