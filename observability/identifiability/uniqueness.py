@@ -185,6 +185,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         seconds (its answer used when the route over Q has none); "undecided"
         past both.
 
+    Notes
+    -----
     A model's one transcendental constant (pi, log(2)) is a known parameter without a
     value here, which decides the same (:mod:`.constantfield`); other irrational
     constants are refused (ModelError).
