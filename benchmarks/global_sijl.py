@@ -4,7 +4,7 @@ SI.jl's benchmark (``benchmarking/IdentifiableFunctions/results/<model>/``) stor
 model's ``@ODEmodel`` and the time ``find_identifiable_functions`` took on its
 maintainers' machine (2023, ``id_total``). For each model this script reads the same
 ``.jl`` file, runs the local verdict and then the global analysis
-(:func:`observability.analysis.uniqueness.global_observability`) under a CPU budget,
+(:func:`observability.identifiability.uniqueness.global_observability`) under a CPU budget,
 and prints the states and unknown constants found globally observable, only locally,
 and undecided, whether the field of globally observable functions was decided, and
 the time of the global step. Not a test: SI.jl's code is not part of this
@@ -26,7 +26,7 @@ from pathlib import Path
 from identifiable import TIMINGS, arguments, print_table, si_seconds
 
 from observability import analyze
-from observability.analysis.uniqueness import global_observability
+from observability.identifiability.uniqueness import global_observability
 from observability.model.sijl import parse_si_model
 
 

@@ -44,7 +44,7 @@ import sympy
 
 from observability import analyze
 from observability.analysis.completion import jacobian_rank_at
-from observability.analysis.rationalmodel import polynomial_degree
+from observability.identifiability.rationalmodel import polynomial_degree
 from observability.budget import Undecided, with_budget
 from observability.errors import ObservabilityError
 from observability.model.expressions import parse_expression, split_top_level

@@ -2,7 +2,7 @@
 
 For each model of SI.jl's benchmark (``benchmarking/IdentifiableFunctions/results/<model>/``)
 this script runs the local verdict, then only the input-output route of the global
-analysis (:func:`observability.analysis.uniqueness._through_io_equation`, as if the
+analysis (:func:`observability.identifiability.uniqueness._through_io_equation`, as if the
 fibre's route had given no answer), with a CPU budget per step, and prints the
 states and unknown constants found globally observable, only locally, and
 undecided, with the route's wall time beside SI.jl's stored ``id_total`` (its
@@ -28,8 +28,8 @@ from pathlib import Path
 from identifiable import RESULT, _contained, _generators, arguments, print_table, si_seconds
 
 from observability import analyze
-from observability.analysis import uniqueness
-from observability.analysis.rationalmodel import rational_model
+from observability.identifiability import uniqueness
+from observability.identifiability.rationalmodel import rational_model
 from observability.budget import Undecided, with_budget
 from observability.model.prepare import prepare
 from observability.model.sijl import parse_si_model

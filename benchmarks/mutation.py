@@ -49,27 +49,27 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
                         ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
-    "global": (["observability/analysis/uniqueness.py", "observability/analysis/truncation.py", "observability/analysis/mirrors.py",
-                "observability/analysis/fibre.py",
-                "observability/analysis/rationalmodel.py",
-                "observability/analysis/generators.py", "observability/analysis/globalfield.py",
+    "global": (["observability/identifiability/uniqueness.py", "observability/identifiability/truncation.py", "observability/identifiability/mirrors.py",
+                "observability/identifiability/fibre.py",
+                "observability/identifiability/rationalmodel.py",
+                "observability/identifiability/generators.py", "observability/identifiability/globalfield.py",
                 "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py",
                 "observability/rank/pairs.py"],
                ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py",
                 "tests/test_pairs.py", "tests/test_modular_field.py"]),
     "modular": (["observability/rank/transfer.py", "observability/rank/primefield.py",
-                 "observability/analysis/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py",
+                 "observability/identifiability/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py",
                                                          "tests/test_modular_field.py"]),
     # The field decided modulo primes (run with --only on its functions' mutants: the modules are shared with
     # "global" and "modular", whose tests are too slow to run per mutant of a budgeted child's callers).
-    "modular-field": (["observability/analysis/generators.py", "observability/analysis/globalfield.py",
-                       "observability/analysis/uniqueness.py", "observability/analysis/modularfibre.py",
+    "modular-field": (["observability/identifiability/generators.py", "observability/identifiability/globalfield.py",
+                       "observability/identifiability/uniqueness.py", "observability/identifiability/modularfibre.py",
                        "observability/rank/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
                        "tests/test_global.py", "tests/test_modular.py"]),
     # The budgeted runs and the two routes side by side (run with --only on BudgetedRun, with_budget and
     # _over_q_then_modulo_primes).
-    "routes": (["observability/budget.py", "observability/analysis/uniqueness.py"],
+    "routes": (["observability/budget.py", "observability/identifiability/uniqueness.py"],
                ["tests/test_concurrent_routes.py", "tests/test_edges.py", "tests/test_modular.py",
                 "tests/test_modular_field.py"]),
     # Unknown inputs that may be any function of time: the jet rank, the compensated fields, the verdict.
@@ -77,15 +77,15 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "observability/analysis/arbitrary.py"],
                        ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
     # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
-    "io-route": (["observability/analysis/ioequation.py", "observability/analysis/ioglobal.py",
-                  "observability/analysis/ioseries.py", "observability/analysis/uniqueness.py",
-                  "observability/analysis/iofield.py", "observability/analysis/ioprojection.py"],
+    "io-route": (["observability/identifiability/ioequation.py", "observability/identifiability/ioglobal.py",
+                  "observability/identifiability/ioseries.py", "observability/identifiability/uniqueness.py",
+                  "observability/identifiability/iofield.py", "observability/identifiability/ioprojection.py"],
                  ["tests/test_io_equation.py", "tests/test_io_projection.py"]),
     # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
-    "reduced-fibre": (["observability/analysis/reducedfibre.py", "observability/rank/membership.py",
-                       "observability/analysis/fibre.py", "observability/analysis/modularfibre.py",
-                       "observability/analysis/uniqueness.py", "observability/analysis/generators.py",
-                       "observability/analysis/globalfield.py"],
+    "reduced-fibre": (["observability/identifiability/reducedfibre.py", "observability/rank/membership.py",
+                       "observability/identifiability/fibre.py", "observability/identifiability/modularfibre.py",
+                       "observability/identifiability/uniqueness.py", "observability/identifiability/generators.py",
+                       "observability/identifiability/globalfield.py"],
                       ["tests/test_reduced_fibre.py", "tests/test_modular.py", "tests/test_modular_field.py",
                        "tests/test_global_exact.py", "tests/test_global_field.py", "tests/test_global.py"]),
     "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
@@ -326,24 +326,24 @@ EQUIVALENT: dict[str, str] = {
     "observability.engine.jets.x_jet_equations__mutmut_154": "no equation is the constant 1 (the point solves them all); a zero kept is harmless",
     "observability.engine.jets.x__solve_linear__mutmut_9": "coeff's default exponent is 1",
     "observability.engine.jets.x__solve_linear__mutmut_13": "the caller catches the ZeroDivisionError and draws another point: its text is never shown",
-    **{f"observability.analysis.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
+    **{f"observability.identifiability.uniqueness.x__functions__mutmut_{k}": "where= names a parse error, and the verdict's own printed functions always parse"
        for k in (10, 14, 15)},
-    **{f"observability.analysis.mirrors.x_mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
-    "observability.analysis.truncation.x_truncation_orders__mutmut_3":
+    **{f"observability.identifiability.mirrors.x_mirrors__mutmut_{k}": "the kind's label: any kind but 'flip' is the half-turn" for k in (14, 15)},
+    "observability.identifiability.truncation.x_truncation_orders__mutmut_3":
         "an unseeded point for the rank: any point with the verdict's rank gives a transcendence basis of rows",
-    **{f"observability.analysis.truncation.x_lie_orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
-    "observability.analysis.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
-    **{f"observability.analysis.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
+    **{f"observability.identifiability.truncation.x_lie_orders__mutmut_{k}": "the default of get: every output is a key already" for k in (9, 10, 12, 13, 14)},
+    "observability.identifiability.uniqueness.x__rank__mutmut_2": "the rows are the jet equations, never none",
+    **{f"observability.identifiability.uniqueness.x_global_observability__mutmut_{k}": "another seed, or none, for the random points: the answers do "
        "not depend on the point (each carries the same guarantee)" for k in (1, 49, 74)},
-    "observability.analysis.uniqueness.x_global_observability__mutmut_2": "the API's default budget, 60 or 61 s (the CLI passes its own)",
-    "observability.analysis.truncation.x_truncation_orders__mutmut_5": "an unseeded point for the rank: as mutant 3",
+    "observability.identifiability.uniqueness.x_global_observability__mutmut_2": "the API's default budget, 60 or 61 s (the CLI passes its own)",
+    "observability.identifiability.truncation.x_truncation_orders__mutmut_5": "an unseeded point for the rank: as mutant 3",
     **{k: "the expression's text cut at 81 characters instead of 80" for k in (
-        "observability.analysis.rationalmodel.xǁRationalModelǁrewrite__mutmut_13",
-        "observability.analysis.rationalmodel.x_rational_model__mutmut_47")},
-    **{f"observability.analysis.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
+        "observability.identifiability.rationalmodel.xǁRationalModelǁrewrite__mutmut_13",
+        "observability.identifiability.rationalmodel.x_rational_model__mutmut_47")},
+    **{f"observability.identifiability.rationalmodel.x_degree_bounds__mutmut_{k}": "max of the speeds' degrees with another default: a System has a state"
        for k in (13, 15, 26)},
-    "observability.analysis.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
-    **{f"observability.analysis.rationalmodel.x_polynomial_degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
+    "observability.identifiability.rationalmodel.x_degree_bounds__mutmut_33": "max(d_a - 1, d_b) without 0: d_b >= 0 already",
+    **{f"observability.identifiability.rationalmodel.x_polynomial_degree__mutmut_{k}": "the total degree of a constant is 0, and does not depend on listing the variables"
        for k in (2, 5)},
     "observability.engine.expansion.xǁAllRowsǁadd_row__mutmut_2": "the expansion does not read add_row's answer (it reads the rank)",
     "observability.engine.expansion.x_replay__mutmut_10":
@@ -499,10 +499,10 @@ EQUIVALENT: dict[str, str] = {
            "x__independent_exponents": (6, 7, 10, 11, 12, 17, 18, 19, 24, 25),
            "x__independent_on_the_circle": (2, 3, 6, 9, 10, 11, 16, 17, 18, 23, 24, 28, 29, 30, 35, 36, 37, 42, 43,
                                             47, 48, 49, 54, 55, 60, 61)}.items() for k in numbers},
-    **{f"observability.analysis.fibre.x_known_variables__mutmut_{k}": "max over the outputs' orders with another "
+    **{f"observability.identifiability.fibre.x_known_variables__mutmut_{k}": "max over the outputs' orders with another "
        "default, or one more input derivative: a System has an output, and a derivative no Lie derivative holds "
        "is drawn and never read" for k in (3, 5, 6, 13)},
-    **{f"observability.analysis.generators.{name}__mutmut_{k}": why for why, names in {
+    **{f"observability.identifiability.generators.{name}__mutmut_{k}": why for why, names in {
         "max over the outputs' orders with another default: a System has an output": (
             ("x_generate_the_field", (12, 14, 15)),),
         "one more input derivative among the known variables, or a larger degree for them: the sampling range only "
@@ -511,11 +511,11 @@ EQUIVALENT: dict[str, str] = {
         "another seed, or one more draw: a redraw is needed only after a pole": (("x_generate_the_field", (71, 73)),),
         "one more Lie derivative computed after the last and never listed": (("x_lie_derivatives_of_outputs", (48,)),),
     }.items() for name, numbers in names for k in numbers},
-    "observability.analysis.fibre.x_fibre_equations__mutmut_9": "one more draw of the point: a redraw is needed "
+    "observability.identifiability.fibre.x_fibre_equations__mutmut_9": "one more draw of the point: a redraw is needed "
         "only after a pole",
-    "observability.analysis.uniqueness.x__decide__mutmut_34": "another seed (None: fresh randomness) for the fibre's "
+    "observability.identifiability.uniqueness.x__decide__mutmut_34": "another seed (None: fresh randomness) for the fibre's "
         "random point and primes: every answer holds with its error probability at any point drawn from the range",
-    **{f"observability.analysis.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
+    **{f"observability.identifiability.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
        "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
        "printed from parsed expressions" for k in (31, 35, 36)},
     "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
@@ -577,7 +577,7 @@ EQUIVALENT: dict[str, str] = {
         "pairs formed within a basis that already is a Groebner basis: they reduce to zero":
             (("x_extend_basis", (15, 17, 20)),),
     }.items() for name, numbers in names for k in numbers},
-    **{f"observability.analysis.modularfibre.{name}__mutmut_{k}": why for why, names in {
+    **{f"observability.identifiability.modularfibre.{name}__mutmut_{k}": why for why, names in {
         "a variable's or a message's name": (("xǁ_IntegerSystemǁ__init__", (2, 3, 4)),
                                              ("x_members_modulo_prime", (6, 7, 148, 149))),
         "t added for a constant Q (t = 1/Q, determined), or saturated_definitions called without t Q - 1 (it then "
@@ -606,8 +606,8 @@ EQUIVALENT: dict[str, str] = {
         "reshape(None) or reshape(-2) of np.unique's inverse: already one-dimensional in this numpy, and any "
         "negative size means 'the rest'": (("xǁCriticalPairsǁ_push", (41, 43)),),
     }.items() for name, numbers in names for k in numbers},
-    # analysis/globalfield.py (issue 32, 2026-12-04)
-    **{f"observability.analysis.globalfield.{name}__mutmut_{k}": why for why, names in {
+    # identifiability/globalfield.py (issue 32, 2026-12-04)
+    **{f"observability.identifiability.globalfield.{name}__mutmut_{k}": why for why, names in {
         "another seed or range for the random point, or one more draw: the answer holds at every point off the "
         "poles, with the error probability of the field test, which draws its own point": (
             ("x__point", (2, 4, 11, 12, 13, 14, 15)),),

@@ -4,6 +4,7 @@ The data flow is the order of :data:`STAGES`: the model (:mod:`.model`, the
 built-in ones in :mod:`.models`), the engine that turns it into exact numbers
 (:mod:`.engine`), the rank (:mod:`.rank`), the unobservable directions and
 observable functions (:mod:`.directions`), the verdict (:mod:`.analysis`),
+which values the outputs fix uniquely (:mod:`.identifiability`, ``check --global``),
 answers about motions, sets and points (:mod:`.where`), the casadi bridge
 (:mod:`.codegen`), the filters (:mod:`.filters`), observability along a
 trajectory (:mod:`.trajectory`), planning what to change to observe more
@@ -23,6 +24,7 @@ STAGES = (
     "rank",
     "directions",
     "analysis",
+    "identifiability",
     "where",
     "codegen",
     "filters",

@@ -15,7 +15,7 @@ import time
 import pytest
 
 from observability import budget
-from observability.analysis import uniqueness
+from observability.identifiability import uniqueness
 from observability.budget import BudgetedRun, Undecided, with_budget
 
 

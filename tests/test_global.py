@@ -15,10 +15,10 @@ import sympy
 from conftest import cli
 
 from observability import System, analyze
-from observability.analysis.fibre import _free_coordinates
-from observability.analysis.uniqueness import GLOBAL_ERROR, GlobalVerdict, global_observability
+from observability.identifiability.fibre import _free_coordinates
+from observability.identifiability.uniqueness import GLOBAL_ERROR, GlobalVerdict, global_observability
 from observability.errors import ModelError
-from observability.analysis.rationalmodel import degree_bounds, rational_model
+from observability.identifiability.rationalmodel import degree_bounds, rational_model
 from observability.model.prepare import prepare
 from observability.engine.jets import jet_equations
 from observability.model.sijl import parse_si_model
@@ -89,7 +89,7 @@ def test_global_labels_match_structural_identifiability_jl(line, body, expected,
     ``result_(normalforms, 2)_with_states`` at the same commit lists R, W, I, S and the 7
     constants) in a basis of 4 unknowns, once its 7 constants are found global."""
     if line in (80, 100):
-        from observability.analysis import uniqueness
+        from observability.identifiability import uniqueness
 
         def out_of_reach(*args):
             raise uniqueness.Undecided("skipped")
@@ -233,7 +233,7 @@ def test_discrete_time_and_arbitrary_inputs_are_refused():
 def test_a_jacobian_below_the_verdict_s_rank_at_the_point_is_undecided(monkeypatch):
     """Where the jets' Jacobian misses the verdict's rank at the random point (a point the range
     makes unlikely; forced here) no membership is claimed: every state undecided, the reason given."""
-    from observability.analysis import fibre
+    from observability.identifiability import fibre
 
     monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank, rank_of: None)
     system = System(["x"], ["1"], {"y": "x**2"})
@@ -548,7 +548,7 @@ def test_a_square_in_place_of_a_generator_misses_the_second_derivative():
     Q(x0, s, p^2, w) (p -> -p fixing x0, s, w is an automorphism: the four are independent), and
     y'' = -s (w - s x0) - p x0 is linear in p: L^2 y is outside, certainly; y and y' = w - s x0
     are inside."""
-    from observability.analysis.generators import generate_the_field
+    from observability.identifiability.generators import generate_the_field
     from observability.model.prepare import prepare
 
     system = prepare(parse_si_model(TWO_COMPARTMENTS)).system
@@ -569,7 +569,7 @@ def test_generation_with_an_input_and_an_incomplete_list():
     is inside. The pair model
     (line 148) prints functions only locally observable: they cannot generate the outputs' field
     (certain, from the first test)."""
-    from observability.analysis.generators import generate_the_field
+    from observability.identifiability.generators import generate_the_field
 
     system = System(states=["x1", "x2"], inputs=["u"], dynamics={"x1": "u", "x2": "0"}, outputs={"y": "x1 + x2"})
     result = analyze(system, seed=5)

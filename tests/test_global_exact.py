@@ -1,6 +1,6 @@
 """The generators of the field of globally observable functions
-(``analysis/globalfield.py``), the field test (``analysis/generators.py``) and
-the fibre (``analysis/fibre.py``), decided in process and checked by hand or
+(``identifiability/globalfield.py``), the field test (``identifiability/generators.py``) and
+the fibre (``identifiability/fibre.py``), decided in process and checked by hand or
 against sympy (issue 32: the global group's mutants).
 """
 
@@ -10,11 +10,11 @@ import pytest
 import sympy
 
 from observability import System
-from observability.analysis import fibre as fibres
-from observability.analysis import globalfield
-from observability.analysis.generators import generate_the_field, lie_derivatives_of_outputs
-from observability.analysis.globalfield import FieldGenerators, field_generators, pair_candidates
-from observability.analysis.rationalmodel import rational_model
+from observability.identifiability import fibre as fibres
+from observability.identifiability import globalfield
+from observability.identifiability.generators import generate_the_field, lie_derivatives_of_outputs
+from observability.identifiability.globalfield import FieldGenerators, field_generators, pair_candidates
+from observability.identifiability.rationalmodel import rational_model
 from observability.engine.lie import input_derivative
 from observability.errors import ModelError
 

@@ -15,7 +15,7 @@ import sympy
 from conftest import SEIRT_JL
 
 from observability import System, analyze
-from observability.analysis.uniqueness import global_observability
+from observability.identifiability.uniqueness import global_observability
 from observability.model.expressions import parse_expression
 from observability.model.sijl import parse_si_model
 from observability.rank.membership import contained

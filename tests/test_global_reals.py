@@ -13,8 +13,8 @@ import sympy
 from conftest import cli
 
 from observability import System, analyze
-from observability.analysis.realvalues import _answer
-from observability.analysis.uniqueness import global_observability
+from observability.identifiability.realvalues import _answer
+from observability.identifiability.uniqueness import global_observability
 
 CUBE = """name = "cube"
 states = ["x"]
@@ -97,8 +97,8 @@ def test_the_eliminants_of_a_hand_fibre():
     """x^2 + y^2 = 5, x - y = 1: the points (2, 1) and (-1, -2), so x takes the roots of
     (x - 2)(x + 1) = x^2 - x - 2 and y those of (y - 1)(y + 2) = y^2 + y - 2. With the zeros where
     z = 0 removed (saturation at z): z (z - 1)(z + 3) = 0 leaves z in {1, -3}: z^2 + 2 z - 3."""
-    from observability.analysis.fibre import FibreEquations
-    from observability.analysis.realvalues import _eliminants
+    from observability.identifiability.fibre import FibreEquations
+    from observability.identifiability.realvalues import _eliminants
 
     x, y, z = sympy.symbols("x y z")
     found = _eliminants(FibreEquations((x**2 + y**2 - 5, x - y - 1), (x, y), sympy.Integer(1), {}, {}),

@@ -13,9 +13,9 @@ import flint
 import pytest
 import sympy
 
-from observability.analysis.ioequation import InputOutputEquation, _eliminate, _Ring, input_output_equation
-from observability.analysis.ioglobal import _least_order, _wronskian_corank_one, constants_from_io_equation
-from observability.analysis.rationalmodel import RationalModel
+from observability.identifiability.ioequation import InputOutputEquation, _eliminate, _Ring, input_output_equation
+from observability.identifiability.ioglobal import _least_order, _wronskian_corank_one, constants_from_io_equation
+from observability.identifiability.rationalmodel import RationalModel
 from test_global import SI_CASES
 
 #: One membership test's error at 10^-6, its point redrawn where a denominator vanishes (point_error).
@@ -116,7 +116,7 @@ def test_wronskian_corank_along_an_exponential():
 def test_a_pole_proves_no_corank_and_is_drawn_again_for_the_equation(monkeypatch):
     """A solution with a pole (None): the Wronskian shows nothing there (corank one not claimed);
     the equation's elimination draws again and still finds y' - y = 0 (x' = x, y = x)."""
-    from observability.analysis import ioequation, ioglobal
+    from observability.identifiability import ioequation, ioglobal
 
     model = _model((x, k), (x, 0), x)
     ring = _Ring(model, [])
@@ -143,7 +143,7 @@ def test_an_equation_of_too_high_order_is_refused():
 
 def test_an_equation_not_of_least_order_is_refused_with_the_reason(monkeypatch):
     """The route says why when the least order is not certified (forced here)."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     monkeypatch.setattr(ioglobal, "_least_order", lambda *args: False)
     x1, x2 = sympy.symbols("x1 x2")
@@ -192,7 +192,7 @@ def test_a_full_rank_subset_decides_only_members(monkeypatch):
     """With every coefficient list 'large': the subset of ratios with full Jacobian rank places a
     (y' + a y - u = 0: F = Q(a)) but cannot refuse a or b of the swap (F = Q(a + b, a b)): a
     constant outside a subfield may lie in F; with the whole set not tried they stay undecided."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
     monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
@@ -211,7 +211,7 @@ def test_bezout_determinant_keeps_every_factor_of_the_resultant():
     """Bezout's determinant is the resultant times a power of a leading coefficient, so every
     irreducible factor of FLINT's own resultant is among its factors (random polynomials of
     degrees 2 to 4 in v, three variables), and a zero resultant (a common factor) gives None."""
-    from observability.analysis.ioequation import _resultant_factors
+    from observability.identifiability.ioequation import _resultant_factors
 
     ring = flint.fmpz_mpoly_ctx.get(("v", "p", "q"), "degrevlex")
     rng = random.Random(5)
@@ -242,8 +242,8 @@ def test_with_two_outputs_one_output_s_only_locally_does_not_carry_over(monkeypa
     stays undecided, never 'only locally'. The field's step then places all four: x1 = y1,
     x2 = y2, b = -y2' / y2, a = (y2 - y1') / y1."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     _without_projections(monkeypatch)
@@ -270,14 +270,14 @@ def test_known_parameters_without_values_are_refused_with_the_reason(monkeypatch
     """x1' = -a x1 + p with p known but without a value: the equation's coefficients would mix
     the known p with the unknown a, which the Wronskian's argument does not cover: no answer."""
     from observability import System, analyze
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     system = System(["x1"], ["-a*x1 + p"], {"y": "x1"}, parameters=["p"], unknown_parameters=["a"])
     answer = global_observability(system, analyze(system, seed=1, directions=False), seed=2, budget=None)
     assert answer.undecided == ("x1", "a") and answer.error_probability is None
     assert answer.details.endswith("; the input-output route: known parameters without values are not supported")
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     called = []
     monkeypatch.setattr(uniqueness, "constants_from_projections", lambda *args: called.append(1) or "ran")
@@ -294,7 +294,7 @@ def test_series_jets_are_the_lie_derivatives_at_the_point():
     (u's derivatives u^(k)(0) = k! times its coefficients), exactly."""
     import math
 
-    from observability.analysis.ioequation import IO_PRIME, _solution
+    from observability.identifiability.ioequation import IO_PRIME, _solution
 
     x1, x2 = sympy.symbols("x1 x2")
     speeds = (-a * x1 / 3 + x2 / (a + x1), u - x1 * x2)
@@ -355,7 +355,7 @@ def test_without_corank_one_only_the_negative_answers_stand(monkeypatch):
     """A Wronskian of corank above one leaves the coefficients to several experiments: a constant
     in F is then only multi-experiment observable ('globally' undecided), one outside F is still
     only locally observable (what one experiment fixes, several do)."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     monkeypatch.setattr(ioglobal, "_wronskian_corank_one", lambda *args: False)
     driven, swapped = _driven(), _swap()
@@ -376,7 +376,7 @@ def test_a_constant_absent_from_the_equation_costs_no_test():
 
 
 def _forced(monkeypatch):
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
     from observability.budget import Undecided
 
     def gives_up(*args):
@@ -388,7 +388,7 @@ def _forced(monkeypatch):
 def _without_projections(monkeypatch):
     """The per-output route alone: the outputs' joint projections (tested on their own) withheld, for
     the constants and for the field."""
-    from observability.analysis import iofield, uniqueness
+    from observability.identifiability import iofield, uniqueness
 
     monkeypatch.setattr(uniqueness, "constants_from_projections", lambda *args: "withheld")
     monkeypatch.setattr(iofield, "generating_projections", lambda *args: "withheld")
@@ -399,8 +399,8 @@ def test_one_output_decides_constants_and_states(monkeypatch):
     only locally (one output: the negative answers stand); the states in K = Q(a + b, a b, y, y',
     y''): x1 = y globally, x2 = y' + a y only locally (the swap moves it); two membership tests."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     system = System(["x1", "x2"], ["-a*x1 + x2", "-b*x2"], {"y": "x1"}, unknown_parameters=["a", "b"])
@@ -421,8 +421,8 @@ def test_one_output_decides_constants_and_states(monkeypatch):
 def test_the_route_keeps_to_its_budget(monkeypatch):
     """A route that would run for 30 s of CPU under a budget of 0.2 s: stopped, and said."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
 
     def spins(*args):
         end = __import__("time").process_time() + 30
@@ -444,8 +444,8 @@ def test_the_route_keeps_to_its_budget(monkeypatch):
 def test_no_constant_no_route(monkeypatch):
     """y = x^2 with x' = 1 has no unknown constant: the route is not run, and says so."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     monkeypatch.setattr(uniqueness, "constants_from_io_equation", None)
@@ -487,7 +487,7 @@ def test_a_model_without_states_or_constants_is_refused():
 
 
 def test_series_refuse_an_order_past_the_prime():
-    from observability.analysis.ioseries import solution_series
+    from observability.identifiability.ioseries import solution_series
 
     with pytest.raises(ValueError, match="^the series' order must stay below the prime$"):
         solution_series([], (None, None), [], [], [], [], 7, random.Random(1), 7)
@@ -496,7 +496,7 @@ def test_series_refuse_an_order_past_the_prime():
 def test_the_sampling_range_gets_the_generators_degrees(monkeypatch):
     """The swap's F = Q(a + b, a b) over the coefficient 1 of y'': degrees (1, 0) and (2, 0), the
     two tested constants (1, 0) each, 2 coordinates, the error asked for."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     seen = []
     real = ioglobal.sampling_range
@@ -514,9 +514,9 @@ def test_each_output_adds_what_it_fixes(monkeypatch):
     import dataclasses
 
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.iofield import field_members
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.iofield import field_members
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     _without_projections(monkeypatch)
@@ -549,7 +549,7 @@ def test_a_subset_reaches_the_field_s_degree_when_the_rank_is_known(monkeypatch)
     constants. The verdict's rank 3 (x1, a and b c) minus the order 1 gives 2: a subset of the
     ratios reaching rank 2 places a in F. Without the rank the subset must reach 3, which it
     never does: a stays undecided."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", -1)
     monkeypatch.setattr(ioglobal, "FULL_TERMS", -1)
@@ -565,7 +565,7 @@ def test_the_subset_is_filled_with_the_shortest_other_ratios(monkeypatch):
     """Q(a^2) has the degree of Q(a^2, a^3) = Q(a) but does not hold a: after the ratios that
     raise the rank, the shortest others are added up to SUBSET_TERMS terms in all (Pivastatin's
     k2, k3, k4, r1, r3 were placed only so), never one twice."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     ring = flint.fmpz_mpoly_ctx.get(("a",), "degrevlex")
     (g,) = ring.gens()
@@ -582,7 +582,7 @@ def test_the_subset_is_filled_with_the_shortest_other_ratios(monkeypatch):
 def test_the_subset_keeps_only_ratios_that_raise_the_rank(monkeypatch):
     """Over the base a: a / a = 1 is a constant (its Jacobian row is zero, n' b - n b' = 0) and
     a b / a = b raises the rank to the target 1; over the base 1: a, then 2 a (no gain), then b."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 0)
     ring = flint.fmpz_mpoly_ctx.get(("a", "b"), "degrevlex")
@@ -598,7 +598,7 @@ def test_membership_adjoins_the_coordinates_the_generators_leave_free(monkeypatc
     Q(d, e) (the completion, not a verdict: the route tests only constants algebraic over F).
     Q(a d / d, d^2 / d) = Q(a, d) over the base d: e alone is adjoined; a and d are in it. The
     sampling range gets the degrees over the base's (numerator, d's degree)."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     d, e = sympy.symbols("d e")
     seen = []
@@ -620,8 +620,8 @@ def test_a_constant_transcendental_over_one_output_s_ratios_is_not_placed_by_the
     y2's Q(b^2), of full rank, does not hold b (one test); the field's step then gives a, b only
     locally and x1, x2 globally (one more): three in all."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     _without_projections(monkeypatch)
@@ -640,9 +640,9 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
     output's own rank is unknown, so None goes. The field's step gets the verdict's rank either
     way (it is K's degree), and every state and constant still open."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.ioglobal import ConstantAnswers
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.ioglobal import ConstantAnswers
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     _without_projections(monkeypatch)
@@ -669,7 +669,7 @@ def test_the_verdict_s_rank_goes_only_to_a_one_output_route(monkeypatch):
 
 
 def _swap_field(rank=4, orders=4):
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     x1, x2 = sympy.symbols("x1 x2")
     model = _model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1)
@@ -684,8 +684,8 @@ def test_states_from_the_equation_need_the_verdict_s_rank(monkeypatch):
     (every ratio 'large') the Lie derivatives are truncated, over the subset (2 of the rank 4)
     after y and y' (order 2), so K is still generated and the negative answer stands. With an input:
     x1' = -a x1 + u, y = x1, K = Q(a, y, y', u): x1 = y, a = (u - y') / y."""
-    from observability.analysis import ioglobal
-    from observability.analysis.iofield import field_members
+    from observability.identifiability import ioglobal
+    from observability.identifiability.iofield import field_members
 
     found = _swap_field()
     assert found.members == {"x1": True, "x2": False} and found.error == E
@@ -718,7 +718,7 @@ def test_states_need_the_true_lie_derivatives():
     """x1' = x2, x2' = -x2 - a x1, y = x1: y'' + y' + a y = 0 fixes a, and x2 = y' lies in
     K = Q(a, y, y', y''): globally observable (the sum of the speeds, -a x1, would lose x2's
     direction, and with it the rank). Constants and states asked together: one membership test."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     x1, x2 = sympy.symbols("x1 x2")
     model = _model((x1, x2, a), (x2, -x2 - a * x1, 0), x1)
@@ -732,8 +732,8 @@ def test_an_output_without_a_usable_equation_gives_its_truncated_lie_derivatives
     4 needs y'''; y, y', y'' alone have rank 3, and the route would say so): x1 global, x2 only
     locally, as with the ratios. An equation refused outright (a model whose only output is a
     constant) goes the same way, with the reason."""
-    from observability.analysis import ioglobal
-    from observability.analysis.iofield import field_members
+    from observability.identifiability import ioglobal
+    from observability.identifiability.iofield import field_members
 
     monkeypatch.setattr(ioglobal, "_wronskian_corank_one", lambda *args: False)
     found = _swap_field()
@@ -764,8 +764,8 @@ def test_constants_found_global_stand_in_for_the_equation_s_ratios(monkeypatch):
     and x2 = y'. With a known to lie in K, P's only ratio lies in Q(a): y and y' (P is linear in
     y'') suffice whatever the Wronskian says, here forced to corank above one, where without a the
     Lie derivatives go to the truncation order (given 4; y, y', y'' reach the rank 3, so 3)."""
-    from observability.analysis import ioglobal
-    from observability.analysis.iofield import field_members
+    from observability.identifiability import ioglobal
+    from observability.identifiability.iofield import field_members
 
     monkeypatch.setattr(ioglobal, "_wronskian_corank_one", lambda *args: False)
     x1, x2 = sympy.symbols("x1 x2")
@@ -784,7 +784,7 @@ def test_truncated_orders_are_lowered_one_past_the_rows_taken():
     """x' = 1, y = x^2 (no constant: no equation): K = Q(x^2, 2 x) = Q(x), so x is global. The rank
     1 is reached by y alone, and T' goes one order past it: y, y'. Stopping at y would leave
     Q(x^2), where x is only locally. A second output y2 = x^2 adds no row: h alone (order 0)."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     model = RationalModel((x,), (sympy.Integer(1),), (x**2, x**2), ())
     found = field_members(model, [], ["y1", "y2"], {"y1": 3, "y2": 2}, [x], 1, seed=4, error=1e-6)
@@ -800,7 +800,7 @@ def test_the_lowering_s_jacobian_modulo_the_prime_is_sympy_s_reduced():
     rational coefficients, a denominator, a constant numerator, two terms in one variable and a
     variable left out of the columns. x' = 1, y = x truncated at order 0 (T = {x}, K = Q(x)): its one row is taken at order 0,
     and "one past it" would ask for a Lie derivative not computed: the given order is kept."""
-    from observability.analysis.iofield import _jacobian_mod_prime, field_members
+    from observability.identifiability.iofield import _jacobian_mod_prime, field_members
     from observability.rank.membership import RANK_PRIME
 
     u, v, w = sympy.symbols("u v w")
@@ -827,7 +827,7 @@ def test_a_dependent_row_is_not_taken_and_an_equation_s_order_stays():
     dependent row would stop at y1, y2 to order 1 each. Then x1' = x2, x2' = -a x1 with y1 = x1
     (equation y1'' + a y1: its ratio and y1, y1') beside y2 = x1 + x2 refused: the rest reaches
     the rank 3, so y2 goes to order 0, and y1 keeps its order 1."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     x1, x2 = sympy.symbols("x1 x2")
     twice = RationalModel((x1, x2), (x2, -x1), (x1, x1), ())
@@ -847,7 +847,7 @@ def test_the_verdict_s_rank_sizes_the_ratio_subset_of_a_one_output_model_only(mo
     """The rank that fixes the size of a long equation's subset of ratios (r - d) is the verdict's
     only with one output; with several, a subset's size is not known from it (None); and the
     constants found are named, in the plural for two."""
-    from observability.analysis import iofield
+    from observability.identifiability import iofield
 
     seen = []
     real = iofield.generating_ratios
@@ -870,7 +870,7 @@ def test_a_known_constant_is_a_generator_and_the_rest_of_the_equation_still_coun
     out. Told (falsely) that a lies in K, the field becomes Q(a, b, y, y'), which holds x2: the
     answers rest on the known constants' (hence their error is the caller's to add). P's
     coefficients also hold b, not known, so its ratios stay among the generators."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     x1, x2 = sympy.symbols("x1 x2")
     model = _model((x1, x2, a, b), (-a * x1 + x2, -b * x2, 0, 0), x1)
@@ -885,7 +885,7 @@ def test_an_equation_without_constants_needs_no_ratios():
     so x is only locally observable (the flip x -> -x); y alone generates K (P linear in y'). The
     elimination meets
     P's factor twice (in a row of Bezout's matrix and in its determinant, (2 y - y')^2): one factor."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     found = field_members(_model((x, k), (x, 0), x**2), [], ["y"], {"y": 1}, [x], 1, seed=4, error=1e-6)
     assert found.members == {"x": False}
@@ -897,7 +897,7 @@ def test_the_constants_found_global_reach_the_field_s_step(monkeypatch):
     the constants' step finds a global (a = -y''/y), and the field's step uses it, with y and y'
     (x1 = y, x2 = y'); two membership tests' errors."""
     from observability import System, analyze
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability.uniqueness import global_observability
 
     _forced(monkeypatch)
     system = System(["x1", "x2"], ["x2", "-a*x1"], {"y": "x1"}, unknown_parameters=["a"])
@@ -914,11 +914,11 @@ def test_the_input_output_route_alone_gives_structural_identifiability_jl_s_labe
                                                                                    monkeypatch):
     """SI.jl's labels (its test/bodies/identifiability.jl; file, commit and cases in test_global.py)
     with the fibre's route forced to give up: states and constants through the input-output equations
-    and the field they generate with the Lie derivatives (:mod:`observability.analysis.iofield`),
+    and the field they generate with the Lie derivatives (:mod:`observability.identifiability.iofield`),
     with an input (lines 54, 166, 184: x2, x3 only locally) and with two outputs (lines 129, 203:
     S, E, a, nu only locally), both answers. Line 80 (a long equation) runs in test_global.py."""
     from observability import analyze
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability.uniqueness import global_observability
     from observability.model.sijl import parse_si_model
 
     _forced(monkeypatch)
@@ -935,7 +935,7 @@ def test_the_top_derivative_is_left_out_only_when_the_equation_is_linear_in_it()
     F(y) = Q(a^2)(y) and stays among the generators (order 1). K = Q(x^2, a x, a^2) holds neither x
     nor a (the flip x, a -> -x, -a keeps every Lie derivative): both only locally, the Jacobian of
     y, y' and a^2 reaching the rank 2. With y' left out (a^2 and y alone) the rank would be 1."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     x = sympy.Symbol("x")
     found = field_members(_model((x, a), (a, 0), x**2), [], ["y"], {"y": 2}, [x, a], 2, seed=4, error=1e-6)
@@ -950,9 +950,9 @@ def test_two_outputs_with_an_input(monkeypatch):
     (y2' + a y2 = 0, linear: y2 alone) still generate K = Q(a, y1, y2, u, u', u''), and over the rest
     (a, y2, u, u', u'': rank 5 of the 6 needed) y1 alone raises the rank: y1 to order 1 suffices."""
     from observability import System, analyze
-    from observability.analysis.iofield import field_members
-    from observability.analysis.rationalmodel import rational_model
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability.iofield import field_members
+    from observability.identifiability.rationalmodel import rational_model
+    from observability.identifiability.uniqueness import global_observability
     from observability.model.prepare import prepare
 
     _forced(monkeypatch)
@@ -982,7 +982,7 @@ def test_a_change_of_variables_keeps_the_point_a_solution_and_the_equation(monke
     becomes x2' = -b (x2 - c). Each polynomial the change returns vanishes at the moved point (it is
     still a solution's jets), and the equation found is the one found with the change switched off,
     up to a constant factor (the input-output equation of least order is unique up to one): two routes."""
-    from observability.analysis import ioequation
+    from observability.identifiability import ioequation
 
     x1, x2, c = sympy.symbols("x1 x2 c")
     model = RationalModel((x1, x2, a, b, c), (-a * x1, -b * x2, sympy.Integer(0), sympy.Integer(0),
@@ -1010,7 +1010,7 @@ def test_substitution_and_coefficients_against_sympy():
     """_substituted(p, x, n, d) is d^deg p(x = n / d) and _by_degree gives p's coefficients in x,
     against sympy's own substitution and Poly coefficients, on a polynomial of degree 3 in x0 (and
     on one without it: degree 0, returned unchanged)."""
-    from observability.analysis import ioequation
+    from observability.identifiability import ioequation
 
     ring = _Ring(_model((x, k), (-k * x, 0), x), [])
     v = ring.var
@@ -1043,8 +1043,8 @@ def test_a_change_of_variables_holds_on_every_solution():
     derivative as r' + (that ratio)', every dx as its speed and Y_k as L^k h, is zero as a
     rational function (it holds on every solution); r's own holds no other state's derivative;
     the moved point's r and dr are the old plus the ratio and its derivative there."""
-    from observability.analysis import ioequation
-    from observability.analysis.ioequation import IO_PRIME, _solution, change_of_variables
+    from observability.identifiability import ioequation
+    from observability.identifiability.ioequation import IO_PRIME, _solution, change_of_variables
 
     p_, q_, r_, s_, c = sympy.symbols("p q r s c")
     speeds = (-c * p_, r_ - q_, -2 * r_, s_)
@@ -1087,7 +1087,7 @@ def test_a_change_of_variables_holds_on_every_solution():
 
 def test_a_zero_polynomial_stays_zero_under_substitution():
     """_substituted of the zero polynomial (degree taken as 0) is zero."""
-    from observability.analysis import ioequation
+    from observability.identifiability import ioequation
 
     ring = _Ring(_model((x, k), (-k * x, 0), x), [])
     zero = ring.ctx.from_dict({})

@@ -14,9 +14,9 @@ import random
 import pytest
 import sympy
 
-from observability.analysis import ioprojection
-from observability.analysis.ioprojection import constants_from_projections, joint_projections
-from observability.analysis.rationalmodel import RationalModel, rational_model
+from observability.identifiability import ioprojection
+from observability.identifiability.ioprojection import constants_from_projections, joint_projections
+from observability.identifiability.rationalmodel import RationalModel, rational_model
 from observability.model.prepare import prepare
 from observability.model.sijl import parse_si_model
 from test_global import SI_CASES
@@ -191,7 +191,7 @@ def test_a_pole_is_drawn_again_and_never_taken_for_corank_one(monkeypatch):
 def test_what_the_route_refuses(monkeypatch):
     """No unknown constant: nothing to eliminate for; no single vanishing factor at any of the
     points drawn: refused with the reason, never a projection."""
-    from observability.analysis import ioequation
+    from observability.identifiability import ioequation
 
     still = RationalModel((x1, x2), (-x1 + x2, -x2), (x1, x2), ())
     assert joint_projections(still, [], ["y1", "y2"], seed=1) == \
@@ -206,8 +206,8 @@ def test_the_projections_reach_check_global(monkeypatch):
     projections place a and b (one test, their ratios together), the field's step x1 = y1 and
     x2 = y2 (one more)."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.uniqueness import global_observability
     from observability.budget import Undecided
 
     def gives_up(*args):
@@ -234,9 +234,9 @@ def test_the_projections_get_the_budget_and_a_note_only_when_they_place_somethin
     symbolic step); a step that places nothing leaves no note, so with the rest withheld the
     verdict is "undecided" with the reasons."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
-    from observability.analysis.ioglobal import ConstantAnswers
-    from observability.analysis.uniqueness import global_observability
+    from observability.identifiability import uniqueness
+    from observability.identifiability.ioglobal import ConstantAnswers
+    from observability.identifiability.uniqueness import global_observability
     from observability.budget import Undecided
 
     def gives_up(*args):
@@ -263,7 +263,7 @@ def test_algebraic_members_checks_then_tests_at_the_stated_range(monkeypatch):
     but not in it (the swap a <-> b): False; c is transcendental: None, untested. The point's
     range is k D / e with D = sum of (deg n + 2 deg d) = 1 + 2 = 3 and k = 2 tested: 6 / 1e-6.
     At full rank (F = Q(a + b, a b) in a, b alone) no check is spent: only the test's error."""
-    from observability.analysis import ioglobal
+    from observability.identifiability import ioglobal
 
     c = sympy.Symbol("c")
     bounds = []
@@ -300,7 +300,7 @@ def test_the_projections_generate_the_field_both_ways():
     y2' + b y2, each linear in its leader, so y1 and y2 alone (e = 0) beside the ratios 2a and b
     generate K = Q(x1^2, x2, a, b) (y1' = -2 a x1^2, y2' = -b x2). x1 -> -x1 keeps every output:
     x1 only locally; x2, a, b globally. One membership test, its error."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     projections = ioprojection.generating_projections(_squared(), [], ["y1", "y2"], seed=1)
     assert [(p.order, e) for p, e in projections] == [(1, 0), (1, 0)]
@@ -316,7 +316,7 @@ def test_a_leader_of_degree_two_keeps_its_own_jet():
     y1'^2 - 4 a^2 y1, of degree 2 in its leader: y1' itself must be a generator (e = 1; without it
     K would lose x1 a). K = Q(x1^2, a x1, a^2, x2, b): (x1, a) -> (-x1, -a) keeps it, so x1 and a
     only locally, x2 and b globally."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     model = RationalModel((x1, x2, a, b), (a, -b * x2, sympy.Integer(0), sympy.Integer(0)), (x1**2, x2), ())
     projections = ioprojection.generating_projections(model, [], ["y1", "y2"], seed=1)
@@ -331,7 +331,7 @@ def test_projections_that_do_not_serve_are_refused(monkeypatch):
     a projection without its own output; one holding the other output's jet at that output's own
     order (y2' in y1's, with y2's of order 1); a leading coefficient zero at the solution. The
     field's step then says why, never an answer."""
-    from observability.analysis.iofield import field_members
+    from observability.identifiability.iofield import field_members
 
     real = ioprojection.joint_projections(_squared(), [], ["y1", "y2"], seed=1)
     (first, second), ring = real
@@ -366,7 +366,7 @@ def test_the_leading_coefficient_against_sympy():
     """dP / dy_o' of each projection of x1' = -a x1 / (1 + x1), x2' = -b x2 (y1 = x1, y2 = x2) at
     random residues, against sympy's derivative of the projection written out, evaluated and
     reduced modulo the prime. y1's, y1' (1 + y1) + a y1, holds its leader in two terms."""
-    from observability.analysis.ioequation import IO_PRIME
+    from observability.identifiability.ioequation import IO_PRIME
 
     model = RationalModel((x1, x2, a, b), (-a * x1 / (1 + x1), -b * x2, sympy.Integer(0), sympy.Integer(0)), (x1, x2),
                           ())
@@ -391,7 +391,7 @@ def test_structural_identifiability_jl_two_output_cases_through_the_projections_
     the projections' field alone, with SI.jl's label, both ways (line 203: S, E, a, nu only locally;
     In, N, b globally)."""
     from observability import analyze
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     def gives_up(*args):
         raise uniqueness.Undecided("forced")
@@ -417,7 +417,7 @@ def test_projections_that_place_nothing_still_count_their_error(monkeypatch):
     test; y2's alone (b only: full rank, free) one test of b. The field through the projections
     then gives x1, x2 globally and a, b only locally, one test more: 4 in all."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     def gives_up(*args):
         raise uniqueness.Undecided("forced")
@@ -434,7 +434,7 @@ def test_the_point_holds_each_output_s_jets_to_the_top_order():
     """The jets of one solution at t = 0 (what the leading coefficients are evaluated at): each
     output's Y{o}_k, k up to the ring's top order n + 1 = 3, is sympy's L^k h_o at the solution's
     initial state and constants, and each dx_i its speed there, modulo the prime."""
-    from observability.analysis.ioequation import IO_PRIME, _Ring
+    from observability.identifiability.ioequation import IO_PRIME, _Ring
 
     model = _swap()
     ring = _Ring(model, [], 2)
@@ -451,7 +451,7 @@ def test_the_point_holds_each_output_s_jets_to_the_top_order():
 def test_the_joint_plans_are_never_lowered():
     """The lowering of a truncated output's orders rests on the truncation's closure argument;
     the projections' orders e_o rest on their own, so no joint plan is marked truncated."""
-    from observability.analysis import iofield
+    from observability.identifiability import iofield
 
     plans = iofield._joint_plans(_squared(), [], ["y1", "y2"], 1, [], random.Random(1))
     assert [(plan.order, plan.truncated) for plan in plans] == [(0, False), (0, False)]
@@ -461,7 +461,7 @@ def test_a_projection_too_long_for_its_ratios_is_refused(monkeypatch):
     """Past FULL_TERMS terms only a subset of a projection's ratios is formed, whose field may be
     smaller than F: the argument needs all of them, so the step is refused (here with both limits
     at zero, on the squared model), never run on the subset."""
-    from observability.analysis import iofield, ioglobal
+    from observability.identifiability import iofield, ioglobal
 
     monkeypatch.setattr(ioglobal, "FULL_TERMS", 0)
     monkeypatch.setattr(ioglobal, "SUBSET_TERMS", 0)
@@ -474,7 +474,7 @@ def test_the_projections_after_a_change_of_variables_vanish_on_the_solutions(mon
     coefficient x2 + c, so SI.jl's change x2 -> x2 + c is made once on the way (counted). Both
     projections still vanish on every solution (sympy's Lie derivatives substituted: the
     change moves the states only, and the point with them)."""
-    from observability.analysis import ioequation as module
+    from observability.identifiability import ioequation as module
 
     c = sympy.Symbol("c")
     model = RationalModel((x1, x2, a, b, c), (-a * x1, -b * x2, sympy.Integer(0), sympy.Integer(0), sympy.Integer(0)),
@@ -494,7 +494,7 @@ def test_the_verdict_s_functions_are_tested_and_generate_the_field_on_this_route
     and the function a + b globally, in the same test. The four printed functions then generate K:
     every Lie derivative, -(a + b)^k x1 and (-c)^k x2, is a polynomial in them."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     real = uniqueness._over_q_then_modulo_primes
 
@@ -520,7 +520,7 @@ def test_the_verdict_s_functions_are_tested_and_generate_the_field_on_this_route
 
 def _fibre_gives_up(monkeypatch, calls=None):
     """Only the fibre's own step gives up; every other budgeted step runs (recorded in ``calls``)."""
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     real = uniqueness._over_q_then_modulo_primes
 
@@ -539,7 +539,7 @@ def test_the_generation_on_this_route_gets_the_budget_and_its_error(monkeypatch)
     to the verdict's with the test's own 10^-6 and kept in the field's generators; where it does not
     decide, no generators are claimed."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     calls = []
     _fibre_gives_up(monkeypatch, calls)
@@ -563,7 +563,7 @@ def test_functions_are_tested_on_the_one_output_route_and_with_nothing_else_open
     c, a*x, with no state locally observable: once c is placed the field's step still runs, for
     a*x alone (it is y). Both then generate the field."""
     from observability import System, analyze
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     _fibre_gives_up(monkeypatch)
     for system, functions in ((System(["x1"], ["-(a + b)*x1 + c"], {"y": "x1"}, unknown_parameters=["a", "b", "c"]),

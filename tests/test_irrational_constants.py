@@ -15,7 +15,7 @@ import flint
 import pytest
 import sympy
 
-from observability.analysis import ioequation
+from observability.identifiability import ioequation
 from observability.budget import Undecided
 from observability.cli import main
 from observability.model.constants import irrational_constants, transcendence
@@ -131,7 +131,7 @@ def test_the_global_route_reports_flints_refusal_as_undecided(tmp_path, capsys, 
     field's step still decides from the Lie derivatives: x' = a x^2 + b, y = x^3 keeps
     its outputs under x -> w x, a -> w^2 a, b -> w b (w^3 = 1; by hand, y' = 3 a x^4 +
     3 b x^2 and (w x)' = w (a x^2 + b)), so all three are only locally observable."""
-    from observability.analysis import uniqueness
+    from observability.identifiability import uniqueness
 
     def out_of_reach(*args):
         raise Undecided("skipped")

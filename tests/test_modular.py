@@ -10,11 +10,11 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.analysis import uniqueness
-from observability.analysis import modularfibre as modular
-from observability.analysis.modularfibre import members_modulo_prime
-from observability.analysis.fibre import FibreEquations, fibre_equations
-from observability.analysis.rationalmodel import rational_model
+from observability.identifiability import uniqueness
+from observability.identifiability import modularfibre as modular
+from observability.identifiability.modularfibre import members_modulo_prime
+from observability.identifiability.fibre import FibreEquations, fibre_equations
+from observability.identifiability.rationalmodel import rational_model
 from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
@@ -293,7 +293,7 @@ def test_no_constant_value_needs_no_radical_test():
 def test_no_prime_for_the_radical_test_leaves_constants_undecided(monkeypatch):
     """x^2 = 4 and y = 3: y is constant, x is not, so the fibre is not the point alone and the
     radical test needs its own prime; when none is found, y is undecided and x still only local."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     x, y = sympy.symbols("x y")
     fibre = FibreEquations((x**2 - 4, y - 3), (x, y), sympy.Integer(1), {x: sympy.Integer(2), y: sympy.Integer(3)}, {})
@@ -400,7 +400,7 @@ def test_substituted_bounds_cover_the_substituted_system(seed):
 def test_a_polynomial_models_fibre_gets_a_shorter_prime():
     """The jets of a polynomial model are definitions (x^(j+1) - D^j f): on the two-compartment model's fibre the
     substituted bound needs fewer bits than the bound on the jets (the bits go with the square of the variables)."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     system = System(["x1", "x2"], ["-(a01 + a21)*x1 + a12*x2", "a21*x1 - a12*x2"], {"y": "x1"},
                     unknown_parameters=["a01", "a12", "a21"])
@@ -442,7 +442,7 @@ def test_saturated_definitions_keep_the_ideal(seed):
 def test_a_rational_models_jets_become_definitions():
     """SIR-like with the denominator S + I: the state equations' jets have coefficient S + I, which divides the
     saturation Q, so the bound through the replaced generators is smaller than through the jets as they are."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S*I/(S + I) - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
     result = analyze(system, seed=5, directions=False)
@@ -457,7 +457,7 @@ def test_a_rational_models_jets_become_definitions():
 
 def _exponents_of(fibre):
     """The transfer exponents members_modulo_prime draws its first prime for, with x and y tested."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     system = modular._IntegerSystem(fibre, ["u"])
     n = len(system.variables) + 1
@@ -471,7 +471,7 @@ def test_the_errors_of_both_primes_and_of_r_are_added(monkeypatch):
     fixed at 2^-70 (and 2^-71), the answer's error is their sum plus r's 2^-64, exactly (all three exact in a float)."""
     from fractions import Fraction
 
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     errors = iter([Fraction(1, 2**70), Fraction(1, 2**71)])
     real = modular._draw
@@ -504,7 +504,7 @@ def test_definitions_in_any_order():
 
 def test_jacobian_rows_are_the_derivatives():
     """sum_k dp/dw_k v_k against sympy's derivatives (a second route), on a polynomial with mixed powers."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     w0, w1, v0, v1 = sympy.symbols("w0 w1 v0 v1")
     p = 3 * w0**3 * w1**2 - 5 * w0 * w1 + 7 * w1 - 2
@@ -516,7 +516,7 @@ def test_jacobian_rows_are_the_derivatives():
 def test_a_linear_denominator_is_saturated():
     """S + I (degree 1) is the only denominator of an SIR-like model: t joins the variables and t (S + I)... - 1 the relations
     (solutions where a denominator vanishes are not the model's)."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     system = System(["S", "I"], ["-b*S*I/(S + I)", "b*S - g*I"], {"y": "I"}, unknown_parameters=["b", "g"])
     result = analyze(system, seed=5, directions=False)
@@ -532,7 +532,7 @@ def test_a_linear_denominator_is_saturated():
 def test_a_fibre_without_a_point_modulo_the_prime_is_refused(monkeypatch):
     """3 x - 1 has no zero mod 3 (x = 1/3 is not integral there): a prime that divides a denominator of the point
     must leave the question open, not answer it (with no zero, every g would vanish on the empty set: 'global')."""
-    import observability.analysis.modularfibre as modular
+    import observability.identifiability.modularfibre as modular
 
     monkeypatch.setattr(modular, "random_prime", lambda bits, rng: transfer.RandomPrime(3, bits))
     x = sympy.Symbol("x")

@@ -11,10 +11,10 @@ import sympy
 from test_global import TWO_COMPARTMENTS
 
 from observability import System, analyze
-from observability.analysis import generators as generation
-from observability.analysis import uniqueness
-from observability.analysis.modularfibre import ModularAnswers, contained_modulo_prime
-from observability.analysis.uniqueness import GLOBAL_ERROR, global_observability
+from observability.identifiability import generators as generation
+from observability.identifiability import uniqueness
+from observability.identifiability.modularfibre import ModularAnswers, contained_modulo_prime
+from observability.identifiability.uniqueness import GLOBAL_ERROR, global_observability
 from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
@@ -196,7 +196,7 @@ def test_a_list_that_misses_a_lie_derivative_does_not_generate(monkeypatch):
 
 def _fixed_error(monkeypatch, error, members=None):
     """contained_modulo_prime with its answers kept (or replaced by ``members``) and its error set."""
-    import observability.analysis.globalfield as globalfield
+    import observability.identifiability.globalfield as globalfield
 
     real = globalfield.contained_modulo_prime
 
@@ -211,7 +211,7 @@ def _fixed_error(monkeypatch, error, members=None):
 def test_the_errors_of_every_prime_are_added(monkeypatch):
     """y1 = a**2, y2 = a b, every membership test's primes set to 1e-10: the generation test and the
     one leaving-out test that runs (a**2 against a b and b**2) add 2e-10."""
-    import observability.analysis.globalfield as globalfield
+    import observability.identifiability.globalfield as globalfield
 
     _fixed_error(monkeypatch, 1e-10)
     a, b = sympy.symbols("a b")
@@ -225,7 +225,7 @@ def test_the_errors_of_every_prime_are_added(monkeypatch):
 def test_leaving_out_skips_a_candidate_below_the_rank_and_goes_on(monkeypatch):
     """a, P(b) = b**3 + 7 b + 1 and 2 a (rank 2), longest first: without P(b) the others have rank 1,
     so it stays and the next is tested: 2 a lies in Q(a, P(b)) and goes. One prime ran."""
-    import observability.analysis.globalfield as globalfield
+    import observability.identifiability.globalfield as globalfield
 
     _fixed_error(monkeypatch, 1e-10)
     a, b = sympy.symbols("a b")
@@ -240,7 +240,7 @@ def test_leaving_out_skips_a_candidate_below_the_rank_and_goes_on(monkeypatch):
 def test_leaving_out_keeps_what_the_primes_leave_undecided(monkeypatch, members):
     """A candidate whose membership the primes leave undecided, or who got no prime, stays; an
     undecided answer's primes count, a missing prime adds nothing."""
-    import observability.analysis.globalfield as globalfield
+    import observability.identifiability.globalfield as globalfield
 
     if isinstance(members, str):
         monkeypatch.setattr(globalfield, "contained_modulo_prime", lambda *args: members)
@@ -295,7 +295,7 @@ def test_two_generators_left_out_are_both_named_and_their_primes_counted(monkeyp
     """a, b, a + b, 2 a + 3 b (rank 2): longest first, 2 a + 3 b and then a + b lie in Q(a, b) and
     go, named in the list's order; the generation test and the two leaving-out tests each add their
     prime's 1e-10."""
-    import observability.analysis.globalfield as globalfield
+    import observability.identifiability.globalfield as globalfield
 
     _fixed_error(monkeypatch, 1e-10)
     a, b = sympy.symbols("a b")

@@ -1,4 +1,4 @@
-"""Outputs that are not rational under ``--global`` (:mod:`observability.analysis.outputforms`): a
+"""Outputs that are not rational under ``--global`` (:mod:`observability.identifiability.outputforms`): a
 bearing through atan2 read through its tangent, a logarithm through its exponential, and what of
 the answer carries over; hand derivations in each docstring."""
 
@@ -10,8 +10,8 @@ import sys
 import sympy
 
 from observability import System, analyze
-from observability.analysis.outputforms import EXP, TAN, rational_form
-from observability.analysis.uniqueness import global_observability
+from observability.identifiability.outputforms import EXP, TAN, rational_form
+from observability.identifiability.uniqueness import global_observability
 
 
 def _global(system: System):

@@ -11,11 +11,11 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.analysis import modularfibre, uniqueness
-from observability.analysis.fibre import FibreEquations, _free_coordinates, known_variables
-from observability.analysis.modularfibre import members_modulo_prime
-from observability.analysis.rationalmodel import rational_model
-from observability.analysis.reducedfibre import field_radical_range, radical_range
+from observability.identifiability import modularfibre, uniqueness
+from observability.identifiability.fibre import FibreEquations, _free_coordinates, known_variables
+from observability.identifiability.modularfibre import members_modulo_prime
+from observability.identifiability.rationalmodel import rational_model
+from observability.identifiability.reducedfibre import field_radical_range, radical_range
 from observability.engine.jets import jet_equations
 from observability.rank.membership import RANK_PRIME, exact_rank, rank_mod_prime
 
@@ -149,7 +149,7 @@ def test_free_coordinates_fall_short_under_a_rank_too_low():
 def test_a_rank_modulo_the_prime_that_falls_short_says_so(monkeypatch):
     """The modular route's Jacobian rank is taken mod 2^61 - 1; where it falls short (forced here) the
     answer is undecided and names the modulus, since the rank over Q may still be full."""
-    from observability.analysis import fibre
+    from observability.identifiability import fibre
 
     monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank, rank_of: None)
     system = System(["x"], ["1"], {"y": "x**2"})
@@ -214,7 +214,7 @@ def test_each_route_takes_its_ranks_where_it_should(monkeypatch):
     costs minutes on SI.jl's models (140 s on St's fibre), so that route's ranks are taken mod 2^61 - 1;
     the exact route keeps exact ranks. The fibre, the generation test and the field's ideal (whose
     fibre x**2 = 4 has two points, so only the ideal's own completion reads a rank) each checked."""
-    from observability.analysis import fibre, generators, globalfield
+    from observability.identifiability import fibre, generators, globalfield
 
     spies = {module: _Spy(rank_mod_prime) for module in (fibre, generators, globalfield, modularfibre)}
     exact = _Spy(exact_rank)
@@ -247,7 +247,7 @@ def test_leaving_out_modulo_primes_rests_on_the_range_and_adds_its_error(monkeyp
     """a**2 lies in Q(a b, b**2), whose ideal at a point has the two zeros (a, b) and (-a, -b): a**2 is
     constant on both, a membership that rests on the radical range, so its error (1e-6 for the one
     candidate) is added; the leaving out takes its Jacobian's rank mod 2^61 - 1."""
-    from observability.analysis import globalfield
+    from observability.identifiability import globalfield
 
     spy = _Spy(rank_mod_prime)
     monkeypatch.setattr(globalfield, "rank_mod_prime", spy)

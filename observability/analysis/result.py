@@ -10,7 +10,7 @@ from ..directions.find import UnobservableDirection
 from ..model.notation import latex_text
 
 if TYPE_CHECKING:
-    from .uniqueness import GlobalVerdict
+    from ..identifiability.uniqueness import GlobalVerdict
 
 __all__ = ["ObservabilityResult", "PROOFS", "independent_fields", "state_list"]
 

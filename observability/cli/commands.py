@@ -192,7 +192,7 @@ def check_command(args: argparse.Namespace) -> int:
 
 def _global(prepared: tuple, result: ObservabilityResult, args: argparse.Namespace) -> ObservabilityResult:
     """``check --global``: the verdict with its global answer (on the system the verdict was computed for)."""
-    from ..analysis.uniqueness import global_observability
+    from ..identifiability.uniqueness import global_observability
 
     restricted, _, constraint = prepared
     if constraint is not None or args.method == "float" or args.point is not None:

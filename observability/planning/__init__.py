@@ -1,4 +1,4 @@
-"""Stage 11, planning: from "whether" to "what to do".
+"""Stage 12, planning: from "whether" to "what to do".
 
 Takes a System and the user's options and gives choices that make it
 observable: which candidate sensors to add (:mod:`.sensors`), each choice

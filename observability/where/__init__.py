@@ -1,4 +1,4 @@
-"""Stage 7, where and when: the verdict under a motion, on a set, at a point.
+"""Stage 8, where and when: the verdict under a motion, on a set, at a point.
 
 Takes a System with the user's restrictions and gives verdicts about them:
 input profiles (:mod:`.profiles`) and constraint sets (:mod:`.sets`) applied

@@ -82,7 +82,7 @@ from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rati
 from .truncation import truncation_orders
 
 if TYPE_CHECKING:
-    from .result import ObservabilityResult
+    from ..analysis.result import ObservabilityResult
 
 __all__ = ["GlobalVerdict", "global_observability", "GLOBAL_ERROR"]
 
@@ -185,6 +185,8 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         seconds (its answer used when the route over Q has none); "undecided"
         past both.
 
+    Notes
+    -----
     A model's one transcendental constant (pi, log(2)) is a known parameter without a
     value here, which decides the same (:mod:`.constantfield`); other irrational
     constants are refused (ModelError).

@@ -22,7 +22,7 @@ from ..model.expressions import parse_expression
 from ..model.system import System
 
 if TYPE_CHECKING:
-    from .result import ObservabilityResult
+    from ..analysis.result import ObservabilityResult
 
 __all__ = ["with_parameter", "written_back"]
 
