@@ -351,3 +351,40 @@ def test_an_output_through_the_input_keeps_its_top_derivative():
     jet = jet_rank(system, seed=1, orders=4)
     assert jet.rank == 2 and jet.observable == ("x2",)
     assert _jet_rank(system, 4) == (2, {"x2"})
+
+
+def test_a_feedthrough_input_makes_the_rank_final_at_order_one():
+    """y = x + w, x' = 0: B = dh/dw = 1 has rank 1 = q, so the rows of order 1 already give every row
+    of V_m in span(dx, dw) (module docstring of rank/unknown.py): final at order 1, rank 1 (only x + w),
+    neither x nor w observable. The stationarity rule cannot end it (y^(k) = w^(k) adds a pivot at every
+    order), so only the B test at order 1 (not 2: y'' = w'' has no w' entry) makes it final."""
+    jet = jet_rank(System(["x"], {"x": "0"}, {"y": "x + w"}, unknown_inputs=["w"]), seed=1, orders=2)
+    assert (jet.final, jet.rank, jet.observable, jet.orders) == (True, 1, (), 1)
+
+
+def test_a_transcendental_atom_in_the_dynamics_is_not_trusted():
+    """x1' = atan2(x2, x1): the atan2's value at the point feeds x1's whole series through the dynamics
+    (no sum into an output isolates it), so the atoms are not provably independent and the jet rank
+    says why (dependence() is told the dynamics' roots)."""
+    system = System(["x1", "x2"], {"x1": "atan2(x2, x1)", "x2": "w"}, {"y": "x1"}, unknown_inputs=["w"])
+    assert "atan2" in jet_rank(system, seed=1, orders=4).related_atoms
+
+
+def test_the_stated_probability_is_at_most_one(monkeypatch):
+    """(targets + 2) D / p above 1 for an enormous degree bound D: the bound says nothing, 1."""
+    import observability.rank.unknown as unknown
+
+    monkeypatch.setattr(unknown, "degree_bound", lambda *args: 2 ** 80)
+    jet = unknown.jet_rank(System(["x"], {"x": "w"}, {"y": "x"}, unknown_inputs=["w"]), seed=1, orders=2)
+    assert jet.error_probability == 1.0
+
+
+def test_every_point_on_a_pole_is_a_clear_error(tmp_path):
+    """1/(x (x + 1) - x^2 - b x) with b = 1 is 1/0 after expansion: every random point hits the pole. With
+    an unknown input this was exit 4 (an uncaught Redraw); now the main route's one-line error, exit 2."""
+    path = tmp_path / "hidden.toml"
+    path.write_text('states=["x"]\nparameters=["b"]\nunknown_inputs=["w"]\n[dynamics]\nx="w"\n[outputs]\n'
+                    'y="1/(x*(x + 1) - x**2 - b*x)"\n')
+    out = cli("check", path, "-o", "b=1")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert "hidden: every random point hits a singularity (division by zero in" in out.stderr

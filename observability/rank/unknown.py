@@ -70,6 +70,7 @@ from .randomized import degree_bound
 from ..model.unknowninputs import with_unknown_inputs
 from ..model.system import System
 from ..engine.taylor import PRIME, Redraw, TaylorEvaluator
+from ..errors import SingularModelError
 
 __all__ = ["JetRank", "jet_rank"]
 
@@ -187,6 +188,7 @@ def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int |
     states and the arbitrary unknown inputs of ``system`` (module docstring),
     ending early once every state and input is observable."""
     rng = random.Random(seed)
+    last: Redraw | None = None
     for _ in range(_ATTEMPTS):
         model, targets, sink = _polynomial_model(system, orders)
 
@@ -195,7 +197,8 @@ def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int |
 
         try:
             expansion = expand_rows(model, sink, make, max_order=orders, progress=progress, exhaustive=True)
-        except Redraw:
+        except Redraw as exc:
+            last = exc
             continue
         bound = degree_bound(expansion.program, model, list(expansion.output_roots),
                              min(sink.echelon.rank + 1, model.n), expansion.orders)
@@ -211,4 +214,4 @@ def jet_rank(system: System, *, seed: int, orders: int, input_derivatives: int |
             final=sink.final,
             from_outputs=tuple(model.states[c].name for c in sink.from_outputs),
         )
-    raise Redraw(-1, f"every random point of {system.name} hits a pole")
+    raise SingularModelError(f"{system.name}: every random point hits a singularity ({last.reason} in {last.source})")
