@@ -388,3 +388,11 @@ def test_every_point_on_a_pole_is_a_clear_error(tmp_path):
     out = cli("check", path, "-o", "b=1")
     assert out.returncode == 2 and out.stderr.count("\n") == 1
     assert "hidden: every random point hits a singularity (division by zero in" in out.stderr
+
+
+def test_a_point_on_a_branch_cut_is_drawn_again():
+    """x' = sqrt(x) + w: at a random point mod p, x is a non-square about half the time (Euler's
+    criterion), and the evaluation asks for another point; every one of ten seeds still gives the
+    rank (x and w from y, y': rank 2), so a pole ends the search only after all the attempts."""
+    system = System(["x"], {"x": "sqrt(x) + w"}, {"y": "x"}, unknown_inputs=["w"])
+    assert all(jet_rank(system, seed=seed, orders=2).observable == ("x", "w") for seed in range(10))
