@@ -179,3 +179,28 @@ def test_bad_input_is_refused_naming_the_step(call, message):
     with pytest.raises(FilterError) as caught:
         call(example_state())
     assert str(caught.value).startswith(message), str(caught.value)
+
+
+def test_propagation_alone_is_consistent_on_simulated_runs():
+    """Dead reckoning from the simulator's noisy readings (its own noise draws, not
+    imu's model): the 15-dim NEES after 0.5 s, averaged over 16 runs, lies in the
+    99% band of chi-square(15 x 16)/16. The start is nearly known (sigmas 1e-5 to
+    1e-4), so the final covariance is mostly Q's: a Q off by a factor 2 leaves the band."""
+    from observability.filters import chi2_bounds
+    from observability.filters.vins.simulate import Scenario, simulate
+
+    scenario = Scenario(duration=0.5, initial_bias_sigma=(1e-5, 1e-4))
+    P0 = np.diag(np.repeat([1e-5, 1e-4, 1e-4, 1e-5, 1e-4], 3) ** 2)
+    values = []
+    for seed in range(16):
+        sim = simulate(scenario, seed=seed)
+        start = np.random.default_rng(100 + seed).multivariate_normal(np.zeros(9), P0[:9, :9])
+        truth = sim.truth(0)
+        x = st.boxplus(st.ImuState(truth.R, truth.p, truth.v, np.zeros(3), np.zeros(3)), np.r_[start, np.zeros(6)])
+        P = P0
+        for k in range(len(sim.t) - 1):
+            x, P, _ = imu.propagate(x, P, *sim.interval(k), 1.0 / scenario.imu_rate, scenario.noise)
+        error = st.boxminus(sim.truth(len(sim.t) - 1), x)
+        values.append(error @ np.linalg.solve(P, error))
+    low, high = chi2_bounds(15, runs=16, probability=0.99)
+    assert low < np.mean(values) < high, (np.mean(values), low, high)

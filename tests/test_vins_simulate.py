@@ -55,9 +55,9 @@ def _reintegrate(scenario):
     sim = simulate(scenario, seed=0)
     x, dt = sim.truth(0), 1.0 / scenario.imu_rate
     for k in range(len(sim.t) - 1):
-        # The mean of consecutive readings over each interval (second order, as OpenVINS's propagator).
-        x = imu.step(x, (sim.omega_m[k] + sim.omega_m[k + 1]) / 2, (sim.acc_m[k] + sim.acc_m[k + 1]) / 2, dt,
-                     QUIET).state
+        # The mean of consecutive readings over each interval (second order).
+        np.testing.assert_array_equal(sim.interval(k)[0], (sim.omega_m[k] + sim.omega_m[k + 1]) / 2)
+        x = imu.step(x, *sim.interval(k), dt, QUIET).state
     return max(np.linalg.norm(x.p - sim.p[-1]), np.linalg.norm(x.v - sim.v[-1]),
                np.linalg.norm(so3.log_so3(x.R @ sim.R[-1].T)))
 

@@ -47,7 +47,7 @@ from ...codegen import filter_functions
 from ...models.vins import vins
 from .. import validation
 from ..validation import FilterError
-from .so3 import quaternion_from_rotation, rotation_from_quaternion
+from .so3 import quaternion_from_rotation
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
 
 __all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate", "step"]
@@ -121,6 +121,15 @@ def _qmul(a, b):
     )
 
 
+def _matrix(q):
+    """R(q / |q|) of a casadi quaternion, row by row (the model's rotation_from_quaternion formula)."""
+    w, x, y, z = (q[i] for i in range(4))
+    n = casadi.sumsqr(q)
+    return casadi.vertcat(w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
+                          2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
+                          2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z) / n
+
+
 def _unit(q):
     return q / casadi.sqrt(casadi.sumsqr(q))
 
@@ -161,7 +170,9 @@ def _generated() -> tuple[casadi.Function, casadi.Function]:
     # One vector in, three out (each casadi call from Python costs per argument), common
     # subexpressions shared (casadi.cse: 17,904 instructions down to about 4,900).
     x, u = casadi.vertcat(q, p, v, bg, ba), casadi.vertcat(wm, am)
-    step_fn = casadi.Function("imu_step", [x, u, dt], casadi.cse([casadi.vertcat(*nominal), casadi.densify(Phi),
+    # The next rotation matrix too (row by row), so numpy need not rebuild it from q.
+    step_fn = casadi.Function("imu_step", [x, u, dt], casadi.cse([casadi.vertcat(*nominal, _matrix(nominal[0])),
+                              casadi.densify(Phi),
                               casadi.densify(G)]), ["x", "u", "dt"], ["x_next", "Phi", "G"])
     rates = [casadi.reshape(casadi.jacobian(casadi.vec(M), dt), M.shape) for M in (Phi, G)]
     F, G_c = casadi.substitute(rates, [dt], [casadi.SX(0)])
@@ -203,7 +214,7 @@ def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep
         raise FilterError("imu step: the propagation overflowed (measurements or dt too large)")
     scale = np.repeat([1 / dt, 1 / dt, dt, dt], 3)
     Q = (G * (np.diag(noise.densities()) * scale)) @ G.T
-    nxt = ImuState(rotation_from_quaternion(x[:4]), x[4:7], x[7:10], x[10:13], x[13:16])
+    nxt = ImuState(x[16:].reshape(3, 3), x[4:7], x[7:10], x[10:13], x[13:16])
     return ImuStep(nxt, Phi, G, 0.5 * (Q + Q.T))
 
 
