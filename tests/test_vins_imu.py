@@ -9,6 +9,7 @@ import pytest
 
 from observability.filters import FilterError
 from observability.filters.vins import imu, so3, state as st
+from vins_reference import rk4_held
 
 G = np.array([0.0, 0.0, -9.81])
 NOISE = imu.ImuNoise(sigma_g=2e-3, sigma_a=3e-2, sigma_bg=1e-4, sigma_ba=2e-3)
@@ -24,24 +25,15 @@ def example_state():
     return st.ImuState(R, [1.0, 2.0, 3.0], [0.5, -1.0, 0.2], [0.01, 0.02, -0.01], [0.1, -0.05, 0.2])
 
 
-def reference_flight(R, p, v, bg, ba, omegas, accs, dt, substeps=16):
+def reference_flight(R, p, v, bg, ba, omegas, accs, dt):
     """The IMU kinematics R' = R [w_m - bg]x, v' = R (a_m - ba) + g, p' = v with each
     reading held over its interval, by classical RK4 on (R, p, v) with rotation
-    MATRICES (not the model's quaternion), dt/substeps per step."""
-    h = dt / substeps
+    MATRICES (not the model's quaternion), 16 substeps per interval."""
 
-    def rate(R, p, v, w, a):
-        return R @ hand_skew(w), v, R @ a + G
+    def rate(R, p, v, w_m, a_m):
+        return R @ hand_skew(w_m - bg), v, R @ (a_m - ba) + G
 
-    for w_m, a_m in zip(omegas, accs):
-        w, a = w_m - bg, a_m - ba
-        for _ in range(substeps):
-            k1 = rate(R, p, v, w, a)
-            k2 = rate(*(x + h / 2 * k for x, k in zip((R, p, v), k1)), w, a)
-            k3 = rate(*(x + h / 2 * k for x, k in zip((R, p, v), k2)), w, a)
-            k4 = rate(*(x + h * k for x, k in zip((R, p, v), k3)), w, a)
-            R, p, v = (x + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4) for x, a1, a2, a3, a4 in zip((R, p, v), k1, k2, k3, k4))
-    return R, p, v
+    return rk4_held(rate, (R, p, v), zip(omegas, accs), dt)
 
 
 def readings(t):
