@@ -196,3 +196,34 @@ def test_propagation_alone_is_consistent_on_simulated_runs():
         values.append(error @ np.linalg.solve(P, error))
     low, high = chi2_bounds(15, runs=16, probability=0.99)
     assert low < np.mean(values) < high, (np.mean(values), low, high)
+
+
+def test_the_analysis_proves_the_four_directions_of_the_error_state():
+    """analyze(vins, unit quaternion, biases) loses 4, proven; its direction fields,
+    in the model's coordinates (p, v, q, f, biases), mapped to the error state by
+    the world-frame chart (q_true = (1, dtheta/2) q to first order, so
+    dtheta = 2 vec(dq q^*)), span the columns of state.unobservable_directions."""
+    import sympy
+
+    from observability import analyze
+    from observability.models.vins import vins
+
+    result = analyze(vins(features=1, biases=True, attitude="quaternion-unit"), seed=1)
+    assert result.n_states - result.rank == 4 and result.proof == "proven"
+    x, feature = example_state(), np.array([4.0, -1.0, 2.5])
+    q = so3.quaternion_from_rotation(x.R)
+    values = dict(zip(["px", "py", "pz", "vx", "vy", "vz", "q0", "q1", "q2", "q3", "f1x", "f1y", "f1z"],
+                      [*x.p, *x.v, *q, *feature]))
+    values |= {f"b{s}{c}": 0.1 for s in "ga" for c in "xyz"}
+    columns = []
+    for direction in result.unobservable_directions:
+        field = {n: float(sympy.sympify(e).subs(values)) for n, e in direction.vector.items()}
+        dq = np.array([field.get(f"q{i}", 0.0) for i in range(4)])
+        conjugate = q * [1, -1, -1, -1]
+        w0, v0, w1, v1 = dq[0], dq[1:], conjugate[0], conjugate[1:]
+        dtheta = 2 * (w0 * v1 + w1 * v0 + np.cross(v0, v1))  # 2 vec(dq q^*), the Hamilton product written out
+        pick = lambda prefix: [field.get(f"{prefix}{c}", 0.0) for c in "xyz"]  # noqa: E731
+        columns.append(np.r_[dtheta, pick("p"), pick("v"), pick("bg"), pick("ba"), pick("f1")])
+    fields = np.array(columns).T
+    N = st.unobservable_directions(x, [feature])
+    assert np.linalg.matrix_rank(fields) == 4 and np.linalg.matrix_rank(np.hstack([fields, N]), tol=1e-9) == 4

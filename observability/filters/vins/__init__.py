@@ -15,7 +15,8 @@ from .so3 import exp_so2, exp_so3, log_so2, log_so3, retract, skew
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus, imu_state, unobservable_directions
 
 __all__ = [
-    "Camera", "ERROR_DIM", "GRAVITY", "Scenario", "Simulation", "simulate", "ImuNoise", "ImuState", "ImuStep", "continuous_jacobians", "propagate", "step", "boxminus", "boxplus", "exp_so2", "exp_so3", "imu_state", "log_so2",
-    "log_so3", "retract", "skew", "unobservable_directions",
-    "PlanarState", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step",
+    "Camera", "ERROR_DIM", "GRAVITY", "ImuNoise", "ImuState", "ImuStep", "PlanarState", "Scenario",
+    "Simulation", "boxminus", "boxplus", "continuous_jacobians", "exp_so2", "exp_so3", "imu_state", "log_so2",
+    "log_so3", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step", "propagate", "retract",
+    "simulate", "skew", "step", "unobservable_directions",
 ]
