@@ -167,13 +167,12 @@ def _generated() -> tuple[casadi.Function, casadi.Function]:
     error = casadi.vertcat(2 * e[1:] / e[0], *(m - n for m, n in zip(moved[1:], nominal[1:])))
     zero = [casadi.SX.zeros(ERROR_DIM), casadi.SX.zeros(NOISE_DIM)]
     Phi, G = casadi.substitute([casadi.jacobian(error, dx), casadi.jacobian(error, noise)], [dx, noise], zero)
-    # One vector in, three out (each casadi call from Python costs per argument), common
-    # subexpressions shared (casadi.cse: 17,904 instructions down to about 4,900).
+    # Vectors in, ONE vector out (each casadi argument and result costs ~20 us from
+    # Python), common subexpressions shared (casadi.cse: 17,904 instructions to ~4,900):
+    # out = [q, p, v, bg, ba (16), R_next row by row (9), Phi (225), G (180)], column-major.
     x, u = casadi.vertcat(q, p, v, bg, ba), casadi.vertcat(wm, am)
-    # The next rotation matrix too (row by row), so numpy need not rebuild it from q.
-    step_fn = casadi.Function("imu_step", [x, u, dt], casadi.cse([casadi.vertcat(*nominal, _matrix(nominal[0])),
-                              casadi.densify(Phi),
-                              casadi.densify(G)]), ["x", "u", "dt"], ["x_next", "Phi", "G"])
+    out = casadi.vertcat(*nominal, _matrix(nominal[0]), casadi.vec(casadi.densify(Phi)), casadi.vec(casadi.densify(G)))
+    step_fn = casadi.Function("imu_step", [x, u, dt], [casadi.cse(out)], ["x", "u", "dt"], ["x_R_Phi_G"])
     rates = [casadi.reshape(casadi.jacobian(casadi.vec(M), dt), M.shape) for M in (Phi, G)]
     F, G_c = casadi.substitute(rates, [dt], [casadi.SX(0)])
     # The bias walks enter as increments (columns 6-11 of G are I for every dt): their rate is I.
@@ -208,10 +207,12 @@ def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep
     if not isinstance(noise, ImuNoise):
         raise FilterError(f"imu step: noise must be an ImuNoise, got {type(noise).__name__}")
     dt = float(dt)
-    x, Phi, G = (np.asarray(out) for out in _generated()[0](*arguments, dt))
-    x = x.ravel()
-    if not (np.isfinite(x).all() and np.isfinite(Phi).all() and np.isfinite(G).all()):
+    out = _generated()[0](*arguments, dt).full().ravel()
+    if not np.isfinite(out).all():
         raise FilterError("imu step: the propagation overflowed (measurements or dt too large)")
+    x = out[:25]
+    Phi = out[25:250].reshape(ERROR_DIM, ERROR_DIM, order="F")
+    G = out[250:].reshape(ERROR_DIM, NOISE_DIM, order="F")
     scale = np.repeat([1 / dt, 1 / dt, dt, dt], 3)
     Q = (G * (np.diag(noise.densities()) * scale)) @ G.T
     nxt = ImuState(x[16:].reshape(3, 3), x[4:7], x[7:10], x[10:13], x[13:16])
