@@ -6,8 +6,9 @@ What comes from the model. The kinematics are those of the built-in
 v' = R(q)(a_m - ba) - (0, 0, g), q' = q (0, w_m - bg) / 2, biases constant),
 turned into casadi by :func:`observability.codegen.filter_functions` with its
 ``rk4`` discretisation: one classical Runge-Kutta step over dt with the
-measurements held constant (piecewise-constant inputs, as OpenVINS's
-``Propagator::predict_mean_rk4``, Geneva et al., ICRA 2020), the gyro and
+measurements held constant (OpenVINS's ``Propagator::predict_mean_rk4``, Geneva
+et al., ICRA 2020, interpolates linearly between two readings instead; passing
+their mean here, :meth:`Simulation.interval`, agrees to second order), the gyro and
 accelerometer noise entering the inputs (held over the step) and the bias
 random walks entering the bias states additively. The feature the model
 carries is constant and unused here.
@@ -25,12 +26,15 @@ order at the identity, and a Jacobian at dx = 0 depends on nothing else, so
 
 computed by casadi's automatic differentiation through the SAME Runge-Kutta
 step as the mean: the mean and the transition matrix come from one
-discretisation (OpenVINS instead pairs an RK4 mean with a separately
-discretised Phi). The noise covariance is Q = G Qn G^T with
+discretisation (OpenVINS's ``Propagator::predict_and_compute`` pairs its RK4
+mean with a Phi from a simpler discretisation, after Trawny and Roumeliotis's
+2005 report). The noise covariance is Q = G Qn G^T with
 Qn = diag(sg^2/dt I, sa^2/dt I, sbg^2 dt I, sba^2 dt I): white noise of
 spectral density s^2, averaged over the step, has variance s^2/dt; a random
-walk gains s^2 dt (OpenVINS's "discrete" noise, Q ~ G Qc G^T dt, to first
-order in dt). The continuous-time error dynamics F and G_c
+walk gains s^2 dt (OpenVINS builds its Qd the same way, Qc = s^2/dt). For
+truly white noise the integral of Phi G Qc G^T Phi^T differs only at higher
+order in dt (e.g. the gyro's share of the velocity block, sg^2 |[f]x|^2 dt^3
+times 1/4 here against 1/3). The continuous-time error dynamics F and G_c
 (:func:`continuous_jacobians`) are dPhi/d(dt) and dG/d(dt) at dt = 0: RK4
 agrees with the vector field to first order.
 """
@@ -100,7 +104,10 @@ class ImuStep:
     Phi : ndarray (15, 15)
         d(next error)/d(error), error-state order of :mod:`.state`.
     G : ndarray (15, 12)
-        d(next error)/d(noise), noise order :data:`NOISE` (n_g, n_a held over the step; bias increments).
+        d(next error)/d(noise), noise order :data:`NOISE`: the gyro and accelerometer
+        noise held over the step, added to the readings as the model adds its noise
+        (u + w, so w = -n_g of omega_m = omega + bg + n_g; Q does not see the sign),
+        then the bias increments.
     Q : ndarray (15, 15)
         The step's noise covariance G Qn G^T (module docstring).
     """
@@ -140,7 +147,7 @@ def _generated() -> tuple[casadi.Function, casadi.Function]:
     functions = filter_functions(vins(features=1, biases=True, attitude="quaternion-unit"), noise=list(NOISE),
                                  method="rk4", inverse=False)
     if functions.parameters != ("g", "dt") or functions.noise != NOISE:
-        raise FilterError(f"imu: the vins model changed its parameters {functions.parameters} or noise {functions.noise}")
+        raise RuntimeError(f"imu: the vins model changed its parameters {functions.parameters} or noise {functions.noise}")
     at = {name: i for i, name in enumerate(functions.states)}
     q, p, v, bg, ba = (casadi.SX.sym(n, k) for n, k in (("q", 4), ("p", 3), ("v", 3), ("bg", 3), ("ba", 3)))
     wm, am, dt = casadi.SX.sym("wm", 3), casadi.SX.sym("am", 3), casadi.SX.sym("dt")

@@ -96,7 +96,7 @@ def _functions() -> FilterFunctions:
     functions = filter_functions(vins2d(features=1), noise=list(PLANAR_NOISE), method="rk4", inverse=False)
     if functions.states[:PLANAR_ERROR_DIM] != ("th", "px", "py", "vx", "vy", "bg", "bax", "bay") \
             or functions.parameters != ("dt",):
-        raise FilterError(f"planar: the vins2d model changed its states {functions.states} "
+        raise RuntimeError(f"planar: the vins2d model changed its states {functions.states} "
                           f"or parameters {functions.parameters}")
     return functions
 
