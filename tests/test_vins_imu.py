@@ -227,3 +227,19 @@ def test_the_analysis_proves_the_four_directions_of_the_error_state():
     fields = np.array(columns).T
     N = st.unobservable_directions(x, [feature])
     assert np.linalg.matrix_rank(fields) == 4 and np.linalg.matrix_rank(np.hstack([fields, N]), tol=1e-9) == 4
+
+
+def test_phi_attitude_columns_are_written_by_the_step_endpoints():
+    """The RK4 stages of the quaternion turn with q, so turning the start by Exp(e)
+    turns every stage: v+ - v - g dt -> Exp(e)(v+ - v - g dt), hence exactly
+    Phi_vtheta = -[v+ - v - g dt]x, Phi_ptheta = -[p+ - p - v dt - g dt^2/2]x and
+    Phi_thetatheta = I (the world-frame error does not turn). First-estimates
+    Jacobians evaluate these endpoint forms at the first estimates, and Phi N = N'
+    holds for any endpoints (g x g = 0)."""
+    x, w, a, dt = example_state(), np.array([0.4, -0.9, 1.3]), np.array([0.7, -0.4, 9.5]), 0.05
+    result = imu.step(x, w, a, dt, NOISE)
+    nxt = result.state
+    T, P, V = st.THETA, st.POSITION, st.VELOCITY
+    np.testing.assert_allclose(result.Phi[T, T], np.eye(3), atol=1e-13)
+    np.testing.assert_allclose(result.Phi[V, T], -hand_skew(nxt.v - x.v - G * dt), atol=1e-12)
+    np.testing.assert_allclose(result.Phi[P, T], -hand_skew(nxt.p - x.p - x.v * dt - G * dt**2 / 2), atol=1e-12)
