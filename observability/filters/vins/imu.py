@@ -51,7 +51,7 @@ from ...codegen import filter_functions
 from ...models.vins import vins
 from .. import validation
 from ..validation import FilterError
-from .so3 import quaternion_from_rotation
+from .so3 import _quaternion_of_one
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
 
 __all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate", "step"]
@@ -89,8 +89,8 @@ class ImuNoise:
             object.__setattr__(self, name, float(value))
 
     def densities(self) -> np.ndarray:
-        """diag(sg^2 I, sa^2 I, sbg^2 I, sba^2 I) (12 x 12), the continuous noise's spectral densities."""
-        return np.diag(np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2)
+        """(sg^2, sg^2, sg^2, sa^2, ..., sba^2) (12,): the spectral densities in :data:`NOISE` order."""
+        return np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2
 
 
 @dataclass(frozen=True)
@@ -194,7 +194,8 @@ def _arguments(state, omega_m, acc_m, where: str) -> list[np.ndarray]:
         raise FilterError(f"{where}: state must be an ImuState, got {type(state).__name__}")
     omega = validation.vector(omega_m, "omega_m", 3, where)
     acc = validation.vector(acc_m, "acc_m", 3, where)
-    return [np.concatenate([quaternion_from_rotation(state.R), state.p, state.v, state.bg, state.ba]),
+    # An ImuState's R was checked when it was made: no second check here.
+    return [np.concatenate([_quaternion_of_one(state.R), state.p, state.v, state.bg, state.ba]),
             np.concatenate([omega, acc])]
 
 
@@ -221,7 +222,7 @@ def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep
     Phi = out[25:250].reshape(ERROR_DIM, ERROR_DIM, order="F")
     G = out[250:].reshape(ERROR_DIM, NOISE_DIM, order="F")
     scale = np.repeat([1 / dt, 1 / dt, dt, dt], 3)
-    Q = (G * (np.diag(noise.densities()) * scale)) @ G.T
+    Q = (G * (noise.densities() * scale)) @ G.T
     nxt = ImuState(x[16:].reshape(3, 3), x[4:7], x[7:10], x[10:13], x[13:16])
     return ImuStep(nxt, Phi, G, 0.5 * (Q + Q.T))
 
