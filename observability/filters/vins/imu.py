@@ -93,7 +93,7 @@ class ImuNoise:
         return np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class ImuStep:
     """One propagation step.
 

@@ -37,7 +37,7 @@ PLANAR_ERROR_DIM = 8
 PLANAR_NOISE = ("wm", "amx", "amy", "bg", "bax", "bay")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class PlanarState:
     """Heading as a 2 x 2 rotation R, position p (2), velocity v (2), gyro bias bg
     (a number), accelerometer bias ba (2); read-only copies, checked on construction."""
@@ -67,7 +67,7 @@ class PlanarState:
         return np.concatenate([[float(log_so2(self.R))], self.p, self.v, [self.bg], self.ba])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class PlanarStep:
     """One planar step: the mean, Phi (8 x 8), G (8 x 6, noise order ``PLANAR_NOISE``), Q (8 x 8)."""
 

@@ -47,7 +47,7 @@ R_FLU = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
 OPENVINS_NOISE = ImuNoise(sigma_g=1.6968e-4, sigma_a=2.0e-3, sigma_bg=1.9393e-5, sigma_ba=3.0e-3)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class Camera:
     """A pinhole camera: focal length and principal point in pixels, image size,
     pixel noise, and its pose in the IMU frame (p_I = R_IC p_C + p_IC).
@@ -139,7 +139,7 @@ class Scenario:
             raise FilterError("Scenario: noise must be an ImuNoise and camera a Camera")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class Simulation:
     """A simulated run. IMU sample k is at ``t[k]``; camera frame j at IMU sample
     ``frames[j]``. Observation i: feature ``feature_id[i]`` at ``pixels[i]`` in frame ``frame[i]``.
