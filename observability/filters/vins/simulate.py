@@ -43,6 +43,11 @@ __all__ = ["Camera", "Scenario", "Simulation", "simulate", "trajectory", "R_FLU"
 
 #: IMU axes (right, down, forward) in a forward-left-up frame.
 R_FLU = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+#: The largest run (IMU samples) and feature count simulated; larger ones are refused, not attempted.
+MAX_SAMPLES = 5_000_000
+MAX_FEATURES = 100_000
+#: Frame-feature pairs projected at once.
+CHUNK = 1_000_000
 #: OpenVINS's simulator noise (EuRoC's ADIS16448 datasheet values), ImuNoise units.
 OPENVINS_NOISE = ImuNoise(sigma_g=1.6968e-4, sigma_a=2.0e-3, sigma_bg=1.9393e-5, sigma_ba=3.0e-3)
 
@@ -124,6 +129,9 @@ class Scenario:
             value = getattr(self, name)
             if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
                 raise FilterError(f"Scenario: {name} must be an integer >= 1, got {value!r}")
+        if self.duration * self.imu_rate > MAX_SAMPLES or self.features > MAX_FEATURES:
+            raise FilterError(f"Scenario: at most {MAX_SAMPLES:,} IMU samples (duration x imu_rate) and "
+                              f"{MAX_FEATURES:,} features, got {self.duration * self.imu_rate:,.0f} and {self.features:,}")
         if self.imu_rate % self.camera_rate:
             raise FilterError(f"Scenario: camera_rate {self.camera_rate} must divide imu_rate {self.imu_rate} "
                               "(camera frames are taken at IMU times)")
@@ -276,7 +284,17 @@ def _random_walk(rng: np.random.Generator, n: int, dt: float, initial: float, wa
 
 def _observe(camera: Camera, R: np.ndarray, p: np.ndarray, features: np.ndarray):
     """(frame, feature id, noise-free pixel) of every feature in front of the
-    camera (depth > min_depth) whose pixel lies inside the image."""
+    camera (depth > min_depth) whose pixel lies inside the image; frames in
+    chunks of at most ``CHUNK`` frame-feature pairs (memory stays bounded)."""
+    per_chunk = max(1, CHUNK // len(features))
+    parts = [_observe_chunk(camera, R[i:i + per_chunk], p[i:i + per_chunk], features)
+             for i in range(0, len(R), per_chunk)]
+    offsets = np.arange(0, len(R), per_chunk)
+    return (np.concatenate([f + o for (f, _, _), o in zip(parts, offsets)]),
+            np.concatenate([k for _, k, _ in parts]), np.concatenate([x for _, _, x in parts]).reshape(-1, 2))
+
+
+def _observe_chunk(camera: Camera, R: np.ndarray, p: np.ndarray, features: np.ndarray):
     p_C = np.einsum("mji,mkj->mki", R, features[None, :, :] - p[:, None, :])
     p_C = np.einsum("ji,mkj->mki", camera.R_IC, p_C - camera.p_IC)
     depth = p_C[..., 2]
