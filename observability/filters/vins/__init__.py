@@ -8,7 +8,7 @@ a simulator of a trajectory, IMU readings and camera features (:mod:`.simulate`)
 and the planar (SO(2)) propagation from the ``vins2d`` model (:mod:`.planar`).
 """
 
-from .imu import ImuNoise, ImuStep, continuous_jacobians, propagate, step
+from .imu import ImuNoise, ImuStep, continuous_jacobians, propagate, propagate_many, step
 from .planar import PlanarState, planar_boxminus, planar_boxplus, planar_propagate, planar_step
 from .simulate import Camera, Scenario, Simulation, simulate
 from .so3 import exp_so2, exp_so3, log_so2, log_so3, retract, skew
@@ -17,6 +17,6 @@ from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus, imu_state, u
 __all__ = [
     "Camera", "ERROR_DIM", "GRAVITY", "ImuNoise", "ImuState", "ImuStep", "PlanarState", "Scenario",
     "Simulation", "boxminus", "boxplus", "continuous_jacobians", "exp_so2", "exp_so3", "imu_state", "log_so2",
-    "log_so3", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step", "propagate", "retract",
-    "simulate", "skew", "step", "unobservable_directions",
+    "log_so3", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step", "propagate",
+    "propagate_many", "retract", "simulate", "skew", "step", "unobservable_directions",
 ]
