@@ -51,7 +51,8 @@ from ...codegen import filter_functions
 from ...models.vins import vins
 from .. import validation
 from ..validation import FilterError
-from .so3 import _numeric, _quaternion_of_one, rotation_from_quaternion
+from .checks import finite_array
+from .so3 import _quaternion_of_one, rotation_from_quaternion
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
 
 __all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate",
@@ -289,7 +290,7 @@ def propagate_many(state: ImuState, P, omegas, accs, dt: float, noise: ImuNoise)
     if not isinstance(state, ImuState):
         raise FilterError(f"{where}: state must be an ImuState, got {type(state).__name__}")
     P = validation.covariance(P, "P", ERROR_DIM, where, definite=False)
-    readings = [_numeric(r, name, (3,), where) for r, name in ((omegas, "omegas"), (accs, "accs"))]
+    readings = [finite_array(r, name, (3,), where) for r, name in ((omegas, "omegas"), (accs, "accs"))]
     m = len(readings[0])
     if readings[0].ndim != 2 or readings[0].shape != readings[1].shape or not 1 <= m <= MAX_FOLD:
         raise FilterError(f"{where}: omegas and accs must both have shape (m, 3), 1 <= m <= {MAX_FOLD}, "

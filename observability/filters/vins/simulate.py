@@ -35,8 +35,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..validation import FilterError
+from .checks import finite_array, rotation_matrix
 from .imu import ImuNoise
-from .so3 import _numeric, _rotation
 from .state import GRAVITY, ImuState
 
 __all__ = ["Camera", "Scenario", "Simulation", "simulate", "trajectory", "R_FLU"]
@@ -74,8 +74,8 @@ class Camera:
             if isinstance(value, (bool, str)) or np.ndim(value) != 0 or not np.isfinite(value) or value < 0 \
                     or (value == 0 and name != "sigma_px"):
                 raise FilterError(f"Camera: {name} must be a finite number > 0, got {value!r}")
-        object.__setattr__(self, "R_IC", _rotation(self.R_IC, "R_IC", "Camera"))
-        p_IC = _numeric(self.p_IC, "p_IC", (3,), "Camera")
+        object.__setattr__(self, "R_IC", rotation_matrix(self.R_IC, "R_IC", "Camera"))
+        p_IC = finite_array(self.p_IC, "p_IC", (3,), "Camera")
         if p_IC.shape != (3,):
             raise FilterError(f"Camera: p_IC has shape {p_IC.shape}, expected (3,)")
         object.__setattr__(self, "p_IC", p_IC)
@@ -136,7 +136,7 @@ class Scenario:
             raise FilterError(f"Scenario: camera_rate {self.camera_rate} must divide imu_rate {self.imu_rate} "
                               "(camera frames are taken at IMU times)")
         for name, size in (("size", 3), ("tilt", 2), ("wall_height", 2), ("initial_bias_sigma", 2)):
-            value = _numeric(getattr(self, name), name, (size,), "Scenario")
+            value = finite_array(getattr(self, name), name, (size,), "Scenario")
             if value.shape != (size,):
                 raise FilterError(f"Scenario: {name} must have {size} entries, got {getattr(self, name)!r}")
         if self.size[0] + 1 >= self.wall_radius or self.wall_height[0] >= self.wall_height[1] \
