@@ -10,6 +10,8 @@ from observability import analyze
 from observability.filters import FilterError
 from observability.filters.vins import imu, so3
 from observability.filters.vins import planar as pl
+from observability.filters.vins.simulate import Scenario, trajectory
+from observability.filters.vins.simulate2d import simulate_planar
 from observability.models.vins2d import vins2d
 from vins_reference import rk4_held
 
@@ -97,7 +99,7 @@ def test_the_analysis_proves_the_same_three_directions():
     (lambda: pl.planar_step(example(), 0.1, [0.0, 0.0], -0.01, NOISE), "planar step: dt must be a finite number > 0"),
     (lambda: pl.PlanarState(np.eye(3), [0, 0], [0, 0], 0.0, [0, 0]), "PlanarState: R has shape (3, 3)"),
     (lambda: pl.planar_propagate(example(), np.eye(7), 0.1, [0, 0], 0.01, NOISE), "planar propagate: P has shape"),
-    (lambda: __import__("observability.filters.vins.simulate2d", fromlist=["x"]).simulate_planar(seed=-2),
+    (lambda: simulate_planar(seed=-2),
      "simulate_planar: seed must be an integer >= 0"),
 ])
 def test_bad_planar_input_is_refused(call, message):
@@ -112,9 +114,6 @@ QUIET = imu.ImuNoise(0.0, 0.0, 0.0, 0.0)
 def test_planar_readings_are_the_planar_imu_equations():
     """Noise-free: omega_m = th' + bg, a_m = R(th)^T a + ba, th the heading of the
     velocity; th' and a from central differences of the 3-D truth's velocity."""
-    from observability.filters.vins.simulate import Scenario, trajectory
-    from observability.filters.vins.simulate2d import simulate_planar
-
     sim = simulate_planar(Scenario(duration=2.0, noise=QUIET, initial_bias_sigma=(0.01, 0.1)), seed=3)
     h, k = 1e-5, np.array([10, 150, 390])
     vp, vm = trajectory(sim.t[k] + h, sim.scenario)[2][:, :2], trajectory(sim.t[k] - h, sim.scenario)[2][:, :2]
@@ -128,9 +127,6 @@ def test_planar_readings_are_the_planar_imu_equations():
 def test_planar_readings_reintegrate_to_the_trajectory():
     """Noise-free, 3 s: planar_step over the mean readings ends on the truth, and the
     error falls by ~4 when the IMU rate doubles (second order)."""
-    from observability.filters.vins.simulate import Scenario
-    from observability.filters.vins.simulate2d import simulate_planar
-
     errors = []
     for rate in (50, 100):
         sim = simulate_planar(Scenario(duration=3.0, imu_rate=rate, camera_rate=10, noise=QUIET,
@@ -143,9 +139,6 @@ def test_planar_readings_reintegrate_to_the_trajectory():
 
 
 def test_the_1d_camera_sees_what_the_pinhole_written_here_sees():
-    from observability.filters.vins.simulate import Scenario
-    from observability.filters.vins.simulate2d import simulate_planar
-
     sim = simulate_planar(Scenario(duration=2.0), seed=6)
     for j in (0, 9, 20):
         k = sim.frames[j]
