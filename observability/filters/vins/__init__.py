@@ -1,0 +1,24 @@
+"""Visual-inertial filtering on manifolds: the IMU state with a 15-dim error state.
+
+Takes the ``vins`` model (its IMU kinematics, through :mod:`observability.codegen`)
+and gives rotations with a 3-dim world-frame error (:mod:`.so3`, also SO(2)), the
+IMU state and its error-state layout (:mod:`.state`), IMU propagation of the mean,
+the covariance and the transition matrix from one discretisation (:mod:`.imu`),
+a simulator of a trajectory, IMU readings and camera features (:mod:`.simulate`),
+and the planar (SO(2)) propagation from the ``vins2d`` model (:mod:`.planar`) with
+its simulator (:mod:`.simulate2d`).
+"""
+
+from .imu import ImuNoise, ImuStep, continuous_jacobians, propagate, propagate_many, step
+from .planar import PlanarState, planar_boxminus, planar_boxplus, planar_propagate, planar_step
+from .simulate import Camera, Scenario, Simulation, simulate
+from .simulate2d import PlanarSimulation, simulate_planar
+from .so3 import exp_so2, exp_so3, log_so2, log_so3, retract, skew
+from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus, imu_state, unobservable_directions
+
+__all__ = [
+    "Camera", "ERROR_DIM", "GRAVITY", "ImuNoise", "ImuState", "ImuStep", "PlanarSimulation", "PlanarState", "Scenario",
+    "Simulation", "boxminus", "boxplus", "continuous_jacobians", "exp_so2", "exp_so3", "imu_state", "log_so2",
+    "log_so3", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step", "propagate",
+    "propagate_many", "retract", "simulate", "simulate_planar", "skew", "step", "unobservable_directions",
+]
