@@ -83,18 +83,14 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     minor from flint's exact determinant: no symbolic Lie derivative (those of
     ``vins`` did not end within the 60 s budget). Others from the symbolic rows
     (:func:`_symbolic_minor`), their entries to 60 digits where not rational."""
-    if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below
-        return {}, "1", True
+    rng = random.Random(seed)
+    if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below (the point still a drawn one)
+        return _drawn(system, _point_symbols(system, 0), [], rng), "1", True
     if not exact_possible(system, rows):
         return _symbolic_minor(system, rows, columns, seed)
-    symbols = sorted(_point_symbols(system, max(k for _, k in rows)), key=str)
-    rng = random.Random(seed)
-    # A symbol under a square root takes the square of a rational: the root is
-    # rational too (and real), so the minor stays exact.
-    rooted = square_roots(symbols, [system.substitute_values(e) for e in (*system.dynamics,
-                                                                         *(h for _, h in system.outputs))])
+    symbols = _point_symbols(system, max(k for _, k in rows))
     for _ in range(_ATTEMPTS):
-        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+        point = _drawn(system, symbols, [], rng)
         try:
             value = _exact_minor(system, rows, columns, point)
         except Redraw:
@@ -106,6 +102,19 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     raise ObservabilityError(
         f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
     )
+
+
+def _drawn(system: System, symbols, entries: list[sympy.Expr], rng: random.Random) -> dict:
+    """A random exact point: a non-zero rational for every symbol given, those
+    the rows never read too (a free parameter that only a square root's
+    coefficient or a denominator of the dynamics holds was left at 0, where the
+    checker found the coefficient 0 or a pole). A symbol under a square root in
+    the model or in ``entries`` takes the square of a rational: the root is
+    rational too (and real), so the minor stays exact."""
+    symbols = sorted(symbols, key=str)
+    rooted = square_roots(symbols, [*entries, *(system.substitute_values(e) for e in (
+        *system.dynamics, *(h for _, h in system.outputs)))])
+    return {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
 
 
 def _point_symbols(system: System, orders: int) -> list[sympy.Symbol]:
@@ -143,13 +152,10 @@ def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[i
                 expressions[(row.output, row.order)] = row.expression
     states = [system.states[j] for j in columns]
     matrix = sympy.Matrix([[sympy.diff(expressions[r], x) for x in states] for r in rows])
-    symbols = sorted(matrix.free_symbols | set(system.states), key=str)
+    symbols = matrix.free_symbols | set(_point_symbols(system, highest))
     rng = random.Random(seed)
-    # A symbol under a square root takes the square of a rational: the root is
-    # rational too (and real), so the minor stays exact.
-    rooted = square_roots(symbols, list(matrix))
     for _ in range(_ATTEMPTS):
-        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+        point = _drawn(system, symbols, list(matrix), rng)
         at = matrix.xreplace(point)
         if all(e.is_Rational for e in at):
             value = at.det(method="bareiss")
