@@ -130,3 +130,34 @@ def test_a_true_identity_is_not_claimed_for_a_near_miss():
     """1 - 10^-60 is not 1: the zero test is exact, not a tolerance."""
     a = sympy.Symbol("a")
     assert not identically_zero(a * (1 - sympy.Rational(1, 10**60)) - a)
+
+
+# ------------------------------------------------------------------ the other rewritings that meet prev(u)
+def test_a_zero_or_constant_input_profile_carries_to_prev_u():
+    """x+ = x + u, y = prev(u) x: generic rank 1 (dy/dx = u_{k-1}). With u = 0 the
+    output is 0 (rank 0); with u constant, prev(u) = u: y = u x, rank 1 (by hand).
+    The restriction refused the model ("prev(u), but 'u' is not a state or input")."""
+    system = System(["x"], {"x": "x + u"}, {"y": "prev(u)*x"}, inputs=["u"], time="discrete")
+    assert analyze(system, seed=1).rank == 1
+    from observability.where.profiles import InputProfile, with_input_profiles
+
+    restricted, _ = with_input_profiles(system, {"u": InputProfile("zero")})
+    assert restricted.outputs[0][1] == 0 and analyze(restricted, seed=1).rank == 0
+    restricted, _ = with_input_profiles(system, {"u": InputProfile("constant")})
+    u, x = sympy.symbols("u x")
+    assert restricted.outputs[0][1] == u * x and analyze(restricted, seed=1).rank == 1
+
+
+def test_a_root_whose_coefficient_is_the_previous_input_is_not_rewritten_and_its_proof_verifies():
+    """y = prev(u) sqrt(x), x+ = 2x + u: rank 1 (dy/dx = u_{k-1}/(2 sqrt x), by hand).
+    The coefficient moves with the input, so the output is not rewritten to x (the
+    checker reads a as free of prev(u) too): the written proof is accepted."""
+    from observability.rank import proofcheck
+    from observability.report.proofs import proof_evidence, proof_model
+
+    system = System(["x"], {"x": "2*x + u"}, {"y": "prev(u)*sqrt(x)"}, inputs=["u"], time="discrete", name="root")
+    result = analyze(system, seed=1)
+    assert result.rank == 1
+    evidence = proof_evidence(system, result, budget=None)
+    assert evidence["model"]["analysed_outputs"] == {}
+    assert proofcheck.check(evidence, proof_model(system)).startswith("accepted")
