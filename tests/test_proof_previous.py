@@ -170,3 +170,15 @@ def test_the_previous_input_of_a_later_step_is_the_step_before():
     by_hand = sympy.Matrix([[rows[k][c] for c in columns] for _, k in lower["rows"]]).det()
     assert sympy.Rational(lower["minor"]) == by_hand != 0
     assert proofcheck.check(data, proof_model(system)).startswith("accepted")
+
+
+def test_an_augmented_verdict_writes_no_proof(tmp_path):
+    """x+ = x^3 has no unique inverse (three cube roots); with --previous augment the
+    verdict is rank 1 (y_0 = z^3 - z, gradient 3z^2 - 1, by hand), but a proof's rows
+    are those of the inverse rewriting: nothing is written (exit 3), where the writer
+    failed with exit 2 after the verdict was printed."""
+    model = tmp_path / "cube.toml"
+    model.write_text('time="discrete"\nstates=["x"]\n[dynamics]\nx="x**3"\n[outputs]\ny="x - prev(x)"\n')
+    out = cli("check", model, "--previous", "augment", "--proof", tmp_path / "cube.json")
+    assert out.returncode == 3 and "rank 1 of 1" in out.stdout and "--previous augment" in out.stderr
+    assert not (tmp_path / "cube.json").exists()
