@@ -10,10 +10,12 @@ gradient (2x - prev(u))/2 at the point holds the previous input: rank 1 of 1.
 from __future__ import annotations
 
 import copy
+import functools
 import json
 
 import pytest
 import sympy
+from hypothesis import given, strategies as st
 
 from conftest import cli
 from observability import System, analyze
@@ -28,9 +30,14 @@ def _artefact(system: System) -> dict:
     return json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1), budget=None)))
 
 
-@pytest.fixture(scope="module")
-def genuine() -> dict:
+@functools.lru_cache(maxsize=1)
+def _genuine() -> dict:
     return _artefact(MODEL)
+
+
+@pytest.fixture()
+def genuine() -> dict:
+    return copy.deepcopy(_genuine())
 
 
 def test_the_file_records_the_written_outputs_the_inverse_and_the_previous_input(genuine):
@@ -182,3 +189,17 @@ def test_an_augmented_verdict_writes_no_proof(tmp_path):
     out = cli("check", model, "--previous", "augment", "--proof", tmp_path / "cube.json")
     assert out.returncode == 3 and "rank 1 of 1" in out.stdout and "--previous augment" in out.stderr
     assert not (tmp_path / "cube.json").exists()
+
+
+@given(st.integers(-3, 3), st.integers(-3, 3), st.integers(-2, 2))
+def test_an_edited_affine_inverse_is_accepted_only_when_it_is_the_inverse(a, b, c):
+    """g = (a x + b u + c)/2 in the file (outputs left as written by the tool): F(g) =
+    a x + b u + c + u is x exactly when (a, b, c) = (1, -1, 0) (by hand), and only
+    then may the file be accepted."""
+    data = _edited(_genuine(), lambda d: d["model"]["previous"]["inverse"].update(x=f"({a}*x + ({b})*u + ({c}))/2"))
+    if (a, b, c) == (1, -1, 0):
+        assert proofcheck.check(data).startswith("accepted")
+    else:
+        with pytest.raises(proofcheck.Rejected, match="not an inverse"):
+            proofcheck.check(data)
+
