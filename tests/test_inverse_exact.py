@@ -161,3 +161,15 @@ def test_a_root_whose_coefficient_is_the_previous_input_is_not_rewritten_and_its
     evidence = proof_evidence(system, result, budget=None)
     assert evidence["model"]["analysed_outputs"] == {}
     assert proofcheck.check(evidence, proof_model(system)).startswith("accepted")
+
+
+def test_a_wrong_derived_inverse_is_refused(monkeypatch):
+    """sympy's solve is not trusted: were it to return x + x/10^40 for x+ = x (the true
+    inverse is x), the residual x/10^40 is proven non-zero and the model refused."""
+    import observability.model.inverse as inverse
+
+    x = sympy.Symbol("x")
+    monkeypatch.setattr(inverse, "_solve_inverse", lambda system: (x + x / 10**40,))
+    system = System(["x"], {"x": "x"}, {"y": "x - prev(x)"}, time="discrete")
+    with pytest.raises(ModelError, match="wrong for state x.*derived by sympy"):
+        analyze(system, seed=1)
