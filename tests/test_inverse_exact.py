@@ -173,3 +173,23 @@ def test_a_wrong_derived_inverse_is_refused(monkeypatch):
     system = System(["x"], {"x": "x"}, {"y": "x - prev(x)"}, time="discrete")
     with pytest.raises(ModelError, match="wrong for state x.*derived by sympy"):
         analyze(system, seed=1)
+
+
+def test_a_proof_of_the_inverse_out_of_budget_is_a_refusal_naming_the_state(monkeypatch):
+    """When the identity check does not end within its CPU budget (simulated), the
+    inverse is not used: refused as not proven, with the budget as the reason. (The
+    cos(th - w) of F(g) is written expanded in g, so the residual is not 0 as written.)"""
+    import observability.budget as budget
+    import observability.model.inverse as inverse
+    from conftest import budgeted_runs
+
+    def spent(func, *args, seconds):
+        raise budget.Undecided(f"the symbolic computation exceeded its budget of {seconds:g} s of CPU time")
+
+    budgeted_runs(monkeypatch, budget, spent)
+    inverse._verdicts.cache_clear()
+    system = System(["x", "th"], {"x": "x + u*cos(th)", "th": "th + w"}, {"y": "x - prev(x)"}, inputs=["u", "w"],
+                    time="discrete", inverse_dynamics={"x": "x - u*(cos(th)*cos(w) + sin(th)*sin(w))", "th": "th - w"})
+    with pytest.raises(ModelError, match=r"could not be proven exact for state x.*budget of 20 s"):
+        analyze(system, seed=1)
+    inverse._verdicts.cache_clear()
