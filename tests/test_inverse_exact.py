@@ -193,3 +193,12 @@ def test_a_proof_of_the_inverse_out_of_budget_is_a_refusal_naming_the_state(monk
     with pytest.raises(ModelError, match=r"could not be proven exact for state x.*budget of 20 s"):
         analyze(system, seed=1)
     inverse._verdicts.cache_clear()
+
+
+def test_a_proven_error_is_named_before_an_unproven_identity():
+    """x1's residual (log 6 - log 2 - log 3) x1 is zero but not provable here; x2's,
+    x2/10^40, is proven non-zero: the refusal names the error, x2."""
+    system = System(["x1", "x2"], {"x1": "x1", "x2": "x2"}, {"y": "x1 - prev(x1) + x2"}, time="discrete",
+                    inverse_dynamics={"x1": "x1 + (log(6) - log(2) - log(3))*x1", "x2": "x2 + x2/10**40"})
+    with pytest.raises(ModelError, match="wrong for state x2"):
+        analyze(system, seed=1)

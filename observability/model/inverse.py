@@ -118,10 +118,12 @@ def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...]) -> None:
         verdicts, why = (None,) * len(residuals), str(exc)
     else:
         why = "it does not cancel to 0 in exact rational-function arithmetic (with half-angle tangents)"
-    for state, residual, verdict in zip(system.states, residuals, verdicts):
+    checked = list(zip(system.states, residuals, verdicts))
+    for state, residual, verdict in checked:  # a proven error first, then one not proven
         if verdict is False:
             raise ModelError(f"{system.name}: the inverse motion model is wrong for state {state.name}: "
                              f"F(g(x, u), u) - x = {_shown(residual)} is not zero (proven at a rational point)")
+    for state, residual, verdict in checked:
         if verdict is None:
             raise ModelError(
                 f"{system.name}: the inverse motion model could not be proven exact for state {state.name}: "
