@@ -22,6 +22,11 @@ does the algebra, python-flint's ball arithmetic (arb) the transcendental number
 * Square-root outputs a*sqrt(g) + b are analysed through g (the same rows wherever
   a != 0 and g != 0): a is free of the states and inputs and proven non-zero at
   the point (exactly or by a ball), so a is not the zero function.
+* Outputs that read the previous state (discrete time) are recorded as written,
+  with the inverse motion model g that rewrote them: F(g(x, u), u) = x and each
+  rewritten output = the written one with prev(x) = g(x, prev(u)) are verified
+  as identities, and prev(u) at step k is the input of step k - 1 (at step 0 the
+  point's ``previous_inputs``).
 * Upper bound: each generator v satisfies L_v h = 0 for every output and
   [f, v] + sum_u dv/du u' = 0 (continuous: a generator that depends on an input
   moves with it) or v(F(x, u), u+) - DF(x, u) v(x, u) = 0 (discrete, u+ the next
