@@ -211,6 +211,13 @@ def _write_proof(system: System, result, args: argparse.Namespace) -> int | None
         print(f"observability: no proof written to {args.proof}: the verdict is "
               f"{result.proof or 'undecided'}, not proven", file=sys.stderr)
         return EXIT_UNDECIDED
+    if system.time == "discrete" and system.uses_previous_state and getattr(args, "previous", "inverse") == "augment":
+        # A proof's rows are those of the outputs rewritten through the inverse motion model (its conventions),
+        # which the checker verifies; the augmented route has no such rewriting to verify.
+        print(f"observability: no proof written to {args.proof}: proofs rewrite prev() through the inverse motion "
+              "model, and this verdict was decided with --previous augment (check without it for a proof)",
+              file=sys.stderr)
+        return EXIT_UNDECIDED
     with _about(args.model):
         try:
             evidence = proof_evidence(system, result, budget=args.budget)

@@ -9,7 +9,10 @@ test applies:
   stochastic cloning): with z = x_{k-1} as the state, x_k = F(z, u) and
   y_k = h(F(z, u), z). No inverse model is needed.
 
-When F is a local diffeomorphism both give the same rank. An unconstrained
+Both rewritings are exact substitutions; the first rests on the identity
+F(g(x, u), u) = x, which is *proven* (:func:`verify_inverse`: exact arithmetic,
+no tolerance) before an inverse, given or derived, is used, and refused
+otherwise. When F is a local diffeomorphism both give the same rank. An unconstrained
 2n-dimensional augmented state (x_k, x_{k-1}) is not offered as an observability
 model: its clone is n extra unknowns that only the first measurement ever sees,
 so it is never observable, whatever the sensors.
@@ -17,13 +20,14 @@ so it is never observable, whatever the sensors.
 
 from __future__ import annotations
 
-import random
+import functools
 
 import sympy
 
 from ..budget import Undecided, with_budget
 from ..errors import ModelError
 from .expressions import prev
+from .identities import identity_verdicts
 from .methods import PREVIOUS_METHODS, Previous
 from .system import System
 
@@ -35,13 +39,15 @@ def inverse_dynamics(system: System) -> tuple[sympy.Expr, ...]:
     """x_{k-1} as a function of x_k, inputs and parameters.
 
     Uses ``system.inverse_dynamics`` when the model gives one, otherwise solves
-    F(z, u) = x for z symbolically.
+    F(z, u) = x for z symbolically; either is used only once F(g(x, u), u) = x
+    is proven (:func:`verify_inverse`).
 
     Raises
     ------
     ModelError
-        When the system is not discrete-time, or F cannot be inverted uniquely
-        in closed form (then give ``inverse_dynamics`` in the model).
+        When the system is not discrete-time, F cannot be inverted uniquely
+        in closed form (then give ``inverse_dynamics`` in the model), or the
+        inverse is not proven (:func:`verify_inverse`).
     """
     if system.time != "discrete":
         raise ModelError(f"{system.name}: an inverse motion model needs a discrete-time system")
@@ -56,6 +62,10 @@ def inverse_dynamics(system: System) -> tuple[sympy.Expr, ...]:
         ) from None
     if isinstance(solution, str):
         raise ModelError(f"{system.name}: {solution}; give inverse_dynamics in the model ([inverse])")
+    try:  # sympy's solve and simplify are not trusted: the derived inverse is proven like a given one
+        verify_inverse(system, solution)
+    except ModelError as exc:
+        raise ModelError(f"{exc} (the inverse derived by sympy); give inverse_dynamics in the model ([inverse])") from None
     return solution
 
 
@@ -75,48 +85,63 @@ def _solve_inverse(system: System) -> tuple[sympy.Expr, ...] | str:
 
 #: CPU seconds allowed for deriving an inverse motion model symbolically.
 INVERSE_BUDGET = 20.0
-
-#: Digits of the evaluation that checks a given inverse, and the residual
-#: (relative to the state's size) above which it is refused.
-_DIGITS = 50
-_TOLERANCE = sympy.Float(10) ** -30
+#: CPU seconds allowed for proving F(g(x, u), u) = x (:func:`verify_inverse`).
+VERIFY_BUDGET = 20.0
 
 
-def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...], points: int = 3, seed: int = 0) -> None:
-    """Refuse an inverse motion model g unless F(g(x, u), u) = x.
+def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...]) -> None:
+    """Refuse an inverse motion model g unless F(g(x, u), u) = x is *proven*.
 
-    Checked at random real points with 50 significant digits (states, inputs
-    and free parameters drawn in [1/2, 2], given values used): a wrong inverse
-    leaves a residual of the size of the states; a right one, rounding at
-    1e-50. Points where the model is undefined (a log of a negative, a pole)
-    are skipped; if every point is, the inverse cannot be checked and is refused.
+    Each residual F_i(g(x, u), u) - x_i, with the known parameters at their
+    values, must be proven identically zero in the states, inputs and free
+    parameters (:func:`observability.model.identities.identically_zero`: exact
+    rational-function arithmetic, with trigonometric functions through
+    half-angle tangents). Then the rewriting h(x, g(x, u_{k-1})) of an output
+    h(x_k, x_{k-1}) is the output itself at every point where g is defined,
+    and the rank computed from it is the model's. No tolerance decides it: an
+    inverse wrong by 1e-40 is wrong.
 
     Raises
     ------
     ModelError
-        Naming the first state whose residual is not zero.
+        Naming the first state whose residual is proven non-zero ("wrong"), or
+        whose residual could not be proven zero within :data:`VERIFY_BUDGET`
+        CPU seconds (no rank is computed on an inverse that is not proven).
     """
-    rng = random.Random(seed)
     at_g = dict(zip(system.states, inverse))
-    residuals = [system.substitute_values(f.xreplace(at_g)) - x for f, x in zip(system.dynamics, system.states)]
-    symbols = sorted(set().union(*(r.free_symbols for r in residuals)), key=lambda s: s.name)
-    checked = 0
-    for _ in range(4 * points):
-        point = {s: sympy.Float(rng.uniform(0.5, 2.0), _DIGITS) for s in symbols}
-        values = [r.xreplace(point).evalf(_DIGITS) for r in residuals]
-        if not all(v.is_number and v.is_finite and v.is_real is not False for v in values):
-            continue
-        for state, value in zip(system.states, values):
-            scale = 1 + abs(point.get(state, 1))
-            if abs(value) > _TOLERANCE * scale:
-                raise ModelError(
-                    f"{system.name}: the inverse motion model is wrong for state {state.name}: "
-                    f"F(g(x, u), u) - x = {sympy.N(value, 3)} at a random point (it must be 0)"
-                )
-        checked += 1
-        if checked == points:
-            return
-    raise ModelError(f"{system.name}: the inverse motion model could not be checked: the model is undefined at random points")
+    residuals = tuple(system.substitute_values(f.xreplace(at_g)) - x for f, x in zip(system.dynamics, system.states))
+    if all(r == 0 for r in residuals):  # the common case (x -> x, c - dt v + dt v): nothing to prove
+        return
+    try:
+        verdicts = _verdicts(residuals)
+    except Undecided as exc:
+        verdicts, why = (None,) * len(residuals), str(exc)
+    else:
+        why = "it does not cancel to 0 in exact rational-function arithmetic (with half-angle tangents)"
+    checked = list(zip(system.states, residuals, verdicts))
+    for state, residual, verdict in checked:  # a proven error first, then one not proven
+        if verdict is False:
+            raise ModelError(f"{system.name}: the inverse motion model is wrong for state {state.name}: "
+                             f"F(g(x, u), u) - x = {_shown(residual)} is not zero (proven at a rational point)")
+    for state, residual, verdict in checked:
+        if verdict is None:
+            raise ModelError(
+                f"{system.name}: the inverse motion model could not be proven exact for state {state.name}: "
+                f"F(g(x, u), u) - x = {_shown(residual)} is not shown to be 0 ({why}); no rank rests on an inverse "
+                "that is not proven: write it so that the composition cancels, or use --previous augment")
+
+
+@functools.lru_cache(maxsize=32)
+def _verdicts(residuals: tuple[sympy.Expr, ...]) -> tuple[bool | None, ...]:
+    """:func:`identity_verdicts` of the residuals under the budget, once per model
+    (every stage that rewrites the outputs asks again)."""
+    return tuple(with_budget(identity_verdicts, list(residuals), seconds=VERIFY_BUDGET))
+
+
+def _shown(expr: sympy.Expr) -> str:
+    """A residual as text, cut to a line."""
+    text = sympy.sstr(expr)
+    return text if len(text) <= 120 else text[:117] + "..."
 
 
 def eliminate_previous_state(system: System, method: Previous = "inverse") -> System:

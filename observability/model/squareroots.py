@@ -26,6 +26,7 @@ from __future__ import annotations
 import sympy
 
 from ..intervals import nonzero, positive_somewhere
+from .expressions import prev
 from .system import System
 
 __all__ = ["without_square_root_outputs"]
@@ -49,7 +50,8 @@ def _radicand(expr: sympy.Expr, variables: set[sympy.Symbol]) -> sympy.Expr | No
 def without_square_root_outputs(system: System) -> tuple[System, str]:
     """The system with each square-root output replaced by its radicand, and a
     note saying which (empty when none is)."""
-    variables = set(system.states) | set(system.inputs) | set(system.previous_states)
+    # prev(u) too: a coefficient that moves with the previous input is not a constant a (the checker's reading)
+    variables = set(system.states) | set(system.inputs) | set(system.previous_states) | {prev(u) for u in system.inputs}
     outputs, changed = {}, []
     for name, expr in system.outputs:
         radicand = _radicand(system.substitute_values(expr), variables)

@@ -25,6 +25,7 @@ from ..engine.fractions import AlgebraicFunctions, NotRational, RationalFunction
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles, in_square_roots, root_speed, square_roots
 from .balls import independent_at_a_real_point
 from .symbolic import rationalize
+from ..model.identities import named_atoms
 from ..model.system import System
 
 __all__ = ["fields_are_symmetries", "spans_invariant_distribution", "PROOF_BUDGET", "PROOF_MAX_STATES"]
@@ -106,27 +107,12 @@ def _map_terms(system: System, fields: list[list[sympy.Expr]]) -> tuple | None:
     composed = [[vi.xreplace(at_next) for vi in v] for v in vs]
     named: dict[sympy.Expr, sympy.Dummy] = {}
     try:
-        rational = [[[_named_atoms(e, named) for e in row] for row in block] for block in (rates, images, composed)]
+        rational = [[[named_atoms(e, named) for e in row] for row in block] for block in (rates, images, composed)]
         field = RationalFunctions([*states, *system.inputs, *system.parameters, *named.values()])
         rates_, images_, composed_ = [[[field.of(e) for e in row] for row in block] for block in rational]
     except (NotRational, ZeroDivisionError):
         return None
     return field, all(r[0].is_zero() for row in rates_ for r in row), images_, composed_, bool(named)
-
-
-def _named_atoms(expr: sympy.Expr, named: dict) -> sympy.Expr:
-    """``expr`` with each maximal subexpression that is not a rational function
-    (a function, a non-integer power, an irrational number) replaced by a free
-    variable, the same for equal subexpressions."""
-    if expr.is_Symbol or expr.is_Rational:
-        return expr
-    if expr.is_Add or expr.is_Mul:
-        return expr.func(*(_named_atoms(a, named) for a in expr.args))
-    if expr.is_Pow and expr.exp.is_Integer:
-        return _named_atoms(expr.base, named) ** expr.exp
-    if expr not in named:
-        named[expr] = sympy.Dummy(f"A{len(named)}")
-    return named[expr]
 
 
 def _bracket(field: RationalFunctions, derivative, f_: list, v_: list) -> list:

@@ -22,6 +22,11 @@ does the algebra, python-flint's ball arithmetic (arb) the transcendental number
 * Square-root outputs a*sqrt(g) + b are analysed through g (the same rows wherever
   a != 0 and g != 0): a is free of the states and inputs and proven non-zero at
   the point (exactly or by a ball), so a is not the zero function.
+* Outputs that read the previous state (discrete time) are recorded as written,
+  with the inverse motion model g that rewrote them: F(g(x, u), u) = x and each
+  rewritten output = the written one with prev(x) = g(x, prev(u)) are verified
+  as identities, and prev(u) at step k is the input of step k - 1 (at step 0 the
+  point's ``previous_inputs``).
 * Upper bound: each generator v satisfies L_v h = 0 for every output and
   [f, v] + sum_u dv/du u' = 0 (continuous: a generator that depends on an input
   moves with it) or v(F(x, u), u+) - DF(x, u) v(x, u) = 0 (discrete, u+ the next
@@ -185,6 +190,7 @@ def check(proof: dict, model: dict | None = None) -> str:
     if model is not None:
         _same_system(parsed[0], model)
     spec, symbols, x, known, f, outputs, roots = parsed
+    _verified_previous(spec, symbols, known, x, f)
     n = len(x)
     rank, _ = _claim(proof, n)
     lower = proof["lower_bound"]
@@ -271,11 +277,12 @@ def _model(proof: dict) -> tuple:
     x = [symbols[s] for s in model["states"]]
     known = {symbols[p]: parse(v, {}) for p, v in model["parameters"].items() if v is not None}
     f = [parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
-    outputs = {name: parse(e, symbols).xreplace(known) for name, e in model["outputs"].items()}
-    variables = {symbols[v] for v in [*model["states"], *model["inputs"]]}
+    readable = symbols | _previous_inputs(model)  # the outputs may read prev(u) in discrete time
+    outputs = {name: parse(e, readable).xreplace(known) for name, e in model["outputs"].items()}
+    variables = {symbols[v] for v in [*model["states"], *model["inputs"]]} | set(_previous_inputs(model).values())
     roots = {}
     for name, text in model.get("analysed_outputs", {}).items():
-        radicand = parse(text, symbols).xreplace(known)
+        radicand = parse(text, readable).xreplace(known)
         roots[name] = _root_coefficient(outputs[name], radicand, variables) if name in outputs else None
         if roots[name] is None:
             raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with a and b free of the states and inputs")
@@ -303,12 +310,13 @@ def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, 
                 for name, e in current.items()
             }
     else:
-        state = list(x)
+        state, last = list(x), _first_previous_inputs(model, outputs, point, values)
         for k in range(orders + 1):
             step = {symbols[u]: sympy.Dummy(f"{u}_{k}") for u in model["inputs"]}
             for u, d in step.items():
                 values[d] = rational(point["inputs"][str(u)][k], f"the point's {u}")
-            at = dict(zip(x, state)) | step
+            at = dict(zip(x, state)) | step | last
+            last = {sympy.Symbol(f"prev({u})"): d for u, d in step.items()}
             for name, e in outputs.items():
                 functions[(name, k)] = e.xreplace(at)
             state = [fi.xreplace(at) for fi in f]
@@ -344,8 +352,8 @@ def _equations(model: dict) -> dict:
         "unknown_inputs": list(model.get("unknown_inputs", [])),
         "parameters": {p: None if v is None else str(parse(v, {})) for p, v in model["parameters"].items()},
         "dynamics": {s: str(parse(model["dynamics"][s], symbols)) for s in model["states"]},
-        "outputs": {name: str(parse(e, symbols)) for name, e in model["outputs"].items()},
-    }
+        "outputs": {name: str(parse(e, symbols | _previous_inputs(model))) for name, e in model["outputs"].items()},
+    } | _previous_equations(model)
 
 
 def digest(model: dict) -> str:
@@ -363,6 +371,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
     ours, theirs = _equations(proof_model), _equations(model)
     if proof_model["name"] != model["name"]:
         raise Rejected("the proof is not about the model given: its name differs")
+    _same_previous(proof_model, model)
     for part in ("time", "states", "inputs", "unknown_inputs"):
         if ours[part] != theirs[part]:
             raise Rejected(f"the proof is not about the model given: its {part} differ")
@@ -460,3 +469,92 @@ def _limit(kind: int, value: int) -> None:
     """The soft limit ``kind`` lowered to ``value`` (never above the hard limit, which stays)."""
     _, hard = resource.getrlimit(kind)
     resource.setrlimit(kind, (value if hard == resource.RLIM_INFINITY else min(value, hard), hard))
+
+
+# ------------------------------------------------------------------ outputs that read the previous state
+def _previous_inputs(model: dict) -> dict[str, sympy.Symbol]:
+    """prev(u) of each input, by its text: what the outputs of a discrete-time
+    model may read (the input of the step before); nothing in continuous time."""
+    if model["time"] != "discrete":
+        return {}
+    return {f"prev({u})": sympy.Symbol(f"prev({u})") for u in model["inputs"]}
+
+
+def _first_previous_inputs(model: dict, outputs: dict, point: dict, values: dict) -> dict[sympy.Symbol, sympy.Dummy]:
+    """prev(u) at step 0, by symbol -> a variable whose value (in ``values``) is the
+    point's ``previous_inputs`` of u, given for exactly the inputs whose prev(u)
+    the ``outputs`` read (Rejected otherwise)."""
+    read = {str(s) for e in outputs.values() for s in e.free_symbols}
+    wanted = sorted(u for u in model["inputs"] if f"prev({u})" in read)
+    given = point.get("previous_inputs", {})
+    if sorted(given) != wanted:
+        raise Rejected(f"the point's previous_inputs must give exactly {wanted} (the inputs whose prev() the outputs read)")
+    first = {}
+    for u in wanted:
+        first[sympy.Symbol(f"prev({u})")] = variable = sympy.Dummy(f"{u}_before")
+        values[variable] = rational(given[u], f"the point's previous {u}")
+    return first
+
+
+def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list) -> None:
+    """When the model's outputs read the previous state, its "previous" table
+    holds the outputs as written (with prev(x)) and the inverse motion model g
+    that rewrote them. Rejected unless, as identities in the states, inputs and
+    parameters, F(g(x, u), u) = x for every state, and each output the rows use
+    is the written one with every prev(x) replaced by g(x, prev(u)). Then x_{k-1}
+    = g(x_k, u_{k-1}) wherever g is defined, the rewritten output equals the
+    written one along every motion, and so do its rows: the rank verified is the
+    written model's."""
+    previous = model.get("previous")
+    if previous is None:
+        return
+    if model["time"] != "discrete":
+        raise Rejected("a previous-state rewriting in a continuous-time model")
+    if sorted(previous["inverse"]) != sorted(model["states"]) or sorted(previous["outputs"]) != sorted(model["outputs"]):
+        raise Rejected("the previous-state table does not give one inverse per state and every output as written")
+    g = [parse(previous["inverse"][s], symbols).xreplace(known) for s in model["states"]]
+    for state, xi, fi in zip(model["states"], x, f):
+        if not _zero(fi.xreplace(dict(zip(x, g))) - xi):
+            raise Rejected(f"the inverse motion model is not an inverse: F(g(x, u), u) - x is not 0 for state {state}")
+    inputs = _previous_inputs(model)
+    readable = symbols | inputs | {f"prev({s})": sympy.Symbol(f"prev({s})") for s in model["states"]}
+    # x_{k-1} = g(x_k, u_{k-1}): g's inputs are the previous ones
+    at = {sympy.Symbol(f"prev({s})"): gi.xreplace({symbols[u]: inputs[f"prev({u})"] for u in model["inputs"]})
+          for s, gi in zip(model["states"], g)}
+    for name, text in previous["outputs"].items():
+        written = parse(text, readable).xreplace(known)
+        rewritten = parse(model["outputs"][name], symbols | inputs).xreplace(known)
+        if not _zero(written.xreplace(at) - rewritten):
+            raise Rejected(f"output {name!r} is not the written one with prev(x) = g(x, prev(u))")
+
+
+def _previous_equations(model: dict) -> dict:
+    """The "previous" table as text in sympy's normal form, for the digest and the
+    comparison with another model ({} without one)."""
+    previous = model.get("previous")
+    if previous is None:
+        return {}
+    names = [*model["states"], *model["inputs"], *model["parameters"]]
+    symbols = {n: sympy.Symbol(n) for n in names}
+    readable = symbols | {f"prev({n})": sympy.Symbol(f"prev({n})") for n in [*model["states"], *model["inputs"]]}
+    return {"previous": {"outputs": {k: str(parse(e, readable)) for k, e in previous["outputs"].items()},
+                         "inverse": {k: str(parse(e, symbols)) for k, e in previous["inverse"].items()}}}
+
+
+def _same_previous(proof_model: dict, model: dict) -> None:
+    """Rejected unless both models read the previous state or neither does, with
+    the same outputs as written and the same inverse (as expressions)."""
+    ours, theirs = _previous_equations(proof_model), _previous_equations(model)
+    if bool(ours) != bool(theirs):
+        raise Rejected("the proof is not about the model given: one reads the previous state, the other not")
+    if not ours:
+        return
+    names = [*model["states"], *model["inputs"], *model["parameters"]]
+    readable = {n: sympy.Symbol(n) for n in names} | {f"prev({n})": sympy.Symbol(f"prev({n})")
+                                                      for n in [*model["states"], *model["inputs"]]}
+    for part in ("outputs", "inverse"):
+        mine, other = ours["previous"][part], theirs["previous"][part]
+        if sorted(mine) != sorted(other) or any(
+                mine[k] != other[k] and sympy.cancel(parse(mine[k], readable) - parse(other[k], readable)) != 0
+                for k in mine):
+            raise Rejected(f"the proof is not about the model given: its {part} as written differ")

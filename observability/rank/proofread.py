@@ -35,7 +35,8 @@ DECIMAL = re.compile(r"-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
 
 def parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
     """An expression of a proof file, read by walking its syntax tree: names of
-    the model, numbers, + - * / **, and the calls of ``_FUNCTIONS``. A proof is
+    the model, numbers, + - * / **, the calls of ``_FUNCTIONS``, and ``prev(name)``
+    where ``symbols`` has the key "prev(name)". A proof is
     something people receive from others, so nothing in it is executed
     (``sympify`` would ``eval`` it), and its size is bounded as it is read."""
     if not isinstance(text, (str, int)) or isinstance(text, bool):
@@ -79,6 +80,8 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[
         if right == 0:
             raise Rejected("division by zero in an expression")
         return _bounded(left / right, dl + dr, bl + br + 1)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "prev":
+        return _previous(node, symbols), 1, 0
     if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
             and not node.keywords):
         args = [_node(a, symbols, depth + 1) for a in node.args]
@@ -88,6 +91,16 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[
             raise Rejected(f"{node.func.id} with {len(args)} argument(s)") from None
         return _bounded(value, max((d for _, d, _ in args), default=0), sum(b for _, _, b in args))
     raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
+
+
+def _previous(node: ast.Call, symbols: dict[str, sympy.Symbol]) -> sympy.Symbol:
+    """``prev(name)``, the previous value of a state or input of a discrete-time
+    model: the symbol ``symbols["prev(name)"]``, Rejected where the caller gives
+    none (a continuous-time model, the dynamics, a name it does not allow there)."""
+    if not (len(node.args) == 1 and not node.keywords and isinstance(node.args[0], ast.Name)
+            and f"prev({node.args[0].id})" in symbols):
+        raise Rejected(f"not allowed in this expression: {ast.unparse(node)[:80]!r}")
+    return symbols[f"prev({node.args[0].id})"]
 
 
 def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:

@@ -32,7 +32,8 @@ import sympy
 from ..analysis.result import ObservabilityResult
 from ..budget import with_budget
 from ..errors import ObservabilityError
-from ..model.expressions import parse_expression
+from ..model.expressions import parse_expression, prev
+from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
 from ..engine.exactrows import NotRational
 from ..engine.halfangles import square_roots
@@ -61,7 +62,8 @@ CONVENTIONS = (
     "order; in discrete time the row of order k is the gradient of h(x_k, u_k) with "
     "x_0 = x and x_(k+1) = F(x_k, u_k), the input values listed by step. Outputs "
     "that use the previous state are first rewritten with the inverse motion model "
-    "(the artefact records the rewritten outputs)."
+    "(the artefact records the rewritten outputs, and under previous the outputs as written and the inverse); "
+    "prev(u) at step k is the input of step k - 1 (at step 0 the point's previous_inputs)."
 )
 #: CPU seconds for the symbolic rows and the exact minor of the artefact.
 EVIDENCE_BUDGET = 60.0
@@ -81,18 +83,14 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     minor from flint's exact determinant: no symbolic Lie derivative (those of
     ``vins`` did not end within the 60 s budget). Others from the symbolic rows
     (:func:`_symbolic_minor`), their entries to 60 digits where not rational."""
-    if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below
-        return {}, "1", True
+    rng = random.Random(seed)
+    if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below (the point still a drawn one)
+        return _drawn(system, _point_symbols(system, 0), [], rng), "1", True
     if not exact_possible(system, rows):
         return _symbolic_minor(system, rows, columns, seed)
-    symbols = sorted(_point_symbols(system, max(k for _, k in rows)), key=str)
-    rng = random.Random(seed)
-    # A symbol under a square root takes the square of a rational: the root is
-    # rational too (and real), so the minor stays exact.
-    rooted = square_roots(symbols, [system.substitute_values(e) for e in (*system.dynamics,
-                                                                         *(h for _, h in system.outputs))])
+    symbols = _point_symbols(system, max(k for _, k in rows))
     for _ in range(_ATTEMPTS):
-        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+        point = _drawn(system, symbols, [], rng)
         try:
             value = _exact_minor(system, rows, columns, point)
         except Redraw:
@@ -106,11 +104,32 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     )
 
 
+def _drawn(system: System, symbols, entries: list[sympy.Expr], rng: random.Random) -> dict:
+    """A random exact point: a non-zero rational for every symbol given, those
+    the rows never read too (a free parameter that only a square root's
+    coefficient or a denominator of the dynamics holds was left at 0, where the
+    checker found the coefficient 0 or a pole). A symbol under a square root in
+    the model or in ``entries`` takes the square of a rational: the root is
+    rational too (and real), so the minor stays exact."""
+    symbols = sorted(symbols, key=str)
+    rooted = square_roots(symbols, [*entries, *(system.substitute_values(e) for e in (
+        *system.dynamics, *(h for _, h in system.outputs)))])
+    return {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+
+
 def _point_symbols(system: System, orders: int) -> list[sympy.Symbol]:
     """The symbols the point gives: states, free parameters, and the inputs'
     derivatives (continuous time) or step values (discrete) up to ``orders``."""
     inputs = input_derivative if system.time == "continuous" else step_input
-    return [*system.states, *system.free_parameters, *(inputs(u, k) for u in system.inputs for k in range(orders + 1))]
+    return [*system.states, *system.free_parameters, *(inputs(u, k) for u in system.inputs for k in range(orders + 1)),
+            *(step_input(u, -1) for u in _previous_inputs(system))]
+
+
+def _previous_inputs(system: System) -> list[sympy.Symbol]:
+    """The inputs u whose previous value prev(u) the (prepared) outputs read: at
+    step 0 it is u[-1], a value of the point like the others."""
+    read = {s for _, h in system.outputs for s in h.free_symbols}
+    return [u for u in system.inputs if prev(u) in read]
 
 
 def _exact_minor(system: System, rows, columns, point) -> str | None:
@@ -133,13 +152,10 @@ def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[i
                 expressions[(row.output, row.order)] = row.expression
     states = [system.states[j] for j in columns]
     matrix = sympy.Matrix([[sympy.diff(expressions[r], x) for x in states] for r in rows])
-    symbols = sorted(matrix.free_symbols | set(system.states), key=str)
+    symbols = matrix.free_symbols | set(_point_symbols(system, highest))
     rng = random.Random(seed)
-    # A symbol under a square root takes the square of a rational: the root is
-    # rational too (and real), so the minor stays exact.
-    rooted = square_roots(symbols, list(matrix))
     for _ in range(_ATTEMPTS):
-        point = {s: _rational(rng) ** 2 if s in rooted else _rational(rng) for s in symbols}
+        point = _drawn(system, symbols, list(matrix), rng)
         at = matrix.xreplace(point)
         if all(e.is_Rational for e in at):
             value = at.det(method="bareiss")
@@ -172,11 +188,15 @@ def _point_json(system: System, point: dict, orders: int) -> dict[str, Any]:
             inputs[u.name] = [value(input_derivative(u, j)) for j in range(orders + 1)]
         else:
             inputs[u.name] = [value(step_input(u, k)) for k in range(orders + 1)]
-    return {
+    table = {
         "states": {s.name: value(s) for s in system.states},
         "parameters": {s.name: value(s) for s in system.free_parameters},
         "inputs": inputs,
     }
+    previous = _previous_inputs(system)
+    if previous:  # u[-1], read by prev(u) at step 0 (only in files whose outputs read it)
+        table["previous_inputs"] = {u.name: value(step_input(u, -1)) for u in previous}
+    return table
 
 
 def proof_model(system: System) -> dict[str, Any]:
@@ -199,7 +219,19 @@ def proof_model(system: System) -> dict[str, Any]:
         "outputs": {name: str(e) for name, e in written.outputs},
         # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
         "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(prepared.outputs, written.outputs) if e != w},
-    }
+    } | _previous_table(system)
+
+
+def _previous_table(system: System) -> dict[str, Any]:
+    """For outputs that read the previous state: {"previous": the outputs as
+    written (with prev(x)) and the inverse motion model g(x, u) used to rewrite
+    them} (the checker verifies F(g(x, u), u) = x and that the "outputs" are the
+    written ones with prev(x) = g(x, prev(u)), as identities); {} otherwise."""
+    if system.time != "discrete" or not system.uses_previous_state:
+        return {}
+    inverse = inverse_dynamics(system)  # proven exact (model/inverse.py), or ModelError before any verdict
+    return {"previous": {"outputs": {name: str(e) for name, e in system.outputs},
+                         "inverse": {s.name: str(g) for s, g in zip(system.states, inverse)}}}
 
 
 def proof_evidence(system: System, result: ObservabilityResult, budget: float | None = EVIDENCE_BUDGET) -> dict[str, Any]:
@@ -217,6 +249,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         raise ObservabilityError(
             f"{system.name}: the verdict is not proven ({result.proof or 'undecided'}), so there is no proof to write"
         )
+    original = system
     written = prepare(system, square_roots=False).system
     system = prepare(written).system  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
@@ -239,7 +272,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         "format": EVIDENCE_FORMAT,
         "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
         "conventions": CONVENTIONS,
-        "model": proof_model(written),
+        "model": proof_model(original),
         "rank": result.rank,
         "n_states": result.n_states,
         "lower_bound": {

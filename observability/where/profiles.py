@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..errors import ModelError
+from ..model.expressions import prev
 from ..model.system import System
 
 __all__ = ["InputProfile", "parse_profile", "with_input_profiles"]
@@ -102,7 +103,10 @@ def with_input_profiles(
     if not zero and not constant:
         return system, input_derivatives
     dynamics = [e.xreplace(zero) for e in system.dynamics]
-    outputs = {name: e.xreplace(zero) for name, e in system.outputs}
+    # In discrete time an output may read prev(u): 0 for a zero input, u itself for a constant one
+    # (u_{k-1} = u_k), so that the restricted outputs name no input that is gone.
+    held = zero | {prev(u): zero.get(u, u) for u in (*zero, *constant)}
+    outputs = {name: e.xreplace(held) for name, e in system.outputs}
     inverse = None if system.inverse_dynamics is None else [e.xreplace(zero) for e in system.inverse_dynamics]
     parameters = {p: None for p in system.parameters} | constant
     restricted = system.replace(
