@@ -105,8 +105,12 @@ class _Points:
     """
 
     def __init__(self, system: System, orders: int, rng: random.Random, input_derivatives, previous: str,
-                 dynamics: bool, dense: bool = False, constraint=None) -> None:
+                 dynamics: bool, dense: bool = False, constraint=None, nullity: int = 0) -> None:
         self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
+        # The orders whose rows first reach the rank n - nullity at a point: every later point
+        # is evaluated to those only (where they fall short there, the point is not regular
+        # and is redrawn, as a point where the whole matrix loses rank is).
+        self.nullity, self.needed_orders = nullity, None
         self.constraint = constraint
         # On a set, the monomials are in its own coordinates (the variables it does not
         # solve for, its angles' sines and cosines).
@@ -148,10 +152,12 @@ class _Points:
                 self.dynamics_nodes = program.roots[:n]  # compiled first, as the states' derivatives
         else:
             evaluator = self._evaluator(self.expansion.program, p)
-            rows = replay(self.expansion, evaluator)
+            rows = replay(self.expansion, evaluator, self.needed_orders)
         echelon = ModularEchelon(n, p)
-        for row in rows:
+        for index, row in enumerate(rows):
             echelon.add_row(row)
+            if self.needed_orders is None and echelon.rank == n - self.nullity:
+                self.needed_orders = index // len(self.expansion.output_roots)
         values = evaluator.variable_values(system)
         if not self.dynamics:
             return self.coordinates.values(values, evaluator.circles), echelon.pivot_rows
@@ -350,7 +356,7 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
         primes = (SMALL_PRIME, SECOND_PRIME)
     symmetries = constraint is None and (previous == "inverse" or not system.uses_previous_state)
     points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense and constraint is None,
-                     constraint)
+                     constraint, nullity)
     where = "the states and parameters" if constraint is None else f"the set's coordinates ({points.coordinates.text()})"
     search = _Search(system, nullity, symmetries, points.coordinates)
     for _ in range(8):
