@@ -153,18 +153,60 @@ class _Points:
         else:
             evaluator = self._evaluator(self.expansion.program, p)
             rows = replay(self.expansion, evaluator, self.needed_orders)
+        return self._outcome(p, rows, evaluator.variable_values(system), evaluator.circles,
+                             lambda: [evaluator.coefficient(i, 0) for i in self.dynamics_nodes])
+
+    def many(self, p: int, count: int) -> list:
+        """``count`` further random points mod ``p``, each what a call gives or the
+        Redraw it met; on the dense evaluator all at once
+        (:class:`~observability.engine.densebatch.DenseBatch`: the same coefficients,
+        one numpy call per node and order for all the points)."""
+        if self.expansion is None or not (self.dense and p != PRIME) or count < 2:
+            return [self._caught(p) for _ in range(count)]
+        from ..engine.densebatch import DenseBatch
+
+        evaluators = [self._evaluator(self.expansion.program, p) for _ in range(count)]
+        batch = DenseBatch(evaluators)
+        last = self.expansion.orders if self.needed_orders is None else min(self.expansion.orders, self.needed_orders)
+        try:
+            for _ in range(last + 1):
+                batch.step()
+        except Redraw as exc:  # a constant the prime divides: every point alike
+            return [exc] * count
+        out: list = []
+        for b, evaluator in enumerate(evaluators):
+            rows = [batch.coefficient(node, order, b)[1] for order in range(last + 1)
+                    for node in self.expansion.output_roots]
+            try:
+                if batch.failed[b] is not None:
+                    raise batch.failed[b]
+                out.append(self._outcome(p, rows, evaluator.variable_values(self.system), evaluator.circles,
+                                         lambda b=b: [batch.coefficient(i, 0, b) for i in self.dynamics_nodes]))
+            except Redraw as exc:
+                out.append(exc)
+        return out
+
+    def _caught(self, p: int):
+        try:
+            return self(p)
+        except Redraw as exc:
+            return exc
+
+    def _outcome(self, p: int, rows: list, values: list[int], circles: dict, dynamics_at) -> tuple:
+        """A point's fields of a KernelPoint from its rows and values (``dynamics_at()``:
+        the dynamics' (value, gradient) there, asked for only when symmetries are sought)."""
+        system, n = self.system, self.system.n
         echelon = ModularEchelon(n, p)
         for index, row in enumerate(rows):
             echelon.add_row(row)
             if self.needed_orders is None and echelon.rank == n - self.nullity:
                 self.needed_orders = index // len(self.expansion.output_roots)
-        values = evaluator.variable_values(system)
         if not self.dynamics:
-            return self.coordinates.values(values, evaluator.circles), echelon.pivot_rows
+            return self.coordinates.values(values, circles), echelon.pivot_rows
         if not all(values):
             raise Redraw(-1, "a variable is zero at the point")  # d m / d x_s = e_s m / x_s needs x_s != 0
-        at = [evaluator.coefficient(i, 0) for i in self.dynamics_nodes]
-        image = [v for v, _ in at] + values[n:] if discrete else None
+        at = dynamics_at()
+        image = [v for v, _ in at] + values[n:] if system.time == "discrete" else None
         return values, echelon.pivot_rows, [v for v, _ in at], [g for _, g in at], image
 
     def _evaluator(self, program: Program, p: int) -> TaylorEvaluator:
@@ -368,7 +410,8 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
     if search.probe is None:
         return Discovery((), -1, "no regular random point to check fields at", where)
     # The second sampler is drawn from only when a coefficient does not come back from the first prime alone.
-    samplers = tuple(KernelSampler(system.n, nullity, lambda q=q: points(q), q) for q in primes)
+    samplers = tuple(KernelSampler(system.n, nullity, lambda q=q: points(q), q, lambda count, q=q: points.many(q, count))
+                     for q in primes)
     complete, stopped = -1, ""
     for degree in range(max_degree + 1):
         size = math.comb(len(points.coordinates.symbols) + degree, degree)  # counted before any is built
