@@ -19,8 +19,12 @@ CPU seconds are user + system of the process and of the children it waited for
 (budgeted symbolic steps run in forked children). Memory is the peak resident
 set size (ru_maxrss) reached by the end of the step, children included, in MiB.
 
+``--imu`` adds the built-in IMU models and every model file of the robotics set
+(``examples/models``, all within 40 states, the 33-state ``quadrotor_rotors.toml``
+among them); ``--file PATH ...`` any other model files.
+
 Not a test: ``python benchmarks/verdict_steps.py [--slam2d 10 100 1000 10000] [--slam3d 100 1000]
-[--imu] [--cli] [--proof]``; ``--slam2d 10000`` takes about half a minute of CPU.
+[--imu] [--file PATH ...] [--cli] [--proof]``; ``--slam2d 10000`` takes about half a minute of CPU.
 """
 
 from __future__ import annotations
