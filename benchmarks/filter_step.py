@@ -1,4 +1,4 @@
-"""Time of one EKF step (predict + update): ours against filterpy, same data, one run.
+"""CPU time of one EKF step (predict + update): ours against filterpy, same data, one run.
 
 Ours: :class:`observability.filters.ConventionalEKF` driven by the generated
 casadi Functions, in memory and compiled to C. Peer: filterpy's
@@ -6,11 +6,13 @@ casadi Functions, in memory and compiled to C. Peer: filterpy's
 Jacobians (its predict is linear, x = F x, which is exact for the
 constant-velocity models used here). Models: 1.5-D (landmark and beacon,
 projective) and 2-D (``slam2d`` with N landmarks and 2 beacons, projective).
-Both filters must produce the same estimate (checked), then the time per step
-(min and median over ``--repeat`` runs) is printed with the ratio to filterpy.
+Both filters must produce the same estimate (checked), then the CPU time per step
+(``time.process_time``; min and median over ``--repeat`` runs, the filters' runs
+interleaved so that the shared machine's load falls on each alike) is printed
+with the ratio to filterpy.
 Ours predicts and updates with one casadi call each (``observability.filters.fused``).
 
-Not a test: ``python benchmarks/filter_step.py [--steps 400] [--landmarks 5] [--repeat 7]``
+Not a test: ``python benchmarks/filter_step.py [--steps 400] [--landmarks 5] [--repeat 15]``
 (needs ``pip install -e '.[bench]'`` for filterpy).
 """
 
@@ -89,6 +91,26 @@ def _slam2d(landmarks: int):
     return system, p, F, hx, H, truth, ["cxdot", "cydot", "cthdot"]
 
 
+def _ours(ekf, x0, P0, ys):
+    def run():
+        state = ekf.initial(x0, P0)
+        for y in ys:
+            state = ekf.update(ekf.predict(state), y).state
+        return state.x
+    return run
+
+
+def _filterpy(ExtendedKalmanFilter, n, m, x0, P0, F, Q, R, H, hx, ys):
+    def run():
+        peer = ExtendedKalmanFilter(n, m)
+        peer.x, peer.P, peer.F, peer.Q, peer.R = x0.copy(), P0.copy(), F, Q, R
+        for y in ys:
+            peer.predict()
+            peer.update(y, H, hx)
+        return peer.x
+    return run
+
+
 def measure(label, system, p, F, hx, H, truth, noise, steps, repeat):
     from filterpy.kalman import ExtendedKalmanFilter
 
@@ -106,32 +128,24 @@ def measure(label, system, p, F, hx, H, truth, noise, steps, repeat):
         ys.append(hx(x) + rng.multivariate_normal(np.zeros(m), R))
     x0, P0 = truth + 0.05, np.eye(n) * 0.01
     params = [p[name] for name in filter_functions(system, noise).parameters]
-    results = {}
+    runs = {}
     for kind in ("in-memory", "compiled"):
         fns = filter_functions(system, noise)
         if kind == "compiled":
             fns = compile_functions(fns)
-        ekf = ConventionalEKF(fns, q, R, params)
-        times = []
-        for _ in range(repeat):
-            state = ekf.initial(x0, P0)
-            start = time.perf_counter()
-            for y in ys:
-                state = ekf.update(ekf.predict(state), y).state
-            times.append((time.perf_counter() - start) / steps)
-        results[kind] = (min(times), statistics.median(times), state.x)
-    times = []
-    for _ in range(repeat):
-        peer = ExtendedKalmanFilter(n, m)
-        peer.x, peer.P, peer.F, peer.Q, peer.R = x0.copy(), P0.copy(), F, Fw @ q @ Fw.T, R
-        start = time.perf_counter()
-        for y in ys:
-            peer.predict()
-            peer.update(y, H, hx)
-        times.append((time.perf_counter() - start) / steps)
-    low, middle = min(times), statistics.median(times)
+        runs[kind] = _ours(ConventionalEKF(fns, q, R, params), x0, P0, ys)
+    runs["filterpy"] = _filterpy(ExtendedKalmanFilter, n, m, x0, P0, F, Fw @ q @ Fw.T, R, H, hx, ys)
+    times, results = {kind: [] for kind in runs}, {}
+    for _ in range(repeat):  # interleaved: a change in the machine's load falls on every filter alike
+        for kind, run in runs.items():
+            start = time.process_time()
+            estimate = run()
+            times[kind].append((time.process_time() - start) / steps)
+            results[kind] = estimate
+    results = {kind: (min(times[kind]), statistics.median(times[kind]), results[kind]) for kind in runs}
+    low, middle, peer_x = results.pop("filterpy")
     for kind, (best, typical, estimate) in results.items():
-        agree = np.allclose(estimate, peer.x, rtol=1e-6, atol=1e-6)
+        agree = np.allclose(estimate, peer_x, rtol=1e-6, atol=1e-6)
         print(f"{label:24} {kind:10} min {best * 1e6:6.1f} median {typical * 1e6:6.1f} us  filterpy min {low * 1e6:6.1f} "
               f"median {middle * 1e6:6.1f} us  ours/filterpy {best / low:5.2f} (min) {typical / middle:5.2f} (median)  "
               f"same estimate: {'yes' if agree else 'NO'}")
@@ -141,7 +155,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--landmarks", type=int, default=5)
-    parser.add_argument("--repeat", type=int, default=7, help="runs of each filter (min and median)")
+    parser.add_argument("--repeat", type=int, default=15, help="runs of each filter (min and median)")
     args = parser.parse_args()
     measure("slam1.5d-beacon", *_slam15d(), args.steps, args.repeat)
     measure(f"slam2d N={args.landmarks}, 2 beacons", *_slam2d(args.landmarks), args.steps, args.repeat)

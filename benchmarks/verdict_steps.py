@@ -19,8 +19,12 @@ CPU seconds are user + system of the process and of the children it waited for
 (budgeted symbolic steps run in forked children). Memory is the peak resident
 set size (ru_maxrss) reached by the end of the step, children included, in MiB.
 
+``--imu`` adds the built-in IMU models and every model file of the robotics set
+(``examples/models``, all within 40 states, the 33-state ``quadrotor_rotors.toml``
+among them); ``--file PATH ...`` any other model files.
+
 Not a test: ``python benchmarks/verdict_steps.py [--slam2d 10 100 1000 10000] [--slam3d 100 1000]
-[--imu] [--cli] [--proof]``; ``--slam2d 10000`` takes about half a minute of CPU.
+[--imu] [--file PATH ...] [--cli] [--proof]``; ``--slam2d 10000`` takes about half a minute of CPU.
 """
 
 from __future__ import annotations
@@ -30,11 +34,13 @@ import json
 import resource
 import subprocess
 import sys
+from pathlib import Path
 
 CHILD = r"""
 import json, resource, sys, time
-from observability import analyze, models
+from observability import analyze
 from observability.analysis import verdict
+from observability.cli.commands import resolve_model
 
 def cpu():
     own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -59,7 +65,7 @@ for step, name in (("prepare", "prepare"), ("rank", "_rank"), ("directions", "un
     setattr(verdict, name, timed(step, getattr(verdict, name)))
 name, options, with_proof = sys.argv[1], json.loads(sys.argv[2]), sys.argv[3] == "1"
 start = cpu()
-system = timed("build", models.build)(name, options)
+system = timed("build", resolve_model)(name, options)
 result = timed("total", analyze)(system, seed=1)
 if with_proof:
     import tempfile
@@ -76,9 +82,14 @@ SLAM2D = "slam2d"
 SLAM3D = "slam3d"
 
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "models"
+
+
 def imu_models() -> list[tuple[str, str, dict]]:
-    """The IMU models of up to 40 states in the built-in set (name, options)."""
-    return [("vins", "vins", {}), ("vins (Gibbs)", "vins", {"attitude": "gibbs"})]
+    """The IMU models of up to 40 states: the built-in ones (name, options) and the
+    robotics set's model files (examples/models, every file there is within 40 states)."""
+    files = [(path.stem, str(path), {}) for path in sorted(EXAMPLES.glob("*.toml"))]
+    return [("vins", "vins", {}), ("vins (Gibbs)", "vins", {"attitude": "gibbs"})] + files
 
 
 def measure(name: str, options: dict, proof: bool) -> dict:
@@ -106,13 +117,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--slam2d", type=int, nargs="*", default=[10, 100, 1000, 10000], help="landmarks (0 beacons)")
     parser.add_argument("--slam3d", type=int, nargs="*", default=[10, 100], help="landmarks (0 beacons)")
-    parser.add_argument("--imu", action="store_true", help="the IMU models of up to 40 states")
+    parser.add_argument("--imu", action="store_true", help="the IMU models of up to 40 states and the model files")
+    parser.add_argument("--file", nargs="*", default=[], help="model files (.toml) to measure as well")
     parser.add_argument("--cli", action="store_true", help="also time the command, start-up included")
     parser.add_argument("--proof", action="store_true", help="also write the proof artefact")
     args = parser.parse_args()
     runs = [(f"slam2d N={n}", SLAM2D, {"landmarks": str(n), "beacons": "0"}) for n in args.slam2d]
     runs += [(f"slam3d N={n}", SLAM3D, {"landmarks": str(n), "beacons": "0"}) for n in args.slam3d]
     runs += imu_models() if args.imu else []
+    runs += [(Path(path).stem, path, {}) for path in args.file]
     if args.cli:
         startup, _ = command(["--version"])
         print(f"start-up (observability --version): {startup:.2f} s CPU")

@@ -275,3 +275,31 @@ def test_the_directions_evaluator_remembers_each_parameter_apart():
     assert values[1:] == [evaluator.constants[a], evaluator.constants[b]]
     x = evaluator.point[0]
     assert evaluator.coefficient(program.roots[first], 0)[0] == (x * values[2] + values[1] * values[2]) % DENSE_PRIME
+
+
+def test_a_batch_of_points_gives_each_point_the_coefficients_of_its_own_evaluator():
+    """DenseBatch (the direction search's many points at once) against one dense
+    evaluator per point, itself checked against sympy's Lie derivatives above:
+    exp, sin, cos, a quotient, an input and a free parameter, 5 orders, 6 points,
+    each drawing from its own seed (both routes draw in node order per order), so
+    every value and gradient entry must agree exactly. A seventh point put on the
+    pole x = 0 is marked failed with a Redraw (division by zero) and does not
+    disturb the others."""
+    from observability.engine.densebatch import DenseBatch
+    from observability.engine.taylor import Redraw
+
+    system = System(["x", "y", "th"], {"x": "v*cos(th) + exp(y)*x", "y": "k*v*sin(th) - y/(1 + x**2)", "th": "w/x"},
+                    {"r": "x**2 + y**2", "b": "sin(th)*exp(x)"}, inputs=["v", "w"], parameters=["k"])
+    program, first = _compiled(system)
+    batch = DenseBatch([DenseTaylorEvaluator(program, system.n, random.Random(seed)) for seed in range(7)])
+    batch.evaluators[6].point[0] = 0
+    alone = [DenseTaylorEvaluator(program, system.n, random.Random(seed)) for seed in range(6)]
+    for k in range(5):
+        batch.step()
+        for evaluator in alone:
+            evaluator.step()
+        for b, evaluator in enumerate(alone):
+            for node in range(len(program.ops)):
+                assert batch.coefficient(node, k, b) == evaluator.coefficient(node, k), (k, b, node)
+    assert batch.failed[:6] == [None] * 6
+    assert isinstance(batch.failed[6], Redraw) and "division by zero" in batch.failed[6].reason

@@ -298,6 +298,21 @@ def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
         assert np.allclose(state.P, ref_P, rtol=1e-9, atol=1e-12), k
 
 
+def _flag_agrees_with_numpy_cholesky(check, size: int, count: int, seed: int) -> None:
+    """``check(S, ones(3)) > 0`` exactly when numpy's Cholesky of S succeeds, on
+    ``count`` random symmetric matrices, every other one indefinite in general."""
+    rng = np.random.default_rng(seed)
+    for k in range(count):
+        A = rng.normal(size=(size, size))
+        S = A @ A.T + 0.1 * np.eye(size) if k % 2 else A + A.T
+        try:
+            np.linalg.cholesky(S)
+            definite = True
+        except np.linalg.LinAlgError:
+            definite = False
+        assert (float(check(S, np.ones(3))) > 0) == definite, k
+
+
 def test_fused_health_flag_agrees_with_numpy_cholesky():
     """The scalar check inside the fused graphs (smallest Cholesky pivot, -1 for a
     non-finite entry) is positive exactly when numpy's Cholesky succeeds and the
@@ -309,22 +324,46 @@ def test_fused_health_flag_agrees_with_numpy_cholesky():
 
     M, v = casadi.SX.sym("M", 5, 5), casadi.SX.sym("v", 3)
     check = casadi.Function("check", [M, v], [_health(M, v)])
-    rng = np.random.default_rng(2)
-    for k in range(200):
-        A = rng.normal(size=(5, 5))
-        S = A @ A.T + 0.1 * np.eye(5) if k % 2 else A + A.T
-        try:
-            np.linalg.cholesky(S)
-            definite = True
-        except np.linalg.LinAlgError:
-            definite = False
-        assert (float(check(S, np.ones(3))) > 0) == definite, k
+    _flag_agrees_with_numpy_cholesky(check, 5, 200, seed=2)
     S = np.eye(5)
     assert float(check(S, np.ones(3))) > 0
     assert not float(check(S, [1.0, np.inf, 1.0])) > 0
     assert not float(check(S, [1.0, np.nan, 1.0])) > 0
     S[2, 3] = S[3, 2] = np.nan
     assert not float(check(S, np.ones(3))) > 0
+
+
+def test_fused_health_flag_in_a_matrix_graph_agrees_with_numpy_cholesky():
+    """Matrix (MX) graphs (above SX_STATES states) call the same scalar check as an
+    SX Function up to HEALTH_STATES rows, and give the constant -1 above (the filter's
+    numpy checks then decide): 100 random symmetric 12 x 12 matrices, half of them
+    indefinite, against numpy's Cholesky; a NaN entry; a 21 x 21 identity gives -1."""
+    import casadi
+
+    from observability.filters.fused import HEALTH_STATES, _health
+
+    M, v = casadi.MX.sym("M", 12, 12), casadi.MX.sym("v", 3)
+    check = casadi.Function("check", [M, v], [_health(M, v)])
+    _flag_agrees_with_numpy_cholesky(check, 12, 100, seed=3)
+    assert not float(check(np.eye(12), [1.0, np.nan, 1.0])) > 0
+    big = casadi.MX.sym("M", HEALTH_STATES + 1, HEALTH_STATES + 1)
+    assert float(casadi.Function("big", [big], [_health(big)])(np.eye(HEALTH_STATES + 1))) == -1
+
+
+def test_an_overflowing_prediction_of_a_matrix_graph_filter_is_refused_naming_the_step():
+    """slam2d with 5 landmarks (16 states: an MX graph with the check inside): P0 =
+    1.7e308 I is finite and positive definite, but its prediction overflows
+    (P_00 + dt^2 P_11 > the largest float), so the step is refused, never handed back."""
+    from observability import models
+
+    system = models.build("slam2d", {"landmarks": "5", "beacons": "2", "time": "discrete"})
+    fns = filter_functions(system, ["cxdot", "cydot", "cthdot"])
+    values = {"f": 20.0, "dt": 0.1, "B1x": 5.0, "B1y": 20.0, "B2x": -5.0, "B2y": 20.0}
+    ekf = ConventionalEKF(fns, np.diag([0.05, 0.05, 1e-4]), np.eye(len(fns.outputs)) * 0.074,
+                          [values[name] for name in fns.parameters])
+    state = ekf.initial(np.arange(16.0), np.eye(16) * 1.7e308)
+    with pytest.raises(FilterError, match=r"step 1 \(prediction\)"):
+        ekf.predict(state)
 
 
 @pytest.mark.parametrize("kind", ["conventional", "generalized", "generalized-total", "cloning"])

@@ -105,8 +105,12 @@ class _Points:
     """
 
     def __init__(self, system: System, orders: int, rng: random.Random, input_derivatives, previous: str,
-                 dynamics: bool, dense: bool = False, constraint=None) -> None:
+                 dynamics: bool, dense: bool = False, constraint=None, nullity: int = 0) -> None:
         self.system, self.orders, self.rng, self.previous = system, orders, rng, previous
+        # The orders whose rows first reach the rank n - nullity at a point: every later point
+        # is evaluated to those only (where they fall short there, the point is not regular
+        # and is redrawn, as a point where the whole matrix loses rank is).
+        self.nullity, self.needed_orders = nullity, None
         self.constraint = constraint
         # On a set, the monomials are in its own coordinates (the variables it does not
         # solve for, its angles' sines and cosines).
@@ -148,17 +152,61 @@ class _Points:
                 self.dynamics_nodes = program.roots[:n]  # compiled first, as the states' derivatives
         else:
             evaluator = self._evaluator(self.expansion.program, p)
-            rows = replay(self.expansion, evaluator)
+            rows = replay(self.expansion, evaluator, self.needed_orders)
+        return self._outcome(p, rows, evaluator.variable_values(system), evaluator.circles,
+                             lambda: [evaluator.coefficient(i, 0) for i in self.dynamics_nodes])
+
+    def many(self, p: int, count: int) -> list:
+        """``count`` further random points mod ``p``, each what a call gives or the
+        Redraw it met; on the dense evaluator all at once
+        (:class:`~observability.engine.densebatch.DenseBatch`: the same coefficients,
+        one numpy call per node and order for all the points)."""
+        if self.expansion is None or not (self.dense and p != PRIME) or count < 2:
+            return [self._caught(p) for _ in range(count)]
+        from ..engine.densebatch import DenseBatch
+
+        evaluators = [self._evaluator(self.expansion.program, p) for _ in range(count)]
+        batch = DenseBatch(evaluators)
+        last = self.expansion.orders if self.needed_orders is None else min(self.expansion.orders, self.needed_orders)
+        try:
+            for _ in range(last + 1):
+                batch.step()
+        except Redraw as exc:  # a constant the prime divides: every point alike
+            return [exc] * count
+        out: list = []
+        for b, evaluator in enumerate(evaluators):
+            rows = [batch.coefficient(node, order, b)[1] for order in range(last + 1)
+                    for node in self.expansion.output_roots]
+            try:
+                if batch.failed[b] is not None:
+                    raise batch.failed[b]
+                out.append(self._outcome(p, rows, evaluator.variable_values(self.system), evaluator.circles,
+                                         lambda b=b: [batch.coefficient(i, 0, b) for i in self.dynamics_nodes]))
+            except Redraw as exc:
+                out.append(exc)
+        return out
+
+    def _caught(self, p: int):
+        try:
+            return self(p)
+        except Redraw as exc:
+            return exc
+
+    def _outcome(self, p: int, rows: list, values: list[int], circles: dict, dynamics_at) -> tuple:
+        """A point's fields of a KernelPoint from its rows and values (``dynamics_at()``:
+        the dynamics' (value, gradient) there, asked for only when symmetries are sought)."""
+        system, n = self.system, self.system.n
         echelon = ModularEchelon(n, p)
-        for row in rows:
+        for index, row in enumerate(rows):
             echelon.add_row(row)
-        values = evaluator.variable_values(system)
+            if self.needed_orders is None and echelon.rank == n - self.nullity:
+                self.needed_orders = index // len(self.expansion.output_roots)
         if not self.dynamics:
-            return self.coordinates.values(values, evaluator.circles), echelon.pivot_rows
+            return self.coordinates.values(values, circles), echelon.pivot_rows
         if not all(values):
             raise Redraw(-1, "a variable is zero at the point")  # d m / d x_s = e_s m / x_s needs x_s != 0
-        at = [evaluator.coefficient(i, 0) for i in self.dynamics_nodes]
-        image = [v for v, _ in at] + values[n:] if discrete else None
+        at = dynamics_at()
+        image = [v for v, _ in at] + values[n:] if system.time == "discrete" else None
         return values, echelon.pivot_rows, [v for v, _ in at], [g for _, g in at], image
 
     def _evaluator(self, program: Program, p: int) -> TaylorEvaluator:
@@ -350,7 +398,7 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
         primes = (SMALL_PRIME, SECOND_PRIME)
     symmetries = constraint is None and (previous == "inverse" or not system.uses_previous_state)
     points = _Points(system, orders, rng, input_derivatives, previous, symmetries, dense and constraint is None,
-                     constraint)
+                     constraint, nullity)
     where = "the states and parameters" if constraint is None else f"the set's coordinates ({points.coordinates.text()})"
     search = _Search(system, nullity, symmetries, points.coordinates)
     for _ in range(8):
@@ -362,7 +410,8 @@ def _discover(system: System, nullity: int, orders: int, seed: int, max_degree: 
     if search.probe is None:
         return Discovery((), -1, "no regular random point to check fields at", where)
     # The second sampler is drawn from only when a coefficient does not come back from the first prime alone.
-    samplers = tuple(KernelSampler(system.n, nullity, lambda q=q: points(q), q) for q in primes)
+    samplers = tuple(KernelSampler(system.n, nullity, lambda q=q: points(q), q, lambda count, q=q: points.many(q, count))
+                     for q in primes)
     complete, stopped = -1, ""
     for degree in range(max_degree + 1):
         size = math.comb(len(points.coordinates.symbols) + degree, degree)  # counted before any is built

@@ -35,6 +35,7 @@ prime.
 
 from __future__ import annotations
 
+import collections
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -190,10 +191,15 @@ class KernelSampler:
         in order; may raise :class:`~observability.engine.taylor.Redraw`.
     p : int
         The prime.
+    batch : callable, optional
+        Draws that many points at once (each its fields or the Redraw it met):
+        used instead of ``point`` when given.
     """
 
-    def __init__(self, n: int, nullity: int, point: Callable[[], tuple], p: int = SMALL_PRIME):
+    def __init__(self, n: int, nullity: int, point: Callable[[], tuple], p: int = SMALL_PRIME,
+                 batch: Callable[[int], list] | None = None):
         self.n, self.nullity, self._point, self.p = n, nullity, point, p
+        self._batch, self._queue = batch, collections.deque()
         self.free: list[int] = []
         self.others: list[int] = []
         self.points: list[KernelPoint] = []
@@ -208,7 +214,7 @@ class KernelSampler:
             if failures > 8 + count // 4 or non_squares > NON_SQUARE_DRAWS * (count + 2):
                 return False
             try:
-                point = KernelPoint(*self._point())
+                point = KernelPoint(*self._next(count - len(self.points)))
             except Redraw as exc:
                 if exc.reason.startswith("square root"):
                     non_squares += 1  # expected half the time per root: not a sign of a bad model
@@ -235,6 +241,18 @@ class KernelSampler:
             self.points.append(point)
             self._kernels.append(kernel)
         return True
+
+    def _next(self, wanted: int) -> tuple:
+        """The next point's fields: from a batch of ``wanted`` points drawn at once
+        when the sampler has a ``batch`` (kept for later draws), else one point."""
+        if self._batch is None:
+            return self._point()
+        if not self._queue:
+            self._queue.extend(self._batch(max(wanted, 1)))
+        outcome = self._queue.popleft()
+        if isinstance(outcome, Redraw):
+            raise outcome
+        return outcome
 
     def kernels(self, count: int) -> np.ndarray:
         """The first ``count`` kernels: count x n x d."""

@@ -32,7 +32,8 @@ import numpy as np
 from .program import Op, Program
 from .taylor import TaylorEvaluator
 
-__all__ = ["DENSE_PRIME", "DENSE_SECOND_PRIME", "MAX_TERMS", "DenseTaylorEvaluator", "Unsupported", "supports"]
+__all__ = ["DENSE_PRIME", "DENSE_SECOND_PRIME", "MAX_TERMS", "DenseTaylorEvaluator", "Unsupported", "as_dual", "next_order",
+           "supports", "trig_step"]
 
 #: The largest prime below 2^28: 128 (p - 1)^2 < 2^63.
 DENSE_PRIME = 268_435_399
@@ -47,6 +48,29 @@ _SUPPORTED = frozenset({Op.STATE, Op.INPUT, Op.CONST, Op.RANDOM, Op.ADD, Op.MUL,
 
 class Unsupported(Exception):
     """This program (or this many orders) is outside what the dense route covers."""
+
+
+def as_dual(row: np.ndarray) -> tuple[int, dict[int, int]]:
+    """A table row (the value, then the gradient) as (value, ``{column: value}``)."""
+    (nonzero,) = np.nonzero(row[1:])
+    return int(row[0]), {int(c): int(row[1 + c]) for c in nonzero}
+
+
+def next_order(order: int) -> int:
+    """The order after ``order``, refused beyond :data:`MAX_TERMS` terms."""
+    if order + 1 >= MAX_TERMS:
+        raise Unsupported(f"more than {MAX_TERMS} orders")
+    return order + 1
+
+
+def trig_step(evaluator, i: int, a: int, k: int) -> None:
+    """Coefficient ``k`` > 0 of the sine node ``i`` of node ``a`` and of its cosine:
+    s' = c a', c' = -s a' (``evaluator``: this module's, or a batch of points with
+    the same table layout and methods, :mod:`.densebatch`)."""
+    table, p = evaluator.table, evaluator.p
+    da, cos = evaluator._weighted(table[a], k), evaluator.cosines[i]
+    cos[k] = (p - evaluator._convolution(da, table[i, k - 1::-1])) % p
+    table[i, k] = evaluator._convolution(da, cos[k - 1::-1])
 
 
 def supports(program: Program) -> bool:
@@ -93,15 +117,11 @@ class DenseTaylorEvaluator(TaylorEvaluator):
     def coefficient(self, node: int, k: int):
         if k > self.order:
             return (0, {})
-        row = self.table[node, k]
-        (nonzero,) = np.nonzero(row[1:])
-        return int(row[0]), {int(c): int(row[1 + c]) for c in nonzero}
+        return as_dual(self.table[node, k])
 
     def step(self) -> None:
         """Compute Taylor coefficient ``order + 1`` of every node."""
-        k = self.order + 1
-        if k >= MAX_TERMS:
-            raise Unsupported(f"more than {MAX_TERMS} orders")
+        k = next_order(self.order)
         if k >= self.capacity:
             self._grow(min(2 * self.capacity, MAX_TERMS) - self.capacity)
         program, table = self.program, self.table
@@ -209,11 +229,7 @@ class DenseTaylorEvaluator(TaylorEvaluator):
                 self.cosines[i] = np.zeros((self.capacity, self.width), np.int64)
                 self.cosines[i][0] = c
             else:
-                # s' = c a', c' = -s a'
-                da = self._weighted(table[a], k)
-                cos = self.cosines[i]
-                cos[k] = (p - self._convolution(da, table[i, k - 1::-1])) % p
-                table[i, k] = self._convolution(da, cos[k - 1::-1])
+                trig_step(self, i, a, k)
         elif op is Op.SIN:
             table[i, k] = table[arg[0], k]
         elif op is Op.COS:

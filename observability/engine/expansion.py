@@ -68,15 +68,16 @@ class Expansion:
     rule: str = ""
 
 
-def replay(expansion: Expansion, evaluator) -> list[dict[int, int]]:
+def replay(expansion: Expansion, evaluator, orders: int | None = None) -> list[dict[int, int]]:
     """The rows of ``expansion`` (gradients, in its order) at the point of a
     fresh ``evaluator`` on its program: the program is compiled once, and every
-    further point costs an evaluation only."""
+    further point costs an evaluation only. ``orders``: continuous time, the
+    rows of orders 0..``orders`` only (all of the expansion's by default)."""
     if evaluator.discrete:
         evaluator.extend()
         return [evaluator.coefficient(node, 0)[1] for node in expansion.output_roots]
     rows = []
-    for order in range(expansion.orders + 1):
+    for order in range(min(expansion.orders, expansion.orders if orders is None else orders) + 1):
         evaluator.step()
         rows.extend(evaluator.coefficient(node, order)[1] for node in expansion.output_roots)
     return rows

@@ -102,6 +102,8 @@ class _Buffered:
             self.buffer.set_arg(i, memoryview(array))
         for j, array in enumerate(self.outputs):
             self.buffer.set_res(j, memoryview(array))
+        # Asked once, not per step: the dependency query costs tens of microseconds.
+        self.uses_inputs = _depends_on(function, "u") if "u" in function.name_in() else False
 
     def __call__(self, *args) -> list[np.ndarray]:
         for array, value in zip(self.inputs, args):
@@ -140,6 +142,10 @@ class _Base:
         self.n = len(functions.states)
         self.n_inputs = len(functions.inputs)
         self.w0 = np.zeros(n_w)
+        self._no_inputs = np.zeros(self.n_inputs)
+        self._no_inputs.flags.writeable = False
+        self._all_present = np.ones(n_y)
+        self._all_present.flags.writeable = False
         if self.fused:  # built now, not inside the first step
             self._predict_call, self._update_call
 
@@ -186,6 +192,15 @@ class _Base:
     def _select(self, y: Sequence[float | None], step: int) -> tuple[np.ndarray, list[int]]:
         return validation.measurement(y, len(self.fn.outputs), f"step {step} (update)")
 
+    def _masked(self, values: np.ndarray, used: list[int]) -> tuple[np.ndarray, np.ndarray]:
+        """The fused update's measurement and mask: zero and 0 where an entry is missing."""
+        m = len(self.fn.outputs)
+        if len(used) == m:
+            return values, self._all_present
+        measured, mask = np.zeros(m), np.zeros(m)
+        measured[used], mask[used] = values, 1.0
+        return measured, mask
+
     @staticmethod
     def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
         S = _symmetric(H @ P @ H.T + W)
@@ -230,12 +245,12 @@ class _Base:
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
         m = len(self.fn.outputs)
-        measured, mask = np.zeros(m), np.zeros(m)
-        measured[used], mask[used] = values, 1.0
+        measured, mask = self._masked(values, used)
         x_prev = state.x if state.x_prev is None else state.x_prev
-        if len(u) == 0 and not _depends_on(call.function, "u"):
-            u = np.zeros(self.n_inputs)  # the update does not use the inputs: none need be given
-        u = self._inputs(u, state.step)
+        if len(u) == 0 and not call.uses_inputs:
+            u = self._no_inputs  # the update does not use the inputs: none need be given
+        else:
+            u = self._inputs(u, state.step)
         x, P, innovation, S, *health = call(state.x, state.P.T, x_prev, u, measured, mask, self.p)
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
@@ -315,8 +330,7 @@ class CloningEKF(_Base):
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
         n, m = self.n, len(self.fn.outputs)
-        measured, mask = np.zeros(m), np.zeros(m)
-        measured[used], mask[used] = values, 1.0
+        measured, mask = self._masked(values, used)
         z, joint, innovation, S, *health = self._update_call(
             np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask, self.p)
         z = z.ravel()

@@ -23,9 +23,10 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES"]
+__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES"]
 
 SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster), above: MX
+HEALTH_STATES = 20  # at most this many rows: the Cholesky check inside the graph (measured faster up to ~24)
 
 
 def _graph(functions: FilterFunctions) -> tuple[type, dict]:
@@ -42,13 +43,19 @@ def _symmetric(M):
 
 
 def _health(M, *vectors):
-    """For a scalar (SX) graph: the smallest pivot of the Cholesky factorisation of
-    the symmetric ``M``, -1 when a pivot or an entry of ``vectors`` is not finite.
-    Positive exactly when M is positive definite and everything is finite, so one
-    comparison in Python replaces a numpy Cholesky (several microseconds) per check.
-    None for a matrix (MX) graph, where numpy checks instead."""
-    if not isinstance(M, casadi.SX):
-        return None
+    """The smallest pivot of the Cholesky factorisation of the symmetric ``M``, -1
+    when a pivot or an entry of ``vectors`` is not finite. Positive exactly when M
+    is positive definite and everything is finite, so one comparison in Python
+    replaces a numpy Cholesky and finite checks (several microseconds) per step.
+
+    In a matrix (MX) graph the same scalar factorisation is one SX Function called
+    on M, up to :data:`HEALTH_STATES` rows (its n^3 / 6 operations then cost less
+    than numpy's call overhead); above that the constant -1: numpy checks instead."""
+    if isinstance(M, casadi.MX):
+        if M.shape[0] > HEALTH_STATES:
+            return casadi.MX(-1)
+        symbols = [casadi.SX.sym("M", *M.shape)] + [casadi.SX.sym(f"v{i}", *v.shape) for i, v in enumerate(vectors)]
+        return casadi.Function("health", symbols, [_health(*symbols)])(M, *vectors)
     n = M.shape[0]
     L = [[None] * n for _ in range(n)]
     pivots = []
@@ -94,28 +101,25 @@ def _masked(mask, H, W, innovation):
 
 
 def fused_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.Function:
-    """(x, P, u, p) -> (x_pred, P_pred[, health]): eqs. (6)-(7), P_pred symmetrized;
-    ``health`` (scalar graphs) is positive exactly when the prediction is finite and
-    P_pred positive definite."""
+    """(x, P, u, p) -> (x_pred, P_pred, health): eqs. (6)-(7), P_pred symmetrized;
+    ``health`` is positive when the prediction is finite and P_pred positive definite
+    (:func:`_health`; not positive: the filter's numpy checks decide and name the fault)."""
     X, model = _graph(functions)
     n, n_u, n_p = len(functions.states), len(functions.inputs), len(functions.parameters)
     x, P, u, p = X.sym("x", n), X.sym("P", n, n), X.sym("u", n_u), X.sym("p", n_p)
     x_next, F, Fw = model["motion"](x, u, casadi.DM.zeros(len(functions.noise)), p)
     P_next = _symmetric(casadi.mtimes([F, P, F.T]) + casadi.mtimes([Fw, casadi.DM(Q), Fw.T]))
-    outputs, names = [x_next, P_next], ["x_pred", "P_pred"]
-    health = _health(P_next, x_next)
-    if health is not None:
-        outputs, names = outputs + [health], names + ["health"]
+    outputs, names = [x_next, P_next, _health(P_next, x_next)], ["x_pred", "P_pred", "health"]
     return casadi.Function("predict", [x, P, u, p], outputs, ["x", "P", "u", "p"], names)
 
 
 def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, variant: str) -> casadi.Function:
-    """(x, P, x_prev, u, y, mask, p) -> (x_new, P_new, innovation, S[, S_health, health]).
+    """(x, P, x_prev, u, y, mask, p) -> (x_new, P_new, innovation, S, S_health, health).
 
     ``variant``: ``"conventional"`` (W = R), ``"generalized"`` (W = R + H_Xk-1 G_w Q
     G_w^T H_Xk-1^T, eq. 8) or ``"generalized-total"`` (the same W, and the total
     Jacobian H_Xk + H_Xk-1 G_X). ``mask`` is 1 for a present entry, 0 for a missing one.
-    ``S_health`` and ``health`` (scalar graphs) are positive exactly when S, and the
+    ``S_health`` and ``health`` (:func:`_health`) are positive when S, and the
     new estimate with P_new, pass the filter's checks.
     """
     X, model = _graph(functions)
@@ -138,17 +142,14 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
     x_new = _wrapped(x + casadi.mtimes(K, innovation), state_angles)
     A = casadi.DM.eye(n) - casadi.mtimes(K, H)
     P_new = _symmetric(casadi.mtimes([A, P, A.T]) + casadi.mtimes([K, W, K.T]))
-    outputs, names = [x_new, P_new, innovation, S], ["x_new", "P_new", "innovation", "S"]
-    health = _health(S)
-    if health is not None:
-        outputs += [health, _health(P_new, x_new)]
-        names += ["S_health", "health"]
+    outputs = [x_new, P_new, innovation, S, _health(S), _health(P_new, x_new)]
+    names = ["x_new", "P_new", "innovation", "S", "S_health", "health"]
     return casadi.Function("update", [x, P, x_prev, u, y, mask, p], outputs,
                            ["x", "P", "x_prev", "u", "y", "mask", "p"], names)
 
 
 def fused_cloning_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.Function:
-    """Stochastic cloning's prediction: (x, P, u, p) -> (x_pred, joint[, health]).
+    """Stochastic cloning's prediction: (x, P, u, p) -> (x_pred, joint, health).
 
     ``joint`` is the covariance of (x_k, x_k-1): [[F P F^T + F_w Q F_w^T, F P], [P F^T, P]].
     It is singular when F loses rank or Q is singular; ``health`` asks only that
@@ -161,15 +162,12 @@ def fused_cloning_predict(functions: FilterFunctions, Q: np.ndarray) -> casadi.F
     current = casadi.mtimes([F, P, F.T]) + casadi.mtimes([Fw, casadi.DM(Q), Fw.T])
     cross = casadi.mtimes(F, P)
     joint = _symmetric(casadi.vertcat(casadi.horzcat(current, cross), casadi.horzcat(cross.T, P)))
-    outputs, names = [x_next, joint], ["x_pred", "joint"]
-    health = _health(joint[:n, :n], x_next, casadi.vec(joint))
-    if health is not None:
-        outputs, names = outputs + [health], names + ["health"]
+    outputs, names = [x_next, joint, _health(joint[:n, :n], x_next, casadi.vec(joint))], ["x_pred", "joint", "health"]
     return casadi.Function("cloning_predict", [x, P, u, p], outputs, ["x", "P", "u", "p"], names)
 
 
 def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Function:
-    """Stochastic cloning's update: (z, joint, y, mask, p) -> (z_new, joint_new, innovation, S[, S_health, health]).
+    """Stochastic cloning's update: (z, joint, y, mask, p) -> (z_new, joint_new, innovation, S, S_health, health).
 
     z = [x_k; x_k-1]; h(x_k, x_k-1) is an ordinary measurement of z, H = [H_Xk, H_Xk-1]
     (Roumeliotis & Burdick 2002). ``health`` asks for a finite z_new and a positive
@@ -186,9 +184,6 @@ def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Fu
     z_new = _wrapped(z + casadi.mtimes(K, innovation), state_angles + state_angles)
     A = casadi.DM.eye(2 * n) - casadi.mtimes(K, H)
     joint_new = _symmetric(casadi.mtimes([A, joint, A.T]) + casadi.mtimes([K, W, K.T]))
-    outputs, names = [z_new, joint_new, innovation, S], ["z_new", "joint_new", "innovation", "S"]
-    health = _health(S)
-    if health is not None:
-        outputs += [health, _health(joint_new[:n, :n], z_new)]
-        names += ["S_health", "health"]
+    outputs = [z_new, joint_new, innovation, S, _health(S), _health(joint_new[:n, :n], z_new)]
+    names = ["z_new", "joint_new", "innovation", "S", "S_health", "health"]
     return casadi.Function("cloning_update", [z, joint, y, mask, p], outputs, ["z", "joint", "y", "mask", "p"], names)
