@@ -125,8 +125,10 @@ class FirstEstimatesEKF(_Base):
     def _N(self, x: np.ndarray) -> np.ndarray:
         return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
 
-    def _transition(self, first: np.ndarray, first_next: np.ndarray, u: np.ndarray, step: int, where: str) -> np.ndarray:
-        """Phi_k: F_X at x̄_k with the carrying noise, then kept on N (module docstring)."""
+    def _transition(self, posterior: np.ndarray, first: np.ndarray, first_next: np.ndarray, u: np.ndarray, step: int,
+                    where: str) -> np.ndarray:
+        """Phi_k: F_X at x̄_k with the carrying noise, then kept on N (module docstring).
+        ``posterior`` (x_k|k) is the point of the OC-EKF's Phi, not used here."""
         w, residual = self._carrying_noise(first, u, first_next, where)
         _, Phi, _ = self._motion(first, u, w)
         self.residuals.append((step, residual))
@@ -168,12 +170,19 @@ class FirstEstimatesEKF(_Base):
         x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
-        Phi = self._transition(first, first_next, u, state.step + 1, where)
+        Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
         if self.record:
             self.used.append(("F", state.step, Phi))
         P = _symmetric(Phi @ state.P @ Phi.T + Fw @ self.Q @ Fw.T)
         new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
         return self._checked(new, "prediction")
+
+    def _linearised_measurement(self, x: np.ndarray, x_prev: np.ndarray, first: np.ndarray,
+                                first_prev: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """h at the estimate, H and H_Xk-1 at the first estimates."""
+        h, _, _ = self._measurement(x, x_prev)
+        _, H, H_prev = self._measurement(first, first_prev)
+        return h, H, H_prev
 
     @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
@@ -184,8 +193,7 @@ class FirstEstimatesEKF(_Base):
         x_prev = state.x if state.x_prev is None else state.x_prev
         first = state.first if state.first is not None else state.x
         first_prev = first if state.first_prev is None else state.first_prev
-        h, _, _ = self._measurement(state.x, x_prev)
-        _, H, H_prev = self._measurement(first, first_prev)
+        h, H, H_prev = self._linearised_measurement(state.x, x_prev, first, first_prev)
         if self.null_space is not None:
             self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
