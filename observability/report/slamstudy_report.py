@@ -10,12 +10,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..filters import chi2_bounds
 from ..parallel import Runner
 from .files import save_figure, staged_directory, write_json, write_text
 from .slamstudy_paper import PaperComparison, compare_on_paper_simulation
 from .slamstudy import FILTERS, SlamStudy, SlamStudyResult, run_slam_study
 
-__all__ = ["write_slam_study", "write_paper_comparison"]
+__all__ = ["LABELS", "figures", "write_slam_study", "write_paper_comparison"]
 
 STYLES = {"ekf": ("tab:red", "-"), "fej": ("tab:blue", "--"), "oc": ("tab:green", "-."),
           "oc-huang": ("tab:orange", (0, (5, 1, 1, 1))), "ideal": ("k", ":")}
@@ -23,19 +24,21 @@ LABELS = {"ekf": "EKF", "fej": "FEJ-EKF", "oc": "OC-EKF (projection)", "oc-huang
           "ideal": "ideal EKF"}
 
 
-def _figures(result: SlamStudyResult, stage: Path) -> None:
+def figures(result: SlamStudyResult, stage: Path, runs: int | None = None) -> None:
+    """``nees.png`` (average pose NEES per step with the band of ``runs``, by default the study's) and ``rmse.png``."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     study, k = result.study, np.arange(1, result.study.steps + 1)
-    lo, hi = result.records[0]["anees_pose_bounds"]
+    runs = study.runs if runs is None else runs
+    lo, hi = chi2_bounds(3, runs)
     fig, ax = plt.subplots(figsize=(7, 4))
     for name in FILTERS:
         color, style = STYLES[name]
         ax.plot(k, result.average_nees[name], color=color, ls=style, lw=1.2, label=LABELS[name])
-    ax.axhspan(lo, hi, color="0.85", label=f"95% band ({study.runs} runs)")
+    ax.axhspan(lo, hi, color="0.85", label=f"95% band ({runs} runs)")
     ax.set_yscale("log")
     ax.set(xlabel="step", ylabel="average pose NEES (3 dof)", title=study.name)
     ax.legend(loc="upper left", fontsize=8)
@@ -126,7 +129,7 @@ def write_slam_study(out: Path, study: SlamStudy, run: Runner | None = None) -> 
     """Run the study and write ``out/summary.json``, ``nees.png``, ``rmse.png`` and ``README.md``."""
     result = run_slam_study(study, run)
     with staged_directory(Path(out)) as stage:
-        _figures(result, stage)
+        figures(result, stage)
         write_json(stage / "summary.json", list(result.records))
         write_text(stage / "README.md", _page(result))
     return result
