@@ -1,4 +1,4 @@
-"""The observability-constrained EKF of Huang, Mourikis & Roumeliotis (IJRR 2010).
+"""The observability-constrained EKF after Huang, Mourikis & Roumeliotis (IJRR 2010), Jacobian form.
 
 The OC-EKF keeps the analysis's unobservable directions N(x) in the null space
 of its linearisation by changing the Jacobians only where it must, and keeps
@@ -26,6 +26,17 @@ H*_j N(x̄_j) = 0: its null space contains the d columns of N(x̄_0). Both
 constraints are checked at every step (``constraint``, ``warnings``): the
 transition one fails only where N restricted to the moving states is rank
 deficient or N's static rows depend on a moving state, and the log says which.
+
+Which OC-EKF this is: the Jacobian form of the constraint (Phi with the
+static block kept and the propagated N kept, H replaced by the nearest H*
+with H* N = 0), the form of Huang et al.'s later observability-constrained
+filters (e.g. cooperative localization, Autonomous Robots 2011) and of the
+issue that asked for it. The IJRR 2010 paper's own OC-EKF reaches the
+constraint by choosing linearisation points instead: the robot position in
+Phi and each landmark in H are moved from the current estimates by Lagrange
+multipliers of a least-squares problem (written out for 2-D SLAM in e.g.
+CAOR-MINES-ParisTech/esde, ``simulations/propagate_ocekf.m``), so its H is a
+true Jacobian at a point; that variant is not implemented here.
 
 This differs from :class:`~observability.filters.constrained.ObservabilityConstrainedEKF`
 (Hesch et al.'s projection), which takes N at the moving estimates and
