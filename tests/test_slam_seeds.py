@@ -41,6 +41,16 @@ def test_the_seeded_page_keeps_every_seed_and_the_agreed_word(tmp_path):
     low, high = ekf["anees_pose_interval"]
     assert f"| EKF | {ekf['anees_pose']:.2f} [{low:.2f}, {high:.2f}] {ekf['verdict']} |" in page
     assert (out / "nees.png").stat().st_size > 5000 and (out / "seed-2" / "README.md").exists()
+    # The same tables assembled from the seeds' reports (as when seeds run in parallel), and a mismatch refused.
+    from observability.errors import OptionError
+    from observability.report.slamstudy_seeds import combine_seed_reports
+
+    assert combine_seed_reports(out, SlamStudy(landmarks=2, runs=10, steps=15, window=10), (1, 2)) == \
+        list(combined.values())
+    assembled = (out / "README.md").read_text()
+    assert assembled.split("## pose")[1].split("![")[0] == page.split("## pose")[1].split("![")[0]
+    with pytest.raises(OptionError, match="not the report of"):
+        combine_seed_reports(out, SlamStudy(landmarks=2, runs=20, steps=15, window=10), (1, 2))
 
 
 @pytest.mark.parametrize("argv, words", [
