@@ -49,7 +49,7 @@ although every Jacobian is the one the rule prescribes. It is the first
 estimates, not the code (``benchmarks/fej_landmarks.py``, range-bearing, 20
 runs, seed 7): with landmarks 0.02 m off FEJ's landmark ANEES is 29.6 [27.4,
 32.0] (30 dof, consistent), 0.5 m off 36.6 [33.6, 40.0], from a first range
-and bearing 109 [45, 226] (a few runs dominate), while the EKF, the
+and bearing 109 [45, 226] (the wide interval: some runs far above the rest), while the EKF, the
 projection OC-EKF and the ideal EKF stay near 30 and Huang's OC-EKF (FEJ's
 Phi, H at the current estimates) gives 29.1 at 0.5 m and 35.8 [30.6, 42.5]
 (inconclusive) from a first range and bearing. Huang et al. (IJRR 2010) introduce
