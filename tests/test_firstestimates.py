@@ -21,7 +21,7 @@ import pytest
 
 from observability import analyze
 from observability.codegen import filter_functions
-from observability.filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, IdealEKF,
+from observability.filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, HuangOCEKF, IdealEKF,
                                    ObservabilityConstrainedEKF, null_space_function, static_states)
 from observability.filters.linearized import linearized_observability, recorded_observability
 from observability.model.modelfile import parse_model
@@ -95,12 +95,16 @@ def _hand_N(x):
     return np.column_stack([[1, 0, 0, 1, 0, 1, 0], [0, 1, 0, 0, 1, 0, 1], rotation]).astype(float)
 
 
-def _hand_filter(x0, P0, ys, steps, rule, truth=None):
+def _hand_filter(x0, P0, ys, steps, rule, truth=None, used=None):
     """The EKF with Huang's formulas in numpy, independent of casadi and of the
     model file, linearised by ``rule``: "fej" (first estimates, the difference
-    form of Phi), "ideal" (the truth, the difference form between true poses) or
+    form of Phi), "ideal" (the truth, the difference form between true poses),
     "oc" (Phi at the posterior and H at the prior, projected onto
-    Phi N_k = N_k+1, H N_k = 0, N at the priors)."""
+    Phi N_k = N_k+1, H N_k = 0, N at the priors) or "oc-huang" (Huang et al.
+    2010's OC-EKF: Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]] between priors, the
+    landmark block I; H at the prior replaced by H* = H - H N (N^T N)^-1 N^T,
+    N at the priors' pose and the landmarks' first estimates). ``used``, a
+    list, receives (Phi, N_k, N_k+1) and (H*, N_k) per step."""
     x, P, first = x0.copy(), P0.copy(), (truth[0] if rule == "ideal" else x0).copy()
     prior = x0.copy()
     out = []
@@ -115,15 +119,19 @@ def _hand_filter(x0, P0, ys, steps, rule, truth=None):
             Phi = Phi - (Phi @ N_k - N_next) @ np.linalg.pinv(N_k)
         else:
             Phi[:2, 2] = J @ (first_next[:2] - first[:2])
+        if used is not None:
+            used.append((Phi, _hand_N(first), _hand_N(first_next)))
         G = np.zeros((7, 3))
         G[:2, :2], G[2, 2] = DT * C, DT
         P = Phi @ P @ Phi.T + G @ Q @ G.T
         x, first, prior = x_next, first_next, x_next
-        if rule == "oc":
-            N = _hand_N(x)
-            H = _hand_H(x) - _hand_H(x) @ N @ np.linalg.pinv(N)
+        N = _hand_N(x if rule == "oc" else first)
+        if rule in ("oc", "oc-huang"):
+            H = _hand_H(x) - _hand_H(x) @ N @ np.linalg.inv(N.T @ N) @ N.T
         else:
             H = _hand_H(first)
+        if used is not None:
+            used.append((H, N))
         x, P = _hand_update(x, P, H, ys[k])
         out.append((x.copy(), P.copy()))
     return out
@@ -152,25 +160,70 @@ def test_static_states_are_read_from_the_model(model):
     assert static_states(noisy).tolist() == [False] * 3 + [False, True, True, True]
 
 
-@pytest.mark.parametrize("rule", ["fej", "ideal", "oc"])
-def test_each_filter_equals_the_hand_written_one(model, rule):
-    """Estimates and covariances of 15 steps agree with Huang's formulas in numpy
-    (the OC-EKF with its N written by hand, not taken from the analysis)."""
+@pytest.fixture(scope="module")
+def analysis_null_space(model):
     system, fns = model
+    return null_space_function(system, analyze(system, seed=1).unobservable_directions, fns)
+
+
+@pytest.mark.parametrize("rule", ["fej", "ideal", "oc", "oc-huang"])
+def test_each_filter_equals_the_hand_written_one(model, analysis_null_space, rule):
+    """Estimates and covariances of 15 steps agree with Huang's formulas in numpy
+    (the OC-EKFs given the analysis's N, the reference its N written by hand)."""
+    _, fns = model
     truth, ys, x0, P0 = _simulate(fns, 15, seed=4)
     if rule == "fej":
         ekf = FirstEstimatesEKF(fns, Q, R)
     elif rule == "ideal":
         ekf = IdealEKF(fns, Q, R, truth)
+    elif rule == "oc":
+        ekf = ObservabilityConstrainedEKF(fns, Q, R, analysis_null_space)
     else:
-        ekf = ObservabilityConstrainedEKF(fns, Q, R, null_space_function(system, analyze(system, seed=1).unobservable_directions, fns))
+        ekf = HuangOCEKF(fns, Q, R, analysis_null_space)
     state, ours = ekf.initial(x0, P0), []
     for y in ys:
         state = ekf.update(ekf.predict(state, U), y).state
         ours.append((state.x, state.P))
     for (x, P), (x_ref, P_ref) in zip(ours, _hand_filter(x0, P0, ys, 15, rule, truth)):
         assert np.allclose(x, x_ref, atol=1e-9) and np.allclose(P, P_ref, atol=1e-11)
-    assert max(r for _, r in ekf.residuals) < 1e-10  # carried exactly (FEJ, ideal); constraints met (OC)
+    if rule == "oc-huang":  # no carrying residual: the constraint log holds what is left
+        assert max(r for _, r in ekf.constraint.transition + ekf.constraint.measurement) < 1e-12
+        assert ekf.warnings == ()
+    else:
+        assert max(r for _, r in ekf.residuals) < 1e-10  # carried exactly (FEJ, ideal); constraints met (OC)
+
+
+def test_huangs_oc_ekf_uses_huangs_jacobians_and_keeps_both_constraints(model, analysis_null_space):
+    """Huang et al. 2010's OC-EKF, step by step against the numpy reference: the
+    Phi and H* it used equal the reference's to 1e-9; at every step H* N_k = 0
+    and Phi N_k = N_k+1 with the hand-written N (Huang's eq. 30) at the
+    reference's points, and Phi's landmark block is the identity (the projection
+    variant's is not)."""
+    _, fns = model
+    truth, ys, x0, P0 = _simulate(fns, 6, seed=5)
+    ekf = HuangOCEKF(fns, Q, R, analysis_null_space, record=True)
+    state = ekf.initial(x0, P0)
+    for y in ys:
+        state = ekf.update(ekf.predict(state, U), y).state
+    reference = []
+    _hand_filter(x0, P0, ys, 6, "oc-huang", used=reference)
+    assert len(ekf.used) == len(reference) == 12
+    for (kind, _, ours), hand in zip(ekf.used, reference):
+        assert np.allclose(ours, hand[0], atol=1e-9)
+        if kind == "F":
+            Phi, N_k, N_next = hand
+            assert np.allclose(ours @ N_k, N_next, atol=1e-9)
+            assert np.array_equal(ours[3:, 3:], np.eye(4)) and not ours[3:, :3].any()
+        else:
+            assert np.abs(ours @ hand[1]).max() < 1e-9
+    projection = ObservabilityConstrainedEKF(fns, Q, R, analysis_null_space)
+    projection.predict(projection.update(projection.predict(projection.initial(x0, P0), U), ys[0]).state, U)
+    assert max(change for _, change, _ in projection.block_change) > 1e-3
+
+
+def test_huangs_oc_ekf_needs_a_null_space(model):
+    with pytest.raises(FilterError, match="needs the null space"):
+        HuangOCEKF(model[1], Q, R, None)
 
 
 def _nullities(model, steps=12, seed=2):
@@ -179,7 +232,7 @@ def _nullities(model, steps=12, seed=2):
     truth, ys, x0, P0 = _simulate(fns, steps, seed)
     N = null_space_function(system, result.unobservable_directions, fns)
     filters = {"fej": FirstEstimatesEKF(fns, Q, R, record=True), "oc": ObservabilityConstrainedEKF(fns, Q, R, N, record=True),
-               "ideal": IdealEKF(fns, Q, R, truth, record=True)}
+               "oc-huang": HuangOCEKF(fns, Q, R, N, record=True), "ideal": IdealEKF(fns, Q, R, truth, record=True)}
     out = {}
     for name, ekf in filters.items():
         state = ekf.initial(x0, P0)
@@ -199,10 +252,10 @@ def _nullities(model, steps=12, seed=2):
 
 def test_fej_oc_and_ideal_keep_the_analysis_null_space_the_ekf_loses(model):
     """Huang et al. 2010 sec. 4: nullity 2 for the standard EKF, 3 (the
-    analysis's n - rank) for FEJ, OC and the ideal EKF."""
+    analysis's n - rank) for FEJ, both OC-EKFs and the ideal EKF."""
     nullity, analysis = _nullities(model)
     assert analysis == 3
-    assert nullity == {"fej": 3, "oc": 3, "ideal": 3, "ekf": 2}
+    assert nullity == {"fej": 3, "oc": 3, "oc-huang": 3, "ideal": 3, "ekf": 2}
 
 
 def test_a_heading_across_pi_is_corrected_the_short_way(model):
@@ -254,20 +307,22 @@ def test_the_study_writes_its_summary(tmp_path):
     folder = tmp_path / "study"
     write_slam_study(folder, SlamStudy(landmarks=3, runs=2, steps=15, window=15), _serial)
     records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
-    assert set(records) == {"ekf", "fej", "oc", "ideal"}
+    assert set(records) == {"ekf", "fej", "oc", "oc-huang", "ideal"}
     keys = {"filter", "anees_pose", "anees_pose_bounds", "anees_pose_interval", "verdict", "fraction_in_band",
             "rmse_position", "rmse_heading", "anees_landmarks", "anees_landmarks_interval", "anis", "anis_interval",
             "gated", "warnings", "filter_unobservable_dimension", "analysis_unobservable_dimension"}
     assert all(keys <= set(r) for r in records.values())
-    assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "ideal": 3}
+    assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "oc-huang": 3,
+                                                                                        "ideal": 3}
     assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
-    assert records["oc"]["max_constraint_residual"] < 1e-9
+    assert records["oc"]["max_constraint_residual"] < 1e-9 and records["oc-huang"]["max_constraint_residual"] < 1e-9
     lo, hi = records["ekf"]["anees_pose_bounds"]
     assert 0 < lo < 3 < hi  # the two-sided band of an average of 2 chi-square(3) draws contains 3
     assert all(r["verdict"] == "inconclusive" for r in records.values())  # 2 runs decide nothing
     assert records["fej"]["warnings"] == [] and records["ideal"]["warnings"] == []
     assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
-    assert "| OC-EKF (projection) |" in (folder / "README.md").read_text()
+    page = (folder / "README.md").read_text()
+    assert "| OC-EKF (projection) |" in page and "| OC-EKF (Huang 2010) |" in page
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):

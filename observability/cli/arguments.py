@@ -98,6 +98,20 @@ def seed_value(text: str) -> int:
     return value
 
 
+#: At most this many seeds in one study command (each runs the whole study).
+MAX_SEEDS = 20
+
+
+def seed_list(text: str) -> tuple[int, ...]:
+    """argparse type: distinct seeds separated by commas, e.g. ``7,11,23`` (at most ``MAX_SEEDS``)."""
+    seeds = tuple(seed_value(part.strip()) for part in text.split(","))
+    if len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError(f"a seed is given twice in {text!r}")
+    if len(seeds) > MAX_SEEDS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SEEDS} seeds, got {len(seeds)}")
+    return seeds
+
+
 def out_directory(text: str) -> Path:
     """argparse type: a directory to write into, that exists or is made in a folder
     that exists (checked before any work: no missing folders are created above it,

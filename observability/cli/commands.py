@@ -322,6 +322,10 @@ def consistency_command(args: argparse.Namespace) -> int:
 
     from ..parallel import engine
 
+    if args.seeds is not None and args.study in ("odometry", "slam2d-paper"):
+        raise UsageError(f"--seeds: the {args.study} study takes one --seed")
+    if args.seeds is not None and args.seed is not None:
+        raise UsageError("give --seed or --seeds, not both")
     if args.study != "odometry":
         return _slam_study(args)
     study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=7 if args.seed is None else args.seed)
@@ -352,6 +356,8 @@ def _slam_study(args: argparse.Namespace) -> int:
                                 seed=base.seed if args.seed is None else args.seed,
                                 window=min(base.window, args.steps or base.steps))
     out = args.out / args.study
+    if args.seeds is not None:
+        return _seeded_study(out, study, args)
     with engine(args.scheduler, args.workers) as run:
         result = write_slam_study(out, study, run)
     for r in result.records:
@@ -362,6 +368,20 @@ def _slam_study(args: argparse.Namespace) -> int:
         for warning in r["warnings"]:
             print(f"observability: warning: {r['filter']} (run 0): {warning}", file=sys.stderr)
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
+    return 0
+
+
+def _seeded_study(out: Path, study, args: argparse.Namespace) -> int:
+    from ..parallel import engine
+    from ..report.slamstudy_seeds import SEEDED_QUANTITIES, write_seeded_study
+
+    with engine(args.scheduler, args.workers) as run:
+        agreed = write_seeded_study(out, study, args.seeds, run)
+    for a in agreed:
+        cells = "  ".join(f"{heading.split()[0]} {a[f'agreed_{verdict}']}" for _, verdict, heading in SEEDED_QUANTITIES)
+        pose = ", ".join(f"{r['anees_pose']:.2f}" for r in a["per_seed"])
+        print(f"{a['filter']:9} pose ANEES per seed {pose}  all seeds: {cells}")
+    print(f"wrote {out / 'README.md'}, {out / 'summary.json'} and a report per seed in {out}/seed-N")
     return 0
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from .. import __version__
 from ..model.methods import METHODS, PREVIOUS_METHODS
 from .arguments import (Parser, count, identifier, out_directory, out_file, out_path, pages, positive, runs, seconds,
-                        seed_value, study_steps)
+                        seed_list, seed_value, study_steps)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
 from .planning import design_command, sensors_command
@@ -141,6 +141,9 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400)")
     consistency.add_argument("--seed", type=seed_value, default=None,
                              help="seed of the Monte Carlo streams (default 7; paper: its simulation's, 2013)")
+    consistency.add_argument("--seeds", type=seed_list, default=None, metavar="S1,S2,...",
+                             help="SLAM studies: run on each seed (reports in OUT/STUDY/seed-N) and write the verdicts "
+                                  "the seeds agree on (OUT/STUDY/README.md)")
     for command in (reproduce, consistency):
         command.add_argument("--scheduler", default=None, metavar="ADDRESS",
                              help="run the Monte Carlo tasks on this Dask scheduler (default: a local cluster)")

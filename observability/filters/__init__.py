@@ -9,6 +9,7 @@ from .consistency import chi2_bounds, degree_of_observability, nees, nis
 from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, FilterState, GeneralizedEKF, GeneralizedTotalEKF, Update
 from .firstestimates import FirstEstimatesEKF, IdealEKF, static_states
 from .constrained import ObservabilityConstrainedEKF, null_space_function
+from .huangoc import HuangOCEKF
 from .linearized import LinearizedObservability, linearized_observability, observability_of
 from .manifolds import unit_norm
 from .montecarlo import monte_carlo
@@ -23,6 +24,7 @@ __all__ = [
     "IdealEKF",
     "GeneralizedEKF",
     "GeneralizedTotalEKF",
+    "HuangOCEKF",
     "LinearizedObservability",
     "ObservabilityConstrainedEKF",
     "Update",

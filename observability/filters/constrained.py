@@ -15,8 +15,9 @@ with N^+ the pseudo-inverse. Then every product H*_j Phi*_(j-1) ... Phi*_k N_k
 vanishes: the linearisation has at least the analysis's null space.
 
 This is the projection of Hesch et al. (T-RO 2014, OC-VINS), not Huang et
-al.'s 2010 OC-EKF: Huang keeps Phi's static (landmark) block the identity and
-meets the constraint by choosing the linearisation points. The projection
+al.'s 2010 OC-EKF (:class:`~observability.filters.huangoc.HuangOCEKF`, the
+study's ``oc-huang``): Huang keeps Phi's static (landmark) block the identity
+and takes N at the landmarks' first estimates. The projection
 changes every row: with N at estimates that move between steps the landmark
 block of Phi* is no longer the identity and landmark-to-pose terms appear, so
 the landmarks' covariance changes in the prediction. ``block_change`` records,
@@ -38,6 +39,7 @@ import numpy as np
 from ..codegen import FilterFunctions, to_casadi
 from ..model.expressions import parse_expression
 from ..model.system import System
+from .constraint import nearest_with
 from .manifolds import wrap_angles
 from .ekf import FilterError, FilterState, Update, _Base, _symmetric
 from .firstestimates import static_states
@@ -57,13 +59,6 @@ def null_space_function(system: System, directions, functions: FilterFunctions) 
                                           table) for s in functions.states)) for d in directions]
     matrix = casadi.horzcat(*columns) if columns else casadi.SX(len(functions.states), 0)
     return casadi.Function("N", [x, p], [matrix], ["x", "p"], ["N"])
-
-
-def _projected(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """The matrix nearest A (Frobenius) with A N = target: A - (A N - target) N^+."""
-    if N.shape[1] == 0:
-        return A
-    return A - (A @ N - target) @ np.linalg.pinv(N)
 
 
 class ObservabilityConstrainedEKF(_Base):
@@ -97,7 +92,7 @@ class ObservabilityConstrainedEKF(_Base):
         x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
         x_next = self._on_manifold(wrap_angles(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
         N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
-        projected = _projected(F, N_k, N_next)
+        projected = nearest_with(F, N_k, N_next)
         change, moving = np.abs(projected - F), ~self.static
         self.block_change.append((state.step + 1, float(np.max(change[self.static], initial=0.0)),
                                   float(np.max(change[np.ix_(moving, self.static)], initial=0.0))))
@@ -116,7 +111,7 @@ class ObservabilityConstrainedEKF(_Base):
         x_prev = state.x if state.x_prev is None else state.x_prev
         h, H, _ = (np.array(a) for a in self.fn["measurement"](state.x, x_prev, self.p))
         N = self._N(state.x)
-        H = _projected(H, N, np.zeros((H.shape[0], N.shape[1])))
+        H = nearest_with(H, N, np.zeros((H.shape[0], N.shape[1])))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
             self.used.append(("H", state.step, H[used]))
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))

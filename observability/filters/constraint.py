@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["ConstraintLog", "kept_transition", "residual"]
+__all__ = ["ConstraintLog", "kept_transition", "nearest_with", "residual"]
 
 #: A constraint residual above this (relative to 1 + max |N|) is a violation.
 TOLERANCE = 1e-8
@@ -50,6 +50,16 @@ def kept_transition(Phi: np.ndarray, N_k: np.ndarray, N_next: np.ndarray, moving
     error = out[moving] @ N_k - N_next[moving]
     out[rows] = out[rows] - error @ np.linalg.pinv(N_k[moving])
     return out
+
+
+def nearest_with(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """The matrix nearest A (Frobenius) with A N = target: A - (A N - target) N^+.
+
+    With N of full column rank, N^+ = (N^T N)^-1 N^T; for target 0 this is
+    H* = H - H N (N^T N)^-1 N^T, the measurement Jacobian of the OC-EKF."""
+    if N.shape[1] == 0:
+        return A
+    return A - (A @ N - target) @ np.linalg.pinv(N)
 
 
 def residual(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> float:

@@ -8,8 +8,10 @@ conventional EKF's linearisation keeps two of them (Huang, Mourikis &
 Roumeliotis, IJRR 2010), so it gains information about the heading it cannot
 have. The first-estimates EKF and the ideal EKF (Jacobians at the truth) are
 given the analysis's null space, keep it by construction and record a warning
-where a step cannot (:mod:`observability.filters.constraint`); the
-observability-constrained EKF is the projection variant (Hesch et al.). Each
+where a step cannot (:mod:`observability.filters.constraint`); of the
+observability-constrained EKFs, ``oc`` is the projection variant (Hesch et
+al.) and ``oc-huang`` Huang et al. 2010's (static block of Phi kept, H
+projected onto H N = 0). Each
 Monte Carlo run is simulated once and given to every filter; runs are Dask
 tasks. Per run and step: pose NEES, landmark NEES, NIS, and how many landmarks
 the chi-square gate rejected; the verdicts come from bootstrap intervals over
@@ -25,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from ..codegen import FilterFunctions, filter_functions
-from ..filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, IdealEKF, ObservabilityConstrainedEKF,
-                       chi2_bounds, nees, null_space_function)
+from ..filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, HuangOCEKF, IdealEKF,
+                       ObservabilityConstrainedEKF, chi2_bounds, nees, null_space_function)
 from ..filters.consistency import anees_interval
 from ..filters.gating import gated_update
 from ..filters.linearized import linearized_observability, recorded_observability
@@ -36,7 +38,7 @@ from .slamstudy_models import FORMS, STUDIES, SlamStudy, simulate, slam_model
 
 __all__ = ["SlamStudy", "SlamStudyResult", "STUDIES", "run_slam_study", "slam_model"]
 
-FILTERS = ("ekf", "fej", "oc", "ideal")
+FILTERS = ("ekf", "fej", "oc", "oc-huang", "ideal")
 #: Per run and step: pose NEES, squared position error, squared heading error, landmark NEES, NIS, NIS dof.
 QUANTITIES = ("pose", "position", "heading", "landmarks", "nis", "nis_dof")
 
@@ -55,6 +57,7 @@ def _filters(shared: Shared, truth: np.ndarray, record: bool) -> dict:
     fns, N = shared.functions, shared.null_space
     return {"ekf": ConventionalEKF(fns, Q, R), "fej": FirstEstimatesEKF(fns, Q, R, record=record, null_space=N),
             "oc": ObservabilityConstrainedEKF(fns, Q, R, N, record=record),
+            "oc-huang": HuangOCEKF(fns, Q, R, N, record=record),
             "ideal": IdealEKF(fns, Q, R, truth, record=record, null_space=N)}
 
 
@@ -103,11 +106,20 @@ def _run(shared: Shared, stream: np.random.SeedSequence, observe: bool) -> dict:
         record = {"values": values, "refusal": refusal, "gated": gated, "warnings": getattr(ekf, "warnings", ())}
         if observe:
             record["nullity"] = _nullity(shared, ekf, priors, posteriors, u)
-        if name == "oc":
-            record["residual"] = max((r for _, r in ekf.residuals), default=0.0)
-            record["block_change"] = np.max([c[1:] for c in ekf.block_change] or [[0.0, 0.0]], axis=0).tolist()
+        record |= constraint_record(name, ekf)
         out[name] = record
     return out
+
+
+def constraint_record(name: str, ekf) -> dict:
+    """What an OC-EKF left of its constraints in a run: the largest residual and,
+    for the projection, how far it changed Phi's static block."""
+    if name == "oc":
+        return {"residual": max((r for _, r in ekf.residuals), default=0.0),
+                "block_change": np.max([c[1:] for c in ekf.block_change] or [[0.0, 0.0]], axis=0).tolist()}
+    if name == "oc-huang":
+        return {"residual": max((r for _, r in ekf.constraint.transition + ekf.constraint.measurement), default=0.0)}
+    return {}
 
 
 def _nullity(shared: Shared, ekf, priors: list, posteriors: list, u: np.ndarray) -> int:
@@ -124,7 +136,8 @@ def _chunk(shared: Shared, streams: list, first: int) -> list[dict]:
     if shared.study.sensor_range > 0:
         from .slamstudy_exploration import run_exploration
 
-        return [run_exploration(shared, stream, first + i == 0, _filters, _errors, _groups(shared.study))
+        return [run_exploration(shared, stream, first + i == 0, _filters, _errors, _groups(shared.study),
+                                constraint_record)
                 for i, stream in enumerate(streams)]
     return [_run(shared, stream, first + i == 0) for i, stream in enumerate(streams)]
 
@@ -199,8 +212,9 @@ def _summarise(study: SlamStudy, runs: list[dict], analysis_nullity: int) -> Sla
                    "analysis_unobservable_dimension": analysis_nullity, "refused_runs": len(refused),
                    "warnings": list(runs[0][name]["warnings"]),
                    "runs_with_warnings": sum(1 for r in runs if r[name]["warnings"])}
+        if name in ("oc", "oc-huang"):
+            record["max_constraint_residual"] = max(r[name]["residual"] for r in runs)
         if name == "oc":
-            record["max_constraint_residual"] = max(r["oc"]["residual"] for r in runs)
             record["landmark_block_change"], record["landmark_to_pose_terms"] = np.max(
                 [r["oc"]["block_change"] for r in runs], axis=0).tolist()
         records.append(record)

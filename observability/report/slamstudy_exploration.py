@@ -4,8 +4,8 @@ The robot of :mod:`.slamstudy_models` (three-input odometry, range and
 bearing) sees a landmark only within ``sensor_range``; each landmark is
 initialised from its first range and bearing, l = p + r (cos(b + th),
 sin(b + th)), by :func:`observability.filters.augmentation.initialise`, with
-the Jacobian G_X at each filter's own points (the prior for the EKF and the
-OC-EKF, the first estimates for FEJ, the truth for the ideal EKF). The
+G_X at the prior pose (the pose of the first estimates for FEJ and Huang's
+OC-EKF) and at the truth for the ideal EKF. The
 record has the schema of :mod:`.slamstudy`; the landmark NEES is over the
 landmarks initialised so far, scaled to 2 L degrees of freedom like the NIS.
 The nullity of each filter's linearisation over the window counts the
@@ -73,7 +73,7 @@ def _new_landmarks(ekf, name: str, state, row: list, seen: set, truth_k: np.ndar
 
 def _initialised_only(null_space, seen: set, landmarks: int):
     """N with the rows of landmarks not yet initialised set to zero (they are no
-    state yet), for the OC-EKF, whose projection would otherwise couple the
+    state yet), for the OC-EKFs, whose projections would otherwise couple the
     robot to the placeholders. ``seen`` is read at each call."""
     def N(x, p):
         value = np.array(null_space(x, p)).reshape(len(x), -1)
@@ -84,8 +84,9 @@ def _initialised_only(null_space, seen: set, landmarks: int):
     return N
 
 
-def run_exploration(shared, stream, observe: bool, filters, errors, groups) -> dict:
-    """One Monte Carlo run of the exploration study (module docstring); the record of :func:`.slamstudy._run`."""
+def run_exploration(shared, stream, observe: bool, filters, errors, groups, constraint_record) -> dict:
+    """One Monte Carlo run of the exploration study (module docstring); the record of :func:`.slamstudy._run`
+    (``filters``, ``errors`` and ``constraint_record`` are that module's)."""
     study, fns = shared.study, shared.functions
     truth, ys, x0, P0, u = simulate(study, fns, np.random.default_rng(stream))
     rows = _visible(study, truth, ys)
@@ -96,7 +97,7 @@ def run_exploration(shared, stream, observe: bool, filters, errors, groups) -> d
     for name, ekf in filters(shared, truth, observe).items():
         values, state, seen, refusal, gated = np.full((6, study.steps), np.nan), ekf.initial(x0, P0), set(), None, 0
         jacobians, first_seen = {"F": [], "H": []}, len({i for i, y in enumerate(rows[0]) if y is not None}) // 2
-        if name == "oc":
+        if name in ("oc", "oc-huang"):
             ekf.null_space = _initialised_only(ekf.null_space, seen, study.landmarks)
         try:
             for k in range(study.steps):
@@ -124,8 +125,5 @@ def run_exploration(shared, stream, observe: bool, filters, errors, groups) -> d
             linearised = (observability_of(jacobians["H"], jacobians["F"][1:]) if name == "ekf"
                           else recorded_observability(ekf.used, study.window))
             record["nullity"] = linearised.nullity - placeholders
-        if name == "oc":
-            record["residual"] = max((r for _, r in ekf.residuals), default=0.0)
-            record["block_change"] = np.max([c[1:] for c in ekf.block_change] or [[0.0, 0.0]], axis=0).tolist()
-        out[name] = record
+        out[name] = record | constraint_record(name, ekf)
     return out

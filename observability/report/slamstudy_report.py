@@ -10,30 +10,35 @@ from pathlib import Path
 
 import numpy as np
 
+from ..filters import chi2_bounds
 from ..parallel import Runner
 from .files import save_figure, staged_directory, write_json, write_text
 from .slamstudy_paper import PaperComparison, compare_on_paper_simulation
 from .slamstudy import FILTERS, SlamStudy, SlamStudyResult, run_slam_study
 
-__all__ = ["write_slam_study", "write_paper_comparison"]
+__all__ = ["LABELS", "figures", "write_slam_study", "write_paper_comparison"]
 
-STYLES = {"ekf": ("tab:red", "-"), "fej": ("tab:blue", "--"), "oc": ("tab:green", "-."), "ideal": ("k", ":")}
-LABELS = {"ekf": "EKF", "fej": "FEJ-EKF", "oc": "OC-EKF (projection)", "ideal": "ideal EKF"}
+STYLES = {"ekf": ("tab:red", "-"), "fej": ("tab:blue", "--"), "oc": ("tab:green", "-."),
+          "oc-huang": ("tab:orange", (0, (5, 1, 1, 1))), "ideal": ("k", ":")}
+LABELS = {"ekf": "EKF", "fej": "FEJ-EKF", "oc": "OC-EKF (projection)", "oc-huang": "OC-EKF (Huang 2010)",
+          "ideal": "ideal EKF"}
 
 
-def _figures(result: SlamStudyResult, stage: Path) -> None:
+def figures(result: SlamStudyResult, stage: Path, runs: int | None = None) -> None:
+    """``nees.png`` (average pose NEES per step with the band of ``runs``, by default the study's) and ``rmse.png``."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     study, k = result.study, np.arange(1, result.study.steps + 1)
-    lo, hi = result.records[0]["anees_pose_bounds"]
+    runs = study.runs if runs is None else runs
+    lo, hi = chi2_bounds(3, runs)
     fig, ax = plt.subplots(figsize=(7, 4))
     for name in FILTERS:
         color, style = STYLES[name]
         ax.plot(k, result.average_nees[name], color=color, ls=style, lw=1.2, label=LABELS[name])
-    ax.axhspan(lo, hi, color="0.85", label=f"95% band ({study.runs} runs)")
+    ax.axhspan(lo, hi, color="0.85", label=f"95% band ({runs} runs)")
     ax.set_yscale("log")
     ax.set(xlabel="step", ylabel="average pose NEES (3 dof)", title=study.name)
     ax.legend(loc="upper left", fontsize=8)
@@ -89,9 +94,11 @@ def _page(result: SlamStudyResult) -> str:
            "Landmarks start from a first range and bearing taken at the start, with that inversion's covariance. ")
         + "The analysis of the model gives the unobservable directions N; the FEJ-EKF and the ideal EKF keep them "
         "by construction (Phi N(x_k) = N(x_k+1) on the moving block, Huang's difference form for planar odometry), "
-        "the OC-EKF by projecting both Jacobians onto them (Hesch et al.'s variant, which changes the landmark "
-        f"block; Huang 2010's keeps it). A landmark whose innovation exceeds the chi-square gate at {s.gate} is "
-        "left out of that update.", "",
+        "the OC-EKF (projection) by projecting both Jacobians onto them (Hesch et al.'s variant, which changes the "
+        "landmark block), the OC-EKF (Huang 2010) with Phi as FEJ's but from the posterior, the landmark block the "
+        "identity, and H at the current estimate replaced by the nearest H* with H* N = 0 (N at the pose's prior "
+        f"and the landmarks' first estimates). A landmark whose innovation exceeds the chi-square gate at {s.gate} "
+        "is left out of that update.", "",
         "Each ANEES is the mean over runs of each run's mean over steps, with a 95% bootstrap interval over runs. "
         "Verdict: overconfident (underconfident) when the whole interval lies above (below) the chi-square band of "
         "an average over the runs, consistent when it lies inside, inconclusive when it crosses an end.", "",
@@ -106,9 +113,10 @@ def _page(result: SlamStudyResult) -> str:
                      f"{_interval_cell(r, 'anis')} | {r['anis_verdict']} | {r['gated']} | {r['rmse_position']:.3f} | "
                      f"{r['rmse_heading']:.4f} | {r['filter_unobservable_dimension']} / "
                      f"{r['analysis_unobservable_dimension']} | {r['runs_with_warnings']} runs |")
-    oc = next(r for r in result.records if r["filter"] == "oc")
-    lines += ["", f"The OC-EKF's largest constraint residual max(|H N|, |Phi N_k - N_k+1|): "
-              f"{oc['max_constraint_residual']:.1e}; its projection changed Phi's landmark rows by up to "
+    oc, huang = (next(r for r in result.records if r["filter"] == name) for name in ("oc", "oc-huang"))
+    lines += ["", f"The OC-EKFs' largest constraint residual max(|H N|, |Phi N_k - N_k+1|): "
+              f"{oc['max_constraint_residual']:.1e} (projection), {huang['max_constraint_residual']:.1e} (Huang "
+              "2010, relative to 1 + max |N|); the projection changed Phi's landmark rows by up to "
               f"{oc['landmark_block_change']:.2g} and added landmark-to-pose terms up to "
               f"{oc['landmark_to_pose_terms']:.2g}. Filter dimensions are the nullity of the linearisation each "
               f"filter used over the first {s.window} steps of run 0."]
@@ -121,7 +129,7 @@ def write_slam_study(out: Path, study: SlamStudy, run: Runner | None = None) -> 
     """Run the study and write ``out/summary.json``, ``nees.png``, ``rmse.png`` and ``README.md``."""
     result = run_slam_study(study, run)
     with staged_directory(Path(out)) as stage:
-        _figures(result, stage)
+        figures(result, stage)
         write_json(stage / "summary.json", list(result.records))
         write_text(stage / "README.md", _page(result))
     return result
