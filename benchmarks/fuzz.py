@@ -38,7 +38,7 @@ from fuzz_compare import DISAGREE, Outcome  # noqa: E402
 from fuzz_run import KNOWN, SUITES, outcomes  # noqa: E402
 from observability.errors import ObservabilityError  # noqa: E402
 
-COLUMNS = ("agree", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 62.6", "known 61.1")
+COLUMNS = ("agree", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 61.1")
 
 
 class Capped(Exception):
