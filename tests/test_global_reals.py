@@ -195,3 +195,33 @@ def test_a_coefficient_that_varies_never_gives_unique_among_real_values():
         if seen[-1] is None:
             assert "strictly monotone, but not constant on the fibre through a second point" in answer.reals[0].how
     assert seen == [None, None, None, False]
+
+
+def test_monotone_means_no_real_root_of_odd_multiplicity_in_the_derivative():
+    """By hand: T^3 is strictly increasing although its derivative 3 T^2 vanishes at 0 (a root of
+    even multiplicity: no sign change); T^5 + T^3 + T and T are increasing; T^3 - 3 T (derivative
+    3 (T - 1)(T + 1)), T^2 and T^4 - 2 T^2 are not; a constant is not injective."""
+    from observability.analysis.realroots import strictly_monotone
+
+    T = sympy.Symbol("T")
+    for q, monotone in ((T**3, True), (T**5 + T**3 + T, True), (T, True), (-T**3 + 2, True),
+                        (T**3 - 3 * T, False), (T**2, False), (T**4 - 2 * T**2, False), (sympy.Integer(4), False)):
+        assert strictly_monotone(sympy.Poly(q, T)) is monotone, q
+
+
+def test_a_level_with_several_simple_real_solutions_is_found_exactly():
+    """q = T^3 - 3 T, T^4 - 2 T^2 and T^2 have real extrema, so some level q(T) = q(s) has several real
+    solutions: the level returned is checked here with numpy's companion-matrix roots (another
+    route): as many real roots as said, at least 2, all simple (pairwise apart), s among them.
+    A strictly monotone q has none."""
+    from observability.analysis.realroots import several_real_levels
+
+    T = sympy.Symbol("T")
+    for q in (T**3 - 3 * T, T**4 - 2 * T**2, T**2):
+        s, count = several_real_levels(sympy.Poly(q, T))
+        coefficients = [float(c) for c in sympy.Poly(q - q.subs(T, s), T).all_coeffs()]
+        roots = numpy.roots(coefficients)
+        real = sorted(r.real for r in roots if abs(r.imag) < 1e-9)
+        assert len(real) == count >= 2 and min(numpy.diff(real)) > 1e-6, q
+        assert min(abs(r - float(s)) for r in real) < 1e-9
+    assert several_real_levels(sympy.Poly(T**3 + T, T)) is None
