@@ -201,9 +201,11 @@ def _elsewhere(name: str, eliminant: sympy.Poly, level: sympy.Poly, equations: F
     low, high = next(_apart(there, interval) for interval in roots if not interval[0] <= s <= interval[1])
     others = "".join(f", {c} = {point[c]}" for c in draws.model.coordinates if c != variable)
     known = f" (known: {', '.join(f'{c} = {v}' for c, v in equations.given.items())})" if equations.given else ""
-    return RealAnswer(name, False, f"at the real state {name} = {s}{others}{known}, the values of {name} on the fibre are "
-                                   f"the {len(roots)} real roots of {there.as_expr()} (Sturm), each a real state with "
-                                   f"the same outputs (every unknown a polynomial in {name} there), e.g. {name} in "
+    halves = " (an angle as tan(angle/2))" if draws.model.angles else ""
+    return RealAnswer(name, False, f"at the real state {variable} = {s}{others}{known}{halves}, the values of "
+                                   f"{name} on the fibre are the {len(roots)} real roots of {there.as_expr()} "
+                                   f"(Sturm), each a real state with the same outputs (every unknown a polynomial "
+                                   f"in {name} there), e.g. {name} in "
                                    f"[{low}, {high}]; simple and as many as at the random point, they persist on an "
                                    "open set of real states")
 
