@@ -133,6 +133,8 @@ def _windows_at_digits(model: Model, f, Df, Dh, x0) -> list[tuple[int, list[floa
             out.append((sum(1 for s in relative if s > ZERO), [float(s) for s in relative] + [0.0], False))
     except (ZeroDivisionError, ValueError, TypeError) as error:  # a pole, or a value that is not a number
         return f"a pole on the trajectory ({type(error).__name__})"
+    except OverflowError:  # an RK4 stage beyond mpmath's exponent (exp of a value that blew up)
+        return "an RK4 stage overflows: the trajectory leaves [-1e12, 1e12]"
     return out
 
 
