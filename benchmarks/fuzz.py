@@ -38,7 +38,7 @@ from fuzz_compare import DISAGREE, Outcome  # noqa: E402
 from fuzz_run import KNOWN, SUITES, outcomes  # noqa: E402
 from observability.errors import ObservabilityError  # noqa: E402
 
-COLUMNS = ("agree", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 62.6", "known 61.1")
+COLUMNS = ("agree", "agree, certain", "disagree", "tool undecided", "reference undecided", "known 62.1", "known 61.1")
 
 
 class Capped(Exception):
@@ -86,6 +86,8 @@ def run_suite(suite, count, run_seed, cap, out, folder, tally, log, report):
         k = next(number)
         for o in capped(suite, spec, k % 2**31, folder, cap):
             tally[o.kind][o.status] += 1
+            if o.status == "agree" and o.certain:  # the reference exact, not probable or numerical
+                tally[o.kind]["agree, certain"] += 1
             if o.status == DISAGREE:
                 reproducer(out, suite, k % 2**31, spec, o)
                 log.append({"suite": suite, "seed": k % 2**31, "kind": o.kind, "detail": o.detail})

@@ -4,7 +4,9 @@
 coefficients, optional known inputs, known symbolic parameters and unknown
 constants, continuous or discrete time, in four families: polynomial,
 rational (a term over 1 + x^2 or 2 + x), trigonometric (sin/cos of a state)
-and exponential (exp of a state), the last two in continuous time only. A third of the models take a structure that
+and exponential (exp of a state), the last two in continuous time only; and
+linear (terms of degree 1, for the continuous trajectory suite, whose reference
+is exact there). A third of the models take a structure that
 loses observability on purpose (a rotation-invariant pair, a state nothing
 sees), since random sparse models are mostly observable.
 
@@ -22,6 +24,8 @@ from hypothesis import strategies as st
 from fuzz_reference import Spec
 
 FAMILIES = ("polynomial", "rational", "trigonometric", "exponential")
+#: Families of the continuous trajectory suite: "linear" has terms of degree 1 only (its reference is exact).
+TRAJECTORY_FAMILIES = ("linear", "linear", "polynomial", "rational", "trigonometric", "exponential")
 ZERO = "(log(6) - log(2) - log(3))"  # 61.1: an identically-zero constant that does not look like one
 
 
@@ -64,8 +68,10 @@ def specs(draw, *, time: str | None = None, states=(2, 4), inputs: bool = True, 
     p = sympy.symbols("p1:2") if parameters and draw(st.booleans()) else ()
     k = sympy.symbols("k1:2") if constants and draw(st.integers(0, 3)) == 0 else ()
     structure = draw(st.sampled_from(["random", "random", "rotation", "hidden"]))
-    f = [draw(terms([*x, *u, *p, *k], family)) if draw(st.integers(0, 4)) else sympy.Integer(0) for _ in x]
-    outputs = [draw(terms([*x, *p], family)) for _ in range(draw(st.integers(1, 2)))]
+    degree = 1 if family == "linear" else 2
+    f = [draw(terms([*x, *u, *p, *k], family, degree=degree)) if draw(st.integers(0, 4)) else sympy.Integer(0)
+         for _ in x]
+    outputs = [draw(terms([*x, *p], family, degree=degree)) for _ in range(draw(st.integers(1, 2)))]
     if structure == "rotation":  # x1, x2 turn together; outputs see only their radius
         speed = draw(terms([*x[2:], *u, *p, *k] or [sympy.Integer(1)], "polynomial", count=(1, 1), degree=1))
         f[0], f[1] = -speed * x[1], speed * x[0]

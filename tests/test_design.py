@@ -105,7 +105,7 @@ def test_the_command_line(tmp_path):
     assert (tmp_path / "u.csv").read_text().splitlines()[0] == "t,u"
     check = cli("trajectory", model, "--initial", "g=2,d=3", "--inputs-csv", tmp_path / "u.csv", "--duration", "2",
                 "--window", "0.5")
-    assert check.returncode == 0 and "loses no state" in check.stdout
+    assert check.returncode == 0 and "no state poorly informed" in check.stdout
     for bad in (["--bounds", "u=1:0"], ["--bounds", "u"], ["--bounds", "u=0:1", "--out", tmp_path / "no" / "u.csv"]):
         out = cli("design", model, "--initial", "g=2,d=3", "--duration", "2", "--window", "0.5", *bad)
         assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr

@@ -9,12 +9,12 @@ from :mod:`fuzz_run`. A few derandomized examples per suite (a few seconds of
 CPU each); ``benchmarks/fuzz.py`` is the long run, with its numbers in
 docs/fuzzing.md.
 
-Excluded here, exactly, while they were being fixed (issue 62):
-models with two unknown inputs along one direction (62.1, tagged by the
-strategy; drawn again since its fix), the 61.1 class (an identically-zero constant in
-front of sqrt: the CI strategy does not draw it), and a global 'only locally'
-whose second solutions are all complex (62.6: :func:`fuzz_run.outcomes` marks it
-"known 62.6", which this test does not count as a disagreement).
+Excluded here, exactly: the 61.1 class (an identically-zero constant in front of
+sqrt: the CI strategy does not draw it). Models with two unknown inputs along one
+direction (62.1) are drawn again since its fix; a global 'only locally' whose
+second solutions are all complex (62.6) is compared through the answer over the
+reals (:func:`fuzz_compare._over_the_reals`). Continuous-time trajectories are
+compared with an RK4 reference, exact for linear models (:mod:`fuzz_trajectory`).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from fuzz_reference import Spec
 from fuzz_run import SUITES, outcomes
 
 #: Examples per suite: about 20 models in all, well under a minute of CPU.
-EXAMPLES = {"point": 4, "set": 3, "trajectory": 3, "unknown inputs": 4, "global": 3}
+EXAMPLES = {"point": 4, "set": 3, "trajectory": 3, "continuous trajectory": 3, "unknown inputs": 4, "global": 3}
 
 
 def _fuzzed(suite: str):

@@ -62,21 +62,26 @@ def test_a_square_keeps_its_real_mirror(tmp_path):
     assert "unique among real values" not in run.stdout
 
 
-def test_one_real_root_without_the_odd_binomial_shape_stays_undecided_over_the_reals():
-    """y = x^3 + x (x at rest): at a random point of 60 bits, x^3 + x = c has one real root, but
-    y = x^3 - 3 x, of the same shape, has three for |c| < 2: a count at one point says nothing
-    elsewhere unless the eliminant is (T - b)^d - c with d odd. So x is "other complex values",
-    undecided over the reals; y = (x - 1)^3 + 2 is such a binomial, shifted: unique among real
-    values."""
-    for output, unique in (("x**3 + x", None), ("(x - 1)**3 + 2", True)):
+def test_a_monotone_output_is_unique_and_a_binomial_still_is():
+    """y = x^3 + x (x at rest): x^3 + x is strictly increasing (its derivative 3 x^2 + 1 > 0, by
+    hand), so a real x is fixed by y, for every y: unique among real values, by the monotone
+    certificate (which needs x^3 + x to be determined, tested at a second point). (This model was
+    "undecided over the reals" before: a count at one point said nothing elsewhere, and only odd
+    binomials were certified.) y = (x - 1)^3 + 2 is an odd binomial, shifted: unique too. And the
+    error probability of the monotone answer includes its second membership test: it exceeds the
+    binomial's."""
+    errors = {}
+    for output, argument in (("x**3 + x", "strictly monotone in x (3*x**2 + 1 has no real root of odd multiplicity"),
+                             ("(x - 1)**3 + 2", "a polynomial (T - b)^d - c of odd degree d has one real root")):
         system = System(["x"], {"x": "0"}, {"y": output})
         result = analyze(system, seed=1)
         answer = global_observability(system, result, seed=0, budget=None)
-        assert answer.only_locally == ("x",) and answer.over_the_reals("x") is unique, output
+        assert answer.only_locally == ("x",) and answer.over_the_reals("x") is True, output
+        assert argument in answer.reals[0].how
         text = str(dataclasses.replace(result, global_answer=answer))
-        said = ("only locally observable (other complex states give the same outputs; over the reals undecided): x"
-                if unique is None else "unique among real values (the other states with the same outputs are complex): x")
-        assert f"  {said}\n" in text and "one real (Sturm)" in text
+        assert "  unique among real values (the other states with the same outputs are complex): x\n" in text
+        errors[output] = answer.error_probability
+    assert errors["x**3 + x"] > errors["(x - 1)**3 + 2"]
 
 
 def test_the_eliminant_s_shape_decides():
@@ -120,3 +125,103 @@ def test_a_second_real_root_in_shape_position_is_a_real_state():
     answer = global_observability(system, analyze(system, seed=1), seed=0, budget=None)
     assert answer.only_locally == ("x",) and not answer.mirrors and answer.over_the_reals("x") is False
     assert "2 real (Sturm), each a real point of the fibre" in answer.reals[0].how
+
+
+def _global_run(tmp_path, rate: str) -> str:
+    """`check --global` of x' = -rate x + u, y = x: its text (exit 0)."""
+    path = tmp_path / "rate.toml"
+    path.write_text(CUBE.format(power=3).replace("-p**3*x", f"-({rate})*x"))
+    run = cli("check", path, "--global", "--seed", "2")
+    assert run.returncode == 0, run.stderr
+    return run.stdout
+
+
+CHOICE = r"at the real state p = (?P<s>[-0-9/]+), x = (?P<x>[-0-9/]+) \(known: u = (?P<u>[-0-9/]+)"
+
+
+def test_a_fifth_degree_monotone_parameter_is_unique_among_real_values(tmp_path):
+    """x' = -(p^5 + p^3 + p) x + u, y = x: by hand, p^5 + p^3 + p = (u - y') / y is fixed and its
+    derivative 5 p^4 + 3 p^2 + 1 > 0, so a real p is unique; no odd binomial (p^5 + p^3 + p - c is
+    not (p - b)^5 - c'). The eliminant's other 4 roots are complex: at c = 3 (p = 1), numpy's
+    companion eigenvalues of p^5 + p^3 + p - 3 have one real root."""
+    text = _global_run(tmp_path, "p**5 + p**3 + p")
+    assert "  unique among real values (the other states with the same outputs are complex): p" in text
+    assert "unknown parameters: p identifiable, unique among real values (other values complex)" in text
+    roots = numpy.roots([1, 0, 1, 0, 1, -3])
+    assert sum(abs(r.imag) < 1e-9 for r in roots) == 1
+
+
+def test_a_cubic_with_two_extrema_has_a_second_real_parameter_value(tmp_path):
+    """x' = -(p^3 - 3 p) x + u, y = x: p^3 - 3 p is fixed by the outputs, and for |p^3 - 3 p| < 2 it
+    has three real solutions (its derivative 3 p^2 - 3 vanishes at +-1, where it is -2 and 2): other
+    real values of p give the same outputs on an open set of states, though at a random point of 60
+    bits (|p| huge) there is only one. The answer prints a state and a second real value in an
+    interval; verified here exactly by substituting into the model's own Lie derivatives (written in
+    the test: y = x, y' = -(p^3 - 3 p) x + u, y'' = -(p^3 - 3 p) y' + u'): the interval holds a
+    single real root r of the printed polynomial, r is not the state's p, and y, y', y'' at (x, r)
+    equal those at (x, p), as exact algebraic numbers."""
+    text = _global_run(tmp_path, "p**3 - 3*p")
+    assert "  only locally observable (other real states give the same outputs): p" in text
+    assert "unknown parameters: p identifiable only locally (other real values)" in text
+    how = next(line for line in text.splitlines() if line.startswith("  over the reals: p: "))
+    chosen = re.search(CHOICE, how)
+    printed = re.search(r"the 3 real roots of (.+?) \(Sturm\).*e\.g\. p in \[([-0-9/]+), ([-0-9/]+)\]", how)
+    s, x, u = (sympy.Rational(chosen.group(k)) for k in ("s", "x", "u"))
+    P, u1 = sympy.symbols("p u1")
+    polynomial = sympy.Poly(sympy.sympify(printed.group(1)), P)
+    low, high = sympy.Rational(printed.group(2)), sympy.Rational(printed.group(3))
+    assert polynomial.count_roots(low, high) == 1 and not low <= s <= high
+    r = next(root for root in sympy.Poly(polynomial, P).real_roots() if low <= root <= high)
+    lie = [x, -(P**3 - 3 * P) * x + u]
+    lie.append(-(P**3 - 3 * P) * lie[1] + u1)
+    for derivative in lie:
+        assert sympy.minimal_polynomial(derivative.subs(P, r) - derivative.subs(P, s), P) == P
+
+
+def test_a_coefficient_that_varies_never_gives_unique_among_real_values():
+    """y1 = b, y2 = a^3 + b a (a, b at rest): b is fixed, a^3 + b a too. By hand, for b < 0 and
+    |a^3 + b a| small there are three real a (a second real value on an open set), for b > 0 one. At
+    a random point with b > 0 the eliminant a^3 + b0 a - c is monotone there, but a^3 + b0 a is not
+    determined by the outputs (b varies): the second point must refuse the certificate (undecided),
+    never "unique". Seeds 0-3 draw b > 0 (0, 1, 2) and b < 0 (3): there a state with three real
+    values is shown."""
+    system = System(["a", "b"], {"a": "0", "b": "0"}, {"y1": "b", "y2": "a**3 + b*a"})
+    result = analyze(system, seed=1)
+    seen = []
+    for seed in range(4):
+        answer = global_observability(system, result, seed=seed, budget=None)
+        assert answer.only_locally == ("a",)
+        seen.append(answer.over_the_reals("a"))
+        if seen[-1] is None:
+            assert "strictly monotone, but not constant on the fibre through a second point" in answer.reals[0].how
+    assert seen == [None, None, None, False]
+
+
+def test_monotone_means_no_real_root_of_odd_multiplicity_in_the_derivative():
+    """By hand: T^3 is strictly increasing although its derivative 3 T^2 vanishes at 0 (a root of
+    even multiplicity: no sign change); T^5 + T^3 + T and T are increasing; T^3 - 3 T (derivative
+    3 (T - 1)(T + 1)), T^2 and T^4 - 2 T^2 are not; a constant is not injective."""
+    from observability.analysis.realroots import strictly_monotone
+
+    T = sympy.Symbol("T")
+    for q, monotone in ((T**3, True), (T**5 + T**3 + T, True), (T, True), (-T**3 + 2, True),
+                        (T**3 - 3 * T, False), (T**2, False), (T**4 - 2 * T**2, False), (sympy.Integer(4), False)):
+        assert strictly_monotone(sympy.Poly(q, T)) is monotone, q
+
+
+def test_a_level_with_several_simple_real_solutions_is_found_exactly():
+    """q = T^3 - 3 T, T^4 - 2 T^2 and T^2 have real extrema, so some level q(T) = q(s) has several real
+    solutions: the level returned is checked here with numpy's companion-matrix roots (another
+    route): as many real roots as said, at least 2, all simple (pairwise apart), s among them.
+    A strictly monotone q has none."""
+    from observability.analysis.realroots import several_real_levels
+
+    T = sympy.Symbol("T")
+    for q in (T**3 - 3 * T, T**4 - 2 * T**2, T**2):
+        s, count = several_real_levels(sympy.Poly(q, T))
+        coefficients = [float(c) for c in sympy.Poly(q - q.subs(T, s), T).all_coeffs()]
+        roots = numpy.roots(coefficients)
+        real = sorted(r.real for r in roots if abs(r.imag) < 1e-9)
+        assert len(real) == count >= 2 and min(numpy.diff(real)) > 1e-6, q
+        assert min(abs(r - float(s)) for r in real) < 1e-9
+    assert several_real_levels(sympy.Poly(T**3 + T, T)) is None

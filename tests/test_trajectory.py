@@ -107,7 +107,7 @@ def test_comparing_input_profiles_names_what_each_loses(tmp_path, capsys):
     assert main(["trajectory", str(model), "--initial", "g=2,d=3", "--input", "u=0", "--input", "u=1",
                  "--duration", "1", "--window", "0.5", "--dt", "0.1", "--plot", str(figure), "--format", "json"]) == 0
     profiles = json.loads(capsys.readouterr().out)["profiles"]
-    assert profiles["u=0"]["lost"] == ["g", "d"] and profiles["u=1"]["lost"] == []
+    assert profiles["u=0"]["poorly_informed"] == ["g", "d"] and profiles["u=1"]["poorly_informed"] == []
     assert [w["rank"] for w in profiles["u=0"]["windows"]] == [1, 1]
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

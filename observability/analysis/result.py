@@ -279,8 +279,9 @@ class ObservabilityResult:
                                     "reals undecided)")):
             if real[unique]:
                 lines.append(f"  {said}: {states(tuple(real[unique]))}")
-        if answer.reals and any(r.unique is not False for r in answer.reals):
-            lines.append("  over the reals: " + "; ".join(f"{r.name}: {r.how}" for r in answer.reals))
+        argued = [r for r in answer.reals if not r.how.startswith("the mirror ")]  # mirrors: in the details
+        if argued:
+            lines.append("  over the reals: " + "; ".join(f"{r.name}: {r.how}" for r in argued))
         if answer.undecided:
             lines.append(f"  global answer undecided: {states(answer.undecided)}")
         if answer.functions:

@@ -411,6 +411,7 @@ def _csv_text(path: Path) -> str:
 
 
 def trajectory_command(args: argparse.Namespace) -> int:
+    from ..report.trajectory_text import poorly_informed, profile_summary, window_line
     from ..trajectory import windowed_observability
 
     with _about(args.model):
@@ -439,7 +440,7 @@ def trajectory_command(args: argparse.Namespace) -> int:
     if args.format == "json":
         print(json_text({"model": system.name, "generic_rank": result.rank, "n_states": system.n,
                           "profiles": {text or "none": {"windows": [w.to_dict() for w in windows],
-                                                        "lost": list(_lost(windows))}
+                                                        "poorly_informed": list(poorly_informed(windows))}
                                        for text, windows in runs.items()}}))
         return 0
     print(f"{system.name}: generic rank {result.rank} of {system.n}; windows of {args.window:g}, step {dt:g}"
@@ -448,35 +449,15 @@ def trajectory_command(args: argparse.Namespace) -> int:
           + "; numerical ranks (singular values above 1e-9 of the largest: an ill-conditioned window may show less "
             "than its exact rank, which check decides)")
     for text, windows in runs.items():
-        lost = _lost(windows)
-        print(f"inputs {text or '(none)'}: " + _losses(lost, windows))
+        print(f"inputs {text or '(none)'}: " + profile_summary(windows, system.n))
         for w in windows:
-            print(_window_line(w))
+            print(window_line(w))
             beyond = [f"{a.direction.label} ({a.cosine:.3f})" for a in w.in_null_space
                       if a.direction.motion and a.cosine > 0.99]
             if beyond:
-                print(f"    lost beyond the generic directions (cosine with the window's null space): {', '.join(beyond)}")
+                print(f"    in the window's numerical null space, beyond the generic directions (cosine): "
+                      f"{', '.join(beyond)}")
     return 0
-
-
-def _window_line(w) -> str:
-    """One window: its rank, condition number and weakest direction, or why it was not evaluated."""
-    if w.rank is None:
-        return f"  [{w.t0:g}, {w.t1:g}] {w.reason}"
-    weakest = w.weakest[0]
-    aligned = max((a for a in weakest.alignment if a.cosine == a.cosine), key=lambda a: a.cosine, default=None)
-    return (f"  [{w.t0:g}, {w.t1:g}] numerical rank {w.rank}, condition {w.condition_number:.3g}, weakest "
-            + ", ".join(f"{k}: {v:.3f}" for k, v in weakest.vector.items() if abs(v) > 1e-3)
-            + (f" (|cos| {aligned.cosine:.3f} with {aligned.direction.label})" if aligned else ""))
-
-
-def _losses(lost: tuple[str, ...], windows) -> str:
-    """What the run loses, and in how many windows that could be evaluated (each other line says why not)."""
-    count = sum(w.rank is None for w in windows)
-    if count == len(windows):
-        return "no window could be evaluated"
-    said = f"loses {', '.join(lost)}" if lost else "loses no state"
-    return said + (f" in the windows evaluated ({count} of {len(windows)} not evaluated)" if count else "")
 
 
 def _trajectory_source(system: System, args: argparse.Namespace):
@@ -512,14 +493,6 @@ def _trajectory_directions(system: System, parameters: dict[str, float], args: a
         for row in degenerate_motions(valued, seed=args.seed or 0)[1:]:
             directions += named_directions(system, row.beyond, parameters, motion=row.motion.name)
     return result, directions
-
-
-def _lost(windows) -> tuple[str, ...]:
-    """States whose minimum error variance keeps more than 1 % of the prior's
-    (1/PRIOR) in some window: the data hardly inform them there."""
-    from ..trajectory import PRIOR
-
-    return tuple(dict.fromkeys(s for w in windows for s, v in w.min_error_variance.items() if v > 1e-2 / PRIOR))
 
 
 def verify_proof_command(args: argparse.Namespace) -> int:

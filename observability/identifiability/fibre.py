@@ -26,10 +26,12 @@ from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.system import System
 from ..rank.ideal import ReducedBasis, saturated_basis
-from ..rank.membership import completing_columns, exact_rank, rank_mod_prime
-from .rationalmodel import RationalModel
+from ..rank.membership import completing_columns, exact_rank, rank_mod_prime, sampling_range
+from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
+from .reducedfibre import radical_range
 
-__all__ = ["Fibre", "FibreEquations", "exact_fibre", "fibre_equations", "known_variables"]
+__all__ = ["Fibre", "FibreDraws", "FibreEquations", "exact_fibre", "fibre_equations", "fibre_equations_at",
+           "fibre_range", "known_variables"]
 
 
 @dataclass(frozen=True)
@@ -76,17 +78,23 @@ def fibre_equations(system: System, model: RationalModel, orders: dict[str, int]
     bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there.
     ``modular``: its ranks modulo a prime (:func:`~observability.rank.membership.rank_mod_prime`,
     a full rank certain), for points of thousands of bits."""
-    heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     for _ in range(100):
         point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
         try:
-            jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
-            break
+            return fibre_equations_at(system, model, orders, rank, point, modular)
         except ZeroDivisionError:  # a denominator vanishes there: such a point is one the theorem excludes
             continue
-    else:
-        raise ModelError("--global: a denominator of the model vanishes at every random point")
+    raise ModelError("--global: a denominator of the model vanishes at every random point")
+
+
+def fibre_equations_at(system: System, model: RationalModel, orders: dict[str, int], rank: int, point: dict,
+                       modular: bool = False) -> FibreEquations | str:
+    """:func:`fibre_equations` through the given rational ``point`` (every coordinate
+    and known variable); raises ZeroDivisionError where a denominator vanishes there."""
+    heights = [orders[name] for name, _ in system.outputs]
+    known = known_variables(system, orders)
+    jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
     free = _free_coordinates(jets, model.coordinates, rank, rank_mod_prime if modular else exact_rank)
     if free is None:
         where = " (its rank modulo 2^61 - 1)" if modular else ""
@@ -94,6 +102,52 @@ def fibre_equations(system: System, model: RationalModel, orders: dict[str, int]
     # The known variables are generators of the field: adjoined at their values, i.e. substituted.
     return FibreEquations((*jets.equations, *(c - jets.values[c] for c in free)), jets.unknowns, jets.saturation,
                           dict(jets.values), {v: point[v] for v in known})
+
+
+def fibre_range(system: System, model: RationalModel, orders: dict[str, int],
+                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float, modular: bool) -> int:
+    """The sampling range that bounds the membership test's error for ``fractions``;
+    ``modular``: at least :func:`~.reducedfibre.radical_range` too, which makes the
+    fibre radical (its error added where that certifies an answer)."""
+    heights = [orders[name] for name, _ in system.outputs]
+    known = known_variables(system, orders)
+    variables = [*model.coordinates, *known]
+    degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
+    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
+    return max(bound, radical_range(model, heights, known, error)) if modular else bound
+
+
+@dataclass(frozen=True)
+class FibreDraws:
+    """More fibres of one model, for the questions asked after the first one
+    (:mod:`.realvalues`): through a point drawn independently of the first, or
+    through a chosen point."""
+
+    system: System
+    model: RationalModel
+    orders: dict[str, int]
+    rank: int
+    error: float
+    seed: int
+
+    def independent(self, fractions: list[tuple[sympy.Expr, sympy.Expr]]) -> tuple[Fibre, float] | str:
+        """The exact fibre through a point drawn from a stream other than the
+        first fibre's, from the range that bounds the membership test's error for
+        ``fractions`` (chosen before the draw), and that error; or why not."""
+        bound = fibre_range(self.system, self.model, self.orders, fractions, self.error, False)
+        equations = fibre_equations(self.system, self.model, self.orders, self.rank, bound,
+                                    random.Random(f"{self.seed}: an independent fibre"), False)
+        if isinstance(equations, str):
+            return equations
+        # As for the first fibre: redrawing after a vanishing denominator conditions on that event.
+        return exact_fibre(equations), self.error / (1 - self.error)
+
+    def at(self, point: dict) -> FibreEquations | str:
+        """The fibre's equations through ``point``, or why not (a denominator vanishing there too)."""
+        try:
+            return fibre_equations_at(self.system, self.model, self.orders, self.rank, point)
+        except ZeroDivisionError:
+            return "a denominator of the model vanishes at the chosen point"
 
 
 def exact_fibre(equations: FibreEquations) -> Fibre:

@@ -1,44 +1,55 @@
 """Over the reals: whether an "only locally" state has a second real value.
 
 Field membership (:mod:`.uniqueness`) answers over the complex numbers: a
-state outside the field the outputs determine takes several values on the
+state outside the field K the outputs determine takes several values on the
 fibre of the outputs, but these may all be non-real but one (x' = -p^3 x + u,
-y = x fixes p^3, and p is the real cube root). Each such state gets one of
-three answers:
+y = x fixes p^3, and p is the real cube root). At the random point a of the
+fibre (:func:`~.fibre.fibre_equations`) the values the state x_i takes on the
+(complex) fibre are the roots of the eliminant E, the generator of the fibre's
+ideal intersected with Q[x_i] (the elimination ideal of a zero-dimensional
+ideal: its zeros are exactly the projections of the fibre's points; found as
+the minimal polynomial of the multiplication by x_i modulo the ideal's
+degree-reverse-lexicographic basis). A count of E's real roots is a statement
+at a only: x^3 - 3x = c has three real roots for |c| < 2 and one elsewhere. So
+each answer below rests on an argument for every generic real state, not on the
+count at a. Each such state gets one of three answers:
 
 **A second real value (certain)**: a verified mirror moves the state
 (:mod:`.mirrors`: a map of real states onto real states keeping every output);
-or, at the random point of the fibre (below), its eliminant P has two or more
-real roots and the fibre is in shape position for the state (every unknown is
-a polynomial g_u(x_i) with rational coefficients modulo the ideal): every zero
-is then (r, g(r)) for a root r of P, real where r is, so a second real root is
-a second real state with the same outputs, there and, its roots simple, nearby.
+or, at a point of the fibre (the random point a, or the point a' below), E has
+two or more real roots and the fibre is in shape position for the state (every
+unknown is a polynomial g_u(x_i) with rational coefficients modulo the ideal):
+every zero is then (r, g(r)) for a root r of E, real where r is, so a second real
+root is a second real state with the same outputs, there; its roots simple and
+as many as at the random point (the generic count), they move continuously with
+the state, real ones staying real: the same holds on an open set of real states.
+The point a': when Q = E - E(0) (so E = Q(T) - Q(t0), t0 the state's value at
+a) is not strictly monotone, :func:`~.realroots.several_real_levels` gives a
+rational s near a real critical point of Q where Q(T) = Q(s) has several simple
+real roots; a' is a with x_i = s, and its fibre is computed exactly. The answer
+prints that state and a second real value in a rational isolating interval.
 
-**Unique among real values**: at the random point of the fibre
-(:func:`~.fibre.fibre_equations`), the values the state takes on the
-(complex) fibre are the roots of the generator P of the fibre's ideal
-intersected with Q[x_i] (the elimination ideal of a zero-dimensional ideal:
-its zeros are exactly the projections of the fibre's points; found as the
-minimal polynomial of the multiplication by x_i modulo the ideal's
-degree-reverse-lexicographic basis). Sturm's theorem counts P's
-distinct real roots exactly (sympy's ``count_roots`` on the square-free part).
-One real root, the true value, means every real point of the fibre has that
-value of x_i: at that point the state is unique among real values. That the
-count holds at every generic real point, not only at the one drawn, follows
-from P's shape: when P(T - b) = T^d - c for the shift b = a_(d-1) / d (a
-binomial, Tschirnhaus's reduction) with d odd, it has exactly one real root
-whatever the real b and c. The shape at the random point is the generic one
-unless a coefficient of the generic eliminant vanishes there by chance (the
-randomness the membership test already relies on). The coordinates the fibre
-fixes to complete a transcendence basis do not change P generically: x_i is
-algebraic over the outputs' field K, and its minimal polynomial over K stays
-irreducible over K extended by algebraically independent elements.
+**Unique among real values** (with the membership test's probability): the odd
+binomial shape (E(T - b) = T^d - c, d odd, Tschirnhaus's reduction: one real
+root whatever the real b and c; the shape at the random point is the generic
+one unless a coefficient of the generic eliminant vanishes there by chance, the
+randomness the membership test already relies on); or Q = E - E(0) strictly
+monotone on R (:func:`~.realroots.strictly_monotone`: Q' has no real root of
+odd multiplicity, an exact certificate for every t0) and Q(x_i) in K, tested by
+field membership at a second point drawn independently of a from the range that
+bounds the test's error for Q(x_i) (Q was read off a, so a itself cannot test
+it: Q(x_i) - Q(t0) = E(x_i) lies in a's ideal by construction). Then every real
+state with the same outputs has the same Q(x_i), hence the same x_i. That error
+is added to the verdict's. The coordinates the fibre fixes to complete a
+transcendence basis do not change E generically: x_i is algebraic over K, and
+its minimal polynomial over K stays irreducible over K extended by
+algebraically independent elements.
 
 **Other complex values, undecided over the reals**: otherwise (several real
-roots of P without shape position, which need not belong to real points of the
-fibre; one real root
-but no odd binomial shape, so the count could change elsewhere; or the
-elimination did not end in its budget). Never a bare "only locally".
+roots of E without shape position, which need not belong to real points of the
+fibre; one real root but no certificate that holds elsewhere; Q(x_i) not
+constant at the second point; or the elimination did not end in its budget).
+Never a bare "only locally".
 """
 
 from __future__ import annotations
@@ -49,7 +60,8 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from ..budget import Undecided, with_budget
-from .fibre import FibreEquations
+from .fibre import FibreDraws, FibreEquations
+from .realroots import real_roots, several_real_levels, strictly_monotone
 
 __all__ = ["RealAnswer", "real_answers", "REAL_BUDGET"]
 
@@ -66,58 +78,145 @@ class RealAnswer:
     name : str
     unique : bool or None
         True: unique among real values; False: a second real value (a mirror
-        moves it); None: other complex values, the reals undecided.
+        or a real point of the fibre); None: other complex values, the reals undecided.
     how : str
         The argument, or why undecided.
+    error : float
+        Error probability the answer adds to the verdict's (a membership test at a
+        second point; 0 when none was needed).
     """
 
     name: str
     unique: bool | None
     how: str
+    error: float = 0.0
 
     def to_dict(self) -> dict:
         return {"unique_among_real_values": self.unique, "how": self.how}
 
 
 def real_answers(equations: FibreEquations | None, coordinates: dict[str, sympy.Symbol], only: tuple[str, ...],
-                 mirrors: tuple[str, ...], budget: float | None) -> tuple[RealAnswer, ...]:
+                 mirrors: tuple[str, ...], budget: float | None, draws: FibreDraws | None = None
+                 ) -> tuple[RealAnswer, ...]:
     """Each state of ``only`` over the reals (the module's three answers): moved
     by one of ``mirrors`` ("a, b -> -a, -b"), or by its eliminant on the fibre
-    ``equations`` (None: not available), all of them within ``budget`` seconds
-    (at most :data:`REAL_BUDGET`; None: no limit)."""
+    ``equations`` (None: not available) and the further fibres of ``draws``
+    (None: none drawn), all of them within ``budget`` seconds (at most
+    :data:`REAL_BUDGET`; None: no limit)."""
     moved = {name: text for text in mirrors for name in text.split(" -> ")[0].split(", ")}
     rest = [name for name in only if name not in moved]
-    eliminants: dict[str, tuple[sympy.Poly, bool] | str] = {name: "no fibre over Q" for name in rest}
+    found = {name: _undecided(name, "no fibre over Q") for name in rest}
     if equations is not None and rest:
         seconds = None if budget is None else min(budget, REAL_BUDGET)  # None: no limit, as the caller's
         try:
-            eliminants = with_budget(_eliminants, equations, {name: coordinates[name] for name in rest},
-                                     seconds=seconds)
+            found = with_budget(_decide, equations, {name: coordinates[name] for name in rest}, draws,
+                                seconds=seconds)
         except Undecided as exc:
-            eliminants = {name: str(exc) for name in rest}
+            found = {name: _undecided(name, str(exc)) for name in rest}
     return tuple(RealAnswer(name, False, f"the mirror {moved[name]} gives a second real state") if name in moved
-                 else _answer(name, eliminants[name]) for name in only)
+                 else found[name] for name in only)
 
 
-def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str) -> RealAnswer:
-    """The answer from the eliminant P and whether the fibre is in shape
-    position for it (or why there is none)."""
+def _undecided(name: str, why: str) -> RealAnswer:
+    return RealAnswer(name, None, f"other complex values; over the reals undecided ({why})")
+
+
+def _decide(equations: FibreEquations, variables: dict[str, sympy.Symbol], draws: FibreDraws | None
+            ) -> dict[str, RealAnswer]:
+    eliminants = _eliminants(equations, variables)
+    return {name: _answer(name, eliminants[name], equations, draws) for name in variables}
+
+
+def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str, equations: FibreEquations | None = None,
+            draws: FibreDraws | None = None) -> RealAnswer:
+    """The answer from the eliminant E at the random point and whether the fibre is
+    in shape position for it (or why there is none), asking ``draws`` for the
+    further fibres the module's arguments need (None: none, undecided there)."""
     if isinstance(eliminant, str):
-        return RealAnswer(name, None, f"other complex values; over the reals undecided ({eliminant})")
+        return _undecided(name, eliminant)
     eliminant, shape = eliminant
     real = eliminant.sqf_part().count_roots()
     said = f"its values on the fibre at the random point are the roots of {eliminant.as_expr()}"
+    if real >= 2 and shape:
+        return RealAnswer(name, False, f"{said}: {real} real (Sturm), each a real point of the fibre (every "
+                                       f"unknown there a polynomial in {name} modulo its ideal)")
     if real == 1 and _odd_binomial(eliminant):
         return RealAnswer(name, True, f"{said}: one real (Sturm), the other {eliminant.degree() - 1} complex; a "
                                       "polynomial (T - b)^d - c of odd degree d has one real root for every real b, c")
+    level = eliminant - eliminant.eval(0)
+    if draws is not None and strictly_monotone(level):
+        return _monotone(name, level, said, draws)
+    if draws is not None and equations is not None:
+        elsewhere = _elsewhere(name, eliminant, level, equations, draws)
+        if elsewhere is not None:
+            return elsewhere
     if real == 1:
         return RealAnswer(name, None, f"other complex values; {said}: one real (Sturm) there, but the count may "
                                       "differ at other points")
-    if shape:
-        return RealAnswer(name, False, f"{said}: {real} real (Sturm), each a real point of the fibre (every "
-                                       f"unknown there a polynomial in {name} modulo its ideal)")
     return RealAnswer(name, None, f"other complex values; {said}: {real} real (Sturm), not known to belong to "
                                   "real states")
+
+
+def _monotone(name: str, level: sympy.Poly, said: str, draws: FibreDraws) -> RealAnswer:
+    """Unique among real values when Q(x) = ``level`` (strictly monotone) is constant on
+    a fibre through an independent point (the module's argument); else undecided."""
+    q = level.as_expr()
+    fraction = sympy.fraction(sympy.together(q))
+    drawn = draws.independent([fraction])
+    if isinstance(drawn, str):
+        return _undecided(name, f"{said}; {q} is strictly monotone, but {drawn}")
+    fibre, error = drawn
+    if not fibre.constant_on(fraction):
+        return _undecided(name, f"{said}: {q} is strictly monotone, but not constant on the fibre through a "
+                                "second point, so the count may differ elsewhere")
+    return RealAnswer(name, True, f"the outputs determine {q} (field membership at a second, independent random "
+                                  f"point) and it is strictly monotone in {name} ({level.diff().as_expr()} has no "
+                                  "real root of odd multiplicity: Sturm), so every real state with the same outputs "
+                                  f"has the same {name}; the other values are complex", error)
+
+
+def _elsewhere(name: str, eliminant: sympy.Poly, level: sympy.Poly, equations: FibreEquations,
+               draws: FibreDraws) -> RealAnswer | None:
+    """A second real value at the point a' of the module (the random point with
+    the state at a level s where Q(T) = Q(s) has several simple real roots), or
+    None when there is none to try or the fibre there does not show one."""
+    found = several_real_levels(level)
+    if found is None:
+        return None
+    s, _ = found
+    variable = level.gen
+    point = {c: equations.values[c] for c in draws.model.coordinates} | dict(equations.given)
+    point[variable] = s
+    at = draws.at(point)
+    if isinstance(at, str):
+        return None
+    there = _eliminants(at, {name: variable})[name]
+    if isinstance(there, str):
+        return None
+    there, shape = there
+    roots = real_roots(there)
+    simple = there.sqf_part().degree() == there.degree() == eliminant.degree()
+    if not (shape and simple and len(roots) >= 2):
+        return None
+    low, high = next(_apart(there, interval) for interval in roots if not interval[0] <= s <= interval[1])
+    others = "".join(f", {c} = {point[c]}" for c in draws.model.coordinates if c != variable)
+    known = f" (known: {', '.join(f'{c} = {v}' for c, v in equations.given.items())})" if equations.given else ""
+    halves = " (an angle as tan(angle/2))" if draws.model.angles else ""
+    return RealAnswer(name, False, f"at the real state {variable} = {s}{others}{known}{halves}, the values of "
+                                   f"{name} on the fibre are the {len(roots)} real roots of {there.as_expr()} "
+                                   f"(Sturm), each a real state with the same outputs (every unknown a polynomial "
+                                   f"in {name} there), e.g. {name} in "
+                                   f"[{low}, {high}]; simple and as many as at the random point, they persist on an "
+                                   "open set of real states")
+
+
+def _apart(p: sympy.Poly, interval: tuple[sympy.Rational, sympy.Rational]) -> tuple[sympy.Rational, sympy.Rational]:
+    """The isolating ``interval`` of one of p's roots, refined to a width below 2^-20."""
+    low, high = interval
+    if low == high:
+        return low, high
+    low, high = p.sqf_part().refine_root(low, high, eps=sympy.Rational(1, 2**20))
+    return sympy.Rational(low), sympy.Rational(high)
 
 
 def _odd_binomial(p: sympy.Poly) -> bool:

@@ -64,12 +64,10 @@ from ..budget import BudgetedRun, Undecided, with_budget
 from ..errors import ModelError
 from ..model.prepare import prepare
 from ..model.system import System
-from ..rank.membership import sampling_range
 from ..model.expressions import parse_expression
 from .constantfield import with_parameter, written_back
-from .fibre import exact_fibre, fibre_equations, known_variables
+from .fibre import FibreDraws, exact_fibre, fibre_equations, fibre_range
 from .modularfibre import members_modulo_prime
-from .reducedfibre import radical_range
 from .generators import generate_the_field, reduced_pair
 from .globalfield import FieldGenerators, field_generators, pair_candidates
 from .iofield import field_members
@@ -78,7 +76,7 @@ from .realvalues import RealAnswer, real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .outputforms import carried_over
-from .rationalmodel import RationalModel, degree_bounds, polynomial_degree, rational_model
+from .rationalmodel import RationalModel, rational_model
 from .truncation import truncation_orders
 
 if TYPE_CHECKING:
@@ -226,7 +224,8 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     members, bits, probability, angles, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
     index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
-    reals = real_answers(equations, index, tuple(s for s in local if where[s] is False), mirrors, budget)
+    reals = real_answers(equations, index, tuple(s for s in local if where[s] is False), mirrors, budget,
+                         FibreDraws(prepared, model, orders, result.rank, error, seed))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
@@ -236,7 +235,7 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
     if mirrors:
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
-    probability += result.error_probability or 0.0
+    probability += (result.error_probability or 0.0) + sum(r.error for r in reals)
     generates, generation, added = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
     probability += (error + added) if added is not None else 0.0
     field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
@@ -552,7 +551,7 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     # Pairs are tested only in coordinates that are the states (no angle's T): printed as they are.
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
-    bound = _fibre_range(system, model, orders, [*fractions, *paired], error, modular)
+    bound = fibre_range(system, model, orders, [*fractions, *paired], error, modular)
     rng = random.Random(seed)
     equations = fibre_equations(system, model, orders, rank, bound, rng, modular)
     if isinstance(equations, str):
@@ -573,19 +572,6 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
     return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
         mirrors(system, model, only), found, how, None if modular else equations
-
-
-def _fibre_range(system: System, model: RationalModel, orders: dict[str, int],
-                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float, modular: bool) -> int:
-    """The sampling range that bounds the membership test's error for ``fractions``;
-    ``modular``: at least :func:`~.reducedfibre.radical_range` too, which makes the
-    fibre radical (its error added where that certifies an answer)."""
-    heights = [orders[name] for name, _ in system.outputs]
-    known = known_variables(system, orders)
-    variables = [*model.coordinates, *known]
-    degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
-    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
-    return max(bound, radical_range(model, heights, known, error)) if modular else bound
 
 
 def _supported(system: System) -> None:

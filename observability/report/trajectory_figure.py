@@ -46,7 +46,7 @@ def _curves(axis, profile: str, windows: Sequence[Window]) -> None:
     middles = [(w.t0 + w.t1) / 2 for w in windows]
     for state in _states(windows):
         axis.step(middles, [w.min_error_variance.get(state, float("nan")) for w in windows], where="mid", label=state)
-    axis.axhline(1 / PRIOR, color="0.6", linestyle=":", label="prior (state lost)")
+    axis.axhline(1 / PRIOR, color="0.6", linestyle=":", label="prior (no information)")
     axis.set_yscale("log")
     axis.set_xlabel("time (window middle)")
     axis.set_title(f"inputs {profile or '(none)'}")
