@@ -201,7 +201,7 @@ def test_monotone_means_no_real_root_of_odd_multiplicity_in_the_derivative():
     """By hand: T^3 is strictly increasing although its derivative 3 T^2 vanishes at 0 (a root of
     even multiplicity: no sign change); T^5 + T^3 + T and T are increasing; T^3 - 3 T (derivative
     3 (T - 1)(T + 1)), T^2 and T^4 - 2 T^2 are not; a constant is not injective."""
-    from observability.analysis.realroots import strictly_monotone
+    from observability.identifiability.realroots import strictly_monotone
 
     T = sympy.Symbol("T")
     for q, monotone in ((T**3, True), (T**5 + T**3 + T, True), (T, True), (-T**3 + 2, True),
@@ -214,7 +214,7 @@ def test_a_level_with_several_simple_real_solutions_is_found_exactly():
     solutions: the level returned is checked here with numpy's companion-matrix roots (another
     route): as many real roots as said, at least 2, all simple (pairwise apart), s among them.
     A strictly monotone q has none."""
-    from observability.analysis.realroots import several_real_levels
+    from observability.identifiability.realroots import several_real_levels
 
     T = sympy.Symbol("T")
     for q in (T**3 - 3 * T, T**4 - 2 * T**2, T**2):
