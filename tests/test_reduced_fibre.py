@@ -151,7 +151,7 @@ def test_a_rank_modulo_the_prime_that_falls_short_says_so(monkeypatch):
     answer is undecided and names the modulus, since the rank over Q may still be full."""
     from observability.identifiability import fibre
 
-    monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank, rank_of: None)
+    monkeypatch.setattr(fibre, "_free_coordinates", lambda jets, coordinates, rank, rank_of, given=(): None)
     system = System(["x"], ["1"], {"y": "x**2"})
     result = analyze(system, seed=5, directions=False)
     prepared = uniqueness.prepare(system).system

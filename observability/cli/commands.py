@@ -140,7 +140,7 @@ def check_command(args: argparse.Namespace) -> int:
     if args.all:
         if args.model:
             raise UsageError("give either MODEL or --all, not both")
-        if getattr(args, "global_", False):
+        if getattr(args, "global_", False) or getattr(args, "known_initial", None) is not None:
             raise UsageError("--global answers for one MODEL (its Groebner bases may take the whole budget each)")
         results = []
         times = [args.time] if args.time else ["continuous", "discrete"]
@@ -173,6 +173,8 @@ def check_command(args: argparse.Namespace) -> int:
             raise UsageError("--orders applies to --point (the highest Lie order computed at the point)")
         if getattr(args, "global_", False):
             result = _global(prepared, result, args)
+        elif getattr(args, "known_initial", None) is not None:
+            raise UsageError("--known-initial applies to --global (the local verdict takes no initial values)")
     if result.observable is None:
         code = EXIT_UNDECIDED
     else:
@@ -198,7 +200,8 @@ def _global(prepared: tuple, result: ObservabilityResult, args: argparse.Namespa
     if constraint is not None or args.method == "float" or args.point is not None:
         raise UsageError("--global answers for generic points of the model: not with --where, --point or the float "
                          "method")
-    answer = global_observability(restricted, result, seed=args.seed or 0, budget=args.budget)
+    known = [n.strip() for n in (getattr(args, "known_initial", None) or "").split(",") if n.strip()]
+    answer = global_observability(restricted, result, seed=args.seed or 0, budget=args.budget, known=known)
     return dataclasses.replace(result, global_answer=answer)
 
 

@@ -84,6 +84,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="also which locally observable states are determined uniquely (globally) and which only "
                             "up to finitely many values: field membership at a random point, with its error probability "
                             "(continuous time, rational models; sines and cosines of states allowed)")
+    check.add_argument("--known-initial", default=None, metavar="NAME,...",
+                       help="with --global: states whose initial values are known (generic values, as SI.jl's "
+                            "known_ic); the answers are then about what the outputs and those values determine")
     check.set_defaults(func=check_command)
     codegen = sub.add_parser("codegen", help="write C source, header and loader of the filter's functions")
     _model_arguments(codegen)

@@ -73,47 +73,50 @@ def known_variables(system: System, orders: dict[str, int]) -> list[sympy.Symbol
 
 
 def fibre_equations(system: System, model: RationalModel, orders: dict[str, int], rank: int, bound: int,
-                    rng: random.Random, modular: bool) -> FibreEquations | str:
+                    rng: random.Random, modular: bool, given: tuple[sympy.Symbol, ...] = ()) -> FibreEquations | str:
     """The fibre's equations through a random point with coordinates in [-bound,
     bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there.
     ``modular``: its ranks modulo a prime (:func:`~observability.rank.membership.rank_mod_prime`,
-    a full rank certain), for points of thousands of bits."""
+    a full rank certain), for points of thousands of bits. ``given``: coordinates
+    whose initial values are known (:mod:`.knownvalues`), fixed at the point like
+    the adjoined ones; ``rank`` is then the rank with them."""
     known = known_variables(system, orders)
     for _ in range(100):
         point = {v: sympy.Integer(rng.randint(-bound, bound)) for v in (*model.coordinates, *known)}
         try:
-            return fibre_equations_at(system, model, orders, rank, point, modular)
+            return fibre_equations_at(system, model, orders, rank, point, modular, given)
         except ZeroDivisionError:  # a denominator vanishes there: such a point is one the theorem excludes
             continue
     raise ModelError("--global: a denominator of the model vanishes at every random point")
 
 
 def fibre_equations_at(system: System, model: RationalModel, orders: dict[str, int], rank: int, point: dict,
-                       modular: bool = False) -> FibreEquations | str:
+                       modular: bool = False, given: tuple[sympy.Symbol, ...] = ()) -> FibreEquations | str:
     """:func:`fibre_equations` through the given rational ``point`` (every coordinate
     and known variable); raises ZeroDivisionError where a denominator vanishes there."""
     heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     jets = jet_equations(model.coordinates, model.speeds, model.outputs, heights, system.inputs, point)
-    free = _free_coordinates(jets, model.coordinates, rank, rank_mod_prime if modular else exact_rank)
+    free = _free_coordinates(jets, model.coordinates, rank, rank_mod_prime if modular else exact_rank, given)
     if free is None:
         where = " (its rank modulo 2^61 - 1)" if modular else ""
         return f"the Jacobian of the Lie derivatives did not reach the verdict's rank {rank} at the random point{where}"
     # The known variables are generators of the field: adjoined at their values, i.e. substituted.
-    return FibreEquations((*jets.equations, *(c - jets.values[c] for c in free)), jets.unknowns, jets.saturation,
-                          dict(jets.values), {v: point[v] for v in known})
+    return FibreEquations((*jets.equations, *(c - jets.values[c] for c in (*given, *free))), jets.unknowns,
+                          jets.saturation, dict(jets.values), {v: point[v] for v in known})
 
 
 def fibre_range(system: System, model: RationalModel, orders: dict[str, int],
-                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float, modular: bool) -> int:
+                fractions: list[tuple[sympy.Expr, sympy.Expr]], error: float, modular: bool, given: int = 0) -> int:
     """The sampling range that bounds the membership test's error for ``fractions``;
     ``modular``: at least :func:`~.reducedfibre.radical_range` too, which makes the
-    fibre radical (its error added where that certifies an answer)."""
+    fibre radical (its error added where that certifies an answer). ``given`` known
+    states are generators of degree (1, 0) too."""
     heights = [orders[name] for name, _ in system.outputs]
     known = known_variables(system, orders)
     variables = [*model.coordinates, *known]
     degrees = [(polynomial_degree(n, variables), polynomial_degree(d, variables)) for n, d in fractions]
-    bound = sampling_range(degree_bounds(model, heights, known), degrees, len(variables), error)
+    bound = sampling_range([*degree_bounds(model, heights, known), *[(1, 0)] * given], degrees, len(variables), error)
     return max(bound, radical_range(model, heights, known, error)) if modular else bound
 
 
@@ -155,19 +158,22 @@ def exact_fibre(equations: FibreEquations) -> Fibre:
     return Fibre(saturated_basis(list(equations.equations), equations.unknowns, equations.saturation), equations)
 
 
-def _free_coordinates(jets: JetEquations, coordinates, rank: int,
-                      rank_of: Callable[[list, int], int] = exact_rank) -> list[sympy.Symbol] | None:
+def _free_coordinates(jets: JetEquations, coordinates, rank: int, rank_of: Callable[[list, int], int] = exact_rank,
+                      given: tuple[sympy.Symbol, ...] = ()) -> list[sympy.Symbol] | None:
     """Coordinates whose values, adjoined to the field, make its transcendence
     degree full. The jets' Jacobian has rank (number of jets) + rank of the Lie
     derivatives' Jacobian, the state equations being triangular in the jets with
     non-zero diagonal; where that rank is the verdict's, the completed matrix's
     non-zero minor certifies the chosen coordinates. ``rank_of`` may be a lower
     bound of the rank (modulo a prime): a completion to full rank is certain
-    all the same, and None where it falls short."""
+    all the same, and None where it falls short. The ``given`` coordinates are
+    rows of the Jacobian (unit rows), and never among those chosen."""
     unknowns = list(jets.unknowns)
     rows = [[sympy.diff(e, u).xreplace(jets.values) for u in unknowns] for e in jets.equations]
+    rows += [[int(u == c) for u in unknowns] for c in given]
     derivatives = len(unknowns) - len(coordinates)
     if rank_of(rows, len(unknowns)) != derivatives + rank:
         return None
-    chosen = completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates], rank_of)
+    chosen = completing_columns(rows, len(unknowns), [unknowns.index(c) for c in coordinates if c not in given],
+                                rank_of)
     return [unknowns[j] for j in chosen] if derivatives + rank + len(chosen) == len(unknowns) else None

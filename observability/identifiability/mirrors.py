@@ -15,17 +15,21 @@ from .rationalmodel import RationalModel
 __all__ = ["mirrors"]
 
 
-def mirrors(system: System, model: RationalModel, only: tuple[str, ...]) -> tuple[str, ...]:
+def mirrors(system: System, model: RationalModel, only: tuple[str, ...], given: tuple[str, ...] = ()
+            ) -> tuple[str, ...]:
     """Discrete symmetries sigma among sign flips (of one only-locally state, of
     all of them, of every state) and half-turns of only-locally angles
     (a -> a + pi, T -> -1/T), with h(sigma x) = h(x) and f(sigma x) = D sigma f(x)
     for every input, checked as rational identities: x and sigma(x) then give
-    the same outputs for all time, a second real solution wherever sigma moves x."""
+    the same outputs for all time, a second real solution wherever sigma moves x.
+    A sigma that moves a state of ``given`` (its initial value known) is no
+    mirror: it changes that value."""
     if not only:
         return ()
     names = [s.name for s in system.states]
     angles = {a.name for a in model.angles}
-    candidates = [(group, "flip") for group in dict.fromkeys([*((n,) for n in only), only, tuple(names)])]
+    candidates = [(group, "flip") for group in dict.fromkeys([*((n,) for n in only), only, tuple(names)])
+                  if not set(group) & set(given)]
     turning = tuple(n for n in only if n in angles)
     candidates += [(group, "turn") for group in dict.fromkeys([*((n,) for n in turning), turning]) if group]
     found = []

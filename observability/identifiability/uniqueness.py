@@ -55,7 +55,9 @@ value, which are unique among real values, and which are undecided there.
 from __future__ import annotations
 
 import random
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import sympy
@@ -70,9 +72,11 @@ from .fibre import FibreDraws, exact_fibre, fibre_equations, fibre_range
 from .modularfibre import members_modulo_prime
 from .generators import generate_the_field, reduced_pair
 from .globalfield import FieldGenerators, field_generators, pair_candidates
+from .globalverdict import GlobalVerdict
 from .iofield import field_members
+from .knownvalues import KnownValues, check_names, known_values
 from .mirrors import mirrors
-from .realvalues import RealAnswer, real_answers
+from .realvalues import real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .outputforms import carried_over
@@ -91,85 +95,16 @@ GLOBAL_ERROR = 1e-6
 ALONE = 2.0
 
 
-@dataclass(frozen=True)
-class GlobalVerdict:
-    """Which locally observable states are determined uniquely.
-
-    Attributes
-    ----------
-    globally : tuple of str
-        States and unknown constants determined uniquely (angles modulo 2 pi).
-    only_locally : tuple of str
-        Locally observable, not globally: other (complex) states share the outputs;
-        ``reals`` says which of them have a second real value, which are unique
-        among real values, and which are undecided over the reals.
-    undecided : tuple of str
-        Locally observable states the test could not decide (``details`` says why).
-    error_probability : float or None
-        Chance that an answer is wrong (membership test plus the local verdict's).
-    details : str
-        The method, the orders used, and what guarantees the answer.
-    mirrors : tuple of str
-        Discrete symmetries verified exactly ("y -> -y"): each makes the states
-        it moves only locally observable with certainty, over the reals too.
-    functions : tuple of (str, bool or None)
-        The verdict's observable functions (those not a state) and whether each
-        is globally observable (tested with the states, same probability; None:
-        undecided).
-    generates_field : bool or None
-        Whether the verdict's observable functions (states included) generate
-        the field of globally observable functions (:mod:`.generators`), with the
-        error probability (which includes this test); None when not decided
-        (``generation`` says why).
-    generation : str
-        The reason for ``generates_field``.
-    reals : tuple of RealAnswer
-        The states of ``only_locally`` over the reals (:mod:`.realvalues`), with
-        the argument; a state without one has only other complex values known.
-    field : FieldGenerators or None
-        Generators of the field of globally observable functions: the printed
-        functions when they generate it, else those of :mod:`.globalfield`;
-        None when nothing was tested.
-    """
-
-    globally: tuple[str, ...]
-    only_locally: tuple[str, ...]
-    undecided: tuple[str, ...]
-    error_probability: float | None
-    details: str
-    mirrors: tuple[str, ...] = ()
-    functions: tuple[tuple[str, bool], ...] = ()
-    generates_field: bool | None = None
-    generation: str = ""
-    field: FieldGenerators | None = None
-    reals: tuple[RealAnswer, ...] = ()
-
-    def over_the_reals(self, name: str) -> bool | None:
-        """For a state of ``only_locally``: True unique among real values, False a
-        second real value, None only other complex values known (:mod:`.realvalues`)."""
-        return next((r.unique for r in self.reals if r.name == name), None)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"globally_observable_states": list(self.globally),
-                "only_locally_observable_states": list(self.only_locally),
-                "only_locally_over_the_reals": {r.name: r.to_dict() for r in self.reals},
-                "undecided": list(self.undecided), "error_probability": self.error_probability,
-                "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions),
-                "functions_generate_the_field": self.generates_field, "generation": self.generation,
-                "globally_observable_functions": list(self.field.generators) if self.field else None,
-                "globally_observable_functions_generate": self.field.generates if self.field else None,
-                "globally_observable_functions_how": self.field.how if self.field else ""}
-
-
-def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0,
-                         error: float = GLOBAL_ERROR, budget: float | None = 60.0) -> GlobalVerdict:
+def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0, error: float = GLOBAL_ERROR,
+                         budget: float | None = 60.0, known: Sequence[str] = ()) -> GlobalVerdict:
     """Globally or only locally observable, for each locally observable state of ``result``.
 
     Parameters
     ----------
     system : System
-        The model ``result`` was computed for (continuous time, known inputs,
-        rational after writing angles through tan(angle/2)).
+        The model ``result`` was computed for (continuous time and known inputs,
+        else every answer is undecided with the reason; rational after writing
+        angles through tan(angle/2)).
     result : ObservabilityResult
         Its local verdict: the observable states and the independent rows' labels.
     seed : int
@@ -182,6 +117,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
         modulo random primes, started beside it once it has run :data:`ALONE`
         seconds (its answer used when the route over Q has none); "undecided"
         past both.
+    known : sequence of str
+        States whose initial values are known, generic values (SI.jl's
+        ``known_ic``; :mod:`.knownvalues`): the answers are then about every state
+        locally observable with them, by the fibre's route alone.
 
     Notes
     -----
@@ -189,15 +128,21 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     value here, which decides the same (:mod:`.constantfield`); other irrational
     constants are refused (ModelError).
     """
-    _supported(system)
+    check_names(system, known)
+    if reason := _unsupported(system):
+        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {reason}")
     system, result, constant = with_parameter(system, result, "--global")
-    verdict = _global(system, result, seed, error, budget)
+    given = known_values(system, result, known) if known else None
+    if isinstance(given, str):
+        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {given}")
+    verdict = _global(system, result, seed, error, budget, given)
     return verdict if constant is None else written_back(verdict, constant)
 
 
-def _global(system: System, result: ObservabilityResult, seed: int, error: float, budget: float | None
-            ) -> GlobalVerdict:
-    """:func:`global_observability` of a system whose constants are rational."""
+def _global(system: System, result: ObservabilityResult, seed: int, error: float, budget: float | None,
+            given: KnownValues | None = None) -> GlobalVerdict:
+    """:func:`global_observability` of a system whose constants are rational; ``given``: with
+    known initial values, whose local answer replaces the verdict's."""
     local = tuple(result.observable_states or ())
     if result.rank is None or result.observable_states is None:
         return GlobalVerdict((), (), local, None, "undecided: the local verdict did not decide the observable states")
@@ -206,41 +151,49 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         model = rational_model(prepared)
     except ModelError as exc:  # a well-formed model outside the rational test: undecided, not bad input
         return GlobalVerdict((), (), local, None, f"undecided: {str(exc).removeprefix('--global: ')}")
-    functions = _functions(prepared, result)
+    functions = [] if given else _functions(prepared, result)
+    local, rank = (given.local, given.rank) if given else (local, result.rank)
     if not local and not functions:
         return GlobalVerdict((), (), (), 0.0, "no state is locally observable")
     orders = truncation_orders(prepared, result.rank, seed)
     if isinstance(orders, str):
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
-    arguments = (prepared, model, orders, result.rank, local, [f for _, f in functions], error, seed)
+    arguments = (prepared, model, orders, rank, local, [f for _, f in functions], error, seed)
     try:
-        decided = _over_q_then_modulo_primes(_decide, arguments, (True,), budget)
+        decided = _over_q_then_modulo_primes(partial(_decide, given=given.names) if given else _decide, arguments,
+                                             (True,), budget)
     except Undecided as exc:
         decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
+    if isinstance(decided, str) and given:
+        return GlobalVerdict((), (), local, None, f"undecided: {decided}; the input-output route does not take known "
+                             f"initial values; {given.how}")
     if isinstance(decided, str):
         return carried_over(_through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget,
                                                  functions), model.output_forms, [name for name, _ in prepared.outputs])
     members, bits, probability, angles, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
     index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
+    # Further fibres are drawn without the known values, so with them only the first fibre is read.
     reals = real_answers(equations, index, tuple(s for s in local if where[s] is False), mirrors, budget,
-                         FibreDraws(prepared, model, orders, result.rank, error, seed))
+                         None if given else FibreDraws(prepared, model, orders, result.rank, error, seed))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
     angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
                f"{bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate every Lie "
                f"derivative: certain), as polynomial equations in the states' derivatives (SIAN's form), decided "
-               f"by {how}; 'only locally' means other complex states share the outputs{angle_note}")
+               f"by {how}; 'only locally' means other complex states share the outputs{angle_note}"
+               + (f"; {given.how}" if given else ""))
     if mirrors:
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
                     + " leaves the outputs and the dynamics unchanged, as exact identities")
     probability += (result.error_probability or 0.0) + sum(r.error for r in reals)
-    generates, generation, added = _generation(prepared, model, result, orders, where, answers, seed, error, budget)
+    generates, generation, added = (None, "", None) if given else \
+        _generation(prepared, model, result, orders, where, answers, seed, error, budget)
     probability += (error + added) if added is not None else 0.0
     field = FieldGenerators(tuple(result.observable_functions or ()), True, generation, added or 0.0) \
         if generates else None
-    if generates is not True:
+    if generates is not True and not given:  # the field's routes know nothing of the known values
         unique = [(s, index[s]) for s in local if where[s]]
         unique += [(text, model.rewrite(f)) for (text, f), (_, member) in zip(functions, answers) if member]
         unique += [(sympy.sstr(sympy.factor_terms(f)), f) for f in paired]
@@ -540,20 +493,21 @@ def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, s
 
 
 def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: int, local: tuple[str, ...],
-            functions: list[sympy.Expr], error: float, seed: int, modular: bool = False):
+            functions: list[sympy.Expr], error: float, seed: int, modular: bool = False, given: tuple[str, ...] = ()):
     """The symbolic work, in one budgeted child: (members of the states, then of the functions
     (None: undecided), range bits, error, angle names, mirrors, pairs found, how), or why not
     when the Jacobian does not reach ``rank`` at the point. ``modular``: decided modulo random
-    primes (:mod:`.modularfibre`) instead of by the basis over Q."""
+    primes (:mod:`.modularfibre`) instead of by the basis over Q. ``given``: states whose initial
+    values are known, fixed on the fibre (``rank`` the rank with them: :mod:`.knownvalues`)."""
     index = {s.name: c for s, c in zip(system.states, model.coordinates)}
     tested = [*(index[name] for name in local), *(model.rewrite(f) for f in functions)]
     fractions = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
     # Pairs are tested only in coordinates that are the states (no angle's T): printed as they are.
     pairs = [] if model.angles else pair_candidates(tested)
     paired = [sympy.fraction(sympy.together(f)) for _, f in pairs]
-    bound = fibre_range(system, model, orders, [*fractions, *paired], error, modular)
+    bound = fibre_range(system, model, orders, [*fractions, *paired], error, modular, len(given))
     rng = random.Random(seed)
-    equations = fibre_equations(system, model, orders, rank, bound, rng, modular)
+    equations = fibre_equations(system, model, orders, rank, bound, rng, modular, tuple(index[n] for n in given))
     if isinstance(equations, str):
         return equations
     # Redrawing after a vanishing denominator conditions on an event of probability >= 1 - error.
@@ -571,11 +525,18 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     outside = {i for i, member in enumerate(members) if member is False}
     found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
     return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
-        mirrors(system, model, only), found, how, None if modular else equations
+        mirrors(system, model, only, given), found, how, None if modular else equations
 
 
-def _supported(system: System) -> None:
+def _unsupported(system: System) -> str:
+    """Why no global answer is given for ``system`` ("" when one may be): a well-formed
+    model, so "undecided" with the reason, not bad input."""
     if system.time != "continuous":
-        raise ModelError("--global: continuous time only (in discrete time the outputs' field is not closed "
-                         "under the shift at a bounded order, so no truncation is certain)")
-    system.require_known_inputs("the global analysis")
+        return ("continuous time only (in discrete time the outputs' field is not closed under the shift at a "
+                "bounded order, so no truncation is certain)")
+    if system.arbitrary_inputs:
+        return (f"the unknown inputs {', '.join(u.name for u in system.arbitrary_inputs)} may be any function of "
+                "time: each Lie derivative brings in new unknowns (their derivatives), so no truncation of the "
+                "outputs' field is known here; give unknown_input_degree = K to assume polynomials in time of "
+                "degree K, which --global decides")
+    return ""
