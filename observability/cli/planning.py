@@ -19,6 +19,9 @@ def _text(choice) -> str:
     n, lines = choice.n_states, []
     head = (f"{len(choice.minimal_sets)} cheapest set(s) of candidates make it observable (rank {n} of {n})"
             if choice.observable else f"no set of candidates makes it observable: the best rank is {choice.target} of {n}")
+    if [s.candidates for s in choice.minimal_sets] == [()]:  # the empty set is the cheapest
+        head = (f"observable without candidates (rank {n} of {n})" if choice.observable else
+                f"no candidate raises the rank: the best rank is the model's own, {choice.target} of {n}")
     lines.append(f"{choice.model}: {head}")
     lines.append(f"  without candidates: rank {choice.base.rank} of {n} ({choice.base.proof})")
     for s in choice.minimal_sets:
