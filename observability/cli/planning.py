@@ -89,7 +89,7 @@ def design_command(args: argparse.Namespace) -> int:
             show("designing the inputs (IPOPT)")
         design = design_inputs(
             system, _initials(args), duration=args.duration, window=args.window,
-            bounds=_bounds(args.bounds), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
+            bounds=_bounds(",".join(args.bounds)), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
             noise=_numbers(args.noise, "--noise") or 1.0, parameters=_numbers(args.parameters, "--parameters"),
             smoothness=args.smoothness, objective=args.objective, seed=args.seed or 0, budget=args.budget)
         clear_line()

@@ -42,6 +42,7 @@ reaches is for :mod:`observability.trajectory` to check on the written inputs
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -80,6 +81,8 @@ class InputDesign:
         Each input's value on each piece.
     baseline : dict[str, float]
         The profile compared with (constant in time).
+    window : float
+        Each window's real length: its steps (window / dt rounded, as the trajectory counts them) times dt.
     designed_weakest, baseline_weakest : tuple of float
         Per window, the smallest eigenvalue of the Fisher information without
         the never-observable directions (the worst over the initial states).
@@ -155,6 +158,12 @@ class _Problem:
     baseline: dict[str, float]
     initials: tuple[Mapping[str, float], ...]
 
+    @property
+    def starts(self) -> tuple[int, ...]:
+        """Each piece's first step: pieces start on steps, so the solver's inputs and the CSV's
+        times (step x dt, as the trajectory samples them) are the same profile."""
+        return tuple(i * self.steps // self.pieces for i in range(self.pieces))
+
 
 def initial_samples(initial: Mapping[str, float], spread: Mapping[str, float], count: int,
                     seed: int = 0) -> tuple[dict[str, float], ...]:
@@ -189,6 +198,24 @@ def initial_samples(initial: Mapping[str, float], spread: Mapping[str, float], c
     return (dict(initial), *draws)
 
 
+def _check_names(system: System, bounds: Mapping[str, tuple[float, float]], baseline: Mapping[str, float],
+                 parameters: Mapping[str, float]) -> None:
+    """Refuse a baseline value for a name that is not an input or outside its input's bounds, and a
+    parameter the model does not have (ModelError naming it): none would be used as asked."""
+    names = [u.name for u in system.inputs]
+    for name, value in baseline.items():
+        if name not in names:
+            what = "a state" if name in {s.name for s in system.states} else "not a name"
+            raise ModelError(f"--input {name}: {what} of {system.name}, not an input ({', '.join(names) or 'none'})")
+        low, high = bounds.get(name, (-math.inf, math.inf))
+        if not low <= float(value) <= high:
+            raise ModelError(f"--input {name}={float(value):g}: the baseline is outside its --bounds {low:g}:{high:g}")
+    known = [q.name for q in system.parameters]
+    for name in parameters:
+        if name not in known:
+            raise ModelError(f"--parameters {name}: not a parameter of {system.name} ({', '.join(known) or 'none'})")
+
+
 def _problem(system: System, initials: tuple[Mapping[str, float], ...], duration: float, window: float,
              dt: float | None, pieces: int | None, bounds: Mapping[str, tuple[float, float]],
              baseline: Mapping[str, float], parameters: Mapping[str, float]) -> _Problem:
@@ -203,6 +230,7 @@ def _problem(system: System, initials: tuple[Mapping[str, float], ...], duration
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: expected finite bounds with LO < HI")
         if max(abs(low), abs(high)) > MAX_INPUT:  # the windows' information would leave floating point's range
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: at most {MAX_INPUT:g} in absolute value")
+    _check_names(system, bounds, baseline, parameters)
     base = {n: float(baseline[n]) if n in baseline else sum(bounds[n]) / 2 for n in names if n in baseline or n in bounds}
     if not 1 <= len(initials) <= MAX_SAMPLES:
         raise ModelError(f"{len(initials)} initial states: between 1 and {MAX_SAMPLES}")
@@ -285,7 +313,7 @@ def _controls(system: System, problem: _Problem, U):
 
     free, columns = list(problem.bounds), []
     for k in range(problem.steps):
-        piece = k * problem.pieces // problem.steps
+        piece = bisect.bisect_right(problem.starts, k) - 1
         columns.append(casadi.vertcat(*(U[free.index(u.name), piece] if u.name in free else
                                         casadi.MX(problem.baseline[u.name]) for u in system.inputs)))
     return casadi.horzcat(*columns)
@@ -424,7 +452,8 @@ def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mappin
         The initial state, or samples of a distribution of initial states
         (:func:`initial_samples`): the design is then for the worst of them.
     duration, window : float
-        The horizon and each window's length (windows back to back from t = 0).
+        The horizon and each window's length (windows back to back from t = 0; each holds
+        round(window / dt) steps, the trajectory's rule, and reports that real length).
     bounds : mapping input -> (low, high)
         The inputs to design and their bounds.
     baseline : mapping input -> value, optional
@@ -479,10 +508,10 @@ def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mappin
     if not (np.isfinite(designed).all() and _better(objective, ours, theirs, status)):
         # a local solver may end below its start or in non-finite numbers: never hand back a worse profile
         designed, ours, status = base, theirs, f"{status}; no better profile found: the baseline kept"
-    times = tuple((i * problem.steps // problem.pieces) * problem.dt for i in range(problem.pieces))
+    times = tuple(k * problem.dt for k in problem.starts)  # the times at which the trajectory samples step k
     names = list(problem.bounds) + [u for u in problem.baseline if u not in problem.bounds]
     values = {u: tuple(float(v) for v in designed[list(problem.bounds).index(u)]) if u in problem.bounds else
               (problem.baseline[u],) * problem.pieces for u in names}
-    return InputDesign(system.name, times, values, dict(problem.baseline), window, problem.dt, ours[0], theirs[0],
+    return InputDesign(system.name, times, values, dict(problem.baseline), problem.per_window * problem.dt, problem.dt, ours[0], theirs[0],
                        projected, status, ours[1], theirs[1], objective,
                        len(problem.initials))
