@@ -253,3 +253,19 @@ def test_a_parameter_the_model_does_not_have_and_a_name_bounded_twice_are_refuse
     out = cli("design", model, "--initial", "g=2,d=3", "--duration", "2", "--window", "0.5", "--bounds", "u=-1:1",
               "--bounds", "u=0:1")
     assert out.returncode == 2 and out.stderr.count("\n") == 1 and "--bounds u: given twice" in out.stderr
+
+
+def test_an_information_spanning_many_orders_of_magnitude_is_still_maximised():
+    """x' = u x, y = x at dt 0.1 (the closed form of the module docstring): a window's information is
+    F(u) = sum_{j<10} a(0.1 u)^(2j), a(z) = 1 + z + z^2/2 + z^3/6 + z^4/24. a is decreasing for z < -1.6
+    (a'(z) = 1 + z + z^2/2 + z^3/6 < 0 there), so on u in [-100, 1] F is largest at u = -100 (a(-10) = 291,
+    F = 2.2e44; at u = 1 only a(0.1)^18 ~ 6) and the mid-range baseline u = -49.5 (F = 1.3e20) is not
+    even a local optimum: the design must reach u = -100 on every piece (adversarial review: the
+    baseline was kept)."""
+    scalar = System(["x"], {"x": "u*x"}, {"y": "x"}, inputs=["u"], name="scalar")
+    design = design_inputs(scalar, {"x": 1.0}, duration=2, window=1, dt=0.1, bounds={"u": (-100.0, 1.0)})
+    best = sum(_rk4(-10.0) ** (2 * j) for j in range(10))
+    assert best > 1e44 and design.inputs["u"] == pytest.approx((-100.0,) * 4, abs=1e-6)
+    assert design.designed_weakest == pytest.approx((best, best), rel=1e-9)
+    assert design.baseline_weakest == pytest.approx((sum(_rk4(-4.95) ** (2 * j) for j in range(10)),) * 2, rel=1e-9)
+    assert "baseline kept" not in design.solver

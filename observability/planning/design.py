@@ -16,8 +16,12 @@ onto the directions the model never observes, named by the analysis (its
 generic null space at the window's first state): F_w vanishes on them exactly
 (they annihilate every row), so adding c P_w with c above the optimum leaves
 the other eigenvalues alone and takes those directions out of the objective:
-the design is about what an input can change. Everything is scaled by the
-baseline profile's information, so t is relative to it.
+the design is about what an input can change. Each solve scales everything
+by the information at its start, so t is relative to it; since the information
+may span many orders of magnitude over the bounds (x' = u x: 1e20 at mid-range,
+2e44 at a bound), the solve is repeated from its best answer, rescaled there,
+with t = exp(tau) optimised in the log (``_rounds``), until a solve converges or
+does not improve, or the rounds or the CPU budget end.
 
 ``variance`` minimises the largest minimum-error variance: for each window and
 state i, the Cramer-Rao bound [C (C^T F_w C)^-1 C^T]_ii, C an orthonormal basis
@@ -44,6 +48,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -63,6 +68,8 @@ MAX_VARIABLES = 400
 MAX_GRAPH_STEPS = 5_000
 #: Bound on the inputs' magnitude: squares of sensitivities must stay inside floating point.
 MAX_INPUT = 1e100
+#: Solves at most, each restarted from the last one's answer with its scale re-taken there (``_rounds``).
+MAX_ROUNDS = 4
 #: Initial states a design may be made robust over at most.
 MAX_SAMPLES = 64
 #: What a design optimises (module docstring).
@@ -356,6 +363,40 @@ def _eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
                  len(constraints) * [0], len(constraints) * [0])
 
 
+def _log_eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
+    """max tau s.t. exp(-tau) F_w / s + 2 P_w - I = L_w L_w^T, one lower-triangular slack L_w a block.
+
+    The bound in the log: exp(-tau) F_w / s - I is positive semi-definite on the complement of P_w
+    exactly when its smallest eigenvalue there is at least exp(tau), and 2 P_w - I is I on P_w's range
+    (F_w vanishes there), so the projector's weight does not depend on the optimum's size. The
+    constraint's values are relative to the bound itself, so an information spanning many orders of
+    magnitude over the bounds (x' = u x) stays well scaled; but an ill-conditioned start (a
+    window that barely sees a direction) makes the constraint's entries large: ``_rounds`` solves
+    first with :func:`_eigenvalue_form` (``c`` is the other forms')."""
+    import casadi
+
+    n = initial[0][0].shape[0]
+    tau, slack, constraints, guesses = casadi.MX.sym("tau"), [], [], []
+    lower = [(i, j) for i in range(n) for j in range(i + 1)]
+    smallest = min(_window_scores(F / scale, P)[0] for F, P in initial)
+    largest = max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial)
+    tau0 = math.log(max(0.5 * smallest, 1e-12 * largest, 1e-300))  # a window that sees nothing has 0
+    for (F, P), (F0, P0) in zip(informations, initial):
+        entries = casadi.MX.sym("L", len(lower))
+        L = casadi.MX.zeros(n, n)
+        for e, (i, j) in enumerate(lower):
+            L[i, j] = entries[e]
+        gap = casadi.exp(-tau) * F / scale + 2 * P - casadi.MX.eye(n) - casadi.mtimes(L, L.T)
+        constraints += [gap[i, j] for i, j in lower]
+        slack.append(entries)
+        values, vectors = np.linalg.eigh(math.exp(-tau0) * F0 / scale + 2 * P0 - np.eye(n))
+        chol = np.linalg.cholesky((vectors * np.maximum(values, 0.0)) @ vectors.T + 1e-12 * np.eye(n))
+        guesses += [chol[i, j] for i, j in lower]
+    count = 1 + len(guesses)
+    return _Form(-tau, casadi.vertcat(tau, *slack), [tau0, *guesses], count * [-casadi.inf], constraints,
+                 len(constraints) * [0], len(constraints) * [0])
+
+
 def _variance_form(informations, initial, scale: float, c: float) -> _Form:
     """min log v s.t. v >= [(F_w / s + c P_w)^-1]_ii - [P_w]_ii / c for every block and state
     (module docstring: the Cramer-Rao variances off the never-observable directions)."""
@@ -375,11 +416,35 @@ def _variance_form(informations, initial, scale: float, c: float) -> _Form:
                  len(constraints) * [casadi.inf])
 
 
-def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str):
-    """IPOPT on the objective's smooth form; returns (U*, status, the blocks' evaluation)."""
+def _rounds(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str,
+            scores):
+    """IPOPT on the objective's smooth forms, restarted from the best answer so far (at most ``MAX_ROUNDS``
+    solves within ``budget`` CPU seconds in all), each solve taking its scale at its own start. For the
+    information: first the linear form (well conditioned where the start sees every direction), then the
+    log form (:func:`_log_eigenvalue_form`) until a solve converges or does not improve: an information
+    growing by orders of magnitude on the way (x' = u x) is rescaled. Returns (U*, the last solve's status)."""
+    clock, best, status = time.process_time(), start, "not solved"
+    for round_ in range(MAX_ROUNDS):
+        left = budget - (time.process_time() - clock)
+        if left <= 0:
+            break
+        form = (_variance_form if objective == "variance" else
+                _eigenvalue_form if round_ == 0 else _log_eigenvalue_form)
+        answer, status = _solve(informations, U, problem, best, smoothness, left, form)
+        with np.errstate(all="ignore"):
+            better = np.isfinite(answer).all() and _better(objective, scores(answer), scores(best), status)
+        if better:
+            best = answer
+        if round_ > 0 and (not better or status == "Solve_Succeeded"):
+            break
+    return best, status
+
+
+def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, form):
+    """IPOPT on the objective's smooth form; returns (U*, status)."""
     import casadi
 
-    evaluate = casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
+    evaluate = _evaluator(informations, U)
     n = informations[0][0].shape[0]
     initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
     if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
@@ -387,7 +452,7 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
                          "smaller bounds, initial state or noise)")
     scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
     c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
-    form = (_variance_form if objective == "variance" else _eigenvalue_form)(informations, initial, scale, c)
+    form = form(informations, initial, scale, c)
     ranges = np.array([[high - low] for low, high in problem.bounds.values()])
     steps = casadi.diff(U, 1, 1) / casadi.DM(ranges) if problem.pieces > 1 else casadi.MX(0)
     z = casadi.vertcat(casadi.vec(U), form.variables)
@@ -403,7 +468,14 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
                     lbg=form.lbg, ubg=form.ubg)
     values = np.array(answer["x"]).ravel()[: U.numel()].reshape(U.shape, order="F")
     return np.clip(values, [[lo] for lo, _ in problem.bounds.values()], [[hi] for _, hi in problem.bounds.values()]), \
-        solver.stats()["return_status"], evaluate
+        solver.stats()["return_status"]
+
+
+def _evaluator(informations, U):
+    """The blocks (F stacked on P, block by block) as a casadi function of the inputs' values."""
+    import casadi
+
+    return casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
 
 
 def _better(objective: str, ours, theirs, status: str) -> bool:
@@ -496,13 +568,13 @@ def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mappin
     spread = np.array([[high - low] for low, high in problem.bounds.values()])
     start = np.clip(base + 0.1 * spread * rng.uniform(-1, 1, base.shape), *zip(*[([lo], [hi]) for lo, hi in
                                                                                   problem.bounds.values()]))
-    designed, status, evaluate = _solve(informations, U, problem, start, smoothness, budget, objective)
-    n = system.n
+    evaluate, n = _evaluator(informations, U), system.n
 
     def scores(values: np.ndarray):
         blocks = np.vsplit(np.array(evaluate(values)), len(informations))
         return _scores([(b[:n], b[n:]) for b in blocks], problem.windows)
 
+    designed, status = _rounds(informations, U, problem, start, smoothness, budget, objective, scores)
     with np.errstate(all="ignore"):  # a non-finite window is judged below, not warned about
         ours, theirs = scores(designed), scores(base)
     if not (np.isfinite(designed).all() and _better(objective, ours, theirs, status)):
