@@ -12,6 +12,7 @@ Fisher information, checked by an independent route.
 """
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -269,3 +270,20 @@ def test_an_information_spanning_many_orders_of_magnitude_is_still_maximised():
     assert design.designed_weakest == pytest.approx((best, best), rel=1e-9)
     assert design.baseline_weakest == pytest.approx((sum(_rk4(-4.95) ** (2 * j) for j in range(10)),) * 2, rel=1e-9)
     assert "baseline kept" not in design.solver
+
+
+@pytest.mark.parametrize("initial", [{"x": 2.0, "y": 1.0, "th": 0.0}, {"x": 1e308, "y": 0.0, "th": 0.0}])
+def test_an_initial_state_where_the_information_is_not_finite_is_refused_in_one_line(initial, tmp_path):
+    """The range r = sqrt((x - 2)^2 + (y - 1)^2) has the gradient ((x - 2) / r, (y - 1) / r): 0/0 at the
+    beacon (2, 1), and at x = 1e308 (x - 2)^2 overflows to inf (r = inf, the gradient inf/inf). Either
+    way the windows' information is meaningless: refused naming the state (exit 2, one line, no CasADi
+    warning; the solver used to meet NaN and report "weakest information 0")."""
+    state = ", ".join(f"{k}={v:g}" for k, v in initial.items())
+    with pytest.raises(ModelError, match=re.escape(f"the information is not finite at the initial state {state}:")):
+        design_inputs(UNICYCLE, initial, duration=2, window=1, bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    model = tmp_path / "u.toml"
+    model.write_text('name = "u"\nstates = ["x", "y", "th"]\ninputs = ["v", "w"]\n[dynamics]\nx = "v*cos(th)"\n'
+                     'y = "v*sin(th)"\nth = "w"\n[outputs]\nr = "sqrt((x - 2)**2 + (y - 1)**2)"\n')
+    out = cli("design", model, "--initial", ",".join(f"{k}={v!r}" for k, v in initial.items()), "--duration", "2",
+              "--window", "1", "--bounds", "v=0.5:1,w=-0.5:0.5")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "CasADi" not in out.stderr, out.stderr

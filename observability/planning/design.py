@@ -59,6 +59,7 @@ from ..errors import ModelError
 from ..model.system import System
 from ..trajectory.directions import direction_functions
 from ..trajectory.windows import check_request, default_step, discrete_functions, grid, variances
+from .forms import eigenvalue_form, log_eigenvalue_form, variance_form, window_scores
 
 __all__ = ["InputDesign", "design_inputs", "initial_samples", "OBJECTIVES", "MAX_VARIABLES", "MAX_SAMPLES"]
 
@@ -285,26 +286,9 @@ def _informations(fns, problem: _Problem, x0, controls, p, weights, null):
     return informations
 
 
-def _window_scores(F: np.ndarray, P: np.ndarray) -> tuple[float, float]:
-    """(the smallest eigenvalue of F, the largest Cramer-Rao variance) on the complement of the
-    projector's range. An eigenvalue below 1e-12 of the largest counts as 0 (rounding: the window
-    does not see that direction) and makes the variance inf; nan for non-finite information."""
-    if not (np.isfinite(F).all() and np.isfinite(P).all()):  # LAPACK is not handed non-finite numbers
-        return math.nan, math.nan
-    complement = np.linalg.svd(np.eye(len(F)) - P)[0][:, : len(F) - round(np.trace(P))]
-    reduced = complement.T @ F @ complement
-    if not reduced.size:
-        return math.inf, 0.0
-    eigenvalues, vectors = np.linalg.eigh((reduced + reduced.T) / 2)
-    if eigenvalues[0] <= 1e-12 * max(eigenvalues[-1], 0.0):
-        return 0.0, math.inf
-    basis = complement @ vectors
-    return float(eigenvalues[0]), float(np.max((basis ** 2) @ (1.0 / eigenvalues)))
-
-
 def _scores(values: list[tuple[np.ndarray, np.ndarray]], windows: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """Per window, the worst over the initial states (blocks sample by sample) of both scores."""
-    scores = [_window_scores(F, P) for F, P in values]
+    scores = [window_scores(F, P) for F, P in values]
     worst_information, worst_variance = [], []
     for w in range(windows):
         column = scores[w::windows]
@@ -326,110 +310,20 @@ def _controls(system: System, problem: _Problem, U):
     return casadi.horzcat(*columns)
 
 
-@dataclass(frozen=True)
-class _Form:
-    """An objective in the solver's smooth form: minimise ``goal`` over the inputs and ``variables``
-    (started at ``guess``, bounded below by ``lower``) subject to lbg <= constraints <= ubg."""
-
-    goal: object
-    variables: object
-    guess: list
-    lower: list
-    constraints: list
-    lbg: list
-    ubg: list
-
-
-def _eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
-    """max t s.t. F_w / s + c P_w - t I = L_w L_w^T, one lower-triangular slack L_w a block."""
-    import casadi
-
-    n = initial[0][0].shape[0]
-    t, slack, constraints, guesses = casadi.MX.sym("t"), [], [], []
-    lower = [(i, j) for i in range(n) for j in range(i + 1)]
-    t0 = 0.5 * min(float(np.linalg.eigvalsh(F / scale + c * P)[0]) for F, P in initial)
-    for (F, P), (F0, P0) in zip(informations, initial):
-        entries = casadi.MX.sym("L", len(lower))
-        L = casadi.MX.zeros(n, n)
-        for e, (i, j) in enumerate(lower):
-            L[i, j] = entries[e]
-        gap = F / scale + c * P - t * casadi.MX.eye(n) - casadi.mtimes(L, L.T)
-        constraints += [gap[i, j] for i, j in lower]
-        slack.append(entries)
-        chol = np.linalg.cholesky(F0 / scale + c * P0 - t0 * np.eye(n) + 1e-12 * np.eye(n))
-        guesses += [chol[i, j] for i, j in lower]
-    count = 1 + len(guesses)
-    return _Form(-t, casadi.vertcat(t, *slack), [t0, *guesses], count * [-casadi.inf], constraints,
-                 len(constraints) * [0], len(constraints) * [0])
-
-
-def _log_eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
-    """max tau s.t. exp(-tau) F_w / s + 2 P_w - I = L_w L_w^T, one lower-triangular slack L_w a block.
-
-    The bound in the log: exp(-tau) F_w / s - I is positive semi-definite on the complement of P_w
-    exactly when its smallest eigenvalue there is at least exp(tau), and 2 P_w - I is I on P_w's range
-    (F_w vanishes there), so the projector's weight does not depend on the optimum's size. The
-    constraint's values are relative to the bound itself, so an information spanning many orders of
-    magnitude over the bounds (x' = u x) stays well scaled; but an ill-conditioned start (a
-    window that barely sees a direction) makes the constraint's entries large: ``_rounds`` solves
-    first with :func:`_eigenvalue_form` (``c`` is the other forms')."""
-    import casadi
-
-    n = initial[0][0].shape[0]
-    tau, slack, constraints, guesses = casadi.MX.sym("tau"), [], [], []
-    lower = [(i, j) for i in range(n) for j in range(i + 1)]
-    smallest = min(_window_scores(F / scale, P)[0] for F, P in initial)
-    largest = max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial)
-    tau0 = math.log(max(0.5 * smallest, 1e-12 * largest, 1e-300))  # a window that sees nothing has 0
-    for (F, P), (F0, P0) in zip(informations, initial):
-        entries = casadi.MX.sym("L", len(lower))
-        L = casadi.MX.zeros(n, n)
-        for e, (i, j) in enumerate(lower):
-            L[i, j] = entries[e]
-        gap = casadi.exp(-tau) * F / scale + 2 * P - casadi.MX.eye(n) - casadi.mtimes(L, L.T)
-        constraints += [gap[i, j] for i, j in lower]
-        slack.append(entries)
-        values, vectors = np.linalg.eigh(math.exp(-tau0) * F0 / scale + 2 * P0 - np.eye(n))
-        chol = np.linalg.cholesky((vectors * np.maximum(values, 0.0)) @ vectors.T + 1e-12 * np.eye(n))
-        guesses += [chol[i, j] for i, j in lower]
-    count = 1 + len(guesses)
-    return _Form(-tau, casadi.vertcat(tau, *slack), [tau0, *guesses], count * [-casadi.inf], constraints,
-                 len(constraints) * [0], len(constraints) * [0])
-
-
-def _variance_form(informations, initial, scale: float, c: float) -> _Form:
-    """min log v s.t. v >= [(F_w / s + c P_w)^-1]_ii - [P_w]_ii / c for every block and state
-    (module docstring: the Cramer-Rao variances off the never-observable directions)."""
-    import casadi
-
-    n = initial[0][0].shape[0]
-    v, constraints, start = casadi.MX.sym("v"), [], []
-    for (F, P), (F0, P0) in zip(informations, initial):
-        variances = casadi.diag(casadi.solve(F / scale + c * P, casadi.MX.eye(n))) - casadi.diag(P) / c
-        constraints += [v - variances[i] for i in range(n)]
-        with np.errstate(all="ignore"):
-            values = np.diag(np.linalg.pinv(F0 / scale + c * P0)) - np.diag(P0) / c
-        start.append(float(np.max(values)))
-    v0 = 1.01 * max(x for x in start if math.isfinite(x)) if any(map(math.isfinite, start)) else 1.0
-    v0 = max(v0, 1e-300)
-    return _Form(casadi.log(v), v, [v0], [1e-12 * v0], constraints, len(constraints) * [0],
-                 len(constraints) * [casadi.inf])
-
-
 def _rounds(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str,
             scores):
     """IPOPT on the objective's smooth forms, restarted from the best answer so far (at most ``MAX_ROUNDS``
     solves within ``budget`` CPU seconds in all), each solve taking its scale at its own start. For the
     information: first the linear form (well conditioned where the start sees every direction), then the
-    log form (:func:`_log_eigenvalue_form`) until a solve converges or does not improve: an information
+    log form (:func:`log_eigenvalue_form`) until a solve converges or does not improve: an information
     growing by orders of magnitude on the way (x' = u x) is rescaled. Returns (U*, the last solve's status)."""
     clock, best, status = time.process_time(), start, "not solved"
     for round_ in range(MAX_ROUNDS):
         left = budget - (time.process_time() - clock)
         if left <= 0:
             break
-        form = (_variance_form if objective == "variance" else
-                _eigenvalue_form if round_ == 0 else _log_eigenvalue_form)
+        form = (variance_form if objective == "variance" else
+                eigenvalue_form if round_ == 0 else log_eigenvalue_form)
         answer, status = _solve(informations, U, problem, best, smoothness, left, form)
         with np.errstate(all="ignore"):
             better = np.isfinite(answer).all() and _better(objective, scores(answer), scores(best), status)
@@ -447,9 +341,12 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
     evaluate = _evaluator(informations, U)
     n = informations[0][0].shape[0]
     initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
-    if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
-        raise ModelError("the windows' information is not finite at the start (values beyond floating point's range: "
-                         "smaller bounds, initial state or noise)")
+    slopes = casadi.Function("slopes", [U], [casadi.jacobian(casadi.vertcat(*(F for F, _ in informations)), U)])
+    if not (all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial)
+            and np.isfinite(np.array(slopes(start))).all()):  # IPOPT would only meet NaN (and warn about it)
+        raise ModelError("the windows' information or its derivative in the inputs is not finite at the start "
+                         "(values beyond floating point's range or a singularity of the model on the way: smaller "
+                         "bounds, another initial state or noise)")
     scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
     c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
     form = form(informations, initial, scale, c)
@@ -492,6 +389,21 @@ def _better(objective: str, ours, theirs, status: str) -> bool:
     return a > b or (a == b and status == "Solve_Succeeded")
 
 
+def _check_initials(fns, initials, p) -> None:
+    """Refuse (ModelError naming the state) an initial state where the outputs or their derivatives
+    are not finite: a singularity of the model, or values beyond floating point's range, where every
+    window's information would be meaningless (and the solver would only meet NaN)."""
+    for start in initials:
+        x0 = [float(start[s]) for s in fns.states]
+        with np.errstate(all="ignore"):
+            values = [np.array(v, dtype=float) for v in fns["measurement"](x0, x0, p)]
+        if not all(np.isfinite(v).all() for v in values):
+            state = ", ".join(f"{k}={float(v):g}" for k, v in start.items())
+            raise ModelError(f"the information is not finite at the initial state {state}: the outputs or their "
+                             "derivatives are not finite numbers there (a singularity of the model, or values beyond "
+                             "floating point's range)")
+
+
 def _graph(system: System, problem: _Problem, parameters: Mapping[str, float], noise, seed: int):
     """The inputs' symbols U, every (sample, window) block's information as casadi expressions of U,
     and the never-observable directions' names (the analysis's generic null space)."""
@@ -503,6 +415,7 @@ def _graph(system: System, problem: _Problem, parameters: Mapping[str, float], n
     generic = analyze(system, seed=seed, functions=False)
     functions = direction_functions(system, generic.unobservable_directions, parameters)
     null = (lambda x: casadi.horzcat(*(f(x) for f in functions))) if functions else None
+    _check_initials(fns, problem.initials, p)
     U = casadi.MX.sym("U", len(problem.bounds), problem.pieces)
     controls = _controls(discrete, problem, U)
     informations = [block for start in problem.initials for block in
