@@ -86,7 +86,8 @@ def log_eigenvalue_form(informations, initial, scale: float, c: float) -> Form:
     n = initial[0][0].shape[0]
     tau, slack, constraints, guesses = casadi.MX.sym("tau"), [], [], []
     lower = [(i, j) for i in range(n) for j in range(i + 1)]
-    smallest = min(window_scores(F / scale, P)[0] for F, P in initial)
+    smallest = min(window_scores(F / scale, P)[0] for F, P in initial)  # inf when P_w is the identity
+    smallest = smallest if math.isfinite(smallest) else 1.0
     largest = max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial)
     tau0 = math.log(max(0.5 * smallest, 1e-12 * largest, 1e-300))  # a window that sees nothing has 0
     for (F, P), (F0, P0) in zip(informations, initial):
