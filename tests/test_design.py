@@ -12,6 +12,7 @@ Fisher information, checked by an independent route.
 """
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -81,6 +82,9 @@ def test_the_unicycle_beats_its_baseline_beyond_the_rotation_it_never_sees():
     ({"q": (0.0, 1.0)}, {}, "--bounds q: not an input"),
     ({}, {}, "at least one input must be free"),
     ({"v": (0.0, 1.0)}, {}, "--input: no value for the input w"),
+    ({"u": (0.0, 1.0)}, {"u": 5.0}, "--input u=5: the baseline is outside its --bounds 0:1"),
+    ({"u": (0.0, 1.0)}, {"q": 1.0}, "--input q: not a name of mono, not an input"),
+    ({"u": (0.0, 1.0)}, {"g": 1.0}, "--input g: a state of mono, not an input"),
 ])
 def test_bad_requests_are_refused(bounds, baseline, words):
     system = MONO if "u" in bounds or not bounds else UNICYCLE
@@ -219,3 +223,67 @@ def test_the_command_line_designs_for_a_distribution_and_the_variance(tmp_path):
     bad = cli("design", model, "--initial", "g=2,d=3", "--samples", "3", "--duration", "2", "--window", "1",
               "--bounds", "u=-1:1")
     assert bad.returncode == 2 and "--samples: needs --spread" in bad.stderr
+
+
+def test_pieces_start_on_steps_and_windows_are_labelled_by_their_real_extent():
+    """2 s at dt 0.2 is 10 steps; 4 pieces start at steps i * 10 // 4 = 0, 2, 5, 7 (t = 0, 0.4, 1, 1.4): a
+    piece that does not cover a whole number of steps is not possible, and the CSV's times are those
+    steps' times, so the trajectory route on the written CSV (numpy, not the design's graph) sees the
+    design's own numbers. A window of 1 at dt 0.3 holds round(1 / 0.3) = 3 steps (the trajectory's rule):
+    its real extent is 0.9, and it is labelled so."""
+    initial = {"x": 0.0, "y": 0.0, "th": 0.0}
+    design = design_inputs(UNICYCLE, initial, duration=2, window=1, dt=0.2, bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    assert design.times == tuple(k * 0.2 for k in (0, 2, 5, 7))
+    assert len(set(design.inputs["w"])) > 1  # a profile that changes, so the pieces' starts matter
+    checked = _weakest_by_trajectory(UNICYCLE, initial, design)
+    assert [info for _, info in checked] == pytest.approx(design.designed_weakest, rel=1e-6)
+    three = design_inputs(UNICYCLE, initial, duration=1.8, window=1, dt=0.3, pieces=3,
+                          bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    assert three.window == pytest.approx(0.9) and three.times == tuple(k * 0.3 for k in (0, 2, 4))
+    from observability.cli.planning import _design_text
+
+    assert "window [0, 0.9]" in _design_text(three, None) and "window [0.9, 1.8]" in _design_text(three, None)
+
+
+def test_a_parameter_the_model_does_not_have_and_a_name_bounded_twice_are_refused(tmp_path):
+    with pytest.raises(ModelError, match="--parameters q: not a parameter of mono"):
+        design_inputs(MONO, {"g": 1.0, "d": 1.0}, duration=1, window=0.5, bounds={"u": (0.0, 1.0)}, parameters={"q": 1.0})
+    model = tmp_path / "mono.toml"
+    model.write_text('name = "mono"\nstates = ["g", "d"]\ninputs = ["u"]\n[dynamics]\ng = "u"\nd = "0"\n'
+                     '[outputs]\nh = "g/d"\n')
+    out = cli("design", model, "--initial", "g=2,d=3", "--duration", "2", "--window", "0.5", "--bounds", "u=-1:1",
+              "--bounds", "u=0:1")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "--bounds u: given twice" in out.stderr
+
+
+def test_an_information_spanning_many_orders_of_magnitude_is_still_maximised():
+    """x' = u x, y = x at dt 0.1 (the closed form of the module docstring): a window's information is
+    F(u) = sum_{j<10} a(0.1 u)^(2j), a(z) = 1 + z + z^2/2 + z^3/6 + z^4/24. a is decreasing for z < -1.6
+    (a'(z) = 1 + z + z^2/2 + z^3/6 < 0 there), so on u in [-100, 1] F is largest at u = -100 (a(-10) = 291,
+    F = 2.2e44; at u = 1 only a(0.1)^18 ~ 6) and the mid-range baseline u = -49.5 (F = 1.3e20) is not
+    even a local optimum: the design must reach u = -100 on every piece (adversarial review: the
+    baseline was kept)."""
+    scalar = System(["x"], {"x": "u*x"}, {"y": "x"}, inputs=["u"], name="scalar")
+    design = design_inputs(scalar, {"x": 1.0}, duration=2, window=1, dt=0.1, bounds={"u": (-100.0, 1.0)})
+    best = sum(_rk4(-10.0) ** (2 * j) for j in range(10))
+    assert best > 1e44 and design.inputs["u"] == pytest.approx((-100.0,) * 4, abs=1e-6)
+    assert design.designed_weakest == pytest.approx((best, best), rel=1e-9)
+    assert design.baseline_weakest == pytest.approx((sum(_rk4(-4.95) ** (2 * j) for j in range(10)),) * 2, rel=1e-9)
+    assert "baseline kept" not in design.solver
+
+
+@pytest.mark.parametrize("initial", [{"x": 2.0, "y": 1.0, "th": 0.0}, {"x": 1e308, "y": 0.0, "th": 0.0}])
+def test_an_initial_state_where_the_information_is_not_finite_is_refused_in_one_line(initial, tmp_path):
+    """The range r = sqrt((x - 2)^2 + (y - 1)^2) has the gradient ((x - 2) / r, (y - 1) / r): 0/0 at the
+    beacon (2, 1), and at x = 1e308 (x - 2)^2 overflows to inf (r = inf, the gradient inf/inf). Either
+    way the windows' information is meaningless: refused naming the state (exit 2, one line, no CasADi
+    warning; the solver used to meet NaN and report "weakest information 0")."""
+    state = ", ".join(f"{k}={v:g}" for k, v in initial.items())
+    with pytest.raises(ModelError, match=re.escape(f"the information is not finite at the initial state {state}:")):
+        design_inputs(UNICYCLE, initial, duration=2, window=1, bounds={"v": (0.5, 1.0), "w": (-0.5, 0.5)})
+    model = tmp_path / "u.toml"
+    model.write_text('name = "u"\nstates = ["x", "y", "th"]\ninputs = ["v", "w"]\n[dynamics]\nx = "v*cos(th)"\n'
+                     'y = "v*sin(th)"\nth = "w"\n[outputs]\nr = "sqrt((x - 2)**2 + (y - 1)**2)"\n')
+    out = cli("design", model, "--initial", ",".join(f"{k}={v!r}" for k, v in initial.items()), "--duration", "2",
+              "--window", "1", "--bounds", "v=0.5:1,w=-0.5:0.5")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "CasADi" not in out.stderr, out.stderr

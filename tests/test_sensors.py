@@ -110,6 +110,7 @@ def test_costs_choose_among_the_sets():
     ({"c": "x"}, {"c": 0.0}, "a cost must be a positive finite number"),
     ({"c": "x"}, {"d": 1.0}, "--cost d: no such candidate"),
     ({}, {}, "at least one candidate"),
+    ({"c": "x", "d": "y", "e": "th"}, {"c": 1e308, "d": 1e308, "e": 1.7e308}, "costs sum to inf"),
 ])
 def test_bad_candidates_are_refused(candidates, costs, words):
     with pytest.raises(ModelError, match=words):
@@ -139,3 +140,30 @@ def test_minimality_is_never_claimed_when_a_cheaper_set_reaches_the_rank():
     candidates, cost = {"ca": "a", "cb": "b"}, {"ca": 1.0, "cb": 1.0}
     verdict, error, why = _minimality(system, candidates, cost, (SensorSet(("ca", "cb"), 2.0, 2, "proven"),), 0, 60.0)
     assert verdict == "undecided" and error is None and why.startswith("the cheaper set {ca} was not shown below rank 2")
+
+
+UNKNOWN_INPUT = System(["x1", "x2", "x3", "x4"], {"x1": "x3 + a", "x2": "a", "x3": "0", "x4": "0"}, {"y0": "x4"},
+                       unknown_inputs=["a"])
+
+
+def test_unknown_inputs_count_in_the_rank_as_check_counts_them():
+    """x1' = x3 + a, x2' = a, x3' = x4' = 0, y0 = x4, a an unknown input: the rank is of (x1..x4, a), 5.
+    By hand: {p = x1, q = x2} gives x1, x2, a = q', x3 = p' - q', x4 = y0: rank 5 of 5. {p, r = x1 + x2}
+    and {q, r} likewise (x2 = r - p; x1 = r - q, x3 = r' - 2 q'). Alone, p never involves x2 (its
+    derivatives are x1, x3 + a, a', ...), q never x1, and r never separates x1 from x2 (r' = x3 + 2a): no
+    single one reaches 5. So the cheapest sets are the three pairs, observable at rank 5 of 5."""
+    choice = select_sensors(UNKNOWN_INPUT, {"p": "x1", "q": "x2", "r": "x1 + x2"}, seed=1)
+    assert choice.n_states == 5 and choice.target == 5 and choice.observable
+    assert [s.candidates for s in choice.minimal_sets] == [("p", "q"), ("p", "r"), ("q", "r")]
+    assert all(s.rank == 5 for s in choice.minimal_sets) and choice.minimality in ("proven", "probable")
+
+
+def test_when_no_candidate_helps_the_empty_set_is_the_answer():
+    """0 and x - x have zero gradients (and zero derivatives): they remove none of the three directions of
+    the module docstring's reference, so the best rank is the model's own 2 of 5, reached by {} at cost 0,
+    and nothing is cheaper than nothing: minimality proven, exit 1 (not observable), not 3 (undecided)."""
+    choice = select_sensors(load_model(MODEL), {"zero": "0", "z2": "x - x"}, seed=1)
+    assert choice.target == 2 and not choice.observable and choice.minimality == "proven"
+    assert [(s.candidates, s.cost, s.rank, s.proof) for s in choice.minimal_sets] == [((), 0.0, 2, "proven")]
+    out = cli("sensors", MODEL, "--candidate", "zero=0", "--candidate", "z2=x-x", "--seed", "1")
+    assert out.returncode == 1 and "no candidate raises the rank: the best rank is the model's own, 2 of 5" in out.stdout

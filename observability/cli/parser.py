@@ -224,7 +224,8 @@ def build_parser() -> argparse.ArgumentParser:
     design.add_argument("--initial", required=True, metavar="NAME=VALUE,...", help="the initial state")
     design.add_argument("--duration", type=float, required=True, help="the horizon")
     design.add_argument("--window", type=float, required=True, help="each window's length")
-    design.add_argument("--bounds", required=True, metavar="NAME=LO:HI,...", help="the inputs to design and their bounds")
+    design.add_argument("--bounds", required=True, action="append", metavar="NAME=LO:HI,...",
+                        help="the inputs to design and their bounds (repeatable; a name once)")
     design.add_argument("--input", default=None, metavar="NAME=VALUE,...",
                         help="the baseline (constant) and the value of inputs not designed (default: mid-range)")
     design.add_argument("--dt", type=float, default=None, help="the step (default: the trajectory's)")

@@ -19,6 +19,9 @@ def _text(choice) -> str:
     n, lines = choice.n_states, []
     head = (f"{len(choice.minimal_sets)} cheapest set(s) of candidates make it observable (rank {n} of {n})"
             if choice.observable else f"no set of candidates makes it observable: the best rank is {choice.target} of {n}")
+    if [s.candidates for s in choice.minimal_sets] == [()]:  # the empty set is the cheapest
+        head = (f"observable without candidates (rank {n} of {n})" if choice.observable else
+                f"no candidate raises the rank: the best rank is the model's own, {choice.target} of {n}")
     lines.append(f"{choice.model}: {head}")
     lines.append(f"  without candidates: rank {choice.base.rank} of {n} ({choice.base.proof})")
     for s in choice.minimal_sets:
@@ -86,7 +89,7 @@ def design_command(args: argparse.Namespace) -> int:
             show("designing the inputs (IPOPT)")
         design = design_inputs(
             system, _initials(args), duration=args.duration, window=args.window,
-            bounds=_bounds(args.bounds), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
+            bounds=_bounds(",".join(args.bounds)), baseline=_numbers(args.input, "--input"), dt=args.dt, pieces=args.pieces,
             noise=_numbers(args.noise, "--noise") or 1.0, parameters=_numbers(args.parameters, "--parameters"),
             smoothness=args.smoothness, objective=args.objective, seed=args.seed or 0, budget=args.budget)
         clear_line()

@@ -16,8 +16,12 @@ onto the directions the model never observes, named by the analysis (its
 generic null space at the window's first state): F_w vanishes on them exactly
 (they annihilate every row), so adding c P_w with c above the optimum leaves
 the other eigenvalues alone and takes those directions out of the objective:
-the design is about what an input can change. Everything is scaled by the
-baseline profile's information, so t is relative to it.
+the design is about what an input can change. Each solve scales everything
+by the information at its start, so t is relative to it; since the information
+may span many orders of magnitude over the bounds (x' = u x: 1e20 at mid-range,
+2e44 at a bound), the solve is repeated from its best answer, rescaled there,
+with t = exp(tau) optimised in the log (``_rounds``), until a solve converges or
+does not improve, or the rounds or the CPU budget end.
 
 ``variance`` minimises the largest minimum-error variance: for each window and
 state i, the Cramer-Rao bound [C (C^T F_w C)^-1 C^T]_ii, C an orthonormal basis
@@ -42,7 +46,9 @@ reaches is for :mod:`observability.trajectory` to check on the written inputs
 
 from __future__ import annotations
 
+import bisect
 import math
+import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -53,6 +59,7 @@ from ..errors import ModelError
 from ..model.system import System
 from ..trajectory.directions import direction_functions
 from ..trajectory.windows import check_request, default_step, discrete_functions, grid, variances
+from .forms import eigenvalue_form, log_eigenvalue_form, variance_form, window_scores
 
 __all__ = ["InputDesign", "design_inputs", "initial_samples", "OBJECTIVES", "MAX_VARIABLES", "MAX_SAMPLES"]
 
@@ -62,6 +69,8 @@ MAX_VARIABLES = 400
 MAX_GRAPH_STEPS = 5_000
 #: Bound on the inputs' magnitude: squares of sensitivities must stay inside floating point.
 MAX_INPUT = 1e100
+#: Solves at most, each restarted from the last one's answer with its scale re-taken there (``_rounds``).
+MAX_ROUNDS = 4
 #: Initial states a design may be made robust over at most.
 MAX_SAMPLES = 64
 #: What a design optimises (module docstring).
@@ -80,6 +89,8 @@ class InputDesign:
         Each input's value on each piece.
     baseline : dict[str, float]
         The profile compared with (constant in time).
+    window : float
+        Each window's real length: its steps (window / dt rounded, as the trajectory counts them) times dt.
     designed_weakest, baseline_weakest : tuple of float
         Per window, the smallest eigenvalue of the Fisher information without
         the never-observable directions (the worst over the initial states).
@@ -155,6 +166,12 @@ class _Problem:
     baseline: dict[str, float]
     initials: tuple[Mapping[str, float], ...]
 
+    @property
+    def starts(self) -> tuple[int, ...]:
+        """Each piece's first step: pieces start on steps, so the solver's inputs and the CSV's
+        times (step x dt, as the trajectory samples them) are the same profile."""
+        return tuple(i * self.steps // self.pieces for i in range(self.pieces))
+
 
 def initial_samples(initial: Mapping[str, float], spread: Mapping[str, float], count: int,
                     seed: int = 0) -> tuple[dict[str, float], ...]:
@@ -189,6 +206,24 @@ def initial_samples(initial: Mapping[str, float], spread: Mapping[str, float], c
     return (dict(initial), *draws)
 
 
+def _check_names(system: System, bounds: Mapping[str, tuple[float, float]], baseline: Mapping[str, float],
+                 parameters: Mapping[str, float]) -> None:
+    """Refuse a baseline value for a name that is not an input or outside its input's bounds, and a
+    parameter the model does not have (ModelError naming it): none would be used as asked."""
+    names = [u.name for u in system.inputs]
+    for name, value in baseline.items():
+        if name not in names:
+            what = "a state" if name in {s.name for s in system.states} else "not a name"
+            raise ModelError(f"--input {name}: {what} of {system.name}, not an input ({', '.join(names) or 'none'})")
+        low, high = bounds.get(name, (-math.inf, math.inf))
+        if not low <= float(value) <= high:
+            raise ModelError(f"--input {name}={float(value):g}: the baseline is outside its --bounds {low:g}:{high:g}")
+    known = [q.name for q in system.parameters]
+    for name in parameters:
+        if name not in known:
+            raise ModelError(f"--parameters {name}: not a parameter of {system.name} ({', '.join(known) or 'none'})")
+
+
 def _problem(system: System, initials: tuple[Mapping[str, float], ...], duration: float, window: float,
              dt: float | None, pieces: int | None, bounds: Mapping[str, tuple[float, float]],
              baseline: Mapping[str, float], parameters: Mapping[str, float]) -> _Problem:
@@ -203,6 +238,7 @@ def _problem(system: System, initials: tuple[Mapping[str, float], ...], duration
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: expected finite bounds with LO < HI")
         if max(abs(low), abs(high)) > MAX_INPUT:  # the windows' information would leave floating point's range
             raise ModelError(f"--bounds {name}={low:g}:{high:g}: at most {MAX_INPUT:g} in absolute value")
+    _check_names(system, bounds, baseline, parameters)
     base = {n: float(baseline[n]) if n in baseline else sum(bounds[n]) / 2 for n in names if n in baseline or n in bounds}
     if not 1 <= len(initials) <= MAX_SAMPLES:
         raise ModelError(f"{len(initials)} initial states: between 1 and {MAX_SAMPLES}")
@@ -250,26 +286,9 @@ def _informations(fns, problem: _Problem, x0, controls, p, weights, null):
     return informations
 
 
-def _window_scores(F: np.ndarray, P: np.ndarray) -> tuple[float, float]:
-    """(the smallest eigenvalue of F, the largest Cramer-Rao variance) on the complement of the
-    projector's range. An eigenvalue below 1e-12 of the largest counts as 0 (rounding: the window
-    does not see that direction) and makes the variance inf; nan for non-finite information."""
-    if not (np.isfinite(F).all() and np.isfinite(P).all()):  # LAPACK is not handed non-finite numbers
-        return math.nan, math.nan
-    complement = np.linalg.svd(np.eye(len(F)) - P)[0][:, : len(F) - round(np.trace(P))]
-    reduced = complement.T @ F @ complement
-    if not reduced.size:
-        return math.inf, 0.0
-    eigenvalues, vectors = np.linalg.eigh((reduced + reduced.T) / 2)
-    if eigenvalues[0] <= 1e-12 * max(eigenvalues[-1], 0.0):
-        return 0.0, math.inf
-    basis = complement @ vectors
-    return float(eigenvalues[0]), float(np.max((basis ** 2) @ (1.0 / eigenvalues)))
-
-
 def _scores(values: list[tuple[np.ndarray, np.ndarray]], windows: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """Per window, the worst over the initial states (blocks sample by sample) of both scores."""
-    scores = [_window_scores(F, P) for F, P in values]
+    scores = [window_scores(F, P) for F, P in values]
     worst_information, worst_variance = [], []
     for w in range(windows):
         column = scores[w::windows]
@@ -285,81 +304,52 @@ def _controls(system: System, problem: _Problem, U):
 
     free, columns = list(problem.bounds), []
     for k in range(problem.steps):
-        piece = k * problem.pieces // problem.steps
+        piece = bisect.bisect_right(problem.starts, k) - 1
         columns.append(casadi.vertcat(*(U[free.index(u.name), piece] if u.name in free else
                                         casadi.MX(problem.baseline[u.name]) for u in system.inputs)))
     return casadi.horzcat(*columns)
 
 
-@dataclass(frozen=True)
-class _Form:
-    """An objective in the solver's smooth form: minimise ``goal`` over the inputs and ``variables``
-    (started at ``guess``, bounded below by ``lower``) subject to lbg <= constraints <= ubg."""
-
-    goal: object
-    variables: object
-    guess: list
-    lower: list
-    constraints: list
-    lbg: list
-    ubg: list
-
-
-def _eigenvalue_form(informations, initial, scale: float, c: float) -> _Form:
-    """max t s.t. F_w / s + c P_w - t I = L_w L_w^T, one lower-triangular slack L_w a block."""
-    import casadi
-
-    n = initial[0][0].shape[0]
-    t, slack, constraints, guesses = casadi.MX.sym("t"), [], [], []
-    lower = [(i, j) for i in range(n) for j in range(i + 1)]
-    t0 = 0.5 * min(float(np.linalg.eigvalsh(F / scale + c * P)[0]) for F, P in initial)
-    for (F, P), (F0, P0) in zip(informations, initial):
-        entries = casadi.MX.sym("L", len(lower))
-        L = casadi.MX.zeros(n, n)
-        for e, (i, j) in enumerate(lower):
-            L[i, j] = entries[e]
-        gap = F / scale + c * P - t * casadi.MX.eye(n) - casadi.mtimes(L, L.T)
-        constraints += [gap[i, j] for i, j in lower]
-        slack.append(entries)
-        chol = np.linalg.cholesky(F0 / scale + c * P0 - t0 * np.eye(n) + 1e-12 * np.eye(n))
-        guesses += [chol[i, j] for i, j in lower]
-    count = 1 + len(guesses)
-    return _Form(-t, casadi.vertcat(t, *slack), [t0, *guesses], count * [-casadi.inf], constraints,
-                 len(constraints) * [0], len(constraints) * [0])
-
-
-def _variance_form(informations, initial, scale: float, c: float) -> _Form:
-    """min log v s.t. v >= [(F_w / s + c P_w)^-1]_ii - [P_w]_ii / c for every block and state
-    (module docstring: the Cramer-Rao variances off the never-observable directions)."""
-    import casadi
-
-    n = initial[0][0].shape[0]
-    v, constraints, start = casadi.MX.sym("v"), [], []
-    for (F, P), (F0, P0) in zip(informations, initial):
-        variances = casadi.diag(casadi.solve(F / scale + c * P, casadi.MX.eye(n))) - casadi.diag(P) / c
-        constraints += [v - variances[i] for i in range(n)]
+def _rounds(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str,
+            scores):
+    """IPOPT on the objective's smooth forms, restarted from the best answer so far (at most ``MAX_ROUNDS``
+    solves within ``budget`` CPU seconds in all), each solve taking its scale at its own start. For the
+    information: first the linear form (well conditioned where the start sees every direction), then the
+    log form (:func:`log_eigenvalue_form`) until a solve converges or does not improve: an information
+    growing by orders of magnitude on the way (x' = u x) is rescaled. Returns (U*, the last solve's status)."""
+    clock, best, status = time.process_time(), start, "not solved"
+    for round_ in range(MAX_ROUNDS):
+        left = budget - (time.process_time() - clock)
+        if left <= 0:
+            break
+        form = (variance_form if objective == "variance" else
+                eigenvalue_form if round_ == 0 else log_eigenvalue_form)
+        answer, status = _solve(informations, U, problem, best, smoothness, left, form)
         with np.errstate(all="ignore"):
-            values = np.diag(np.linalg.pinv(F0 / scale + c * P0)) - np.diag(P0) / c
-        start.append(float(np.max(values)))
-    v0 = 1.01 * max(x for x in start if math.isfinite(x)) if any(map(math.isfinite, start)) else 1.0
-    v0 = max(v0, 1e-300)
-    return _Form(casadi.log(v), v, [v0], [1e-12 * v0], constraints, len(constraints) * [0],
-                 len(constraints) * [casadi.inf])
+            better = np.isfinite(answer).all() and _better(objective, scores(answer), scores(best), status)
+        if better:
+            best = answer
+        if round_ > 0 and (not better or status == "Solve_Succeeded"):
+            break
+    return best, status
 
 
-def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, objective: str):
-    """IPOPT on the objective's smooth form; returns (U*, status, the blocks' evaluation)."""
+def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: float, budget: float, form):
+    """IPOPT on the objective's smooth form; returns (U*, status)."""
     import casadi
 
-    evaluate = casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
+    evaluate = _evaluator(informations, U)
     n = informations[0][0].shape[0]
     initial = [(np.array(b[:n]), np.array(b[n:])) for b in np.vsplit(np.array(evaluate(start)), len(informations))]
-    if not all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial):
-        raise ModelError("the windows' information is not finite at the start (values beyond floating point's range: "
-                         "smaller bounds, initial state or noise)")
+    slopes = casadi.Function("slopes", [U], [casadi.jacobian(casadi.vertcat(*(F for F, _ in informations)), U)])
+    if not (all(np.isfinite(F).all() and np.isfinite(P).all() for F, P in initial)
+            and np.isfinite(np.array(slopes(start))).all()):  # IPOPT would only meet NaN (and warn about it)
+        raise ModelError("the windows' information or its derivative in the inputs is not finite at the start "
+                         "(values beyond floating point's range or a singularity of the model on the way: smaller "
+                         "bounds, another initial state or noise)")
     scale = max(float(np.median([np.trace(F) / n for F, _ in initial])), 1e-300)
     c = 10.0 * max(float(np.linalg.eigvalsh(F / scale)[-1]) for F, _ in initial) + 10.0
-    form = (_variance_form if objective == "variance" else _eigenvalue_form)(informations, initial, scale, c)
+    form = form(informations, initial, scale, c)
     ranges = np.array([[high - low] for low, high in problem.bounds.values()])
     steps = casadi.diff(U, 1, 1) / casadi.DM(ranges) if problem.pieces > 1 else casadi.MX(0)
     z = casadi.vertcat(casadi.vec(U), form.variables)
@@ -375,7 +365,14 @@ def _solve(informations, U, problem: _Problem, start: np.ndarray, smoothness: fl
                     lbg=form.lbg, ubg=form.ubg)
     values = np.array(answer["x"]).ravel()[: U.numel()].reshape(U.shape, order="F")
     return np.clip(values, [[lo] for lo, _ in problem.bounds.values()], [[hi] for _, hi in problem.bounds.values()]), \
-        solver.stats()["return_status"], evaluate
+        solver.stats()["return_status"]
+
+
+def _evaluator(informations, U):
+    """The blocks (F stacked on P, block by block) as a casadi function of the inputs' values."""
+    import casadi
+
+    return casadi.Function("informations", [U], [casadi.vertcat(*(casadi.vertcat(F, P) for F, P in informations))])
 
 
 def _better(objective: str, ours, theirs, status: str) -> bool:
@@ -392,6 +389,21 @@ def _better(objective: str, ours, theirs, status: str) -> bool:
     return a > b or (a == b and status == "Solve_Succeeded")
 
 
+def _check_initials(fns, initials, p) -> None:
+    """Refuse (ModelError naming the state) an initial state where the outputs or their derivatives
+    are not finite: a singularity of the model, or values beyond floating point's range, where every
+    window's information would be meaningless (and the solver would only meet NaN)."""
+    for start in initials:
+        x0 = [float(start[s]) for s in fns.states]
+        with np.errstate(all="ignore"):
+            values = [np.array(v, dtype=float) for v in fns["measurement"](x0, x0, p)]
+        if not all(np.isfinite(v).all() for v in values):
+            state = ", ".join(f"{k}={float(v):g}" for k, v in start.items())
+            raise ModelError(f"the information is not finite at the initial state {state}: the outputs or their "
+                             "derivatives are not finite numbers there (a singularity of the model, or values beyond "
+                             "floating point's range)")
+
+
 def _graph(system: System, problem: _Problem, parameters: Mapping[str, float], noise, seed: int):
     """The inputs' symbols U, every (sample, window) block's information as casadi expressions of U,
     and the never-observable directions' names (the analysis's generic null space)."""
@@ -403,6 +415,7 @@ def _graph(system: System, problem: _Problem, parameters: Mapping[str, float], n
     generic = analyze(system, seed=seed, functions=False)
     functions = direction_functions(system, generic.unobservable_directions, parameters)
     null = (lambda x: casadi.horzcat(*(f(x) for f in functions))) if functions else None
+    _check_initials(fns, problem.initials, p)
     U = casadi.MX.sym("U", len(problem.bounds), problem.pieces)
     controls = _controls(discrete, problem, U)
     informations = [block for start in problem.initials for block in
@@ -424,7 +437,8 @@ def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mappin
         The initial state, or samples of a distribution of initial states
         (:func:`initial_samples`): the design is then for the worst of them.
     duration, window : float
-        The horizon and each window's length (windows back to back from t = 0).
+        The horizon and each window's length (windows back to back from t = 0; each holds
+        round(window / dt) steps, the trajectory's rule, and reports that real length).
     bounds : mapping input -> (low, high)
         The inputs to design and their bounds.
     baseline : mapping input -> value, optional
@@ -467,22 +481,22 @@ def design_inputs(system: System, initial: Mapping[str, float] | Sequence[Mappin
     spread = np.array([[high - low] for low, high in problem.bounds.values()])
     start = np.clip(base + 0.1 * spread * rng.uniform(-1, 1, base.shape), *zip(*[([lo], [hi]) for lo, hi in
                                                                                   problem.bounds.values()]))
-    designed, status, evaluate = _solve(informations, U, problem, start, smoothness, budget, objective)
-    n = system.n
+    evaluate, n = _evaluator(informations, U), system.n
 
     def scores(values: np.ndarray):
         blocks = np.vsplit(np.array(evaluate(values)), len(informations))
         return _scores([(b[:n], b[n:]) for b in blocks], problem.windows)
 
+    designed, status = _rounds(informations, U, problem, start, smoothness, budget, objective, scores)
     with np.errstate(all="ignore"):  # a non-finite window is judged below, not warned about
         ours, theirs = scores(designed), scores(base)
     if not (np.isfinite(designed).all() and _better(objective, ours, theirs, status)):
         # a local solver may end below its start or in non-finite numbers: never hand back a worse profile
         designed, ours, status = base, theirs, f"{status}; no better profile found: the baseline kept"
-    times = tuple((i * problem.steps // problem.pieces) * problem.dt for i in range(problem.pieces))
+    times = tuple(k * problem.dt for k in problem.starts)  # the times at which the trajectory samples step k
     names = list(problem.bounds) + [u for u in problem.baseline if u not in problem.bounds]
     values = {u: tuple(float(v) for v in designed[list(problem.bounds).index(u)]) if u in problem.bounds else
               (problem.baseline[u],) * problem.pieces for u in names}
-    return InputDesign(system.name, times, values, dict(problem.baseline), window, problem.dt, ours[0], theirs[0],
+    return InputDesign(system.name, times, values, dict(problem.baseline), problem.per_window * problem.dt, problem.dt, ours[0], theirs[0],
                        projected, status, ours[1], theirs[1], objective,
                        len(problem.initials))

@@ -3,7 +3,10 @@
 Given candidate outputs (``range = sqrt((lx - x)**2 + (ly - y)**2)``, a
 compass ``th``, ...), the smallest sets (or, with costs, the cheapest) whose
 outputs added to the model's reach the best rank any set reaches: n when some
-set makes the model observable, else the rank of all candidates together.
+set makes the model observable, else the rank of all candidates together. n
+counts what ``check`` counts: the states and the unknown inputs (modelled as
+states). The empty set is a set too: when no candidate raises the rank, the
+answer is {} at cost 0 (nothing is cheaper, so its minimality is certain).
 
 Why it is certain, step by step:
 
@@ -34,6 +37,7 @@ list of cheapest sets is complete at the search's point.
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -85,6 +89,7 @@ class SensorChoice:
     ----------
     model : str
     n_states : int
+        The dimension of the rank: the states and the unknown inputs, as ``check`` counts them.
     base : SensorSet
         The model's own outputs alone.
     target : int
@@ -130,6 +135,9 @@ def _checked(system: System, candidates: Mapping[str, str], costs: Mapping[str, 
         raise ModelError("sensor selection needs at least one candidate output")
     if len(candidates) > MAX_CANDIDATES:
         raise ModelError(f"{len(candidates)} candidates: at most {MAX_CANDIDATES} are searched")
+    total = sum(costs.get(name, 1.0) for name in candidates)
+    if not math.isfinite(total):
+        raise ModelError(f"--cost: the candidates' costs sum to {total:g}: their sum must be a finite number")
     taken = {name for name, _ in system.outputs} | {s.name for s in (*system.states, *system.inputs,
                                                                       *system.parameters)}
     for name in candidates:
@@ -144,8 +152,8 @@ def _checked(system: System, candidates: Mapping[str, str], costs: Mapping[str, 
 
 
 def _sets_by_cost(names: list[str], cost: Mapping[str, float]):
-    """Every non-empty subset of ``names``, cheapest first (then smaller, then by name)."""
-    subsets = [s for k in range(1, len(names) + 1) for s in itertools.combinations(names, k)]
+    """Every subset of ``names`` (the empty one first), cheapest first (then smaller, then by name)."""
+    subsets = [s for k in range(len(names) + 1) for s in itertools.combinations(names, k)]
     return sorted(subsets, key=lambda s: (sum(cost[c] for c in s), len(s), s))
 
 
@@ -199,7 +207,8 @@ def select_sensors(system: System, candidates: Mapping[str, str], costs: Mapping
         return result.rank if result.rank is not None else (result.lower_bound or 0)
 
     counter = [0]
-    base, _ = _verdict(system, candidates, (), cost, seed, budget)
+    base, own = _verdict(system, candidates, (), cost, seed, budget)
+    n = own.n_states  # the unknown inputs count, as in check's "rank r of n"
     target = fast(tuple(names))
     start = fast(())
     gains = {c: fast((c,)) - start for c in names}
@@ -209,17 +218,17 @@ def select_sensors(system: System, candidates: Mapping[str, str], costs: Mapping
             break
         if not found and start + sum(gains[c] for c in chosen) < target:  # submodularity: cannot reach it
             continue
-        if fast(chosen) == target:
+        if (fast(chosen) if chosen else start) == target:
             found.append(chosen)
     sets = tuple(_verdict(system, candidates, f, cost, seed, budget)[0] for f in found)
     minimality, error, why = _minimality(system, candidates, cost, sets, seed, budget)
-    observable = target == system.n and all(s.rank == system.n for s in sets)
+    observable = target == n and all(s.rank == n for s in sets)
     if not observable:  # the best rank is that of every candidate together: say how sure it is
         every, result = _verdict(system, candidates, tuple(names), cost, seed, budget)
-        why += f"; no set reaches rank {system.n}: with every candidate the rank is {every.rank} ({every.proof})"
+        why += f"; no set reaches rank {n}: with every candidate the rank is {every.rank} ({every.proof})"
         if every.proof != "proven":
             error = (error or 0.0) + (result.error_probability or 0.0)
-    return SensorChoice(system.name, system.n, base, target, observable, sets, minimality, error, counter[0], why)
+    return SensorChoice(system.name, n, base, target, observable, sets, minimality, error, counter[0], why)
 
 
 def _minimality(system: System, candidates: Mapping[str, str], cost: Mapping[str, float],
@@ -228,6 +237,8 @@ def _minimality(system: System, candidates: Mapping[str, str], cost: Mapping[str
     target = sets[0].rank if sets else None
     if target is None:
         return "undecided", None, "no set's rank was decided"
+    if not sets[0].candidates:
+        return "proven", None, "the empty set: no set is cheaper (no candidate raises the rank)"
     cheaper = _maximal_cheaper(list(candidates), cost, sets[0].cost)
     error, prove = 0.0, len(cheaper) <= MAX_PROOFS
     for chosen in cheaper:
