@@ -7,10 +7,12 @@ the covariance and the transition matrix from one discretisation (:mod:`.imu`),
 and a simulator of a trajectory, IMU readings and camera features (:mod:`.simulate`).
 """
 
+from .imu import ImuNoise, ImuStep, continuous_jacobians, propagate, step
+from .simulate import Camera, Scenario, Simulation, simulate
 from .so3 import exp_so2, exp_so3, log_so2, log_so3, retract, skew
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus, imu_state, unobservable_directions
 
 __all__ = [
-    "ERROR_DIM", "GRAVITY", "ImuState", "boxminus", "boxplus", "exp_so2", "exp_so3", "imu_state", "log_so2",
+    "Camera", "ERROR_DIM", "GRAVITY", "Scenario", "Simulation", "simulate", "ImuNoise", "ImuState", "ImuStep", "continuous_jacobians", "propagate", "step", "boxminus", "boxplus", "exp_so2", "exp_so3", "imu_state", "log_so2",
     "log_so3", "retract", "skew", "unobservable_directions",
 ]

@@ -194,26 +194,45 @@ def quaternion_from_rotation(R) -> np.ndarray:
     method: the largest of the four squared components is computed first, the
     others from it, so no component is a difference of nearly equal numbers)."""
     R = _rotation(R, "R", "quaternion_from_rotation")
+    if R.ndim == 2:
+        return _quaternion_of_one(R)
     trace = np.trace(R, axis1=-2, axis2=-1)
     diag = np.diagonal(R, axis1=-2, axis2=-1)
     squares = np.stack([1 + trace, 1 + 2 * diag[..., 0] - trace, 1 + 2 * diag[..., 1] - trace,
                         1 + 2 * diag[..., 2] - trace], -1) / 4  # w^2, x^2, y^2, z^2
     k = np.argmax(squares, axis=-1)
     big = np.sqrt(np.take_along_axis(squares, k[..., None], -1))[..., 0]
-    # 4 q_k q_j for every j, from the off-diagonal sums and differences.
-    cross = {
-        0: lambda: (4 * big**2, R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]),
-        1: lambda: (R[..., 2, 1] - R[..., 1, 2], 4 * big**2, R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0]),
-        2: lambda: (R[..., 0, 2] - R[..., 2, 0], R[..., 0, 1] + R[..., 1, 0], 4 * big**2, R[..., 1, 2] + R[..., 2, 1]),
-        3: lambda: (R[..., 1, 0] - R[..., 0, 1], R[..., 0, 2] + R[..., 2, 0], R[..., 1, 2] + R[..., 2, 1], 4 * big**2),
-    }
-    q = np.zeros(R.shape[:-2] + (4,))
-    for index, products in cross.items():
-        chosen = k == index
-        if np.any(chosen):
-            q[chosen] = (np.stack(products(), -1) / (4 * big[..., None]))[chosen]
+    # 4 q_i q_j for i != j, from the off-diagonal differences (w) and sums (x, y, z).
+    products = np.zeros(R.shape[:-2] + (4, 4))
+    for (i, j), (a, b, sign) in _PRODUCTS.items():
+        products[..., i, j] = products[..., j, i] = R[..., a[0], a[1]] + sign * R[..., b[0], b[1]]
+    row = np.take_along_axis(products, k[..., None, None], -2)[..., 0, :]  # 4 q_k q_j
+    q = row / (4 * big[..., None])
+    np.put_along_axis(q, k[..., None], big[..., None], -1)
     q *= np.where(q[..., :1] < 0, -1.0, 1.0)
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def _quaternion_of_one(R: np.ndarray) -> np.ndarray:
+    """:func:`quaternion_from_rotation` for one matrix, in Python floats (a filter
+    calls it at every IMU step, where the stacked form's numpy calls dominate)."""
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    trace = r00 + r11 + r22
+    squares = [(1 + trace) / 4, (1 + 2 * r00 - trace) / 4, (1 + 2 * r11 - trace) / 4, (1 + 2 * r22 - trace) / 4]
+    k = squares.index(max(squares))
+    products = {(0, 1): r21 - r12, (0, 2): r02 - r20, (0, 3): r10 - r01,
+                (1, 2): r01 + r10, (1, 3): r02 + r20, (2, 3): r12 + r21}
+    big = squares[k] ** 0.5
+    q = [big if j == k else products[min(j, k), max(j, k)] / (4 * big) for j in range(4)]
+    q = np.array(q) * (-1.0 if q[0] < 0 else 1.0)
+    return q / np.linalg.norm(q)
+
+
+#: 4 q_i q_j = R[a] + sign R[b] (i < j), e.g. 4 w x = R21 - R12, 4 x y = R01 + R10.
+_PRODUCTS = {
+    (0, 1): ((2, 1), (1, 2), -1), (0, 2): ((0, 2), (2, 0), -1), (0, 3): ((1, 0), (0, 1), -1),
+    (1, 2): ((0, 1), (1, 0), 1), (1, 3): ((0, 2), (2, 0), 1), (2, 3): ((1, 2), (2, 1), 1),
+}
 
 
 def rotation_from_quaternion(q) -> np.ndarray:

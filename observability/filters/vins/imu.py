@@ -1,0 +1,229 @@
+"""IMU propagation generated from the ``vins`` model: the mean, the error-state
+transition Phi and the noise Q from one discretisation.
+
+What comes from the model. The kinematics are those of the built-in
+``vins(features=1, biases=True, attitude="quaternion-unit")`` (p' = v,
+v' = R(q)(a_m - ba) - (0, 0, g), q' = q (0, w_m - bg) / 2, biases constant),
+turned into casadi by :func:`observability.codegen.filter_functions` with its
+``rk4`` discretisation: one classical Runge-Kutta step over dt with the
+measurements held constant (piecewise-constant inputs, as OpenVINS's
+``Propagator::predict_mean_rk4``, Geneva et al., ICRA 2020), the gyro and
+accelerometer noise entering the inputs (held over the step) and the bias
+random walks entering the bias states additively. The feature the model
+carries is constant and unused here.
+
+What is written here, and why. The model's attitude is a quaternion (4
+numbers); the filter's error is 3-dim and lives in the world frame,
+R_true = Exp(dtheta) R_hat. The chart between the two is written here in
+casadi: the perturbed quaternion is q(dtheta) q_hat with
+q(d) = (1, d/2)/sqrt(1 + |d|^2/4), and the error is read back as
+dtheta = 2 vec(e)/e_w, e = q_1 q_0^*. Both agree with Exp and Log to first
+order at the identity, and a Jacobian at dx = 0 depends on nothing else, so
+
+    Phi = d/d(dx) [ boxminus(step(boxplus(x_hat, dx)), step(x_hat)) ] at dx = 0,
+    G   = the same derivative with respect to the step's noise,
+
+computed by casadi's automatic differentiation through the SAME Runge-Kutta
+step as the mean: the mean and the transition matrix come from one
+discretisation (OpenVINS instead pairs an RK4 mean with a separately
+discretised Phi). The noise covariance is Q = G Qn G^T with
+Qn = diag(sg^2/dt I, sa^2/dt I, sbg^2 dt I, sba^2 dt I): white noise of
+spectral density s^2, averaged over the step, has variance s^2/dt; a random
+walk gains s^2 dt (OpenVINS's "discrete" noise, Q ~ G Qc G^T dt, to first
+order in dt). The continuous-time error dynamics F and G_c
+(:func:`continuous_jacobians`) are dPhi/d(dt) and dG/d(dt) at dt = 0: RK4
+agrees with the vector field to first order.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import casadi
+import numpy as np
+
+from ...codegen import filter_functions
+from ...models.vins import vins
+from .. import validation
+from ..validation import FilterError
+from .so3 import quaternion_from_rotation, rotation_from_quaternion
+from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
+
+__all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate", "step"]
+
+#: The model's noise entries, in the order of G's columns: n_g, n_a (inputs), bias walks (states).
+NOISE = ("wmx", "wmy", "wmz", "amx", "amy", "amz", "bgx", "bgy", "bgz", "bax", "bay", "baz")
+NOISE_DIM = len(NOISE)
+
+
+@dataclass(frozen=True)
+class ImuNoise:
+    """Continuous-time IMU noise densities.
+
+    Attributes
+    ----------
+    sigma_g : float
+        Gyro white noise, rad/s/sqrt(Hz).
+    sigma_a : float
+        Accelerometer white noise, m/s^2/sqrt(Hz).
+    sigma_bg, sigma_ba : float
+        Gyro and accelerometer bias random walks, rad/s^2/sqrt(Hz) and m/s^3/sqrt(Hz).
+    """
+
+    sigma_g: float
+    sigma_a: float
+    sigma_bg: float
+    sigma_ba: float
+
+    def __post_init__(self):
+        for name in ("sigma_g", "sigma_a", "sigma_bg", "sigma_ba"):
+            value = getattr(self, name)
+            if isinstance(value, (bool, str, bytes)) or np.ndim(value) != 0 or not np.isfinite(float(value)) \
+                    or float(value) < 0:
+                raise FilterError(f"ImuNoise: {name} must be a finite number >= 0, got {value!r}")
+            object.__setattr__(self, name, float(value))
+
+    def densities(self) -> np.ndarray:
+        """diag(sg^2 I, sa^2 I, sbg^2 I, sba^2 I) (12 x 12), the continuous noise's spectral densities."""
+        return np.diag(np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2)
+
+
+@dataclass(frozen=True)
+class ImuStep:
+    """One propagation step.
+
+    Attributes
+    ----------
+    state : ImuState
+        The propagated mean.
+    Phi : ndarray (15, 15)
+        d(next error)/d(error), error-state order of :mod:`.state`.
+    G : ndarray (15, 12)
+        d(next error)/d(noise), noise order :data:`NOISE` (n_g, n_a held over the step; bias increments).
+    Q : ndarray (15, 15)
+        The step's noise covariance G Qn G^T (module docstring).
+    """
+
+    state: ImuState
+    Phi: np.ndarray
+    G: np.ndarray
+    Q: np.ndarray
+
+
+def _qmul(a, b):
+    """The Hamilton product of casadi 4-vectors (w, x, y, z)."""
+    return casadi.vertcat(
+        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
+    )
+
+
+def _unit(q):
+    return q / casadi.sqrt(casadi.sumsqr(q))
+
+
+@functools.lru_cache(maxsize=1)
+def _generated() -> tuple[casadi.Function, casadi.Function]:
+    """(step, continuous) casadi Functions built from the model (module docstring)."""
+    functions = filter_functions(vins(features=1, biases=True, attitude="quaternion-unit"), noise=list(NOISE),
+                                 method="rk4", inverse=False)
+    if functions.parameters != ("g", "dt") or functions.noise != NOISE:
+        raise FilterError(f"imu: the vins model changed its parameters {functions.parameters} or noise {functions.noise}")
+    at = {name: i for i, name in enumerate(functions.states)}
+    q, p, v, bg, ba = (casadi.SX.sym(n, k) for n, k in (("q", 4), ("p", 3), ("v", 3), ("bg", 3), ("ba", 3)))
+    wm, am, dt = casadi.SX.sym("wm", 3), casadi.SX.sym("am", 3), casadi.SX.sym("dt")
+    dx, noise = casadi.SX.sym("dx", ERROR_DIM), casadi.SX.sym("n", NOISE_DIM)
+
+    def model_state(q_, p_, v_, bg_, ba_):
+        parts = {"q": q_, "p": p_, "v": v_, "bg": bg_, "ba": ba_}
+        entries = [casadi.SX(0)] * len(functions.states)
+        for prefix, names in (("p", "xyz"), ("v", "xyz"), ("bg", "xyz"), ("ba", "xyz"), ("q", "0123")):
+            for k, c in enumerate(names):
+                entries[at[f"{prefix}{c}"]] = parts[prefix][k]
+        return casadi.vertcat(*entries)
+
+    def step_of(state, w):
+        out = functions["f"](state, casadi.vertcat(wm, am), w, casadi.vertcat(-GRAVITY[2], dt))
+        pick = lambda prefix, names: casadi.vertcat(*(out[at[f"{prefix}{c}"]] for c in names))  # noqa: E731
+        return pick("q", "0123"), pick("p", "xyz"), pick("v", "xyz"), pick("bg", "xyz"), pick("ba", "xyz")
+
+    d_theta = dx[0:3]
+    q_perturbed = _qmul(casadi.vertcat(1, d_theta / 2) / casadi.sqrt(1 + casadi.sumsqr(d_theta) / 4), q)
+    nominal = step_of(model_state(q, p, v, bg, ba), casadi.SX.zeros(NOISE_DIM))
+    moved = step_of(model_state(q_perturbed, p + dx[3:6], v + dx[6:9], bg + dx[9:12], ba + dx[12:15]), noise)
+    e = _qmul(_unit(moved[0]), _unit(nominal[0]) * casadi.DM([1, -1, -1, -1]))
+    error = casadi.vertcat(2 * e[1:] / e[0], *(m - n for m, n in zip(moved[1:], nominal[1:])))
+    zero = [casadi.SX.zeros(ERROR_DIM), casadi.SX.zeros(NOISE_DIM)]
+    Phi, G = casadi.substitute([casadi.jacobian(error, dx), casadi.jacobian(error, noise)], [dx, noise], zero)
+    # One vector in, three out (each casadi call from Python costs per argument), common
+    # subexpressions shared (casadi.cse: 17,904 instructions down to about 4,900).
+    x, u = casadi.vertcat(q, p, v, bg, ba), casadi.vertcat(wm, am)
+    step_fn = casadi.Function("imu_step", [x, u, dt], casadi.cse([casadi.vertcat(*nominal), casadi.densify(Phi),
+                              casadi.densify(G)]), ["x", "u", "dt"], ["x_next", "Phi", "G"])
+    rates = [casadi.reshape(casadi.jacobian(casadi.vec(M), dt), M.shape) for M in (Phi, G)]
+    F, G_c = casadi.substitute(rates, [dt], [casadi.SX(0)])
+    # The bias walks enter as increments (columns 6-11 of G are I for every dt): their rate is I.
+    G_c = casadi.horzcat(G_c[:, :6], casadi.substitute(G[:, 6:], dt, casadi.SX(0)))
+    continuous = casadi.Function("imu_continuous", [x, u], casadi.cse([casadi.densify(F), casadi.densify(G_c)]),
+                                 ["x", "u"], ["F", "G"])
+    return step_fn, continuous
+
+
+def _arguments(state, omega_m, acc_m, where: str) -> list[np.ndarray]:
+    if not isinstance(state, ImuState):
+        raise FilterError(f"{where}: state must be an ImuState, got {type(state).__name__}")
+    omega = validation.vector(omega_m, "omega_m", 3, where)
+    acc = validation.vector(acc_m, "acc_m", 3, where)
+    return [np.concatenate([quaternion_from_rotation(state.R), state.p, state.v, state.bg, state.ba]),
+            np.concatenate([omega, acc])]
+
+
+def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep:
+    """Propagate the mean over ``dt`` with the measurements held constant, and
+    return it with Phi, G and Q (see :class:`ImuStep` and the module docstring).
+
+    Raises
+    ------
+    FilterError
+        A state that is not an :class:`ImuState`, measurements that are not finite
+        3-vectors, ``dt`` not a finite number > 0, ``noise`` not an :class:`ImuNoise`.
+    """
+    arguments = _arguments(state, omega_m, acc_m, "imu step")
+    if isinstance(dt, (bool, str, bytes)) or np.ndim(dt) != 0 or not np.isfinite(float(dt)) or float(dt) <= 0:
+        raise FilterError(f"imu step: dt must be a finite number > 0, got {dt!r}")
+    if not isinstance(noise, ImuNoise):
+        raise FilterError(f"imu step: noise must be an ImuNoise, got {type(noise).__name__}")
+    dt = float(dt)
+    x, Phi, G = (np.asarray(out) for out in _generated()[0](*arguments, dt))
+    x = x.ravel()
+    if not (np.isfinite(x).all() and np.isfinite(Phi).all() and np.isfinite(G).all()):
+        raise FilterError("imu step: the propagation overflowed (measurements or dt too large)")
+    scale = np.repeat([1 / dt, 1 / dt, dt, dt], 3)
+    Q = (G * (np.diag(noise.densities()) * scale)) @ G.T
+    nxt = ImuState(rotation_from_quaternion(x[:4]), x[4:7], x[7:10], x[10:13], x[13:16])
+    return ImuStep(nxt, Phi, G, 0.5 * (Q + Q.T))
+
+
+def propagate(state: ImuState, P, omega_m, acc_m, dt: float, noise: ImuNoise):
+    """One IMU step of the mean and the 15 x 15 covariance.
+
+    Returns
+    -------
+    (ImuState, ndarray, ndarray)
+        The propagated state, P' = Phi P Phi^T + Q, and Phi (for the
+        cross-covariances with clones: P_ci' = Phi P_ci).
+    """
+    P = validation.covariance(P, "P", ERROR_DIM, "imu propagate", definite=False)
+    result = step(state, omega_m, acc_m, dt, noise)
+    covariance = result.Phi @ P @ result.Phi.T + result.Q
+    return result.state, 0.5 * (covariance + covariance.T), result.Phi
+
+
+def continuous_jacobians(state: ImuState, omega_m, acc_m) -> tuple[np.ndarray, np.ndarray]:
+    """The continuous-time error dynamics d(dx)/dt = F dx + G n at ``state``
+    (F 15 x 15, G 15 x 12, noise order :data:`NOISE`), from the model (module docstring)."""
+    F, G = _generated()[1](*_arguments(state, omega_m, acc_m, "imu continuous_jacobians"))
+    return np.asarray(F), np.asarray(G)
