@@ -315,6 +315,8 @@ def consistency_command(args: argparse.Namespace) -> int:
 
     from ..parallel import engine
 
+    if args.study == "vins-msckf":
+        return _vins_study(args)
     if args.study != "odometry":
         return _slam_study(args)
     study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=7 if args.seed is None else args.seed)
@@ -355,6 +357,29 @@ def _slam_study(args: argparse.Namespace) -> int:
         for warning in r["warnings"]:
             print(f"observability: warning: {r['filter']} (run 0): {warning}", file=sys.stderr)
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'rmse.png'}")
+    return 0
+
+
+def _vins_study(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from ..parallel import engine
+    from ..report.vinsstudy import VinsStudy
+    from ..report.vinsstudy_report import write_vins_study
+
+    base = VinsStudy()
+    study = dataclasses.replace(base, runs=args.runs or base.runs, seed=base.seed if args.seed is None else args.seed,
+                                duration=args.steps / base.camera_rate if args.steps else base.duration)
+    out = args.out / args.study
+    with engine(args.scheduler, args.workers) as run:
+        result = write_vins_study(out, study, run)
+    for r in result.records:
+        (low, high), (lo, hi) = r["anees_orientation_interval"], r["anees_orientation_bounds"]
+        print(f"{r['filter']:6} ANEES orientation {r['anees_orientation']:7.2f} [{low:.2f}, {high:.2f}]  band "
+              f"[{lo:.2f}, {hi:.2f}]  {r['verdict']:14} yaw {r['anees_yaw']:6.2f} ({r['anees_yaw_verdict']})  "
+              f"position {r['anees_position']:6.2f} ({r['anees_position_verdict']})  unobservable dim. "
+              f"{r['filter_unobservable_dimension']} (analysis {r['analysis_unobservable_dimension']})")
+    print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'trajectory.png'}")
     return 0
 
 

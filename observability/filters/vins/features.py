@@ -19,9 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .so3 import skew
-
-__all__ = ["project", "feature_jacobians", "triangulate", "MIN_DEPTH"]
+__all__ = ["project", "feature_jacobians", "reprojection_residual", "triangulate", "MIN_DEPTH"]
 
 #: A feature nearer than this (m, along the optical axis) to any pose that saw it is not used.
 MIN_DEPTH = 0.1
@@ -37,9 +35,18 @@ def project(R: np.ndarray, p: np.ndarray, f: np.ndarray) -> np.ndarray:
     return c[:2] / c[2]
 
 
-def _projection_jacobian(c: np.ndarray) -> np.ndarray:
-    x, y, z = c
-    return np.array([[1.0, 0.0, -x / z], [0.0, 1.0, -y / z]]) / z
+def _camera_points(rotations, positions, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(d = f - p_j (m, 3), p_c = R_j^T d (m, 3)) for the m poses."""
+    d = f - np.asarray(positions, dtype=float)
+    return d, np.einsum("mji,mj->mi", np.asarray(rotations, dtype=float), d)
+
+
+def _feature_rows(rotations, c: np.ndarray) -> np.ndarray:
+    """dz/df = dπ(p_c) R^T per pose (m, 2, 3)."""
+    x, y, z = c[:, 0], c[:, 1], c[:, 2]
+    zero = np.zeros_like(z)
+    dpi = np.stack([np.stack([1 / z, zero, -x / z ** 2], -1), np.stack([zero, 1 / z, -y / z ** 2], -1)], 1)
+    return dpi @ np.transpose(np.asarray(rotations, dtype=float), (0, 2, 1))
 
 
 def feature_jacobians(rotations: Sequence[np.ndarray], positions: Sequence[np.ndarray],
@@ -48,14 +55,20 @@ def feature_jacobians(rotations: Sequence[np.ndarray], positions: Sequence[np.nd
     H_f (2m x 3) of the feature's m observations, at the given poses and feature
     (module docstring)."""
     m = len(rotations)
-    H_x, H_f = np.zeros((2 * m, 6 * m)), np.zeros((2 * m, 3))
-    for j, (R, p) in enumerate(zip(rotations, positions)):
-        d = f - p
-        Jc = _projection_jacobian(R.T @ d) @ R.T
-        H_x[2 * j:2 * j + 2, 6 * j:6 * j + 3] = Jc @ skew(d)
-        H_x[2 * j:2 * j + 2, 6 * j + 3:6 * j + 6] = -Jc
-        H_f[2 * j:2 * j + 2] = Jc
-    return H_x, H_f
+    d, c = _camera_points(rotations, positions, f)
+    J = _feature_rows(rotations, c)
+    # a^T [d]x = (a x d)^T, row by row: J [d]x without forming [d]x.
+    blocks = np.concatenate([np.cross(J, d[:, None, :]), -J], axis=2)
+    H_x = np.zeros((2 * m, 6 * m))
+    for j in range(m):
+        H_x[2 * j:2 * j + 2, 6 * j:6 * j + 6] = blocks[j]
+    return H_x, J.reshape(2 * m, 3)
+
+
+def reprojection_residual(rotations, positions, observations, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(z - π(R_j^T (f - p_j)) stacked over the m poses (2m,), and the camera points p_c (m, 3))."""
+    _, c = _camera_points(rotations, positions, f)
+    return (np.asarray(observations, dtype=float) - c[:, :2] / c[:, 2:]).ravel(), c
 
 
 def triangulate(rotations: Sequence[np.ndarray], positions: Sequence[np.ndarray],
@@ -67,24 +80,18 @@ def triangulate(rotations: Sequence[np.ndarray], positions: Sequence[np.ndarray]
     normalised), so sum_j (I - b_j b_j^T)(f - p_j) = 0; then :data:`REFINEMENTS`
     Gauss-Newton steps on the reprojection error.
     """
-    A, b = np.zeros((3, 3)), np.zeros(3)
-    for R, p, z in zip(rotations, positions, observations):
-        ray = R @ np.array([z[0], z[1], 1.0])
-        ray /= np.linalg.norm(ray)
-        M = np.eye(3) - np.outer(ray, ray)
-        A += M
-        b += M @ p
+    Rs, ps = np.asarray(rotations, dtype=float), np.asarray(positions, dtype=float)
+    zs = np.asarray(observations, dtype=float)
+    rays = np.einsum("mij,mj->mi", Rs, np.column_stack([zs, np.ones(len(zs))]))
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    M = np.eye(3) - rays[:, :, None] * rays[:, None, :]
+    A, b = M.sum(axis=0), np.einsum("mij,mj->i", M, ps)
     if np.linalg.cond(A) > MAX_CONDITION:
         return None
     f = np.linalg.solve(A, b)
     for _ in range(REFINEMENTS):
-        if not _in_front(rotations, positions, f):
+        residual, c = reprojection_residual(Rs, ps, zs, f)
+        if np.any(c[:, 2] <= MIN_DEPTH):
             return None
-        residual = np.concatenate([z - project(R, p, f) for R, p, z in zip(rotations, positions, observations)])
-        _, H_f = feature_jacobians(rotations, positions, f)
-        f = f + np.linalg.lstsq(H_f, residual, rcond=None)[0]
-    return f if _in_front(rotations, positions, f) else None
-
-
-def _in_front(rotations: Sequence[np.ndarray], positions: Sequence[np.ndarray], f: np.ndarray) -> bool:
-    return all((R.T @ (f - p))[2] > MIN_DEPTH for R, p in zip(rotations, positions))
+        f = f + np.linalg.lstsq(_feature_rows(Rs, c).reshape(-1, 3), residual, rcond=None)[0]
+    return f if np.all(_camera_points(Rs, ps, f)[1][:, 2] > MIN_DEPTH) else None
