@@ -13,9 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from ..consistency import nees
 from ..linearized import LinearizedObservability
+from ..validation import FilterError
 from .msckf import Msckf, MsckfSettings
 from .simulate import Simulation
 from .so3 import log_so3
@@ -58,10 +60,22 @@ def run_msckf(policy: str, simulation: Simulation, initial: ImuState, P0: np.nda
     which must have the camera at the IMU (identity extrinsics)."""
     s = simulation
     camera = s.scenario.camera
+    if not (np.array_equal(camera.R_IC, np.eye(3)) and not np.any(camera.p_IC)):
+        raise FilterError("run_msckf: the MSCKF takes the camera at the IMU (identity R_IC, zero p_IC)")
     landmarks = dict(enumerate(s.features))
     msckf = Msckf(policy, initial, P0, s.scenario.noise, settings, landmarks)
     values, positions = np.full((len(QUANTITIES), len(s.frames)), np.nan), np.zeros((len(s.frames), 3))
     frame_of = {int(k): j for j, k in enumerate(s.frames)}
+    # The matrices are at most ~70 wide: BLAS threads would only spin on them (a QR took 70 ms, not 1 ms).
+    with threadpool_limits(1, "blas"):
+        _drive(msckf, s, policy, frame_of, values, positions)
+    observability = msckf.observability() if msckf.rows else None
+    return MsckfRun(policy, values, positions, observability, msckf.used_features, msckf.gated)
+
+
+def _drive(msckf: Msckf, s: Simulation, policy: str, frame_of: dict, values: np.ndarray, positions: np.ndarray) -> None:
+    """Feed the IMU samples and camera frames to the filter, recording the errors after each frame."""
+    camera = s.scenario.camera
     for k in range(len(s.t)):
         if k > 0:
             dt = s.t[k] - s.t[k - 1]
@@ -73,5 +87,3 @@ def run_msckf(policy: str, simulation: Simulation, initial: ImuState, P0: np.nda
             msckf.image(dict(zip(ids.tolist(), camera.normalized(pixels))), (s.R[k], s.p[k]))
             values[:, j] = errors(s.truth(k), msckf.imu, msckf.P)
             positions[j] = msckf.imu.p
-    observability = msckf.observability() if msckf.rows else None
-    return MsckfRun(policy, values, positions, observability, msckf.used_features, msckf.gated)
