@@ -4,15 +4,19 @@ Takes the ``vins`` model (its IMU kinematics, through :mod:`observability.codege
 and gives rotations with a 3-dim world-frame error (:mod:`.so3`, also SO(2)), the
 IMU state and its error-state layout (:mod:`.state`), IMU propagation of the mean,
 the covariance and the transition matrix from one discretisation (:mod:`.imu`),
-and a simulator of a trajectory, IMU readings and camera features (:mod:`.simulate`).
+a simulator of a trajectory, IMU readings and camera features (:mod:`.simulate`),
+and the planar (SO(2)) propagation from the ``vins2d`` model (:mod:`.planar`).
 """
 
 from .imu import ImuNoise, ImuStep, continuous_jacobians, propagate, step
+from .planar import PlanarState, planar_boxminus, planar_boxplus, planar_propagate, planar_step
 from .simulate import Camera, Scenario, Simulation, simulate
 from .so3 import exp_so2, exp_so3, log_so2, log_so3, retract, skew
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus, imu_state, unobservable_directions
 
 __all__ = [
-    "Camera", "ERROR_DIM", "GRAVITY", "Scenario", "Simulation", "simulate", "ImuNoise", "ImuState", "ImuStep", "continuous_jacobians", "propagate", "step", "boxminus", "boxplus", "exp_so2", "exp_so3", "imu_state", "log_so2",
-    "log_so3", "retract", "skew", "unobservable_directions",
+    "Camera", "ERROR_DIM", "GRAVITY", "ImuNoise", "ImuState", "ImuStep", "PlanarState", "Scenario",
+    "Simulation", "boxminus", "boxplus", "continuous_jacobians", "exp_so2", "exp_so3", "imu_state", "log_so2",
+    "log_so3", "planar_boxminus", "planar_boxplus", "planar_propagate", "planar_step", "propagate", "retract",
+    "simulate", "skew", "step", "unobservable_directions",
 ]

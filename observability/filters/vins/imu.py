@@ -6,8 +6,9 @@ What comes from the model. The kinematics are those of the built-in
 v' = R(q)(a_m - ba) - (0, 0, g), q' = q (0, w_m - bg) / 2, biases constant),
 turned into casadi by :func:`observability.codegen.filter_functions` with its
 ``rk4`` discretisation: one classical Runge-Kutta step over dt with the
-measurements held constant (piecewise-constant inputs, as OpenVINS's
-``Propagator::predict_mean_rk4``, Geneva et al., ICRA 2020), the gyro and
+measurements held constant (OpenVINS's ``Propagator::predict_mean_rk4``, Geneva
+et al., ICRA 2020, interpolates linearly between two readings instead; passing
+their mean here, :meth:`Simulation.interval`, agrees to second order), the gyro and
 accelerometer noise entering the inputs (held over the step) and the bias
 random walks entering the bias states additively. The feature the model
 carries is constant and unused here.
@@ -25,12 +26,15 @@ order at the identity, and a Jacobian at dx = 0 depends on nothing else, so
 
 computed by casadi's automatic differentiation through the SAME Runge-Kutta
 step as the mean: the mean and the transition matrix come from one
-discretisation (OpenVINS instead pairs an RK4 mean with a separately
-discretised Phi). The noise covariance is Q = G Qn G^T with
+discretisation (OpenVINS's ``Propagator::predict_and_compute`` pairs its RK4
+mean with a Phi from a simpler discretisation, after Trawny and Roumeliotis's
+2005 report). The noise covariance is Q = G Qn G^T with
 Qn = diag(sg^2/dt I, sa^2/dt I, sbg^2 dt I, sba^2 dt I): white noise of
 spectral density s^2, averaged over the step, has variance s^2/dt; a random
-walk gains s^2 dt (OpenVINS's "discrete" noise, Q ~ G Qc G^T dt, to first
-order in dt). The continuous-time error dynamics F and G_c
+walk gains s^2 dt (OpenVINS builds its Qd the same way, Qc = s^2/dt). For
+truly white noise the integral of Phi G Qc G^T Phi^T differs only at higher
+order in dt (e.g. the gyro's share of the velocity block, sg^2 |[f]x|^2 dt^3
+times 1/4 here against 1/3). The continuous-time error dynamics F and G_c
 (:func:`continuous_jacobians`) are dPhi/d(dt) and dG/d(dt) at dt = 0: RK4
 agrees with the vector field to first order.
 """
@@ -47,7 +51,7 @@ from ...codegen import filter_functions
 from ...models.vins import vins
 from .. import validation
 from ..validation import FilterError
-from .so3 import quaternion_from_rotation, rotation_from_quaternion
+from .so3 import _quaternion_of_one
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
 
 __all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate", "step"]
@@ -85,11 +89,11 @@ class ImuNoise:
             object.__setattr__(self, name, float(value))
 
     def densities(self) -> np.ndarray:
-        """diag(sg^2 I, sa^2 I, sbg^2 I, sba^2 I) (12 x 12), the continuous noise's spectral densities."""
-        return np.diag(np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2)
+        """(sg^2, sg^2, sg^2, sa^2, ..., sba^2) (12,): the spectral densities in :data:`NOISE` order."""
+        return np.repeat([self.sigma_g, self.sigma_a, self.sigma_bg, self.sigma_ba], 3) ** 2
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class ImuStep:
     """One propagation step.
 
@@ -100,7 +104,10 @@ class ImuStep:
     Phi : ndarray (15, 15)
         d(next error)/d(error), error-state order of :mod:`.state`.
     G : ndarray (15, 12)
-        d(next error)/d(noise), noise order :data:`NOISE` (n_g, n_a held over the step; bias increments).
+        d(next error)/d(noise), noise order :data:`NOISE`: the gyro and accelerometer
+        noise held over the step, added to the readings as the model adds its noise
+        (u + w, so w = -n_g of omega_m = omega + bg + n_g; Q does not see the sign),
+        then the bias increments.
     Q : ndarray (15, 15)
         The step's noise covariance G Qn G^T (module docstring).
     """
@@ -121,6 +128,15 @@ def _qmul(a, b):
     )
 
 
+def _matrix(q):
+    """R(q / |q|) of a casadi quaternion, row by row (the model's rotation_from_quaternion formula)."""
+    w, x, y, z = (q[i] for i in range(4))
+    n = casadi.sumsqr(q)
+    return casadi.vertcat(w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y),
+                          2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x),
+                          2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z) / n
+
+
 def _unit(q):
     return q / casadi.sqrt(casadi.sumsqr(q))
 
@@ -131,7 +147,7 @@ def _generated() -> tuple[casadi.Function, casadi.Function]:
     functions = filter_functions(vins(features=1, biases=True, attitude="quaternion-unit"), noise=list(NOISE),
                                  method="rk4", inverse=False)
     if functions.parameters != ("g", "dt") or functions.noise != NOISE:
-        raise FilterError(f"imu: the vins model changed its parameters {functions.parameters} or noise {functions.noise}")
+        raise RuntimeError(f"imu: the vins model changed its parameters {functions.parameters} or noise {functions.noise}")
     at = {name: i for i, name in enumerate(functions.states)}
     q, p, v, bg, ba = (casadi.SX.sym(n, k) for n, k in (("q", 4), ("p", 3), ("v", 3), ("bg", 3), ("ba", 3)))
     wm, am, dt = casadi.SX.sym("wm", 3), casadi.SX.sym("am", 3), casadi.SX.sym("dt")
@@ -158,11 +174,12 @@ def _generated() -> tuple[casadi.Function, casadi.Function]:
     error = casadi.vertcat(2 * e[1:] / e[0], *(m - n for m, n in zip(moved[1:], nominal[1:])))
     zero = [casadi.SX.zeros(ERROR_DIM), casadi.SX.zeros(NOISE_DIM)]
     Phi, G = casadi.substitute([casadi.jacobian(error, dx), casadi.jacobian(error, noise)], [dx, noise], zero)
-    # One vector in, three out (each casadi call from Python costs per argument), common
-    # subexpressions shared (casadi.cse: 17,904 instructions down to about 4,900).
+    # Vectors in, ONE vector out (each casadi argument and result costs ~20 us from
+    # Python), common subexpressions shared (casadi.cse: 17,904 instructions to ~4,900):
+    # out = [q, p, v, bg, ba (16), R_next row by row (9), Phi (225), G (180)], column-major.
     x, u = casadi.vertcat(q, p, v, bg, ba), casadi.vertcat(wm, am)
-    step_fn = casadi.Function("imu_step", [x, u, dt], casadi.cse([casadi.vertcat(*nominal), casadi.densify(Phi),
-                              casadi.densify(G)]), ["x", "u", "dt"], ["x_next", "Phi", "G"])
+    out = casadi.vertcat(*nominal, _matrix(nominal[0]), casadi.vec(casadi.densify(Phi)), casadi.vec(casadi.densify(G)))
+    step_fn = casadi.Function("imu_step", [x, u, dt], [casadi.cse(out)], ["x", "u", "dt"], ["x_R_Phi_G"])
     rates = [casadi.reshape(casadi.jacobian(casadi.vec(M), dt), M.shape) for M in (Phi, G)]
     F, G_c = casadi.substitute(rates, [dt], [casadi.SX(0)])
     # The bias walks enter as increments (columns 6-11 of G are I for every dt): their rate is I.
@@ -177,7 +194,8 @@ def _arguments(state, omega_m, acc_m, where: str) -> list[np.ndarray]:
         raise FilterError(f"{where}: state must be an ImuState, got {type(state).__name__}")
     omega = validation.vector(omega_m, "omega_m", 3, where)
     acc = validation.vector(acc_m, "acc_m", 3, where)
-    return [np.concatenate([quaternion_from_rotation(state.R), state.p, state.v, state.bg, state.ba]),
+    # An ImuState's R was checked when it was made: no second check here.
+    return [np.concatenate([_quaternion_of_one(state.R), state.p, state.v, state.bg, state.ba]),
             np.concatenate([omega, acc])]
 
 
@@ -197,13 +215,15 @@ def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep
     if not isinstance(noise, ImuNoise):
         raise FilterError(f"imu step: noise must be an ImuNoise, got {type(noise).__name__}")
     dt = float(dt)
-    x, Phi, G = (np.asarray(out) for out in _generated()[0](*arguments, dt))
-    x = x.ravel()
-    if not (np.isfinite(x).all() and np.isfinite(Phi).all() and np.isfinite(G).all()):
+    out = _generated()[0](*arguments, dt).full().ravel()
+    if not np.isfinite(out).all():
         raise FilterError("imu step: the propagation overflowed (measurements or dt too large)")
+    x = out[:25]
+    Phi = out[25:250].reshape(ERROR_DIM, ERROR_DIM, order="F")
+    G = out[250:].reshape(ERROR_DIM, NOISE_DIM, order="F")
     scale = np.repeat([1 / dt, 1 / dt, dt, dt], 3)
-    Q = (G * (np.diag(noise.densities()) * scale)) @ G.T
-    nxt = ImuState(rotation_from_quaternion(x[:4]), x[4:7], x[7:10], x[10:13], x[13:16])
+    Q = (G * (noise.densities() * scale)) @ G.T
+    nxt = ImuState(x[16:].reshape(3, 3), x[4:7], x[7:10], x[10:13], x[13:16])
     return ImuStep(nxt, Phi, G, 0.5 * (Q + Q.T))
 
 

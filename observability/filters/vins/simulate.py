@@ -47,7 +47,7 @@ R_FLU = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
 OPENVINS_NOISE = ImuNoise(sigma_g=1.6968e-4, sigma_a=2.0e-3, sigma_bg=1.9393e-5, sigma_ba=3.0e-3)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class Camera:
     """A pinhole camera: focal length and principal point in pixels, image size,
     pixel noise, and its pose in the IMU frame (p_I = R_IC p_C + p_IC).
@@ -139,7 +139,7 @@ class Scenario:
             raise FilterError("Scenario: noise must be an ImuNoise and camera a Camera")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class Simulation:
     """A simulated run. IMU sample k is at ``t[k]``; camera frame j at IMU sample
     ``frames[j]``. Observation i: feature ``feature_id[i]`` at ``pixels[i]`` in frame ``frame[i]``.
@@ -179,6 +179,15 @@ class Simulation:
     def truth(self, k: int) -> ImuState:
         """The true state at IMU sample ``k``."""
         return ImuState(self.R[k], self.p[k], self.v[k], self.bg[k], self.ba[k])
+
+    def interval(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """(omega_m, acc_m) for the step from ``t[k]`` to ``t[k+1]``: the mean of the two
+        readings (trapezoidal). Holding one reading over the step instead costs first
+        order: on the default path at 200 Hz, noise-free, 1.8e-4 rad of attitude and
+        1 mm of position after one second (the mean: 5e-8 rad, 1.6e-6 m), an error
+        that grows linearly in time while the gyro noise's grows as its square root
+        (1.7e-4 rad after one second with the default densities)."""
+        return (self.omega_m[k] + self.omega_m[k + 1]) / 2, (self.acc_m[k] + self.acc_m[k + 1]) / 2
 
     def observations(self, j: int) -> tuple[np.ndarray, np.ndarray]:
         """(feature ids, pixels) seen in camera frame ``j``."""

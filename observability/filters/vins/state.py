@@ -42,7 +42,7 @@ def _frozen(array: np.ndarray) -> np.ndarray:
     return array
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class ImuState:
     """The IMU's estimate or true state (see the module docstring).
 
