@@ -52,7 +52,7 @@ __all__ = ["POLICIES", "Clone", "MsckfSettings", "Msckf"]
 POLICIES = ("ekf", "fej", "oc", "ideal")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class Clone:
     """A pose of the window: its estimate, the point its Jacobians are taken at
     (``first``: the prior when cloned; the truth for the ideal filter), and the

@@ -30,7 +30,7 @@ QUANTITIES = ("orientation", "yaw", "position", "yaw_error2", "position_error2")
 _UP = GRAVITY / np.linalg.norm(GRAVITY)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
 class MsckfRun:
     """values: (len(QUANTITIES), frames); positions: the estimated positions per
     frame (frames, 3); observability: of the rows recorded (None when none);
