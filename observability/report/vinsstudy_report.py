@@ -39,7 +39,7 @@ def _figures(result: VinsStudyResult, stage: Path) -> None:
         ax.axhspan(*chi2_bounds(DOF[quantity], study.runs), color="0.85")
         ax.set_yscale("log")
         ax.set(ylabel=f"{quantity} NEES ({DOF[quantity]} dof)")
-    axes[0].set_title(f"{study.name}: average NEES over {study.runs} runs (band: 95% for one frame's average)")
+    axes[0].set_title(f"{study.name}: average NEES over {study.runs} runs (band: 95%, one frame)", fontsize=10)
     axes[0].legend(fontsize=8, loc="upper left")
     axes[-1].set(xlabel="time (s)")
     fig.tight_layout()
