@@ -125,3 +125,16 @@ def test_the_study_summary_has_one_record_per_filter_with_its_intervals():
             assert low <= r[f"anees_{q}"] <= high
     assert {r["filter"]: r["filter_unobservable_dimension"] for r in result.records} == {
         "ekf": 3, "fej": 4, "oc": 4, "ideal": 4}
+
+
+def test_the_study_refuses_too_few_runs_or_frames_with_exit_2(tmp_path):
+    """One run gives no interval over runs; fewer frames than the nullity's window give no nullity:
+    a one-line error naming the option, exit 2, before any work (nothing written)."""
+    from conftest import cli
+
+    out = cli("consistency", "--study", "vins-msckf", "--steps", "5", "--out", str(tmp_path))
+    assert out.returncode == 2
+    assert "steps (camera frames) must be at least 40" in out.stderr and "Traceback" not in out.stderr
+    assert not any(tmp_path.iterdir())
+    out = cli("consistency", "--study", "vins-msckf", "--runs", "1", "--out", str(tmp_path))
+    assert out.returncode == 2 and "runs must be at least 2" in out.stderr

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import OptionError
 from ..filters.consistency import anees_interval
 from ..filters.vins.msckf import POLICIES, MsckfSettings
 from ..filters.vins.run import QUANTITIES, MsckfRun, run_msckf
@@ -56,6 +57,14 @@ class VinsStudy:
     gate: float = 0.99
     record_images: int = 40
     sigma: tuple[float, float, float] = (0.01, 0.01, 0.02)
+
+    def __post_init__(self):
+        frames = int(round(self.duration * self.camera_rate))
+        if self.runs < 2:
+            raise OptionError(f"vins-msckf: runs must be at least 2 for an interval over runs, got {self.runs}")
+        if frames < self.record_images:
+            raise OptionError(f"vins-msckf: steps (camera frames) must be at least {self.record_images}, the frames "
+                              f"over which the filters' nullity is computed, got {frames}")
 
     def scenario(self) -> Scenario:
         return Scenario(duration=self.duration, imu_rate=self.imu_rate, camera_rate=self.camera_rate,
@@ -137,10 +146,10 @@ def _summarise(study: VinsStudy, runs: list[dict], analysis: int, truth_position
         rmse[name] = {"yaw": np.sqrt(np.nanmean(column["yaw_error2"], axis=0)),
                       "position": np.sqrt(np.nanmean(column["position_error2"], axis=0))}
         positions[name] = runs[0][name].positions
-        nullities = [r[name].observability.nullity for r in runs if r[name].observability is not None]
+        # None: no feature was used while recording (every one gated), so no rows and no nullity.
+        nullities = [r[name].observability.nullity if r[name].observability else None for r in runs]
         record = {"filter": name, "analysis_unobservable_dimension": analysis,
-                  "filter_unobservable_dimension": runs[0][name].observability.nullity,
-                  "filter_unobservable_dimension_per_run": nullities}
+                  "filter_unobservable_dimension": nullities[0], "filter_unobservable_dimension_per_run": nullities}
         for quantity, dof in DOF.items():
             record |= _interval(f"anees_{quantity}", column[quantity], dof, study.seed)
         record["verdict"] = record["anees_orientation_verdict"]
@@ -152,7 +161,9 @@ def _summarise(study: VinsStudy, runs: list[dict], analysis: int, truth_position
     return VinsStudyResult(study, average, rmse, positions, truth_positions, tuple(records))
 
 
-def _relative_tail(run: MsckfRun, count: int = 6) -> list[float]:
+def _relative_tail(run: MsckfRun, count: int = 6) -> list[float] | None:
     """The smallest ``count`` singular values of run 0's observability matrix, over the largest."""
+    if run.observability is None:
+        return None
     sigma = np.array(run.observability.singular_values)
     return (sigma[-count:] / sigma[0]).tolist()
