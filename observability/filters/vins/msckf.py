@@ -109,7 +109,8 @@ class Msckf:
 
     @property
     def recording(self) -> bool:
-        return self.images <= self.settings.record_images
+        """Whether the current frame is one of the first ``record_images`` (its rows are kept)."""
+        return self.images < self.settings.record_images
 
     def propagate(self, omega: np.ndarray, acc: np.ndarray, dt: float,
                   truth: tuple[ImuState, ImuState] | None = None) -> None:
