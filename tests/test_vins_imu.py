@@ -150,7 +150,40 @@ def test_boxplus_and_boxminus_invert_each_other_and_read_the_world_frame_error()
     np.testing.assert_allclose(st.boxminus(moved, x), dx, atol=1e-14)
 
 
+def test_many_steps_in_one_call_are_the_steps_in_a_row():
+    """propagate_many over 7 steps: the same state, P and Phi_7 ... Phi_1 as 7 calls
+    of propagate (each checked above against independent references), and its Phi
+    is the derivative of its own mean (central differences through boxplus/boxminus)."""
+    x, dt = example_state(), 0.01
+    t = np.arange(7) * dt
+    omegas, accs = readings(t)
+    P0 = np.diag(np.linspace(1e-4, 1e-2, 15))
+    state, P, Phi = imu.propagate_many(x, P0, omegas, accs, dt, NOISE)
+    y, Py, product = x, P0, np.eye(15)
+    for w, a in zip(omegas, accs):
+        y, Py, F = imu.propagate(y, Py, w, a, dt, NOISE)
+        product = F @ product
+    np.testing.assert_allclose(state.R, y.R, atol=1e-14)
+    np.testing.assert_allclose(np.r_[state.p, state.v, state.bg, state.ba], np.r_[y.p, y.v, y.bg, y.ba], atol=1e-13)
+    np.testing.assert_allclose(P, Py, rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(Phi, product, atol=1e-13)
+    eps, columns = 1e-6, []
+    for e in np.eye(15) * eps:
+        plus = imu.propagate_many(st.boxplus(x, e), P0, omegas, accs, dt, NOISE)[0]
+        minus = imu.propagate_many(st.boxplus(x, -e), P0, omegas, accs, dt, NOISE)[0]
+        columns.append((st.boxminus(plus, state) - st.boxminus(minus, state)) / (2 * eps))
+    np.testing.assert_allclose(Phi, np.stack(columns, 1), atol=1e-8)
+
+
 @pytest.mark.parametrize("call, message", [
+    (lambda x: imu.propagate_many(x, np.eye(15), np.zeros((3, 3)), np.zeros((2, 3)), 0.01, NOISE),
+     "imu propagate_many: omegas and accs must both have shape (m, 3)"),
+    (lambda x: imu.propagate_many(x, np.eye(15), np.zeros((0, 3)), np.zeros((0, 3)), 0.01, NOISE),
+     "imu propagate_many: omegas and accs must both have shape (m, 3)"),
+    (lambda x: imu.propagate_many(x, np.eye(15), np.zeros(3), np.zeros(3), 0.01, NOISE),
+     "imu propagate_many: omegas and accs must both have shape (m, 3)"),
+    (lambda x: imu.propagate_many(x, np.eye(15), np.zeros((2, 3)), np.zeros((2, 3)), 0, NOISE),
+     "imu propagate_many: dt must be a finite number > 0"),
     (lambda x: imu.step(x, [0, 0, 0], [0, 0, 9.81], 0.0, NOISE), "imu step: dt must be a finite number > 0"),
     (lambda x: imu.step(x, [0, 0, 0], [0, 0, 9.81], np.nan, NOISE), "imu step: dt must be a finite number > 0"),
     (lambda x: imu.step(x, [0, np.inf, 0], [0, 0, 9.81], 0.01, NOISE), "imu step: omega_m has entries that are not"),

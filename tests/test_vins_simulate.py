@@ -118,6 +118,18 @@ def test_noise_and_bias_walks_have_the_stated_statistics():
         assert abs(np.sqrt(np.mean(sample**2)) / sigma - 1) < 0.05
 
 
+def test_projection_in_chunks_gives_the_same_observations(monkeypatch):
+    """_observe projects a few frames at a time; chunks of one frame change nothing."""
+    import importlib
+
+    module = importlib.import_module("observability.filters.vins.simulate")  # the package's `simulate` is the function
+    whole = simulate(Scenario(duration=1.0), seed=8)
+    monkeypatch.setattr(module, "CHUNK", 1)
+    chunked = simulate(Scenario(duration=1.0), seed=8)
+    for name in ("frame", "feature_id", "pixels"):
+        np.testing.assert_array_equal(getattr(whole, name), getattr(chunked, name))
+
+
 def test_one_seed_one_run():
     a, b, c = (simulate(Scenario(duration=1.0), seed=s) for s in (4, 4, 5))
     for name in ("omega_m", "acc_m", "bg", "features", "pixels"):
@@ -131,6 +143,7 @@ def test_one_seed_one_run():
     (lambda: Scenario(wall_radius=5.0), "Scenario: the walls must enclose the path"),
     (lambda: Scenario(duration=float("nan")), "Scenario: duration must be a finite number > 0"),
     (lambda: Scenario(features=0), "Scenario: features must be an integer >= 1"),
+    (lambda: Scenario(duration=1e6), "Scenario: at most 5,000,000 IMU samples"),
     (lambda: Camera(focal=0.0), "Camera: focal must be a finite number > 0"),
     (lambda: Camera(R_IC=np.ones((3, 3))), "Camera: R_IC is not a rotation"),
     (lambda: simulate(seed=-1), "simulate: seed must be an integer >= 0"),

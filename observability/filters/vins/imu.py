@@ -51,10 +51,12 @@ from ...codegen import filter_functions
 from ...models.vins import vins
 from .. import validation
 from ..validation import FilterError
-from .so3 import _quaternion_of_one
+from .checks import finite_array
+from .so3 import _quaternion_of_one, rotation_from_quaternion
 from .state import ERROR_DIM, GRAVITY, ImuState, boxminus, boxplus
 
-__all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate", "step"]
+__all__ = ["ImuNoise", "ImuStep", "ImuState", "boxminus", "boxplus", "continuous_jacobians", "propagate",
+           "propagate_many", "step"]
 
 #: The model's noise entries, in the order of G's columns: n_g, n_a (inputs), bias walks (states).
 NOISE = ("wmx", "wmy", "wmz", "amx", "amy", "amz", "bgx", "bgy", "bgz", "bax", "bay", "baz")
@@ -199,6 +201,14 @@ def _arguments(state, omega_m, acc_m, where: str) -> list[np.ndarray]:
             np.concatenate([omega, acc])]
 
 
+def _time_step(dt, noise, where: str) -> float:
+    if isinstance(dt, (bool, str, bytes)) or np.ndim(dt) != 0 or not np.isfinite(float(dt)) or float(dt) <= 0:
+        raise FilterError(f"{where}: dt must be a finite number > 0, got {dt!r}")
+    if not isinstance(noise, ImuNoise):
+        raise FilterError(f"{where}: noise must be an ImuNoise, got {type(noise).__name__}")
+    return float(dt)
+
+
 def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep:
     """Propagate the mean over ``dt`` with the measurements held constant, and
     return it with Phi, G and Q (see :class:`ImuStep` and the module docstring).
@@ -210,11 +220,7 @@ def step(state: ImuState, omega_m, acc_m, dt: float, noise: ImuNoise) -> ImuStep
         3-vectors, ``dt`` not a finite number > 0, ``noise`` not an :class:`ImuNoise`.
     """
     arguments = _arguments(state, omega_m, acc_m, "imu step")
-    if isinstance(dt, (bool, str, bytes)) or np.ndim(dt) != 0 or not np.isfinite(float(dt)) or float(dt) <= 0:
-        raise FilterError(f"imu step: dt must be a finite number > 0, got {dt!r}")
-    if not isinstance(noise, ImuNoise):
-        raise FilterError(f"imu step: noise must be an ImuNoise, got {type(noise).__name__}")
-    dt = float(dt)
+    dt = _time_step(dt, noise, "imu step")
     out = _generated()[0](*arguments, dt).full().ravel()
     if not np.isfinite(out).all():
         raise FilterError("imu step: the propagation overflowed (measurements or dt too large)")
@@ -240,6 +246,68 @@ def propagate(state: ImuState, P, omega_m, acc_m, dt: float, noise: ImuNoise):
     result = step(state, omega_m, acc_m, dt, noise)
     covariance = result.Phi @ P @ result.Phi.T + result.Q
     return result.state, 0.5 * (covariance + covariance.T), result.Phi
+
+
+#: The most steps :func:`propagate_many` folds into one casadi call.
+MAX_FOLD = 1000
+
+
+@functools.lru_cache(maxsize=16)
+def _folded(steps: int) -> casadi.Function:
+    """``steps`` generated steps in one casadi call (casadi's mapaccum): the carry
+    (q, p, v, bg, ba, Phi, Q) goes through x <- step(x) with q renormalised,
+    Phi <- Phi_k Phi, Q <- Phi_k Q Phi_k^T + G_k diag(qn) G_k^T; the readings,
+    dt and the scaled noise qn come one column per step."""
+    size = 16 + 2 * ERROR_DIM**2
+    carry, u, dt, qn = casadi.SX.sym("carry", size), casadi.SX.sym("u", 6), casadi.SX.sym("dt"), casadi.SX.sym("qn", NOISE_DIM)
+    out = _generated()[0](carry[:16], u, dt)
+    Phi_k = casadi.reshape(out[25:250], ERROR_DIM, ERROR_DIM)
+    G_k = casadi.reshape(out[250:], ERROR_DIM, NOISE_DIM)
+    Phi = casadi.reshape(carry[16:16 + ERROR_DIM**2], ERROR_DIM, ERROR_DIM)
+    Q = casadi.reshape(carry[16 + ERROR_DIM**2:], ERROR_DIM, ERROR_DIM)
+    Q_next = Phi_k @ Q @ Phi_k.T + G_k @ casadi.diag(qn) @ G_k.T
+    body = casadi.Function("imu_fold", [carry, u, dt, qn], [casadi.vertcat(
+        _unit(out[:4]), out[4:16], casadi.vec(Phi_k @ Phi), casadi.vec(Q_next))])
+    return body.mapaccum("imu_steps", steps)
+
+
+def propagate_many(state: ImuState, P, omegas, accs, dt: float, noise: ImuNoise):
+    """``len(omegas)`` IMU steps of ``dt`` in one casadi call (e.g. the samples
+    between two camera frames): the same steps as :func:`propagate` in a row.
+
+    Parameters
+    ----------
+    omegas, accs : array (m, 3)
+        The readings of each step, held over it (1 <= m <= ``MAX_FOLD``).
+
+    Returns
+    -------
+    (ImuState, ndarray, ndarray)
+        The state after m steps, P' = Phi P Phi^T + Q_m, and Phi = Phi_m ... Phi_1
+        (for the cross-covariances with clones), Q_m the noise the m steps add.
+    """
+    where = "imu propagate_many"
+    if not isinstance(state, ImuState):
+        raise FilterError(f"{where}: state must be an ImuState, got {type(state).__name__}")
+    P = validation.covariance(P, "P", ERROR_DIM, where, definite=False)
+    readings = [finite_array(r, name, (3,), where) for r, name in ((omegas, "omegas"), (accs, "accs"))]
+    m = len(readings[0])
+    if readings[0].ndim != 2 or readings[0].shape != readings[1].shape or not 1 <= m <= MAX_FOLD:
+        raise FilterError(f"{where}: omegas and accs must both have shape (m, 3), 1 <= m <= {MAX_FOLD}, "
+                          f"got {readings[0].shape} and {readings[1].shape}")
+    dt = _time_step(dt, noise, where)
+    qn = noise.densities() * np.repeat([1 / dt, 1 / dt, dt, dt], 3)
+    start = np.concatenate([_quaternion_of_one(state.R), state.p, state.v, state.bg, state.ba,
+                            np.eye(ERROR_DIM).ravel(), np.zeros(ERROR_DIM**2)])
+    out = _folded(m)(start, np.hstack(readings).T, np.full((1, m), dt), np.tile(qn[:, None], (1, m)))
+    last = out[:, -1].full().ravel()
+    if not np.isfinite(last).all():
+        raise FilterError(f"{where}: the propagation overflowed (readings or dt too large)")
+    Phi = last[16:16 + ERROR_DIM**2].reshape(ERROR_DIM, ERROR_DIM, order="F")
+    Q = last[16 + ERROR_DIM**2:].reshape(ERROR_DIM, ERROR_DIM, order="F")
+    covariance = Phi @ P @ Phi.T + 0.5 * (Q + Q.T)
+    nxt = ImuState(rotation_from_quaternion(last[:4]), last[4:7], last[7:10], last[10:13], last[13:16])
+    return nxt, 0.5 * (covariance + covariance.T), Phi
 
 
 def continuous_jacobians(state: ImuState, omega_m, acc_m) -> tuple[np.ndarray, np.ndarray]:

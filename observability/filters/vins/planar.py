@@ -26,8 +26,9 @@ from ...codegen import FilterFunctions, filter_functions
 from ...models.vins2d import vins2d
 from .. import validation
 from ..validation import FilterError
+from .checks import finite_array, rotation_matrix
 from .imu import ImuNoise
-from .so3 import _numeric, _rotation, exp_so2, log_so2
+from .so3 import exp_so2, log_so2
 
 __all__ = ["PLANAR_ERROR_DIM", "PlanarState", "PlanarStep", "planar_boxminus", "planar_boxplus", "planar_propagate",
            "planar_step", "planar_unobservable_directions"]
@@ -49,13 +50,13 @@ class PlanarState:
     ba: np.ndarray
 
     def __post_init__(self):
-        object.__setattr__(self, "R", np.array(_rotation(self.R, "R", "PlanarState", size=2)))
+        object.__setattr__(self, "R", np.array(rotation_matrix(self.R, "R", "PlanarState", size=2)))
         for name in ("p", "v", "ba"):
-            value = np.array(_numeric(getattr(self, name), name, (2,), "PlanarState"))
+            value = np.array(finite_array(getattr(self, name), name, (2,), "PlanarState"))
             if value.shape != (2,):
                 raise FilterError(f"PlanarState: {name} has shape {value.shape}, expected (2,)")
             object.__setattr__(self, name, value)
-        bg = _numeric(self.bg, "bg", (), "PlanarState")
+        bg = finite_array(self.bg, "bg", (), "PlanarState")
         if bg.shape != ():
             raise FilterError(f"PlanarState: bg must be a number, got shape {bg.shape}")
         object.__setattr__(self, "bg", float(bg))
@@ -79,7 +80,7 @@ class PlanarStep:
 
 def planar_boxplus(state: PlanarState, dx) -> PlanarState:
     """``state`` moved by the error dx (8,): R <- Exp(dtheta) R, the rest added."""
-    dx = _numeric(dx, "dx", (PLANAR_ERROR_DIM,), "planar_boxplus")
+    dx = finite_array(dx, "dx", (PLANAR_ERROR_DIM,), "planar_boxplus")
     if dx.shape != (PLANAR_ERROR_DIM,):
         raise FilterError(f"planar_boxplus: dx has shape {dx.shape}, expected ({PLANAR_ERROR_DIM},)")
     return PlanarState(exp_so2(dx[0]) @ state.R, state.p + dx[1:3], state.v + dx[3:5], state.bg + dx[5],
@@ -114,7 +115,7 @@ def planar_step(state: PlanarState, omega_m, acc_m, dt: float, noise: ImuNoise) 
     where = "planar step"
     if not isinstance(state, PlanarState):
         raise FilterError(f"{where}: state must be a PlanarState, got {type(state).__name__}")
-    omega = validation.vector(np.atleast_1d(_numeric(omega_m, "omega_m", (), where)), "omega_m", 1, where)
+    omega = validation.vector(np.atleast_1d(finite_array(omega_m, "omega_m", (), where)), "omega_m", 1, where)
     acc = validation.vector(acc_m, "acc_m", 2, where)
     if isinstance(dt, (bool, str, bytes)) or np.ndim(dt) != 0 or not np.isfinite(float(dt)) or float(dt) <= 0:
         raise FilterError(f"{where}: dt must be a finite number > 0, got {dt!r}")
@@ -145,7 +146,7 @@ def planar_unobservable_directions(state: PlanarState, features=()) -> np.ndarra
     """N (8 + 2K, 3): translation x, y (dp = df = e_i) and the rotation about the plane's
     normal (dtheta = 1, and every world vector w in p, v, f turns: dw = J w,
     J = [[0, -1], [1, 0]]); the three directions ``vins2d``'s analysis proves."""
-    f = _numeric(np.reshape(features, (-1, 2)) if np.size(features) else np.zeros((0, 2)), "features", (2,),
+    f = finite_array(np.reshape(features, (-1, 2)) if np.size(features) else np.zeros((0, 2)), "features", (2,),
                  "planar_unobservable_directions")
     J = np.array([[0.0, -1.0], [1.0, 0.0]])
     N = np.zeros((PLANAR_ERROR_DIM + 2 * len(f), 3))

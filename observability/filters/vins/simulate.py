@@ -35,14 +35,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..validation import FilterError
+from .checks import finite_array, rotation_matrix
 from .imu import ImuNoise
-from .so3 import _numeric, _rotation
 from .state import GRAVITY, ImuState
 
-__all__ = ["Camera", "Scenario", "Simulation", "simulate", "trajectory", "R_FLU"]
+__all__ = ["Camera", "Scenario", "SimulatedRun", "Simulation", "simulate", "trajectory", "R_FLU"]
 
 #: IMU axes (right, down, forward) in a forward-left-up frame.
 R_FLU = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+#: The largest run (IMU samples) and feature count simulated; larger ones are refused, not attempted.
+MAX_SAMPLES = 5_000_000
+MAX_FEATURES = 100_000
+#: Frame-feature pairs projected at once.
+CHUNK = 1_000_000
 #: OpenVINS's simulator noise (EuRoC's ADIS16448 datasheet values), ImuNoise units.
 OPENVINS_NOISE = ImuNoise(sigma_g=1.6968e-4, sigma_a=2.0e-3, sigma_bg=1.9393e-5, sigma_ba=3.0e-3)
 
@@ -69,8 +74,8 @@ class Camera:
             if isinstance(value, (bool, str)) or np.ndim(value) != 0 or not np.isfinite(value) or value < 0 \
                     or (value == 0 and name != "sigma_px"):
                 raise FilterError(f"Camera: {name} must be a finite number > 0, got {value!r}")
-        object.__setattr__(self, "R_IC", _rotation(self.R_IC, "R_IC", "Camera"))
-        p_IC = _numeric(self.p_IC, "p_IC", (3,), "Camera")
+        object.__setattr__(self, "R_IC", rotation_matrix(self.R_IC, "R_IC", "Camera"))
+        p_IC = finite_array(self.p_IC, "p_IC", (3,), "Camera")
         if p_IC.shape != (3,):
             raise FilterError(f"Camera: p_IC has shape {p_IC.shape}, expected (3,)")
         object.__setattr__(self, "p_IC", p_IC)
@@ -124,11 +129,14 @@ class Scenario:
             value = getattr(self, name)
             if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
                 raise FilterError(f"Scenario: {name} must be an integer >= 1, got {value!r}")
+        if self.duration * self.imu_rate > MAX_SAMPLES or self.features > MAX_FEATURES:
+            raise FilterError(f"Scenario: at most {MAX_SAMPLES:,} IMU samples (duration x imu_rate) and "
+                              f"{MAX_FEATURES:,} features, got {self.duration * self.imu_rate:,.0f} and {self.features:,}")
         if self.imu_rate % self.camera_rate:
             raise FilterError(f"Scenario: camera_rate {self.camera_rate} must divide imu_rate {self.imu_rate} "
                               "(camera frames are taken at IMU times)")
         for name, size in (("size", 3), ("tilt", 2), ("wall_height", 2), ("initial_bias_sigma", 2)):
-            value = _numeric(getattr(self, name), name, (size,), "Scenario")
+            value = finite_array(getattr(self, name), name, (size,), "Scenario")
             if value.shape != (size,):
                 raise FilterError(f"Scenario: {name} must have {size} entries, got {getattr(self, name)!r}")
         if self.size[0] + 1 >= self.wall_radius or self.wall_height[0] >= self.wall_height[1] \
@@ -140,22 +148,23 @@ class Scenario:
 
 
 @dataclass(frozen=True, eq=False)  # array fields: equality by identity
-class Simulation:
-    """A simulated run. IMU sample k is at ``t[k]``; camera frame j at IMU sample
-    ``frames[j]``. Observation i: feature ``feature_id[i]`` at ``pixels[i]`` in frame ``frame[i]``.
+class SimulatedRun:
+    """What a 3-D and a planar run share. IMU sample k is at ``t[k]``; camera frame
+    j at IMU sample ``frames[j]``. Observation i: feature ``feature_id[i]`` at
+    ``pixels[i]`` in frame ``frame[i]``.
 
     Attributes
     ----------
-    t, omega_m, acc_m : ndarray (N,), (N, 3), (N, 3)
+    t, omega_m, acc_m : ndarray (N,), (N, 3), (N, 3) (planar: (N,), (N, 2))
         IMU times and readings.
-    R, p, v, bg, ba : ndarray (N, 3, 3), (N, 3) x 4
-        The true state at every IMU time.
+    p, v, bg, ba : ndarray (N, 3) (planar: (N, 2), (N, 2), (N,), (N, 2))
+        The true position, velocity and biases at every IMU time.
     frames : ndarray (M,) of int
         The IMU sample of each camera frame.
-    features : ndarray (K, 3)
+    features : ndarray (K, 3) (planar: (K, 2))
         The world points.
     frame, feature_id : ndarray (L,) of int
-    pixels, pixels_true : ndarray (L, 2)
+    pixels, pixels_true : ndarray (L, 2) (planar: (L,))
         Recorded (noisy) and noise-free pixels.
     scenario : Scenario
     """
@@ -163,7 +172,6 @@ class Simulation:
     t: np.ndarray
     omega_m: np.ndarray
     acc_m: np.ndarray
-    R: np.ndarray
     p: np.ndarray
     v: np.ndarray
     bg: np.ndarray
@@ -175,10 +183,6 @@ class Simulation:
     pixels: np.ndarray
     pixels_true: np.ndarray
     scenario: Scenario
-
-    def truth(self, k: int) -> ImuState:
-        """The true state at IMU sample ``k``."""
-        return ImuState(self.R[k], self.p[k], self.v[k], self.bg[k], self.ba[k])
 
     def interval(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """(omega_m, acc_m) for the step from ``t[k]`` to ``t[k+1]``: the mean of the two
@@ -193,6 +197,18 @@ class Simulation:
         """(feature ids, pixels) seen in camera frame ``j``."""
         chosen = self.frame == j
         return self.feature_id[chosen], self.pixels[chosen]
+
+
+@dataclass(frozen=True, eq=False)  # array fields: equality by identity
+class Simulation(SimulatedRun):
+    """A simulated 3-D run (:class:`SimulatedRun`) and its true attitude ``R``
+    (N, 3, 3), R_WI at every IMU time."""
+
+    R: np.ndarray
+
+    def truth(self, k: int) -> ImuState:
+        """The true state at IMU sample ``k``."""
+        return ImuState(self.R[k], self.p[k], self.v[k], self.bg[k], self.ba[k])
 
 
 def _elementary(axis: int, angle: np.ndarray) -> np.ndarray:
@@ -236,15 +252,8 @@ def simulate(scenario: Scenario | None = None, seed: int = 0) -> Simulation:
     The draws come in a fixed order (features, initial biases, bias walks, IMU
     noise, pixel noise), so one seed gives one run.
     """
-    scenario = Scenario() if scenario is None else scenario
-    if not isinstance(scenario, Scenario):
-        raise FilterError(f"simulate: scenario must be a Scenario, got {type(scenario).__name__}")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise FilterError(f"simulate: seed must be an integer >= 0, got {seed!r}")
-    rng = np.random.default_rng(seed)
-    dt = 1.0 / scenario.imu_rate
-    n = int(round(scenario.duration * scenario.imu_rate)) + 1
-    t = np.arange(n) * dt
+    scenario, rng, t = start(scenario, seed, "simulate")
+    n, dt = len(t), 1.0 / scenario.imu_rate
     R, p, v, a, omega = trajectory(t, scenario)
     features = _walls(rng, scenario)
     noise = scenario.noise
@@ -256,8 +265,20 @@ def simulate(scenario: Scenario | None = None, seed: int = 0) -> Simulation:
     frames = np.arange(0, n, scenario.imu_rate // scenario.camera_rate)
     frame, feature_id, pixels_true = _observe(scenario.camera, R[frames], p[frames], features)
     pixels = pixels_true + rng.normal(0.0, scenario.camera.sigma_px, pixels_true.shape)
-    return Simulation(t, omega_m, acc_m, R, p, v, bg, ba, frames, features, frame, feature_id, pixels,
-                      pixels_true, scenario)
+    return Simulation(t=t, omega_m=omega_m, acc_m=acc_m, p=p, v=v, bg=bg, ba=ba, frames=frames, features=features,
+                      frame=frame, feature_id=feature_id, pixels=pixels, pixels_true=pixels_true, scenario=scenario,
+                      R=R)
+
+
+def start(scenario: Scenario | None, seed, where: str) -> tuple[Scenario, np.random.Generator, np.ndarray]:
+    """The checked scenario (default :class:`Scenario`), the seeded generator and the IMU times."""
+    scenario = Scenario() if scenario is None else scenario
+    if not isinstance(scenario, Scenario):
+        raise FilterError(f"{where}: scenario must be a Scenario, got {type(scenario).__name__}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise FilterError(f"{where}: seed must be an integer >= 0, got {seed!r}")
+    n = int(round(scenario.duration * scenario.imu_rate)) + 1
+    return scenario, np.random.default_rng(seed), np.arange(n) / scenario.imu_rate
 
 
 def _walls(rng: np.random.Generator, scenario: Scenario) -> np.ndarray:
@@ -277,6 +298,23 @@ def _random_walk(rng: np.random.Generator, n: int, dt: float, initial: float, wa
 def _observe(camera: Camera, R: np.ndarray, p: np.ndarray, features: np.ndarray):
     """(frame, feature id, noise-free pixel) of every feature in front of the
     camera (depth > min_depth) whose pixel lies inside the image."""
+    frame, feature_id, pixels = in_chunks(lambda R_, p_: _observe_chunk(camera, R_, p_, features), (R, p),
+                                          len(features))
+    return frame, feature_id, pixels.reshape(-1, 2)
+
+
+def in_chunks(observe, per_frame: tuple[np.ndarray, ...], features: int):
+    """``observe(*chunk)`` -> (frame in chunk, feature id, pixels) over chunks of the
+    per-frame arrays of at most ``CHUNK`` frame-feature pairs (memory stays
+    bounded), the frame indices shifted back to the whole run's."""
+    count, per_chunk = len(per_frame[0]), max(1, CHUNK // max(features, 1))
+    parts = [observe(*(a[i:i + per_chunk] for a in per_frame)) for i in range(0, count, per_chunk)]
+    offsets = range(0, count, per_chunk)
+    return (np.concatenate([f + o for (f, _, _), o in zip(parts, offsets)]),
+            np.concatenate([k for _, k, _ in parts]), np.concatenate([x for _, _, x in parts]))
+
+
+def _observe_chunk(camera: Camera, R: np.ndarray, p: np.ndarray, features: np.ndarray):
     p_C = np.einsum("mji,mkj->mki", R, features[None, :, :] - p[:, None, :])
     p_C = np.einsum("ji,mkj->mki", camera.R_IC, p_C - camera.p_IC)
     depth = p_C[..., 2]

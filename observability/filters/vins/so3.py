@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..validation import FilterError
+from .checks import ROTATION_TOLERANCE, finite_array, rotation_matrix
 
 __all__ = [
     "ROTATION_TOLERANCE", "skew", "vee", "exp_so3", "log_so3", "retract", "left_jacobian", "right_jacobian",
@@ -38,39 +39,11 @@ SMALL_ANGLE = 1e-4
 #: Below this angle the Jacobians' third coefficient comes from its Taylor series
 #: (t - sin t cancels: at 0.1 the direct form keeps ~13 digits, the series to t^8 all).
 SERIES_ANGLE = 0.1
-#: A matrix is accepted as a rotation when |R^T R - I|_max <= ROTATION_TOLERANCE and det R > 0.
-ROTATION_TOLERANCE = 1e-6
-
-
-def _numeric(value, name: str, tail: tuple[int, ...], where: str) -> np.ndarray:
-    """A finite float array whose trailing dimensions are ``tail``."""
-    if isinstance(value, (str, bytes, dict)) or value is None:
-        raise FilterError(f"{where}: {name} must be numeric, got {type(value).__name__}")
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise FilterError(f"{where}: {name} must be numeric, got {value!r}") from None
-    if array.shape[array.ndim - len(tail):] != tail or array.ndim < len(tail):
-        expected = "(..., " + ", ".join(map(str, tail)) + ")"
-        raise FilterError(f"{where}: {name} has shape {array.shape}, expected {expected}")
-    if not np.all(np.isfinite(array)):
-        raise FilterError(f"{where}: {name} has entries that are not finite")
-    return array
-
-
-def _rotation(value, name: str, where: str, size: int = 3) -> np.ndarray:
-    """A finite stack of ``size`` x ``size`` rotation matrices (orthonormal, det +1)."""
-    R = _numeric(value, name, (size, size), where)
-    error = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(size)).max(initial=0.0)
-    if error > ROTATION_TOLERANCE or np.any(np.linalg.det(R) <= 0):
-        raise FilterError(f"{where}: {name} is not a rotation (|R^T R - I| = {error:.2g}, "
-                          f"tolerance {ROTATION_TOLERANCE:g}; det must be +1)")
-    return R
 
 
 def skew(v) -> np.ndarray:
     """[v]x, the matrix with [v]x w = v x w; ``v`` of shape (..., 3)."""
-    v = _numeric(v, "v", (3,), "skew")
+    v = finite_array(v, "v", (3,), "skew")
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
     out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
@@ -80,7 +53,7 @@ def skew(v) -> np.ndarray:
 
 def vee(M) -> np.ndarray:
     """The vector of the skew-symmetric part of ``M`` (..., 3, 3): vee([v]x) = v."""
-    M = _numeric(M, "M", (3, 3), "vee")
+    M = finite_array(M, "M", (3, 3), "vee")
     return 0.5 * np.stack([M[..., 2, 1] - M[..., 1, 2], M[..., 0, 2] - M[..., 2, 0], M[..., 1, 0] - M[..., 0, 1]], -1)
 
 
@@ -96,7 +69,7 @@ def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def exp_so3(phi) -> np.ndarray:
     """Exp(phi), the rotation by |phi| about phi / |phi| (Rodrigues); shape (..., 3) -> (..., 3, 3)."""
-    phi = _numeric(phi, "phi", (3,), "exp_so3")
+    phi = finite_array(phi, "phi", (3,), "exp_so3")
     t = np.linalg.norm(phi, axis=-1)
     A, B = _coefficients(t)
     K = skew(phi)
@@ -111,7 +84,7 @@ def log_so3(R) -> np.ndarray:
     FilterError
         ``R`` not finite, of the wrong shape, or not a rotation within ``ROTATION_TOLERANCE``.
     """
-    R = _rotation(R, "R", "log_so3")
+    R = rotation_matrix(R, "R", "log_so3")
     w = vee(R)
     s = np.linalg.norm(w, axis=-1)
     c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1) / 2, -1.0, 1.0)
@@ -132,13 +105,13 @@ def log_so3(R) -> np.ndarray:
 
 def retract(R, dtheta) -> np.ndarray:
     """Exp(dtheta) R: the world-frame error ``dtheta`` applied to the rotation ``R``."""
-    R = _rotation(R, "R", "retract")
-    return exp_so3(_numeric(dtheta, "dtheta", (3,), "retract")) @ R
+    R = rotation_matrix(R, "R", "retract")
+    return exp_so3(finite_array(dtheta, "dtheta", (3,), "retract")) @ R
 
 
 def left_jacobian(phi) -> np.ndarray:
     """J_l(phi) = sum_k [phi]x^k / (k+1)!: Exp(phi + d) ~= Exp(J_l(phi) d) Exp(phi)."""
-    phi = _numeric(phi, "phi", (3,), "left_jacobian")
+    phi = finite_array(phi, "phi", (3,), "left_jacobian")
     t = np.linalg.norm(phi, axis=-1)
     _, B = _coefficients(t)
     safe = np.where(t < SERIES_ANGLE, 1.0, t)
@@ -151,12 +124,12 @@ def left_jacobian(phi) -> np.ndarray:
 
 def right_jacobian(phi) -> np.ndarray:
     """J_r(phi) = J_l(-phi): Exp(phi + d) ~= Exp(phi) Exp(J_r(phi) d)."""
-    return left_jacobian(-_numeric(phi, "phi", (3,), "right_jacobian"))
+    return left_jacobian(-finite_array(phi, "phi", (3,), "right_jacobian"))
 
 
 def left_jacobian_inverse(phi) -> np.ndarray:
     """J_l(phi)^{-1} in closed form (|phi| < 2 pi)."""
-    phi = _numeric(phi, "phi", (3,), "left_jacobian_inverse")
+    phi = finite_array(phi, "phi", (3,), "left_jacobian_inverse")
     t = np.linalg.norm(phi, axis=-1)
     safe = np.where(t < SERIES_ANGLE, 1.0, t)
     t2 = t * t
@@ -168,32 +141,32 @@ def left_jacobian_inverse(phi) -> np.ndarray:
 
 def right_jacobian_inverse(phi) -> np.ndarray:
     """J_r(phi)^{-1} = J_l(-phi)^{-1}."""
-    return left_jacobian_inverse(-_numeric(phi, "phi", (3,), "right_jacobian_inverse"))
+    return left_jacobian_inverse(-finite_array(phi, "phi", (3,), "right_jacobian_inverse"))
 
 
 def exp_so2(theta) -> np.ndarray:
     """The planar rotation by ``theta`` (any shape): (...) -> (..., 2, 2)."""
-    theta = _numeric(theta, "theta", (), "exp_so2")
+    theta = finite_array(theta, "theta", (), "exp_so2")
     c, s = np.cos(theta), np.sin(theta)
     return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
 
 
 def log_so2(R) -> np.ndarray:
     """The angle in (-pi, pi] of a planar rotation (..., 2, 2)."""
-    R = _rotation(R, "R", "log_so2", size=2)
+    R = rotation_matrix(R, "R", "log_so2", size=2)
     return np.arctan2(R[..., 1, 0], R[..., 0, 0])
 
 
 def retract_so2(R, dtheta) -> np.ndarray:
     """Exp(dtheta) R (planar rotations commute: also R Exp(dtheta))."""
-    return exp_so2(dtheta) @ _rotation(R, "R", "retract_so2", size=2)
+    return exp_so2(dtheta) @ rotation_matrix(R, "R", "retract_so2", size=2)
 
 
 def quaternion_from_rotation(R) -> np.ndarray:
     """The unit Hamilton quaternion (w, x, y, z), w >= 0, of R (..., 3, 3) (Shepperd's
     method: the largest of the four squared components is computed first, the
     others from it, so no component is a difference of nearly equal numbers)."""
-    R = _rotation(R, "R", "quaternion_from_rotation")
+    R = rotation_matrix(R, "R", "quaternion_from_rotation")
     if R.ndim == 2:
         return _quaternion_of_one(R)
     trace = np.trace(R, axis1=-2, axis2=-1)
@@ -237,7 +210,7 @@ _PRODUCTS = {
 
 def rotation_from_quaternion(q) -> np.ndarray:
     """R(q / |q|) for Hamilton quaternions (w, x, y, z) of shape (..., 4), body to world."""
-    q = _numeric(q, "q", (4,), "rotation_from_quaternion")
+    q = finite_array(q, "q", (4,), "rotation_from_quaternion")
     norm = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(norm == 0):
         raise FilterError("rotation_from_quaternion: q has norm zero")

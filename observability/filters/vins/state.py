@@ -22,7 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..validation import FilterError
-from .so3 import _numeric, _rotation, exp_so3, log_so3, skew
+from .checks import finite_array, rotation_matrix
+from .so3 import exp_so3, log_so3, skew
 
 __all__ = [
     "ERROR_DIM", "THETA", "POSITION", "VELOCITY", "GYRO_BIAS", "ACCEL_BIAS", "GRAVITY",
@@ -49,7 +50,7 @@ class ImuState:
     Attributes
     ----------
     R : ndarray (3, 3)
-        Rotation IMU to world, orthonormal within ``so3.ROTATION_TOLERANCE``.
+        Rotation IMU to world, orthonormal within ``checks.ROTATION_TOLERANCE``.
     p, v, bg, ba : ndarray (3,)
         Position and velocity (world), gyro and accelerometer biases (IMU frame).
 
@@ -63,9 +64,9 @@ class ImuState:
     ba: np.ndarray
 
     def __post_init__(self):
-        object.__setattr__(self, "R", _frozen(_rotation(self.R, "R", "ImuState")))
+        object.__setattr__(self, "R", _frozen(rotation_matrix(self.R, "R", "ImuState")))
         for name in ("p", "v", "bg", "ba"):
-            value = _numeric(getattr(self, name), name, (3,), "ImuState")
+            value = finite_array(getattr(self, name), name, (3,), "ImuState")
             if value.shape != (3,):
                 raise FilterError(f"ImuState: {name} has shape {value.shape}, expected (3,)")
             object.__setattr__(self, name, _frozen(value))
@@ -78,7 +79,7 @@ def imu_state(R=None, p=(0, 0, 0), v=(0, 0, 0), bg=(0, 0, 0), ba=(0, 0, 0)) -> I
 
 def boxplus(state: ImuState, dx) -> ImuState:
     """The state ``state`` moved by the error ``dx`` (15,): R <- Exp(dtheta) R, the rest added."""
-    dx = _numeric(dx, "dx", (ERROR_DIM,), "boxplus")
+    dx = finite_array(dx, "dx", (ERROR_DIM,), "boxplus")
     if dx.shape != (ERROR_DIM,):
         raise FilterError(f"boxplus: dx has shape {dx.shape}, expected ({ERROR_DIM},)")
     return ImuState(exp_so3(dx[THETA]) @ state.R, state.p + dx[POSITION], state.v + dx[VELOCITY],
@@ -103,7 +104,7 @@ def unobservable_directions(state: ImuState, features=()) -> np.ndarray:
     same N_vio with its JPL, IMU-frame error).
     """
     f = np.asarray(features, dtype=float).reshape(-1, 3) if np.size(features) else np.zeros((0, 3))
-    f = _numeric(f, "features", (3,), "unobservable_directions")
+    f = finite_array(f, "features", (3,), "unobservable_directions")
     N = np.zeros((ERROR_DIM + 3 * len(f), 4))
     gu = GRAVITY / np.linalg.norm(GRAVITY)
     N[POSITION, :3] = np.eye(3)
