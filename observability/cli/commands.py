@@ -325,10 +325,12 @@ def consistency_command(args: argparse.Namespace) -> int:
 
     from ..parallel import engine
 
-    if args.seeds is not None and args.study in ("odometry", "slam2d-paper"):
+    if args.seeds is not None and args.study in ("odometry", "slam2d-paper", "vins-msckf"):
         raise UsageError(f"--seeds: the {args.study} study takes one --seed")
     if args.seeds is not None and args.seed is not None:
         raise UsageError("give --seed or --seeds, not both")
+    if args.study == "vins-msckf":
+        return _vins_study(args)
     if args.study != "odometry":
         return _slam_study(args)
     study = ConsistencyStudy(runs=args.runs or 50, steps=args.steps or 80, seed=7 if args.seed is None else args.seed)
@@ -385,6 +387,29 @@ def _seeded_study(out: Path, study, args: argparse.Namespace) -> int:
         pose = ", ".join(f"{r['anees_pose']:.2f}" for r in a["per_seed"])
         print(f"{a['filter']:9} pose ANEES per seed {pose}  all seeds: {cells}")
     print(f"wrote {out / 'README.md'}, {out / 'summary.json'} and a report per seed in {out}/seed-N")
+    return 0
+
+
+def _vins_study(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from ..parallel import engine
+    from ..report.vinsstudy import VinsStudy
+    from ..report.vinsstudy_report import write_vins_study
+
+    base = VinsStudy()
+    study = dataclasses.replace(base, runs=args.runs or base.runs, seed=base.seed if args.seed is None else args.seed,
+                                duration=args.steps / base.camera_rate if args.steps else base.duration)
+    out = args.out / args.study
+    with engine(args.scheduler, args.workers) as run:
+        result = write_vins_study(out, study, run)
+    for r in result.records:
+        (low, high), (lo, hi) = r["anees_orientation_interval"], r["anees_orientation_bounds"]
+        print(f"{r['filter']:6} ANEES orientation {r['anees_orientation']:7.2f} [{low:.2f}, {high:.2f}]  band "
+              f"[{lo:.2f}, {hi:.2f}]  {r['verdict']:14} yaw {r['anees_yaw']:6.2f} ({r['anees_yaw_verdict']})  "
+              f"position {r['anees_position']:6.2f} ({r['anees_position_verdict']})  unobservable dim. "
+              f"{r['filter_unobservable_dimension']} (analysis {r['analysis_unobservable_dimension']})")
+    print(f"wrote {out / 'README.md'}, {out / 'summary.json'}, {out / 'nees.png'} and {out / 'trajectory.png'}")
     return 0
 
 

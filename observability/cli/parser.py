@@ -132,16 +132,17 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--out", type=out_directory, default=Path("reports"), help="directory of the report (default: reports)")
     consistency.add_argument("--study", choices=("odometry", "slam2d-range-bearing", "slam2d-bearing", "slam2d-odometry",
                                                       "slam2d-additive", "slam2d-vio", "slam2d-exploration",
-                                                      "slam2d-paper"),
+                                                      "slam2d-paper", "vins-msckf"),
                              default="odometry",
                              help="odometry: the EKF family with a previous-state measurement (default); "
                                   "slam2d-range-bearing, slam2d-bearing: EKF, FEJ-EKF, OC-EKF and ideal EKF on 2-D "
                                   "SLAM; slam2d-odometry, slam2d-additive, slam2d-vio: the same with two odometry "
                                   "inputs, world-frame noise, a VIO-like model; slam2d-exploration: landmarks seen within 3 m, "
                                   "each added to the state when first seen; slam2d-paper: what FEJ and OC change on the paper's simulation "
-                                  "(reports in OUT/STUDY)")
-    consistency.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3)")
-    consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400)")
+                                  "; vins-msckf: the MSCKF on visual-inertial navigation, standard, first-estimates, "
+                                  "observability-constrained and ideal Jacobians (reports in OUT/STUDY)")
+    consistency.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3; vins-msckf 20)")
+    consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400; vins-msckf: camera frames at 10 Hz, 300)")
     consistency.add_argument("--seed", type=seed_value, default=None,
                              help="seed of the Monte Carlo streams (default 7; paper: its simulation's, 2013)")
     consistency.add_argument("--seeds", type=seed_list, default=None, metavar="S1,S2,...",
