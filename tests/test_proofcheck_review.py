@@ -108,7 +108,7 @@ def test_big_integers_and_long_decimals_are_read_exactly(tmp_path):
     exactly now; y = 0.1000000000000000000001 x (float would round it to 0.1) has
     the minor 1000000000000000000001/10^22 exactly, and the minor 1/10 is refused.
     Beyond the bounds the reasons say which bound: 5,000 digits in an expression
-    or in a JSON integer, an exponent of 10^6."""
+    or in a JSON integer, an exponent of 10^6, a point's value of 1,001 digits."""
     big = "1" + "0" * 400
     assert proofcheck.check(_proof("big", ["x"], {"y": f"x + {big}"}, [["y", 0]], {"x": "1"}, "1")).startswith(
         "accepted: ")
@@ -125,6 +125,9 @@ def test_big_integers_and_long_decimals_are_read_exactly(tmp_path):
         path.write_text(json.dumps(_proof("big", ["x"], {"y": output}, [["y", 0]], {"x": "1"}, "1")))
         done = cli("verify-proof", path)
         assert (done.returncode, done.stdout) == (1, f"rejected: {reason}\n")
+    path.write_text(json.dumps(_proof("big", ["x"], {"y": "x"}, [["y", 0]], {"x": "1" * 1001}, "1")))
+    done = cli("verify-proof", path)
+    assert (done.returncode, done.stdout) == (1, "rejected: the point's x is a number of more than 1000 characters\n")
     path.write_text(json.dumps(_proof("big", ["x"], {"y": "x"}, [["y", 0]], {"x": "1"}, "1")).replace(
         '"rank": 1', f'"rank": 1{"0" * 5000}'))
     done = cli("verify-proof", path)
@@ -203,7 +206,8 @@ def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monke
     13-state model out as sympy expressions (millions of nodes), then sympy's cancel
     brought each L_v h to one fraction. Now the rows are truncated series at the
     point, counted here: at most 10,000 products of dual numbers (3,209 measured),
-    and the identities are decided in flint's polynomials; the whole check is
+    and the identities are decided in flint's polynomials (every one: none is
+    left to sympy's cancel, 13 s of the check before); the whole check is
     accepted within 60 CPU seconds in its child (about 1.5 s measured)."""
     path = tmp_path / "vins.json"
     assert cli("check", "vins", "--proof", path).returncode == 1  # not observable, proven: rank 8 of 13
@@ -215,8 +219,13 @@ def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monke
         counted.append(products)
         return found, products
 
+    decided = []
+    rational_zero = proofcheck.rational_zero
     monkeypatch.setattr(proofcheck, "rows_at", counting)
+    monkeypatch.setattr(proofcheck, "rational_zero", lambda e: decided.append(rational_zero(e)) or decided[-1])
     line = proofcheck.check(json.loads(path.read_text()))
     assert line.startswith(f"accepted: {CLAIM.format('vins-quaternion-F1', 8, 13)}") and counted[0] <= 10_000
+    # 5 fields: L_v u1 and L_v v1 each decided as polynomials, none left to sympy (the brackets are 0 as written)
+    assert decided == [True] * 10
     done = cli("verify-proof", path, "--model", "vins", "--budget", "60")
     assert done.returncode == 0, done.stdout

@@ -146,7 +146,9 @@ def _bounded(expr: sympy.Expr, degree: float, bits: float) -> tuple[sympy.Expr, 
 def number(text: object, what: str, pattern: re.Pattern = RATIONAL) -> str:
     """``text`` if it is a number written as ``pattern`` wants (a rational p/q with q != 0,
     or a decimal) of at most MAX_NUMBER characters; Rejected otherwise."""
-    if not (isinstance(text, str) and len(text) <= MAX_NUMBER and pattern.fullmatch(text)) or \
+    if isinstance(text, str) and len(text) > MAX_NUMBER:
+        raise Rejected(f"{what} is a number of more than {MAX_NUMBER} characters")
+    if not (isinstance(text, str) and pattern.fullmatch(text)) or \
             re.fullmatch(r"-?[0-9]+/0+", str(text)):
         raise Rejected(f"{what} is not a number of the proof's form: {str(text)[:80]!r}")
     return text
