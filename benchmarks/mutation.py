@@ -49,6 +49,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # The checker's rows by series and its rational identities (issue 61's review), against their own tests.
     "checker-series": (["observability/rank/proofjets.py", "observability/rank/proofzero.py"],
                        ["tests/test_proofcheck_review.py"]),
+    # The checker's functions changed by that review (run with --only on them: test_proof.py is slow per mutant).
+    "checker-review": (["observability/rank/proofcheck.py", "observability/rank/proofread.py",
+                        "observability/rank/proofballs.py"],
+                       ["tests/test_proofcheck_review.py", "tests/test_proofcheck.py", "tests/test_proof_tampering.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
