@@ -174,21 +174,26 @@ def _symbolic_rows(x, f, h, inputs, orders):
 def test_rows_by_series_are_the_symbolic_lie_derivatives():
     """The checker's rows (truncated series, ``proofjets``) against sympy's symbolic
     Lie derivatives computed here, at a rational point with an input and its
-    derivatives: x1' = u x2, x2' = -sin x1 + e^x2 / (1 + x1^2), y = atan(x1) +
-    sqrt(x2 + 5) + cosh(x1) u, orders 0 to 2, every column, to 40 digits. In discrete
+    derivatives: x1' = u x2, x2' = -sin x1 + e^x2 / (1 + x1^2) + cos(x1 x2), y = atan(x1) +
+    sqrt(x2 + 5) + cosh(x1) u + atan2(x2, x1 - 2) tan(x1) + sinh(x2) log(x1 + 2) +
+    tanh(x1 x2) + (x1 + 3)^(-3/2) / x2^2, orders 0 and 1 (and the first three terms to
+    order 2), every column, to 40 digits. In discrete
     time: x+ = (x1 x2 + u, log(x2^2 + 1)), y = tanh(x1) x2, steps 0 to 2."""
     x1, x2, u = sympy.symbols("x1 x2 u")
-    f = [u * x2, -sympy.sin(x1) + sympy.exp(x2) / (1 + x1**2)]
-    h = sympy.atan(x1) + sympy.sqrt(x2 + 5) + sympy.cosh(x1) * u
+    f = [u * x2, -sympy.sin(x1) + sympy.exp(x2) / (1 + x1**2) + sympy.cos(x1 * x2)]
+    h = (sympy.atan(x1) + sympy.sqrt(x2 + 5) + sympy.cosh(x1) * u + sympy.atan2(x2, x1 - 2) * sympy.tan(x1)
+         + sympy.sinh(x2) * sympy.log(x1 + 2) + sympy.tanh(x1 * x2) + (x1 + 3) ** sympy.Rational(-3, 2) / x2**2)
     point = {x1: sympy.Rational(1, 3), x2: sympy.Rational(-2, 5)}
     us = [sympy.Rational(3, 2), sympy.Rational(-1, 4), sympy.Rational(2)]
-    found, products = proofjets.rows("continuous", [x1, x2], f, {"y": h}, [x1, x2], dict(point), {u: us}, 2)
-    assert products > 0
-    symbolic, chains = _symbolic_rows([x1, x2], f, h, [u], 2)
-    at = point | dict(zip(chains[u], us + [0]))
-    for k, row in enumerate(symbolic):
-        for c, column in enumerate((x1, x2)):
-            assert abs(sympy.N(sympy.diff(row, column).xreplace(at) - found[("y", k)][c], 40)) < 1e-35, (k, c)
+    for output, orders in ((h, 1), (sympy.atan(x1) + sympy.sqrt(x2 + 5) + sympy.cosh(x1) * u, 2)):
+        found, products = proofjets.rows("continuous", [x1, x2], f, {"y": output}, [x1, x2], dict(point), {u: us},
+                                         orders)
+        assert products > 0
+        symbolic, chains = _symbolic_rows([x1, x2], f, output, [u], orders)
+        at = point | dict(zip(chains[u], us[: orders + 1] + [0]))
+        for k, row in enumerate(symbolic):
+            for c, column in enumerate((x1, x2)):
+                assert abs(sympy.N(sympy.diff(row, column).xreplace(at) - found[("y", k)][c], 40)) < 1e-35, (k, c)
     F = [x1 * x2 + u, sympy.log(x2**2 + 1)]
     g = sympy.tanh(x1) * x2
     found, _ = proofjets.rows("discrete", [x1, x2], F, {"y": g}, [x1, x2], dict(point), {u: us}, 2)
@@ -229,3 +234,29 @@ def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monke
     assert decided == [True] * 10
     done = cli("verify-proof", path, "--model", "vins", "--budget", "60")
     assert done.returncode == 0, done.stdout
+
+
+@pytest.mark.parametrize("x,y,analytic", [("-1", "0", False), ("0", "0", False), ("-1", "1/2", True),
+                                          ("1", "0", True), ("1", "-3", True)])
+def test_atan2_is_analytic_off_its_cut(x, y, analytic):
+    """atan2(y, x) is the angle of (x, y) in (-pi, pi]: it jumps from pi to -pi across
+    x < 0, y = 0 and is not defined at the origin, and is analytic elsewhere (by hand:
+    its gradient (-y, x)/(x^2 + y^2) is continuous there). y = atan2(x2, x1), rank 1 of
+    2 with the field (x1, x2) (L_v y = (-x2 x1 + x1 x2)/(x1^2 + x2^2) = 0): accepted
+    exactly where (x1, x2) is off the cut; with the minor d/dx1 = -x2/(x1^2 + x2^2)."""
+    x1, x2 = sympy.symbols("x1 x2")
+    point = {x1: sympy.Rational(x), x2: sympy.Rational(y)}
+    minor = sympy.diff(sympy.atan2(x2, x1), x1).xreplace(point) if point[x1] or point[x2] else sympy.S.Zero
+    columns = ["x1"] if minor != 0 else ["x2"]
+    minor = sympy.diff(sympy.atan2(x2, x1), sympy.Symbol(columns[0])).xreplace(point) if point[x1] or point[x2] \
+        else sympy.S.One
+    proof = _proof("angle", ["x1", "x2"], {"y": "atan2(x2, x1)"}, [["y", 0]], {"x1": x, "x2": y}, str(minor),
+                   [{"name": "scale", "vector": {"x1": "x1", "x2": "x2"}}])
+    proof["lower_bound"]["columns"] = columns
+    if analytic:
+        assert proofcheck.check(proof).endswith(f"(atan2(x2, x1)) are analytic; on other parts of its domain it may "
+                                                "differ")
+    else:
+        with pytest.raises(proofcheck.Rejected, match=r"^atan2\(x2, x1\) is not proven analytic at the point: x <= 0 "
+                                                      r"and y = 0 may hold there$"):
+            proofcheck.check(proof)
