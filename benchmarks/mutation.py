@@ -111,6 +111,18 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    # The checker's rows by series and rational identities (group checker-series, issue 61's review, 2026-12-07).
+    **{f"observability.rank.proofjets.x_analytic_at__mutmut_{k}": "the series' order or width in the test of the "
+       "branches: only the value at the point (order 0, no column) is tested, the same in a longer series"
+       for k in (6, 7)},
+    **{f"observability.rank.proofjets.x__function__mutmut_{k}": "the name of the dummy variable of phi'(z), "
+       "substituted at once" for k in (2, 3, 4)},
+    **{f"observability.rank.proofjets.x__function__mutmut_{k}": "the cut of a message at 81 characters instead of "
+       "80" for k in (83, 176)},
+    "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
+                                                            "symbol of phi(z), the one sympy takes",
+    **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
+       "False" for k in (2, 5)},
     # The factors a rewriting drops (group zero-factors, 2026-12-07): 190 mutants, 28 survivors in the first
     # run; the note's words, the catch-all of an unevaluable construct, powers at 0 and a previous state in
     # the coefficient are killed by tests in tests/test_zero_factors.py (the re-run of the 28: 14 killed);
