@@ -119,6 +119,14 @@ EQUIVALENT: dict[str, str] = {
        "substituted at once" for k in (2, 3, 4)},
     **{f"observability.rank.proofjets.x__function__mutmut_{k}": "the cut of a message at 81 characters instead of "
        "80" for k in (83, 176)},
+    **{f"observability.rank.proofjets.xǁ_Jetsǁderivative__mutmut_{k}": "the length of the derivative's last "
+       "coefficient (of t^K, always 0): mul skips a zero coefficient and integral drops the t^K one, so it is never "
+       "read" for k in (9, 10)},
+    "observability.rank.proofzero.x_rational_zero__mutmut_10": "the ring's default ordering (lex) instead of "
+        "degrevlex: whether a polynomial is zero does not depend on the order of its terms",
+    "observability.rank.proofzero.x_rational_zero__mutmut_17": "one variable more in the ring, never used",
+    "observability.rank.proofzero.x__reduced__mutmut_2": "0 over 2 instead of 0 over 1: the same zero in every sum, "
+        "product and power that follows (a division by it is refused by its numerator)",
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "

@@ -260,3 +260,12 @@ def test_atan2_is_analytic_off_its_cut(x, y, analytic):
         with pytest.raises(proofcheck.Rejected, match=r"^atan2\(x2, x1\) is not proven analytic at the point: x <= 0 "
                                                       r"and y = 0 may hold there$"):
             proofcheck.check(proof)
+
+
+def test_the_series_refuse_a_function_they_do_not_know():
+    """The reader admits only functions the series evaluate; a sympy expression with
+    another (asin, whose branches the checker does not handle) handed to the rows is
+    refused by name, not evaluated as something else."""
+    x = sympy.Symbol("x")
+    with pytest.raises(proofcheck.Rejected, match="^the checker does not evaluate asin$"):
+        proofjets.rows("continuous", [x], [sympy.S.Zero], {"y": sympy.asin(x / 2)}, [x], {x: sympy.S.One}, {}, 0)
