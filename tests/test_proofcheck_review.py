@@ -269,3 +269,71 @@ def test_the_series_refuse_a_function_they_do_not_know():
     x = sympy.Symbol("x")
     with pytest.raises(proofcheck.Rejected, match="^the checker does not evaluate asin$"):
         proofjets.rows("continuous", [x], [sympy.S.Zero], {"y": sympy.asin(x / 2)}, [x], {x: sympy.S.One}, {}, 0)
+
+
+@pytest.mark.parametrize("text,value", [("1.5e3", 1500), ("2.5e-2", sympy.Rational(1, 40)), ("1_0.5", sympy.Rational(21, 2)),
+                                        (".5E+1", 5), ("7.", 7), ("3e0", 3)])
+def test_decimals_are_read_as_the_numbers_they_write(text, value):
+    """By hand: 1.5e3 = 1500, 2.5e-2 = 25/1000 = 1/40, 1_0.5 = 10.5 (Python's digit
+    separator), .5E+1 = 5, 7. = 7, 3e0 = 3 (read in process: a mutant of the reader is
+    not seen by a child process)."""
+    from observability.rank.proofread import parse
+
+    assert parse(text, {}) == value
+
+
+def test_the_bounds_on_a_decimal_say_which_bound():
+    """An exponent above 33,333 (100,000 bits / 3) is refused before 10^e is computed;
+    10^30000 (99,658 bits, by hand 30000 log2 10) is read; 10^33333 (110,730 bits)
+    passes the exponent bound and meets the bound on bits; an exponent of 13 digits
+    is no literal of the reader's; long texts are cut at 80 characters."""
+    from observability.rank.proofread import parse
+
+    assert parse("1e30000", {}) == sympy.Integer(10) ** 30000
+    with pytest.raises(proofcheck.Rejected, match="^an expression whose numbers have more than 100000 bits$"):
+        parse("1e33333", {})
+    long = "1." + "0" * 100
+    with pytest.raises(proofcheck.Rejected) as refused:
+        parse(f"{long}e33334", {})
+    assert str(refused.value) == f"a number of exponent 33334 (at most 33333 in size): {long[:80]!r}"
+    with pytest.raises(proofcheck.Rejected) as refused:
+        parse(f"{long}e0000000000001", {})
+    assert str(refused.value) == f"not a decimal number: {long[:80]!r}"
+
+
+def test_json_integers_are_bounded_by_their_digits_in_process():
+    """A JSON integer of 4,001 digits is refused by that bound, one of 4,000 digits is
+    read (and then the rank it gives does not fit one state: the reason, cut at 1,000
+    characters, starts with it)."""
+    proof = json.dumps(_proof("big", ["x"], {"y": "x"}, [["y", 0]], {"x": "1"}, "1"))
+    refused = proofcheck._answer(proof.replace('"rank": 1', f'"rank": 1{"0" * 4000}'), None)
+    assert refused == (False, ["rejected: an integer of more than 4000 digits in the file"])
+    accepted, lines = proofcheck._answer(proof.replace('"rank": 1', f'"rank": 1{"0" * 3999}'), None)
+    assert not accepted and lines[0] == "rejected: " + f"rank 1{'0' * 3999}"[:1000]  # the reason, cut
+    assert proofcheck._answer(proof, None)[0]
+
+
+def test_positive_numbers_are_proven_positive():
+    """sqrt(2)/2 ~ 0.707 and 1/3 are positive; -sqrt(2) is negative, -1/3 and 0 are not
+    positive, and log 6 - log 2 - log 3 = 0 (e^it = 6/(2*3) = 1) cannot be proven positive."""
+    from observability.rank.proofballs import positive
+
+    positive(sympy.sqrt(2) / 2, "a")
+    positive(sympy.Rational(1, 3), "a")
+    for number, reason in [(-sympy.sqrt(2), "^a is negative$"), (sympy.Rational(-1, 3), "^a is -1/3, not positive$"),
+                           (sympy.S.Zero, "^a is 0, not positive$"),
+                           (sympy.log(6) - sympy.log(2) - sympy.log(3), "^a is not proven non-zero: its ball")]:
+        with pytest.raises(proofcheck.Rejected, match=reason):
+            positive(number, "a")
+
+
+def test_rational_identities_with_different_denominators():
+    """By hand: 1/x + 1/y - (x + y)/(x y) = (y + x - x - y)/(x y) = 0, while
+    1/x + 1/y - 1/(x y) = (x + y - 1)/(x y) is not 0; e^x - e^x is left to sympy (None
+    from the polynomial route when it is not rational: exp(x) + 1/x)."""
+    from observability.rank.proofzero import rational_zero
+
+    x, y = sympy.symbols("x y")
+    assert rational_zero(1 / x + 1 / y - (x + y) / (x * y)) is True
+    assert rational_zero(1 / x + 1 / y - 1 / (x * y)) is False
+    assert rational_zero(sympy.exp(x) + 1 / x) is None
