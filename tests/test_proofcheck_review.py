@@ -95,7 +95,12 @@ def test_a_point_where_a_logarithm_is_not_real_is_refused_and_the_writer_avoids_
     proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     b = sympy.Rational(proof["lower_bound"]["point"]["states"]["b"])
     assert b > 0
-    assert "around the point (a = " in proofcheck.check(proof)
+    a = proof["lower_bound"]["point"]["states"]["a"]
+    assert f"around the point (a = {a}, b = {b}) where its functions with branches (log(b))" in proofcheck.check(proof)
+    wrong = copy.deepcopy(proof)  # v = (1, -1): L_v y = e^a - 1/b, not 0 (e^a = 1/b only on a curve)
+    wrong["upper_bound"]["generators"][0]["vector"] = {"a": "1", "b": "-1"}
+    with pytest.raises(proofcheck.Rejected, match=r"L_v y is not zero$"):
+        proofcheck.check(wrong)
     proof["lower_bound"]["point"]["states"]["b"] = "-2"
     with pytest.raises(proofcheck.Rejected, match=r"^the argument of log\(b\) at the point \(log is analytic for "
                                                   r"positive numbers\) is -2, not positive$"):
