@@ -136,6 +136,8 @@ EQUIVALENT: dict[str, str] = {
        "us, and without it the checker only refuses more" for k in (7, 8, 9)},
     **{f"observability.rank.proofzero.x__fraction__mutmut_{k}": "a power 0 taken as negative: sympy writes e**0 as 1, "
        "so no power 0 reaches the reader of fractions" for k in (69, 70)},
+    "observability.rank.proofcheck.x__input_values__mutmut_8": "one more input value read when the file gives it: "
+        "the series read u_0 to u_orders only (and the generators u_0)",
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "

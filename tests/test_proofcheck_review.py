@@ -342,3 +342,38 @@ def test_rational_identities_with_different_denominators():
     assert rational_zero(1 / x + 1 / y - (x + y) / (x * y)) is True
     assert rational_zero(1 / x + 1 / y - 1 / (x * y)) is False
     assert rational_zero(sympy.exp(x) + 1 / x) is None
+
+
+def test_a_division_by_a_zero_in_disguise_is_refused():
+    """(x + 1)^2 - x^2 - 2x - 1 = 0 (by hand), which sympy does not see as written:
+    an identity through 1/that divides by the zero polynomial and is refused, naming it."""
+    from observability.rank.proofzero import rational_zero
+
+    x = sympy.Symbol("x")
+    zero = (x + 1) ** 2 - x**2 - 2 * x - 1
+    with pytest.raises(proofcheck.Rejected) as refused:
+        rational_zero(x + 1 / zero)
+    assert str(refused.value) == f"a division by an expression that is identically 0: {str(1 / zero)[:80]}"
+
+
+def test_a_bad_input_value_is_named_in_process():
+    """An input value that is no number is refused naming the input (in process: see the decimals' test)."""
+    proof = _proof("drift", ["x"], {"y": "x"}, [["y", 0]], {"x": "1"}, "1", dynamics={"x": "u"})
+    proof["model"]["inputs"] = ["u"]
+    proof["lower_bound"]["point"]["inputs"] = {"u": ["1/00"]}
+    with pytest.raises(proofcheck.Rejected, match="^the point's u is not a number of the proof's form: '1/00'$"):
+        proofcheck.check(proof)
+
+
+def test_a_long_claim_with_branches_is_cut_where_it_says():
+    """30 states, y_i = sqrt(x_i^2 + 1) (rank 30 of 30: by hand the Jacobian is diagonal,
+    x_i / sqrt(x_i^2 + 1) = 3/5 at x_i = 3/4): the point's text is cut at 300 characters
+    and the list of functions with branches at 200, each joined by ', '."""
+    names = [f"x{i}" for i in range(30)]
+    proof = _proof("many", names, {f"y{i}": f"sqrt({x}**2 + 1)" for i, x in enumerate(names)},
+                   [[f"y{i}", 0] for i in range(30)], {x: "3/4" for x in names}, str(sympy.Rational(3, 5) ** 30))
+    line = proofcheck.check(proof)
+    where = ", ".join(f"{x} = 3/4" for x in names)[:300]
+    functions = ", ".join(sorted(f"sqrt({x}**2 + 1)" for x in names))[:200]
+    assert line.endswith(f"around the point ({where}) where its functions with branches ({functions}) are analytic; "
+                         "on other parts of its domain it may differ")
