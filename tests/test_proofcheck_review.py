@@ -107,13 +107,11 @@ def test_a_point_where_a_logarithm_is_not_real_is_refused_and_the_writer_avoids_
         proofcheck.check(proof)
 
 
-def test_big_integers_and_long_decimals_are_read_exactly(tmp_path):
+def test_big_integers_and_long_decimals_are_read_exactly():
     """y = x + 10^400 (rank 1 by hand: dy/dx = 1) with 10^400 written out in the
     output: it was an OverflowError refusal (Python's float of the integer). Read
     exactly now; y = 0.1000000000000000000001 x (float would round it to 0.1) has
-    the minor 1000000000000000000001/10^22 exactly, and the minor 1/10 is refused.
-    Beyond the bounds the reasons say which bound: 5,000 digits in an expression
-    or in a JSON integer, an exponent of 10^6, a point's value of 1,001 digits."""
+    the minor 1000000000000000000001/10^22 exactly, and the minor 1/10 is refused."""
     big = "1" + "0" * 400
     assert proofcheck.check(_proof("big", ["x"], {"y": f"x + {big}"}, [["y", 0]], {"x": "1"}, "1")).startswith(
         "accepted: ")
@@ -123,6 +121,13 @@ def test_big_integers_and_long_decimals_are_read_exactly(tmp_path):
     decimal["lower_bound"]["minor"] = "1/10"
     with pytest.raises(proofcheck.Rejected, match=f"^the minor is {exact}, the file says 1/10$"):
         proofcheck.check(decimal)
+
+
+@pytest.mark.fresh_interpreter
+def test_numbers_beyond_the_bounds_are_refused_by_the_command(tmp_path):
+    """The command's one-line reasons for numbers beyond the bounds (5,000 digits in an
+    expression or in a JSON integer, an exponent of 10^6, a point's value of 1,001
+    digits): never a Python exception's text."""
     cases = [(f"x + 1{'0' * 5000}", "a number of more than 4000 digits in an expression"),
              ("x + 1e1000000", "a number of exponent 1000000 (at most 33333 in size): '1e1000000'")]
     for output, reason in cases:
@@ -139,6 +144,7 @@ def test_big_integers_and_long_decimals_are_read_exactly(tmp_path):
     assert (done.returncode, done.stdout) == (1, "rejected: an integer of more than 4000 digits in the file\n")
 
 
+@pytest.mark.fresh_interpreter
 def test_hyperbolic_functions_are_read_and_their_proofs_verified(tmp_path):
     """y = tanh(x) + sinh(z) + cosh(x z), x' = z, z' = 0: check --proof exited 3 (the
     checker's reader had no tanh); now the proof is written and verify-proof --model
@@ -210,6 +216,7 @@ def test_rows_by_series_are_the_symbolic_lie_derivatives():
         state = [e.xreplace({x1: state[0], x2: state[1], u: us[k]}) for e in F]
 
 
+@pytest.mark.fresh_interpreter
 def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monkeypatch):
     """check vins --proof writes its proof in about a second; verify-proof --model
     vins did not end in 21 minutes of CPU: the checker wrote L_f^3 h of the
