@@ -138,6 +138,11 @@ EQUIVALENT: dict[str, str] = {
        "so no power 0 reaches the reader of fractions" for k in (69, 70)},
     "observability.rank.proofcheck.x__input_values__mutmut_8": "one more input value read when the file gives it: "
         "the series read u_0 to u_orders only (and the generators u_0)",
+    "observability.rank.proofjets.xǁ_Jetsǁmul__mutmut_4": "an all-zero coefficient one entry longer: every sum and "
+        "product zips it to the others' length; read directly it is a zero row, which no accepted minor holds (the "
+        "proof is refused either way, as malformed instead of 'the minor is 0')",
+    **{f"observability.rank.proofjets.x__power__mutmut_{k}": "an integer power 0 taken as negative: sympy writes "
+       "e**0 as 1, so no power 0 reaches the series" for k in (23, 24)},
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "

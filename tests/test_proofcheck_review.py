@@ -384,3 +384,33 @@ def test_a_long_claim_with_branches_is_cut_where_it_says():
     functions = ", ".join(sorted(f"sqrt({x}**2 + 1)" for x in names))[:200]
     assert line.endswith(f"around the point ({where}) where its functions with branches ({functions}) are analytic; "
                          "on other parts of its domain it may differ")
+
+
+def test_the_series_count_their_products_and_name_poles_and_roots():
+    """y = x1 x2 with x' = 0 at order 1: x(t) is constant, so its t coefficients are 0
+    and each of the two products (1 x1, then (x1) x2) is one product of dual numbers
+    (by hand: 2 in all, the zero coefficients skipped). 1/x1 at x1 = 0 is a pole, and
+    sqrt(x1) at x1 = -1 is off the analytic branch: refused, each named."""
+    x1, x2 = sympy.symbols("x1 x2")
+    zero = [sympy.S.Zero, sympy.S.Zero]
+    at = {x1: sympy.S.One, x2: sympy.Integer(2)}
+    found, products = proofjets.rows("continuous", [x1, x2], zero, {"y": x1 * x2}, [x1, x2], at, {}, 1)
+    assert products == 2 and found[("y", 0)] == [2, 1] and found[("y", 1)] == [0, 0]
+    with pytest.raises(proofcheck.Rejected, match="^a pole at the point: a denominator is 0 there$"):
+        proofjets.rows("continuous", [x1, x2], zero, {"y": 1 / x1}, [x1], {x1: sympy.S.Zero, x2: sympy.S.One}, {}, 0)
+    with pytest.raises(proofcheck.Rejected, match=r"^the base of a power 1/2 at the point \(analytic for positive "
+                                                  r"numbers\) is -1, not positive$"):
+        proofjets.rows("continuous", [x1, x2], zero, {"y": sympy.sqrt(x1)}, [x1], {x1: -sympy.S.One, x2: sympy.S.One},
+                       {}, 0)
+
+
+def test_numbers_of_the_proofs_form():
+    """A point's number is p/q with q != 0, of at most 1,000 characters (exactly 1,000
+    is read), and text: 1/0, 1/00, an int and a long word are refused, the word cut at 80."""
+    from observability.rank.proofread import number
+
+    assert number("1" * 1000, "v") == "1" * 1000 and number("-3/4", "v") == "-3/4"
+    for text in ("1/0", "1/00", 5, "x" * 100):
+        with pytest.raises(proofcheck.Rejected) as refused:
+            number(text, "v")
+        assert str(refused.value) == f"v is not a number of the proof's form: {str(text)[:80]!r}"
