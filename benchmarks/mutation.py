@@ -143,6 +143,14 @@ EQUIVALENT: dict[str, str] = {
         "proof is refused either way, as malformed instead of 'the minor is 0')",
     **{f"observability.rank.proofjets.x__power__mutmut_{k}": "an integer power 0 taken as negative: sympy writes "
        "e**0 as 1, so no power 0 reaches the series" for k in (23, 24)},
+    "observability.rank.proofjets.xǁ_Jetsǁconstant__mutmut_7": "the zero coefficients of a constant one entry "
+        "longer: as mul's mutant 4, zipped away in every sum and product, read directly only as a zero row",
+    **{f"observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_{k}": "the Picard iteration's first guess without its "
+       "gradient: the first step sets the t^0 coefficient to the start itself, and order + 1 steps (one more than "
+       "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
+    "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
+        "fixed point after order + 1 steps, so one more changes nothing",
+    "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
