@@ -150,6 +150,9 @@ EQUIVALENT: dict[str, str] = {
        "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
     "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
         "fixed point after order + 1 steps, so one more changes nothing",
+    "observability.rank.proofjets.x_rows__mutmut_85": "discrete time with series of order 1: only the t^0 "
+        "coefficient is read (each step is a map, not a motion)",
+    "observability.rank.proofzero.x__fraction__mutmut_73": "the cut of a message at 81 characters instead of 80",
     "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
