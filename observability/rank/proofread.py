@@ -6,7 +6,6 @@ every size bounded, and text made safe to print. It imports nothing of the packa
 from __future__ import annotations
 
 import ast
-import math
 import re
 import unicodedata
 
@@ -22,7 +21,12 @@ class Rejected(Exception):
 
 #: Functions a proof's expressions may call; nothing else is ever evaluated.
 _FUNCTIONS = {"sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan, "exp": sympy.exp, "log": sympy.log,
-              "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "Abs": sympy.Abs, "abs": sympy.Abs}
+              "sqrt": sympy.sqrt, "atan": sympy.atan, "atan2": sympy.atan2, "sinh": sympy.sinh, "cosh": sympy.cosh,
+              "tanh": sympy.tanh}
+#: Functions refused with their reason: not analytic, so an identity or a non-zero number at one
+#: point says nothing about the points nearby on the other side of a kink or a jump.
+_NOT_ANALYTIC = ("Abs", "abs", "sign", "floor", "ceiling", "Piecewise", "Heaviside", "Min", "Max", "min", "max",
+                 "re", "im", "conjugate", "arg")
 #: Bounds that keep a hostile file from hanging the checker (9**9**9**9, ((x + 2)**1000)**1000):
 #: characters, syntax nodes and nesting depth of an expression, the size of an exponent, and
 #: bounds on its degree in the names and on the bits of its numbers (exponents multiply both).
@@ -31,6 +35,10 @@ MAX_DEGREE, MAX_BITS = 1_000, 100_000
 #: The longest number of a point or a minor (characters).
 MAX_NUMBER = 1_000
 RATIONAL = re.compile(r"-?[0-9]+(/[0-9]+)?")
+#: A decimal literal in an expression (mantissa, exponent) and the longest run of digits read (Python's own
+#: integer reading stops at 4,300 digits, with an error that names none of this).
+_LITERAL = re.compile(r"([0-9]*\.?[0-9]*)(?:[eE]([-+]?[0-9]{1,12}))?")
+MAX_DIGITS = 4_000
 DECIMAL = re.compile(r"-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
 
 def parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
@@ -44,35 +52,37 @@ def parse(text: str, symbols: dict[str, sympy.Symbol]) -> sympy.Expr:
     text = str(text)
     if len(text) > MAX_TEXT:
         raise Rejected(f"an expression of {len(text)} characters (at most {MAX_TEXT})")
+    digits = max((len(run) for run in re.findall(r"[0-9_]+", text)), default=0)
+    if digits > MAX_DIGITS:
+        raise Rejected(f"a number of more than {MAX_DIGITS} digits in an expression")
     try:
         tree = ast.parse(text.replace("^", "**"), mode="eval")
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         raise Rejected(f"not an expression: {text[:80]!r}") from None
     if sum(1 for _ in ast.walk(tree)) > MAX_NODES:
         raise Rejected(f"an expression of more than {MAX_NODES} syntax nodes")
-    return _node(tree.body, symbols, 0)[0]
+    return _node(tree.body, symbols, 0, text)[0]
 
 
-def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:
+def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int, source: str) -> tuple[sympy.Expr, float, float]:
     """(expression, a bound on its degree in the names, a bound on the bits of its numbers)."""
     if depth > MAX_DEPTH:
         raise Rejected(f"an expression nested more than {MAX_DEPTH} deep")
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
-        if not math.isfinite(node.value):
-            raise Rejected(f"not a finite number: {ast.unparse(node)[:80]!r}")
-        number = sympy.Rational(str(node.value))
+        number = sympy.Integer(node.value) if isinstance(node.value, int) else _decimal(
+            ast.get_source_segment(source, node) or "")
         return _bounded(number, 0, int(number.p).bit_length() + int(number.q).bit_length())
     if isinstance(node, ast.Name) and node.id in symbols:
         return symbols[node.id], 1, 0
     if isinstance(node, ast.Name) and node.id in ("pi", "E"):
         return (sympy.pi if node.id == "pi" else sympy.E), 0, 0
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        operand, degree, bits = _node(node.operand, symbols, depth + 1)
+        operand, degree, bits = _node(node.operand, symbols, depth + 1, source)
         return (-operand if isinstance(node.op, ast.USub) else operand), degree, bits
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
-        return _chain(node, symbols, depth)
+        return _chain(node, symbols, depth, source)
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Div, ast.Pow)):
-        (left, dl, bl), (right, dr, br) = _node(node.left, symbols, depth + 1), _node(node.right, symbols, depth + 1)
+        (left, dl, bl), (right, dr, br) = _node(node.left, symbols, depth + 1, source), _node(node.right, symbols, depth + 1, source)
         if isinstance(node.op, ast.Pow):
             if not (right.is_Rational and abs(right) <= MAX_EXPONENT):
                 raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
@@ -84,12 +94,15 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[
         return _previous(node, symbols), 1, 0
     if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS
             and not node.keywords):
-        args = [_node(a, symbols, depth + 1) for a in node.args]
+        args = [_node(a, symbols, depth + 1, source) for a in node.args]
         try:
             value = _FUNCTIONS[node.func.id](*(a for a, _, _ in args))
         except TypeError:
             raise Rejected(f"{node.func.id} with {len(args)} argument(s)") from None
         return _bounded(value, max((d for _, d, _ in args), default=0), sum(b for _, _, b in args))
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _NOT_ANALYTIC:
+        raise Rejected(f"{node.func.id} is not analytic: the checker verifies no proof about a model with it "
+                       f"({ast.unparse(node)[:80]!r})")
     raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
 
 
@@ -103,7 +116,20 @@ def _previous(node: ast.Call, symbols: dict[str, sympy.Symbol]) -> sympy.Symbol:
     return symbols[f"prev({node.args[0].id})"]
 
 
-def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int) -> tuple[sympy.Expr, float, float]:
+def _decimal(text: str) -> sympy.Rational:
+    """The number a decimal literal writes, exactly (Python's float would round it,
+    or make it infinite above 1.8e308); Rejected when its exponent alone is beyond
+    the bound on bits (it is not computed then)."""
+    match = _LITERAL.fullmatch(text.replace("_", ""))
+    if match is None:
+        raise Rejected(f"not a decimal number: {text[:80]!r}")
+    exponent = int(match.group(2) or 0)
+    if abs(exponent) > MAX_BITS // 3:
+        raise Rejected(f"a number of exponent {exponent} (at most {MAX_BITS // 3} in size): {text[:80]!r}")
+    return sympy.Rational(match.group(1)) * sympy.Integer(10) ** exponent
+
+
+def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int, source: str) -> tuple[sympy.Expr, float, float]:
     """A sum (a + b - c ...) or a product (a * b * c ...) read as one level of
     nesting: the parser writes it as a left-leaning tree as deep as it is long,
     which is no nesting a hostile file could use (its terms are counted by MAX_NODES)."""
@@ -114,7 +140,7 @@ def _chain(node: ast.BinOp, symbols: dict[str, sympy.Symbol], depth: int) -> tup
         operands.append((node.right, isinstance(node.op, ast.Sub)))
         node = node.left
     operands.append((node, False))
-    read = [(_node(operand, symbols, depth + 1), negated) for operand, negated in reversed(operands)]
+    read = [(_node(operand, symbols, depth + 1, source), negated) for operand, negated in reversed(operands)]
     terms = [-e if negated else e for (e, _, _), negated in read]
     degrees, bits = [d for (_, d, _), _ in read], sum(b for (_, _, b), _ in read) + len(read)
     if product:
@@ -133,7 +159,9 @@ def _bounded(expr: sympy.Expr, degree: float, bits: float) -> tuple[sympy.Expr, 
 def number(text: object, what: str, pattern: re.Pattern = RATIONAL) -> str:
     """``text`` if it is a number written as ``pattern`` wants (a rational p/q with q != 0,
     or a decimal) of at most MAX_NUMBER characters; Rejected otherwise."""
-    if not (isinstance(text, str) and len(text) <= MAX_NUMBER and pattern.fullmatch(text)) or \
+    if isinstance(text, str) and len(text) > MAX_NUMBER:
+        raise Rejected(f"{what} is a number of more than {MAX_NUMBER} characters")
+    if not (isinstance(text, str) and pattern.fullmatch(text)) or \
             re.fullmatch(r"-?[0-9]+/0+", str(text)):
         raise Rejected(f"{what} is not a number of the proof's form: {str(text)[:80]!r}")
     return text

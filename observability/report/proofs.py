@@ -74,7 +74,7 @@ def _rational(rng: random.Random) -> sympy.Rational:
     return sympy.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 5))
 
 
-def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int):
+def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int, written: System | None = None):
     """The chosen minor at an exact random point: (point, value, exact).
 
     Rows that are rational at a rational point (no sine, exponential, ...: a
@@ -82,21 +82,30 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     arithmetic at the point (:mod:`observability.engine.pointrows`) and the
     minor from flint's exact determinant: no symbolic Lie derivative (those of
     ``vins`` did not end within the 60 s budget). Others from the symbolic rows
-    (:func:`_symbolic_minor`), their entries to 60 digits where not rational."""
+    (:func:`_symbolic_minor`), their entries to 60 digits where not rational.
+    The point is one where the functions with branches of ``written`` (the
+    model as written, by default ``system``) are analytic (:func:`_analytic_at`)."""
     rng = random.Random(seed)
     if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below (the point still a drawn one)
-        return _drawn(system, _point_symbols(system, 0), [], rng), "1", True
+        for _ in range(_ATTEMPTS):
+            point = _drawn(system, _point_symbols(system, 0), [], rng)
+            if _analytic_at(written or system, point):
+                return point, "1", True
+        raise ObservabilityError(f"{system.name}: no point where the model is analytic was found in {_ATTEMPTS} "
+                                 "tries; no proof written")
     if not exact_possible(system, rows):
-        return _symbolic_minor(system, rows, columns, seed)
+        return _symbolic_minor(system, rows, columns, seed, written)
     symbols = _point_symbols(system, max(k for _, k in rows))
     for _ in range(_ATTEMPTS):
         point = _drawn(system, symbols, [], rng)
+        if not _analytic_at(written or system, point):
+            continue
         try:
             value = _exact_minor(system, rows, columns, point)
         except Redraw:
             continue
         except NotRational:  # an irrational root at the point: the symbolic route says how far
-            return _symbolic_minor(system, rows, columns, seed)
+            return _symbolic_minor(system, rows, columns, seed, written)
         if value is not None:
             return point, value, True
     raise ObservabilityError(
@@ -139,7 +148,30 @@ def _exact_minor(system: System, rows, columns, point) -> str | None:
     return None if value == 0 else str(sympy.Rational(int(value.p), int(value.q)))
 
 
-def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int):
+def _analytic_at(system: System, point: dict) -> bool:
+    """Whether every function with branches of ``system`` (log, atan2, a power that
+    is not an integer: a root) is analytic at ``point`` (symbols it does not give
+    are 0, as the artefact writes them): its argument positive (atan2(y, x): x > 0
+    or y != 0), to 30 digits. The checker refuses a proof at another point (its
+    claim holds on the open set around the point where they are analytic)."""
+    for expr in (*system.dynamics, *(h for _, h in system.outputs)):
+        for node in sympy.preorder_traversal(system.substitute_values(expr)):
+            if not node.free_symbols:
+                continue
+            if isinstance(node, sympy.atan2):
+                y, x = (a.xreplace(point) for a in node.args)
+                y, x = (sympy.N(a.xreplace({s: 0 for s in a.free_symbols}), 30) for a in (y, x))
+                if not (x.is_positive or y.is_nonzero):
+                    return False
+            elif isinstance(node, sympy.log) or (isinstance(node, sympy.Pow) and not node.exp.is_Integer):
+                argument = node.args[0].xreplace(point)
+                if not sympy.N(argument.xreplace({s: 0 for s in argument.free_symbols}), 30).is_positive:
+                    return False
+    return True
+
+
+def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int,
+                    written: System | None = None):
     """:func:`_minor` from the symbolic Lie derivatives, where the rows are not all rational."""
     wanted = set(rows)
     highest = max(order for _, order in rows)
@@ -156,6 +188,8 @@ def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[i
     rng = random.Random(seed)
     for _ in range(_ATTEMPTS):
         point = _drawn(system, symbols, list(matrix), rng)
+        if not _analytic_at(written or system, point):
+            continue
         at = matrix.xreplace(point)
         if all(e.is_Rational for e in at):
             value = at.det(method="bareiss")
@@ -258,7 +292,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         raise ObservabilityError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")
     rows = [lower.row_labels[i] for i in lower.independent_rows]
     columns = list(lower.pivot_columns)
-    point, minor, exact = with_budget(_minor, system, rows, columns, seed, seconds=budget)
+    point, minor, exact = with_budget(_minor, system, rows, columns, seed, written, seconds=budget)
     names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
     generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
                   for d in result.unobservable_directions]
