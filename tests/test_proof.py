@@ -838,23 +838,35 @@ def test_the_checker_verifies_an_invariant_span_in_process():
         assert str(refused.value) == message, vectors
 
 
-def test_a_root_of_a_square_proves_no_independence_and_breaks_nothing():
-    """sqrt(z^2) is |z|: W^2 = z^2 splits into the branches W = z and W = -z, so a
-    minor non-zero modulo it may vanish on the real branch, and independence is not
-    claimed (with sqrt(z^2 + 1), squarefree, it is). Found by fuzzing: sqrt(z^2 + z^2)
-    = sqrt(2) |z| gave a null vector with sqrt(2) in it, which the invariant search
-    read as a monomial and crashed (KeyError, exit 4); its verdict: rank 2 of 4
-    (x unseen; dh0 = (0, 0, sqrt(2) z/|z|, 1), dh1 = (0, 1, 0, 0); L_f h0 = 1 adds no row)."""
+def test_a_root_of_a_square_is_refused_as_not_analytic():
+    """sqrt(z^2) is |z|, not analytic at z = 0, and its two sides may have different ranks
+    (sqrt(w^2) + w is 2w where w > 0 and 0 where w < 0: the verdict "observable (rank 1 of 1),
+    proven" held on one side only). Such a model is refused where it is written, as Abs is (the
+    fuzzer's sqrt(z^2 + z^2) = sqrt(2)|z| too); sqrt(z^2 + 1), squarefree, still proves
+    independence, and sqrt(z^4) = z^2 is analytic."""
+    from observability.errors import UnsupportedExpressionError
     from observability.rank.proof import _provable
 
     z, zero = sympy.Symbol("z"), sympy.Integer(0)
-    square = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z**2)"})
-    assert not _provable(square, [[sympy.sqrt(z**2), zero]])
-    assert _provable(square, [[sympy.sqrt(z**2 + 1), zero]])
-    doubled = System(["x", "y", "z", "b"], {"x": "3", "y": "0", "z": "0", "b": "1"},
-                     {"h0": "b + sqrt(z**2 + z**2)", "h1": "y"})
-    assert analyze(doubled, seed=1).rank == 2
+    with pytest.raises(UnsupportedExpressionError, match=r"which is \|z\|: not analytic where z = 0"):
+        System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z**2)"})
+    with pytest.raises(UnsupportedExpressionError, match=r"\|z\|"):
+        System(["x", "y", "z", "b"], {"x": "3", "y": "0", "z": "0", "b": "1"}, {"h0": "b + sqrt(z**2 + z**2)", "h1": "y"})
+    smooth = System(["x", "z"], {"x": "0", "z": "0"}, {"y": "x + sqrt(z**2 + 1)"})
+    assert _provable(smooth, [[sympy.sqrt(z**2 + 1), zero]])
+    assert analyze(System(["w"], {"w": "0"}, {"y": "sqrt(w**4) + w"}), seed=1).rank == 1  # w^2 + w
 
+
+@pytest.mark.parametrize("output", ["sqrt(w**2) + w", "sqrt(x**2 - 2*x + 1)*w", "sqrt(1/w**2 + 1)", "sqrt(sin(w)**2)"])
+def test_a_root_that_is_an_absolute_value_is_refused_in_one_line(tmp_path, output):
+    """Each root is |p| times something analytic, p changing sign (w, x - 1 written expanded,
+    1/|w| from the denominator, sin w): refused with exit 2 naming p, never a verdict for one side."""
+    from conftest import cli
+
+    path = tmp_path / "kink.toml"
+    path.write_text(f'states = ["w", "x"]\n[dynamics]\nw = "0"\nx = "1"\n[outputs]\ny = "{output}"\n')
+    out = cli("check", path)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "not analytic where" in out.stderr, out.stderr
 
 def test_the_checker_reads_a_proof_file_and_refuses_a_bad_minor_or_generators(tmp_path, monkeypatch):
     """verify() in this process: slam1.5d's proof file accepted as written; at exactly

@@ -24,8 +24,11 @@ rank. Two tools close that route:
   the certificate at a real point (:mod:`observability.rank.certificate`).
 
 Square roots are taken on the region where every factor of the radicand is
-positive (``sqrt(x**2)`` is ``x``): the generic rank of a model is that of its
-analytic branch, and the branch must be fixed for the rank to be one number.
+positive: the generic rank of a model is that of its analytic branch, and the
+branch must be fixed for the rank to be one number. A root that is an absolute
+value (``sqrt(x**2)`` is ``|x|``: a factor of multiplicity 2 mod 4) is refused
+where the model is read (:func:`observability.model.expressions.check_supported`):
+its two sides are two branches that may have different ranks.
 """
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ scalars before any analysis.
 from __future__ import annotations
 
 import ast
+import functools
 from collections.abc import Mapping
 
 import sympy
@@ -454,6 +455,8 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
                 raise UnsupportedExpressionError(
                     f"{where}: fractional power {exponent} in {node} (only integer powers and square roots)"
                 )
+            if exponent.q == 2:
+                _no_absolute_value(node, where)
             continue
         if isinstance(node, _SMOOTH):
             continue
@@ -463,6 +466,55 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
         raise UnsupportedExpressionError(
             f"{where}: {name} is not supported (not analytic, or outside sin cos tan atan atan2 exp log sqrt tanh sinh cosh)"
         )
+
+
+def _no_absolute_value(node: sympy.Pow, where: str) -> None:
+    """Refuse a half-integer power of p**m c with m = 2 mod 4 (p non-constant):
+    it is |p|**odd * ..., which is not analytic where p changes sign, and the
+    two sides may have different ranks (sqrt(w**2) + w is 2w where w > 0 and 0
+    where w < 0), so no rank at a random point speaks for both (Abs is refused
+    for the same reason). With m odd the root is real only on one side of
+    p = 0, a single branch; with m = 0 mod 4 it is p**(m/2), analytic."""
+    base = node.base
+    if any(isinstance(a, sympy.Pow) and a.exp.is_negative for a in sympy.preorder_traversal(base) if a is not base):
+        base = sympy.together(base)  # a denominator inside: one fraction first
+    numerator, denominator = sympy.fraction(base)
+    for part in (numerator, denominator):
+        if not part.free_symbols:
+            continue
+        try:
+            _, factors = _squarefree(part)
+        except (sympy.PolynomialError, sympy.CoercionFailed, NotImplementedError):
+            raise UnsupportedExpressionError(f"{where}: the radicand of {node} could not be factored to show the root "
+                                             "is analytic") from None
+        for factor, multiplicity in factors:
+            if factor.free_symbols and multiplicity % 4 == 2:
+                power = "" if multiplicity == 2 else f"**{multiplicity // 2}"
+                raise UnsupportedExpressionError(
+                    f"{where}: {node} holds the square root of ({factor})**{multiplicity}, which is |{factor}|{power}: "
+                    f"not analytic where {factor} = 0, and the rank may differ on its two sides (as with Abs); write "
+                    f"({factor}){power} or -({factor}){power} for the side you mean")
+
+
+def _squarefree(expr: sympy.Expr):
+    """sympy's square-free decomposition of ``expr``, once per shape: its symbols
+    renamed in order first, since models repeat one radicand per landmark."""
+    names = sorted(expr.free_symbols, key=lambda s: s.name)
+    shape = expr.xreplace({s: _PLACEHOLDERS[i] for i, s in enumerate(names)}) if len(names) <= len(_PLACEHOLDERS) \
+        else None
+    if shape is None:
+        return sympy.sqf_list(expr)
+    coefficient, factors = _shape_squarefree(shape)
+    back = {_PLACEHOLDERS[i]: s for i, s in enumerate(names)}
+    return coefficient, [(f.xreplace(back), m) for f, m in factors]
+
+
+_PLACEHOLDERS = sympy.symbols("_r0:64")
+
+
+@functools.lru_cache(maxsize=4096)
+def _shape_squarefree(shape: sympy.Expr):
+    return sympy.sqf_list(shape)
 
 
 def split_top_level(text: str) -> list[str]:
