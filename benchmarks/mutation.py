@@ -92,6 +92,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # The factors a rewriting drops, proven non-zero first (issue 61, item 1).
     "zero-factors": (["observability/intervals.py", "observability/model/squareroots.py"],
                      ["tests/test_zero_factors.py", "tests/test_balls.py", "tests/test_proof.py"]),
+    # StructuralIdentifiability.jl's @ODEmodel text (issue 68).
+    "sijl": (["observability/model/sijl.py"],
+             ["tests/test_sijl.py", "tests/test_malformed_corpus.py", "tests/test_modelfile_messages.py",
+              "tests/test_unknown_parameters.py", "tests/test_irrational_constants.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
