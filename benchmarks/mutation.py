@@ -121,7 +121,16 @@ EQUIVALENT: dict[str, str] = {
        "argument holds at any point drawn" for k in (9, 11, 12, 14)},
     **{f"observability.model.squareroots.x__radicand__mutmut_{k}": "as_Add of as_independent on a term of a sum "
        "(a product or a power, never a sum): not read" for k in (7, 9)},
-    # The unknown-input route (issue 62, 2026-12-07): rank/compensated.py's first 112 mutants, 83 killed;
+    # SI.jl's @ODEmodel reader (issue 68, 2026-12-07): 226 mutants, 202 killed, 2 timeouts, 22 survivors; the
+    # messages, a == or a bare y(t), a comment holding # twice, the defaults and a file of two models (then read
+    # as its first: now refused) are killed by tests in tests/test_sijl.py; these are equivalent.
+    "observability.model.sijl.x__unreserved__mutmut_20": "the substitution run with nothing renamed: every word "
+        "is replaced by itself, the same text",
+    **{f"observability.model.sijl.x_parse_si_model__mutmut_{k}": "split('#') with another maxsplit: the part "
+       "before the first '#' is the same" for k in (22, 25)},
+    "observability.model.sijl.x__equations__mutmut_13": "the quoted text of a refused equation cut at 81 "
+        "characters instead of 80",
+: rank/compensated.py's first 112 mutants, 83 killed;
     # the survivors of the empty-basis branches went with the branches (a 0 x 0 minor is 1), the ones
     # below are equivalent, the rest killed by the tests added (a true symmetry, a basis past an undefined
     # point, a basis minor other than 1).
