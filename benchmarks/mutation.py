@@ -96,6 +96,11 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "sijl": (["observability/model/sijl.py"],
              ["tests/test_sijl.py", "tests/test_malformed_corpus.py", "tests/test_modelfile_messages.py",
               "tests/test_unknown_parameters.py", "tests/test_irrational_constants.py"]),
+    # The observable functions completed to the rank (issue 68).
+    "completion": (["observability/analysis/completion.py"], ["tests/test_completion.py"]),
+    # The unknown-inputs verdict alone (issue 68; "unknown-inputs" holds it with the ranks).
+    "arbitrary": (["observability/analysis/arbitrary.py"],
+                  ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
