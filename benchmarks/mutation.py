@@ -135,7 +135,7 @@ EQUIVALENT: dict[str, str] = {
        "before the first '#' is the same" for k in (22, 25)},
     "observability.model.sijl.x__equations__mutmut_13": "the quoted text of a refused equation cut at 81 "
         "characters instead of 80",
-: rank/compensated.py's first 112 mutants, 83 killed;
+    # The unknown-input route (issue 62, 2026-12-07): rank/compensated.py's first 112 mutants, 83 killed;
     # the survivors of the empty-basis branches went with the branches (a 0 x 0 minor is 1), the ones
     # below are equivalent, the rest killed by the tests added (a true symmetry, a basis past an undefined
     # point, a basis minor other than 1).
