@@ -97,7 +97,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
              ["tests/test_sijl.py", "tests/test_malformed_corpus.py", "tests/test_modelfile_messages.py",
               "tests/test_unknown_parameters.py", "tests/test_irrational_constants.py"]),
     # The observable functions completed to the rank (issue 68).
-    "completion": (["observability/analysis/completion.py"], ["tests/test_completion.py"]),
+    "completion": (["observability/analysis/completion.py"], ["tests/test_completion.py", "tests/test_completion_exact.py"]),
     # The unknown-inputs verdict alone (issue 68; "unknown-inputs" holds it with the ranks).
     "arbitrary": (["observability/analysis/arbitrary.py"],
                   ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
