@@ -77,3 +77,72 @@ def test_at_most_max_added_functions_are_added(monkeypatch):
     assert completed(system, (X1 + X2,), 2, seed=1, budget=None) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
     _no_lie_derivatives(monkeypatch)
     assert completed(system, (), 2, seed=1, budget=None) == ((), 0)
+
+
+def _blocks(monkeypatch, bound: int = 10) -> list:
+    """Count the blocks of Lie derivatives the completion draws (failing past ``bound``)."""
+    drawn: list = []
+    real = completion.lie_derivatives
+
+    def counted(system):
+        for block in real(system):
+            drawn.append(1)
+            assert len(drawn) <= bound, "the completion does not stop"
+            yield block
+    monkeypatch.setattr(completion, "lie_derivatives", counted)
+    return drawn
+
+
+def test_every_candidate_is_judged_at_the_list_s_point():
+    """x1 x2 and its square (x1 x2)^2: gradients (x2, x1) and 2 x1 x2 (x2, x1), proportional at
+    every point, so even asked for rank 2 the square is not added -- unless the two were
+    evaluated at two points (the rows computed apart must share the seed's point)."""
+    system = System(["x1", "x2"], ["0", "0"], {"y1": "x1*x2", "y2": "x1**2*x2**2"})
+    assert completed(system, (X1 * X2,), 2, seed=1, budget=None) == ((X1 * X2,), 1)
+
+
+def test_the_search_stops_once_the_rank_is_reached(monkeypatch):
+    """x1 + x2, then y2's function at order 0 reaches the rank 2: one block of Lie derivatives drawn."""
+    drawn = _blocks(monkeypatch)
+    assert completed(_constants(), (X1 + X2,), 2, seed=1, budget=None)[1] == 2
+    assert len(drawn) == 1
+
+
+def test_the_search_ends_past_order_n(monkeypatch):
+    """x' = x, y = x (n = 1): every Lie derivative is x; asked for rank 2 (one more than there is),
+    the search adds x and stops after order n + 1 = 2 at most, instead of differentiating forever."""
+    drawn = _blocks(monkeypatch)
+    system = System(["x"], ["x"], {"y": "x"})
+    assert completed(system, (), 2, seed=1, budget=None) == ((system.states[0],), 1)
+    assert len(drawn) <= 3
+
+
+def test_a_chain_is_completed_order_by_order():
+    """x1' = x2, x2' = x3, x3' = 0, y = x1: y, y', y'' are x1, x2, x3 (by hand): rank 3 reached at
+    order 2, so orders 1 and 2 each had a short candidate."""
+    system = System(["x1", "x2", "x3"], ["x2", "x3", "0"], {"y": "x1"})
+    assert completed(system, (), 3, seed=1, budget=None) == ((X1, X2, X3), 3)
+
+
+def test_the_length_limits_are_inclusive(monkeypatch):
+    """y2's function x1**3*x3 + x2**5 has 16 characters: with the limit at 16 it is added; at 8
+    its row (16 characters, twice the limit, not more) does not end the search (order 1 is drawn);
+    at 6 it does, at order 0."""
+    system = _constants()
+    monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 16)
+    assert completed(system, (X1 + X2,), 2, seed=1, budget=None) == ((X1 + X2, X1**3 * X3 + X2**5), 2)
+    for limit, blocks in ((8, 2), (6, 1)):
+        monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", limit)
+        drawn = _blocks(monkeypatch)
+        assert completed(system, (X1 + X2,), 2, seed=1, budget=None) == ((X1 + X2,), 1)
+        assert len(drawn) == blocks, limit
+        monkeypatch.undo()
+
+
+def test_a_long_coefficient_does_not_hide_the_next(monkeypatch):
+    """x1' = u^2 (x2^5 x3^3 + x2) + u x3, y = x1: y' (30 characters, not twice the limit of 16)
+    has the coefficients x2*(x2**4*x3**3 + 1) (of u^2, 20 characters: too long) and x3 (of u):
+    x3 is added after the long one is skipped."""
+    monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 16)
+    system = System(["x1", "x2", "x3"], ["u**2*(x2**5*x3**3 + x2) + u*x3", "0", "0"], {"y": "x1"}, inputs=["u"])
+    assert completed(system, (X1,), 2, seed=1, budget=None) == ((X1, X3), 2)
