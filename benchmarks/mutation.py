@@ -141,8 +141,8 @@ EQUIVALENT: dict[str, str] = {
     "observability.model.sijl.x__body__mutmut_25": "depth counted with the opposite sign: it is zero at exactly "
         "the same characters",
     # The completion of the observable functions (issue 68, 2026-12-07): 181 mutants, 135 killed, 1 timeout,
-    # 45 survivors; killed by tests/test_completion_exact.py but these (and the 5 angle mutants and
-    # _grown's order >= n, not classified: see the issue).
+    # 45 survivors, killed by tests/test_completion_exact.py but these (and _grown's order >= n, not
+    # classified: orders 0..n-1 may suffice, not shown).
     **{f"observability.analysis.completion.x__rational__mutmut_{k}": "another random rational point (another "
        "range, or integers): a rank modulo p at any point is a certain lower bound, and the point is still "
        "fixed by the seed and the name" for k in (4, 5, 6, 11, 12, 13, 18, 19)},

@@ -146,3 +146,14 @@ def test_a_long_coefficient_does_not_hide_the_next(monkeypatch):
     monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 16)
     system = System(["x1", "x2", "x3"], ["u**2*(x2**5*x3**3 + x2) + u*x3", "0", "0"], {"y": "x1"}, inputs=["u"])
     assert completed(system, (X1,), 2, seed=1, budget=None) == ((X1, X3), 2)
+
+
+@pytest.mark.parametrize("trig", [sympy.sin, sympy.cos])
+def test_a_bare_angle_is_not_evaluated_off_the_circle(trig):
+    """th' = 0, x' = th z, z' = 0, y1 = sin(th) (or cos), y2 = x: the list (y1, y2) is judged with th
+    on the unit circle, th = 2 atan(t), irrational; y2' = th z holds th itself, so its gradient
+    (z, 0, th) has no rational value there: it is skipped (not evaluated at th = t, another
+    point than the list's), and the list stays at rank 2 without a claim of completeness."""
+    system = System(["th", "x", "z"], ["0", "th*z", "0"], {"y1": str(trig(sympy.Symbol("th"))), "y2": "x"})
+    th, x, _ = system.states
+    assert completed(system, (trig(th), x), 3, seed=1, budget=None) == ((trig(th), x), 2)
