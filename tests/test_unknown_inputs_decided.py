@@ -396,3 +396,16 @@ def test_a_point_on_a_branch_cut_is_drawn_again():
     rank (x and w from y, y': rank 2), so a pole ends the search only after all the attempts."""
     system = System(["x"], {"x": "sqrt(x) + w"}, {"y": "x"}, unknown_inputs=["w"])
     assert all(jet_rank(system, seed=seed, orders=2).observable == ("x", "w") for seed in range(10))
+
+
+def test_inputs_that_change_together_are_named_as_such():
+    """x1' = x2, x2' = w1 + w2, y = x1: df/dw = [[0, 0], [1, 1]] (by hand) has the null vector
+    (-1, 1), so w1 - s, w2 + s leave the dynamics as they are: one direction of the inputs alone,
+    named and described with both inputs."""
+    system = System(["x1", "x2"], {"x1": "x2", "x2": "w1 + w2"}, {"y": "x1"}, unknown_inputs=["w1", "w2"])
+    (direction,) = analyze(system, seed=2).unobservable_directions
+    assert direction.name == "unknown inputs together"
+    values = {k: sympy.sympify(v) for k, v in direction.vector.items()}
+    assert set(values) == {"w1", "w2"} and values["w1"] == -values["w2"] != 0
+    assert direction.description == ("w1, w2 change together without changing the dynamics "
+                                     "(df/dw times this is 0)")
