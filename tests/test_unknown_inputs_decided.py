@@ -409,3 +409,18 @@ def test_inputs_that_change_together_are_named_as_such():
     assert set(values) == {"w1", "w2"} and values["w1"] == -values["w2"] != 0
     assert direction.description == ("w1, w2 change together without changing the dynamics "
                                      "(df/dw times this is 0)")
+
+
+def test_the_compensating_inputs_are_named_in_the_description():
+    """x1' = x2 + w, x2' = 0, y = x1: x2 + s with w - s leaves x1' as it is (by hand), so x2's
+    translation is compensated by the one input w; x1' = x3 + w1, x2' = x3 + w2, x3' = 0, y = (x1,
+    x2): x3 + s needs w1 - s and w2 - s, two inputs (the plural); x1' = w, x2' = 0, y = x1 + x2:
+    x1 - s, x2 + s moves no input, and no input is said to compensate."""
+    one = System(["x1", "x2"], {"x1": "x2 + w", "x2": "0"}, {"y": "x1"}, unknown_inputs=["w"])
+    two = System(["x1", "x2", "x3"], {"x1": "x3 + w1", "x2": "x3 + w2", "x3": "0"}, {"y1": "x1", "y2": "x2"},
+                 unknown_inputs=["w1", "w2"])
+    none = System(["x1", "x2"], {"x1": "w", "x2": "0"}, {"y": "x1 + x2"}, unknown_inputs=["w"])
+    for system, words in ((one, "; the unknown input w compensates"),
+                          (two, "; the unknown inputs w1, w2 compensate"), (none, "moves these states together")):
+        (direction,) = analyze(system, seed=1).unobservable_directions
+        assert direction.description.endswith(words), direction.description
