@@ -101,6 +101,15 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # The factors a rewriting drops, proven non-zero first (issue 61, item 1).
     "zero-factors": (["observability/intervals.py", "observability/model/squareroots.py"],
                      ["tests/test_zero_factors.py", "tests/test_balls.py", "tests/test_proof.py"]),
+    # StructuralIdentifiability.jl's @ODEmodel text (issue 68).
+    "sijl": (["observability/model/sijl.py"],
+             ["tests/test_sijl.py", "tests/test_malformed_corpus.py", "tests/test_modelfile_messages.py",
+              "tests/test_unknown_parameters.py", "tests/test_irrational_constants.py"]),
+    # The observable functions completed to the rank (issue 68).
+    "completion": (["observability/analysis/completion.py"], ["tests/test_completion.py", "tests/test_completion_exact.py"]),
+    # The unknown-inputs verdict alone (issue 68; "unknown-inputs" holds it with the ranks).
+    "arbitrary": (["observability/analysis/arbitrary.py"],
+                  ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
@@ -173,6 +182,39 @@ EQUIVALENT: dict[str, str] = {
        "argument holds at any point drawn" for k in (9, 11, 12, 14)},
     **{f"observability.model.squareroots.x__radicand__mutmut_{k}": "as_Add of as_independent on a term of a sum "
        "(a product or a power, never a sum): not read" for k in (7, 9)},
+    # SI.jl's @ODEmodel reader (issue 68, 2026-12-07): 226 mutants, 202 killed, 2 timeouts, 22 survivors; the
+    # messages, a == or a bare y(t), a comment holding # twice, the defaults and a file of two models (then read
+    # as its first: now refused) are killed by tests in tests/test_sijl.py; these are equivalent.
+    "observability.model.sijl.x__unreserved__mutmut_20": "the substitution run with nothing renamed: every word "
+        "is replaced by itself, the same text",
+    **{f"observability.model.sijl.x_parse_si_model__mutmut_{k}": "split('#') with another maxsplit: the part "
+       "before the first '#' is the same" for k in (22, 25)},
+    "observability.model.sijl.x__equations__mutmut_13": "the quoted text of a refused equation cut at 81 "
+        "characters instead of 80",
+    # The re-run of the survivors and of _body (changed: two models refused): 61 mutants, 54 killed; the
+    # whole group again: 233 mutants, 225 killed, 2 timeouts, these 6 equivalent.
+    "observability.model.sijl.x__body__mutmut_3": "rfind instead of find: a file with more than one "
+        "@ODEmodel( is refused just before, so there is one occurrence",
+    "observability.model.sijl.x__body__mutmut_25": "depth counted with the opposite sign: it is zero at exactly "
+        "the same characters",
+    # The completion of the observable functions (issue 68, 2026-12-07): 181 mutants, 135 killed, 1 timeout,
+    # 45 survivors; their re-runs: 30 killed by tests/test_completion_exact.py, these 14 equivalent, and
+    # _grown__mutmut_6 (orders 0..n-1 instead of 0..n) left unclassified: with inputs a Lie derivative's
+    # coefficients are sums of Lie derivatives, so order n may add to the rank; no model found that needs it.
+    **{f"observability.analysis.completion.x__rational__mutmut_{k}": "another random rational point (another "
+       "range, or integers): a rank modulo p at any point is a certain lower bound, and the point is still "
+       "fixed by the seed and the name" for k in (4, 5, 6, 11, 12, 13, 18, 19)},
+    "observability.analysis.completion.x_jacobian_rank_at__mutmut_1": "a sixth try: only after five points "
+        "that are all poles or irrational",
+    "observability.analysis.completion.x_jacobian_rank_at__mutmut_12": "seed - attempt: another point for each "
+        "retry, as certain",
+    "observability.analysis.completion.x__span__mutmut_2": "ModularEchelon does not read its number of columns",
+    "observability.analysis.completion.x_completed__mutmut_5": "the gradients of no function: no rows, as []",
+    "observability.analysis.completion.x_completed__mutmut_31": "the growth without its CPU budget: the same "
+        "answer whenever the budgeted run finishes; where it would not, the list as it is (no claim) becomes a "
+        "longer one whose rank is as certain (a test would depend on CPU time)",
+    "observability.analysis.completion.x__grown__mutmut_12": "short None instead of False at first: read only "
+        "as a condition, falsy either way",
     # The unknown-input route (issue 62, 2026-12-07): rank/compensated.py's first 112 mutants, 83 killed;
     # the survivors of the empty-basis branches went with the branches (a 0 x 0 minor is 1), the ones
     # below are equivalent, the rest killed by the tests added (a true symmetry, a basis past an undefined

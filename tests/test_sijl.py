@@ -13,6 +13,7 @@ import pytest
 import sympy
 
 from observability.cli import main
+from observability.errors import ModelFileError
 from observability.model.sijl import parse_si_model
 
 
@@ -72,3 +73,53 @@ def test_a_state_written_without_t_is_the_state():
     x1, x2, a, b, u = sympy.symbols("x1 x2 a b u")
     assert system.states == (x1, x2, a, b) and system.inputs == (u,)
     assert system.dynamics[:2] == (a * x1, b * x2 + u) and system.outputs == (("y", x1 + x2 + u),)
+
+
+@pytest.mark.parametrize("body, message", [
+    # Julia's == is a comparison, not an equation; a bare y(t) is no equation either.
+    ("x'(t) == -a * x(t),\ny(t) = x(t)", "\"x'(t) == -a * x(t)\" is not an equation lhs = rhs"),
+    ("x'(t) = -a * x(t),\ny(t)", "'y(t)' is not an equation lhs = rhs"),
+    # SI.jl's own words (src/ODE.jl), then the fix for a time-dependent model.
+    ("x'(t) = -a * y(t),\ny(t) = x(t)", "the output y appears on a right-hand side; output variables may appear "
+                                         "only on the left-hand side of their equations"),
+    ("x'(t) = -a * x(t) + t,\ny(t) = x(t)", "time itself (a bare t) on a right-hand side: the model must be "
+                                             "autonomous (make time a state, T'(t) = 1)"),
+])
+def test_the_refusals_say_what_and_how_to_fix_it(body, message):
+    """The whole line of each refusal: what is wrong, where, and (time) how to write it instead."""
+    with pytest.raises(ModelFileError) as caught:
+        parse_si_model(f"ode = @ODEmodel(\n{body}\n)", "m.jl")
+    assert str(caught.value) == f"m.jl: {message}"
+
+
+def test_a_file_of_two_models_is_refused_not_read_as_its_first(tmp_path, capsys):
+    """SI.jl's example files may define two models (ode1 = @ODEmodel(...), ode2 = ...); the
+    first was read silently. Refused, naming the file (exit 2); a commented-out second model
+    (Julia's # comment) is no model, and the one left is read (x' = -a x, y = x: rank 2 of 2)."""
+    one = "@ODEmodel(x'(t) = -a * x(t), y(t) = x(t))"
+    two = "@ODEmodel(x'(t) = -b * x(t), y(t) = x(t)^2)"
+    path = tmp_path / "m.jl"
+    path.write_text(f"ode1 = {one}\node2 = {two}\n", encoding="utf-8")
+    assert main(["check", str(path), "--seed", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == f"observability: error: {path}: 2 @ODEmodel(...) in the file; keep only the model to analyse", err
+    path.write_text(f"ode1 = {one}\n# ode2 = {two}\n", encoding="utf-8")
+    assert main(["check", str(path), "--seed", "1"]) == 0
+    assert "rank 2 of 2" in capsys.readouterr().out
+
+
+def test_the_defaults_name_the_model_and_its_source():
+    """Without ``source`` and ``name``: messages begin with ``<model>:`` (as parse_model's) and
+    the System is named ``model`` (parse_si_model's docstring)."""
+    assert parse_si_model("@ODEmodel(x'(t) = -a * x(t), y(t) = x(t))").name == "model"
+    with pytest.raises(ModelFileError) as caught:
+        parse_si_model("no model")
+    assert str(caught.value) == "<model>: no @ODEmodel(...) in the file"
+
+
+def test_a_comment_ends_at_the_line_s_end_whatever_it_holds():
+    """Julia's # comment runs to the end of its line, more # included: x' = -a x (# a rate #1),
+    y = x (# the output # again) is x' = -a x, y = x."""
+    system = parse_si_model("@ODEmodel(\n x'(t) = -a * x(t), # a rate #1\n y(t) = x(t) # the output # again\n)")
+    x, a = sympy.symbols("x a")
+    assert system.dynamics[0] == -a * x and system.outputs == (("y", x),)

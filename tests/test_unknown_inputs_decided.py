@@ -396,3 +396,31 @@ def test_a_point_on_a_branch_cut_is_drawn_again():
     rank (x and w from y, y': rank 2), so a pole ends the search only after all the attempts."""
     system = System(["x"], {"x": "sqrt(x) + w"}, {"y": "x"}, unknown_inputs=["w"])
     assert all(jet_rank(system, seed=seed, orders=2).observable == ("x", "w") for seed in range(10))
+
+
+def test_inputs_that_change_together_are_named_as_such():
+    """x1' = x2, x2' = w1 + w2, y = x1: df/dw = [[0, 0], [1, 1]] (by hand) has the null vector
+    (-1, 1), so w1 - s, w2 + s leave the dynamics as they are: one direction of the inputs alone,
+    named and described with both inputs."""
+    system = System(["x1", "x2"], {"x1": "x2", "x2": "w1 + w2"}, {"y": "x1"}, unknown_inputs=["w1", "w2"])
+    (direction,) = analyze(system, seed=2).unobservable_directions
+    assert direction.name == "unknown inputs together"
+    values = {k: sympy.sympify(v) for k, v in direction.vector.items()}
+    assert set(values) == {"w1", "w2"} and values["w1"] == -values["w2"] != 0
+    assert direction.description == ("w1, w2 change together without changing the dynamics "
+                                     "(df/dw times this is 0)")
+
+
+def test_the_compensating_inputs_are_named_in_the_description():
+    """x1' = x2 + w, x2' = 0, y = x1: x2 + s with w - s leaves x1' as it is (by hand), so x2's
+    translation is compensated by the one input w; x1' = x3 + w1, x2' = x3 + w2, x3' = 0, y = (x1,
+    x2): x3 + s needs w1 - s and w2 - s, two inputs (the plural); x1' = w, x2' = 0, y = x1 + x2:
+    x1 - s, x2 + s moves no input, and no input is said to compensate."""
+    one = System(["x1", "x2"], {"x1": "x2 + w", "x2": "0"}, {"y": "x1"}, unknown_inputs=["w"])
+    two = System(["x1", "x2", "x3"], {"x1": "x3 + w1", "x2": "x3 + w2", "x3": "0"}, {"y1": "x1", "y2": "x2"},
+                 unknown_inputs=["w1", "w2"])
+    none = System(["x1", "x2"], {"x1": "w", "x2": "0"}, {"y": "x1 + x2"}, unknown_inputs=["w"])
+    for system, words in ((one, "; the unknown input w compensates"),
+                          (two, "; the unknown inputs w1, w2 compensate"), (none, "moves these states together")):
+        (direction,) = analyze(system, seed=1).unobservable_directions
+        assert direction.description.endswith(words), direction.description

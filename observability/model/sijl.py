@@ -23,8 +23,9 @@ so that a model from SI.jl's benchmarks (SEIRT's ``lambda``, SEIR 34's
 What would otherwise be read silently as something else is refused, naming it:
 a state or an output defined twice, an output on a right-hand side (SI.jl:
 "output variables may appear only on the left-hand side of their equations"),
-and time itself on a right-hand side (a bare ``t``, or
-``sin(t)``: the models are autonomous). Julia's ``π`` and ``ℯ`` are pi and
+time itself on a right-hand side (a bare ``t``, or ``sin(t)``: the models are
+autonomous), and a file of several ``@ODEmodel`` (SI.jl's example files may
+hold two: which one is meant is not ours to guess). Julia's ``π`` and ``ℯ`` are pi and
 Euler's number.
 """
 
@@ -70,6 +71,9 @@ def _body(text: str, source: str) -> str:
     start = text.find("@ODEmodel(")
     if start < 0:
         raise ModelFileError(f"{source}: no @ODEmodel(...) in the file")
+    # SI.jl's example files may define several models: reading the first silently could analyse the wrong one.
+    if (count := text.count("@ODEmodel(")) > 1:
+        raise ModelFileError(f"{source}: {count} @ODEmodel(...) in the file; keep only the model to analyse")
     depth, i = 0, start + len("@ODEmodel")
     for j in range(i, len(text)):
         depth += {"(": 1, ")": -1}.get(text[j], 0)
@@ -124,12 +128,14 @@ def _checked_names(dynamics: dict[str, str], outputs: dict[str, str], source: st
 
 
 def parse_si_model(text: str, source: str = "<model>", name: str = "model") -> System:
-    """The System of the ``@ODEmodel`` in ``text`` (module docstring).
+    """The System of the ``@ODEmodel`` in ``text`` (module docstring), named
+    ``name`` (default ``model``); ``source`` names the text in error messages (by default
+    ``<model>``, as for :func:`~observability.model.modelfile.parse_model`).
 
     Raises
     ------
     ModelFileError
-        No ``@ODEmodel``, an equation that is neither ``x'(t) = ...`` nor
+        No ``@ODEmodel`` or more than one, an equation that is neither ``x'(t) = ...`` nor
         ``y(t) = ...``, a name defined twice or used as two things (module
         docstring), or anything the model-file parser refuses, with ``source``.
     """
