@@ -9,6 +9,8 @@ derivation written in the test's docstring.
 
 from __future__ import annotations
 
+import re
+
 import pytest
 import sympy
 
@@ -201,4 +203,20 @@ def test_a_proven_error_is_named_before_an_unproven_identity():
     system = System(["x1", "x2"], {"x1": "x1", "x2": "x2"}, {"y": "x1 - prev(x1) + x2"}, time="discrete",
                     inverse_dynamics={"x1": "x1 + (log(6) - log(2) - log(3))*x1", "x2": "x2 + x2/10**40"})
     with pytest.raises(ModelError, match="wrong for state x2"):
+        analyze(system, seed=1)
+
+
+@pytest.mark.parametrize("dynamics, inverse, wrong", [
+    ("-x**2", "sqrt(-x)", "-x + sqrt(x**2)"),    # F(g(x)) = x, but g(F(z)) = |z|: wrong for z < 0
+    ("tan(x)", "atan(x)", "-x + atan(tan(x))"),  # atan(tan z) = z - pi for z in (pi/2, 3 pi/2)
+])
+def test_an_inverse_that_is_only_a_right_inverse_is_refused(dynamics, inverse, wrong):
+    """The rewriting puts g(F(z)) where the previous state z was, so g(F(z, u), u) = z is the identity
+    that matters. With F = -x^2, g = sqrt(-x): F(g(x)) = x exactly, yet g(F(z)) = |z|, and the output
+    (prev(x) - sqrt(-x)) z is 2 z prev(x) != 0 wherever the previous state is negative: the true rank
+    is 2 (z seen), while the rewritten output 0 gave 'rank 1, proven' (adversarial review). Likewise
+    atan(tan z) - z = -pi at z = 2."""
+    system = System(["x", "z"], {"x": dynamics, "z": "z"}, {"h1": f"(prev(x) - {inverse})*z", "h2": "x"},
+                    time="discrete", inverse_dynamics={"x": inverse, "z": "z"})
+    with pytest.raises(ModelError, match=re.escape(f"wrong for state x: g(F(x, u), u) - x = {wrong}")):
         analyze(system, seed=1)

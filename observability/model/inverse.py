@@ -90,16 +90,19 @@ VERIFY_BUDGET = 20.0
 
 
 def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...]) -> None:
-    """Refuse an inverse motion model g unless F(g(x, u), u) = x is *proven*.
+    """Refuse an inverse motion model g unless g(F(z, u), u) = z and F(g(x, u), u) = x are *proven*.
 
-    Each residual F_i(g(x, u), u) - x_i, with the known parameters at their
-    values, must be proven identically zero in the states, inputs and free
-    parameters (:func:`observability.model.identities.identically_zero`: exact
+    Each residual, with the known parameters at their values, must be proven
+    identically zero in the states, inputs and free parameters
+    (:func:`observability.model.identities.identically_zero`: exact
     rational-function arithmetic, with trigonometric functions through
-    half-angle tangents). Then the rewriting h(x, g(x, u_{k-1})) of an output
-    h(x_k, x_{k-1}) is the output itself at every point where g is defined,
-    and the rank computed from it is the model's. No tolerance decides it: an
-    inverse wrong by 1e-40 is wrong.
+    half-angle tangents). The rewriting replaces the previous state z of an
+    output h(x_k, z) by g(x_k, u_{k-1}) = g(F(z, u_{k-1}), u_{k-1}): it is the
+    output itself exactly when g(F(z, u), u) = z, which is the identity that
+    matters (F(g(x)) = x alone admits a branch: F = -x**2, g = sqrt(-x) gives
+    g(F(z)) = |z|, wrong for every z < 0); F(g(x, u), u) = x is asked too, as a
+    check that g is the model's. No tolerance decides it: an inverse wrong by
+    1e-40 is wrong.
 
     Raises
     ------
@@ -109,7 +112,15 @@ def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...]) -> None:
         CPU seconds (no rank is computed on an inverse that is not proven).
     """
     at_g = dict(zip(system.states, inverse))
-    residuals = tuple(system.substitute_values(f.xreplace(at_g)) - x for f, x in zip(system.dynamics, system.states))
+    at_f = dict(zip(system.states, system.dynamics))
+    right = tuple(system.substitute_values(f.xreplace(at_g)) - x for f, x in zip(system.dynamics, system.states))
+    left = tuple(system.substitute_values(g.xreplace(at_f)) - x for g, x in zip(inverse, system.states))
+    _proven_zero(system, left, "g(F(x, u), u) - x")
+    _proven_zero(system, right, "F(g(x, u), u) - x")
+
+
+def _proven_zero(system: System, residuals: tuple[sympy.Expr, ...], what: str) -> None:
+    """Refuse (ModelError naming the state) unless every residual is proven identically zero."""
     if all(r == 0 for r in residuals):  # the common case (x -> x, c - dt v + dt v): nothing to prove
         return
     try:
@@ -122,12 +133,12 @@ def verify_inverse(system: System, inverse: tuple[sympy.Expr, ...]) -> None:
     for state, residual, verdict in checked:  # a proven error first, then one not proven
         if verdict is False:
             raise ModelError(f"{system.name}: the inverse motion model is wrong for state {state.name}: "
-                             f"F(g(x, u), u) - x = {_shown(residual)} is not zero (proven at a rational point)")
+                             f"{what} = {_shown(residual)} is not zero (proven at a rational point)")
     for state, residual, verdict in checked:
         if verdict is None:
             raise ModelError(
                 f"{system.name}: the inverse motion model could not be proven exact for state {state.name}: "
-                f"F(g(x, u), u) - x = {_shown(residual)} is not shown to be 0 ({why}); no rank rests on an inverse "
+                f"{what} = {_shown(residual)} is not shown to be 0 ({why}); no rank rests on an inverse "
                 "that is not proven: write it so that the composition cancels, or use --previous augment")
 
 
