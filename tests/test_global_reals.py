@@ -225,3 +225,16 @@ def test_a_level_with_several_simple_real_solutions_is_found_exactly():
         assert len(real) == count >= 2 and min(numpy.diff(real)) > 1e-6, q
         assert min(abs(r - float(s)) for r in real) < 1e-9
     assert several_real_levels(sympy.Poly(T**3 + T, T)) is None
+
+
+def test_two_coupled_parameters_give_no_internal_error_and_no_false_uniqueness(tmp_path):
+    """x' = -(p^3 + q) x + u, z' = -(q^3 + p) z + u: (p, q) = (0, 0), (1, -1) and (-1, 1) all give
+    p^3 + q = q^3 + p = 0 (by hand), and the Jacobian 9 p^2 q^2 - 1 is non-zero at each, so other real
+    values persist on an open set: never "unique among real values". The search for a second real
+    value ended in StopIteration (exit 4) when an isolating interval ended at the level itself."""
+    path = tmp_path / "cross.toml"
+    path.write_text('states = ["x", "z"]\ninputs = ["u"]\nunknown_parameters = ["p", "q"]\n[dynamics]\n'
+                    'x = "-(p**3 + q)*x + u"\nz = "-(q**3 + p)*z + u"\n[outputs]\ny1 = "x"\ny2 = "z"\n')
+    run = cli("check", path, "--global", "--seed", "0")
+    assert run.returncode == 0, run.stderr
+    assert "unique among real values" not in run.stdout and "p identifiable only locally" in run.stdout

@@ -198,7 +198,11 @@ def _elsewhere(name: str, eliminant: sympy.Poly, level: sympy.Poly, equations: F
     simple = there.sqf_part().degree() == there.degree() == eliminant.degree()
     if not (shape and simple and len(roots) >= 2):
         return None
-    low, high = next(_apart(there, interval) for interval in roots if not interval[0] <= s <= interval[1])
+    # An isolating interval may end at s itself (both neighbours then hold it): no other root shown, no claim.
+    other = next((interval for interval in roots if not interval[0] <= s <= interval[1]), None)
+    if other is None:
+        return None
+    low, high = _apart(there, other)
     others = "".join(f", {c} = {point[c]}" for c in draws.model.coordinates if c != variable)
     known = f" (known: {', '.join(f'{c} = {v}' for c, v in equations.given.items())})" if equations.given else ""
     halves = " (an angle as tan(angle/2))" if draws.model.angles else ""
