@@ -250,10 +250,15 @@ def filter_functions(
     Raises
     ------
     ModelError
-        For a noise name that is neither a state nor an input, or a numeric
+        For a noise name that is neither a state nor an input, a numeric
         ``dt`` while the system declares a free parameter named dt (the
-        parameter would stay in p, unused).
+        parameter would stay in p, unused), or an output that uses an input
+        (the measurement functions take the states and parameters only).
     """
+    fed = [name for name, h in system.outputs if h.free_symbols & set(system.inputs)]
+    if fed:
+        raise ModelError(f"output {fed[0]} of {system.name} uses an input: the filters' and the trajectory's measurement "
+                         "functions take the states and parameters only (not supported yet)")
     system = discretize(system, dt, method)
     states = [s.name for s in system.states]
     inputs = [u.name for u in system.inputs]

@@ -287,3 +287,14 @@ def test_an_initial_state_where_the_information_is_not_finite_is_refused_in_one_
     out = cli("design", model, "--initial", ",".join(f"{k}={v!r}" for k, v in initial.items()), "--duration", "2",
               "--window", "1", "--bounds", "v=0.5:1,w=-0.5:0.5")
     assert out.returncode == 2 and out.stderr.count("\n") == 1 and "CasADi" not in out.stderr, out.stderr
+
+
+def test_an_output_that_uses_an_input_is_refused_in_one_line(tmp_path):
+    """y = x + u: the measurement functions take the states and parameters only, and casadi's 'variables
+    [u] are free' was exit 4 for trajectory and design (adversarial review): now exit 2, one line."""
+    model = tmp_path / "fed.toml"
+    model.write_text('states = ["x"]\ninputs = ["u"]\n[dynamics]\nx = "-x + u"\n[outputs]\ny = "x + u"\n')
+    for args in (["trajectory", model, "--initial", "x=1", "--input", "u=1", "--duration", "2", "--window", "1"],
+                 ["design", model, "--initial", "x=1", "--duration", "2", "--window", "1", "--bounds", "u=0:1"]):
+        out = cli(*args)
+        assert out.returncode == 2 and out.stderr.count("\n") == 1 and "output y of fed uses an input" in out.stderr
