@@ -167,3 +167,15 @@ def test_when_no_candidate_helps_the_empty_set_is_the_answer():
     assert [(s.candidates, s.cost, s.rank, s.proof) for s in choice.minimal_sets] == [((), 0.0, 2, "proven")]
     out = cli("sensors", MODEL, "--candidate", "zero=0", "--candidate", "z2=x-x", "--seed", "1")
     assert out.returncode == 1 and "no candidate raises the rank: the best rank is the model's own, 2 of 5" in out.stdout
+
+
+def test_with_unknown_inputs_no_cheapest_set_is_pruned():
+    """x1' = x2 + a, x2' = x3, x3' = 0, x4' = a, x5' = 0, y0 = x5, a unknown (any function of time).
+    By hand (with a reviewer's sympy jet ranks): y0 alone gives x5 (rank 1 of 6, targets x1..x5 and
+    a); x1 or x4 alone gives rank 3; both give 6 (x4' = a gives a, then x2 = x1' - a, x3 = x1'' - a').
+    The gains 2 + 2 fall short of the 5 the pair adds: not submodular, and {p, q} (x1, x4) was pruned
+    although as cheap as the sets listed (adversarial review of issue 70)."""
+    system = System(["x1", "x2", "x3", "x4", "x5"], {"x1": "x2 + a", "x2": "x3", "x3": "0", "x4": "a", "x5": "0"},
+                    {"y0": "x5"}, unknown_inputs=["a"], name="sup")
+    choice = select_sensors(system, {"p": "x1", "q": "x4", "r": "x1 - x4"}, seed=1)
+    assert choice.observable and {s.candidates for s in choice.minimal_sets} == {("p", "q"), ("p", "r"), ("q", "r")}

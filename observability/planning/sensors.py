@@ -31,7 +31,10 @@ rank(B + S) <= rank(B) + sum over c in S of (rank(B + c) - rank(B)), B the
 model's own outputs — dimensions of sums of subspaces are submodular. The
 pruning only skips sets cheaper than the first one found (the minimality
 check above analyses them again); every set as cheap as it is ranked, so the
-list of cheapest sets is complete at the search's point.
+list of cheapest sets is complete at the search's point. With unknown inputs
+that may be any function of time the rank is dim(V ∩ span(dx, dw)), which is
+monotone in the outputs but not submodular (x1' = x2 + a, x4' = a: x1 and x4
+each add 2, together 5), so there is no pruning.
 """
 
 from __future__ import annotations
@@ -212,11 +215,12 @@ def select_sensors(system: System, candidates: Mapping[str, str], costs: Mapping
     target = fast(tuple(names))
     start = fast(())
     gains = {c: fast((c,)) - start for c in names}
+    submodular = not system.arbitrary_inputs  # module docstring
     found: list[tuple[str, ...]] = []
     for chosen in _sets_by_cost(names, cost):
         if found and sum(cost[c] for c in chosen) > sum(cost[c] for c in found[0]) + 1e-12:
             break
-        if not found and start + sum(gains[c] for c in chosen) < target:  # submodularity: cannot reach it
+        if not found and submodular and start + sum(gains[c] for c in chosen) < target:  # cannot reach it
             continue
         if (fast(chosen) if chosen else start) == target:
             found.append(chosen)
