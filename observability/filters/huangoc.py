@@ -63,8 +63,8 @@ class HuangOCEKF(FirstEstimatesEKF):
     """The OC-EKF of Huang et al. 2010 (module docstring). ``null_space`` is
     N(x, p) -> n x d, e.g. :func:`~observability.filters.constrained.null_space_function`
     of the analysis (required). ``constraint.transition`` and
-    ``constraint.measurement`` hold per step max |Phi N_k - N_k+1| and
-    max |H* N_k| relative to 1 + max |N| (:class:`~observability.filters.constraint.ConstraintLog`);
+    ``constraint.measurement`` hold per step max ``|Phi N_k - N_k+1|`` and
+    max ``|H* N_k|`` relative to 1 + max ``|N|`` (:class:`~observability.filters.constraint.ConstraintLog`);
     with ``record``, ``used`` keeps ("F" or "H", step, matrix)."""
 
     variant = "observability-constrained (Huang 2010)"
