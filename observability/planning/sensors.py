@@ -214,8 +214,8 @@ def select_sensors(system: System, candidates: Mapping[str, str], costs: Mapping
     n = own.n_states  # the unknown inputs count, as in check's "rank r of n"
     target = fast(tuple(names))
     start = fast(())
-    gains = {c: fast((c,)) - start for c in names}
     submodular = not system.arbitrary_inputs  # module docstring
+    gains = {c: fast((c,)) - start for c in names} if submodular else {}  # read only by the pruning
     found: list[tuple[str, ...]] = []
     for chosen in _sets_by_cost(names, cost):
         if found and sum(cost[c] for c in chosen) > sum(cost[c] for c in found[0]) + 1e-12:
