@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..directions.find import UnobservableDirection
+from ..model.branches import Region, qualifier
 from ..model.notation import latex_text
 
 if TYPE_CHECKING:
@@ -57,6 +58,12 @@ class ObservabilityResult:
     and rational invariants of degree <= 2 in the states, free parameters and
     cosines and sines of angles (:mod:`observability.directions.invariants`); None when not
     computed (the directions unknown).
+    ``region``: where the rank holds (:mod:`observability.model.branches`):
+    unqualified, the whole real domain (at generic points); qualified, when the
+    model has functions with branches and the domain where they are analytic is
+    not proven connected, the connected part of it around the point where the
+    rank was shown (on another part the rank may differ). The exit code stays
+    the verdict's.
     ``functions_complete``: True when those functions have transcendence degree
     equal to the rank (the rank of their Jacobian at a random rational point,
     exact, equals a proven rank: every observable function is then algebraic
@@ -89,6 +96,7 @@ class ObservabilityResult:
     functions_complete: bool | None = None
     global_answer: GlobalVerdict | None = None  # check --global: which states are determined uniquely
     undecided_states: tuple[str, ...] = ()
+    region: Region = Region(False)  # qualified: the rank holds on the part of the domain around its point
 
     @property
     def n_states(self) -> int:
@@ -121,6 +129,7 @@ class ObservabilityResult:
             "orders": self.orders,
             "rank_lower_bound": self.lower_bound,
             "proof": self.proof,
+            "region": self.region.to_dict(),
             "unknown_inputs": self._decided(self.unknown_inputs),
             "unknown_input_model": self.unknown_input_model,
             "unknown_parameters": self._decided(self.unknown_parameters),
@@ -193,9 +202,12 @@ class ObservabilityResult:
         lines = [
             f"{self.model}: {self.verdict()}"
             + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None
-               else f" (rank undecided, of {self.n_states})" if self.observable is not None else ""),
+               else f" (rank undecided, of {self.n_states})" if self.observable is not None else "")
+            + (qualifier(self.region) if self.rank is not None or self.lower_bound is not None else ""),
             f"  method: {self.method}; {self.details}",
         ]
+        if self.region.qualified and (self.rank is not None or self.lower_bound is not None):
+            lines.insert(1, f"  region: {self.region.reason}")
         if self.restriction:
             lines.insert(1, f"  restricted to: {self.restriction}")
         if self.unknown_input_model:

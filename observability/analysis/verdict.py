@@ -13,6 +13,7 @@ observable functions; the observable states.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
@@ -22,6 +23,7 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
 from ..errors import ModelError
+from ..model.branches import Region, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -127,17 +129,19 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     if system.arbitrary_inputs:
         if method != "random" or where is not None or point is not None:
             system.require_known_inputs(f"the {method} method" + (" on a set" if where is not None else ""))
-        return arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start)
+        return replace(arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start),
+                       region=region(system))
     if where is not None and method != "random":
         raise ModelError("a constraint set (--where) is analysed by the random method")
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
     system = prepared.system
+    domain = region(system)
     if where is not None:
-        return rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start, directions,
-                           budget)
+        return replace(rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start,
+                                   directions, budget), region=domain)
     evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress)
     if evidence.rank is None:
-        return _undecided(system, method, evidence, start)
+        return _undecided(system, method, evidence, start, domain)
     n, rank = system.n, evidence.rank
     if found is None and rank < n and (directions or evidence.observable_columns is None):
         found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
@@ -165,7 +169,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         observable_functions=None if functions is None else tuple(map(str, functions)),
         functions_complete=_complete(system, functions, rank, proof, reached), proof=proof,
         unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
-        unknown_input_model=input_model(system),
+        unknown_input_model=input_model(system), region=domain,
     )
 
 
@@ -196,13 +200,13 @@ def _rank(system: System, method: str, seed: int | None, input_derivatives: int 
     return float_evidence(system, seed, point, input_derivatives, max_order, previous), None
 
 
-def _undecided(system: System, method: str, evidence: RankEvidence, start: float) -> ObservabilityResult:
+def _undecided(system: System, method: str, evidence: RankEvidence, start: float, domain: Region) -> ObservabilityResult:
     return ObservabilityResult(
         model=system.name, states=tuple(s.name for s in system.states), rank=None, observable=None, method=method,
         seed=evidence.seed, error_probability=None, orders=evidence.orders, observable_states=None,
         unobservable_directions=(), seconds=time.perf_counter() - start, details=evidence.details, time=system.time,
         lower_bound=evidence.lower_bound, unknown_inputs=system.unknown_inputs,
-        unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
+        unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system), region=domain,
     )
 
 

@@ -33,6 +33,7 @@ from ..analysis.result import ObservabilityResult
 from ..budget import with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression, prev
+from ..model.branches import qualifier
 from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
 from ..engine.exactrows import NotRational
@@ -84,21 +85,23 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     ``vins`` did not end within the 60 s budget). Others from the symbolic rows
     (:func:`_symbolic_minor`), their entries to 60 digits where not rational.
     The point is one where the functions with branches of ``written`` (the
-    model as written, by default ``system``) are analytic (:func:`_analytic_at`)."""
+    model as written, by default ``system``) are analytic at every step the
+    rows use (:func:`_analytic_along`)."""
     rng = random.Random(seed)
     if not rows:  # rank 0: the empty minor, 1 by convention, bounds nothing from below (the point still a drawn one)
         for _ in range(_ATTEMPTS):
             point = _drawn(system, _point_symbols(system, 0), [], rng)
-            if _analytic_at(written or system, point):
+            if _analytic_along(written or system, point, 0):
                 return point, "1", True
         raise ObservabilityError(f"{system.name}: no point where the model is analytic was found in {_ATTEMPTS} "
                                  "tries; no proof written")
     if not exact_possible(system, rows):
         return _symbolic_minor(system, rows, columns, seed, written)
-    symbols = _point_symbols(system, max(k for _, k in rows))
+    highest = max(k for _, k in rows)
+    symbols = _point_symbols(system, highest)
     for _ in range(_ATTEMPTS):
         point = _drawn(system, symbols, [], rng)
-        if not _analytic_at(written or system, point):
+        if not _analytic_along(written or system, point, highest):
             continue
         try:
             value = _exact_minor(system, rows, columns, point)
@@ -170,6 +173,27 @@ def _analytic_at(system: System, point: dict) -> bool:
     return True
 
 
+def _analytic_along(system: System, point: dict, orders: int) -> bool:
+    """:func:`_analytic_at` wherever the rows of orders 0..``orders`` evaluate the
+    model: at the point in continuous time (the Lie derivatives are taken
+    there); in discrete time at every step k <= ``orders``, at the state x_k
+    (x_(k+1) = F(x_k, u_k), to 30 digits) with the inputs u[k] and prev(u) =
+    u[k-1], as the checker evaluates h(x_k, u_k) and F(x_k, u_k) at each step."""
+    if system.time == "continuous":
+        return _analytic_at(system, point)
+    fixed = {p: point.get(p, sympy.S.Zero) for p in system.free_parameters}
+    states = {s: point.get(s, sympy.S.Zero) for s in system.states}
+    for k in range(orders + 1):
+        at = fixed | states | {u: point.get(step_input(u, k), sympy.S.Zero) for u in system.inputs} | {
+            prev(u): point.get(step_input(u, k - 1), sympy.S.Zero) for u in system.inputs}
+        if not _analytic_at(system, at):
+            return False
+        if k < orders:  # the next state, to 30 digits: the test is a filter, the checker decides
+            states = {s: sympy.N(system.substitute_values(f).xreplace(at), 30)
+                      for s, f in zip(system.states, system.dynamics)}
+    return True
+
+
 def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int,
                     written: System | None = None):
     """:func:`_minor` from the symbolic Lie derivatives, where the rows are not all rational."""
@@ -188,7 +212,7 @@ def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[i
     rng = random.Random(seed)
     for _ in range(_ATTEMPTS):
         point = _drawn(system, symbols, list(matrix), rng)
-        if not _analytic_at(written or system, point):
+        if not _analytic_along(written or system, point, highest):
             continue
         at = matrix.xreplace(point)
         if all(e.is_Rational for e in at):
@@ -285,6 +309,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         )
     original = system
     written = prepare(system, square_roots=False).system
+    qualified = result.region.to_dict() if result.region.qualified else None
     system = prepare(written).system  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
@@ -304,7 +329,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         kind = "invariant span"
     return {
         "format": EVIDENCE_FORMAT,
-        "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}",
+        "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}"
+                 + qualifier(result.region, shown=None),
         "conventions": CONVENTIONS,
         "model": proof_model(original),
         "rank": result.rank,
@@ -322,4 +348,4 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
             "kind": kind,
             "identities": IDENTITIES[kind],
         },
-    }
+    } | ({"region": qualified} if qualified else {})

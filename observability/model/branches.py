@@ -1,0 +1,261 @@
+"""Where a rank is one number: the region of the real domain a verdict speaks of.
+
+A model whose functions are single-valued (rational functions, exp, sin, cos,
+tan, tanh, sinh, cosh) has analytic rows on the connected set of complex points
+off their poles, so a minor non-zero at one real point is non-zero on an open
+dense set of real points (the identity theorem): the generic rank is one
+number. A function with branches (a root or another power that is not an
+integer, log, atan, atan2) is analytic on the real points only where its
+argument is positive (roots, log), finite (atan) or off the cut y = 0, x <= 0
+(atan2). The rows are analytic on the set D where every such function is, and
+an analytic minor non-zero at a point of D is non-zero on an open dense subset
+of the *connected part* of D around it; on another part it may vanish:
+sqrt(1 - cos(x)**2) + sin(x) is 2 sin x where sin x > 0 and 0 where sin x < 0
+(rank 1 on one part, 0 on the other). So a rank is unqualified only where D is
+proven connected; otherwise the verdict holds on the part of D around the point
+where the rank was shown, and says so (:func:`region`).
+
+What is proven connected (each case a sufficient condition, checked exactly):
+
+* **Harmless functions.** An atan2, log or atan that enters an output only as a
+  term c*phi(...) (c free of the states and inputs, arguments free of branches)
+  reaches the rows only through its derivatives, which are rational in its
+  arguments: it adds no branch (the rows are gradients). In continuous time the
+  Lie derivatives, in discrete time the gradients of h(F^k(x)), keep that form.
+* **Everywhere positive.** An argument that is a positive constant plus
+  positive multiples of even powers, exponentials and cosh of entire
+  expressions (polynomials, sin, cos, exp, sinh, cosh): D is everything there.
+  An atan of an entire expression likewise.
+* **Quadratic arguments** g = v'Av + b'v + c (exact rationals, v the symbols)
+  of a root or log: g depends on v only through the linear forms Av and b'v;
+  {g > 0} is a half-space-like region (b not in the range of A: g is affine
+  with non-zero slope along a direction of ker A, so the set is the region above
+  a graph), the whole space (A >= 0 and the minimum m > 0), the complement of an
+  affine subspace of codimension rank(A) >= 2 (A >= 0, m = 0: a range
+  sqrt((lx - x)**2 + (ly - y)**2)), the outside of a convex cylinder (A >= 0,
+  m < 0, rank(A) >= 2), or the inside of an ellipsoid (A <= 0, m > 0: convex).
+  A half-space and an ellipsoid's inside are convex. Rank 1 with m <= 0 (two
+  sides of a slab) and indefinite A are not proven.
+* **atan2(y, x)** with y and x affine with independent linear parts: R^2 minus
+  a closed ray, times the other coordinates.
+* **Combining.** The convex sets intersect in a convex set; the complements of
+  subspaces of codimension >= 2 do not disconnect a connected open set (a path
+  can be moved off them); the other connected sets combine when their linear
+  forms (and those of the convex intersection) are independent: in coordinates
+  made of those forms D is a product of connected sets.
+* **Discrete time.** The rows at step k are analytic where F^j(x) lies in D for
+  every j <= k, a set the above does not describe: unqualified only when every
+  remaining argument is everywhere positive and the motion F is entire (no
+  pole, no branch), so that D is everything at every step.
+
+Everything else (arguments with other functions, higher degrees, rational
+functions) is not proven connected: the verdict is qualified. Refusing never
+makes a statement false; a qualified verdict is true on the region it names.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy
+
+from .system import System
+
+__all__ = ["Region", "region", "qualifier"]
+
+#: Functions single-valued and analytic on every real point (entire).
+_ENTIRE = (sympy.sin, sympy.cos, sympy.exp, sympy.sinh, sympy.cosh)
+#: Functions with branches whose value only matters through derivatives when added to an output.
+_ADDITIVE = (sympy.atan2, sympy.log, sympy.atan)
+#: Conditions named in a verdict at most (the rest summed up).
+_SHOWN = 4
+
+
+@dataclass(frozen=True)
+class Region:
+    """Whether a verdict about ``system`` is about one part of its real domain.
+
+    ``qualified``: the domain where the functions with branches are analytic is
+    not proven connected, so the rank holds on the part around the point where
+    it was shown. ``conditions``: that domain's defining conditions, as text
+    ("1 - cos(x)**2 > 0"); ``reason``: why connectivity is not proven."""
+
+    qualified: bool
+    conditions: tuple[str, ...] = ()
+    reason: str = ""
+
+    def to_dict(self) -> dict:
+        return {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
+
+
+def qualifier(found: Region, shown: int | None = _SHOWN) -> str:
+    """The words a qualified verdict adds after its rank ("" when unqualified):
+    the first ``shown`` conditions (all with None: a proof's claim, which the
+    checker rebuilds from the proof's "region" to compare)."""
+    if not found.qualified:
+        return ""
+    listed = found.conditions if shown is None else found.conditions[:shown]
+    more = f" (and {len(found.conditions) - len(listed)} more)" if len(listed) < len(found.conditions) else ""
+    return (f" on the region around the point where {' and '.join(listed)}{more} "
+            "(the rank may differ on other regions)")
+
+
+def _branched(node: sympy.Basic) -> bool:
+    return bool(node.free_symbols) and (isinstance(node, _ADDITIVE) or (
+        isinstance(node, sympy.Pow) and not node.exp.is_Integer))
+
+
+def _nodes(expr: sympy.Expr) -> list[sympy.Expr]:
+    return [node for node in sympy.preorder_traversal(expr) if _branched(node)]
+
+
+def _mattering(system: System) -> list[sympy.Expr]:
+    """The functions with branches whose values reach the rows: every one in the
+    dynamics; in an output, all but the harmless terms c*phi(args)."""
+    found = [node for f in system.dynamics for node in _nodes(system.substitute_values(f))]
+    variables = set(system.states) | set(system.inputs)
+    for _, h in system.outputs:
+        for term in sympy.Add.make_args(system.substitute_values(h)):
+            coefficient, factor = term.as_independent(*variables, as_Add=False)
+            if isinstance(factor, _ADDITIVE) and not any(_nodes(a) for a in factor.args):
+                continue
+            found += _nodes(term)
+    return list(dict.fromkeys(found))
+
+
+def _entire(expr: sympy.Expr) -> bool:
+    if expr.is_Symbol or expr.is_Number:
+        return bool(expr.is_real) or expr.is_Symbol
+    if isinstance(expr, sympy.Pow):
+        return bool(expr.exp.is_Integer and expr.exp >= 0) and _entire(expr.base)
+    if isinstance(expr, (sympy.Add, sympy.Mul, *_ENTIRE)):
+        return all(_entire(a) for a in expr.args)
+    return bool(expr.is_number and expr.is_real)
+
+
+def _positive_everywhere(expr: sympy.Expr) -> bool:
+    """A positive constant plus positive multiples of products of even powers,
+    exp and cosh of entire expressions: positive at every real point."""
+    constant, terms = expr.as_independent(*expr.free_symbols, as_Add=True)
+    if not (constant.is_number and constant.is_positive):
+        return False
+    for term in sympy.Add.make_args(terms):
+        coefficient, product = term.as_independent(*term.free_symbols, as_Add=False)
+        if not coefficient.is_positive:
+            return False
+        for factor in sympy.Mul.make_args(product):
+            base, exponent = factor.as_base_exp()
+            if not ((exponent.is_Integer and exponent % 2 == 0 and _entire(base))
+                    or (isinstance(factor, (sympy.exp, sympy.cosh)) and _entire(factor.args[0]))):
+                return False
+    return True
+
+
+@dataclass(frozen=True)
+class _Set:
+    """One condition's set: "all", "convex", "thin" (the complement of an affine
+    subspace of codimension >= 2), "connected" (another connected set), or
+    "unknown"; ``forms``: the linear parts it depends on (rows over the symbols)."""
+
+    kind: str
+    forms: tuple[tuple[sympy.Rational, ...], ...] = ()
+
+
+def _quadratic(g: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
+    """{g > 0} for a polynomial g of degree <= 2 with rational coefficients."""
+    try:
+        poly = sympy.Poly(g, *variables, domain="QQ")
+    except (sympy.PolynomialError, sympy.CoercionFailed):
+        return _Set("unknown")
+    if poly.total_degree() > 2:
+        return _Set("unknown")
+    n = len(variables)
+    hessian = sympy.Matrix(n, n, lambda i, j: sympy.diff(g, variables[i], variables[j]) / 2)
+    b = sympy.Matrix([sympy.diff(g, v).subs(dict.fromkeys(variables, 0)) for v in variables])
+    c = g.subs(dict.fromkeys(variables, 0))
+    stacked = hessian.row_join(b)
+    forms = tuple(tuple(row) for row in stacked.T.rref()[0].tolist() if any(row))
+    rank = hessian.rank()
+    if stacked.rank() > rank:  # b outside the range of A: affine with non-zero slope along ker A
+        return _Set("convex" if rank == 0 else "connected", forms)
+    center = hessian.pinv() * b / -2  # A v0 = -b/2: g = (v - v0)'A(v - v0) + m
+    minimum = sympy.nsimplify(c - (center.T * hessian * center)[0])
+    if hessian.is_positive_semidefinite:
+        if minimum > 0:
+            return _Set("all")
+        if rank >= 2:
+            return _Set("thin" if minimum == 0 else "connected", forms)
+        return _Set("unknown")
+    if hessian.is_negative_semidefinite and minimum > 0:
+        return _Set("convex", forms)
+    return _Set("unknown")
+
+
+def _linear(expr: sympy.Expr, variables: list[sympy.Symbol]) -> tuple | None:
+    try:
+        poly = sympy.Poly(expr, *variables, domain="QQ")
+    except (sympy.PolynomialError, sympy.CoercionFailed):
+        return None
+    return tuple(poly.coeff_monomial(v) for v in variables) if poly.total_degree() <= 1 else None
+
+
+def _condition(node: sympy.Expr) -> tuple[str, sympy.Expr]:
+    """(the condition in words, what classifies it)."""
+    if isinstance(node, sympy.atan2):
+        y, x = node.args
+        return f"not ({y} = 0 and {x} <= 0) (atan2's cut)", node
+    if isinstance(node, sympy.atan):
+        return f"{node.args[0]} is finite (atan's argument)", node
+    base = node.args[0]
+    name = "log" if isinstance(node, sympy.log) else "sqrt" if node.exp == sympy.Rational(1, 2) else f"**{node.exp}"
+    return f"{name}'s argument {base} > 0", base
+
+
+def _classify(node: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
+    if isinstance(node, sympy.atan):
+        return _Set("all" if _entire(node.args[0]) else "unknown")
+    if isinstance(node, sympy.atan2):
+        forms = [_linear(a, variables) for a in node.args]
+        if None in forms or sympy.Matrix(forms).rank() < 2:
+            return _Set("unknown")
+        return _Set("connected", tuple(forms))
+    if isinstance(node, sympy.Pow) and not node.exp.is_Rational:
+        return _Set("unknown")  # a symbolic exponent: b**e is exp(e log b), with its own conditions
+    argument = node.args[0]
+    if _positive_everywhere(argument):
+        return _Set("all")
+    return _quadratic(argument, variables)
+
+
+def _connected(sets: list[_Set]) -> bool:
+    """Whether the intersection of ``sets`` (none "unknown") is proven connected."""
+    convex = [f for s in sets if s.kind == "convex" for f in s.forms]
+    groups = [s.forms for s in sets if s.kind == "connected"] + ([tuple(convex)] if convex else [])
+    if len(groups) <= 1:
+        return True
+    ranks = [sympy.Matrix(g).rank() for g in groups]
+    return sympy.Matrix([f for g in groups for f in g]).rank() == sum(ranks)
+
+
+def region(system: System) -> Region:
+    """The region a rank of ``system`` (as analysed: after the rewritings of
+    :func:`~observability.model.prepare.prepare`) holds on: unqualified when
+    the domain where its functions with branches are analytic is proven
+    connected (the module's cases), else qualified with that domain's conditions."""
+    nodes = _mattering(system)
+    if not nodes:
+        return Region(False)
+    variables = sorted({s for node in nodes for s in node.free_symbols}, key=lambda s: s.name)
+    conditions = [_condition(node) for node in nodes]
+    sets = [_classify(node, variables) for node in nodes]
+    words = tuple(dict.fromkeys(text for text, _ in conditions))
+    unknown = [text for (text, _), s in zip(conditions, sets) if s.kind == "unknown"]
+    if unknown:
+        return Region(True, words, f"not proven connected: {unknown[0]}")
+    if system.time == "discrete" and (any(s.kind != "all" for s in sets) or not all(
+            _entire(system.substitute_values(f)) for f in system.dynamics)):
+        return Region(True, words, "discrete time: the rows at step k need F^j(x) in the region for every j <= k, "
+                                   "a set not proven connected")
+    if not _connected(sets):
+        return Region(True, words, "not proven connected: the conditions' linear forms are not independent")
+    return Region(False)
