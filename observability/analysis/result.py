@@ -203,7 +203,7 @@ class ObservabilityResult:
             f"{self.model}: {self.verdict()}"
             + (f" (rank {self.rank} of {self.n_states})" if self.rank is not None
                else f" (rank undecided, of {self.n_states})" if self.observable is not None else "")
-            + (qualifier(self.region) if self.rank is not None or self.lower_bound is not None else ""),
+            + (qualifier(self.region) if self.rank is not None else ""),
             f"  method: {self.method}; {self.details}",
         ]
         if self.region.qualified and (self.rank is not None or self.lower_bound is not None):
@@ -234,7 +234,7 @@ class ObservabilityResult:
             lines += self._name_lines()
         else:
             if self.lower_bound is not None:
-                lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)")
+                lines.append(f"  rank at least {self.lower_bound} of {self.n_states} (certain)" + qualifier(self.region))
             if self.observable_states is not None and self.undecided_states:
                 lines.append(f"  observable states: {states(self.observable_states)}")
                 if self.unobservable_states:

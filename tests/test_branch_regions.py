@@ -1,0 +1,176 @@
+"""Verdicts on models with branches: qualified to a region unless its domain is proven connected (issue 61).
+
+The references are hand derivations, checked here by sympy on the explicit
+functions (never by the code under test):
+
+* b1: h1 = sqrt(1 - cos(x)**2) + sin(x) = |sin x| + sin x, which is 2 sin x on
+  (0, pi) and 0 on (pi, 2 pi). With h2 = y the rank is 2 on the first region
+  and 1 on the second, so an unqualified "rank 2 of 2" is false.
+* b2: h1 = sqrt(cosh(x)**2 - 1) + sinh(x) = |sinh x| + sinh x: 2 sinh x for
+  x > 0, 0 for x < 0; the same two ranks.
+* c6: h1 = (atan(tan(x)) - x)*z. atan(tan(x)) = x - k pi on (k pi - pi/2,
+  k pi + pi/2), so h1 = -k pi z: 0 on (-pi/2, pi/2) (with h2 = x, h3 = y: rank
+  2 of 3) and a non-zero multiple of z elsewhere (rank 3 of 3).
+* a range sqrt((lx - x)**2 + (ly - y)**2) is analytic off {lx = x, ly = y}, a
+  subspace of codimension 2 whose complement is connected: unqualified.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+import sympy
+
+from observability import System, analyze
+from observability.model.branches import region
+from observability.model.modelfile import load_model, parse_model
+from observability.model.prepare import prepare
+from observability.rank.proofcheck import check as check_proof
+from observability.report.proofs import proof_evidence
+
+B1 = """states = ["x", "y"]
+[dynamics]
+x = "0"
+y = "0"
+[outputs]
+h1 = "sqrt(1 - cos(x)**2) + sin(x)"
+h2 = "y"
+"""
+B2 = B1.replace("sqrt(1 - cos(x)**2) + sin(x)", "sqrt(cosh(x)**2 - 1) + sinh(x)")
+C6 = """states = ["x", "y", "z"]
+[dynamics]
+x = "0"
+y = "0"
+z = "0"
+[outputs]
+h2 = "x"
+h3 = "y"
+h1 = "(atan(tan(x)) - x)*z"
+"""
+QUALIFIER = "on the region around the point where"
+
+
+def _slope(expr: str, x: float) -> sympy.Float:
+    """d/dx of the explicit output at x, by sympy (the reference)."""
+    symbol = sympy.Symbol("x")
+    return sympy.N(sympy.diff(sympy.sympify(expr), symbol).subs(symbol, x), 30)
+
+
+def test_b1_rank_differs_between_its_regions():
+    """The hand derivation: the slope of h1 is 2 cos x on (0, pi), 0 on (pi, 2 pi)."""
+    assert abs(_slope("sqrt(1 - cos(x)**2) + sin(x)", 1) - 2 * sympy.cos(1)) < 1e-25
+    assert abs(_slope("sqrt(1 - cos(x)**2) + sin(x)", 4)) < 1e-25
+    assert abs(_slope("sqrt(cosh(x)**2 - 1) + sinh(x)", 1) - 2 * sympy.cosh(1)) < 1e-25
+    assert abs(_slope("sqrt(cosh(x)**2 - 1) + sinh(x)", -1)) < 1e-25
+
+
+@pytest.mark.parametrize("text, seed", [(B1, 3), (B2, 3)])
+def test_full_rank_of_a_disguised_absolute_value_is_qualified(text, seed):
+    """b1, b2: "observable (rank 2 of 2)" only on a region (the rank is 1 on the other one)."""
+    result = analyze(parse_model(text, "b"), seed=seed)
+    assert result.rank == 2 and result.proof == "proven"
+    first = result.text().splitlines()[0]
+    assert QUALIFIER in first and "(the rank may differ on other regions)" in first
+    assert result.to_dict()["region"]["qualified"] is True
+    assert any("> 0" in w for w in result.to_dict()["region"]["where"])
+
+
+def test_b1_proof_claim_is_qualified_and_accepted():
+    """The proof's claim carries the qualification; the checker accepts it, and an
+    unqualified claim with the region dropped is refused as not the file's words."""
+    system = parse_model(B1, "b1")
+    result = analyze(system, seed=3)
+    proof = proof_evidence(system, result)
+    assert QUALIFIER in proof["claim"] and proof["region"]["qualified"] is True
+    assert "accepted" in check_proof(proof)
+    tampered = dict(proof, region={"qualified": True, "where": ["x > 0"]})
+    with pytest.raises(Exception, match="claim"):
+        check_proof(tampered)
+
+
+def test_c6_atan_of_tan_is_qualified():
+    """c6: rank 3 off (-pi/2, pi/2), 2 on it: the verdict names atan's argument."""
+    system = parse_model(C6, "c6")
+    found = region(prepare(system).system)
+    assert found.qualified and "tan(x)" in found.conditions[0]
+    result = analyze(system, seed=2)
+    assert result.rank == 3
+    assert QUALIFIER in result.text().splitlines()[0]
+    # the reference: h1 = -k pi z, its z-slope 0 at x = 1/2 (k = 0) and -pi at x = 3 (k = 1)
+    x, z = sympy.symbols("x z")
+    h1 = (sympy.atan(sympy.tan(x)) - x) * z
+    assert sympy.N(sympy.diff(h1, z).subs(x, sympy.Rational(1, 2)), 30) == 0
+    assert abs(sympy.N(sympy.diff(h1, z).subs(x, 3), 30) + sympy.pi) < 1e-25
+
+
+def test_range_models_stay_unqualified():
+    """Ranges and bearings: slam2d with odometry (discrete), two beacons, a unicycle."""
+    for name in ("slam2d_odometry", "range_fix_two_beacons", "unicycle_range_beacon", "unicycle_landmark"):
+        result = analyze(load_model(f"examples/models/{name}.toml"), seed=1, functions=False)
+        assert result.to_dict()["region"]["qualified"] is False, name
+        assert QUALIFIER not in result.text()
+
+
+@pytest.mark.parametrize("output, qualified", [
+    ("sqrt((x - z)**2 + y**2)*w", False),  # codimension 2: {x = z, y = 0}
+    ("sqrt(x**2 + y**2 - 1)*w", False),  # outside a disc: connected
+    ("sqrt(1 - x**2 - y**2)*w", False),  # inside a disc: convex
+    ("sqrt(x + 2*y)*w", False),  # a half-plane
+    ("sqrt(1 + sin(x)**2 + exp(y))*w", False),  # positive everywhere
+    ("sqrt(x**2 - 1)*w", True),  # |x| > 1: two intervals
+    ("sqrt(x*y)*w", True),  # two opposite quadrants
+    ("sqrt(x**2)*w + sqrt(y)*z", True),  # refused where read (an absolute value): never reached
+])
+def test_connectivity_cases(output, qualified):
+    """Each case by its hand-drawn set {argument > 0} in the plane (x, y)."""
+    text = ('states = ["x", "y", "z", "w"]\n[dynamics]\nx = "0"\ny = "0"\nz = "0"\nw = "0"\n'
+            f'[outputs]\nh = "{output}"\ng = "w"\n')
+    if "sqrt(x**2)" in output:
+        with pytest.raises(Exception, match="absolute|analytic|multiplicity"):
+            parse_model(text, "m")
+        return
+    assert region(prepare(parse_model(text, "m")).system).qualified is qualified
+
+
+def test_two_atan2_on_shared_forms_are_qualified():
+    """atan2(y, x) and atan2(-y, x) remove the rays {y = 0, x <= 0} from R^2 twice
+    (the same ray): proven connected would need independent forms; not claimed."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "atan2(y, x)*x + atan2(-y, x)*y"})
+    assert region(system).qualified
+    apart = System(["x", "y", "z", "w"], {"x": "0", "y": "0", "z": "0", "w": "0"},
+                   {"h": "atan2(y, x)*x + atan2(w, z)*y"})
+    assert not region(apart).qualified
+
+
+def test_json_region_field_says_unqualified_for_polynomial_models():
+    result = analyze(System(["x"], {"x": "0"}, {"h": "x**3"}), seed=1)
+    assert json.loads(json.dumps(result.to_dict()))["region"] == {"qualified": False, "where": [], "reason": ""}
+
+
+STEP1 = """name = "step1"
+time = "discrete"
+states = ["x", "z", "w"]
+[dynamics]
+x = "x - 2"
+z = "z + w"
+w = "w"
+[outputs]
+h1 = "z"
+h2 = "sqrt(x) + x"
+"""
+
+
+@pytest.mark.parametrize("seed", [2, 6])
+def test_writer_checks_branches_at_every_discrete_step(seed):
+    """x+ = x - 2, h2 = sqrt(x) + x: the rows of order 1 (h1 = z + w at step 1
+    is in the minor) evaluate h2 at x_1 = x_0 - 2, analytic only where x_0 > 2.
+    Seeds 2 and 6 first draw x_0 = 1 and 1/4 (checked at step 0 only, the proof
+    was written and the checker refused it at step 1)."""
+    system = parse_model(STEP1, "step1")
+    result = analyze(system, seed=seed)
+    proof = proof_evidence(system, result)
+    x0 = sympy.Rational(proof["lower_bound"]["point"]["states"]["x"])
+    assert x0 > 2
+    assert "accepted" in check_proof(proof)
+    assert QUALIFIER in result.text().splitlines()[0]  # discrete time with a branch: qualified
