@@ -261,7 +261,7 @@ def _motions(raw: Any, input_vectors: dict[str, tuple[str, ...]], source: str) -
         description = table.get("description", "")
         if not isinstance(equations, str) or not isinstance(description, str):
             raise ModelFileError(f"{where}: where and description must be strings")
-        if not isinstance(inputs, dict) or not all(isinstance(v, (str, int, float)) and not isinstance(v, bool)
+        if not isinstance(inputs, dict) or not all(isinstance(v, (str, int, FloatText)) and not isinstance(v, bool)
                                                     for v in inputs.values()):
             raise ModelFileError(f"{where}: inputs must be a table of input = \"0\" | \"constant\" | number | \"degree=K\"")
         if not equations and not inputs:
@@ -271,10 +271,27 @@ def _motions(raw: Any, input_vectors: dict[str, tuple[str, ...]], source: str) -
     return out
 
 
+class FloatText:
+    """A TOML float as its literal text, underscores dropped: read exactly where a
+    number is allowed (``parse_number``), never through a Python float, which
+    rounds (0.1000000000000000000001 is 0.1), underflows (1e-400 is 0.0) or
+    overflows (1e400 is inf)."""
+
+    __slots__ = ("text",)
+
+    def __init__(self, text: str):
+        self.text = text.replace("_", "")
+
+    def __str__(self) -> str:
+        return self.text
+
+    __repr__ = __str__
+
+
 def parse_model(text: str, source: str = "<model>") -> System:
     """Build a :class:`System` from the text of a TOML model file."""
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text, parse_float=FloatText)
     except tomllib.TOMLDecodeError as exc:
         raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
     if "unknown_input_order" in data:
@@ -361,11 +378,13 @@ def _parameters(data: dict, source: str) -> tuple[list[str] | dict[str, Any], di
         else:
             items = [(key, value)]
         for component, number in items:
-            if isinstance(number, bool) or not isinstance(number, (int, float, str)):
+            if isinstance(number, bool) or not isinstance(number, (int, FloatText, str)):
                 raise ModelFileError(f"{source}: parameters.{key} must be a number or a list of numbers, got {value!r}")
             if component in parameters:
                 raise ModelFileError(f"{source}: parameters: {component!r} is given twice (as a component of a "
                                      "vector and on its own)")
+            if isinstance(number, FloatText) and number.text.lstrip("+-") in ("inf", "nan"):
+                raise ModelFileError(f"{source}: parameters.{key}: {number} is not a finite number")
             parameters[component] = parse_number(str(number), f"{source}: parameters.{key}")
     return parameters, parameter_vectors
 
