@@ -13,7 +13,18 @@ from collections.abc import Iterable, Sequence
 
 import sympy
 
-__all__ = ["half_angles", "in_half_angles", "angle_speed", "square_roots", "in_square_roots", "root_speed"]
+__all__ = ["half_angles", "in_half_angles", "angle_speed", "square_roots", "in_square_roots", "root_speed", "shown"]
+
+#: How the new symbols read in text: an angle a's T is tan(a/2), a state z's W is sqrt(z).
+_SHOWN = {"T_": "tan({}/2)", "W_": "sqrt({})"}
+
+
+def shown(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` for text: each T or W made here as what it stands for (tan(a/2),
+    sqrt(z)), never the internal name (_T_p) a reader cannot place."""
+    return sympy.sympify(expr).xreplace({s: sympy.Symbol(_SHOWN[s.name[:2]].format(s.name[2:]))
+                                         for s in sympy.sympify(expr).free_symbols
+                                         if isinstance(s, sympy.Dummy) and s.name[:2] in _SHOWN})
 
 
 def half_angles(states: Sequence[sympy.Symbol], expressions: Iterable[sympy.Expr]

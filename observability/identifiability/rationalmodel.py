@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import sympy
 
-from ..engine.halfangles import angle_speed, half_angles, in_half_angles
+from ..engine.halfangles import angle_speed, half_angles, in_half_angles, shown
 from ..errors import ModelError
 from ..model.system import System
 from .outputforms import rational_form
@@ -36,7 +36,7 @@ class RationalModel:
         """A function of the states in these coordinates (refused when not rational there)."""
         rewritten = sympy.cancel(in_half_angles(expr, dict(self.half_angles)))
         if rewritten.free_symbols & {a for a, _ in self.half_angles} or not rewritten.is_rational_function():
-            raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the coordinates")
+            raise ModelError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the coordinates")
         return rewritten
 
 
@@ -54,7 +54,7 @@ def rational_model(system: System) -> RationalModel:
     symbols = [*coordinates, *system.free_parameters, *system.inputs]
     for expr in (*speeds, *rewritten):
         if expr.free_symbols & set(angles) or not expr.is_rational_function(*symbols):
-            raise ModelError(f"--global: {sympy.sstr(expr)[:80]} is not rational in the states; the test covers "
+            raise ModelError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the states; the test covers "
                              "rational models, with sines and cosines of states")
     return RationalModel(coordinates, speeds, rewritten, tuple(angles), tuple(angles.items()),
                          tuple(form for _, form in forms))

@@ -60,6 +60,7 @@ import sympy
 from sympy.polys.matrices import DomainMatrix
 
 from ..budget import Undecided, with_budget
+from ..engine.halfangles import shown
 from .fibre import FibreDraws, FibreEquations
 from .realroots import real_roots, several_real_levels, strictly_monotone
 
@@ -136,7 +137,7 @@ def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str, equations: Fibr
         return _undecided(name, eliminant)
     eliminant, shape = eliminant
     real = eliminant.sqf_part().count_roots()
-    said = f"its values on the fibre at the random point are the roots of {eliminant.as_expr()}"
+    said = f"its values on the fibre at the random point are the roots of {shown(eliminant.as_expr())}"
     if real >= 2 and shape:
         return RealAnswer(name, False, f"{said}: {real} real (Sturm), each a real point of the fibre (every "
                                        f"unknown there a polynomial in {name} modulo its ideal)")
