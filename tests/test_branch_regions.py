@@ -174,3 +174,21 @@ def test_writer_checks_branches_at_every_discrete_step(seed):
     assert x0 > 2
     assert "accepted" in check_proof(proof)
     assert QUALIFIER in result.text().splitlines()[0]  # discrete time with a branch: qualified
+
+
+def test_rank_on_a_set_crossing_the_root_is_qualified():
+    """On the set y = 0, h = sqrt(x**2 + y**2) + x = |x| + x: 2x for x > 0 (rank
+    1), 0 for x < 0 (rank 0). The plane minus {x = y = 0} is connected, the
+    set's part of it is not: the verdict on the set is qualified, whatever the
+    seed (seeds 1 and 2 drew points on either side: ranks 1 and 0)."""
+    from observability.where.sets import parse_constraints
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "sqrt(x**2 + y**2) + x"})
+    assert not region(prepare(system).system).qualified  # unrestricted: rewritten, and connected anyway
+    where, _ = parse_constraints(system, "y = 0")
+    for seed in (1, 2):
+        result = analyze(system, seed=seed, where=where)
+        assert result.to_dict()["region"]["qualified"] is True
+        assert QUALIFIER in result.text().splitlines()[0]
+    x = sympy.Symbol("x")
+    on_set = sympy.sqrt(x**2) + x  # the reference: its slope at x = 1 and x = -1
+    assert sympy.diff(on_set, x).subs(x, 1) == 2 and sympy.diff(on_set, x).subs(x, -1) == 0

@@ -135,7 +135,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         raise ModelError("a constraint set (--where) is analysed by the random method")
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
     system = prepared.system
-    domain = region(system)
+    domain = region(system, restricted=where is not None)
     if where is not None:
         return replace(rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start,
                                    directions, budget), region=domain)

@@ -43,6 +43,8 @@ What is proven connected (each case a sufficient condition, checked exactly):
   can be moved off them); the other connected sets combine when their linear
   forms (and those of the convex intersection) are independent: in coordinates
   made of those forms D is a product of connected sets.
+* **Constraint sets** (``restricted``): the set's part of D is not described
+  by the above; unqualified only when every argument is positive everywhere.
 * **Discrete time.** The rows at step k are analytic where F^j(x) lies in D for
   every j <= k, a set the above does not describe: unqualified only when every
   remaining argument is everywhere positive and the motion F is entire (no
@@ -237,11 +239,17 @@ def _connected(sets: list[_Set]) -> bool:
     return sympy.Matrix([f for g in groups for f in g]).rank() == sum(ranks)
 
 
-def region(system: System) -> Region:
+def region(system: System, restricted: bool = False) -> Region:
     """The region a rank of ``system`` (as analysed: after the rewritings of
     :func:`~observability.model.prepare.prepare`) holds on: unqualified when
     the domain where its functions with branches are analytic is proven
-    connected (the module's cases), else qualified with that domain's conditions."""
+    connected (the module's cases), else qualified with that domain's conditions.
+
+    ``restricted``: the rank is taken on a constraint set S (``--where``), and
+    the domain that matters is S's part of it, which the cases above do not
+    describe (y = 0 cuts the complement of {x = y = 0} in two: on it
+    sqrt(x**2 + y**2) + x is 2x for x > 0 and 0 for x < 0); unqualified only
+    when every argument is positive everywhere."""
     nodes = _mattering(system)
     if not nodes:
         return Region(False)
@@ -252,6 +260,9 @@ def region(system: System) -> Region:
     unknown = [text for (text, _), s in zip(conditions, sets) if s.kind == "unknown"]
     if unknown:
         return Region(True, words, f"not proven connected: {unknown[0]}")
+    if restricted and any(s.kind != "all" for s in sets):
+        return Region(True, words, "on a constraint set: the rows are analytic where the set meets the region, a set "
+                                   "not proven connected")
     if system.time == "discrete" and (any(s.kind != "all" for s in sets) or not all(
             _entire(system.substitute_values(f)) for f in system.dynamics)):
         return Region(True, words, "discrete time: the rows at step k need F^j(x) in the region for every j <= k, "
