@@ -147,7 +147,7 @@ def _positive_everywhere(expr: sympy.Expr) -> bool:
             return False
         for factor in sympy.Mul.make_args(product):
             base, exponent = factor.as_base_exp()
-            if not ((exponent.is_Integer and exponent % 2 == 0 and _entire(base))
+            if not ((exponent.is_Integer and exponent >= 0 and exponent % 2 == 0 and _entire(base))
                     or (isinstance(factor, (sympy.exp, sympy.cosh)) and _entire(factor.args[0]))):
                 return False
     return True
@@ -209,7 +209,7 @@ def _condition(node: sympy.Expr) -> tuple[str, sympy.Expr]:
     if isinstance(node, sympy.atan):
         return f"{node.args[0]} is finite (atan's argument)", node
     base = node.args[0]
-    name = "log" if isinstance(node, sympy.log) else "sqrt" if node.exp == sympy.Rational(1, 2) else f"**{node.exp}"
+    name = "log" if isinstance(node, sympy.log) else "sqrt" if node.exp.is_Rational and node.exp.q == 2 else "a power"
     return f"{name}'s argument {base} > 0", base
 
 
