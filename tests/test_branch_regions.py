@@ -26,7 +26,7 @@ from observability import System, analyze
 from observability.model.branches import region
 from observability.model.modelfile import load_model, parse_model
 from observability.model.prepare import prepare
-from observability.rank.proofcheck import check as check_proof
+from observability.rank.proofcheck import Rejected, check as check_proof
 from observability.report.proofs import proof_evidence
 
 B1 = """states = ["x", "y"]
@@ -85,7 +85,7 @@ def test_b1_proof_claim_is_qualified_and_accepted():
     assert QUALIFIER in proof["claim"] and proof["region"]["qualified"] is True
     assert "accepted" in check_proof(proof)
     tampered = dict(proof, region={"qualified": True, "where": ["x > 0"]})
-    with pytest.raises(Exception, match="claim"):
+    with pytest.raises(Rejected, match="claim"):
         check_proof(tampered)
 
 
@@ -192,3 +192,15 @@ def test_rank_on_a_set_crossing_the_root_is_qualified():
     x = sympy.Symbol("x")
     on_set = sympy.sqrt(x**2) + x  # the reference: its slope at x = 1 and x = -1
     assert sympy.diff(on_set, x).subs(x, 1) == 2 and sympy.diff(on_set, x).subs(x, -1) == 0
+
+
+@pytest.mark.parametrize("region_field", [5, "x > 0", {"qualified": False, "where": ["x > 0"]},
+                                          {"qualified": True, "where": [1]}, {"qualified": True, "where": []},
+                                          {"qualified": True}])
+def test_checker_refuses_a_malformed_region(region_field):
+    """The claim may carry only the qualification its own region says; a region
+    that is not a qualified list of conditions is refused (not an exit 4)."""
+    system = parse_model(B1, "b1")
+    proof = proof_evidence(system, analyze(system, seed=3))
+    with pytest.raises(Rejected, match="region|claim"):
+        check_proof(dict(proof, region=region_field))

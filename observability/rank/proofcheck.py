@@ -207,7 +207,7 @@ def _region(proof: dict) -> str:
     if region is None:
         return ""
     where = region.get("where") if isinstance(region, dict) else None
-    if region.get("qualified") is not True or not isinstance(where, list) or not where or not all(
+    if not isinstance(where, list) or region.get("qualified") is not True or not where or not all(
             isinstance(w, str) for w in where):
         raise Rejected("the proof's region is not a qualified list of conditions")
     return f" on the region around the point where {' and '.join(where)} (the rank may differ on other regions)"
