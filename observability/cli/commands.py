@@ -123,7 +123,7 @@ def _table(results: list[ObservabilityResult]) -> str:
                 r.time,
                 str(r.n_states),
                 "?" if r.rank is None else str(r.rank),
-                r.verdict(),
+                r.verdict() + (" (on a region)" if r.region.qualified else ""),
                 "?" if r.orders is None else str(r.orders),
                 directions,
                 f"{r.seconds:.3f}",
@@ -558,7 +558,8 @@ def degenerate_command(args: argparse.Namespace) -> int:
         table.append((
             r.motion.name,
             f"{result.rank}/{result.n_states}" if result.rank is not None else f">={result.lower_bound}/{result.n_states}",
-            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})"),
+            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})")
+            + (" (on a region)" if result.region.qualified else ""),
             "; ".join(r.lost_directions) or "-",
             ", ".join(result.observable_states) if result.observable_states else "-",
         ))

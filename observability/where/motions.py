@@ -58,6 +58,7 @@ class MotionResult:
             "rank": self.result.rank,
             "n_states": self.result.n_states,
             "verdict": self.result.verdict(),
+            "region": self.result.region.to_dict(),
             "observable_states": list(self.result.observable_states) if self.result.observable_states is not None else None,
             "lost_directions": list(self.lost_directions),
             "details": self.result.details,
