@@ -57,6 +57,7 @@ makes a statement false; a qualified verdict is true on the region it names.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import sympy
@@ -103,8 +104,8 @@ def qualifier(found: Region, shown: int | None = _SHOWN) -> str:
 
 
 def _branched(node: sympy.Basic) -> bool:
-    return bool(node.free_symbols) and (isinstance(node, _ADDITIVE) or (
-        isinstance(node, sympy.Pow) and not node.exp.is_Integer))
+    return (isinstance(node, _ADDITIVE) or (isinstance(node, sympy.Pow) and not node.exp.is_Integer)) and bool(
+        node.free_symbols)
 
 
 def _nodes(expr: sympy.Expr) -> list[sympy.Expr]:
@@ -118,10 +119,13 @@ def _mattering(system: System) -> list[sympy.Expr]:
     variables = set(system.states) | set(system.inputs)
     for _, h in system.outputs:
         for term in sympy.Add.make_args(system.substitute_values(h)):
-            coefficient, factor = term.as_independent(*variables, as_Add=False)
+            nodes = _nodes(term)
+            if not nodes:
+                continue
+            _, factor = term.as_independent(*(term.free_symbols & variables), as_Add=False)
             if isinstance(factor, _ADDITIVE) and not any(_nodes(a) for a in factor.args):
                 continue
-            found += _nodes(term)
+            found += nodes
     return list(dict.fromkeys(found))
 
 
@@ -157,10 +161,10 @@ def _positive_everywhere(expr: sympy.Expr) -> bool:
 class _Set:
     """One condition's set: "all", "convex", "thin" (the complement of an affine
     subspace of codimension >= 2), "connected" (another connected set), or
-    "unknown"; ``forms``: the linear parts it depends on (rows over the symbols)."""
+    "unknown"; ``forms``: the linear parts it depends on (sparse rows over the symbols)."""
 
     kind: str
-    forms: tuple[tuple[sympy.Rational, ...], ...] = ()
+    forms: tuple[dict, ...] = ()  # each {symbol: coefficient}
 
 
 def _quadratic(g: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
@@ -172,11 +176,17 @@ def _quadratic(g: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
     if poly.total_degree() > 2:
         return _Set("unknown")
     n = len(variables)
-    hessian = sympy.Matrix(n, n, lambda i, j: sympy.diff(g, variables[i], variables[j]) / 2)
-    b = sympy.Matrix([sympy.diff(g, v).subs(dict.fromkeys(variables, 0)) for v in variables])
-    c = g.subs(dict.fromkeys(variables, 0))
+    hessian, b, c = sympy.zeros(n, n), sympy.zeros(n, 1), sympy.S.Zero  # g = v'Av + b'v + c
+    for monomial, coefficient in poly.terms():
+        at = [i for i, e in enumerate(monomial) for _ in range(e)]
+        if not at:
+            c = coefficient
+        elif len(at) == 1:
+            b[at[0]] = coefficient
+        else:
+            hessian[at[0], at[1]] = hessian[at[1], at[0]] = coefficient if at[0] == at[1] else coefficient / 2
     stacked = hessian.row_join(b)
-    forms = tuple(tuple(row) for row in stacked.T.rref()[0].tolist() if any(row))
+    forms = tuple(dict(zip(variables, row)) for row in stacked.T.rref()[0].tolist() if any(row))
     rank = hessian.rank()
     if stacked.rank() > rank:  # b outside the range of A: affine with non-zero slope along ker A
         return _Set("convex" if rank == 0 else "connected", forms)
@@ -198,27 +208,39 @@ def _linear(expr: sympy.Expr, variables: list[sympy.Symbol]) -> tuple | None:
         poly = sympy.Poly(expr, *variables, domain="QQ")
     except (sympy.PolynomialError, sympy.CoercionFailed):
         return None
-    return tuple(poly.coeff_monomial(v) for v in variables) if poly.total_degree() <= 1 else None
+    return {v: poly.coeff_monomial(v) for v in variables} if poly.total_degree() <= 1 else None
 
 
-def _condition(node: sympy.Expr) -> tuple[str, sympy.Expr]:
-    """(the condition in words, what classifies it)."""
+def _condition(node: sympy.Expr) -> str:
+    """The condition in words."""
     if isinstance(node, sympy.atan2):
         y, x = node.args
-        return f"not ({y} = 0 and {x} <= 0) (atan2's cut)", node
+        return f"not ({y} = 0 and {x} <= 0) (atan2's cut)"
     if isinstance(node, sympy.atan):
-        return f"{node.args[0]} is finite (atan's argument)", node
+        return f"{node.args[0]} is finite (atan's argument)"
     base = node.args[0]
     name = "log" if isinstance(node, sympy.log) else "sqrt" if node.exp.is_Rational and node.exp.q == 2 else "a power"
-    return f"{name}'s argument {base} > 0", base
+    return f"{name}'s argument {base} > 0"
 
 
-def _classify(node: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
+def _classify(node: sympy.Expr) -> _Set:
+    """The set where ``node`` is analytic, over its own symbols: decided once per
+    shape (the symbols renamed in order: a thousand ranges are one question)."""
+    variables = sorted(node.free_symbols, key=lambda s: s.name)
+    local = [sympy.Symbol(f"v{i}") for i in range(len(variables))]
+    found = _classified(node.xreplace(dict(zip(variables, local))))
+    back = dict(zip(local, variables))
+    return _Set(found.kind, tuple({back[v]: c for v, c in form.items()} for form in found.forms))
+
+
+@functools.lru_cache(maxsize=256)
+def _classified(node: sympy.Expr) -> _Set:
+    variables = sorted(node.free_symbols, key=lambda s: s.name)
     if isinstance(node, sympy.atan):
         return _Set("all" if _entire(node.args[0]) else "unknown")
     if isinstance(node, sympy.atan2):
         forms = [_linear(a, variables) for a in node.args]
-        if None in forms or sympy.Matrix(forms).rank() < 2:
+        if None in forms or _rank(forms) < 2:
             return _Set("unknown")
         return _Set("connected", tuple(forms))
     if isinstance(node, sympy.Pow) and not node.exp.is_Rational:
@@ -235,8 +257,13 @@ def _connected(sets: list[_Set]) -> bool:
     groups = [s.forms for s in sets if s.kind == "connected"] + ([tuple(convex)] if convex else [])
     if len(groups) <= 1:
         return True
-    ranks = [sympy.Matrix(g).rank() for g in groups]
-    return sympy.Matrix([f for g in groups for f in g]).rank() == sum(ranks)
+    return _rank([f for g in groups for f in g]) == sum(_rank(list(g)) for g in groups)
+
+
+def _rank(forms: list[dict]) -> int:
+    """The rank of sparse rows {symbol: coefficient}, over the symbols they hold."""
+    symbols = sorted({s for f in forms for s in f}, key=lambda s: s.name)
+    return sympy.Matrix([[f.get(s, 0) for s in symbols] for f in forms]).rank()
 
 
 def region(system: System, restricted: bool = False) -> Region:
@@ -253,11 +280,10 @@ def region(system: System, restricted: bool = False) -> Region:
     nodes = _mattering(system)
     if not nodes:
         return Region(False)
-    variables = sorted({s for node in nodes for s in node.free_symbols}, key=lambda s: s.name)
     conditions = [_condition(node) for node in nodes]
-    sets = [_classify(node, variables) for node in nodes]
-    words = tuple(dict.fromkeys(text for text, _ in conditions))
-    unknown = [text for (text, _), s in zip(conditions, sets) if s.kind == "unknown"]
+    sets = [_classify(node) for node in nodes]
+    words = tuple(dict.fromkeys(conditions))
+    unknown = [text for text, s in zip(conditions, sets) if s.kind == "unknown"]
     if unknown:
         return Region(True, words, f"not proven connected: {unknown[0]}")
     if restricted and any(s.kind != "all" for s in sets):
