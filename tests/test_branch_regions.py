@@ -204,3 +204,13 @@ def test_checker_refuses_a_malformed_region(region_field):
     proof = proof_evidence(system, analyze(system, seed=3))
     with pytest.raises(Rejected, match="region|claim"):
         check_proof(dict(proof, region=region_field))
+
+
+def test_discrete_motion_with_a_pole_qualifies_an_everywhere_positive_root():
+    """x+ = 1/x, h = sqrt(1 + x**2) + x: sqrt's argument is positive everywhere,
+    but at step 1 it reads sqrt(1 + 1/x**2) = sqrt(1 + x**2)/|x|, analytic on
+    x > 0 and x < 0 apart: qualified, and the words name the condition."""
+    system = System(["x"], {"x": "1/x"}, {"h": "sqrt(1 + x**2) + x"}, time="discrete")
+    found = region(prepare(system).system)
+    assert found.qualified and found.conditions == ("sqrt's argument x**2 + 1 > 0",)
+    assert not region(System(["x"], {"x": "2*x"}, {"h": "sqrt(1 + x**2) + x"}, time="discrete")).qualified

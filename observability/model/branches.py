@@ -282,7 +282,9 @@ def region(system: System, restricted: bool = False) -> Region:
         return Region(False)
     conditions = [_condition(node) for node in nodes]
     sets = [_classify(node) for node in nodes]
-    words = tuple(dict.fromkeys(text for text, s in zip(conditions, sets) if s.kind != "all"))  # others always hold
+    # The conditions that can fail (the others always hold), or all when every one holds everywhere (discrete time).
+    words = tuple(dict.fromkeys(text for text, s in zip(conditions, sets) if s.kind != "all")) or tuple(
+        dict.fromkeys(conditions))
     unknown = [text for text, s in zip(conditions, sets) if s.kind == "unknown"]
     if unknown:
         return Region(True, words, f"not proven connected: {unknown[0]}")
