@@ -214,3 +214,12 @@ def test_discrete_motion_with_a_pole_qualifies_an_everywhere_positive_root():
     found = region(prepare(system).system)
     assert found.qualified and found.conditions == ("sqrt's argument x**2 + 1 > 0",)
     assert not region(System(["x"], {"x": "2*x"}, {"h": "sqrt(1 + x**2) + x"}, time="discrete")).qualified
+
+
+def test_range_proof_claim_is_unqualified():
+    """Two beacons' ranges: rewritten through their radicands, no branch is left,
+    so the proof claims the generic rank without a region (and has none)."""
+    system = load_model("examples/models/range_fix_two_beacons.toml")
+    proof = proof_evidence(system, analyze(system, seed=1))
+    assert QUALIFIER not in proof["claim"] and "region" not in proof
+    assert "accepted" in check_proof(proof)
