@@ -223,3 +223,24 @@ def test_range_proof_claim_is_unqualified():
     proof = proof_evidence(system, analyze(system, seed=1))
     assert QUALIFIER not in proof["claim"] and "region" not in proof
     assert "accepted" in check_proof(proof)
+
+
+def test_additive_atan_of_a_branch_is_not_harmless():
+    """h1 = atan(sqrt(1 - cos(x)**2) + sin(x)): atan(2 sin x) on (0, pi), atan(0) = 0
+    on (pi, 2 pi). Added to the output it still carries the root's branch in its
+    derivative: qualified. (atan(x) added alone is harmless: its derivative is rational.)"""
+    branched = System(["x", "y"], {"x": "0", "y": "0"}, {"h1": "atan(sqrt(1 - cos(x)**2) + sin(x))", "h2": "y"})
+    assert region(branched).qualified
+    x = sympy.Symbol("x")
+    h1 = sympy.atan(sympy.sqrt(1 - sympy.cos(x)**2) + sympy.sin(x))
+    assert abs(sympy.N(sympy.diff(h1, x).subs(x, 4), 30)) < 1e-25 and sympy.N(sympy.diff(h1, x).subs(x, 1), 30) > 0.1
+    assert not region(System(["x", "y"], {"x": "0", "y": "0"}, {"h1": "atan(x) + y", "h2": "y"})).qualified
+
+
+@pytest.mark.parametrize("output", ["atan2(x*y, x - y) + z", "2*log(x**2 - 1) + z"])
+def test_added_atan2_or_log_is_harmless(output):
+    """Added to an output, atan2(a, b) and log(g) reach the rows only through
+    their derivatives, (b da - a db)/(a**2 + b**2) and dg/g: rational, the same
+    function on every part of the domain ({x**2 > 1} has two): unqualified."""
+    system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"h": output})
+    assert not region(system).qualified
