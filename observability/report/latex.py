@@ -36,6 +36,7 @@ from ..analysis.result import ObservabilityResult
 from ..analysis.verdict import analyze
 from ..errors import ObservabilityError
 from ..engine.exactrows import NotRational, rows_at_point
+from ..model.branches import qualifier
 from ..model.expressions import parse_expression
 from ..engine.lie import lie_derivatives
 from ..model.notation import latex_name, latex_text, vector_names
@@ -499,7 +500,8 @@ def _verdict(system: System, result: ObservabilityResult) -> str:
     if result.rank is None:
         return f"Undecided: {latex_text(result.details)}"
     status = "observable" if result.observable else "not observable"
-    lines = [f"Rank {result.rank} of {result.n_states}: {status} (method {result.method}, Lie orders 0 to {result.orders})."]
+    lines = [f"Rank {result.rank} of {result.n_states}{latex_text(qualifier(result.region))}: {status} (method "
+             f"{result.method}, Lie orders 0 to {result.orders})."]
     if result.unobservable_directions:
         names = {s.name: s for s in (*system.states, *system.parameters)}
         symbol_names = _symbol_names(set(names.values()), dict(system.latex_names))
