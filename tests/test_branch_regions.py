@@ -244,3 +244,11 @@ def test_added_atan2_or_log_is_harmless(output):
     function on every part of the domain ({x**2 > 1} has two): unqualified."""
     system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"h": output})
     assert not region(system).qualified
+
+
+def test_latex_verdict_is_qualified():
+    """The LaTeX document says the same as the text (b1: rank 2 only on a region)."""
+    from observability.report.latex import latex_document
+    system = parse_model(B1, "b1")
+    document = latex_document(system, analyze(system, seed=3), body_only=True)
+    assert "Rank 2 of 2 on the region around the point where" in document
