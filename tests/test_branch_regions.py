@@ -250,5 +250,5 @@ def test_latex_verdict_is_qualified():
     """The LaTeX document says the same as the text (b1: rank 2 only on a region)."""
     from observability.report.latex import latex_document
     system = parse_model(B1, "b1")
-    document = latex_document(system, analyze(system, seed=3), body_only=True)
+    document = latex_document(system, analyze(system, seed=3))
     assert "Rank 2 of 2 on the region around the point where" in document
