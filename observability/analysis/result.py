@@ -169,7 +169,8 @@ class ObservabilityResult:
             return f"$\\text{{{latex_text(self.model)}: undecided}}$"
         return (
             f"$\\text{{{latex_text(self.model)}: {self.verdict()}}}\\quad \\operatorname{{rank}} \\mathcal{{O}} = "
-            f"{self.rank} \\text{{ of }} n = {self.n_states}$"
+            f"{self.rank} \\text{{ of }} n = {self.n_states}"
+            + ("\\text{ on a region (see the text)}" if self.region.qualified else "") + "$"
         )
 
     def _repr_html_(self) -> str:
@@ -180,6 +181,7 @@ class ObservabilityResult:
             ("verdict", self.verdict()),
             ("rank", f"{self.rank} of {self.n_states}"),
             ("method", f"{self.method}: {self.details}"),
+            ("region", qualifier(self.region).strip() or "the whole domain"),
             ("observable states", state_list(self.observable_states)),
         ]
         rows += [(d.name, ", ".join(f"{k}: {v}" for k, v in d.vector.items())) for d in self.unobservable_directions]
