@@ -34,8 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..codegen import FilterFunctions
-from . import validation
-from .fused import fused_cloning_predict, fused_cloning_update, fused_predict, fused_update
+from . import covariance, validation
+from .covariance import symmetric as _symmetric
+from .fused import FUSED_STATES, fused_cloning_predict, fused_cloning_update, fused_predict, fused_update
+from .manifolds import wrap_angles
 from .validation import FilterError
 
 __all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
@@ -125,10 +127,6 @@ def _quiet(method):
     return wrapper
 
 
-def _symmetric(P: np.ndarray) -> np.ndarray:
-    return 0.5 * (P + P.T)
-
-
 class _Base:
     variant = "conventional"  # the fused update's W and H (filters.fused); cloning's first update is conventional
     fused = True  # predict and update are fused casadi calls (filters.fused), built at construction
@@ -146,8 +144,18 @@ class _Base:
         self._no_inputs.flags.writeable = False
         self._all_present = np.ones(n_y)
         self._all_present.flags.writeable = False
-        if self.fused:  # built now, not inside the first step
+        self._output_angles = [o in functions.angles for o in functions.outputs]
+        self._state_angles = [s in functions.angles for s in functions.states]
+        if self.fused and not self._in_numpy:  # built now, not inside the first step
             self._predict_call, self._update_call
+
+    @property
+    def _in_numpy(self) -> bool:
+        """Whether a fused filter's step does its covariance arithmetic in numpy
+        (:mod:`.covariance`: BLAS, F P F^T block-wise, the Joseph form in O(n^2 m))
+        instead of one casadi call: above :data:`~.fused.FUSED_STATES` states, where
+        casadi's dense products (plain loops, every entry of F P F^T) cost more."""
+        return self.n > FUSED_STATES
 
     def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
         where = f"{type(self).__name__} initial state"
@@ -203,18 +211,10 @@ class _Base:
 
     @staticmethod
     def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
-        S = _symmetric(H @ P @ H.T + W)
-        try:
-            np.linalg.cholesky(S)  # the refusal test: S must be positive definite
-        except np.linalg.LinAlgError:
-            raise FilterError(f"step {step} (update): the innovation covariance S is not positive definite") from None
-        # K = P H^T S^-1, as the solution of S K^T = H P (P and S symmetric).
-        return np.linalg.solve(S, H @ P).T, S
+        K, S, _ = covariance.gain(P, H, W, f"step {step} (update)")
+        return K, S
 
-    @staticmethod
-    def _joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray) -> np.ndarray:
-        A = np.eye(P.shape[0]) - K @ H
-        return _symmetric(A @ P @ A.T + K @ W @ K.T)
+    _joseph = staticmethod(covariance.joseph)
 
     @functools.cached_property
     def _predict_call(self) -> _Buffered:
@@ -227,7 +227,10 @@ class _Base:
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call)."""
         u = self._inputs(u, state.step + 1)
-        x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        if self._in_numpy:
+            x, P, health = *self._numpy_predict(state.x, state.P, u), []
+        else:
+            x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, P, x_prev=state.x, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
@@ -244,6 +247,8 @@ class _Base:
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        if self._in_numpy:
+            return self._numpy_update(state, values, used, u)
         m = len(self.fn.outputs)
         measured, mask = self._masked(values, used)
         x_prev = state.x if state.x_prev is None else state.x_prev
@@ -264,6 +269,47 @@ class _Base:
         if not (health and health[1][0, 0] > 0):
             self._checked(new, "update")
         return Update(new, innovation.ravel(), S, tuple(used))
+
+
+    @_quiet
+    def _numpy_predict(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The fused prediction's x and P (:func:`~.fused.fused_predict`) in numpy, F P F^T block-wise."""
+        x_next, F, Fw = self._motion(x, u)
+        return x_next, covariance.propagated(P, F, Fw, self.Q)
+
+    @functools.cached_property
+    def _inverse_calls(self) -> dict[str, _Buffered]:
+        """The inverse motion's Jacobians the variant's update uses (none for the conventional EKF)."""
+        names = {"generalized": ["G_w"], "generalized-total": ["G_w", "G_X"]}.get(self.variant, [])
+        return {name: _Buffered(self.fn[name]) for name in names}
+
+    def _linearised(self, x: np.ndarray, x_prev: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """h, H and W of the fused update's ``variant`` (:func:`~.fused.fused_update`), every output."""
+        h, H, H_prev = self._measurement(x, x_prev)
+        W = self.R
+        if "G_w" in self._inverse_calls:
+            G = H_prev @ self._inverse_calls["G_w"](x, u, self.w0, self.p)[0]
+            W = W + G @ self.Q @ G.T
+        if "G_X" in self._inverse_calls:
+            H = H + H_prev @ self._inverse_calls["G_X"](x, u, self.w0, self.p)[0]
+        return h, H, W
+
+    @_quiet
+    def _numpy_update(self, state: FilterState, values: np.ndarray, used: list[int], u: Sequence[float]) -> Update:
+        """The fused update (:func:`~.fused.fused_update`) in numpy with the present entries
+        only; the Joseph form in O(n^2 m) (:func:`~.covariance.joseph`)."""
+        if len(u) == 0 and not any(call.uses_inputs for call in self._inverse_calls.values()):
+            u = self._no_inputs  # the update does not use the inputs: none need be given
+        else:
+            u = self._inputs(u, state.step)
+        where = f"step {state.step} (update)"
+        h, H, W = self._linearised(state.x, state.x if state.x_prev is None else state.x_prev, u)
+        H, W = H[used], W[np.ix_(used, used)]
+        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+        K, S, HP = covariance.gain(state.P, H, W, where)
+        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step)
+        return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
 
 class ConventionalEKF(_Base):

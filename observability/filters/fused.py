@@ -23,10 +23,13 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES"]
+__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES", "FUSED_STATES"]
 
 SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster), above: MX
 HEALTH_STATES = 20  # at most this many rows: the Cholesky check inside the graph (measured faster up to ~24)
+#: At most this many states: a fused filter's step is one casadi call each way; above, numpy
+#: (filters.covariance): casadi's dense products are plain loops over every entry, BLAS is not.
+FUSED_STATES = 20
 
 
 def _graph(functions: FilterFunctions) -> tuple[type, dict]:

@@ -1,0 +1,87 @@
+"""The covariance arithmetic of a filter step in numpy, at the cost its structure allows.
+
+A dense EKF step costs O(n^3): F P F^T is two n x n x n products and the Joseph
+form (I - K H) P (I - K H)^T two more. Neither is needed:
+
+* F is the identity on every state the motion leaves alone (the landmarks of a
+  SLAM model), so F P F^T changes only the rows and columns of the r moving
+  states. :func:`propagated` replaces those rows by F[r, c] P[c, :] and then those
+  columns, c being the columns the moving rows read: O(n r c) work instead of
+  O(n^3), the same numbers (the identity rows reproduce P's entries exactly).
+* The Joseph form never needs A = I - K H as an n x n matrix: A P = P - K (H P)
+  and (A P) A^T = A P - ((A P) H^T) K^T are products with K (n x m) and H
+  (m x n), O(n^2 m) work for m measurements instead of O(n^3). It is still the
+  Joseph form, A P A^T + K W K^T, valid for any gain K.
+
+The checks are not thinned: :func:`gain` factors S by Cholesky, the test that it
+is positive definite, before solving for K, and the filters check every new P
+by its own Cholesky factorisation (:func:`~observability.filters.validation.estimate`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .validation import FilterError
+
+__all__ = ["symmetric", "moving_rows", "propagated", "gain", "joseph"]
+
+
+def symmetric(P: np.ndarray) -> np.ndarray:
+    """(P + P^T) / 2."""
+    return 0.5 * (P + P.T)
+
+
+def moving_rows(F: np.ndarray) -> np.ndarray:
+    """The indices of the rows of the square F that differ from the identity's."""
+    off = F != 0
+    np.fill_diagonal(off, np.diagonal(F) != 1)
+    return np.flatnonzero(off.any(axis=1))
+
+
+def propagated(P: np.ndarray, F: np.ndarray, Fw: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """F P F^T + F_w Q F_w^T, symmetrized, with F applied to its non-identity rows only.
+
+    With r = :func:`moving_rows` and c the columns those rows read, F P keeps P's
+    other rows and has rows F[r, c] P[c, :]; (F P) F^T keeps F P's other columns
+    and has columns (F P)[:, c] F[r, c]^T. The noise term is added on the rows F_w
+    reaches. Work: O(n (r c + 1) + g^2) for g noisy states.
+    """
+    rows = moving_rows(F)
+    block = F[rows]
+    cols = np.flatnonzero((block != 0).any(axis=0))
+    block = block[:, cols]
+    FP = P.copy()
+    FP[rows] = block @ P[cols]
+    out = FP.copy()
+    out[:, rows] = FP[:, cols] @ block.T
+    noisy = np.flatnonzero((Fw != 0).any(axis=1))
+    G = Fw[noisy]
+    out[np.ix_(noisy, noisy)] += G @ Q @ G.T
+    return symmetric(out)
+
+
+def gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The gain K = P H^T S^-1, the innovation covariance S = H P H^T + W and H P.
+
+    Raises
+    ------
+    FilterError
+        S is not positive definite (its Cholesky factorisation fails), naming ``where``.
+    """
+    HP = H @ P
+    S = symmetric(HP @ H.T + W)
+    try:
+        np.linalg.cholesky(S)  # the refusal test: S must be positive definite
+    except np.linalg.LinAlgError:
+        raise FilterError(f"{where}: the innovation covariance S is not positive definite") from None
+    # K = P H^T S^-1, as the solution of S K^T = H P (P and S symmetric).
+    return np.linalg.solve(S, HP).T, S, HP
+
+
+def joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray, HP: np.ndarray | None = None) -> np.ndarray:
+    """The Joseph form (I - K H) P (I - K H)^T + K W K^T, symmetrized, without
+    forming I - K H: with A P = P - K (H P), (A P) A^T + K W K^T = A P + (K W - (A P) H^T) K^T,
+    three n x m x n products (O(n^2 m) work). ``HP`` is H P when the caller has it (:func:`gain`)."""
+    AP = P - K @ (H @ P if HP is None else HP)
+    return symmetric(AP + (K @ W - AP @ H.T) @ K.T)
