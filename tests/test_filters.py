@@ -232,12 +232,12 @@ def test_colored_noise_filter_equals_batch_least_squares():
     np.testing.assert_allclose(state.noise[0], solution[nx + steps], atol=1e-9)
 
 
-@pytest.mark.parametrize("landmarks", [1, 4, 10])
+@pytest.mark.parametrize("landmarks", [1, 4, 13])
 @pytest.mark.parametrize("kind", [ConventionalEKF, GeneralizedEKF, CloningEKF])
 def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
     """The predict and update are one casadi call each (filters.fused; a scalar SX
     graph for n = 8, a matrix MX graph for n = 14), or numpy with F P F^T block-wise
-    and the Joseph form without I - K H (filters.covariance, n = 26). Reference: the EKF equations in
+    and the Joseph form without I - K H (filters.covariance, n = 32). Reference: the EKF equations in
     numpy, with the Jacobians from the generated motion / measurement / G_w
     Functions, the missing entries dropped as rows (the fused update masks them
     instead); for cloning, the update of the augmented state [x_k; x_k-1] with the

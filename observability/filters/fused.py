@@ -29,7 +29,7 @@ SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster),
 HEALTH_STATES = 20  # at most this many rows: the Cholesky check inside the graph (measured faster up to ~24)
 #: At most this many states: a fused filter's step is one casadi call each way; above, numpy
 #: (filters.covariance): casadi's dense products are plain loops over every entry, BLAS is not.
-FUSED_STATES = 20
+FUSED_STATES = 30
 
 
 def _graph(functions: FilterFunctions) -> tuple[type, dict]:
