@@ -27,13 +27,15 @@ only the model's own Functions (f, h and their Jacobians, O(n^2) entries).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
 
 from observability import models
 from observability.codegen import filter_functions
-from observability.filters import ConventionalEKF, FilterState
+from observability.filters import CloningEKF, ConventionalEKF, FilterState
 from observability.filters import ekf as ekf_module
 
 LANDMARKS, PRESENT = 300, 5
@@ -79,11 +81,12 @@ def large(one_blas_thread):
     values = {"f": 20.0, "dt": 0.1, "B1x": 5.0, "B1y": 20.0, "B2x": -5.0, "B2y": 20.0}
     m = len(fns.outputs)
     ekf = ConventionalEKF(fns, np.diag([0.05, 0.05, 1e-4]), np.eye(m) * 0.074, [values[k] for k in fns.parameters])
+    cloning = CloningEKF(fns, ekf.Q, ekf.R, ekf.p)
     rng = np.random.default_rng(0)
     x = np.concatenate([[0.0, 1.0, 0.0, 0.2, 0.0, 0.0], rng.uniform(-8, 8, 2 * LANDMARKS) + np.tile([0, 30], LANDMARKS)])
     y = np.array(fns["h"](x, x, ekf.p)).ravel()
     measured = [float(v) if i < PRESENT else None for i, v in enumerate(y)]
-    return ekf, x, measured
+    return ekf, x, measured, cloning
 
 
 @pytest.fixture
@@ -107,7 +110,7 @@ def counted(monkeypatch):
 
 def test_a_prediction_applies_F_to_its_three_moving_rows_only(large, counted):
     """36 n multiply-adds by hand (module docstring); bound 40 n. A dense F P F^T: 2 n^3."""
-    ekf, x, _ = large
+    ekf, x, *_ = large
     n = ekf.n
     Counted.bound = 40 * n
     predicted = ekf.predict(FilterState(x, np.eye(n).view(Counted) * 0.01))
@@ -126,7 +129,7 @@ def test_a_prediction_applies_F_to_its_three_moving_rows_only(large, counted):
 def test_an_update_with_five_outputs_does_O_n2_m_work(large, counted):
     """4 m n^2 + 2 m^2 n multiply-adds by hand (module docstring), m = 5; bound 5 m n^2.
     Forming I - K H and (I - K H) P (I - K H)^T would add 2 n^3 = 90 m n^2."""
-    ekf, x, measured = large
+    ekf, x, measured, _ = large
     n, m = ekf.n, PRESENT
     Counted.bound = 5 * m * n**2
     P = np.eye(n).view(Counted) * 0.01
@@ -135,3 +138,21 @@ def test_an_update_with_five_outputs_does_O_n2_m_work(large, counted):
     assert sorted(counted["cholesky"]) == [m, n]  # S and the new P are checked, once each
     assert counted["casadi"] == ["measurement"]
     assert update.used == tuple(range(m)) and np.all(np.diag(np.asarray(update.state.P)) <= 0.01)
+
+
+def test_a_cloning_step_does_the_same_work_on_the_augmented_state(large, counted):
+    """Prediction 54 n (bound 60 n), update 4 m (2n)^2 + 2 m^2 (2n) (bound 5 m (2n)^2);
+    the same checks: the new P once per prediction, S and the new P per update."""
+    ekf, x, measured, cloning = large
+    n, m = ekf.n, PRESENT
+    Counted.bound = 60 * n
+    predicted = cloning.predict(FilterState(x, np.eye(n).view(Counted) * 0.01))
+    assert 0 < Counted.work <= 60 * n
+    assert counted["cholesky"] == [n] and counted["casadi"] == ["motion"]
+    Counted.work, Counted.bound = 0, 5 * m * (2 * n) ** 2
+    counted["cholesky"].clear()
+    # np.block (not a ufunc) hands back a plain joint: the update's P is the joint, counted again.
+    cloning.update(dataclasses.replace(predicted, joint=np.asarray(predicted.joint).view(Counted)), measured)
+    assert 4 * m * (2 * n) ** 2 <= Counted.work <= 5 * m * (2 * n) ** 2
+    assert sorted(counted["cholesky"]) == [m, n]
+    assert counted["casadi"] == ["motion", "measurement"]

@@ -343,7 +343,8 @@ class GeneralizedTotalEKF(GeneralizedEKF):
 
 class CloningEKF(_Base):
     """Stochastic cloning: the state is augmented with the previous state
-    (one casadi call per prediction and per update, :mod:`.fused`)."""
+    (one casadi call per prediction and per update, :mod:`.fused`; above
+    :data:`~.fused.FUSED_STATES` states numpy, :mod:`.covariance`)."""
 
     @functools.cached_property
     def _predict_call(self) -> _Buffered:
@@ -359,7 +360,10 @@ class CloningEKF(_Base):
 
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         u = self._inputs(u, state.step + 1)
-        x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        if self._in_numpy:
+            x, joint, health = *self._numpy_joint(state.x, state.P, u), []
+        else:
+            x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
         n = self.n
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
@@ -375,6 +379,8 @@ class CloningEKF(_Base):
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        if self._in_numpy:
+            return self._numpy_cloning_update(state, values, used)
         n, m = self.n, len(self.fn.outputs)
         measured, mask = self._masked(values, used)
         z, joint, innovation, S, *health = self._update_call(
@@ -393,6 +399,31 @@ class CloningEKF(_Base):
         if not (health and health[1][0, 0] > 0):
             validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, innovation.ravel(), S, tuple(used))
+
+
+    @_quiet
+    def _numpy_joint(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The fused cloning prediction's x and joint covariance (:func:`~.fused.fused_cloning_predict`)
+        in numpy, F applied to its moving rows only."""
+        x_next, F, Fw = self._motion(x, u)
+        cross = covariance.transitioned(F, P)
+        return x_next, _symmetric(np.block([[covariance.propagated(P, F, Fw, self.Q), cross], [cross.T, P]]))
+
+    @_quiet
+    def _numpy_cloning_update(self, state: FilterState, values: np.ndarray, used: list[int]) -> Update:
+        """The fused cloning update (:func:`~.fused.fused_cloning_update`) in numpy: h(x_k, x_k-1)
+        as a measurement of [x_k; x_k-1], H = [H_Xk, H_Xk-1], the present entries only."""
+        n, where = self.n, f"step {state.step} (update)"
+        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        H, W = np.hstack([H, H_prev])[used], self.R[np.ix_(used, used)]
+        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+        K, S, HP = covariance.gain(state.joint, H, W, where)
+        z = wrap_angles(np.concatenate([state.x, state.x_prev]) + K @ innovation, self._state_angles * 2)
+        joint = covariance.joseph(state.joint, K, H, W, HP)
+        new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
+                          joint=joint, step=state.step)
+        validation.estimate(new.x, new.P, where)
+        return Update(new, innovation, S, tuple(used))
 
 
 class ColoredNoiseEKF(_Base):
