@@ -116,9 +116,9 @@ class ObservabilityConstrainedEKF(_Base):
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])
-        K, S = self._gain(state.P, H, W, state.step)
+        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
-        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step, prior=state.prior)
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step, prior=state.prior)
         if not np.all(np.isfinite(x)):
             raise FilterError(f"step {state.step} (update): the estimate is not finite")
         return Update(self._checked(new, "update"), innovation, S, tuple(used))

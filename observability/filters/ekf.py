@@ -209,13 +209,6 @@ class _Base:
         measured[used], mask[used] = values, 1.0
         return measured, mask
 
-    @staticmethod
-    def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
-        K, S, _ = covariance.gain(P, H, W, f"step {step} (update)")
-        return K, S
-
-    _joseph = staticmethod(covariance.joseph)
-
     @functools.cached_property
     def _predict_call(self) -> _Buffered:
         return _Buffered(fused_predict(self.fn, self.Q))
@@ -502,10 +495,10 @@ class ColoredNoiseEKF(_Base):
         predicted = h + D0 @ state.noise[:q] + D1 @ state.noise[q:]
         H_aug = np.hstack([H, H_prev, D0, D1])[used]
         W = self.R[np.ix_(used, used)]
-        K, S = self._gain(state.joint, H_aug, W, state.step)
+        K, S, HP = covariance.gain(state.joint, H_aug, W, f"step {state.step} (update)")
         nu = values - predicted[used]
         z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
-        joint = self._joseph(state.joint, K, H_aug, W)
+        joint = covariance.joseph(state.joint, K, H_aug, W, HP)
         where = f"step {state.step} (update)"
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n], x_prev=self._on_manifold(z[n : 2 * n], where),
                           joint=joint, step=state.step, noise=z[2 * n :])

@@ -214,10 +214,10 @@ class FirstEstimatesEKF(_Base):
             self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
-        K, S = self._gain(state.P, H, W, state.step)
+        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step,
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step,
                           first=state.first, first_prev=state.first_prev)
         return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
