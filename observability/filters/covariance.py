@@ -24,7 +24,7 @@ import numpy as np
 
 from .validation import FilterError
 
-__all__ = ["symmetric", "moving_rows", "transitioned", "propagated", "gain", "joseph"]
+__all__ = ["symmetric", "transitioned", "propagated", "gain", "joseph"]
 
 
 def symmetric(P: np.ndarray) -> np.ndarray:
@@ -32,34 +32,38 @@ def symmetric(P: np.ndarray) -> np.ndarray:
     return 0.5 * (P + P.T)
 
 
-def moving_rows(F: np.ndarray) -> np.ndarray:
-    """The indices of the rows of the square F that differ from the identity's."""
+def _moving(F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rows of the square F that differ from the identity's, and the columns they read."""
     off = F != 0
     np.fill_diagonal(off, np.diagonal(F) != 1)
-    return np.flatnonzero(off.any(axis=1))
+    rows = np.flatnonzero(off.any(axis=1))
+    return rows, np.flatnonzero(F[rows].any(axis=0))
 
 
 def transitioned(F: np.ndarray, M: np.ndarray) -> np.ndarray:
     """F M for a square F, computed on F's non-identity rows only: M's other rows are
-    kept, the rows r of :func:`moving_rows` are F[r, c] M[c, :], c being the columns
-    those rows read. Work O(r c k) for k columns of M (the same numbers as F @ M:
-    an identity row reproduces M's entries exactly)."""
-    rows = moving_rows(F)
-    block = F[rows]
-    cols = np.flatnonzero((block != 0).any(axis=0))
+    kept, the rows r that differ from the identity's are F[r, c] M[c, :], c being the
+    columns those rows read. Work O(r c k) for k columns of M (the same numbers as
+    F @ M: an identity row reproduces M's entries exactly)."""
+    rows, cols = _moving(F)
     out = M.copy()
-    out[rows] = block[:, cols] @ M[cols]
+    out[rows] = F[rows[:, None], cols] @ M[cols]
     return out
 
 
 def propagated(P: np.ndarray, F: np.ndarray, Fw: np.ndarray, Q: np.ndarray) -> np.ndarray:
-    """F P F^T + F_w Q F_w^T, symmetrized, F applied to its non-identity rows only
-    (:func:`transitioned`, twice: F P F^T = (F (F P)^T)^T), the noise term added on the
-    rows F_w reaches. Work O(n r c + g^3) for g noisy states instead of O(n^3)."""
-    out = transitioned(F, transitioned(F, P).T).T
-    noisy = np.flatnonzero((Fw != 0).any(axis=1))
+    """F P F^T + F_w Q F_w^T, symmetrized, F applied to its non-identity rows only:
+    F P is :func:`transitioned`, then its columns r are (F P)[:, c] F[r, c]^T; the noise
+    term is added on the rows F_w reaches. Work O(n r c + g^3) for g noisy states
+    instead of O(n^3)."""
+    rows, cols = _moving(F)
+    block = F[rows[:, None], cols]
+    out = P.copy()
+    out[rows] = block @ P[cols]
+    out[:, rows] = out[:, cols] @ block.T  # the right side is (F P)[:, c], taken before the assignment
+    noisy = np.flatnonzero(Fw.any(axis=1))
     G = Fw[noisy]
-    out[np.ix_(noisy, noisy)] += G @ Q @ G.T
+    out[noisy[:, None], noisy] += G @ Q @ G.T
     return symmetric(out)
 
 

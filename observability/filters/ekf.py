@@ -297,7 +297,8 @@ class _Base:
             u = self._inputs(u, state.step)
         where = f"step {state.step} (update)"
         h, H, W = self._linearised(state.x, state.x if state.x_prev is None else state.x_prev, u)
-        H, W = H[used], W[np.ix_(used, used)]
+        if len(used) < len(h):
+            H, W = H[used], W[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
         K, S, HP = covariance.gain(state.P, H, W, where)
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
