@@ -18,7 +18,7 @@ Joseph form in O(n^2 m) (``observability.filters.covariance``).
 stay flat or fall as N grows, since both filters do dense O(n^3) work (filterpy's
 F P F^T and (I - K H) P (I - K H)^T; ours the Joseph form's n x m x n products and
 the Cholesky checks of P). Larger models run fewer steps (``--steps`` x 10 / N, at
-least 3) and, above 100 landmarks, 3 repeats; above ``--compile-up-to`` landmarks
+least 3) and, above 100 landmarks, a third of the repeats (at least 3); above ``--compile-up-to`` landmarks
 only the in-memory Functions are measured (gcc takes minutes on their C). The BLAS runs on one thread for both
 filters: on a loaded machine its idle threads spin, and ``process_time`` counts
 them (a 206 x 206 Cholesky took 167 ms of CPU instead of 0.5 ms).
@@ -172,7 +172,7 @@ def main() -> None:
     with threadpool_limits(1, "blas"):
         measure("slam1.5d-beacon", *_slam15d(), args.steps, args.repeat)
         for landmarks in (int(text) for text in args.landmarks.split(",")):
-            steps, repeat = max(3, args.steps * 10 // max(landmarks, 10)), args.repeat if landmarks <= 100 else 3
+            steps, repeat = max(3, args.steps * 10 // max(landmarks, 10)), args.repeat if landmarks <= 100 else max(3, args.repeat // 3)
             measure(f"slam2d N={landmarks}, 2 beacons", *_slam2d(landmarks), steps, repeat, landmarks <= args.compile_up_to)
 
 
