@@ -10,9 +10,20 @@ Both filters must produce the same estimate (checked), then the CPU time per ste
 (``time.process_time``; min and median over ``--repeat`` runs, the filters' runs
 interleaved so that the shared machine's load falls on each alike) is printed
 with the ratio to filterpy.
-Ours predicts and updates with one casadi call each (``observability.filters.fused``).
+Ours predicts and updates with one casadi call each (``observability.filters.fused``)
+up to ``FUSED_STATES`` states, above that in numpy with F P F^T block-wise and the
+Joseph form in O(n^2 m) (``observability.filters.covariance``).
 
-Not a test: ``python benchmarks/filter_step.py [--steps 400] [--landmarks 5] [--repeat 15]``
+``--landmarks`` takes a list (default 5,10,15,20,30,100,300,1000): the ratio should
+stay flat or fall as N grows, since both filters do dense O(n^3) work (filterpy's
+F P F^T and (I - K H) P (I - K H)^T; ours the Joseph form's n x m x n products and
+the Cholesky checks of P). Larger models run fewer steps (``--steps`` x 10 / N, at
+least 3) and, above 100 landmarks, a third of the repeats (at least 3); above ``--compile-up-to`` landmarks
+only the in-memory Functions are measured (gcc takes minutes on their C). The BLAS runs on one thread for both
+filters: on a loaded machine its idle threads spin, and ``process_time`` counts
+them (a 206 x 206 Cholesky took 167 ms of CPU instead of 0.5 ms).
+
+Not a test: ``python benchmarks/filter_step.py [--steps 400] [--landmarks 5,30] [--repeat 15]``
 (needs ``pip install -e '.[bench]'`` for filterpy).
 """
 
@@ -23,6 +34,7 @@ import statistics
 import time
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from observability import models
 from observability.codegen import compile_functions, filter_functions
@@ -111,7 +123,7 @@ def _filterpy(ExtendedKalmanFilter, n, m, x0, P0, F, Q, R, H, hx, ys):
     return run
 
 
-def measure(label, system, p, F, hx, H, truth, noise, steps, repeat):
+def measure(label, system, p, F, hx, H, truth, noise, steps, repeat, compiled=True):
     from filterpy.kalman import ExtendedKalmanFilter
 
     n, m = system.n, len(system.outputs)
@@ -127,13 +139,11 @@ def measure(label, system, p, F, hx, H, truth, noise, steps, repeat):
         xs.append(x)
         ys.append(hx(x) + rng.multivariate_normal(np.zeros(m), R))
     x0, P0 = truth + 0.05, np.eye(n) * 0.01
-    params = [p[name] for name in filter_functions(system, noise).parameters]
-    runs = {}
-    for kind in ("in-memory", "compiled"):
-        fns = filter_functions(system, noise)
-        if kind == "compiled":
-            fns = compile_functions(fns)
-        runs[kind] = _ours(ConventionalEKF(fns, q, R, params), x0, P0, ys)
+    fns = filter_functions(system, noise, inverse=False)  # the conventional EKF needs no inverse motion
+    params = [p[name] for name in fns.parameters]
+    runs = {"in-memory": _ours(ConventionalEKF(fns, q, R, params), x0, P0, ys)}
+    if compiled:
+        runs["compiled"] = _ours(ConventionalEKF(compile_functions(fns), q, R, params), x0, P0, ys)
     runs["filterpy"] = _filterpy(ExtendedKalmanFilter, n, m, x0, P0, F, Fw @ q @ Fw.T, R, H, hx, ys)
     times, results = {kind: [] for kind in runs}, {}
     for _ in range(repeat):  # interleaved: a change in the machine's load falls on every filter alike
@@ -154,11 +164,16 @@ def measure(label, system, p, F, hx, H, truth, noise, steps, repeat):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=400)
-    parser.add_argument("--landmarks", type=int, default=5)
+    parser.add_argument("--landmarks", default="5,10,15,20,30,100,300,1000", help="comma-separated landmark counts")
+    parser.add_argument("--compile-up-to", type=int, default=30,
+                        help="landmarks up to which the compiled Functions are measured too (gcc takes minutes above)")
     parser.add_argument("--repeat", type=int, default=15, help="runs of each filter (min and median)")
     args = parser.parse_args()
-    measure("slam1.5d-beacon", *_slam15d(), args.steps, args.repeat)
-    measure(f"slam2d N={args.landmarks}, 2 beacons", *_slam2d(args.landmarks), args.steps, args.repeat)
+    with threadpool_limits(1, "blas"):
+        measure("slam1.5d-beacon", *_slam15d(), args.steps, args.repeat)
+        for landmarks in (int(text) for text in args.landmarks.split(",")):
+            steps, repeat = max(3, args.steps * 10 // max(landmarks, 10)), args.repeat if landmarks <= 100 else max(3, args.repeat // 3)
+            measure(f"slam2d N={landmarks}, 2 beacons", *_slam2d(landmarks), steps, repeat, landmarks <= args.compile_up_to)
 
 
 if __name__ == "__main__":

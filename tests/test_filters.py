@@ -232,11 +232,12 @@ def test_colored_noise_filter_equals_batch_least_squares():
     np.testing.assert_allclose(state.noise[0], solution[nx + steps], atol=1e-9)
 
 
-@pytest.mark.parametrize("landmarks", [1, 4])
+@pytest.mark.parametrize("landmarks", [1, 4, 13])
 @pytest.mark.parametrize("kind", [ConventionalEKF, GeneralizedEKF, CloningEKF])
 def test_fused_steps_equal_a_numpy_ekf_written_here(landmarks, kind):
     """The predict and update are one casadi call each (filters.fused; a scalar SX
-    graph for n = 8, a matrix MX graph for n = 14). Reference: the EKF equations in
+    graph for n = 8, a matrix MX graph for n = 14), or numpy with F P F^T block-wise
+    and the Joseph form without I - K H (filters.covariance, n = 32). Reference: the EKF equations in
     numpy, with the Jacobians from the generated motion / measurement / G_w
     Functions, the missing entries dropped as rows (the fused update masks them
     instead); for cloning, the update of the augmented state [x_k; x_k-1] with the
@@ -350,18 +351,20 @@ def test_fused_health_flag_in_a_matrix_graph_agrees_with_numpy_cholesky():
     assert float(casadi.Function("big", [big], [_health(big)])(np.eye(HEALTH_STATES + 1))) == -1
 
 
-def test_an_overflowing_prediction_of_a_matrix_graph_filter_is_refused_naming_the_step():
-    """slam2d with 5 landmarks (16 states: an MX graph with the check inside): P0 =
+@pytest.mark.parametrize("landmarks", [5, 13])
+def test_an_overflowing_prediction_of_a_matrix_graph_filter_is_refused_naming_the_step(landmarks):
+    """slam2d with 5 landmarks (16 states: an MX graph with the check inside) and 13
+    (32 states: the numpy step of filters.covariance): P0 =
     1.7e308 I is finite and positive definite, but its prediction overflows
     (P_00 + dt^2 P_11 > the largest float), so the step is refused, never handed back."""
     from observability import models
 
-    system = models.build("slam2d", {"landmarks": "5", "beacons": "2", "time": "discrete"})
+    system = models.build("slam2d", {"landmarks": str(landmarks), "beacons": "2", "time": "discrete"})
     fns = filter_functions(system, ["cxdot", "cydot", "cthdot"])
     values = {"f": 20.0, "dt": 0.1, "B1x": 5.0, "B1y": 20.0, "B2x": -5.0, "B2y": 20.0}
     ekf = ConventionalEKF(fns, np.diag([0.05, 0.05, 1e-4]), np.eye(len(fns.outputs)) * 0.074,
                           [values[name] for name in fns.parameters])
-    state = ekf.initial(np.arange(16.0), np.eye(16) * 1.7e308)
+    state = ekf.initial(np.arange(float(system.n)), np.eye(system.n) * 1.7e308)
     with pytest.raises(FilterError, match=r"step 1 \(prediction\)"):
         ekf.predict(state)
 

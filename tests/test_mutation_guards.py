@@ -109,31 +109,36 @@ def test_the_stated_error_probability_is_the_schwartz_zippel_count():
     assert 4 / PRIME <= result.error_probability <= 6 / PRIME, result.error_probability
 
 
-def _scalar_filter(kind, q: float, r: float):
+def _scalar_filter(kind, q: float, r: float, static: int = 0):
     """x_k = x_k-1 + w, y = 2 x_k - x_k-1: H = 2, H_prev = -1, the inverse
-    motion x_k-1 = x_k - w gives G_X = 1, G_w = -1."""
-    system = System(["x"], {"x": "x"}, {"y": "2*x - prev(x)"}, time="discrete")
+    motion x_k-1 = x_k - w gives G_X = 1, G_w = -1; ``static`` more states s_i
+    that nothing moves or measures."""
+    names = ["x"] + [f"s{i}" for i in range(static)]
+    system = System(names, {name: name for name in names}, {"y": "2*x - prev(x)"}, time="discrete")
     return kind(filter_functions(system, ["x"]), np.array([[q]]), np.array([[r]]))
 
 
+@pytest.mark.parametrize("static", [0, 31])
 @pytest.mark.parametrize("kind, H", [(GeneralizedEKF, 2.0), (GeneralizedTotalEKF, 1.0)])
-def test_the_generalized_update_uses_w_in_its_joseph_term(kind, H):
+def test_the_generalized_update_uses_w_in_its_joseph_term(kind, H, static):
     """One update by hand, q = 1 much larger than r = 0.01 so that
     W = r + H_prev G_w q G_w H_prev = r + q is far from R: with P- = P0 + q,
     S = H^2 P- + W, K = H P- / S, x+ = x- + K (y - (2 x- - x0)),
     P+ = (1 - K H)^2 P- + K^2 W (H = 2 for the paper's generalized EKF, the
     total Jacobian H + H_prev G_X = 1 for the total variant). R in the Joseph
-    term instead of W changes P+ by K^2 q: far above the tolerance."""
+    term instead of W changes P+ by K^2 q: far above the tolerance. With 31 static
+    states (n = 32: the numpy step of filters.covariance, not the fused graph) and
+    P0 diagonal, x's entries are the same and the static ones stay P0."""
     q, r, x0, P0, y = 1.0, 0.01, 0.3, 0.5, 1.1
-    ekf = _scalar_filter(kind, q, r)
-    state = ekf.update(ekf.predict(ekf.initial([x0], np.array([[P0]]))), [y]).state
+    ekf = _scalar_filter(kind, q, r, static)
+    state = ekf.update(ekf.predict(ekf.initial([x0] + [1.0] * static, np.eye(1 + static) * P0)), [y]).state
     P_minus, W = P0 + q, r + q
     S = H * H * P_minus + W
     K = H * P_minus / S
     x_plus = x0 + K * (y - (2 * x0 - x0))
     P_plus = (1 - K * H) ** 2 * P_minus + K * K * W
-    np.testing.assert_allclose(state.x, [x_plus], rtol=1e-12)
-    np.testing.assert_allclose(state.P, [[P_plus]], rtol=1e-12)
+    np.testing.assert_allclose(state.x, [x_plus] + [1.0] * static, rtol=1e-12)
+    np.testing.assert_allclose(state.P, np.diag([P_plus] + [P0] * static), rtol=1e-12, atol=0)
     wrong = (1 - K * H) ** 2 * P_minus + K * K * r
     assert abs(P_plus - wrong) > 0.05 * P_plus  # the mutant's value is far from the reference
 

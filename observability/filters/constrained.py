@@ -41,7 +41,8 @@ from ..model.expressions import parse_expression
 from ..model.system import System
 from .constraint import nearest_with
 from .manifolds import wrap_angles
-from .ekf import FilterError, FilterState, Update, _Base, _symmetric
+from . import covariance
+from .ekf import FilterError, FilterState, Update, _Base
 from .firstestimates import static_states
 
 __all__ = ["ObservabilityConstrainedEKF", "null_space_function"]
@@ -80,8 +81,6 @@ class ObservabilityConstrainedEKF(_Base):
         self.static = static_states(functions)
         self.record = record
         self.used: list[tuple[str, int, np.ndarray]] = []
-        self._output_angles = [o in functions.angles for o in functions.outputs]
-        self._state_angles = [s in functions.angles for s in functions.states]
 
     def _N(self, x: np.ndarray) -> np.ndarray:
         return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
@@ -100,7 +99,7 @@ class ObservabilityConstrainedEKF(_Base):
         if self.record:
             self.used.append(("F", state.step, F))
         self.residuals.append((state.step + 1, float(np.max(np.abs(F @ N_k - N_next), initial=0.0))))
-        P = _symmetric(F @ state.P @ F.T + Fw @ self.Q @ Fw.T)
+        P = covariance.propagated(state.P, F, Fw, self.Q)
         return self._checked(FilterState(x_next, P, x_prev=state.x, step=state.step + 1, prior=x_next), "prediction")
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
@@ -117,9 +116,9 @@ class ObservabilityConstrainedEKF(_Base):
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])
-        K, S = self._gain(state.P, H, W, state.step)
+        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
-        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step, prior=state.prior)
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step, prior=state.prior)
         if not np.all(np.isfinite(x)):
             raise FilterError(f"step {state.step} (update): the estimate is not finite")
         return Update(self._checked(new, "update"), innovation, S, tuple(used))

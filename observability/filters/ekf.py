@@ -34,8 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..codegen import FilterFunctions
-from . import validation
-from .fused import fused_cloning_predict, fused_cloning_update, fused_predict, fused_update
+from . import covariance, validation
+from .covariance import symmetric as _symmetric
+from .fused import FUSED_STATES, fused_cloning_predict, fused_cloning_update, fused_predict, fused_update
+from .manifolds import wrap_angles
 from .validation import FilterError
 
 __all__ = ["FilterError", "FilterState", "Update", "ConventionalEKF", "GeneralizedEKF", "CloningEKF", "ColoredNoiseEKF"]
@@ -125,10 +127,6 @@ def _quiet(method):
     return wrapper
 
 
-def _symmetric(P: np.ndarray) -> np.ndarray:
-    return 0.5 * (P + P.T)
-
-
 class _Base:
     variant = "conventional"  # the fused update's W and H (filters.fused); cloning's first update is conventional
     fused = True  # predict and update are fused casadi calls (filters.fused), built at construction
@@ -146,8 +144,18 @@ class _Base:
         self._no_inputs.flags.writeable = False
         self._all_present = np.ones(n_y)
         self._all_present.flags.writeable = False
-        if self.fused:  # built now, not inside the first step
+        self._output_angles = [o in functions.angles for o in functions.outputs]
+        self._state_angles = [s in functions.angles for s in functions.states]
+        if self.fused and not self._in_numpy:  # built now, not inside the first step
             self._predict_call, self._update_call
+
+    @property
+    def _in_numpy(self) -> bool:
+        """Whether a fused filter's step does its covariance arithmetic in numpy
+        (:mod:`.covariance`: BLAS, F P F^T block-wise, the Joseph form in O(n^2 m))
+        instead of one casadi call: above :data:`~.fused.FUSED_STATES` states, where
+        casadi's dense products (plain loops, every entry of F P F^T) cost more."""
+        return self.n > FUSED_STATES
 
     def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
         where = f"{type(self).__name__} initial state"
@@ -201,21 +209,6 @@ class _Base:
         measured[used], mask[used] = values, 1.0
         return measured, mask
 
-    @staticmethod
-    def _gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, step: int) -> tuple[np.ndarray, np.ndarray]:
-        S = _symmetric(H @ P @ H.T + W)
-        try:
-            np.linalg.cholesky(S)  # the refusal test: S must be positive definite
-        except np.linalg.LinAlgError:
-            raise FilterError(f"step {step} (update): the innovation covariance S is not positive definite") from None
-        # K = P H^T S^-1, as the solution of S K^T = H P (P and S symmetric).
-        return np.linalg.solve(S, H @ P).T, S
-
-    @staticmethod
-    def _joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray) -> np.ndarray:
-        A = np.eye(P.shape[0]) - K @ H
-        return _symmetric(A @ P @ A.T + K @ W @ K.T)
-
     @functools.cached_property
     def _predict_call(self) -> _Buffered:
         return _Buffered(fused_predict(self.fn, self.Q))
@@ -225,9 +218,13 @@ class _Base:
         return _Buffered(fused_update(self.fn, self.Q, self.R, self.variant))
 
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
-        """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call)."""
+        """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call; above
+        FUSED_STATES states numpy, F_X applied to its moving rows only)."""
         u = self._inputs(u, state.step + 1)
-        x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        if self._in_numpy:
+            x, P, health = *self._numpy_predict(state.x, state.P, u), []
+        else:
+            x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, P, x_prev=state.x, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
@@ -235,7 +232,8 @@ class _Base:
         return new
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
-        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call).
+        """Eqs. (8)-(11) in Joseph form, with the available entries of ``y`` (one casadi call;
+        above FUSED_STATES states numpy, O(n^2 m) for m present entries).
         ``u`` is needed only where the update uses the inputs (the generalized
         EKF's G_w, G_X of an input-dependent inverse motion)."""
         return self._update_with(self._update_call, state, y, u)
@@ -244,6 +242,8 @@ class _Base:
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        if self._in_numpy:
+            return self._numpy_update(state, values, used, u)
         m = len(self.fn.outputs)
         measured, mask = self._masked(values, used)
         x_prev = state.x if state.x_prev is None else state.x_prev
@@ -264,6 +264,48 @@ class _Base:
         if not (health and health[1][0, 0] > 0):
             self._checked(new, "update")
         return Update(new, innovation.ravel(), S, tuple(used))
+
+
+    @_quiet
+    def _numpy_predict(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The fused prediction's x and P (:func:`~.fused.fused_predict`) in numpy, F P F^T block-wise."""
+        x_next, F, Fw = self._motion(x, u)
+        return x_next, covariance.propagated(P, F, Fw, self.Q)
+
+    @functools.cached_property
+    def _inverse_calls(self) -> dict[str, _Buffered]:
+        """The inverse motion's Jacobians the variant's update uses (none for the conventional EKF)."""
+        names = {"generalized": ["G_w"], "generalized-total": ["G_w", "G_X"]}.get(self.variant, [])
+        return {name: _Buffered(self.fn[name]) for name in names}
+
+    def _linearised(self, x: np.ndarray, x_prev: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """h, H and W of the fused update's ``variant`` (:func:`~.fused.fused_update`), every output."""
+        h, H, H_prev = self._measurement(x, x_prev)
+        W = self.R
+        if "G_w" in self._inverse_calls:
+            G = H_prev @ self._inverse_calls["G_w"](x, u, self.w0, self.p)[0]
+            W = W + G @ self.Q @ G.T
+        if "G_X" in self._inverse_calls:
+            H = H + H_prev @ self._inverse_calls["G_X"](x, u, self.w0, self.p)[0]
+        return h, H, W
+
+    @_quiet
+    def _numpy_update(self, state: FilterState, values: np.ndarray, used: list[int], u: Sequence[float]) -> Update:
+        """The fused update (:func:`~.fused.fused_update`) in numpy with the present entries
+        only; the Joseph form in O(n^2 m) (:func:`~.covariance.joseph`)."""
+        if len(u) == 0 and not any(call.uses_inputs for call in self._inverse_calls.values()):
+            u = self._no_inputs  # the update does not use the inputs: none need be given
+        else:
+            u = self._inputs(u, state.step)
+        where = f"step {state.step} (update)"
+        h, H, W = self._linearised(state.x, state.x if state.x_prev is None else state.x_prev, u)
+        if len(used) < len(h):
+            H, W = H[used], W[np.ix_(used, used)]
+        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+        K, S, HP = covariance.gain(state.P, H, W, where)
+        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step)
+        return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
 
 class ConventionalEKF(_Base):
@@ -297,7 +339,8 @@ class GeneralizedTotalEKF(GeneralizedEKF):
 
 class CloningEKF(_Base):
     """Stochastic cloning: the state is augmented with the previous state
-    (one casadi call per prediction and per update, :mod:`.fused`)."""
+    (one casadi call per prediction and per update, :mod:`.fused`; above
+    :data:`~.fused.FUSED_STATES` states numpy, :mod:`.covariance`)."""
 
     @functools.cached_property
     def _predict_call(self) -> _Buffered:
@@ -313,7 +356,10 @@ class CloningEKF(_Base):
 
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         u = self._inputs(u, state.step + 1)
-        x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        if self._in_numpy:
+            x, joint, health = *self._numpy_joint(state.x, state.P, u), []
+        else:
+            x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
         n = self.n
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
@@ -329,6 +375,8 @@ class CloningEKF(_Base):
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+        if self._in_numpy:
+            return self._numpy_cloning_update(state, values, used)
         n, m = self.n, len(self.fn.outputs)
         measured, mask = self._masked(values, used)
         z, joint, innovation, S, *health = self._update_call(
@@ -347,6 +395,31 @@ class CloningEKF(_Base):
         if not (health and health[1][0, 0] > 0):
             validation.estimate(new.x, new.P, f"step {new.step} (update)")
         return Update(new, innovation.ravel(), S, tuple(used))
+
+
+    @_quiet
+    def _numpy_joint(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The fused cloning prediction's x and joint covariance (:func:`~.fused.fused_cloning_predict`)
+        in numpy, F applied to its moving rows only."""
+        x_next, F, Fw = self._motion(x, u)
+        cross = covariance.transitioned(F, P)
+        return x_next, _symmetric(np.block([[covariance.propagated(P, F, Fw, self.Q), cross], [cross.T, P]]))
+
+    @_quiet
+    def _numpy_cloning_update(self, state: FilterState, values: np.ndarray, used: list[int]) -> Update:
+        """The fused cloning update (:func:`~.fused.fused_cloning_update`) in numpy: h(x_k, x_k-1)
+        as a measurement of [x_k; x_k-1], H = [H_Xk, H_Xk-1], the present entries only."""
+        n, where = self.n, f"step {state.step} (update)"
+        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        H, W = np.hstack([H, H_prev])[used], self.R[np.ix_(used, used)]
+        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+        K, S, HP = covariance.gain(state.joint, H, W, where)
+        z = wrap_angles(np.concatenate([state.x, state.x_prev]) + K @ innovation, self._state_angles * 2)
+        joint = covariance.joseph(state.joint, K, H, W, HP)
+        new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
+                          joint=joint, step=state.step)
+        validation.estimate(new.x, new.P, where)
+        return Update(new, innovation, S, tuple(used))
 
 
 class ColoredNoiseEKF(_Base):
@@ -425,10 +498,10 @@ class ColoredNoiseEKF(_Base):
         predicted = h + D0 @ state.noise[:q] + D1 @ state.noise[q:]
         H_aug = np.hstack([H, H_prev, D0, D1])[used]
         W = self.R[np.ix_(used, used)]
-        K, S = self._gain(state.joint, H_aug, W, state.step)
+        K, S, HP = covariance.gain(state.joint, H_aug, W, f"step {state.step} (update)")
         nu = values - predicted[used]
         z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
-        joint = self._joseph(state.joint, K, H_aug, W)
+        joint = covariance.joseph(state.joint, K, H_aug, W, HP)
         where = f"step {state.step} (update)"
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n], x_prev=self._on_manifold(z[n : 2 * n], where),
                           joint=joint, step=state.step, noise=z[2 * n :])

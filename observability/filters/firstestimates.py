@@ -69,7 +69,8 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 from .constraint import ConstraintLog, kept_transition
-from .ekf import FilterError, FilterState, Update, _Base, _quiet, _symmetric
+from . import covariance
+from .ekf import FilterError, FilterState, Update, _Base, _quiet
 from .manifolds import wrap_angles
 
 __all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states"]
@@ -121,8 +122,6 @@ class FirstEstimatesEKF(_Base):
                                                  "each first estimate to the next and commutes with the symmetries)")
         self.residuals: list[tuple[int, float]] = []
         self.used: list[tuple[str, int, np.ndarray]] = []
-        self._output_angles = [o in functions.angles for o in functions.outputs]
-        self._state_angles = [s in functions.angles for s in functions.states]
 
     def initial(self, x0: Sequence[float], P0: np.ndarray) -> FilterState:
         base = super().initial(x0, P0)
@@ -188,7 +187,7 @@ class FirstEstimatesEKF(_Base):
         Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
         if self.record:
             self.used.append(("F", state.step, Phi))
-        P = _symmetric(Phi @ state.P @ Phi.T + Fw @ self.Q @ Fw.T)
+        P = covariance.propagated(state.P, Phi, Fw, self.Q)
         new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
         return self._checked(new, "prediction")
 
@@ -215,10 +214,10 @@ class FirstEstimatesEKF(_Base):
             self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
-        K, S = self._gain(state.P, H, W, state.step)
+        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step,
+        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step,
                           first=state.first, first_prev=state.first_prev)
         return Update(self._checked(new, "update"), innovation, S, tuple(used))
 

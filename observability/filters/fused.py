@@ -13,7 +13,11 @@ result is the update with the present entries only.
 Small models are expanded into scalar SX graphs (fastest, sub-microsecond for the
 1.5-D model; compiled Functions keep the in-memory ones they came from for this);
 above :data:`SX_STATES` states matrix-valued MX graphs, calling the compiled C where
-there is one, keep the operation count from growing with n^3 nodes.
+there is one, keep the operation count from growing with n^3 nodes. The filters step
+with these graphs up to :data:`FUSED_STATES` states only: casadi multiplies dense
+matrices in plain loops over every entry, so above that the step runs in numpy
+(:mod:`.covariance`: BLAS, F P F^T on F's moving rows, the Joseph form in O(n^2 m)).
+The graphs stay available for any size (:mod:`.batch` maps them over runs).
 """
 
 from __future__ import annotations
@@ -23,10 +27,13 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 
-__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES"]
+__all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES", "FUSED_STATES"]
 
 SX_STATES = 10  # at most this many states: a scalar SX graph (measured faster), above: MX
 HEALTH_STATES = 20  # at most this many rows: the Cholesky check inside the graph (measured faster up to ~24)
+#: At most this many states: a fused filter's step is one casadi call each way; above, numpy
+#: (filters.covariance): casadi's dense products are plain loops over every entry, BLAS is not.
+FUSED_STATES = 30
 
 
 def _graph(functions: FilterFunctions) -> tuple[type, dict]:

@@ -52,7 +52,7 @@ def unit_norm(functions, *blocks: Sequence[str]) -> Callable[[np.ndarray], np.nd
 def wrap_angles(values: np.ndarray, flags: Sequence[bool]) -> np.ndarray:
     """A copy of ``values`` with the entries flagged as angles wrapped to (-pi, pi]."""
     out = np.array(values, dtype=float)
-    for i, flag in enumerate(flags):
-        if flag:
-            out[i] = np.arctan2(np.sin(out[i]), np.cos(out[i]))
+    angles = np.flatnonzero(flags)  # one numpy call, not a Python loop over every state
+    if angles.size:
+        out[angles] = np.arctan2(np.sin(out[angles]), np.cos(out[angles]))
     return out
