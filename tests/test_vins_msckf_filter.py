@@ -138,3 +138,33 @@ def test_the_study_refuses_too_few_runs_or_frames_with_exit_2(tmp_path):
     assert not any(tmp_path.iterdir())
     out = cli("consistency", "--study", "vins-msckf", "--runs", "1", "--out", str(tmp_path))
     assert out.returncode == 2 and "runs must be at least 2" in out.stderr
+
+
+def test_the_yaw_prior_lies_along_the_unobservable_rotation():
+    """yaw_sigma adds yaw_sigma^2 n n^T, n the rotation of the whole state about
+    gravity. By hand, ĝ = (0, 0, -1), p = (1, 2, 3), v = (0.5, -1, 0.2):
+    δθ = ĝ; δp = -[p]x ĝ = p x (0, 0, 1) = (p_y, -p_x, 0) = (2, -1, 0);
+    δv = (v_y, -v_x, 0) = (-1, -0.5, 0); the biases do not move."""
+    from observability.errors import OptionError
+
+    study = VinsStudy(yaw_sigma=0.1)
+    truth = imu_state(p=(1.0, 2.0, 3.0), v=(0.5, -1.0, 0.2))
+    n = np.array([0, 0, -1, 2, -1, 0, -1, -0.5, 0, 0, 0, 0, 0, 0, 0], dtype=float)
+    added = study.covariance(truth) - np.diag(study.prior() ** 2)
+    np.testing.assert_allclose(added, 0.01 * np.outer(n, n), atol=1e-15)
+    assert np.array_equal(VinsStudy().covariance(truth), np.diag(VinsStudy().prior() ** 2))
+    with pytest.raises(OptionError, match="yaw_sigma must be a finite number >= 0"):
+        VinsStudy(yaw_sigma=-0.1)
+
+
+def test_the_yaw_sigma_option_is_checked_with_exit_2(tmp_path):
+    """--yaw-sigma: an angle in [0, pi], for the vins-msckf study only; refused
+    before any work, one line, exit 2, nothing written."""
+    from conftest import cli
+
+    for args, message in ((("--study", "vins-msckf", "--yaw-sigma", "-1"), "expected an angle in radians in [0, pi]"),
+                          (("--study", "vins-msckf", "--yaw-sigma", "nan"), "expected an angle in radians in [0, pi]"),
+                          (("--study", "odometry", "--yaw-sigma", "0.1"), "only the vins-msckf study takes it")):
+        out = cli("consistency", *args, "--out", str(tmp_path))
+        assert out.returncode == 2 and message in out.stderr and len(out.stderr.strip().splitlines()) == 1
+    assert not any(tmp_path.iterdir())

@@ -4,6 +4,7 @@ the option and what it expects in one line (exit 2)."""
 from __future__ import annotations
 
 import argparse
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -83,6 +84,17 @@ def pages(text: str) -> float:
         raise argparse.ArgumentTypeError(f"expected a number of pages, got {text!r}") from None
     if not (0 < value <= 1000):
         raise argparse.ArgumentTypeError(f"expected a number of pages in (0, 1000], got {text}")
+    return value
+
+
+def angle(text: str) -> float:
+    """A standard deviation of an angle in radians: a finite number in [0, pi]."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in radians, got {text!r}") from None
+    if not 0 <= value <= math.pi:
+        raise argparse.ArgumentTypeError(f"expected an angle in radians in [0, pi], got {text}")
     return value
 
 

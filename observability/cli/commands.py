@@ -329,6 +329,8 @@ def consistency_command(args: argparse.Namespace) -> int:
         raise UsageError(f"--seeds: the {args.study} study takes one --seed")
     if args.seeds is not None and args.seed is not None:
         raise UsageError("give --seed or --seeds, not both")
+    if args.yaw_sigma is not None and args.study != "vins-msckf":
+        raise UsageError("--yaw-sigma: only the vins-msckf study takes it")
     if args.study == "vins-msckf":
         return _vins_study(args)
     if args.study != "odometry":
@@ -399,7 +401,8 @@ def _vins_study(args: argparse.Namespace) -> int:
 
     base = VinsStudy()
     study = dataclasses.replace(base, runs=args.runs or base.runs, seed=base.seed if args.seed is None else args.seed,
-                                duration=args.steps / base.camera_rate if args.steps else base.duration)
+                                duration=args.steps / base.camera_rate if args.steps else base.duration,
+                                yaw_sigma=base.yaw_sigma if args.yaw_sigma is None else args.yaw_sigma)
     out = args.out / args.study
     with engine(args.scheduler, args.workers) as run:
         result = write_vins_study(out, study, run)

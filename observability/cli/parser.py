@@ -7,8 +7,8 @@ from pathlib import Path
 
 from .. import __version__
 from ..model.methods import METHODS, PREVIOUS_METHODS
-from .arguments import (Parser, count, identifier, out_directory, out_file, out_path, pages, positive, runs, seconds,
-                        seed_list, seed_value, study_steps)
+from .arguments import (Parser, angle, count, identifier, out_directory, out_file, out_path, pages, positive, runs,
+                        seconds, seed_list, seed_value, study_steps)
 from .commands import (check_command, codegen_command, consistency_command, degenerate_command, latex_command,
                        models_command, reproduce_command, trajectory_command, verify_proof_command)
 from .planning import design_command, sensors_command
@@ -143,6 +143,9 @@ def build_parser() -> argparse.ArgumentParser:
                                   "observability-constrained and ideal Jacobians (reports in OUT/STUDY)")
     consistency.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3; vins-msckf 20)")
     consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400; vins-msckf: camera frames at 10 Hz, 300)")
+    consistency.add_argument("--yaw-sigma", type=angle, default=None, metavar="RAD",
+                             help="vins-msckf: initial uncertainty (rad) of the unobservable rotation about gravity, "
+                                  "the attitude, position and velocity turned together (default 0)")
     consistency.add_argument("--seed", type=seed_value, default=None,
                              help="seed of the Monte Carlo streams (default 7; paper: its simulation's, 2013)")
     consistency.add_argument("--seeds", type=seed_list, default=None, metavar="S1,S2,...",

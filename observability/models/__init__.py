@@ -19,9 +19,10 @@ from .slam15d import slam15d, slam15d_beacon, slam15d_disparity
 from .slam2d import slam2d
 from .slam3d import slam3d
 from .vins import ATTITUDES, vins
+from .vins2d import vins2d
 
 __all__ = [
-    "BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity", "slam2d", "slam3d", "vins",
+    "BuiltinModel", "BUILTINS", "build", "slam15d", "slam15d_beacon", "slam15d_disparity", "slam2d", "slam3d", "vins", "vins2d",
 ]
 
 
@@ -100,6 +101,12 @@ BUILTINS: dict[str, BuiltinModel] = {
             vins,
             "visual-inertial navigation: IMU inputs, K point features, optional biases, 4 attitude forms",
             {**_TIME, "features": _count, "biases": _flag, "attitude": _choice(*ATTITUDES)},
+        ),
+        BuiltinModel(
+            "vins2d",
+            vins2d,
+            "planar visual-inertial navigation: gyro and 2-axis accelerometer with biases, K features, 1-D camera",
+            {**_TIME, "features": _count},
         ),
     )
 }

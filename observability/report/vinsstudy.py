@@ -25,7 +25,7 @@ from ..filters.consistency import anees_interval
 from ..filters.vins.msckf import POLICIES, MsckfSettings
 from ..filters.vins.run import QUANTITIES, MsckfRun, run_msckf
 from ..filters.vins.simulate import Scenario, simulate
-from ..filters.vins.state import boxplus, imu_state
+from ..filters.vins.state import ImuState, boxplus, imu_state, unobservable_directions
 from ..parallel import Runner, run_tasks
 
 __all__ = ["VinsStudy", "VinsStudyResult", "run_vins_study", "analysis_nullity"]
@@ -43,7 +43,15 @@ class VinsStudy:
     10 Hz camera, 200 wall features (about 45 seen per frame), 8 clones.
     ``sigma`` is the initial standard deviation of the attitude (each axis),
     position and velocity errors; the biases start at zero with the
-    simulator's own spread of the true initial biases.
+    simulator's own spread of the true initial biases. ``yaw_sigma`` adds an
+    initial uncertainty along the unobservable rotation about gravity: the
+    attitude, position and velocity turned together (the yaw column N of
+    :func:`~observability.filters.vins.state.unobservable_directions` at the
+    true initial state), error ε N with ε ~ N(0, yaw_sigma^2) and covariance
+    yaw_sigma^2 N N^T added to the independent ones. (A larger attitude
+    variance about z alone would not do: with the velocity known to ``sigma[2]``
+    in the world, the body-frame velocity the camera and IMU observe pins the
+    yaw.)
     """
 
     name: str = "vins-msckf"
@@ -57,11 +65,14 @@ class VinsStudy:
     gate: float = 0.99
     record_images: int = 40
     sigma: tuple[float, float, float] = (0.01, 0.01, 0.02)
+    yaw_sigma: float = 0.0
 
     def __post_init__(self):
         frames = int(round(self.duration * self.camera_rate))
         if self.runs < 2:
             raise OptionError(f"vins-msckf: runs must be at least 2 for an interval over runs, got {self.runs}")
+        if not (np.isfinite(self.yaw_sigma) and self.yaw_sigma >= 0):
+            raise OptionError(f"vins-msckf: yaw_sigma must be a finite number >= 0, got {self.yaw_sigma}")
         if frames < self.record_images:
             raise OptionError(f"vins-msckf: steps (camera frames) must be at least {self.record_images}, the frames "
                               f"over which the filters' nullity is computed, got {frames}")
@@ -74,6 +85,12 @@ class VinsStudy:
         """The initial standard deviations of the 15 error components."""
         bias = Scenario().initial_bias_sigma
         return np.repeat([*self.sigma, *bias], 3)
+
+    def covariance(self, truth: ImuState) -> np.ndarray:
+        """The initial 15 x 15 covariance: the independent variances of :meth:`prior`
+        plus yaw_sigma^2 N N^T along the yaw direction at ``truth``."""
+        yaw = unobservable_directions(truth)[:, 3]
+        return np.diag(self.prior() ** 2) + self.yaw_sigma ** 2 * np.outer(yaw, yaw)
 
     def settings(self) -> MsckfSettings:
         camera = self.scenario().camera
@@ -102,11 +119,13 @@ def _task(study: VinsStudy, stream: np.random.SeedSequence) -> dict[str, MsckfRu
     """A Dask task, one Monte Carlo run: one simulation, one initial error, every filter."""
     simulation_seed, initial_seed = _seeds(stream)
     simulation = simulate(study.scenario(), simulation_seed)
-    sd = study.prior()
-    error = np.random.default_rng(initial_seed).normal(0.0, sd[:9])
-    truth = simulation.truth(0)
-    initial = boxplus(imu_state(R=truth.R, p=truth.p, v=truth.v), -np.r_[error, np.zeros(6)])
-    return {name: run_msckf(name, simulation, initial, np.diag(sd ** 2), study.settings()) for name in POLICIES}
+    rng, truth = np.random.default_rng(initial_seed), simulation.truth(0)
+    error = np.r_[rng.normal(0.0, study.prior()[:9]), np.zeros(6)]
+    if study.yaw_sigma > 0:  # drawn after the independent errors: runs without it keep their draws
+        error += rng.normal(0.0, study.yaw_sigma) * unobservable_directions(truth)[:, 3]
+    initial = boxplus(imu_state(R=truth.R, p=truth.p, v=truth.v), -error)
+    P0 = study.covariance(truth)
+    return {name: run_msckf(name, simulation, initial, P0, study.settings()) for name in POLICIES}
 
 
 @dataclass(frozen=True)

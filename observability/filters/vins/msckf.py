@@ -39,7 +39,8 @@ import numpy as np
 from ..gating import gate_threshold
 from ..linearized import LinearizedObservability, observability_of
 from ..validation import FilterError
-from .features import feature_jacobians, reprojection_residual, triangulate
+from .checks import finite_array, rotation_matrix
+from .features import Extrinsic, feature_jacobians, reprojection_residual, triangulate
 from .imu import ImuNoise, step
 from .nullspace import fej_transition, oc_measurement, oc_transition
 from .so3 import retract
@@ -90,16 +91,19 @@ class Msckf:
     noise : the IMU noise densities
     settings : :class:`MsckfSettings`
     landmarks : the true features by id (the ``ideal`` policy only)
+    extrinsic : the camera's pose in the IMU frame (R_IC, p_IC), known; None: the
+        camera at the IMU (:mod:`.features`)
     """
 
     def __init__(self, policy: str, state: ImuState, P: np.ndarray, noise: ImuNoise, settings: MsckfSettings,
-                 landmarks: Mapping[int, np.ndarray] | None = None) -> None:
+                 landmarks: Mapping[int, np.ndarray] | None = None, extrinsic: Extrinsic | None = None) -> None:
         if policy not in POLICIES:
             raise FilterError(f"MSCKF: policy must be one of {', '.join(POLICIES)}, got {policy!r}")
         if policy == "ideal" and landmarks is None:
             raise FilterError("MSCKF: the ideal policy needs the true landmarks")
         self.policy, self.imu, self.P, self.noise, self.settings = policy, state, np.array(P, float), noise, settings
         self.landmarks = landmarks
+        self.extrinsic = None if extrinsic is None else _extrinsic(extrinsic)
         self.first = state
         self.clones: list[Clone] = []
         self.tracks: dict[int, list[tuple[int, np.ndarray]]] = {}
@@ -177,10 +181,10 @@ class Msckf:
         position = {c.image: i for i, c in enumerate(self.clones)}
         index = [position[i] for i, _ in track]
         clones, zs = [self.clones[i] for i in index], [z for _, z in track]
-        f = triangulate([c.R for c in clones], [c.p for c in clones], zs)
+        f = triangulate([c.R for c in clones], [c.p for c in clones], zs, self.extrinsic)
         if f is None:
             return None
-        r = reprojection_residual([c.R for c in clones], [c.p for c in clones], zs, f)[0]
+        r = reprojection_residual([c.R for c in clones], [c.p for c in clones], zs, f, self.extrinsic)[0]
         H_c, H_f = self._jacobians(fid, clones, f)
         H_x = np.zeros((len(r), self.P.shape[0]))
         for j, i in enumerate(index):
@@ -197,14 +201,15 @@ class Msckf:
 
     def _jacobians(self, fid: int, clones: list[Clone], f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """H_c (2m x 6m) and H_f at the policy's points."""
+        e = self.extrinsic
         if self.policy == "ekf":
-            return feature_jacobians([c.R for c in clones], [c.p for c in clones], f)
+            return feature_jacobians([c.R for c in clones], [c.p for c in clones], f, e)
         if self.policy == "fej":
-            return feature_jacobians([c.R_first for c in clones], [c.p_first for c in clones], f)
+            return feature_jacobians([c.R_first for c in clones], [c.p_first for c in clones], f, e)
         if self.policy == "ideal":
             return feature_jacobians([c.R_first for c in clones], [c.p_first for c in clones],
-                                     np.asarray(self.landmarks[fid], float))
-        H_c, H_f = feature_jacobians([c.R for c in clones], [c.p for c in clones], f)
+                                     np.asarray(self.landmarks[fid], float), e)
+        H_c, H_f = feature_jacobians([c.R for c in clones], [c.p for c in clones], f, e)
         for j, c in enumerate(clones):
             rows, cols = slice(2 * j, 2 * j + 2), slice(CLONE_SIZE * j, CLONE_SIZE * (j + 1))
             H_c[rows, cols], H_f[rows] = oc_measurement(H_c[rows, cols], c.p_first, f)
@@ -230,3 +235,14 @@ class Msckf:
         if not self.rows:
             raise FilterError("MSCKF: no feature update was recorded (record_images too small?)")
         return observability_of([np.vstack(self.rows)], [])
+
+
+def _extrinsic(extrinsic) -> Extrinsic:
+    """(R_IC, p_IC) checked: a rotation and a finite 3-vector."""
+    if not isinstance(extrinsic, tuple) or len(extrinsic) != 2:
+        raise FilterError("MSCKF: extrinsic must be a pair (R_IC, p_IC)")
+    R_IC = rotation_matrix(extrinsic[0], "R_IC", "MSCKF")
+    p_IC = finite_array(extrinsic[1], "p_IC", (3,), "MSCKF")
+    if R_IC.shape != (3, 3) or p_IC.shape != (3,):
+        raise FilterError(f"MSCKF: extrinsic R_IC, p_IC have shapes {R_IC.shape}, {p_IC.shape}, expected (3, 3), (3,)")
+    return R_IC, p_IC

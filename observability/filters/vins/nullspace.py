@@ -67,7 +67,7 @@ def fej_transition(Phi: np.ndarray, start: ImuState, end: ImuState, dt: float) -
 def oc_transition(Phi: np.ndarray, start: ImuState, end: ImuState) -> np.ndarray:
     """Phi with its δθ columns (rows θ, p, v) changed the least such that
     Phi N(start) = N(end) on the yaw column (Hesch et al. 2014's least-squares
-    modification A* = A - (A u - w)(u^T u)^-1 u^T with u = ĝ, |u| = 1)."""
+    modification A* = A - (A u - w)(u^T u)^-1 u^T with u = ĝ, ``|u| = 1``)."""
     n_start, n_end = unobservable_directions(start)[:, 3], unobservable_directions(end)[:, 3]
     out = Phi.copy()
     rows = slice(0, 9)

@@ -17,7 +17,6 @@ from threadpoolctl import threadpool_limits
 
 from ..consistency import nees
 from ..linearized import LinearizedObservability
-from ..validation import FilterError
 from .msckf import Msckf, MsckfSettings
 from .simulate import Simulation
 from .so3 import log_so3
@@ -57,13 +56,11 @@ def errors(truth: ImuState, estimate: ImuState, P: np.ndarray) -> np.ndarray:
 def run_msckf(policy: str, simulation: Simulation, initial: ImuState, P0: np.ndarray,
               settings: MsckfSettings) -> MsckfRun:
     """The filter ``policy`` from ``initial`` (covariance ``P0``) over ``simulation``,
-    which must have the camera at the IMU (identity extrinsics)."""
+    with the simulation camera's extrinsic (R_IC, p_IC) known to the filter."""
     s = simulation
     camera = s.scenario.camera
-    if not (np.array_equal(camera.R_IC, np.eye(3)) and not np.any(camera.p_IC)):
-        raise FilterError("run_msckf: the MSCKF takes the camera at the IMU (identity R_IC, zero p_IC)")
     landmarks = dict(enumerate(s.features))
-    msckf = Msckf(policy, initial, P0, s.scenario.noise, settings, landmarks)
+    msckf = Msckf(policy, initial, P0, s.scenario.noise, settings, landmarks, (camera.R_IC, camera.p_IC))
     values, positions = np.full((len(QUANTITIES), len(s.frames)), np.nan), np.zeros((len(s.frames), 3))
     frame_of = {int(k): j for j, k in enumerate(s.frames)}
     # The matrices are at most ~70 wide: BLAS threads would only spin on them (a QR took 70 ms, not 1 ms).

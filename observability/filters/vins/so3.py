@@ -68,7 +68,7 @@ def _coefficients(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def exp_so3(phi) -> np.ndarray:
-    """Exp(phi), the rotation by |phi| about phi / |phi| (Rodrigues); shape (..., 3) -> (..., 3, 3)."""
+    """Exp(phi), the rotation by ``|phi|`` about ``phi / |phi|`` (Rodrigues); shape (..., 3) -> (..., 3, 3)."""
     phi = finite_array(phi, "phi", (3,), "exp_so3")
     t = np.linalg.norm(phi, axis=-1)
     A, B = _coefficients(t)

@@ -96,8 +96,8 @@ def unobservable_directions(state: ImuState, features=()) -> np.ndarray:
     measurement informs, evaluated at ``state`` and the features (K, 3).
 
     Columns 0-2 move the whole scene: dp = df = I, the rest 0. Column 3 turns
-    it about gravity: rotating the world by the small angle e about g/|g| turns
-    R to Exp(e gu) R (dtheta = gu, gu = g/|g| = -z), and every world vector
+    it about gravity: rotating the world by the small angle e about ``g/|g|`` turns
+    R to Exp(e gu) R (dtheta = gu, ``gu = g/|g| = -z``), and every world vector
     w in (p, v, f) to w + e gu x w, so dw = [gu]x w = -[w]x gu; the biases are
     IMU-frame quantities and do not move. The analysis proves these four for
     ``vins`` (Hesch et al., IEEE T-RO 2014; OpenVINS ``docs/fej.dox`` writes the
