@@ -62,6 +62,7 @@ so the true noise as w̃): the reference the consistency study compares with.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 
 import casadi
@@ -218,8 +219,7 @@ class FirstEstimatesEKF(_Base):
         K, S = self._gain(state.P, H, W, state.step)
         where = f"step {state.step} (update)"
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        new = FilterState(x, self._joseph(state.P, K, H, W), x_prev=state.x_prev, step=state.step,
-                          first=state.first, first_prev=state.first_prev)
+        new = dataclasses.replace(state, x=x, P=self._joseph(state.P, K, H, W))  # the points carried as they are
         return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
 
