@@ -175,15 +175,20 @@ class FirstEstimatesEKF(_Base):
             w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
         return w, float(np.max(np.abs(r), initial=0.0))
 
+    def _propagated(self, state: FilterState, u: Sequence[float]) -> tuple[np.ndarray, str, np.ndarray, np.ndarray,
+                                                                           np.ndarray]:
+        """The checked input, the step's name, and f, F_X, F_w at the posterior (f wrapped and retracted)."""
+        u = self._inputs(u, state.step + 1)
+        where = f"step {state.step + 1} (prediction)"
+        x_next, F, Fw = self._motion(state.x, u)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
+        return u, where, self._on_manifold(wrap_angles(x_next, self._state_angles), where), F, Fw
+
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi P Phi^T + F_w Q F_w^T with Phi = F_X(x̄_k, u, w̃)."""
-        u = self._inputs(u, state.step + 1)
-        where = f"step {state.step + 1} (prediction)"
-        x_next, _, Fw = self._motion(state.x, u)
-        if not np.all(np.isfinite(x_next)):
-            raise FilterError(f"{where}: the state estimate is not finite")
-        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
+        u, where, x_next, _, Fw = self._propagated(state, u)
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
         Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)

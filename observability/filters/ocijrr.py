@@ -70,7 +70,6 @@ import numpy as np
 from ..codegen import FilterFunctions
 from .ekf import FilterError, FilterState, _quiet, _symmetric
 from .firstestimates import FirstEstimatesEKF
-from .manifolds import wrap_angles
 
 __all__ = ["Huang2010OCEKF", "lagrange_points"]
 
@@ -115,12 +114,7 @@ class Huang2010OCEKF(FirstEstimatesEKF):
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = (), observed: Sequence[int] | None = None) -> FilterState:
         """x = f(x, u, 0), P = Phi P Phi^T + G Q G^T with the paper's Phi_R at p*_k."""
-        u = self._inputs(u, state.step + 1)
-        where = f"step {state.step + 1} (prediction)"
-        x_next, F, G = self._motion(state.x, u)
-        if not np.all(np.isfinite(x_next)):
-            raise FilterError(f"{where}: the state estimate is not finite")
-        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
+        u, where, x_next, F, G = self._propagated(state, u)
         prior = state.x if state.prior is None else state.prior
         point = state.x if state.first is None else state.first
         shift = point[:2] - prior[:2]
