@@ -50,11 +50,13 @@ estimates, not the code (``benchmarks/fej_landmarks.py``, range-bearing, 20
 runs, seed 7): with landmarks 0.02 m off FEJ's landmark ANEES is 29.6 [27.4,
 32.0] (30 dof, consistent), 0.5 m off 36.6 [33.6, 40.0], from a first range
 and bearing 109 [45, 226] (the wide interval: some runs far above the rest), while the EKF, the
-projection OC-EKF and the ideal EKF stay near 30 and Huang's OC-EKF (FEJ's
-Phi, H at the current estimates) gives 29.1 at 0.5 m and 35.8 [30.6, 42.5]
-(inconclusive) from a first range and bearing. Huang et al. (IJRR 2010) introduce
-their OC-EKF for this reason: linearisation points that keep the constraint
-and are as close as possible to the current estimates.
+projection OC-EKF and the ideal EKF stay near 30 and the Jacobian-form OC-EKF
+(FEJ's Phi, H at the current estimates projected) gives 29.1 at 0.5 m and 35.8
+[30.6, 42.5] (inconclusive) from a first range and bearing. Huang et al.'s IJRR
+2010 OC-EKF (:mod:`~observability.filters.ocijrr`) chooses points as close as
+possible to the current estimates, but its constraint ties the landmark points
+to the first estimates up to one common shift: 36.2 at 0.5 m and 105 [46, 212]
+from a first range and bearing, as FEJ.
 
 :class:`IdealEKF` is the same filter with the true states as the points (and
 so the true noise as w̃): the reference the consistency study compares with.
