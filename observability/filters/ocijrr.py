@@ -8,7 +8,10 @@ that the linearisation keeps the three unobservable directions of planar SLAM.
 Written for a planar pose (x, y, th), the first three states, followed by
 point landmarks (pairs of static states), and for outputs that depend on a
 landmark only through its position relative to the pose (range, bearing,
-relative position): the paper's setting. Other models are refused at setup.
+relative position): the paper's setting. A model whose moving states are not
+(x, y, th) is refused at setup; outputs are not checked there: with the
+analysis's N given, an output that is not invariant shows as a measurement
+constraint warning (``warnings``).
 
 With J = [[0, -1], [1, 0]], p̂_R the robot position, p̂_Li landmark i, and the
 superscript 1 a landmark's first estimate:
