@@ -62,6 +62,7 @@ def test_a_page_runs_as_written(page):
     assert out.returncode == 0, out.stderr[-3000:]
     if page.name == "filters.md":  # the consistent filters keep the analysis's 3 directions
         assert "FirstEstimatesEKF 3" in out.stdout and "ObservabilityConstrainedEKF 3" in out.stdout
+        assert "HuangOCEKF 3" in out.stdout and "Huang2010OCEKF 3" in out.stdout
 
 
 def test_the_pages_have_their_examples():

@@ -64,6 +64,7 @@ def test_the_exploration_study_keeps_three_directions():
              for i in range(4)]
     assert min(first) == 1 and any(1 < f < 40 for f in first)  # one known at once, one initialised mid-window
     records = {r["filter"]: r for r in run_slam_study(study, _serial).records}
+    # No IJRR 2010 OC-EKF: its points are derived for landmarks in the state from the start (slamstudy.NOT_RUN).
     assert {n: r["filter_unobservable_dimension"] for n, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "oc-huang": 3,
                                                                                  "ideal": 3}
     assert all(r["refused_runs"] == 0 for r in records.values())

@@ -147,7 +147,8 @@ def _serial(function, arguments, shared=None, label=""):
 def test_every_study_form_keeps_the_analysis_nullity(noise_form, bearing_only):
     """Each study's model (2 landmarks, 2 runs of 15 steps): the analysis proves
     3 directions unobservable; the EKF's linearisation keeps 2 (Huang et al.
-    2010), FEJ, both OC-EKFs and the ideal EKF keep 3, with no warning from FEJ, Huang's OC or ideal
+    2010), FEJ, the three OC-EKFs and the ideal EKF keep 3, with no warning from FEJ, the Jacobian-form
+    and IJRR 2010 OC-EKFs or ideal
     (the VIO-like model included: its N on the moving states, rows x, y, vx,
     vy, th, has full column rank, so the moving block can carry it)."""
     from observability.report.slamstudy import STUDIES, SlamStudy, run_slam_study
@@ -155,10 +156,13 @@ def test_every_study_form_keeps_the_analysis_nullity(noise_form, bearing_only):
     study = SlamStudy(name=f"form-{noise_form}", noise_form=noise_form, landmarks=2, runs=2, steps=15, window=15,
                       bearing_only=bearing_only)
     records = {r["filter"]: r for r in run_slam_study(study, _serial).records}
-    assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3,
-                                                                                        "oc-huang": 3, "ideal": 3}
+    expected = {"ekf": 2, "fej": 3, "oc": 3, "oc-huang": 3, "ideal": 3} | ({} if noise_form == "vio" else
+                                                                          {"oc-ijrr2010": 3})
+    assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == expected
     assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
     assert records["fej"]["warnings"] == [] and records["ideal"]["warnings"] == []
     assert records["oc-huang"]["warnings"] == [] and records["oc-huang"]["max_constraint_residual"] < 1e-9
+    if noise_form != "vio":  # the IJRR 2010 points are derived for a pose (x, y, th): not run on the VIO-like model
+        assert records["oc-ijrr2010"]["warnings"] == [] and records["oc-ijrr2010"]["max_constraint_residual"] < 1e-9
     assert records["oc"]["landmark_block_change"] > 1e-4  # the projection moves the landmark block (item 3)
     assert STUDIES[f"slam2d-{noise_form}" if noise_form != "odometry3" else "slam2d-range-bearing"].noise_form == noise_form

@@ -100,8 +100,8 @@ def _hand_filter(x0, P0, ys, steps, rule, truth=None, used=None):
     model file, linearised by ``rule``: "fej" (first estimates, the difference
     form of Phi), "ideal" (the truth, the difference form between true poses),
     "oc" (Phi at the posterior and H at the prior, projected onto
-    Phi N_k = N_k+1, H N_k = 0, N at the priors) or "oc-huang" (Huang et al.
-    2010's OC-EKF: Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]] between priors, the
+    Phi N_k = N_k+1, H N_k = 0, N at the priors) or "oc-huang" (the OC-EKF in
+    Jacobian form, not the IJRR 2010 paper's own (tests/test_ocekf_ijrr.py): Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]] between priors, the
     landmark block I; H at the prior replaced by H* = H - H N (N^T N)^-1 N^T,
     N at the priors' pose and the landmarks' first estimates). ``used``, a
     list, receives (Phi, N_k, N_k+1) and (H*, N_k) per step."""
@@ -194,7 +194,7 @@ def test_each_filter_equals_the_hand_written_one(model, analysis_null_space, rul
 
 
 def test_huangs_oc_ekf_uses_huangs_jacobians_and_keeps_both_constraints(model, analysis_null_space):
-    """Huang et al. 2010's OC-EKF, step by step against the numpy reference: the
+    """The Jacobian-form OC-EKF (``oc-huang``), step by step against the numpy reference: the
     Phi and H* it used equal the reference's to 1e-9; at every step H* N_k = 0
     and Phi N_k = N_k+1 with the hand-written N (Huang's eq. 30) at the
     reference's points, and Phi's landmark block is the identity (the projection
@@ -307,13 +307,13 @@ def test_the_study_writes_its_summary(tmp_path):
     folder = tmp_path / "study"
     write_slam_study(folder, SlamStudy(landmarks=3, runs=2, steps=15, window=15), _serial)
     records = {r["filter"]: r for r in json.loads((folder / "summary.json").read_text())}
-    assert set(records) == {"ekf", "fej", "oc", "oc-huang", "ideal"}
+    assert set(records) == {"ekf", "fej", "oc", "oc-huang", "oc-ijrr2010", "ideal"}
     keys = {"filter", "anees_pose", "anees_pose_bounds", "anees_pose_interval", "verdict", "fraction_in_band",
             "rmse_position", "rmse_heading", "anees_landmarks", "anees_landmarks_interval", "anis", "anis_interval",
             "gated", "warnings", "filter_unobservable_dimension", "analysis_unobservable_dimension"}
     assert all(keys <= set(r) for r in records.values())
     assert {name: r["filter_unobservable_dimension"] for name, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "oc-huang": 3,
-                                                                                        "ideal": 3}
+                                                                                        "oc-ijrr2010": 3, "ideal": 3}
     assert all(r["analysis_unobservable_dimension"] == 3 for r in records.values())
     assert records["oc"]["max_constraint_residual"] < 1e-9 and records["oc-huang"]["max_constraint_residual"] < 1e-9
     lo, hi = records["ekf"]["anees_pose_bounds"]
@@ -322,7 +322,9 @@ def test_the_study_writes_its_summary(tmp_path):
     assert records["fej"]["warnings"] == [] and records["ideal"]["warnings"] == []
     assert (folder / "nees.png").stat().st_size > 5000 and (folder / "rmse.png").stat().st_size > 5000
     page = (folder / "README.md").read_text()
-    assert "| OC-EKF (projection) |" in page and "| OC-EKF (Huang 2010) |" in page
+    # Each variant named for what it is: the Jacobian form is not the IJRR 2010 paper's filter (issue 65).
+    assert "| OC-EKF (projection) |" in page and "| OC-EKF (Jacobian form) |" in page
+    assert "| OC-EKF (Huang et al. IJRR 2010) |" in page and "Huang 2010)" not in page
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):

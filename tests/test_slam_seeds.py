@@ -27,7 +27,7 @@ def test_the_seeded_page_keeps_every_seed_and_the_agreed_word(tmp_path):
     per_seed = {s: {r["filter"]: r for r in json.loads((out / f"seed-{s}" / "summary.json").read_text())}
                 for s in (1, 2)}
     combined = {a["filter"]: a for a in json.loads((out / "summary.json").read_text())}
-    assert set(combined) == {"ekf", "fej", "oc", "oc-huang", "ideal"}
+    assert set(combined) == {"ekf", "fej", "oc", "oc-huang", "oc-ijrr2010", "ideal"}
     for name, a in combined.items():
         assert a["seeds"] == [1, 2]
         assert [r["anees_pose_interval"] for r in a["per_seed"]] == [per_seed[s][name]["anees_pose_interval"]

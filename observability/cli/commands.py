@@ -321,9 +321,8 @@ def reproduce_command(args: argparse.Namespace) -> int:
 
 
 def consistency_command(args: argparse.Namespace) -> int:
-    from ..report.consistency import ConsistencyStudy, write_consistency_report
-
     from ..parallel import engine
+    from ..report.consistency import ConsistencyStudy, write_consistency_report
 
     if args.seeds is not None and args.study in ("odometry", "slam2d-paper", "vins-msckf"):
         raise UsageError(f"--seeds: the {args.study} study takes one --seed")

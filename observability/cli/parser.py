@@ -135,9 +135,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                       "slam2d-paper", "vins-msckf"),
                              default="odometry",
                              help="odometry: the EKF family with a previous-state measurement (default); "
-                                  "slam2d-range-bearing, slam2d-bearing: EKF, FEJ-EKF, OC-EKF and ideal EKF on 2-D "
-                                  "SLAM; slam2d-odometry, slam2d-additive, slam2d-vio: the same with two odometry "
-                                  "inputs, world-frame noise, a VIO-like model; slam2d-exploration: landmarks seen within 3 m, "
+                                  "slam2d-range-bearing, slam2d-bearing: EKF, FEJ-EKF, three OC-EKFs (projection, Jacobian "
+                                  "form, Huang et al. IJRR 2010) and ideal EKF on 2-D SLAM; slam2d-odometry, "
+                                  "slam2d-additive, slam2d-vio: the same with two odometry inputs, world-frame noise, a VIO-like model; slam2d-exploration: landmarks seen within 3 m, "
                                   "each added to the state when first seen; slam2d-paper: what FEJ and OC change on the paper's simulation "
                                   "; vins-msckf: the MSCKF on visual-inertial navigation, standard, first-estimates, "
                                   "observability-constrained and ideal Jacobians (reports in OUT/STUDY)")

@@ -10,6 +10,7 @@ from .ekf import CloningEKF, ColoredNoiseEKF, ConventionalEKF, FilterError, Filt
 from .firstestimates import FirstEstimatesEKF, IdealEKF, static_states
 from .constrained import ObservabilityConstrainedEKF, null_space_function
 from .huangoc import HuangOCEKF
+from .ocijrr import Huang2010OCEKF
 from .linearized import LinearizedObservability, linearized_observability, observability_of
 from .manifolds import unit_norm
 from .montecarlo import monte_carlo
@@ -24,6 +25,7 @@ __all__ = [
     "IdealEKF",
     "GeneralizedEKF",
     "GeneralizedTotalEKF",
+    "Huang2010OCEKF",
     "HuangOCEKF",
     "LinearizedObservability",
     "ObservabilityConstrainedEKF",

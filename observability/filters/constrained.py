@@ -14,10 +14,12 @@ the analysis proved is kept:
 with N^+ the pseudo-inverse. Then every product H*_j Phi*_(j-1) ... Phi*_k N_k
 vanishes: the linearisation has at least the analysis's null space.
 
-This is the projection of Hesch et al. (T-RO 2014, OC-VINS), not Huang et
-al.'s 2010 OC-EKF (:class:`~observability.filters.huangoc.HuangOCEKF`, the
-study's ``oc-huang``): Huang keeps Phi's static (landmark) block the identity
-and takes N at the landmarks' first estimates. The projection
+This is the projection of Hesch et al. (T-RO 2014, OC-VINS), neither the
+Jacobian form (:class:`~observability.filters.huangoc.HuangOCEKF`, the
+studies' ``oc-huang``), which keeps Phi's static (landmark) block the identity
+and takes N at the landmarks' first estimates, nor the IJRR 2010 paper's
+OC-EKF (:class:`~observability.filters.ocijrr.Huang2010OCEKF`,
+``oc-ijrr2010``), which moves the linearisation points. The projection
 changes every row: with N at estimates that move between steps the landmark
 block of Phi* is no longer the identity and landmark-to-pose terms appear, so
 the landmarks' covariance changes in the prediction. ``block_change`` records,

@@ -50,11 +50,13 @@ estimates, not the code (``benchmarks/fej_landmarks.py``, range-bearing, 20
 runs, seed 7): with landmarks 0.02 m off FEJ's landmark ANEES is 29.6 [27.4,
 32.0] (30 dof, consistent), 0.5 m off 36.6 [33.6, 40.0], from a first range
 and bearing 109 [45, 226] (the wide interval: some runs far above the rest), while the EKF, the
-projection OC-EKF and the ideal EKF stay near 30 and Huang's OC-EKF (FEJ's
-Phi, H at the current estimates) gives 29.1 at 0.5 m and 35.8 [30.6, 42.5]
-(inconclusive) from a first range and bearing. Huang et al. (IJRR 2010) introduce
-their OC-EKF for this reason: linearisation points that keep the constraint
-and are as close as possible to the current estimates.
+projection OC-EKF and the ideal EKF stay near 30 and the Jacobian-form OC-EKF
+(FEJ's Phi, H at the current estimates projected) gives 29.1 at 0.5 m and 35.8
+[30.6, 42.5] (inconclusive) from a first range and bearing. Huang et al.'s IJRR
+2010 OC-EKF (:mod:`~observability.filters.ocijrr`) chooses points as close as
+possible to the current estimates, but its constraint ties the landmark points
+to the first estimates up to one common shift: 36.2 at 0.5 m and 105 [46, 212]
+from a first range and bearing, as FEJ.
 
 :class:`IdealEKF` is the same filter with the true states as the points (and
 so the true noise as w̃): the reference the consistency study compares with.
@@ -62,6 +64,7 @@ so the true noise as w̃): the reference the consistency study compares with.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 
 import casadi
@@ -173,15 +176,20 @@ class FirstEstimatesEKF(_Base):
             w = w - np.linalg.lstsq(Fw, r, rcond=None)[0]
         return w, float(np.max(np.abs(r), initial=0.0))
 
+    def _propagated(self, state: FilterState, u: Sequence[float]) -> tuple[np.ndarray, str, np.ndarray, np.ndarray,
+                                                                           np.ndarray]:
+        """The checked input, the step's name, and f, F_X, F_w at the posterior (f wrapped and retracted)."""
+        u = self._inputs(u, state.step + 1)
+        where = f"step {state.step + 1} (prediction)"
+        x_next, F, Fw = self._motion(state.x, u)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
+        return u, where, self._on_manifold(wrap_angles(x_next, self._state_angles), where), F, Fw
+
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi P Phi^T + F_w Q F_w^T with Phi = F_X(x̄_k, u, w̃)."""
-        u = self._inputs(u, state.step + 1)
-        where = f"step {state.step + 1} (prediction)"
-        x_next, _, Fw = self._motion(state.x, u)
-        if not np.all(np.isfinite(x_next)):
-            raise FilterError(f"{where}: the state estimate is not finite")
-        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
+        u, where, x_next, _, Fw = self._propagated(state, u)
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
         Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
@@ -217,8 +225,7 @@ class FirstEstimatesEKF(_Base):
         K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step,
-                          first=state.first, first_prev=state.first_prev)
+        new = dataclasses.replace(state, x=x, P=covariance.joseph(state.P, K, H, W, HP))  # the points carried as they are
         return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
 

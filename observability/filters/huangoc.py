@@ -1,4 +1,4 @@
-"""The observability-constrained EKF after Huang, Mourikis & Roumeliotis (IJRR 2010), Jacobian form.
+"""The observability-constrained EKF in Jacobian form: Huang et al.'s constraint, kept by changing Jacobians.
 
 The OC-EKF keeps the analysis's unobservable directions N(x) in the null space
 of its linearisation by changing the Jacobians only where it must, and keeps
@@ -31,12 +31,12 @@ Which OC-EKF this is: the Jacobian form of the constraint (Phi with the
 static block kept and the propagated N kept, H replaced by the nearest H*
 with H* N = 0), the form of Huang et al.'s later observability-constrained
 filters (e.g. cooperative localization, Autonomous Robots 2011) and of the
-issue that asked for it. The IJRR 2010 paper's own OC-EKF reaches the
-constraint by choosing linearisation points instead: the robot position in
-Phi and each landmark in H are moved from the current estimates by Lagrange
-multipliers of a least-squares problem (written out for 2-D SLAM in e.g.
-CAOR-MINES-ParisTech/esde, ``simulations/propagate_ocekf.m``), so its H is a
-true Jacobian at a point; that variant is not implemented here.
+issue that asked for it; the studies call it ``oc-huang`` and label it
+"OC-EKF (Jacobian form)". It is *not* the IJRR 2010 paper's own OC-EKF, which
+reaches the constraint by choosing linearisation points instead (the robot
+position in Phi and each landmark in H moved from the current estimates by
+Lagrange multipliers, so its H is a true Jacobian at a point):
+:class:`~observability.filters.ocijrr.Huang2010OCEKF`, the studies' ``oc-ijrr2010``.
 
 This differs from :class:`~observability.filters.constrained.ObservabilityConstrainedEKF`
 (Hesch et al.'s projection), which takes N at the moving estimates and
@@ -60,14 +60,14 @@ __all__ = ["HuangOCEKF"]
 
 
 class HuangOCEKF(FirstEstimatesEKF):
-    """The OC-EKF of Huang et al. 2010 (module docstring). ``null_space`` is
+    """The OC-EKF in Jacobian form (module docstring; not the IJRR 2010 paper's filter). ``null_space`` is
     N(x, p) -> n x d, e.g. :func:`~observability.filters.constrained.null_space_function`
     of the analysis (required). ``constraint.transition`` and
     ``constraint.measurement`` hold per step max ``|Phi N_k - N_k+1|`` and
     max ``|H* N_k|`` relative to 1 + max ``|N|`` (:class:`~observability.filters.constraint.ConstraintLog`);
     with ``record``, ``used`` keeps ("F" or "H", step, matrix)."""
 
-    variant = "observability-constrained (Huang 2010)"
+    variant = "observability-constrained (Jacobian form)"
 
     def __init__(self, functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, null_space: Callable,
                  parameters: Sequence[float] = (), record: bool = False) -> None:

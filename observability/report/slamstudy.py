@@ -10,8 +10,11 @@ have. The first-estimates EKF and the ideal EKF (Jacobians at the truth) are
 given the analysis's null space, keep it by construction and record a warning
 where a step cannot (:mod:`observability.filters.constraint`); of the
 observability-constrained EKFs, ``oc`` is the projection variant (Hesch et
-al.) and ``oc-huang`` Huang et al. 2010's (static block of Phi kept, H
-projected onto H N = 0). Each
+al.), ``oc-huang`` the Jacobian form (static block of Phi kept, H projected
+onto H N = 0; not the IJRR 2010 paper's own filter) and ``oc-ijrr2010`` the
+IJRR 2010 paper's OC-EKF (linearisation points by Lagrange multipliers; for a
+planar pose with landmarks known from the start: not run on the VIO-like model
+nor in the exploration study, see :data:`NOT_RUN`). Each
 Monte Carlo run is simulated once and given to every filter; runs are Dask
 tasks. Per run and step: pose NEES, landmark NEES, NIS, and how many landmarks
 the chi-square gate rejected; the verdicts come from bootstrap intervals over
@@ -27,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from ..codegen import FilterFunctions, filter_functions
-from ..filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, HuangOCEKF, IdealEKF,
+from ..filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, Huang2010OCEKF, HuangOCEKF, IdealEKF,
                        ObservabilityConstrainedEKF, chi2_bounds, nees, null_space_function)
 from ..filters.consistency import anees_interval
 from ..filters.gating import gated_update
@@ -36,9 +39,26 @@ from ..filters.manifolds import wrap_angles
 from ..parallel import Runner, run_tasks
 from .slamstudy_models import FORMS, STUDIES, SlamStudy, simulate, slam_model
 
-__all__ = ["SlamStudy", "SlamStudyResult", "STUDIES", "run_slam_study", "slam_model"]
+__all__ = ["FILTERS", "SlamStudy", "SlamStudyResult", "STUDIES", "not_run_reason", "run_slam_study", "slam_model",
+           "study_filters"]
 
-FILTERS = ("ekf", "fej", "oc", "oc-huang", "ideal")
+FILTERS = ("ekf", "fej", "oc", "oc-huang", "oc-ijrr2010", "ideal")
+#: Why a filter is not run in a study (the IJRR 2010 OC-EKF's points are derived for a pose (x, y, th) and
+#: landmarks in the state from the start).
+NOT_RUN = {"oc-ijrr2010": "the IJRR 2010 OC-EKF is derived for a planar pose (x, y, th) and landmarks known from "
+                          "the start; this study has {why}"}
+
+
+def study_filters(study: SlamStudy) -> tuple[str, ...]:
+    """The filters run in ``study`` (:data:`NOT_RUN` says why one is left out)."""
+    return tuple(name for name in FILTERS if not (name == "oc-ijrr2010" and not_run_reason(study)))
+
+
+def not_run_reason(study: SlamStudy) -> str | None:
+    """Why the IJRR 2010 OC-EKF is not run in ``study``, or None."""
+    why = ("velocity states" if study.noise_form == "vio" else
+           "landmarks added when first seen" if study.sensor_range > 0 else None)
+    return None if why is None else NOT_RUN["oc-ijrr2010"].format(why=why)
 #: Per run and step: pose NEES, squared position error, squared heading error, landmark NEES, NIS, NIS dof.
 QUANTITIES = ("pose", "position", "heading", "landmarks", "nis", "nis_dof")
 
@@ -55,10 +75,13 @@ class Shared:
 def _filters(shared: Shared, truth: np.ndarray, record: bool) -> dict:
     Q, R = shared.study.noise()
     fns, N = shared.functions, shared.null_space
-    return {"ekf": ConventionalEKF(fns, Q, R), "fej": FirstEstimatesEKF(fns, Q, R, record=record, null_space=N),
-            "oc": ObservabilityConstrainedEKF(fns, Q, R, N, record=record),
-            "oc-huang": HuangOCEKF(fns, Q, R, N, record=record),
-            "ideal": IdealEKF(fns, Q, R, truth, record=record, null_space=N)}
+    makers = {"ekf": lambda: ConventionalEKF(fns, Q, R),
+              "fej": lambda: FirstEstimatesEKF(fns, Q, R, record=record, null_space=N),
+              "oc": lambda: ObservabilityConstrainedEKF(fns, Q, R, N, record=record),
+              "oc-huang": lambda: HuangOCEKF(fns, Q, R, N, record=record),
+              "oc-ijrr2010": lambda: Huang2010OCEKF(fns, Q, R, record=record, null_space=N),
+              "ideal": lambda: IdealEKF(fns, Q, R, truth, record=record, null_space=N)}
+    return {name: makers[name]() for name in study_filters(shared.study)}
 
 
 def _errors(study: SlamStudy, truth: np.ndarray, x: np.ndarray, P: np.ndarray,
@@ -117,7 +140,7 @@ def constraint_record(name: str, ekf) -> dict:
     if name == "oc":
         return {"residual": max((r for _, r in ekf.residuals), default=0.0),
                 "block_change": np.max([c[1:] for c in ekf.block_change] or [[0.0, 0.0]], axis=0).tolist()}
-    if name == "oc-huang":
+    if name in ("oc-huang", "oc-ijrr2010"):
         return {"residual": max((r for _, r in ekf.constraint.transition + ekf.constraint.measurement), default=0.0)}
     return {}
 
@@ -190,7 +213,7 @@ def _summarise(study: SlamStudy, runs: list[dict], analysis_nullity: int) -> Sla
     lo, hi = chi2_bounds(3, study.runs)
     average, position, heading, records = {}, {}, {}, []
     outputs = len(_groups(study)) * len(_groups(study)[0])
-    for name in FILTERS:
+    for name in study_filters(study):
         values = np.array([r[name]["values"] for r in runs])  # (runs, quantities, steps)
         pose, squared_position, squared_heading, landmarks, nis, dof = (values[:, i] for i in range(len(QUANTITIES)))
         # A refused run (FilterError, counted in refused_runs) is NaN from its refusal on, left out of the means.
@@ -212,7 +235,7 @@ def _summarise(study: SlamStudy, runs: list[dict], analysis_nullity: int) -> Sla
                    "analysis_unobservable_dimension": analysis_nullity, "refused_runs": len(refused),
                    "warnings": list(runs[0][name]["warnings"]),
                    "runs_with_warnings": sum(1 for r in runs if r[name]["warnings"])}
-        if name in ("oc", "oc-huang"):
+        if name in ("oc", "oc-huang", "oc-ijrr2010"):
             record["max_constraint_residual"] = max(r[name]["residual"] for r in runs)
         if name == "oc":
             record["landmark_block_change"], record["landmark_to_pose_terms"] = np.max(

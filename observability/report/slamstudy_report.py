@@ -14,14 +14,17 @@ from ..filters import chi2_bounds
 from ..parallel import Runner
 from .files import save_figure, staged_directory, write_json, write_text
 from .slamstudy_paper import PaperComparison, compare_on_paper_simulation
-from .slamstudy import FILTERS, SlamStudy, SlamStudyResult, run_slam_study
+from .slamstudy import SlamStudy, SlamStudyResult, not_run_reason, run_slam_study
 
 __all__ = ["LABELS", "figures", "write_slam_study", "write_paper_comparison"]
 
 STYLES = {"ekf": ("tab:red", "-"), "fej": ("tab:blue", "--"), "oc": ("tab:green", "-."),
-          "oc-huang": ("tab:orange", (0, (5, 1, 1, 1))), "ideal": ("k", ":")}
-LABELS = {"ekf": "EKF", "fej": "FEJ-EKF", "oc": "OC-EKF (projection)", "oc-huang": "OC-EKF (Huang 2010)",
-          "ideal": "ideal EKF"}
+          "oc-huang": ("tab:orange", (0, (5, 1, 1, 1))), "oc-ijrr2010": ("tab:purple", (0, (3, 1))),
+          "ideal": ("k", ":")}
+#: ``oc-huang`` is the Jacobian form of the constraint (H projected, N at first estimates), not the IJRR 2010
+#: paper's filter; ``oc-ijrr2010`` is the paper's (linearisation points by Lagrange multipliers).
+LABELS = {"ekf": "EKF", "fej": "FEJ-EKF", "oc": "OC-EKF (projection)", "oc-huang": "OC-EKF (Jacobian form)",
+          "oc-ijrr2010": "OC-EKF (Huang et al. IJRR 2010)", "ideal": "ideal EKF"}
 
 
 def figures(result: SlamStudyResult, stage: Path, runs: int | None = None) -> None:
@@ -35,7 +38,7 @@ def figures(result: SlamStudyResult, stage: Path, runs: int | None = None) -> No
     runs = study.runs if runs is None else runs
     lo, hi = chi2_bounds(3, runs)
     fig, ax = plt.subplots(figsize=(7, 4))
-    for name in FILTERS:
+    for name in result.average_nees:
         color, style = STYLES[name]
         ax.plot(k, result.average_nees[name], color=color, ls=style, lw=1.2, label=LABELS[name])
     ax.axhspan(lo, hi, color="0.85", label=f"95% band ({runs} runs)")
@@ -46,7 +49,7 @@ def figures(result: SlamStudyResult, stage: Path, runs: int | None = None) -> No
     save_figure(fig, stage / "nees.png")
     plt.close(fig)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
-    for name in FILTERS:
+    for name in result.average_nees:
         color, style = STYLES[name]
         top.plot(k, result.rmse_position[name], color=color, ls=style, lw=1.2, label=LABELS[name])
         bottom.plot(k, np.degrees(result.rmse_heading[name]), color=color, ls=style, lw=1.2)
@@ -95,9 +98,13 @@ def _page(result: SlamStudyResult) -> str:
         + "The analysis of the model gives the unobservable directions N; the FEJ-EKF and the ideal EKF keep them "
         "by construction (Phi N(x_k) = N(x_k+1) on the moving block, Huang's difference form for planar odometry), "
         "the OC-EKF (projection) by projecting both Jacobians onto them (Hesch et al.'s variant, which changes the "
-        "landmark block), the OC-EKF (Huang 2010) with Phi as FEJ's but from the posterior, the landmark block the "
+        "landmark block), the OC-EKF (Jacobian form) with Phi as FEJ's but from the posterior, the landmark block the "
         "identity, and H at the current estimate replaced by the nearest H* with H* N = 0 (N at the pose's prior "
-        f"and the landmarks' first estimates). A landmark whose innovation exceeds the chi-square gate at {s.gate} "
+        "and the landmarks' first estimates; not the IJRR 2010 paper's own filter), "
+        + ("and the OC-EKF of Huang et al. (IJRR 2010) with true Jacobians at linearisation points chosen by "
+           "Lagrange multipliers as close as possible to the estimates under the observability constraint. "
+           if "oc-ijrr2010" in result.average_nees else f"and no IJRR 2010 OC-EKF ({not_run_reason(s)}). ")
+        + f"A landmark whose innovation exceeds the chi-square gate at {s.gate} "
         "is left out of that update.", "",
         "Each ANEES is the mean over runs of each run's mean over steps, with a 95% bootstrap interval over runs. "
         "Verdict: overconfident (underconfident) when the whole interval lies above (below) the chi-square band of "
@@ -114,9 +121,10 @@ def _page(result: SlamStudyResult) -> str:
                      f"{r['rmse_heading']:.4f} | {r['filter_unobservable_dimension']} / "
                      f"{r['analysis_unobservable_dimension']} | {r['runs_with_warnings']} runs |")
     oc, huang = (next(r for r in result.records if r["filter"] == name) for name in ("oc", "oc-huang"))
+    ijrr = [f", {r['max_constraint_residual']:.1e} (IJRR 2010)" for r in result.records if r["filter"] == "oc-ijrr2010"]
     lines += ["", f"The OC-EKFs' largest constraint residual max(|H N|, |Phi N_k - N_k+1|): "
-              f"{oc['max_constraint_residual']:.1e} (projection), {huang['max_constraint_residual']:.1e} (Huang "
-              "2010, relative to 1 + max |N|); the projection changed Phi's landmark rows by up to "
+              f"{oc['max_constraint_residual']:.1e} (projection), {huang['max_constraint_residual']:.1e} (Jacobian "
+              f"form){''.join(ijrr)} (the last two relative to 1 + max |N|); the projection changed Phi's landmark rows by up to "
               f"{oc['landmark_block_change']:.2g} and added landmark-to-pose terms up to "
               f"{oc['landmark_to_pose_terms']:.2g}. Filter dimensions are the nullity of the linearisation each "
               f"filter used over the first {s.window} steps of run 0."]

@@ -23,7 +23,7 @@ from ..errors import OptionError
 from ..filters.consistency import agreed_verdict
 from ..parallel import Runner
 from .files import staged_directory, write_json, write_text
-from .slamstudy import FILTERS, SlamStudy, SlamStudyResult
+from .slamstudy import SlamStudy, SlamStudyResult
 from .slamstudy_report import LABELS, figures, write_slam_study
 
 __all__ = ["SEEDED_QUANTITIES", "combine_seed_reports", "write_seeded_study"]
@@ -42,7 +42,7 @@ def _cell(record: dict, key: str, verdict: str) -> str:
 def _agreed(seeds: Sequence[int], records: Sequence[Sequence[dict]]) -> list[dict]:
     """Per filter: each seed's record and, per quantity, the verdict the seeds agree on."""
     out = []
-    for name in FILTERS:
+    for name in (r["filter"] for r in records[0]):
         per_seed = [next(r for r in seed_records if r["filter"] == name) for seed_records in records]
         out.append({"filter": name, "seeds": list(seeds), "per_seed": per_seed}
                    | {f"agreed_{verdict}": agreed_verdict([r[verdict] for r in per_seed])
@@ -81,7 +81,7 @@ def _pooled(study: SlamStudy, results: Sequence[SlamStudyResult]) -> SlamStudyRe
     """The seeds' per-step curves averaged (equal runs per seed); RMSE from the mean squared errors."""
     def mean(field: str, squared: bool = False) -> dict:
         curves = {name: np.mean([getattr(r, field)[name] ** (2 if squared else 1) for r in results], axis=0)
-                  for name in FILTERS}
+                  for name in results[0].average_nees}
         return {name: np.sqrt(c) for name, c in curves.items()} if squared else curves
 
     return SlamStudyResult(study, mean("average_nees"), mean("rmse_position", True), mean("rmse_heading", True), ())
