@@ -2,7 +2,8 @@
 
     pip install mutmut
     python benchmarks/mutation.py [GROUP ...]      # default: every group; --list shows them
-    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors)
+    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors; globs)
+    python benchmarks/mutation.py GROUP --children N # N mutants at a time (default 1: a shared machine)
 
 Each group is a set of modules and the tests that guard them. For a group the
 script clones the repository (its committed state) into a temporary directory,
@@ -794,7 +795,7 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
     )
 
 
-def run(group: str, only: list[str] | None = None) -> int:
+def run(group: str, only: list[str] | None = None, children: int = 1) -> int:
     """Mutate ``group``'s modules (``only``: just the mutants of these names, e.g. the
     survivors of an earlier run, checked again after new tests)."""
     modules, tests = GROUPS[group]
@@ -803,7 +804,7 @@ def run(group: str, only: list[str] | None = None) -> int:
         subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
         with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
             handle.write(_configuration(modules, tests))
-        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", "2", *(only or [])], cwd=clone,
+        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(children), *(only or [])], cwd=clone,
                              capture_output=True, text=True)
         if ran.returncode != 0:
             print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
@@ -836,11 +837,16 @@ def main(argv: list[str]) -> int:
         at = argv.index("--only")
         only = Path(argv[at + 1]).read_text(encoding="utf-8").split()
         argv = argv[:at] + argv[at + 2:]
+    children = 1
+    if "--children" in argv:
+        at = argv.index("--children")
+        children = int(argv[at + 1])
+        argv = argv[:at] + argv[at + 2:]
     unknown = [g for g in argv if g not in GROUPS]
     if unknown:
         print(f"unknown group {unknown[0]!r} (groups: {', '.join(GROUPS)})", file=sys.stderr)
         return 2
-    survivors = sum(run(group, only) for group in (argv or list(GROUPS)))
+    survivors = sum(run(group, only, children) for group in (argv or list(GROUPS)))
     return 1 if survivors else 0
 
 
