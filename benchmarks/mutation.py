@@ -85,7 +85,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # Unknown inputs that may be any function of time: the jet rank, the compensated fields, the verdict.
     "unknown-inputs": (["observability/rank/unknown.py", "observability/rank/compensated.py",
                         "observability/analysis/arbitrary.py"],
-                       ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
+                       ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py",
+                        "tests/test_arbitrary_verdict.py"]),
     # The input-output route for unknown constants (run with --only on _through_io_equation for uniqueness.py).
     "io-route": (["observability/identifiability/ioequation.py", "observability/identifiability/ioglobal.py",
                   "observability/identifiability/ioseries.py", "observability/identifiability/uniqueness.py",
@@ -110,7 +111,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "completion": (["observability/analysis/completion.py"], ["tests/test_completion.py", "tests/test_completion_exact.py"]),
     # The unknown-inputs verdict alone (issue 68; "unknown-inputs" holds it with the ranks).
     "arbitrary": (["observability/analysis/arbitrary.py"],
-                  ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py"]),
+                  ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py",
+                   "tests/test_arbitrary_verdict.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
