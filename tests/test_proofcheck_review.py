@@ -414,3 +414,22 @@ def test_numbers_of_the_proofs_form():
         with pytest.raises(proofcheck.Rejected) as refused:
             number(text, "v")
         assert str(refused.value) == f"v is not a number of the proof's form: {str(text)[:80]!r}"
+
+
+def test_the_series_name_a_construct_they_do_not_evaluate():
+    """A power with a symbolic exponent (x**p) is neither a rational power nor a
+    function the series know: refused with its text (what the refusal prints)."""
+    x, p = sympy.symbols("x p")
+    with pytest.raises(proofcheck.Rejected, match=r"^the checker does not evaluate 'x\*\*p'$"):
+        proofjets.rows("continuous", [x], [sympy.S.Zero], {"y": x**p}, [x], {x: sympy.S.One, p: sympy.S.Half}, {}, 0)
+
+
+def test_discrete_rows_read_the_parameters_and_count_their_products():
+    """x+ = p x, y = x at x = 2, p = 3 (p a free parameter, not a column): y_k
+    = p^k x_0, so d y_k / d x_0 = p^k = 1, 3, 9 for steps 0, 1, 2 (by hand). The
+    work counted: each step evaluates p x as 1 * p * x, two products of dual
+    numbers (the output x is read as it is), three steps: 6."""
+    x, p = sympy.symbols("x p")
+    found, products = proofjets.rows("discrete", [x], [p * x], {"y": x}, [x], {x: sympy.Integer(2), p: sympy.Integer(3)},
+                                     {}, 2)
+    assert found == {("y", 0): [1], ("y", 1): [3], ("y", 2): [9]} and products == 6
