@@ -9,6 +9,8 @@ an identity with sympy (the bracket [v, f] and v(h)), never with the engine.
 
 from __future__ import annotations
 
+import time
+
 import sympy
 
 import observability.analysis.arbitrary as arbitrary
@@ -56,7 +58,9 @@ def test_the_verdict_states_its_model_seed_orders_and_assumption():
     does (c' x3^2 - 2 x3 c = 0 has no non-zero solution a + b x3), but x3^2
     d/dx3 does (c = x3^2: 2 x3^3 - 2 x3^3 = 0), a field of degree 2. Three
     independent fields: at most 5 - 3 = 2, the rank, proven by both sides."""
+    began = time.perf_counter()
     result = analyze(_quadratic(), seed=1)
+    assert 0 <= result.seconds <= time.perf_counter() - began
     assert (result.model, result.method, result.seed, result.orders, result.rank) == ("quadratic", "random", 1, 2, 2)
     assert result.unknown_input_model == "any smooth functions of time (no derivative assumed zero)"
     assert result.observable_states == ("x1", "w") and result.observable is False
@@ -66,6 +70,21 @@ def test_the_verdict_states_its_model_seed_orders_and_assumption():
     assert _directions(result) == [("translation of x2", {"x2": 1}), ("translation of x4", {"x4": 1}),
                                    ("unnamed direction", {"x3": x3**2})]
     assert all(_is_symmetry(_quadratic(), vector) for _, vector in _directions(result))
+
+
+def test_every_target_observable_is_a_randomized_proof():
+    """x1' = x2, x2' = x3, x3' = w, y = x1: y and its first three derivatives
+    are x1, x2, x3, w (by hand), so all four are observable once order 3 is
+    read (no rule need make the rank final), a randomized proof with nothing
+    left; the seconds reported are those of this call."""
+    system = System(["x1", "x2", "x3"], {"x1": "x2", "x2": "x3", "x3": "w"}, {"y": "x1"}, unknown_inputs=["w"])
+    began = time.perf_counter()
+    result = analyze(system, seed=4)
+    assert 0 <= result.seconds <= time.perf_counter() - began
+    assert (result.rank, result.observable, result.proof, result.orders) == (4, True, "randomized", 3)
+    assert result.observable_states == ("x1", "x2", "x3", "w") and result.unobservable_directions == ()
+    assert result.details == (f"at orders 0..3 the outputs determine 4 of 4 directions "
+                              f"({_where(3, 4, result.error_probability)})")
 
 
 def test_a_seed_not_given_is_drawn_and_reported():
@@ -179,7 +198,9 @@ def test_a_budget_spent_is_said_and_keeps_what_degree_1_found(monkeypatch):
         return budgeted
 
     monkeypatch.setattr(arbitrary, "with_budget", spent_at(1))
+    began = time.perf_counter()
     result = analyze(_chain(), seed=1, max_order=0, budget=7.0)
+    assert 0 <= result.seconds <= time.perf_counter() - began
     assert asked == [(1, 7.0)] and result.observable is None
     assert result.details == (f"undecided: at orders 0..0 the outputs determine 1 of 5 directions "
                               f"({_where(0, 1, result.error_probability)}); {_cut_short_words(1, 'out of CPU time')}")
