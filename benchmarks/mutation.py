@@ -113,6 +113,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "arbitrary": (["observability/analysis/arbitrary.py"],
                   ["tests/test_unknown_inputs.py", "tests/test_unknown_inputs_decided.py",
                    "tests/test_arbitrary_verdict.py"]),
+    # The information along a recorded trajectory, window by window (issue 68).
+    "trajectory": (["observability/trajectory/windows.py", "observability/trajectory/directions.py",
+                    "observability/trajectory/results.py", "observability/trajectory/csvfiles.py"],
+                   ["tests/test_trajectory.py", "tests/test_trajectory_hardened.py", "tests/test_trajectory_wording.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
