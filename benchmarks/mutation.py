@@ -172,6 +172,10 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
     "observability.rank.proofjets.x__function__mutmut_191": "sympy.diff(phi(z)) without the variable: z is the only "
                                                             "symbol of phi(z), the one sympy takes",
+    # The 7 survivors not examined in that run (2026-12-07, second session): 6 killed by tests of
+    # test_proofcheck_review.py (a construct refused by its text; discrete rows with a parameter and their count
+    # of products), applied by hand; this one equivalent.
+    "observability.rank.proofjets.x__evaluate__mutmut_64": "the cut of a message at 81 characters instead of 80",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
        "False" for k in (2, 5)},
     # The factors a rewriting drops (group zero-factors, 2026-12-07): 190 mutants, 28 survivors in the first
@@ -204,6 +208,23 @@ EQUIVALENT: dict[str, str] = {
         "@ODEmodel( is refused just before, so there is one occurrence",
     "observability.model.sijl.x__body__mutmut_25": "depth counted with the opposite sign: it is zero at exactly "
         "the same characters",
+    # The unknown-inputs verdict (group arbitrary, issue 68, 2026-12-07): the first run's 116 survivors and the
+    # second run's are killed by tests/test_arbitrary_verdict.py (applied by hand, then by mutmut), but these.
+    **{f"observability.analysis.arbitrary.x_arbitrary_inputs_verdict__mutmut_{k}": "the seed drawn when none is "
+       "given: any range gives a seed, and it is reported" for k in (4, 5, 6)},
+    **{f"observability.analysis.arbitrary.x_arbitrary_inputs_verdict__mutmut_{k}": "the result's time left to its "
+       "default or None: unknown inputs exist only in continuous time (System refuses them in discrete time), the "
+       "default" for k in (49, 58)},
+    **{f"observability.analysis.arbitrary.x__independent__mutmut_{k}": "another rational point (or an integer one) "
+       "for the fields' independence: fields with a non-zero minor at any point are independent, so the upper bound "
+       "is as certain; only fields dependent exactly at the point drawn would be counted fewer (none of the suite's)"
+       for k in (2, 3, 6, 7, 8, 13, 14, 15, 20, 21)},
+    **{f"observability.analysis.arbitrary.x__independent__mutmut_{k}": "the order the fields are tried in: it only "
+       "chooses which of fields parallel at the point is shown, and in which order; the number chosen (the rank of "
+       "them all at the point, a greedy choice reaches it in any order) and every claim are the same"
+       for k in (30, 31, 33, 34)},
+    **{f"observability.analysis.arbitrary.x__symmetries__mutmut_{k}": "the initial (fields, degree): the loop's "
+       "first pass (degree 1) assigns both or returns, so they are never read" for k in (10, 11, 14)},
     # The completion of the observable functions (issue 68, 2026-12-07): 181 mutants, 135 killed, 1 timeout,
     # 45 survivors; their re-runs: 30 killed by tests/test_completion_exact.py, these 14 equivalent, and
     # _grown__mutmut_6 (orders 0..n-1 instead of 0..n) left unclassified: with inputs a Lie derivative's

@@ -433,3 +433,14 @@ def test_discrete_rows_read_the_parameters_and_count_their_products():
     found, products = proofjets.rows("discrete", [x], [p * x], {"y": x}, [x], {x: sympy.Integer(2), p: sympy.Integer(3)},
                                      {}, 2)
     assert found == {("y", 0): [1], ("y", 1): [3], ("y", 2): [9]} and products == 6
+
+
+def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_name():
+    """y = x1 with x1' = x2' = 0 (rank 1 of 2, by hand: x2 never reaches y): a rank-1
+    proof needs 2 - 1 = 1 generator; with none it cannot bound the rank, and the
+    refusal says so in numbers."""
+    proof = _proof("pair", ["x1", "x2"], {"y": "x1"}, [["y", 0]], {"x1": "1", "x2": "2"}, "1")
+    with pytest.raises(proofcheck.Rejected, match="^0 generators cannot bound the rank of 2 states by 1$"):
+        proofcheck.check(proof)
+    proof["upper_bound"]["generators"] = [{"name": "v", "vector": {"x2": "1"}}]
+    assert proofcheck.check(proof).startswith(f"accepted: {CLAIM.format('pair', 1, 2)}")
