@@ -222,7 +222,7 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.arbitrary.x__independent__mutmut_{k}": "the order the fields are tried in: it only "
        "chooses which of fields parallel at the point is shown, and in which order; the number chosen (the rank of "
        "them all at the point, a greedy choice reaches it in any order) and every claim are the same"
-       for k in (30, 31, 33, 34)},
+       for k in (31, 33, 34)},
     **{f"observability.analysis.arbitrary.x__symmetries__mutmut_{k}": "the initial (fields, degree): the loop's "
        "first pass (degree 1) assigns both or returns, so they are never read" for k in (10, 11, 14)},
     # The completion of the observable functions (issue 68, 2026-12-07): 181 mutants, 135 killed, 1 timeout,

@@ -9,6 +9,7 @@ an identity with sympy (the bracket [v, f] and v(h)), never with the engine.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import sympy
@@ -85,6 +86,23 @@ def test_every_target_observable_is_a_randomized_proof():
     assert result.observable_states == ("x1", "x2", "x3", "w") and result.unobservable_directions == ()
     assert result.details == (f"at orders 0..3 the outputs determine 4 of 4 directions "
                               f"({_where(3, 4, result.error_probability)})")
+
+
+def test_a_rank_the_proven_symmetries_contradict_is_not_claimed(monkeypatch):
+    """A wrong point (the event the stated probability bounds) is simulated by
+    a jet rank that says x2 is observable, or that the rank is 3: on _quadratic
+    the three proven fields move x2 and leave at most 5 - 3 = 2, so either
+    contradicts them, and nothing is claimed: undecided, the fields listed."""
+    original = arbitrary.jet_rank
+    for wrong in ({"observable": ("x1", "x2", "w")}, {"rank": 3}):
+        monkeypatch.setattr(arbitrary, "jet_rank", lambda *a, **k: dataclasses.replace(original(*a, **k), **wrong))
+        began = time.perf_counter()
+        result = analyze(_quadratic(), seed=1)
+        assert 0 <= result.seconds <= time.perf_counter() - began
+        assert (result.rank, result.observable, result.error_probability, result.proof) == (None, None, None, None)
+        assert len(result.unobservable_directions) == 3
+        assert result.details.startswith("undecided: at orders 0..2 the outputs determine ")
+        assert result.details.endswith("leave at most 2; the symmetries contradict the rank found (a wrong point?)")
 
 
 def test_a_seed_not_given_is_drawn_and_reported():
