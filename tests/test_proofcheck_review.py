@@ -439,7 +439,8 @@ def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_nam
     """y = x1 with x1' = x2' = 0 (rank 1 of 2, by hand: x2 never reaches y): a rank-1
     proof needs 2 - 1 = 1 generator; with none it cannot bound the rank, and the
     refusal says so in numbers. A proof that does not name the kind of its upper
-    bound has generators of symmetries (the first format), and is read so."""
+    bound has generators of symmetries (the first format), and is read so; a
+    kind the checker does not know is refused by name."""
     proof = _proof("pair", ["x1", "x2"], {"y": "x1"}, [["y", 0]], {"x1": "1", "x2": "2"}, "1")
     with pytest.raises(proofcheck.Rejected, match="^0 generators cannot bound the rank of 2 states by 1$"):
         proofcheck.check(proof)
@@ -447,3 +448,6 @@ def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_nam
     assert proofcheck.check(proof).startswith(f"accepted: {CLAIM.format('pair', 1, 2)}")
     del proof["upper_bound"]["kind"]
     assert proofcheck.check(proof).startswith(f"accepted: {CLAIM.format('pair', 1, 2)}")
+    proof["upper_bound"]["kind"] = "orbits"
+    with pytest.raises(proofcheck.Rejected, match="^unknown kind of upper bound 'orbits' for continuous time$"):
+        proofcheck.check(proof)
