@@ -215,6 +215,9 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.analysis.arbitrary.x_arbitrary_inputs_verdict__mutmut_{k}": "the result's time left to its "
        "default or None: unknown inputs exist only in continuous time (System refuses them in discrete time), the "
        "default" for k in (49, 58)},
+    "observability.analysis.arbitrary.x_arbitrary_inputs_verdict__mutmut_177": "<= for < in 'fewer found than "
+        "targets': on this line every target is found only without trust (the trusted case returned above), where "
+        "final is False, and with no name moved (one found and moved returned above), so the second part is false",
     **{f"observability.analysis.arbitrary.x__independent__mutmut_{k}": "another rational point (or an integer one) "
        "for the fields' independence: fields with a non-zero minor at any point are independent, so the upper bound "
        "is as certain; only fields dependent exactly at the point drawn would be counted fewer (none of the suite's)"

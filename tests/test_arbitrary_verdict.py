@@ -219,7 +219,7 @@ def test_a_budget_spent_is_said_and_keeps_what_degree_1_found(monkeypatch):
     began = time.perf_counter()
     result = analyze(_chain(), seed=1, max_order=0, budget=7.0)
     assert 0 <= result.seconds <= time.perf_counter() - began
-    assert asked == [(1, 7.0)] and result.observable is None
+    assert asked == [(1, 7.0)] and result.observable is None and result.proof is None
     assert result.details == (f"undecided: at orders 0..0 the outputs determine 1 of 5 directions "
                               f"({_where(0, 1, result.error_probability)}); {_cut_short_words(1, 'out of CPU time')}")
     monkeypatch.setattr(arbitrary, "with_budget", spent_at(2))
