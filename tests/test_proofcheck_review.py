@@ -414,3 +414,40 @@ def test_numbers_of_the_proofs_form():
         with pytest.raises(proofcheck.Rejected) as refused:
             number(text, "v")
         assert str(refused.value) == f"v is not a number of the proof's form: {str(text)[:80]!r}"
+
+
+def test_the_series_name_a_construct_they_do_not_evaluate():
+    """A power with a symbolic exponent (x**p) is neither a rational power nor a
+    function the series know: refused with its text (what the refusal prints)."""
+    x, p = sympy.symbols("x p")
+    with pytest.raises(proofcheck.Rejected, match=r"^the checker does not evaluate 'x\*\*p'$"):
+        proofjets.rows("continuous", [x], [sympy.S.Zero], {"y": x**p}, [x], {x: sympy.S.One, p: sympy.S.Half}, {}, 0)
+
+
+def test_discrete_rows_read_the_parameters_and_count_their_products():
+    """x+ = p x, y = x at x = 2, p = 3 (p a free parameter, not a column): y_k
+    = p^k x_0, so d y_k / d x_0 = p^k = 1, 3, 9 for steps 0, 1, 2 (by hand). The
+    work counted: each step evaluates p x as 1 * p * x, two products of dual
+    numbers (the output x is read as it is), three steps: 6."""
+    x, p = sympy.symbols("x p")
+    found, products = proofjets.rows("discrete", [x], [p * x], {"y": x}, [x], {x: sympy.Integer(2), p: sympy.Integer(3)},
+                                     {}, 2)
+    assert found == {("y", 0): [1], ("y", 1): [3], ("y", 2): [9]} and products == 6
+
+
+def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_name():
+    """y = x1 with x1' = x2' = 0 (rank 1 of 2, by hand: x2 never reaches y): a rank-1
+    proof needs 2 - 1 = 1 generator; with none it cannot bound the rank, and the
+    refusal says so in numbers. A proof that does not name the kind of its upper
+    bound has generators of symmetries (the first format), and is read so; a
+    kind the checker does not know is refused by name."""
+    proof = _proof("pair", ["x1", "x2"], {"y": "x1"}, [["y", 0]], {"x1": "1", "x2": "2"}, "1")
+    with pytest.raises(proofcheck.Rejected, match="^0 generators cannot bound the rank of 2 states by 1$"):
+        proofcheck.check(proof)
+    proof["upper_bound"]["generators"] = [{"name": "v", "vector": {"x2": "1"}}]
+    assert proofcheck.check(proof).startswith(f"accepted: {CLAIM.format('pair', 1, 2)}")
+    del proof["upper_bound"]["kind"]
+    assert proofcheck.check(proof).startswith(f"accepted: {CLAIM.format('pair', 1, 2)}")
+    proof["upper_bound"]["kind"] = "orbits"
+    with pytest.raises(proofcheck.Rejected, match="^unknown kind of upper bound 'orbits' for continuous time$"):
+        proofcheck.check(proof)
