@@ -15,7 +15,7 @@ point with exact arithmetic:
   Jacobian of both lists together has the rank of each);
 * field: whether each of our functions lies in SI.jl's field and each of SI.jl's
   generators in ours (Dong, Goodbrake, Harrington and Pogudin's membership test,
-  :mod:`observability.rank.membership`, at a random integer point of the sampling
+  :mod:`observability.identifiability.membership`, at a random integer point of the sampling
   range for error probability 1/100 per direction), under a CPU budget. SI.jl's
   field is that of the *globally* identifiable functions; ours may list functions
   that are only locally observable (SEIRT: alpha and lambda, which a mirror swaps,
@@ -49,7 +49,7 @@ from observability.budget import Undecided, with_budget
 from observability.errors import ObservabilityError
 from observability.model.expressions import parse_expression, split_top_level
 from observability.model.sijl import _unreserved, parse_si_model
-from observability.rank.membership import contained, sampling_range
+from observability.identifiability.membership import contained, sampling_range
 
 RESULT = "result_(normalforms, 2)_with_states"
 TIMINGS = "timings_(normalforms, 2)_with_states"
@@ -73,7 +73,7 @@ def _generators(text: str, names: dict[str, sympy.Symbol], source: str) -> list[
 def _contained(generators: list[sympy.Expr], tested: list[sympy.Expr], coordinates: list[sympy.Symbol],
                seed: int) -> tuple[bool, ...]:
     """Each of ``tested`` (algebraic over Q(generators)) in Q(generators), at a random
-    point of the sampling range for error 1/100 (:mod:`observability.rank.membership`)."""
+    point of the sampling range for error 1/100 (:mod:`observability.identifiability.membership`)."""
     pairs = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in generators]
     targets = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
     degree = lambda pair: (polynomial_degree(pair[0], coordinates), polynomial_degree(pair[1], coordinates))  # noqa: E731

@@ -18,7 +18,7 @@ from observability.identifiability.uniqueness import GLOBAL_ERROR, global_observ
 from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
-from observability.rank.membership import contained
+from observability.identifiability.membership import contained
 
 X, Y = sympy.symbols("x y")
 

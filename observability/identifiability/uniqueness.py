@@ -19,7 +19,7 @@ Q(B, L(B)), within Q(T)) and P'(t) != 0 (characteristic 0). So Q(T) is closed
 under L and contains every Lie derivative. (In discrete time the shift only
 makes t o F algebraic over Q(T), so no such truncation is claimed: refused.)
 
-**Membership, with a stated probability**: :func:`observability.rank.membership.field_contains`
+**Membership, with a stated probability**: :func:`observability.identifiability.membership.field_contains`
 (Dong, Goodbrake, Harrington, Pogudin 2023, Theorem 3.3), at a random integer
 point, after adjoining the states a transcendence basis over K needs (a
 non-zero minor of the Jacobian of T at an exact rational point certifies their
