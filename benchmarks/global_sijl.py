@@ -6,8 +6,11 @@ maintainers' machine (2023, ``id_total``). For each model this script reads the 
 ``.jl`` file, runs the local verdict and then the global analysis
 (:func:`observability.identifiability.uniqueness.global_observability`) under a CPU budget,
 and prints the states and unknown constants found globally observable, only locally,
-and undecided, whether the field of globally observable functions was decided, and
-the time of the global step. Not a test: SI.jl's code is not part of this
+and undecided (the undecided by name), whether the field of globally observable
+functions was decided, the global step's wall time and CPU time (this process and its
+children: msolve, the modular route), and each answer checked against the field SI.jl
+stored (a "globally" name must lie in it, an "only locally" one must not: see
+:func:`identifiable.against_field`), then how many models had every name decided. Not a test: SI.jl's code is not part of this
 repository; fetch its repository and point the script at the results folder::
 
     python benchmarks/global_sijl.py PATH/TO/benchmarking/IdentifiableFunctions/results [--budget 60] [MODEL ...]
@@ -19,34 +22,48 @@ says how far apart the two are, not which is faster.
 
 from __future__ import annotations
 
+import resource
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
-from identifiable import TIMINGS, arguments, print_table, si_seconds
+from identifiable import TIMINGS, against_field, arguments, print_table, si_seconds
 
 from observability import analyze
 from observability.identifiability.uniqueness import global_observability
 from observability.model.sijl import parse_si_model
 
 
+def _cpu() -> float:
+    """CPU seconds of this process and of its children that have ended (msolve, the modular route)."""
+    return sum(u.ru_utime + u.ru_stime for u in (resource.getrusage(resource.RUSAGE_SELF),
+                                                 resource.getrusage(resource.RUSAGE_CHILDREN)))
 
-def row(folder: Path, budget: float) -> str:
-    """One model's line of the table."""
+
+def row(folder: Path, budget: float, decided: list[str]) -> str:
+    """One model's line of the table; its name joins ``decided`` when no name is left undecided."""
     name = folder.name
     system = parse_si_model((folder / f"{name}.jl").read_text(), str(folder), name=name)
     result = analyze(system, seed=1, directions=False)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), _cpu()
     answer = global_observability(system, result, seed=3, budget=budget)
-    seconds = time.perf_counter() - start
+    seconds, cpu = time.perf_counter() - start, _cpu() - cpu
     field = "-" if answer.field is None else ("yes" if answer.field.generates else "?")
+    if not answer.undecided:
+        decided.append(name)
+    check = against_field(folder, system, answer.globally, answer.only_locally, budget)
     return (f"| {name} | {system.n} | {result.rank} | {len(answer.globally)} | {len(answer.only_locally)} "
-            f"| {len(answer.undecided)} | {field} | {seconds:.1f} | {si_seconds(folder):.1f} |")
+            f"| {len(answer.undecided)} {' '.join(answer.undecided)} | {field} | {seconds:.1f} | {cpu:.1f} "
+            f"| {si_seconds(folder):.1f} | {check} |")
 
 
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], TIMINGS, 60.0, "CPU seconds for the global step")
-    print_table("model | n | rank | global | only local | undecided | field generated | ours s | SI.jl s", folders, budget, row)
+    decided: list[str] = []
+    print_table("model | n | rank | global | only local | undecided | field generated | ours s (wall) | ours s (CPU) "
+                "| SI.jl s | against SI.jl's field", folders, budget, partial(row, decided=decided))
+    print(f"\nevery name decided: {len(decided)} of {len(folders)} models", flush=True)
     return 0
 
 

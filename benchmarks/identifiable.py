@@ -15,7 +15,7 @@ point with exact arithmetic:
   Jacobian of both lists together has the rank of each);
 * field: whether each of our functions lies in SI.jl's field and each of SI.jl's
   generators in ours (Dong, Goodbrake, Harrington and Pogudin's membership test,
-  :mod:`observability.rank.membership`, at a random integer point of the sampling
+  :mod:`observability.identifiability.membership`, at a random integer point of the sampling
   range for error probability 1/100 per direction), under a CPU budget. SI.jl's
   field is that of the *globally* identifiable functions; ours may list functions
   that are only locally observable (SEIRT: alpha and lambda, which a mirror swaps,
@@ -37,7 +37,7 @@ import argparse
 import random
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import sympy
@@ -47,9 +47,10 @@ from observability.analysis.completion import jacobian_rank_at
 from observability.identifiability.rationalmodel import polynomial_degree
 from observability.budget import Undecided, with_budget
 from observability.errors import ObservabilityError
+from observability.model.system import System
 from observability.model.expressions import parse_expression, split_top_level
 from observability.model.sijl import _unreserved, parse_si_model
-from observability.rank.membership import contained, sampling_range
+from observability.identifiability.membership import contained, sampling_range
 
 RESULT = "result_(normalforms, 2)_with_states"
 TIMINGS = "timings_(normalforms, 2)_with_states"
@@ -73,7 +74,7 @@ def _generators(text: str, names: dict[str, sympy.Symbol], source: str) -> list[
 def _contained(generators: list[sympy.Expr], tested: list[sympy.Expr], coordinates: list[sympy.Symbol],
                seed: int) -> tuple[bool, ...]:
     """Each of ``tested`` (algebraic over Q(generators)) in Q(generators), at a random
-    point of the sampling range for error 1/100 (:mod:`observability.rank.membership`)."""
+    point of the sampling range for error 1/100 (:mod:`observability.identifiability.membership`)."""
     pairs = [sympy.fraction(sympy.cancel(sympy.together(g))) for g in generators]
     targets = [sympy.fraction(sympy.cancel(sympy.together(f))) for f in tested]
     degree = lambda pair: (polynomial_degree(pair[0], coordinates), polynomial_degree(pair[1], coordinates))  # noqa: E731
@@ -85,6 +86,31 @@ def _contained(generators: list[sympy.Expr], tested: list[sympy.Expr], coordinat
             break
     jacobian = [[sympy.diff(n / d, c).xreplace(point) for c in coordinates] for n, d in pairs]
     return contained(pairs, targets, coordinates, point, jacobian)
+
+
+def against_field(folder: Path, system: System, globally: Sequence[str], only_locally: Sequence[str],
+                  budget: float) -> str:
+    """Our answers checked against the field SI.jl stored for the model in ``folder``
+    (generators of the field of globally identifiable functions): a "globally" name must
+    lie in it, an "only locally" one must not (:func:`_contained`, error 1/100 a name,
+    under ``budget`` CPU seconds each; "?" where it ran out)."""
+    stored = folder / RESULT  # absent where SI.jl's run did not finish (JAK-STAT 1, ...)
+    if not stored.exists():
+        return "no stored field"
+    names = {s.name: s for s in system.states}
+    theirs = _generators(stored.read_text(), names, f"{folder}/{RESULT}")
+    disagreements, unknown = [], 0
+    for item, expected in (*((g, True) for g in globally), *((g, False) for g in only_locally)):
+        try:
+            found = with_budget(_contained, theirs, [names[item]], list(system.states), 3, seconds=budget)[0]
+        except Undecided:
+            unknown += 1
+            continue
+        if found != expected:
+            disagreements.append(item)
+    if disagreements:
+        return "disagrees: " + ", ".join(disagreements)
+    return "agrees" + (f" ({unknown} ?)" if unknown else "")
 
 
 def compare(folder: Path, budget: float) -> dict[str, object]:

@@ -25,12 +25,11 @@ import sys
 import time
 from pathlib import Path
 
-from identifiable import RESULT, _contained, _generators, arguments, print_table, si_seconds
+from identifiable import RESULT, against_field, arguments, print_table, si_seconds
 
 from observability import analyze
 from observability.identifiability import uniqueness
 from observability.identifiability.rationalmodel import rational_model
-from observability.budget import Undecided, with_budget
 from observability.model.prepare import prepare
 from observability.model.sijl import parse_si_model
 
@@ -49,25 +48,7 @@ def row(folder: Path, budget: float) -> str:
     answer = uniqueness._through_io_equation(prepared, model, result, tuple(result.observable_states or ()),
                                              "not run", orders, 3, uniqueness.GLOBAL_ERROR, budget)
     seconds = time.perf_counter() - start
-    names = {s.name: s for s in system.states}
-    stored = folder / RESULT  # absent where SI.jl's run did not finish (JAK-STAT 1, ...)
-    theirs = _generators(stored.read_text(), names, f"{folder}/{RESULT}") if stored.exists() else None
-    disagreements, unknown = [], 0
-    checked = [*((g, True) for g in answer.globally), *((g, False) for g in answer.only_locally)]
-    for item, expected in checked if theirs is not None else ():
-        try:
-            found = with_budget(_contained, theirs, [names[item]], list(system.states), 3, seconds=budget)[0]
-        except Undecided:
-            unknown += 1
-            continue
-        if found != expected:
-            disagreements.append(item)
-    if theirs is None:
-        check = "no stored field"
-    elif disagreements:
-        check = "disagrees: " + ", ".join(disagreements)
-    else:
-        check = "agrees" + (f" ({unknown} ?)" if unknown else "")
+    check = against_field(folder, system, answer.globally, answer.only_locally, budget)
     return (f"| {name} | {len(system.outputs)} | {', '.join(answer.globally)} | {', '.join(answer.only_locally)} "
             f"| {len(answer.undecided)} of {len(result.observable_states or ())} | {seconds:.1f} "
             f"| {si_seconds(folder):.1f} | {check} |")

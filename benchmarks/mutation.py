@@ -63,18 +63,18 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                 "observability/identifiability/fibre.py",
                 "observability/identifiability/rationalmodel.py",
                 "observability/identifiability/generators.py", "observability/identifiability/globalfield.py",
-                "observability/engine/jets.py", "observability/rank/membership.py", "observability/rank/ideal.py",
-                "observability/rank/pairs.py"],
+                "observability/engine/jets.py", "observability/identifiability/membership.py", "observability/identifiability/ideal.py",
+                "observability/identifiability/pairs.py"],
                ["tests/test_global.py", "tests/test_global_field.py", "tests/test_ideal.py", "tests/test_global_exact.py",
                 "tests/test_pairs.py", "tests/test_modular_field.py"]),
-    "modular": (["observability/rank/transfer.py", "observability/rank/primefield.py",
+    "modular": (["observability/identifiability/transfer.py", "observability/identifiability/primefield.py",
                  "observability/identifiability/modularfibre.py"], ["tests/test_modular.py", "tests/test_pairs.py",
                                                          "tests/test_modular_field.py"]),
     # The field decided modulo primes (run with --only on its functions' mutants: the modules are shared with
     # "global" and "modular", whose tests are too slow to run per mutant of a budgeted child's callers).
     "modular-field": (["observability/identifiability/generators.py", "observability/identifiability/globalfield.py",
                        "observability/identifiability/uniqueness.py", "observability/identifiability/modularfibre.py",
-                       "observability/rank/membership.py"],
+                       "observability/identifiability/membership.py"],
                       ["tests/test_modular_field.py", "tests/test_global_exact.py", "tests/test_global_field.py",
                        "tests/test_global.py", "tests/test_modular.py"]),
     # The budgeted runs and the two routes side by side (run with --only on BudgetedRun, with_budget and
@@ -93,13 +93,13 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                   "observability/identifiability/iofield.py", "observability/identifiability/ioprojection.py"],
                  ["tests/test_io_equation.py", "tests/test_io_projection.py"]),
     # The radical range (certificate (iii)) and the functions it changed (run with --only on their names).
-    "reduced-fibre": (["observability/identifiability/reducedfibre.py", "observability/rank/membership.py",
+    "reduced-fibre": (["observability/identifiability/reducedfibre.py", "observability/identifiability/membership.py",
                        "observability/identifiability/fibre.py", "observability/identifiability/modularfibre.py",
                        "observability/identifiability/uniqueness.py", "observability/identifiability/generators.py",
                        "observability/identifiability/globalfield.py"],
                       ["tests/test_reduced_fibre.py", "tests/test_modular.py", "tests/test_modular_field.py",
                        "tests/test_global_exact.py", "tests/test_global_field.py", "tests/test_global.py"]),
-    "pairs": (["observability/rank/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
+    "pairs": (["observability/identifiability/pairs.py"], ["tests/test_pairs.py", "tests/test_ideal.py", "tests/test_modular.py"]),
     # The factors a rewriting drops, proven non-zero first (issue 61, item 1).
     "zero-factors": (["observability/intervals.py", "observability/model/squareroots.py"],
                      ["tests/test_zero_factors.py", "tests/test_balls.py", "tests/test_proof.py"]),
@@ -584,11 +584,11 @@ EQUIVALENT: dict[str, str] = {
        "whatever the arguments' values; only eps = 0 is special-cased, before the call" for k in (
         "xǁ_AtIdentityǁ_circle__mutmut_7", "xǁ_AtIdentityǁ_exp0__mutmut_6", "xǁ_AtIdentityǁ_log0__mutmut_6",
         "xǁ_AtIdentityǁ_atan0__mutmut_6", "xǁ_AtIdentityǁ_atan0__mutmut_7", "xǁ_AtIdentityǁ_atan0__mutmut_9")},
-    **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "the name of a Dummy: a Dummy is a new symbol "
+    **{f"observability.identifiability.ideal.x_saturated_basis__mutmut_{k}": "the name of a Dummy: a Dummy is a new symbol "
        "whatever its name" for k in (2, 3, 4)},
-    "observability.rank.ideal.x_saturated_basis__mutmut_10": "t c - 1 with a constant saturation c only fixes t = 1/c: "
+    "observability.identifiability.ideal.x_saturated_basis__mutmut_10": "t c - 1 with a constant saturation c only fixes t = 1/c: "
         "the polynomials free of t in the ideal are the same",
-    **{f"observability.rank.ideal.x_saturated_basis__mutmut_{k}": "t s + 1 or t s - 2 instead of t s - 1: any t s - c "
+    **{f"observability.identifiability.ideal.x_saturated_basis__mutmut_{k}": "t s + 1 or t s - 2 instead of t s - 1: any t s - c "
        "with c != 0 makes s invertible, the same saturation" for k in (13, 15)},
     # rank/proof.py and report/proofs.py (issue 32, 2026-12-04)
     **{f"observability.rank.proof.{name}__mutmut_{k}": "a term's sign of 2 or -2, or >= 0 for > 0: _sum reads only "
@@ -659,14 +659,14 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.identifiability.uniqueness.x__generation__mutmut_{k}": "the label of the printed functions' "
        "parsing, read only in the error of a text that does not parse: they are the verdict's own output, "
        "printed from parsed expressions" for k in (31, 35, 36)},
-    "observability.rank.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
+    "observability.identifiability.ideal.x__interreduced__mutmut_15": "interreduction stopped when the count stops changing: "
         "Buchberger's algorithm needs only generators of the ideal, and the basis is reduced at its end",
-    "observability.rank.ideal.xǁReducedBasisǁ__init____mutmut_5": "the conversion field's own order (lex for "
+    "observability.identifiability.ideal.xǁReducedBasisǁ__init____mutmut_5": "the conversion field's own order (lex for "
         "degrevlex): it only turns expressions into term dictionaries and back; the ring the basis lives in is "
         "degrevlex",
-    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_8": "math.lcm of no argument is 1 (a zero "
+    "observability.identifiability.ideal.xǁReducedBasisǁ_polynomial__mutmut_8": "math.lcm of no argument is 1 (a zero "
         "polynomial), as with the 1 in front",
-    "observability.rank.ideal.xǁReducedBasisǁ_polynomial__mutmut_10": "the common denominator doubled: a non-zero "
+    "observability.identifiability.ideal.xǁReducedBasisǁ_polynomial__mutmut_10": "the common denominator doubled: a non-zero "
         "constant multiple, which generates the same ideal and is a member exactly when the polynomial is",
     **{f"observability.model.expressions.x_parse_value__mutmut_{k}": "the defaults of msg and offset: on the "
        "Python 3.11 here a null byte is a SyntaxError with both (the ValueError of earlier 3.11 releases, which has "
@@ -680,7 +680,7 @@ EQUIVALENT: dict[str, str] = {
     # killed by tests added after the run, _spolynomial's '+' is left unclassified (with the flint-mod-p group's
     # S-polynomials with a doubled multiplier: each reduces to +-S whenever a or b is the first divisor whose leading
     # monomial divides the lcm, which the chain criterion makes usual but not certain), these are equivalent
-    **{f"observability.rank.transfer.{name}__mutmut_{k}": why for why, names in {
+    **{f"observability.identifiability.transfer.{name}__mutmut_{k}": why for why, names in {
         "a larger bound (a coefficient, a degree, a start of 1 or one more bit): a larger exponent or prime only "
         "lowers the error it states": (("x_transfer_exponent", (28, 29)), ("x__bound", (2, 3, 16, 32)),
                                        ("x_eliminated_size", (55, 56)), ("x_prime_bits", (11, 16))),
@@ -705,7 +705,7 @@ EQUIVALENT: dict[str, str] = {
         "a candidate the screen rejects must still pass Miller-Rabin, whose error is the one stated":
             (("x_random_prime", (14,)),),
     }.items() for name, numbers in names for k in numbers},
-    **{f"observability.rank.primefield.{name}__mutmut_{k}": why for why, names in {
+    **{f"observability.identifiability.primefield.{name}__mutmut_{k}": why for why, names in {
         "the marker's name, power (w^2: the filler becomes w^4) or sign, or the marked multiple of p added back "
         "(0 mod p on that branch)": (("xǁIntegerPrimeRingǁ__init__", (6, 7, 15)),
                                      ("xǁIntegerPrimeRingǁ_remainder", (4, 14))),
@@ -732,8 +732,8 @@ EQUIVALENT: dict[str, str] = {
         "a row negated (the same equation), or no accumulation (no two terms of one row share a monomial)":
             (("x__jacobian_row", (12, 13)),),
     }.items() for name, numbers in names for k in numbers},
-    # rank/pairs.py (issue 27, 2026-12-04): 229 killed, 2 timeouts, these 16 equivalent
-    **{f"observability.rank.pairs.{name}__mutmut_{k}": why for why, names in {
+    # identifiability/pairs.py (issue 27, 2026-12-04): 229 killed, 2 timeouts, these 16 equivalent
+    **{f"observability.identifiability.pairs.{name}__mutmut_{k}": why for why, names in {
         "a capacity (initial rows, growth test, the alive flags): arrays only grow sooner or larger, and only their "
         "first size rows are read": (("xǁ_Rowsǁ__init__", (6,)), ("xǁ_Rowsǁextend", (2,)),
                                      ("xǁCriticalPairsǁ__init__", (14,)), ("xǁCriticalPairsǁ_push", (60,))),

@@ -1,5 +1,5 @@
-"""The prime field's Groebner bases (:mod:`observability.rank.primefield`: quasi-division over Z, whose
-coefficients grow by p's size a reduction step), beside msolve's F4 (:mod:`observability.rank.msolve`,
+"""The prime field's Groebner bases (:mod:`observability.identifiability.primefield`: quasi-division over Z, whose
+coefficients grow by p's size a reduction step), beside msolve's F4 (:mod:`observability.identifiability.msolve`,
 where installed) modulo the largest prime it takes (2^31 - 1) and over Q. The workload is Katsura-n (a
 standard Groebner basis benchmark, n + 1 unknowns) modulo primes of the sizes
 the transfer lemma asks for on SI.jl's models (64 to 1,000 bits). Prints CPU
@@ -16,8 +16,8 @@ import time
 
 import sympy
 
-from observability.rank import msolve
-from observability.rank.primefield import groebner_basis_mod_p, prime_ring
+from observability.identifiability import msolve
+from observability.identifiability.primefield import groebner_basis_mod_p, prime_ring
 
 #: Primes of 64, 127, 521 and 1,279 bits (Mersenne primes but the first, 2^64 - 59).
 PRIMES = (2**64 - 59, 2**127 - 1, 2**521 - 1, 2**1279 - 1)

@@ -1,4 +1,4 @@
-"""msolve's basis over Q certified (:mod:`observability.rank.certifiedbasis`): the certified basis is
+"""msolve's basis over Q certified (:mod:`observability.identifiability.certifiedbasis`): the certified basis is
 sympy's reduced basis (an independent Buchberger implementation), and a wrong candidate, one
 check at a time, is refused. The engine is played by sympy's ``groebner`` over Q and modulo p
 where a test says so, so that the certificate is tested without the binary; the real engine's runs
@@ -12,8 +12,8 @@ import flint
 import pytest
 import sympy
 
-from observability.rank import certifiedbasis, ideal, msolve
-from observability.rank.certifiedbasis import certified_basis
+from observability.identifiability import certifiedbasis, ideal, msolve
+from observability.identifiability.certifiedbasis import certified_basis
 
 INSTALLED = pytest.mark.skipif(msolve.engine() is None, reason="msolve is not installed")
 RING = flint.fmpz_mpoly_ctx.get(("x", "y", "z"), "degrevlex")

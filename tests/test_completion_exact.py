@@ -9,7 +9,7 @@ import sympy
 from observability import System
 from observability.analysis import completion
 from observability.analysis.completion import _coefficients, _rational, completed, jacobian_rank_at
-from observability.rank.membership import RANK_PRIME
+from observability.engine.echelon import RANK_PRIME
 
 X1, X2, X3, U, V = sympy.symbols("x1 x2 x3 u v")
 

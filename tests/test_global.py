@@ -22,7 +22,7 @@ from observability.identifiability.rationalmodel import degree_bounds, rational_
 from observability.model.prepare import prepare
 from observability.engine.jets import jet_equations
 from observability.model.sijl import parse_si_model
-from observability.rank.membership import groebner_contains, sampling_range
+from observability.identifiability.membership import groebner_contains, sampling_range
 
 
 def _answer(system: System):

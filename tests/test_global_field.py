@@ -18,7 +18,7 @@ from observability import System, analyze
 from observability.identifiability.uniqueness import global_observability
 from observability.model.expressions import parse_expression
 from observability.model.sijl import parse_si_model
-from observability.rank.membership import contained
+from observability.identifiability.membership import contained
 
 
 def _generators(system: System, seed: int = 3):

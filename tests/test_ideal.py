@@ -1,4 +1,4 @@
-"""Reduced Groebner bases and ideal membership on flint polynomials (:mod:`observability.rank.ideal`),
+"""Reduced Groebner bases and ideal membership on flint polynomials (:mod:`observability.identifiability.ideal`),
 against sympy's ``groebner`` (an independent implementation, in Python).
 
 A reduced Groebner basis is unique for an ideal and an order, so ours must equal sympy's polynomial by
@@ -11,7 +11,7 @@ import random
 
 import sympy
 
-from observability.rank.ideal import ReducedBasis, saturated_basis
+from observability.identifiability.ideal import ReducedBasis, saturated_basis
 
 x, y, z, w = sympy.symbols("x y z w")
 

@@ -801,7 +801,7 @@ def test_the_lowering_s_jacobian_modulo_the_prime_is_sympy_s_reduced():
     variable left out of the columns. x' = 1, y = x truncated at order 0 (T = {x}, K = Q(x)): its one row is taken at order 0,
     and "one past it" would ask for a Lie derivative not computed: the given order is kept."""
     from observability.identifiability.iofield import _jacobian_mod_prime, field_members
-    from observability.rank.membership import RANK_PRIME
+    from observability.engine.echelon import RANK_PRIME
 
     u, v, w = sympy.symbols("u v w")
     field = sympy.polys.fields.FracField([u, v, w], sympy.QQ)

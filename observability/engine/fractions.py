@@ -38,7 +38,7 @@ class RationalFunctions:
 
     The variables are ordered lexicographically as given (so that division by
     a relation such as s^2 + c^2 - 1 eliminates the first variable's powers),
-    or by ``order`` ("degrevlex" for the normal forms of :mod:`observability.rank.ideal`).
+    or by ``order`` ("degrevlex" for the normal forms of :mod:`observability.identifiability.ideal`).
     """
 
     def __init__(self, symbols: Sequence[sympy.Symbol], order: str = "lex") -> None:

@@ -12,7 +12,13 @@ polynomials (:mod:`.rationalmodel`, :mod:`.outputforms`, :mod:`.constantfield`,
 primes :mod:`.modularfibre`, its range :mod:`.reducedfibre`), the field's
 generators (:mod:`.generators`, :mod:`.globalfield`) and the input-output
 route (:mod:`.ioequation`, :mod:`.ioseries`, :mod:`.ioglobal`,
-:mod:`.ioprojection`, :mod:`.iofield`) are its steps.
+:mod:`.ioprojection`, :mod:`.iofield`) are its steps. Beneath them, the
+ideals they ask about: membership in a field of rational functions
+(:mod:`.membership`), Groebner bases over Q (:mod:`.ideal`, with msolve's
+basis certified exactly in :mod:`.certifiedbasis` and run by :mod:`.msolve`)
+and modulo a prime (:mod:`.primefield`, its prime's size from
+:mod:`.transfer`), Gebauer and Moeller's pairs (:mod:`.pairs`) and the
+monomial order (:mod:`.order`).
 
 The name: ``global`` is a Python keyword, and "global identifiability" is the
 field's word (SIAN, StructuralIdentifiability.jl) for the same question with

@@ -10,7 +10,7 @@ share a's outputs, with those coordinates; a function f = n/d of the
 coordinates is constant on them, i.e. lies in the field the outputs determine,
 exactly when n d(a) - n(a) d lies in the ideal, saturated at the model's
 denominators (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3, at a point
-drawn from a range that bounds the error: :func:`~observability.rank.membership.sampling_range`).
+drawn from a range that bounds the error: :func:`~observability.identifiability.membership.sampling_range`).
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from ..engine.jets import JetEquations, jet_equations
 from ..engine.lie import input_derivative
 from ..errors import ModelError
 from ..model.system import System
-from ..rank.ideal import ReducedBasis, saturated_basis
-from ..rank.membership import completing_columns, exact_rank, rank_mod_prime, sampling_range
+from .ideal import ReducedBasis, saturated_basis
+from .membership import completing_columns, exact_rank, rank_mod_prime, sampling_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree
 from .reducedfibre import radical_range
 
@@ -76,7 +76,7 @@ def fibre_equations(system: System, model: RationalModel, orders: dict[str, int]
                     rng: random.Random, modular: bool, given: tuple[sympy.Symbol, ...] = ()) -> FibreEquations | str:
     """The fibre's equations through a random point with coordinates in [-bound,
     bound], or why not: the Jacobian of the Lie derivatives below ``rank`` there.
-    ``modular``: its ranks modulo a prime (:func:`~observability.rank.membership.rank_mod_prime`,
+    ``modular``: its ranks modulo a prime (:func:`~observability.identifiability.membership.rank_mod_prime`,
     a full rank certain), for points of thousands of bits. ``given``: coordinates
     whose initial values are known (:mod:`.knownvalues`), fixed at the point like
     the adjoined ones; ``rank`` is then the rank with them."""

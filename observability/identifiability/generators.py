@@ -11,13 +11,13 @@ Q(u)(g) gives K(u) = Q(u)(g), and intersecting with Q(x) gives K = Q(g), the
 input jets being transcendental over Q(x). Here (b): with the g of transcendence degree
 the rank (the verdict's ``functions_complete``, certain), every Lie derivative
 is algebraic over Q(g), so the test of Dong, Goodbrake, Harrington and Pogudin
-(2023, Thm 3.3; :mod:`observability.rank.membership`) applies to the ideal of
+(2023, Thm 3.3; :mod:`observability.identifiability.membership`) applies to the ideal of
 Q(g) (Mueller-Quade and Steinwandt's: num_i(x) den_i(a) - num_i(a) den_i(x),
 saturated at the denominators) at a random integer point a, with coordinates
 adjoined at their values until the transcendence degree is full.
 
 Either answer may be wrong at a bad point, with probability at most ``error``
-(the sampling range of :func:`~observability.rank.membership.sampling_range`);
+(the sampling range of :func:`~observability.identifiability.membership.sampling_range`);
 the caller adds it to the verdict's error probability.
 """
 
@@ -32,7 +32,7 @@ import sympy
 
 from ..engine.fractions import RationalFunctions
 from ..engine.lie import input_derivative
-from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
+from .membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .modularfibre import contained_modulo_prime
 from .reducedfibre import field_radical_range
 from .rationalmodel import RationalModel, degree_bounds, polynomial_degree

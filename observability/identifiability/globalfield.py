@@ -37,7 +37,7 @@ from typing import Any
 import sympy
 
 from ..engine.lie import input_derivative
-from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
+from .membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .generators import generate_the_field, lie_derivatives_of_outputs, reduced_pair
 from .modularfibre import contained_modulo_prime
 from .reducedfibre import field_radical_range
@@ -158,7 +158,7 @@ def _irredundant(listed: Sequence[tuple[str, tuple[sympy.Expr, sympy.Expr]]], ca
     """The candidates left out, in turn: one lies in the field of the others kept when
     those have the transcendence degree ``rank`` (exact Jacobian rank at the point, so
     it is algebraic over them) and the membership test of
-    :func:`~observability.rank.membership.contained` says so, each at ``error``
+    :func:`~observability.identifiability.membership.contained` says so, each at ``error``
     (``modular``: decided modulo primes, kept when they leave it undecided). The
     field is unchanged by each removal, so the list still generates it. Also
     returns the error the primes add."""

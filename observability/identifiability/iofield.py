@@ -65,7 +65,7 @@ of L written as A(t) / B(t) over Q(G), in t independent over L, is a ratio of
 two of their coefficients), and a state or constant lies in K exactly when it
 lies in Q(G).
 
-**Membership** in Q(G): the test of :mod:`observability.rank.membership` in all
+**Membership** in Q(G): the test of :mod:`observability.identifiability.membership` in all
 coordinates (states, constants, the inputs' derivatives), at a random integer
 point, with its error probability; the tested items are locally observable,
 so algebraic over K, as the test needs, and the point is used only when the
@@ -86,8 +86,8 @@ from typing import Any
 import flint
 import sympy
 
+from ..engine.echelon import RANK_PRIME
 from ..engine.lie import input_derivative
-from ..rank.membership import RANK_PRIME
 from .generators import lie_derivatives_of_outputs, reduced_pair
 from .ioequation import InputOutputEquation
 from .ioglobal import (checked_equation, contained_at_random_point, fixed_by, generating_ratios, point_error,

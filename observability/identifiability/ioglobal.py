@@ -21,7 +21,7 @@ With P = sum_j c_j(theta) m_j(y-jets, u-jets) the input-output equation of
   it), so rank N - 1 there is certain; below it the positive answers stay
   undecided.
 - **Membership** of each constant in F: Dong, Goodbrake, Harrington and
-  Pogudin's test at a random integer point (:mod:`observability.rank.membership`),
+  Pogudin's test at a random integer point (:mod:`observability.identifiability.membership`),
   with its error probability, for constants algebraic over F: a locally
   observable constant is algebraic over the field of identifiable functions
   (Hong, Ovchinnikov, Pogudin, Yap, "Global identifiability of differential
@@ -52,7 +52,7 @@ from typing import Any
 import flint
 import sympy
 
-from ..rank.membership import contained, exact_rank, rank_mod_prime, sampling_range
+from .membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_output_equation
 from .ioseries import evaluate_series, quotient
 from .rationalmodel import RationalModel, polynomial_degree
@@ -313,7 +313,7 @@ def contained_at_random_point(generators: Sequence[tuple[sympy.Expr, sympy.Expr]
                               rank: int | None = None, functions: Sequence[tuple[sympy.Expr, sympy.Expr]] = ()
                               ) -> tuple[bool, ...] | None:
     """Each tested symbol, then each of ``functions`` (reduced n / d pairs), in
-    Q(n / d : (n, d) in generators), by :func:`~observability.rank.membership.contained`
+    Q(n / d : (n, d) in generators), by :func:`~observability.identifiability.membership.contained`
     at a point drawn from its sampling range where no denominator vanishes (the
     functions' denominators too); None when ``rank`` is given and the generators'
     Jacobian there (modulo a prime, a lower bound) does not reach it."""

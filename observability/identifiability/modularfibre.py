@@ -22,12 +22,12 @@ unless a is a bad point: the error the exact route states too). Over C:
   except with the probability that module states, and nothing is computed.
 
 Whether each of these systems has a common zero over C is decided modulo a
-random prime of the size :mod:`observability.rank.transfer` derives from the
+random prime of the size :mod:`observability.identifiability.transfer` derives from the
 system's variables, degree and coefficient norms, or those of the equivalent
 system with the definitions substituted (a polynomial model's jets, and the v
 of each jet in the Jacobian's rows), whichever bound is smaller; its error
 probabilities are added to the answer's. The prime field's Groebner bases are
-:mod:`observability.rank.primefield`'s.
+:mod:`observability.identifiability.primefield`'s.
 """
 
 from __future__ import annotations
@@ -40,9 +40,9 @@ from typing import Any
 
 import sympy
 
-from ..rank.membership import exact_rank, field_ideal, rank_mod_prime
-from ..rank.primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
-from ..rank.transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
+from .membership import exact_rank, field_ideal, rank_mod_prime
+from .primefield import PrimeRing, extend_basis, groebner_basis_mod_p, is_one, prime_ring, reduce_mod
+from .transfer import prime_bits, prime_error, random_prime, saturated_definitions, system_exponent
 from .fibre import FibreEquations
 
 __all__ = ["ModularAnswers", "members_modulo_prime", "contained_modulo_prime", "PRIME_ERROR"]
@@ -153,7 +153,7 @@ def contained_modulo_prime(generators: Sequence[tuple[sympy.Expr, sympy.Expr]],
                            tested: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
                            point: dict, jacobian: Sequence[Sequence[sympy.Expr]], rng: random.Random,
                            radical_error: float | None = None) -> ModularAnswers | str:
-    """:func:`~observability.rank.membership.contained`, decided modulo random primes.
+    """:func:`~observability.identifiability.membership.contained`, decided modulo random primes.
 
     Its ideal (Mueller-Quade and Steinwandt's, at ``point``, saturated at the
     generators' denominators) is a fibre in this module's sense, the coordinates

@@ -19,7 +19,7 @@ S_j(a) = {F_a, t Q - 1, J v = 0, v_j - 1} (v in as many variables as (z, t))
 has no zero over the closure of Q(a), for every j, when a is generic.
 
 **Specialisation.** By the effective Nullstellensatz (the bound of
-:mod:`observability.rank.transfer`) e, the unit vector of the monomial 1, is
+:mod:`observability.identifiability.transfer`) e, the unit vector of the monomial 1, is
 then in the column space of S_j's Macaulay matrix M over Q(a), of rank rho <= R
 (R the number of its rows). The equations are scaled by their values'
 denominators (non-zero at a drawn point: a pole is redrawn), so M's entries are
@@ -43,7 +43,7 @@ their denominators multiplied out).
 
 **The field's ideal.** Mueller-Quade and Steinwandt's ideal at a (the
 generators' n_i(x) d_i(a) - n_i(a) d_i(x), coordinates fixed at their values,
-saturated at prod d_i: :func:`~observability.rank.membership.field_ideal`) is
+saturated at prod d_i: :func:`~observability.identifiability.membership.field_ideal`) is
 the fibre through a of (x, k) -> (n_i / d_i, the fixed coordinates, k), so
 the same argument gives :func:`field_radical_range`: its unknowns are the
 coordinates and t, its equations' degrees those of the generators (and

@@ -19,7 +19,7 @@ Q(B, L(B)), within Q(T)) and P'(t) != 0 (characteristic 0). So Q(T) is closed
 under L and contains every Lie derivative. (In discrete time the shift only
 makes t o F algebraic over Q(T), so no such truncation is claimed: refused.)
 
-**Membership, with a stated probability**: :func:`observability.rank.membership.field_contains`
+**Membership, with a stated probability**: :func:`observability.identifiability.membership.field_contains`
 (Dong, Goodbrake, Harrington, Pogudin 2023, Theorem 3.3), at a random integer
 point, after adjoining the states a transcendence basis over K needs (a
 non-zero minor of the Jacobian of T at an exact rational point certifies their
@@ -35,7 +35,11 @@ every zero is membership; its ranks are taken modulo a fixed prime (a full
 rank is certain), since exact elimination on numbers of hundreds of thousands
 of bits would cost more than the basis.
 
-**Through the input-output equations, when neither finishes.** The unknown
+**Through the input-output equations, when neither finishes** within
+:data:`FIBRE_FIRST` seconds (then, where this route leaves a name undecided,
+the fibre's route again with the whole budget; the answer is each route's own,
+with its own argument, so the order changes the time, never an answer's
+guarantee). The unknown
 constants are then decided, with several outputs first from the outputs'
 projections eliminated together (:mod:`.ioprojection`: only "globally"), then
 from each output's input-output equation (:mod:`.ioglobal`: its coefficients'
@@ -93,6 +97,12 @@ GLOBAL_ERROR = 1e-6
 #: CPU seconds the exact route runs alone before the modular one starts beside it: most bases over
 #: Q end well within them, and no second process is spent on those.
 ALONE = 2.0
+#: CPU seconds a route the fibre's first try has, before the input-output route runs with the whole
+#: budget (the fibre's route gets its whole budget again only where that route leaves a name
+#: undecided): the fibres that end, end within them on most of SI.jl's benchmark models, while the
+#: input-output route decides in seconds models whose fibre's basis does not end in minutes (Goodwin
+#: 0.6 s: its whole budget spent on the fibre first made it 646 s of wall time on a loaded machine).
+FIBRE_FIRST = 10.0
 
 
 def global_observability(system: System, result: ObservabilityResult, *, seed: int = 0, error: float = GLOBAL_ERROR,
@@ -160,17 +170,22 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         return GlobalVerdict((), (), local, None, f"undecided: {orders}")
     used = ", ".join(f"{name} 0..{k}" for name, k in orders.items())
     arguments = (prepared, model, orders, rank, local, [f for _, f in functions], error, seed)
-    try:
-        decided = _over_q_then_modulo_primes(partial(_decide, given=given.names) if given else _decide, arguments,
-                                             (True,), budget)
-    except Undecided as exc:
-        decided = (f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)")
+    fibre = partial(_fibre, partial(_decide, given=given.names) if given else _decide, arguments, used)
+    first = budget if given or budget is None else min(budget, FIBRE_FIRST)
+    decided = fibre(first)
     if isinstance(decided, str) and given:
         return GlobalVerdict((), (), local, None, f"undecided: {decided}; the input-output route does not take known "
                              f"initial values; {given.how}")
     if isinstance(decided, str):
-        return carried_over(_through_io_equation(prepared, model, result, local, decided, orders, seed, error, budget,
-                                                 functions), model.output_forms, [name for name, _ in prepared.outputs])
+        through_io = carried_over(_through_io_equation(prepared, model, result, local, decided, orders, seed, error,
+                                                       budget, functions),
+                                  model.output_forms, [name for name, _ in prepared.outputs])
+        if not through_io.undecided or first == budget:
+            return through_io
+        decided = fibre(budget)
+        if isinstance(decided, str):
+            return replace(through_io, details=f"{through_io.details}; the fibre's route again, with the whole "
+                                               f"budget: {decided}")
     members, bits, probability, angles, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
     index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
@@ -399,6 +414,14 @@ def _budgeted(func: Any, budget: float | None, *arguments: Any) -> Any:
         return with_budget(func, *arguments, seconds=budget)
     except Undecided as exc:
         return str(exc)
+
+
+def _fibre(decide: Any, arguments: tuple, used: str, budget: float | None) -> tuple | str:
+    """The fibre's answers (:func:`_decide`'s tuple) within ``budget`` a route, or why not."""
+    try:
+        return _over_q_then_modulo_primes(decide, arguments, (True,), budget)
+    except Undecided as exc:
+        return f"{exc} (the Lie derivatives {used}, their field's Groebner basis at a point, the mirrors)"
 
 
 def _over_q_then_modulo_primes(func: Any, arguments: tuple, modular: tuple, budget: float | None) -> Any:

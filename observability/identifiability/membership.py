@@ -33,13 +33,11 @@ from collections.abc import Callable, Sequence
 import flint
 import sympy
 
+from ..engine.echelon import RANK_PRIME
 from .ideal import saturated_basis
 
 __all__ = ["sampling_range", "groebner_contains", "exact_rank", "rank_mod_prime", "completing_columns", "contained",
-           "field_ideal", "RANK_PRIME"]
-
-#: The prime of :func:`rank_mod_prime` (Mersenne, below 2^64 for flint's word-size matrices).
-RANK_PRIME = 2**61 - 1
+           "field_ideal"]
 
 
 def sampling_range(generators: Sequence[tuple[int, int]], tested: Sequence[tuple[int, int]], variables: int,
@@ -75,7 +73,7 @@ def exact_rank(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> int:
 
 
 def rank_mod_prime(rows: Sequence[Sequence[sympy.Expr]], columns: int) -> int:
-    """The rank modulo :data:`RANK_PRIME` of a matrix of rationals: at most its rank
+    """The rank modulo :data:`~observability.engine.echelon.RANK_PRIME` of a matrix of rationals: at most its rank
     over Q (a minor's reduction is the reduced matrix's minor), so a full rank is
     certain, and cheap where the entries have hundreds of thousands of bits. An
     entry whose denominator the prime divides sends the matrix to :func:`exact_rank`."""
