@@ -38,13 +38,22 @@ def _bound_self(seconds: float, parent: int) -> None:
     CPU time than the budget (RLIMIT_CPU: SIGXCPU at the soft limit, SIGKILL at
     the hard one). (Linux's PR_SET_PDEATHSIG, reached through ctypes, did the
     first: the package keeps no ctypes, issue 66.)"""
+    os.setpgid(0, 0)  # its own process group, so that a program it starts (msolve) is killed with it
     limit = math.ceil(seconds) + 2
     with contextlib.suppress(ValueError, OSError):
         resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
-    signal.signal(signal.SIGALRM, lambda *_: os.getppid() != parent and os._exit(1))
+    signal.signal(signal.SIGALRM, lambda *_: os.getppid() != parent and _end_group())
     signal.setitimer(signal.ITIMER_REAL, _WATCH, _WATCH)  # not inherited by the child's own children
     if os.getppid() != parent:  # the parent died before the timer was set
-        os._exit(1)
+        _end_group()
+
+
+def _end_group() -> None:
+    """The child and every program it started in its group (a budgeted child of its own leads its own
+    group and watches this one in turn), killed."""
+    if os.getpgrp() == os.getpid():  # never the group of the command that started it
+        os.killpg(0, signal.SIGKILL)
+    os._exit(1)
 
 
 #: Seconds between two looks at the parent.
@@ -118,6 +127,8 @@ class BudgetedRun:
         # Not daemonic: a budgeted step may start another (its child dies with it).
         self.process = context.Process(target=_child, args=(child, func, args, seconds, os.getpid()))
         self.process.start()
+        with contextlib.suppress(ProcessLookupError, PermissionError):  # as the child does: either may be first
+            os.setpgid(self.process.pid, self.process.pid)
         child.close()
         self.began = time.monotonic()
 
@@ -166,10 +177,13 @@ class BudgetedRun:
             raise _no_answer(self.process, seconds, "the symbolic computation ended without an answer") from None
 
     def stop(self) -> None:
-        """The child killed, if still running, and reaped."""
+        """The child and the programs it started (its process group: msolve run by a child killed at its
+        budget kept running until its own CPU limit, issue 66) killed, if still running, and reaped. The
+        group is killed before the child is reaped, while its number cannot name another group."""
         if self.process is not None:
-            if self.process.is_alive():
-                self.process.kill()
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                os.killpg(self.process.pid, signal.SIGKILL)
+            self.process.kill()  # a child not yet its group's leader; nothing if it ended
             self.process.join()
 
 
