@@ -112,7 +112,22 @@ class _Buffered:
             # A matrix is passed transposed: the C order of M^T is casadi's column order of M.
             array[:] = value.ravel() if isinstance(value, np.ndarray) and value.ndim > 1 else value
         self.evaluate()
+        if self.buffer.ret() != 0:  # the buffers still hold the previous call's results: never return them
+            raise EvaluationFailed(f"casadi could not evaluate {self.function.name()!r} at these values")
         return [out.T.copy() for out in self.outputs]
+
+
+class EvaluationFailed(FilterError):
+    """A casadi Function's evaluation failed (e.g. the fused update's solve at a pivot near 1e-12): the
+    fused steps then take the numpy route for that step, which computes it or names what is wrong."""
+
+
+def _fused(call: _Buffered, *args) -> list[np.ndarray] | None:
+    """A fused step's results, or None where casadi could not evaluate it (the step is then numpy's)."""
+    try:
+        return call(*args)
+    except EvaluationFailed:
+        return None
 
 
 def _quiet(method):
@@ -221,10 +236,8 @@ class _Base:
         """Eqs. (6)-(7): x = f(x, u, 0), P = F_X P F_X^T + F_w Q F_w^T (one casadi call; above
         FUSED_STATES states numpy, F_X applied to its moving rows only)."""
         u = self._inputs(u, state.step + 1)
-        if self._in_numpy:
-            x, P, health = *self._numpy_predict(state.x, state.P, u), []
-        else:
-            x, P, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        fused = None if self._in_numpy else _fused(self._predict_call, state.x, state.P.T, u, self.p)
+        x, P, *health = fused or self._numpy_predict(state.x, state.P, u)
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, P, x_prev=state.x, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
@@ -244,6 +257,13 @@ class _Base:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
         if self._in_numpy:
             return self._numpy_update(state, values, used, u)
+        try:
+            return self._fused_update(call, state, values, used, u)
+        except EvaluationFailed:
+            return self._numpy_update(state, values, used, u)
+
+    def _fused_update(self, call: _Buffered, state: FilterState, values: np.ndarray, used: list[int],
+                      u: Sequence[float]) -> Update:
         m = len(self.fn.outputs)
         measured, mask = self._masked(values, used)
         x_prev = state.x if state.x_prev is None else state.x_prev
@@ -356,10 +376,8 @@ class CloningEKF(_Base):
 
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         u = self._inputs(u, state.step + 1)
-        if self._in_numpy:
-            x, joint, health = *self._numpy_joint(state.x, state.P, u), []
-        else:
-            x, joint, *health = self._predict_call(state.x, state.P.T, u, self.p)
+        fused = None if self._in_numpy else _fused(self._predict_call, state.x, state.P.T, u, self.p)
+        x, joint, *health = fused or self._numpy_joint(state.x, state.P, u)
         n = self.n
         x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
         new = FilterState(x, joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
@@ -379,8 +397,11 @@ class CloningEKF(_Base):
             return self._numpy_cloning_update(state, values, used)
         n, m = self.n, len(self.fn.outputs)
         measured, mask = self._masked(values, used)
-        z, joint, innovation, S, *health = self._update_call(
-            np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask, self.p)
+        try:
+            z, joint, innovation, S, *health = self._update_call(
+                np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask, self.p)
+        except EvaluationFailed:
+            return self._numpy_cloning_update(state, values, used)
         z = z.ravel()
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
