@@ -110,6 +110,7 @@ class Huang2010OCEKF(FirstEstimatesEKF):
                               f"as the first three states and point landmarks after it; this model moves states "
                               f"{[functions.states[i] for i in moving]}")
         self.landmarks = (self.n - 3) // 2
+        _check_planar_invariance(self)
         if null_space is None:
             self.constraint.first.pop("unchecked", None)
             self.constraint.note("unchecked", None, "no null space was given: the constraints hold by the "
@@ -122,7 +123,7 @@ class Huang2010OCEKF(FirstEstimatesEKF):
         prior = state.x if state.prior is None else state.prior
         point = state.x if state.first is None else state.first
         shift = point[:2] - prior[:2]
-        which = np.arange(self.landmarks) if observed is None else np.array(observed, dtype=int)
+        which = np.arange(self.landmarks) if observed is None else _indices(observed, where)
         if which.size and (which.min() < 0 or which.max() >= self.landmarks):
             raise FilterError(f"{where}: observed landmarks must be indices in 0..{self.landmarks - 1}")
         slots = 3 + 2 * which[:, None] + np.arange(2)
@@ -148,3 +149,53 @@ class Huang2010OCEKF(FirstEstimatesEKF):
         point = np.r_[x[:3], first[3:] - np.tile(shift, self.landmarks)]
         _, H, H_prev = self._measurement(point, x_prev)
         return h, H, H_prev
+
+
+def _moved(x: np.ndarray, angle: float, shift: np.ndarray) -> np.ndarray:
+    """The planar pose and point landmarks ``x`` turned by ``angle`` about the origin, then shifted."""
+    c, s = np.cos(angle), np.sin(angle)
+    turn = np.array([[c, -s], [s, c]])
+    points = x[np.r_[0:2, 3:len(x)]].reshape(-1, 2) @ turn.T + shift
+    moved = x.copy()
+    moved[:2], moved[2], moved[3:] = points[0], x[2] + angle, points[1:].ravel()
+    return moved
+
+
+def _check_planar_invariance(ekf: Huang2010OCEKF, tries: int = 3) -> None:
+    """Refuses a model the IJRR 2010 filter is not derived for: its closed form assumes that turning and
+    shifting the whole plane (robot and landmarks) changes no measurement and commutes with the motion
+    (the three unobservable directions of planar SLAM). A world-frame velocity input or a GPS-like output
+    breaks that and was accepted (adversarial review of issue 65). Checked numerically at ``tries`` random
+    points, angles and inputs (seeded), to 1e-9 relative; outputs declared angles modulo 2 pi."""
+    rng = np.random.default_rng(2010)
+    for _ in range(tries):
+        x, u = rng.normal(0, 2, ekf.n), rng.normal(0, 0.5, ekf.n_inputs)
+        x[2] = rng.uniform(-np.pi, np.pi)
+        angle, shift = rng.uniform(-np.pi, np.pi), rng.normal(0, 2, 2)
+        gx = _moved(x, angle, shift)
+        h, gh = ekf._measurement(x, x)[0], ekf._measurement(gx, gx)[0]
+        difference = gh - h
+        angles = np.array(ekf._output_angles, dtype=bool)
+        difference[angles] = (difference[angles] + np.pi) % (2 * np.pi) - np.pi
+        moved_next = _moved(ekf._motion(x, u)[0], angle, shift)
+        motion = ekf._motion(gx, u)[0] - moved_next
+        motion[2] = (motion[2] + np.pi) % (2 * np.pi) - np.pi
+        scale = 1 + max(np.max(np.abs(h)), np.max(np.abs(moved_next)))
+        if not (np.max(np.abs(difference), initial=0) <= 1e-9 * scale and np.max(np.abs(motion)) <= 1e-9 * scale):
+            raise FilterError("Huang2010OCEKF setup: the IJRR 2010 OC-EKF is derived for models unchanged when the "
+                              "whole plane is turned and shifted (planar SLAM's three unobservable directions); "
+                              "this model's " + ("measurements change" if np.max(np.abs(difference), initial=0)
+                                                 > 1e-9 * scale else "motion does not commute with it"))
+
+
+def _indices(observed: Sequence[int], where: str) -> np.ndarray:
+    """The observed landmarks as distinct integer indices, or a FilterError naming the step (0.7 was read
+    as 0, and a landmark named twice counted twice in the multipliers' sum)."""
+    try:
+        values = np.array(observed, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise FilterError(f"{where}: observed landmarks must be integer indices, got {observed!r}"[:200]) from None
+    if not np.all(np.isfinite(values)) or np.any(values != np.round(values)) or len(set(values)) != len(values):
+        raise FilterError(f"{where}: observed landmarks must be distinct integer indices, got {observed!r}"[:200])
+    return values.astype(int)
+
