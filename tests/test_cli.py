@@ -60,7 +60,7 @@ def test_models_lists_builtins():
     out = run("models")
     assert out.returncode == 0
     assert [line.split()[0] for line in out.stdout.splitlines()] == ["slam1.5d-beacon", "slam1.5d", "slam1.5d-disparity", "slam2d",
-                                                                 "slam3d", "vins"]
+                                                                 "slam3d", "vins", "vins2d"]
 
 
 def test_model_file(tmp_path):
