@@ -32,7 +32,7 @@ def rank_on_set(
     common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
                   unobservable_directions=(), time=system.time, row_labels=result.row_labels,
                   unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
-                  restriction=f"the set {where.text}")
+                  restriction=where.described())
     rank = result.rank
     reason = ""
     if result.dependence is not None:
