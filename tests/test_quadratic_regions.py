@@ -43,8 +43,8 @@ def _sympy_classification(g, variables):
         if rank >= 2:
             return ("thin" if minimum == 0 else "connected"), forms
         return "unknown", ()
-    if A.is_negative_semidefinite and minimum > 0:
-        return "convex", forms
+    if A.is_negative_semidefinite:  # g <= m everywhere: {g > 0} is convex (m > 0) or empty
+        return ("convex", forms) if minimum > 0 else ("negative" if minimum < 0 else "nonpositive", ())
     return "unknown", ()
 
 
@@ -68,10 +68,10 @@ def test_the_classification_equals_sympys_on_random_small_quadratics():
         kind, forms = _sympy_classification(g, variables)
         found = _quadratic(g, variables)
         assert found.kind == kind, g
-        if kind not in ("all", "unknown"):
+        if kind not in ("all", "unknown", "negative", "nonpositive"):
             assert found.forms == forms, g
         kinds.add(kind)
-    assert kinds == {"all", "thin", "connected", "convex", "unknown"}  # every case was exercised
+    assert kinds == {"all", "thin", "connected", "convex", "unknown", "negative", "nonpositive"}  # every case was exercised
 
 
 def test_semidefiniteness_equals_sympys_on_random_symmetric_matrices():

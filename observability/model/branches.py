@@ -63,9 +63,10 @@ from dataclasses import dataclass
 import flint
 import sympy
 
+from ..errors import ModelError
 from .system import System
 
-__all__ = ["Region", "region", "qualifier"]
+__all__ = ["Region", "region", "qualifier", "refuse_unreal"]
 
 #: Functions single-valued and analytic on every real point (entire).
 _ENTIRE = (sympy.sin, sympy.cos, sympy.exp, sympy.sinh, sympy.cosh)
@@ -219,8 +220,9 @@ def _quadratic(g: sympy.Expr, variables: list[sympy.Symbol]) -> _Set:
         if rank >= 2:
             return _Set("thin" if minimum == 0 else "connected", forms)
         return _Set("unknown")
-    if _semidefinite([[-x for x in row] for row in hessian]) and minimum > 0:
-        return _Set("convex", forms)
+    if _semidefinite([[-x for x in row] for row in hessian]):
+        # A <= 0: g <= m everywhere, with equality at v0; m <= 0 leaves {g > 0} empty.
+        return _Set("convex", forms) if minimum > 0 else _Set("negative" if minimum < 0 else "nonpositive")
     return _Set("unknown")
 
 
@@ -330,7 +332,39 @@ def _classified(node: sympy.Expr) -> _Set:
     argument = node.args[0]
     if _positive_everywhere(argument):
         return _Set("all")
+    if _positive_everywhere(-argument):
+        return _Set("negative")
     return _quadratic(argument, variables)
+
+
+def refuse_unreal(system: System) -> None:
+    """Refuse a model with a root (a power that is not an integer) or a log
+    whose argument is proven negative, or nowhere positive, at every real point:
+    the function is not real anywhere its argument is (the complement of a set
+    of measure zero at best), so no verdict about real states can hold (a
+    "region around the point where g > 0" would be empty). Proven by the cases
+    of the module docstring applied to -g (a negative constant minus positive
+    multiples of even powers), or by the quadratic test (A <= 0 and the
+    maximum m <= 0).
+
+    Raises
+    ------
+    ModelError
+        Naming the output (or the state whose motion holds it) and the argument.
+    """
+    named = [(f"output {name}", h) for name, h in system.outputs]
+    named += [(f"the motion of {x}", f) for x, f in zip(system.states, system.dynamics)]
+    for where, expr in named:
+        for node in _nodes(system.substitute_values(expr)):
+            if isinstance(node, (sympy.atan, sympy.atan2)) or (isinstance(node, sympy.Pow)
+                                                               and not node.exp.is_Rational):
+                continue
+            kind = _classify(node).kind
+            if kind in ("negative", "nonpositive"):
+                words = ("is negative for every real value" if kind == "negative" else
+                         "is positive for no real value (at most zero)")
+                raise ModelError(f"{where}: the argument {sympy.sstr(node.args[0])} of {sympy.sstr(node)} {words}: "
+                                 "the output is not real")
 
 
 def _connected(sets: list[_Set]) -> bool:
@@ -370,7 +404,8 @@ def region(system: System, restricted: bool = False) -> Region:
     if not nodes:
         return Region(False)
     conditions = [_condition(node) for node in nodes]
-    sets = [_classify(node) for node in nodes]
+    # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
+    sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
     # The conditions that can fail (the others always hold), or all when every one holds everywhere (discrete time).
     words = tuple(dict.fromkeys(text for text, s in zip(conditions, sets) if s.kind != "all")) or tuple(
         dict.fromkeys(conditions))
