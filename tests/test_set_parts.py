@@ -95,3 +95,23 @@ def test_the_degenerate_scan_marks_a_motion_analysed_on_one_part(tmp_path):
                                        text=True).stdout)["motions"]
     cross = next(m for m in listed if m["motion"] == "cross")
     assert cross["rank"] == _true_rank("where_w4", _part(cross["analysed_on"]))
+
+
+def test_the_other_parts_are_analysed_and_their_true_ranks_listed(tmp_path):
+    for name, where in (("where_xy", "x*y = 0"), ("where_w4", "(x-1)*(y-2) = 0")):
+        restriction = json.loads(_check(_model(tmp_path, name), where, "--format", "json").stdout)["restriction"]
+        assert restriction.startswith("the part ")  # the parts differ: never a verdict about the whole set
+        listed = re.search(r"on the other parts: (\w) = (-?\d+): rank (\d) of 2", restriction)
+        assert listed, restriction
+        variable, value, rank = listed.groups()
+        assert int(rank) == _true_rank(name, f"{variable} - ({value}) = 0")
+
+
+def test_a_set_whose_parts_are_all_observable_gets_one_verdict(tmp_path):
+    """h = (x, x + y): Jacobian [[1, 0], [1, 1]], rank 2 everywhere, so on both
+    parts of x*y = 0 (by hand): one verdict for the set, naming its parts."""
+    path = tmp_path / "plain.toml"
+    path.write_text('states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="x"\nh2="x + y"\n')
+    answer = json.loads(_check(path, "x*y = 0", "--format", "json").stdout)
+    assert answer["rank"] == 2 and answer["proof"] == "proven"
+    assert answer["restriction"].startswith("the set x*y = 0, every part of it (")

@@ -89,11 +89,22 @@ class ConstraintSet:
     invariant: bool
     angles: tuple[tuple[sympy.Symbol, sympy.Symbol, sympy.Symbol], ...] = ()
     parts: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    others: tuple[ConstraintSet, ...] = ()
+    every_part: bool = True
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
-                             _invariant(system, dict(self.solution), self.angles), self.angles, self.parts)
+                             _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
+                             tuple(o.on(system) for o in self.others), self.every_part)
+
+    def solution_text(self) -> str:
+        """The solved part in words ("x = 0")."""
+        return ", ".join(f"{v} = {sympy.sstr(g)}" for v, g in self.solution)
+
+    def parts_text(self) -> str:
+        """Each splitting equation's factors ("x = 0 or y = 0")."""
+        return "; ".join(" or ".join(every) for _, every in self.parts)
 
     def described(self) -> str:
         """The set the points are drawn on, in words: the set itself, or the part
@@ -103,8 +114,8 @@ class ConstraintSet:
             return f"the set {self.text}"
         drawn = " and ".join(part for part, _ in self.parts)
         union = "; ".join(f"{' or '.join(every)}" for _, every in self.parts)
-        return (f"the part {drawn} of the set {self.text}, a union of parts ({union}): only this part was "
-                "analysed, the rank may differ on the others (give each part as its own --where)")
+        return (f"the part {drawn} of the set {self.text}, a union of parts ({union}): the verdict is this part's, "
+                "the rank may differ on the others (give each part as its own --where)")
 
     def with_values(self, system: System, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> ConstraintSet:
         """This set intersected with ``values`` (a point given on it), solved again.
@@ -215,6 +226,7 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     """
     order = [s for s in (*system.states, *system.parameters)]
     equations, angles = _through_the_circle(equations, order)
+    given = list(equations)
     circle = {v for v, _, _ in angles}
     chosen: list[sympy.Symbol] = []
     parts: list[tuple[str, tuple[str, ...]]] = []
@@ -240,8 +252,42 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     _check_atoms(system, chosen)
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
     degree = 1 + max(_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values())
+    others, every = _other_parts(system, given, equations, text) if parts and not angles else ((), not parts)
     return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution, angles),
-                         angles, tuple(parts))
+                         angles, tuple(parts), others, every)
+
+
+#: Parts of a set (combinations of factors) solved at most.
+_MOST_PARTS = 8
+
+
+def _other_parts(system: System, given: list, drawn: list, text: str) -> tuple[tuple[ConstraintSet, ...], bool]:
+    """The parts of the set other than ``drawn`` (one factor of each equation of
+    ``given``), each solved alone, and whether every part was solved."""
+    import itertools
+
+    choices = [_factors(expr) or [expr] for expr in given]
+    combinations = [c for c in itertools.product(*choices) if list(c) != drawn]
+    if len(combinations) + 1 > _MOST_PARTS:
+        return (), False
+    solved = []
+    for combination in combinations:
+        try:
+            solved.append(solve_constraints(system, list(combination), text))
+        except ModelError:
+            return tuple(solved), False  # a part that cannot be solved: its rank is not known
+    return tuple(solved), True
+
+
+def _factors(expr: sympy.Expr) -> list[sympy.Expr]:
+    """The distinct irreducible factors over Q of ``expr``'s numerator that hold
+    a symbol ([] when it is not a polynomial)."""
+    numerator, _ = sympy.fraction(sympy.together(expr))
+    try:
+        return [f for f, _ in sympy.factor_list(numerator, *sorted(numerator.free_symbols, key=str))[1]
+                if f.free_symbols]
+    except sympy.PolynomialError:
+        return []
 
 
 def _one_part(expr: sympy.Expr, order, circle, chosen, angles) -> tuple[sympy.Expr, tuple[str, tuple[str, ...]] | None]:
@@ -251,12 +297,7 @@ def _one_part(expr: sympy.Expr, order, circle, chosen, angles) -> tuple[sympy.Ex
     points drawn on one factor's say nothing about the others'. A repeated factor
     is its square-free part (x**2 = 0 is x = 0). The factor chosen is the first
     solvable for a variable of degree 1 (the whole expression when none is)."""
-    numerator, _ = sympy.fraction(sympy.together(expr))
-    symbols = sorted(numerator.free_symbols, key=str)
-    try:
-        factors = [f for f, _ in sympy.factor_list(numerator, *symbols)[1] if f.free_symbols]
-    except sympy.PolynomialError:
-        return expr, None  # not a polynomial (a transcendental atom): solved, or refused, as it is
+    factors = _factors(expr)  # [] for a transcendental atom: solved, or refused, as it is
     if not factors:
         return expr, None
 
