@@ -115,3 +115,12 @@ def test_a_set_whose_parts_are_all_observable_gets_one_verdict(tmp_path):
     answer = json.loads(_check(path, "x*y = 0", "--format", "json").stdout)
     assert answer["rank"] == 2 and answer["proof"] == "proven"
     assert answer["restriction"].startswith("the set x*y = 0, every part of it (")
+
+
+def test_a_point_on_a_set_of_several_parts_asks_for_the_part(tmp_path):
+    """The point's rank is compared with the generic rank of its part; with
+    several parts the drawn part's rank (1 on y = 0) would be compared with a
+    point of x = 0 (rank 2 there): refused, naming the parts."""
+    run = _check(_model(tmp_path, "where_xy"), "x*y = 0", "--point", "y=3")
+    assert run.returncode == 2 and "Traceback" not in run.stderr
+    assert "is a union of parts" in run.stderr and "give the part the point is on as --where" in run.stderr
