@@ -66,6 +66,8 @@ def test_a_product_over_two_variables_is_answered_on_the_part_drawn_and_says_so(
         assert answer["rank"] == _true_rank(name, part)
         text = _check(path, where).stdout
         assert f"restricted to: the part {part} of the set {where}" in text
+        lost = [d["lost_on"] for d in answer["unobservable_directions"] if d.get("lost_on")]
+        assert (lost or answer["rank"] == 2) and all(f"on its part {part}" in on for on in lost)  # lost on one part
         assert f"rank {answer['rank']} of 2" in text
 
 
