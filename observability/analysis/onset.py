@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from ..directions.find import UnobservableDirection, directions_on_set, unobservable_directions
@@ -24,7 +25,42 @@ def rank_on_set(
 ) -> ObservabilityResult:
     """The rank at a generic point of a constraint set: points drawn on the set;
     with ``directions``, the generic directions and those lost on the set beyond
-    them (:func:`~observability.directions.find.directions_on_set`)."""
+    them (:func:`~observability.directions.find.directions_on_set`).
+
+    A set that is a union of parts (an equation that factors) is answered on
+    each part: the verdict is the set's only when every part was solved and
+    each is observable (a full rank, proven: the rank at a generic point of
+    each part); otherwise it is the drawn part's, named, with the other parts'
+    ranks listed (``where.described()``)."""
+    drawn = _rank_on_part(system, where, seed, input_derivatives, max_order, previous, progress, start, directions,
+                          budget)
+    if not where.parts:
+        return drawn
+    others = [_rank_on_part(system, o, seed, input_derivatives, max_order, previous, progress, start, False, budget)
+              for o in where.others]
+    listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in zip(where.others, others))
+    # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
+    if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for r in others):
+        probabilities = [r.error_probability for r in (drawn, *others) if r.error_probability is not None]
+        return replace(drawn, restriction=f"the set {where.text}, every part of it ({where.parts_text()}; "
+                                          f"each analysed: {drawn.rank} of {system.n} on each)",
+                       error_probability=sum(probabilities) if probabilities else drawn.error_probability)
+    return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed}" if listed else "")
+                   + ("" if where.every_part else "; not every part could be solved"))
+
+
+def _said(result: ObservabilityResult) -> str:
+    """A part's verdict in a few words."""
+    if result.rank is None:
+        return "undecided" + (f" (rank at least {result.lower_bound})" if result.lower_bound is not None else "")
+    return f"rank {result.rank} of {result.n_states} ({result.proof})"
+
+
+def _rank_on_part(
+    system: System, where: ConstraintSet, seed: int | None, input_derivatives: int | None, max_order: int | None,
+    previous: str, progress, start: float, directions: bool, budget: float | None,
+) -> ObservabilityResult:
+    """:func:`rank_on_set` on the part of the set ``where`` solves."""
     n = system.n
     result = randomized_rank(system, seed=seed, input_derivatives=input_derivatives, max_order=max_order,
                              progress=progress, previous=previous, constraint=where)
@@ -32,7 +68,7 @@ def rank_on_set(
     common = dict(model=system.name, states=names, method="random", seed=result.seed, orders=result.orders,
                   unobservable_directions=(), time=system.time, row_labels=result.row_labels,
                   unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system),
-                  restriction=f"the set {where.text}")
+                  restriction=where.described())
     rank = result.rank
     reason = ""
     if result.dependence is not None:

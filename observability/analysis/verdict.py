@@ -23,7 +23,7 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
 from ..errors import ModelError
-from ..model.branches import Region, region
+from ..model.branches import Region, refuse_unreal, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -125,6 +125,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
              symbolic_directions: bool, functions: bool) -> ObservabilityResult:
     """The pipeline :func:`analyze` runs (arguments as there)."""
     _check_options(method, previous, max_order, input_derivatives)
+    refuse_unreal(system)
     start = time.perf_counter()
     if system.arbitrary_inputs:
         if method != "random" or where is not None or point is not None:

@@ -560,8 +560,8 @@ def degenerate_command(args: argparse.Namespace) -> int:
         table.append((
             r.motion.name,
             f"{result.rank}/{result.n_states}" if result.rank is not None else f">={result.lower_bound}/{result.n_states}",
-            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})")
-            + (" (on a region)" if result.region.qualified else ""),
+            result.verdict() + ("" if result.proof in (None, "proven") else f" ({result.proof})") + (" (on a region)"
+            if result.region.qualified else "") + " (on a part of the set)" * bool(r.part),
             "; ".join(r.lost_directions) or "-",
             ", ".join(result.observable_states) if result.observable_states else "-",
         ))
@@ -571,7 +571,7 @@ def degenerate_command(args: argparse.Namespace) -> int:
     print(f"{system.name}: the rank at a generic point of each motion (n = {system.n})")
     print("\n".join(lines))
     for r in rows[1:]:
-        source = r.motion.where or ", ".join(f"{k}={v}" for k, v in r.motion.inputs.items())
+        source = r.part or r.motion.where or ", ".join(f"{k}={v}" for k, v in r.motion.inputs.items())
         print(f"  {r.motion.name}: {source}" + (f" — {r.motion.description}" if r.motion.description else ""))
     if args.conditions:
         print("where the rank drops below each motion's rank (common factors of the maximal minors):")

@@ -224,7 +224,8 @@ def directions_on_set(system: System, constraint, nullity: int, orders: int, gen
         name, description = classify(list(v), system)
         if description == "not a polynomial field":  # polynomial in the set's sines and cosines
             description = f"polynomial in {search.coordinates}"
-        found.append(UnobservableDirection(name, components(system.states, list(v)), description, constraint.text))
+        found.append(UnobservableDirection(name, components(system.states, list(v)), description,
+                                           constraint.text + "".join(f", on its part {p}" for p, _ in constraint.parts)))
     return tuple(found), search.missing(nullity - rank, "the null space on the set")
 
 

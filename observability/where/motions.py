@@ -49,10 +49,17 @@ class MotionResult:
     rank_drops_note: str = ""  # why the conditions were not (all) computed
     beyond: tuple[UnobservableDirection, ...] = ()  # the directions behind lost_directions, when named
 
+    @property
+    def part(self) -> str:
+        """The part of the motion's set its points were drawn on, in words, when
+        the set is a union of parts (:meth:`~observability.where.sets.ConstraintSet.described`); "" otherwise."""
+        return self.result.restriction if self.result.restriction.startswith("the part ") else ""
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "motion": self.motion.name,
             "where": self.motion.where,
+            "analysed_on": self.part or None,
             "inputs": dict(self.motion.inputs),
             "description": self.motion.description,
             "rank": self.result.rank,

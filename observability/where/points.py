@@ -176,6 +176,9 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     if not values:
         raise ModelError("--point: give at least one name=value")
     text = ", ".join(f"{k} = {v}" for k, v in values.items())
+    if where is not None and where.parts:  # the generic rank compared with is one part's: name the part
+        raise ModelError(f"--point {text}: the set {where.text} is a union of parts ({where.parts_text()}), with "
+                         "their own generic ranks; give the part the point is on as --where")
     try:
         constraint = (solve_constraints(system, [s - v for s, v in values.items()], text) if where is None
                       else where.with_values(system, values, text))

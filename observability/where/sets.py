@@ -76,6 +76,11 @@ class ConstraintSet:
         (S, C) that stand for them in ``solution``: the point's (sin v, cos v)
         is a random rational point of the unit circle, shared with the model's
         sin(v) and cos(v) (:meth:`place`).
+    parts : tuple of (str, tuple of str)
+        For each equation whose polynomial factors over Q into several distinct
+        factors (the set is then a union of several parts, on which the rank may
+        differ): the factor solved ("x = 0") and all of them. Empty when no
+        equation splits: the points are then drawn on the whole set.
     """
 
     text: str
@@ -83,11 +88,34 @@ class ConstraintSet:
     degree: int
     invariant: bool
     angles: tuple[tuple[sympy.Symbol, sympy.Symbol, sympy.Symbol], ...] = ()
+    parts: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    others: tuple[ConstraintSet, ...] = ()
+    every_part: bool = True
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
-                             _invariant(system, dict(self.solution), self.angles), self.angles)
+                             _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
+                             tuple(o.on(system) for o in self.others), self.every_part)
+
+    def solution_text(self) -> str:
+        """The solved part in words ("x = 0")."""
+        return ", ".join(f"{v} = {sympy.sstr(g)}" for v, g in self.solution)
+
+    def parts_text(self) -> str:
+        """Each splitting equation's factors ("x = 0 or y = 0")."""
+        return "; ".join(" or ".join(every) for _, every in self.parts)
+
+    def described(self) -> str:
+        """The set the points are drawn on, in words: the set itself, or the part
+        of it that was solved when an equation splits into factors (a verdict
+        there says nothing about the other parts)."""
+        if not self.parts:
+            return f"the set {self.text}"
+        drawn = " and ".join(part for part, _ in self.parts)
+        union = "; ".join(f"{' or '.join(every)}" for _, every in self.parts)
+        return (f"the part {drawn} of the set {self.text}, a union of parts ({union}): the verdict is this part's, "
+                "the rank may differ on the others (give each part as its own --where)")
 
     def with_values(self, system: System, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> ConstraintSet:
         """This set intersected with ``values`` (a point given on it), solved again.
@@ -198,9 +226,16 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     """
     order = [s for s in (*system.states, *system.parameters)]
     equations, angles = _through_the_circle(equations, order)
+    given = list(equations)
     circle = {v for v, _, _ in angles}
     chosen: list[sympy.Symbol] = []
-    for expr in equations:
+    parts: list[tuple[str, tuple[str, ...]]] = []
+    equations = list(equations)
+    for index, expr in enumerate(equations):
+        equations[index], split = _one_part(expr, order, circle, chosen, angles)
+        expr = equations[index]
+        if split:
+            parts.append(split)
         candidates = [s for s in order if s in expr.free_symbols and s not in chosen and s not in circle
                       and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
         if not candidates:
@@ -217,8 +252,67 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     _check_atoms(system, chosen)
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
     degree = 1 + max(_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values())
+    others, every = _other_parts(system, given, equations, text) if parts and not angles else ((), not parts)
     return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution, angles),
-                         angles)
+                         angles, tuple(parts), others, every)
+
+
+#: Parts of a set (combinations of factors) solved at most.
+_MOST_PARTS = 8
+
+
+def _other_parts(system: System, given: list, drawn: list, text: str) -> tuple[tuple[ConstraintSet, ...], bool]:
+    """The parts of the set other than ``drawn`` (one factor of each equation of
+    ``given``), each solved alone, and whether every part was solved."""
+    import itertools
+
+    choices = [_factors(expr) or [expr] for expr in given]
+    combinations = [c for c in itertools.product(*choices) if list(c) != drawn]
+    if len(combinations) + 1 > _MOST_PARTS:
+        return (), False
+    solved = []
+    for combination in combinations:
+        try:
+            solved.append(solve_constraints(system, list(combination), text))
+        except ModelError:
+            return tuple(solved), False  # a part that cannot be solved: its rank is not known
+    return tuple(solved), True
+
+
+def _factors(expr: sympy.Expr) -> list[sympy.Expr]:
+    """The distinct irreducible factors over Q of ``expr``'s numerator that hold
+    a symbol ([] when it is not a polynomial)."""
+    numerator, _ = sympy.fraction(sympy.together(expr))
+    try:
+        return [f for f, _ in sympy.factor_list(numerator, *sorted(numerator.free_symbols, key=str))[1]
+                if f.free_symbols]
+    except sympy.PolynomialError:
+        return []
+
+
+def _one_part(expr: sympy.Expr, order, circle, chosen, angles) -> tuple[sympy.Expr, tuple[str, tuple[str, ...]] | None]:
+    """The factor of ``expr``'s numerator to solve, and when the numerator has
+    several distinct irreducible factors over Q, (that factor, all of them) as
+    text: the zero set of a product is the union of its factors' zero sets, and
+    points drawn on one factor's say nothing about the others'. A repeated factor
+    is its square-free part (x**2 = 0 is x = 0). The factor chosen is the first
+    solvable for a variable of degree 1 (the whole expression when none is)."""
+    factors = _factors(expr)  # [] for a transcendental atom: solved, or refused, as it is
+    if not factors:
+        return expr, None
+
+    def solvable(f: sympy.Expr) -> bool:
+        return any(s in f.free_symbols and s not in chosen and s not in circle and sympy.degree(f, s) == 1
+                   for s in order)
+
+    pick = next((f for f in factors if solvable(f)), None)
+    if pick is None:
+        return expr, None
+    if len(factors) == 1:
+        return pick, None
+    trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
+    text = [f"{sympy.sstr(f.xreplace(trig))} = 0" for f in factors]
+    return pick, (text[factors.index(pick)], tuple(text))
 
 
 #: The circle parameter of the invariance check: (sin, cos) = (2t, 1 - t^2) / (1 + t^2).

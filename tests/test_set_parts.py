@@ -1,0 +1,128 @@
+"""A ``--where`` set whose equation factors is a union of parts, on which the
+rank may differ: the verdict names the part its points were drawn on (issue 61).
+
+References by hand, and checked in each test with sympy's exact Jacobian of the
+outputs at a point of each part (the dynamics are zero, so every higher Lie
+derivative vanishes and the outputs' Jacobian is the whole matrix):
+- where_xy: h = (y, x y), Jacobian [[0, 1], [y, x]], determinant -y: rank 2 on
+  {x = 0, y != 0}, rank 1 on {y = 0} (rows (0, 1) and (0, x)).
+- where_w4: h = (x, y (x - 1)), Jacobian [[1, 0], [y, x - 1]], determinant
+  x - 1: rank 1 on {x = 1}, rank 2 on {y = 2, x != 1}.
+"""
+
+import json
+import re
+import subprocess
+import sys
+
+import sympy
+
+SCRIPT = [sys.executable, "-m", "observability"]
+X, Y = sympy.symbols("x y")
+MODELS = {
+    "where_xy": ("y", "x*y"),
+    "where_w4": ("x", "y*(x - 1)"),
+}
+
+
+def _model(tmp_path, name, motion=""):
+    h1, h2 = MODELS[name]
+    path = tmp_path / f"{name}.toml"
+    path.write_text(f'states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="{h1}"\nh2="{h2}"\n{motion}')
+    return path
+
+
+def _true_rank(name, part):
+    """sympy's rank of the outputs' Jacobian at a point of ``part`` ("x - 1 = 0"):
+    the part's variable solved, the other set to 7/3 (off every other part)."""
+    h = sympy.Matrix([sympy.sympify(e) for e in MODELS[name]])
+    lhs = sympy.sympify(part.split("=")[0])
+    (variable,) = [s for s in (X, Y) if s in lhs.free_symbols]
+    other = Y if variable == X else X
+    point = {variable: sympy.solve(lhs, variable)[0], other: sympy.Rational(7, 3)}
+    return h.jacobian([X, Y]).subs(point).rank()
+
+
+def _check(path, where, *extra):
+    return subprocess.run([*SCRIPT, "check", str(path), "--where", where, *extra], capture_output=True, text=True)
+
+
+def _part(restriction):
+    found = re.match(r"the part (.+?) of the set ", restriction)
+    assert found, restriction
+    return found.group(1)
+
+
+def test_a_product_over_two_variables_is_answered_on_the_part_drawn_and_says_so(tmp_path):
+    """x*y = 0 is {x = 0} (rank 2) union {y = 0} (rank 1): before the fix the
+    verdict was "observable (rank 2 of 2)" about the whole set, unqualified."""
+    for name, where, parts in (("where_xy", "x*y = 0", {"x = 0", "y = 0"}),
+                               ("where_w4", "(x-1)*(y-2) = 0", {"x - 1 = 0", "y - 2 = 0"})):
+        path = _model(tmp_path, name)
+        answer = json.loads(_check(path, where, "--format", "json").stdout)
+        part = _part(answer["restriction"])
+        assert part in parts and all(p in answer["restriction"] for p in parts)
+        assert "the rank may differ on the others" in answer["restriction"]
+        assert answer["rank"] == _true_rank(name, part)
+        text = _check(path, where).stdout
+        assert f"restricted to: the part {part} of the set {where}" in text
+        lost = [d["lost_on"] for d in answer["unobservable_directions"] if d.get("lost_on")]
+        assert (lost or answer["rank"] == 2) and all(f"on its part {part}" in on for on in lost)  # lost on one part
+        assert f"rank {answer['rank']} of 2" in text
+
+
+def test_each_part_given_alone_gets_its_own_true_rank(tmp_path):
+    for name, part, rank in (("where_xy", "x = 0", 2), ("where_xy", "y = 0", 1),
+                             ("where_w4", "x - 1 = 0", 1), ("where_w4", "y - 2 = 0", 2)):
+        assert _true_rank(name, part) == rank  # the hand derivation of the module docstring
+        answer = json.loads(_check(_model(tmp_path, name), part, "--format", "json").stdout)
+        assert answer["rank"] == rank and answer["restriction"] == f"the set {part}"
+
+
+def test_a_repeated_factor_is_its_square_free_part(tmp_path):
+    """x**2 = 0 is the set x = 0 (one part, no qualification): rank 2 there."""
+    answer = json.loads(_check(_model(tmp_path, "where_xy"), "x**2 = 0", "--format", "json").stdout)
+    assert answer["rank"] == 2 == _true_rank("where_xy", "x = 0")
+    assert answer["restriction"] == "the set x**2 = 0"
+
+
+def test_the_degenerate_scan_marks_a_motion_analysed_on_one_part(tmp_path):
+    path = _model(tmp_path, "where_w4", '[motions.cross]\nwhere = "(x-1)*(y-2) = 0"\n')
+    out = subprocess.run([*SCRIPT, "degenerate", str(path)], capture_output=True, text=True).stdout
+    row = next(line for line in out.splitlines() if line.startswith("cross "))
+    assert "(on a part of the set)" in row
+    part = re.search(r"cross: the part (.+?) of the set", out).group(1)
+    assert row.split()[1] == f"{_true_rank('where_w4', part)}/2"
+    listed = json.loads(subprocess.run([*SCRIPT, "degenerate", str(path), "--format", "json"], capture_output=True,
+                                       text=True).stdout)["motions"]
+    cross = next(m for m in listed if m["motion"] == "cross")
+    assert cross["rank"] == _true_rank("where_w4", _part(cross["analysed_on"]))
+
+
+def test_the_other_parts_are_analysed_and_their_true_ranks_listed(tmp_path):
+    for name, where in (("where_xy", "x*y = 0"), ("where_w4", "(x-1)*(y-2) = 0")):
+        restriction = json.loads(_check(_model(tmp_path, name), where, "--format", "json").stdout)["restriction"]
+        assert restriction.startswith("the part ")  # the parts differ: never a verdict about the whole set
+        listed = re.search(r"on the other parts: (\w) = (-?\d+): rank (\d) of 2", restriction)
+        assert listed, restriction
+        variable, value, rank = listed.groups()
+        assert int(rank) == _true_rank(name, f"{variable} - ({value}) = 0")
+
+
+def test_a_set_whose_parts_are_all_observable_gets_one_verdict(tmp_path):
+    """h = (x, x + y): Jacobian [[1, 0], [1, 1]], rank 2 everywhere, so on both
+    parts of x*y = 0 (by hand): one verdict for the set, naming its parts."""
+    path = tmp_path / "plain.toml"
+    path.write_text('states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="x"\nh2="x + y"\n')
+    answer = json.loads(_check(path, "x*y = 0", "--format", "json").stdout)
+    assert answer["rank"] == 2 and answer["proof"] == "proven"
+    assert answer["restriction"].startswith("the set x*y = 0, every part of it (")
+
+
+def test_a_point_on_a_set_of_several_parts_asks_for_the_part(tmp_path):
+    """The point's rank is compared with the generic rank of its part; with
+    several parts the drawn part's rank (1 on y = 0) would be compared with a
+    point of x = 0 (rank 2 there): refused, naming the parts."""
+    run = _check(_model(tmp_path, "where_xy"), "x*y = 0", "--point", "y=3")
+    assert run.returncode == 2 and "Traceback" not in run.stderr
+    assert "is a union of parts" in run.stderr and "give the part the point is on as --where" in run.stderr
