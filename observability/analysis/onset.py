@@ -38,6 +38,19 @@ def rank_on_set(
         return drawn
     others = [_rank_on_part(system, o, seed, input_derivatives, max_order, previous, progress, start, False, budget)
               for o in where.others]
+    lowest = min(range(len(others)), key=lambda i: _height(others[i]), default=None)
+    if lowest is not None and _height(others[lowest]) < _height(drawn):
+        # The set is observable only where each part is: its verdict is its lowest part's, whatever the
+        # order of the factors (the drawn part first gave exit 0 on x*y = 0 where x = 0 has rank 1).
+        low = where.others[lowest]
+        listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in
+                           [(where, drawn), *zip(where.others, others)] if o is not low)
+        # Named as a part of the set, so that its text and its lost directions say which part.
+        low = replace(low, parts=((low.solution_text(), (where.parts_text(),)),))
+        result = _rank_on_part(system, low, seed, input_derivatives, max_order, previous, progress, start,
+                               directions, budget)
+        return replace(result, restriction=low.described() + f" (the lowest rank of the parts); on the other parts: "
+                       f"{listed}" + ("" if where.every_part else "; not every part could be solved"))
     listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in zip(where.others, others))
     # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
     if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for r in others):
@@ -47,6 +60,12 @@ def rank_on_set(
                        error_probability=sum(probabilities) if probabilities else drawn.error_probability)
     return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed}" if listed else "")
                    + ("" if where.every_part else "; not every part could be solved"))
+
+
+def _height(result: ObservabilityResult) -> float:
+    """Where a part's verdict stands: its rank, below every rank when undecided (a set is observable only
+    if each part is)."""
+    return -1.0 if result.rank is None else float(result.rank)
 
 
 def _said(result: ObservabilityResult) -> str:
