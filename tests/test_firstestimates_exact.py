@@ -182,3 +182,36 @@ def test_an_overflow_at_the_first_estimates_is_a_filter_error_naming_the_step(ca
     with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite"):
         fej.predict(dataclasses.replace(state, x=np.array([1e308, 0.0, 0.0, 4.0, 2.0, -1.0, 3.0])), [1e308, 0.0, 0.0])
     assert "DLASCL" not in "".join(capfd.readouterr())
+
+
+GROWTH = """
+name = "growth"
+time = "discrete"
+states = ["x"]
+inputs = ["v"]
+[dynamics]
+x = "x*exp(v)"
+[outputs]
+y = "x"
+"""
+
+
+def test_one_state_and_one_noise_are_carried_too():
+    """x_k+1 = x_k exp(v_k + w_k), y = x: the one-state, one-noise case (F_w of
+    size 1). By hand: the noise carrying the first estimate x̄_k to x̄_k+1 is
+    w̃ = log(x̄_k+1 / x̄_k) - v, so Phi_k = exp(v + w̃) = x̄_k+1 / x̄_k (not
+    exp(v), the Jacobian at zero noise, which differs once an update moved the
+    estimate off the prior); F_w = x_k|k exp(v) at the estimate; H = 1. The
+    filter in numpy, 5 steps."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(GROWTH, "g.toml"), ["v"]), np.array([[0.01]]), np.array([[0.04]]))
+    state = fej.initial([1.0], np.array([[0.2]]))
+    x, P, first, v = 1.0, 0.2, 1.0, 0.3
+    for y in (1.5, 1.7, 2.6, 3.2, 4.6):
+        state = fej.update(fej.predict(state, [v]), [y]).state
+        prior = x * np.exp(v)
+        P = (prior / first) ** 2 * P + (x * np.exp(v)) ** 2 * 0.01
+        x, first = prior, prior
+        K = P / (P + 0.04)
+        x, P = x + K * (y - x), (1 - K) ** 2 * P + K ** 2 * 0.04
+        assert np.allclose(state.x, [x], atol=1e-12) and np.allclose(state.P, [[P]], atol=1e-12)
+    assert max(r for _, r in fej.residuals) < 1e-12
