@@ -215,3 +215,38 @@ def test_one_state_and_one_noise_are_carried_too():
         x, P = x + K * (y - x), (1 - K) ** 2 * P + K ** 2 * 0.04
         assert np.allclose(state.x, [x], atol=1e-12) and np.allclose(state.P, [[P]], atol=1e-12)
     assert max(r for _, r in fej.residuals) < 1e-12
+
+
+UNCARRIED = """
+name = "uncarried"
+time = "discrete"
+states = ["x", "y"]
+inputs = ["v"]
+[dynamics]
+x = "x + v"
+y = "y + x"
+[outputs]
+p = "y"
+"""
+
+
+def test_a_first_estimate_the_noise_cannot_carry_is_a_warning_naming_its_first_step():
+    """Noise on x only: w̃ carries x̄_k to x̄_k+1 exactly, but y_k+1 = y_k + x_k
+    has no noise, so by hand the residual at step k+1 is |ȳ_k + x̄_k - ȳ_k+1|
+    with ȳ_k+1 = y_k|k + x_k|k (the prior): |(ȳ_k - y_k|k) + (x̄_k - x_k|k)|,
+    the first estimates' distance to the posterior. It is 0 at step 1 (no
+    update yet), not after: without a null space the filter says so, once,
+    with the first step and the number of steps."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(UNCARRIED, "u.toml"), ["v"]), np.array([[0.01]]),
+                            np.array([[0.04]]))
+    state, expected = fej.initial([0.0, 0.0], np.eye(2)), [0.0]
+    for y in (1.3, 2.2, 4.1):
+        state = fej.update(fej.predict(state, [1.0]), [y]).state
+        expected.append(abs(np.sum(state.first - state.x)))
+    assert [k for k, _ in fej.residuals] == [1, 2, 3]
+    assert np.allclose([r for _, r in fej.residuals], expected[:3], atol=1e-12, rtol=1e-9)
+    assert expected[1] > 1e-3 and expected[2] > 1e-3
+    residual = f"{expected[1]:.1e}"
+    assert fej.warnings[1] == (f"step 2: the noise cannot carry the first estimate to the next (residual {residual}): "
+                               "the Jacobian may lose an unobservable direction (2 step(s) in all)")
+    assert len(fej.warnings) == 2 and fej.warnings[0].startswith("no null space was given")
