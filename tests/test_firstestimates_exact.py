@@ -15,7 +15,7 @@ import pytest
 from observability.codegen import filter_functions
 from observability.filters import FilterError, FilterState, FirstEstimatesEKF, IdealEKF, static_states
 from observability.model.modelfile import parse_model
-from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _simulate
+from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _hand_N, _simulate
 
 
 @pytest.fixture(scope="module")
@@ -250,3 +250,63 @@ def test_a_first_estimate_the_noise_cannot_carry_is_a_warning_naming_its_first_s
     assert fej.warnings[1] == (f"step 2: the noise cannot carry the first estimate to the next (residual {residual}): "
                                "the Jacobian may lose an unobservable direction (2 step(s) in all)")
     assert len(fej.warnings) == 2 and fej.warnings[0].startswith("no null space was given")
+
+
+def _hand_null_space(x, p):
+    return _hand_N(np.asarray(x, dtype=float).ravel())
+
+
+def test_with_huangs_null_space_the_kept_transition_is_his_difference_form(odometry):
+    """Given N of Huang et al. 2010, eq. 30 (written by hand), Phi is changed
+    least on the robot's block so that Phi N(x̄_k) = N(x̄_k+1): for planar
+    odometry that is the difference form Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]]
+    already, so the estimates are the numpy filter's; both constraints are
+    logged at every step (1..8) and met, and nothing is warned."""
+    valued = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    _, ys, x0, P0 = _simulate(valued, 8, seed=5)
+    fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0], null_space=_hand_null_space)
+    state = fej.initial(x0, P0)
+    for y, (x_ref, P_ref) in zip(ys, _hand_filter(x0, P0, ys, 8, "fej")):
+        state = fej.update(fej.predict(state, U), y).state
+        assert np.allclose(state.x, x_ref, atol=1e-9) and np.allclose(state.P, P_ref, atol=1e-11)
+    assert [k for k, _ in fej.constraint.transition] == list(range(1, 9))
+    assert [k for k, _ in fej.constraint.measurement] == list(range(1, 9))
+    assert max(r for _, r in fej.constraint.transition + fej.constraint.measurement) < 1e-12
+    assert fej.warnings == ()
+
+
+def test_a_null_space_moving_a_landmark_with_the_robot_is_named_at_its_first_step(odometry):
+    """N = the two translations and (0, 0, 0, x, 0, 0, 0): a landmark's entry
+    that follows the robot's x. The motion leaves landmarks unchanged (Phi's
+    landmark block is I and no change of the robot's block reaches it), so
+    Phi N_k = N_k+1 fails by |x̄_k+1 - x̄_k| = 0.5 cos(0.3 + 0.2 (k - 1)) on
+    that entry (relative to 1 + max |N|) at every step where x moves, the first
+    at step 1 (x̄ from 0 to 0.5 cos 0.3 = 0.478), and the reason is the static
+    states."""
+    def wrong(x, p):
+        x = np.asarray(x, dtype=float).ravel()
+        return np.column_stack([[1, 0, 0, 1, 0, 1, 0], [0, 1, 0, 0, 1, 0, 1], [0, 0, 0, x[0], 0, 0, 0]]).astype(float)
+    fej, state = _started(odometry, null_space=wrong)
+    fej.predict(state, U)
+    (step, left), = fej.constraint.transition
+    assert step == 1 and np.isclose(left, 0.5 * np.cos(0.3) / (1.0 + 1.0), rtol=1e-12)
+    assert fej.warnings == (f"step 1: Phi N(x_k) = N(x_k+1) fails by {left:.1e}: N on the static states differs "
+                            "between the two points (it depends on a moving state) (1 step(s) in all)",)
+
+
+@pytest.mark.parametrize("name", ["additive", "odometry"])
+def test_where_the_first_estimates_lose_the_rotation_huangs_null_space_restores_it(name):
+    """The unicycle of tests/test_fej_noise_forms.py with additive world-frame
+    noise (carried, but not commuting with the rotation) or noise on distance
+    and turn only (not carried): F_X at the carrying noise is not Huang's
+    difference form, and only the change of the robot's block of Phi (the
+    landmarks' is I, static) onto Phi N(x̄_k) = N(x̄_k+1), N by hand (eq. 30),
+    makes it so. The estimates then equal Huang et al. 2008's FEJ in numpy."""
+    from test_fej_noise_forms import FORMS, TWO_INPUTS, _huang, _run, _simulate as _unicycle
+    noise, Qn = FORMS[name]
+    fns = filter_functions(parse_model(TWO_INPUTS, "unicycle.toml").with_values(dt=1.0), noise)
+    truth, ys, x0, P0 = _unicycle(name, Qn, 6, seed=3)
+    fej = FirstEstimatesEKF(fns, Qn, R, null_space=_hand_null_space)
+    for (x, P), (x_ref, P_ref) in zip(_run(fej, x0, P0, ys), _huang(name, Qn, x0, P0, ys)):
+        assert np.allclose(x, x_ref, atol=1e-9) and np.allclose(P, P_ref, atol=1e-11)
+    assert fej.warnings == ()
