@@ -310,3 +310,41 @@ def test_where_the_first_estimates_lose_the_rotation_huangs_null_space_restores_
     for (x, P), (x_ref, P_ref) in zip(_run(fej, x0, P0, ys), _huang(name, Qn, x0, P0, ys)):
         assert np.allclose(x, x_ref, atol=1e-9) and np.allclose(P, P_ref, atol=1e-11)
     assert fej.warnings == ()
+
+
+TURNS = """
+name = "turns"
+time = "discrete"
+states = ["th", "c"]
+inputs = ["om"]
+angles = ["th"]
+[dynamics]
+th = "th + om"
+c = "c + om"
+[outputs]
+y = "c"
+"""
+
+
+def test_headings_are_wrapped_in_the_prediction_and_in_the_carrying_residual():
+    """th (an angle) and c (the turn counted, not an angle) both move by om + w.
+    From th = 3.0 a turn of 0.2 predicts th = 3.2 - 2 pi (wrapped to (-pi, pi]),
+    c = 0.2; the noise carrying (3.0, 0) to that prior is w = 0, exactly, since
+    3.2 and 3.2 - 2 pi are the same heading (unwrapped, the least squares would
+    split 2 pi between the two states: a residual of pi)."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(TURNS, "t.toml"), ["om"]), np.array([[0.01]]),
+                            np.array([[0.04]]))
+    predicted = fej.predict(fej.initial([3.0, 0.0], np.eye(2) * 0.1), [0.2])
+    assert np.allclose(predicted.x, [3.2 - 2 * np.pi, 0.2], atol=1e-15)
+    (step, residual), = fej.residuals
+    assert step == 1 and residual < 1e-12
+
+
+def test_an_overflow_of_the_carrying_residual_alone_is_a_filter_error(odometry):
+    """The first estimate at x = -1e308 and the prior at +1e308: f - target
+    overflows to inf while F_w (dt C(th)) stays finite; refused with the step
+    named, not handed to LAPACK."""
+    fej, state = _started(odometry)
+    far = dataclasses.replace(state, x=np.r_[1e308, state.x[1:]], first=np.r_[-1e308, state.x[1:]])
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the motion at the first estimates is not finite"):
+        fej.predict(far, U)
