@@ -431,6 +431,9 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_transition__mutmut_{k}":
        "the kind of the carry warning (None, 'XXcarryXX', 'CARRY' for 'carry'): only a key of the log, distinct "
        "from the others ('unchecked', 'transition', 'measurement') either way; the warning's text is tested" for k in (20, 26, 27)},
+    **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ__init____mutmut_{k}":
+       "the kind of the 'no null space' note (None, 'XXuncheckedXX', 'UNCHECKED'): only a key of the log, distinct "
+       "from the others either way; the warning's text is tested" for k in (16, 21, 22)},
     "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_transition__mutmut_19":
         "residual >= 1e-9 instead of > 1e-9: differs only at a residual of exactly 1e-9",
     "observability.report.files.x_save_figure__mutmut_11":
