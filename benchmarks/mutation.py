@@ -417,14 +417,25 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.filters.firstestimates.x_static_states__mutmut_{k}":
        "depth 0 or 2 instead of 1: a static state's next value is the very node x[i], equal at any depth"
        for k in (28, 29)},
+    # The run of 2026-12-07 (mutation2, 266 mutants after _propagated): the numbers of an earlier file's
+    # _carrying_noise listed here before named other mutants, replaced by these.
     **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_{k}":
-       "the stopping test on a residual already below 1e-12 (or with no noise): one more Gauss-Newton step moves w "
-       "by less than the residual, below every tolerance of the filter" for k in (17, 24, 26)},
+       "the stopping test on a residual already below 1e-12 (and or <=, or a max starting at 1): more Gauss-Newton "
+       "steps, each moving w by lstsq(F_w, r) with |r| < 1e-12, below every tolerance of the filter; where the noise "
+       "cannot carry, all 20 steps are taken either way" for k in (24, 30, 31)},
     **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_{k}":
-       "initial= of np.max on a residual vector that is never empty (the moving states of a model with states)"
-       for k in (19, 21, 23, 38, 40)},
-    "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_34":
+       "initial= of np.max on a residual vector that is never empty (every state, and a model has one): None or "
+       "no initial gives the same maximum" for k in (26, 28, 45, 47)},
+    "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_carrying_noise__mutmut_41":
         "lstsq's rcond: None is numpy's default, the same cut-off",
+    **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_transition__mutmut_{k}":
+       "the kind of the carry warning (None, 'XXcarryXX', 'CARRY' for 'carry'): only a key of the log, distinct "
+       "from the others ('unchecked', 'transition', 'measurement') either way; the warning's text is tested" for k in (20, 26, 27)},
+    **{f"observability.filters.firstestimates.xǁFirstEstimatesEKFǁ__init____mutmut_{k}":
+       "the kind of the 'no null space' note (None, 'XXuncheckedXX', 'UNCHECKED'): only a key of the log, distinct "
+       "from the others either way; the warning's text is tested" for k in (16, 21, 22)},
+    "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_transition__mutmut_19":
+        "residual >= 1e-9 instead of > 1e-9: differs only at a residual of exactly 1e-9",
     "observability.report.files.x_save_figure__mutmut_11":
         "format=None: matplotlib takes the format from the temporary file's suffix, .partial.png: PNG all the same",
     "observability.report.files.x_save_figure__mutmut_14": "no format: as mutant 11, PNG from the suffix",

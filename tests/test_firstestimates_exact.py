@@ -15,7 +15,7 @@ import pytest
 from observability.codegen import filter_functions
 from observability.filters import FilterError, FilterState, FirstEstimatesEKF, IdealEKF, static_states
 from observability.model.modelfile import parse_model
-from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _simulate
+from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _hand_N, _simulate
 
 
 @pytest.fixture(scope="module")
@@ -182,3 +182,171 @@ def test_an_overflow_at_the_first_estimates_is_a_filter_error_naming_the_step(ca
     with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite"):
         fej.predict(dataclasses.replace(state, x=np.array([1e308, 0.0, 0.0, 4.0, 2.0, -1.0, 3.0])), [1e308, 0.0, 0.0])
     assert "DLASCL" not in "".join(capfd.readouterr())
+
+
+GROWTH = """
+name = "growth"
+time = "discrete"
+states = ["x"]
+inputs = ["v"]
+[dynamics]
+x = "x*exp(v)"
+[outputs]
+y = "x"
+"""
+
+
+def test_one_state_and_one_noise_are_carried_too():
+    """x_k+1 = x_k exp(v_k + w_k), y = x: the one-state, one-noise case (F_w of
+    size 1). By hand: the noise carrying the first estimate x̄_k to x̄_k+1 is
+    w̃ = log(x̄_k+1 / x̄_k) - v, so Phi_k = exp(v + w̃) = x̄_k+1 / x̄_k (not
+    exp(v), the Jacobian at zero noise, which differs once an update moved the
+    estimate off the prior); F_w = x_k|k exp(v) at the estimate; H = 1. The
+    filter in numpy, 5 steps."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(GROWTH, "g.toml"), ["v"]), np.array([[0.01]]), np.array([[0.04]]))
+    state = fej.initial([1.0], np.array([[0.2]]))
+    x, P, first, v = 1.0, 0.2, 1.0, 0.3
+    for y in (1.5, 1.7, 2.6, 3.2, 4.6):
+        state = fej.update(fej.predict(state, [v]), [y]).state
+        prior = x * np.exp(v)
+        P = (prior / first) ** 2 * P + (x * np.exp(v)) ** 2 * 0.01
+        x, first = prior, prior
+        K = P / (P + 0.04)
+        x, P = x + K * (y - x), (1 - K) ** 2 * P + K ** 2 * 0.04
+        assert np.allclose(state.x, [x], atol=1e-12) and np.allclose(state.P, [[P]], atol=1e-12)
+    assert max(r for _, r in fej.residuals) < 1e-12
+
+
+UNCARRIED = """
+name = "uncarried"
+time = "discrete"
+states = ["x", "y"]
+inputs = ["v"]
+[dynamics]
+x = "x + v"
+y = "y + x"
+[outputs]
+p = "y"
+"""
+
+
+def test_a_first_estimate_the_noise_cannot_carry_is_a_warning_naming_its_first_step():
+    """Noise on x only: w̃ carries x̄_k to x̄_k+1 exactly, but y_k+1 = y_k + x_k
+    has no noise, so by hand the residual at step k+1 is |ȳ_k + x̄_k - ȳ_k+1|
+    with ȳ_k+1 = y_k|k + x_k|k (the prior): |(ȳ_k - y_k|k) + (x̄_k - x_k|k)|,
+    the first estimates' distance to the posterior. It is 0 at step 1 (no
+    update yet), not after: without a null space the filter says so, once,
+    with the first step and the number of steps."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(UNCARRIED, "u.toml"), ["v"]), np.array([[0.01]]),
+                            np.array([[0.04]]))
+    state, expected = fej.initial([0.0, 0.0], np.eye(2)), [0.0]
+    for y in (1.3, 2.2, 4.1):
+        state = fej.update(fej.predict(state, [1.0]), [y]).state
+        expected.append(abs(np.sum(state.first - state.x)))
+    assert [k for k, _ in fej.residuals] == [1, 2, 3]
+    assert np.allclose([r for _, r in fej.residuals], expected[:3], atol=1e-12, rtol=1e-9)
+    assert expected[1] > 1e-3 and expected[2] > 1e-3
+    residual = f"{expected[1]:.1e}"
+    assert fej.warnings[1] == (f"step 2: the noise cannot carry the first estimate to the next (residual {residual}): "
+                               "the Jacobian may lose an unobservable direction (2 step(s) in all)")
+    assert fej.warnings[0] == ("no null space was given: Phi N(x_k) = N(x_k+1) is neither kept nor checked (the first "
+                               "estimates keep it only for noise that carries each first estimate to the next and "
+                               "commutes with the symmetries)") and len(fej.warnings) == 2
+
+
+def _hand_null_space(x, p):
+    return _hand_N(np.asarray(x, dtype=float).ravel())
+
+
+def test_with_huangs_null_space_the_kept_transition_is_his_difference_form(odometry):
+    """Given N of Huang et al. 2010, eq. 30 (written by hand), Phi is changed
+    least on the robot's block so that Phi N(x̄_k) = N(x̄_k+1): for planar
+    odometry that is the difference form Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]]
+    already, so the estimates are the numpy filter's; both constraints are
+    logged at every step (1..8) and met, and nothing is warned."""
+    valued = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    _, ys, x0, P0 = _simulate(valued, 8, seed=5)
+    fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0], null_space=_hand_null_space)
+    state = fej.initial(x0, P0)
+    for y, (x_ref, P_ref) in zip(ys, _hand_filter(x0, P0, ys, 8, "fej")):
+        state = fej.update(fej.predict(state, U), y).state
+        assert np.allclose(state.x, x_ref, atol=1e-9) and np.allclose(state.P, P_ref, atol=1e-11)
+    assert [k for k, _ in fej.constraint.transition] == list(range(1, 9))
+    assert [k for k, _ in fej.constraint.measurement] == list(range(1, 9))
+    assert max(r for _, r in fej.constraint.transition + fej.constraint.measurement) < 1e-12
+    assert fej.warnings == ()
+
+
+def test_a_null_space_moving_a_landmark_with_the_robot_is_named_at_its_first_step(odometry):
+    """N = the two translations and (0, 0, 0, x, 0, 0, 0): a landmark's entry
+    that follows the robot's x. The motion leaves landmarks unchanged (Phi's
+    landmark block is I and no change of the robot's block reaches it), so
+    Phi N_k = N_k+1 fails by |x̄_k+1 - x̄_k| = 0.5 cos(0.3 + 0.2 (k - 1)) on
+    that entry (relative to 1 + max |N|) at every step where x moves, the first
+    at step 1 (x̄ from 0 to 0.5 cos 0.3 = 0.478), and the reason is the static
+    states."""
+    def wrong(x, p):
+        x = np.asarray(x, dtype=float).ravel()
+        return np.column_stack([[1, 0, 0, 1, 0, 1, 0], [0, 1, 0, 0, 1, 0, 1], [0, 0, 0, x[0], 0, 0, 0]]).astype(float)
+    fej, state = _started(odometry, null_space=wrong)
+    fej.predict(state, U)
+    (step, left), = fej.constraint.transition
+    assert step == 1 and np.isclose(left, 0.5 * np.cos(0.3) / (1.0 + 1.0), rtol=1e-12)
+    assert fej.warnings == (f"step 1: Phi N(x_k) = N(x_k+1) fails by {left:.1e}: N on the static states differs "
+                            "between the two points (it depends on a moving state) (1 step(s) in all)",)
+
+
+@pytest.mark.parametrize("name", ["additive", "odometry"])
+def test_where_the_first_estimates_lose_the_rotation_huangs_null_space_restores_it(name):
+    """The unicycle of tests/test_fej_noise_forms.py with additive world-frame
+    noise (carried, but not commuting with the rotation) or noise on distance
+    and turn only (not carried): F_X at the carrying noise is not Huang's
+    difference form, and only the change of the robot's block of Phi (the
+    landmarks' is I, static) onto Phi N(x̄_k) = N(x̄_k+1), N by hand (eq. 30),
+    makes it so. The estimates then equal Huang et al. 2008's FEJ in numpy."""
+    from test_fej_noise_forms import FORMS, TWO_INPUTS, _huang, _run, _simulate as _unicycle
+    noise, Qn = FORMS[name]
+    fns = filter_functions(parse_model(TWO_INPUTS, "unicycle.toml").with_values(dt=1.0), noise)
+    truth, ys, x0, P0 = _unicycle(name, Qn, 6, seed=3)
+    fej = FirstEstimatesEKF(fns, Qn, R, null_space=_hand_null_space)
+    for (x, P), (x_ref, P_ref) in zip(_run(fej, x0, P0, ys), _huang(name, Qn, x0, P0, ys)):
+        assert np.allclose(x, x_ref, atol=1e-9) and np.allclose(P, P_ref, atol=1e-11)
+    assert fej.warnings == ()
+
+
+TURNS = """
+name = "turns"
+time = "discrete"
+states = ["th", "c"]
+inputs = ["om"]
+angles = ["th"]
+[dynamics]
+th = "th + om"
+c = "c + om"
+[outputs]
+y = "c"
+"""
+
+
+def test_headings_are_wrapped_in_the_prediction_and_in_the_carrying_residual():
+    """th (an angle) and c (the turn counted, not an angle) both move by om + w.
+    From th = 3.0 a turn of 0.2 predicts th = 3.2 - 2 pi (wrapped to (-pi, pi]),
+    c = 0.2; the noise carrying (3.0, 0) to that prior is w = 0, exactly, since
+    3.2 and 3.2 - 2 pi are the same heading (unwrapped, the least squares would
+    split 2 pi between the two states: a residual of pi)."""
+    fej = FirstEstimatesEKF(filter_functions(parse_model(TURNS, "t.toml"), ["om"]), np.array([[0.01]]),
+                            np.array([[0.04]]))
+    predicted = fej.predict(fej.initial([3.0, 0.0], np.eye(2) * 0.1), [0.2])
+    assert np.allclose(predicted.x, [3.2 - 2 * np.pi, 0.2], atol=1e-15)
+    (step, residual), = fej.residuals
+    assert step == 1 and residual < 1e-12
+
+
+def test_an_overflow_of_the_carrying_residual_alone_is_a_filter_error(odometry):
+    """The first estimate at x = -1e308 and the prior at +1e308: f - target
+    overflows to inf while F_w (dt C(th)) stays finite; refused with the step
+    named, not handed to LAPACK."""
+    fej, state = _started(odometry)
+    far = dataclasses.replace(state, x=np.r_[1e308, state.x[1:]], first=np.r_[-1e308, state.x[1:]])
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the motion at the first estimates is not finite"):
+        fej.predict(far, U)
