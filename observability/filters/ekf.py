@@ -397,11 +397,11 @@ class CloningEKF(_Base):
             return self._numpy_cloning_update(state, values, used)
         n, m = self.n, len(self.fn.outputs)
         measured, mask = self._masked(values, used)
-        try:
-            z, joint, innovation, S, *health = self._update_call(
-                np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask, self.p)
-        except EvaluationFailed:
+        fused = _fused(self._update_call, np.concatenate([state.x, state.x_prev]), state.joint.T, measured, mask,
+                       self.p)
+        if fused is None:
             return self._numpy_cloning_update(state, values, used)
+        z, joint, innovation, S, *health = fused
         z = z.ravel()
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
