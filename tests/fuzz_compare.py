@@ -368,7 +368,9 @@ def compare_trajectory(spec: Spec, folder, seed: int, window: int = 3) -> list[O
             return outcomes + [Outcome("trajectory", REFERENCE, "a pole on the trajectory")]
         exact = rank(rows)
         sigma = np.linalg.svd(np.array([[float(v) for v in r] for r in rows]), compute_uv=False)
-        if tool["rank"] == exact:
+        if tool["rank"] is None:  # a window the tool did not evaluate, with its reason: undecided, not an answer
+            outcomes.append(Outcome("trajectory", TOOL, f"window {number}: exact {exact}, {tool.get('reason')}"))
+        elif tool["rank"] == exact:
             outcomes.append(Outcome("trajectory", AGREE, f"window {number}: rank {exact}"))
         elif tool["rank"] < exact and (not np.isfinite(sigma).all() or sigma[exact - 1] < 1e-6 * sigma[0]):
             outcomes.append(Outcome("trajectory", TOOL, f"window {number}: tool {tool['rank']}, exact {exact}, "

@@ -335,3 +335,18 @@ def test_the_text_says_the_window_ranks_are_numerical():
     out = cli("trajectory", model, "--initial", "x1=1,x2=1", "--duration", "1", "--window", "1")
     assert out.returncode == 0 and "numerical rank 1" in out.stdout and "numerical ranks (singular values" in out.stdout
     assert cli("check", model, "--seed", "1").returncode == 0  # observable, rank 2 of 2, exactly
+
+
+def test_a_window_whose_outputs_do_not_move(tmp_path, capsys):
+    """Found by the fuzzer (seed 1209): x1+ = 3 x2, x2+ = 0, y = 2 x1^2 - 2 x2^2
+    from (1/2, -1). By hand: the state is (-3, 0) after one step and (0, 0)
+    from the second on, so every row of the second window (steps 4-7) is
+    dy/dx_start = (4 x1, -4 x2) at the origin composed with the steps: all zero.
+    The first window's rows at steps 0, 1 are (2, 4) and (0, -36): rank 2.
+    The second window has no information: it is reported as such (rank None,
+    never an 'underflow' alone, since nothing here is below floating point)."""
+    model = _file(tmp_path, "still.toml", 'time = "discrete"\nstates = ["x1", "x2"]\n[dynamics]\nx1 = "3*x2"\n'
+                                         'x2 = "0"\n[outputs]\ny1 = "2*x1**2 - 2*x2**2"\n')
+    windows = _windows(capsys, ["trajectory", model, "--initial", "x1=0.5,x2=-1", "--window", "4", "--duration", "8"])
+    assert [w["rank"] for w in windows] == [2, None]
+    assert "zero" in windows[1]["reason"] and "do not move" in windows[1]["reason"]

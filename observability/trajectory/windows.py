@@ -315,8 +315,9 @@ def _window(T: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: f
         return _not_evaluated(t0, t1, "the Fisher information overflows floating point (values or variances "
                                       "beyond its range)")
     if information[0] < np.finfo(float).tiny:  # squares below the smallest normal float: no rank can be read
-        return _not_evaluated(t0, t1, "the Fisher information underflows floating point (values or variances "
-                                      "beyond its range)")
+        return _not_evaluated(t0, t1, "the Fisher information is zero or below floating point's range (the "
+                                      "outputs do not move with the window's first state, or their sensitivity "
+                                      "underflows): no rank can be read")
     n = len(states)
     rank = int(np.sum((sigma > RANK_TOLERANCE * sigma[0]) & (information >= np.finfo(float).tiny)))
     null = right[rank:].T  # an orthonormal basis of the numerical null space
