@@ -66,7 +66,7 @@ import sympy
 from ..errors import ModelError
 from .system import System
 
-__all__ = ["Region", "region", "qualifier", "refuse_unreal"]
+__all__ = ["Region", "no_real_zero", "region", "qualifier", "refuse_unreal"]
 
 #: Functions single-valued and analytic on every real point (entire).
 _ENTIRE = (sympy.sin, sympy.cos, sympy.exp, sympy.sinh, sympy.cosh)
@@ -160,6 +160,16 @@ def _positive_everywhere(expr: sympy.Expr) -> bool:
                     or (isinstance(factor, (sympy.exp, sympy.cosh)) and _entire(factor.args[0]))):
                 return False
     return True
+
+
+def no_real_zero(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` is proven non-zero at every real point: positive (or
+    negative) everywhere by the module's cases, a positive constant plus squares,
+    exp and cosh, or a quadratic classified exactly (x**2 + y**2 + 1)."""
+    if _positive_everywhere(expr) or _positive_everywhere(-expr):
+        return True
+    variables = sorted(expr.free_symbols, key=lambda s: s.name)
+    return bool(variables) and _quadratic(expr, variables).kind in ("all", "negative")
 
 
 @dataclass(frozen=True)
