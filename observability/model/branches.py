@@ -58,13 +58,14 @@ makes a statement false; a qualified verdict is true on the region it names.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import flint
 import sympy
 
 from ..errors import ModelError
 from .system import System
+from .witness import witness
 
 __all__ = ["Region", "no_real_zero", "region", "qualifier", "refuse_unreal"]
 
@@ -91,9 +92,19 @@ class Region:
     qualified: bool
     conditions: tuple[str, ...] = ()
     reason: str = ""
+    #: A point where every condition that can fail is proven to hold (:mod:`.witness`): () when none was found
+    #: in the search's budget, None when not searched (no such condition, or a constraint set).
+    witness: tuple[tuple[sympy.Symbol, sympy.Rational], ...] | None = None
+
+    def point_text(self) -> str:
+        """The witness in words ("x = 1/2, y = 3")."""
+        return ", ".join(f"{s} = {v}" for s, v in self.witness or ())
 
     def to_dict(self) -> dict:
-        return {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
+        found = {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
+        if self.qualified and self.witness is not None:
+            found["witness"] = {s.name: str(v) for s, v in self.witness} or None
+        return found
 
 
 def qualifier(found: Region, shown: int | None = _SHOWN) -> str:
@@ -416,6 +427,13 @@ def region(system: System, restricted: bool = False) -> Region:
     conditions = [_condition(node) for node in nodes]
     # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
     sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
+    failing = [node for node, s in zip(nodes, sets) if s.kind != "all"]
+    found = None if restricted or not failing else (witness(failing) or ())
+    return replace(_region(system, restricted, conditions, sets), witness=found)
+
+
+def _region(system: System, restricted: bool, conditions: list[str], sets: list[_Set]) -> Region:
+    """:func:`region` from the conditions and their sets."""
     # The conditions that can fail (the others always hold), or all when every one holds everywhere (discrete time).
     words = tuple(dict.fromkeys(text for text, s in zip(conditions, sets) if s.kind != "all")) or tuple(
         dict.fromkeys(conditions))
