@@ -56,6 +56,8 @@ def test_a_qualified_verdict_names_a_point_of_its_region(tmp_path):
     assert answer["region"]["qualified"] is True
     value = sympy.Rational(answer["region"]["witness"]["x"])
     assert (1 - sympy.cos(value)**2).evalf(50) > 0
+    if answer["rank"] == 2:  # h1 = 2 sin x near the witness when sin x > 0 there: rank 2 (test below)
+        assert (sympy.sin(value).evalf(50) > 0) == answer["region"]["at_witness"].startswith("rank at least 2 proven")
     assert "a point of it: x = " in _run(path, "--seed", "5").stdout
 
 
@@ -103,3 +105,26 @@ def test_sensors_and_global_answers_carry_the_region_check_states(tmp_path):
     slab = _model(tmp_path, "slab", ["x", "z"], ["z*sqrt(x**2 - 1)", "z"])
     checked = json.loads(_run(slab, "--global", "--seed", "1", "--format", "json").stdout)
     assert checked["region"]["qualified"] is True and checked["global"]["region"] == checked["region"]
+
+
+def test_the_rank_is_certified_at_the_points_values_given():
+    """h = (sqrt(1 - cos(x)**2) + sin(x), y) is (2 sin x, y) where sin x > 0 (Jacobian [[2 cos x, 0], [0, 1]],
+    rank 2 at x = 1) and (0, y) where sin x < 0 (rank 1 at x = 5): the minor of rank 2 is proven at x = 1,
+    never at x = 5, whatever the other coordinates (the certificate's own points, x in [1/2, 2], all have
+    sin x > 0, so a certificate that ignored the given value would prove it at 5 too)."""
+    from observability.model.modelfile import parse_model
+    from observability.rank.certificate import certify_rank
+    from observability.rank.randomized import randomized_rank
+
+    assert sympy.sin(5) < 0 < sympy.sin(1) and sympy.sin(sympy.Rational(1, 2)) > 0 and sympy.sin(2) > 0
+    plain = ('states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="sqrt(1 - cos(x)**2) + sin(x)"\n'
+             'h2="y"\n', lambda system: system.states[0])
+    # The same with the angle a free parameter p: h1 = (|sin p| + sin p) x, rank 2 at p = 1, 1 at p = 5.
+    parameter = ('states=["x","y"]\nparameters=["p"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\n'
+                 'h1="(sqrt(1 - cos(p)**2) + sin(p))*x"\nh2="y"\n', lambda system: system.parameters[0])
+    for text, angle in (plain, parameter):
+        system = parse_model(text)
+        lower = next(r for r in (randomized_rank(system, seed=s) for s in range(20)) if r.rank == 2)
+        proven = {value: certify_rank(system, lower.orders, lower.independent_rows, lower.pivot_columns,
+                                      at={angle(system): sympy.Integer(value)}).proven for value in (1, 5)}
+        assert proven == {1: True, 5: False}, text

@@ -213,7 +213,7 @@ class ObservabilityResult:
         if self.region.qualified and (self.rank is not None or self.lower_bound is not None):
             lines.insert(1, f"  region: {self.region.reason}" + (
                 f"; a point of it: {self.region.point_text()} (each condition proven there in ball arithmetic)"
-                if self.region.witness else ""))
+                + (f"; {self.region.at_witness}" if self.region.at_witness else "") if self.region.witness else ""))
         if self.restriction:
             lines.insert(1, f"  restricted to: {self.restriction}")
         if self.unknown_input_model:

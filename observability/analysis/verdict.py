@@ -154,6 +154,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
                                         evidence.seed or 0, previous,
                                         symbolic=symbolic_directions or method == "symbolic")
+    domain = replace(domain, at_witness=_at_witness(system, evidence, domain, input_derivatives, previous))
     named, basis, note = found or ((), None, "")
     proof, probability, upper = _proof_status(system, method, evidence, basis, budget)
     details = evidence.details + upper + (f"; {note}" if note else "") + (
@@ -226,6 +227,31 @@ def _undecided(system: System, method: str, evidence: RankEvidence, start: float
         lower_bound=evidence.lower_bound, unknown_inputs=system.unknown_inputs,
         unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system), region=domain,
     )
+
+
+def _at_witness(system: System, evidence: RankEvidence, domain: Region, input_derivatives: int | None,
+                previous: str) -> str:
+    """The rank near the region's witness, in words: the minor the modular
+    elimination chose, proven non-zero in ball arithmetic at points with the
+    witness's values (the other coordinates drawn; the region's conditions
+    depend on the witness's symbols only, so those points are in its part of
+    the domain), proves the rank at least r on an open set of that part, hence
+    at its generic points; a full rank there is the verdict, proven on that
+    part. "" when not examined (no witness, rank 0, or a witness holding an input)."""
+    if not (domain.qualified and domain.witness) or not evidence.rank:
+        return ""
+    if any(s not in system.states and s not in system.free_parameters for s, _ in domain.witness):
+        return ""
+    lower = randomized_rank(system, seed=evidence.seed, input_derivatives=input_derivatives, max_order=evidence.orders,
+                            previous=previous)
+    if lower.rank != evidence.rank:
+        return ""
+    proof = certify_rank(system, lower.orders, lower.independent_rows, lower.pivot_columns, seed=lower.seed or 0,
+                         input_derivatives=input_derivatives, previous=previous, at=dict(domain.witness))
+    if not proof.proven:
+        return f"rank {evidence.rank} not shown near the point ({proof.how})"
+    return (f"rank at least {evidence.rank} proven near the point ({proof.how}, the point's values given), so at "
+            "generic points of the part of the domain around it")
 
 
 def _nowhere(system: System, method: str, seed: int | None, start: float, domain: Region) -> ObservabilityResult:

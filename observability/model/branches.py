@@ -95,6 +95,8 @@ class Region:
     #: A point where every condition that can fail is proven to hold (:mod:`.witness`): () when none was found
     #: in the search's budget, None when not searched (no such condition, or a constraint set).
     witness: tuple[tuple[sympy.Symbol, sympy.Rational], ...] | None = None
+    #: What the rank is shown to be near the witness, in words ("" when not examined).
+    at_witness: str = ""
 
     def point_text(self) -> str:
         """The witness in words ("x = 1/2, y = 3")."""
@@ -104,6 +106,7 @@ class Region:
         found = {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
         if self.qualified and self.witness is not None:
             found["witness"] = {s.name: str(v) for s, v in self.witness} or None
+            found["at_witness"] = self.at_witness
         return found
 
 
