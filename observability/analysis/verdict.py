@@ -139,9 +139,12 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         raise ModelError("a constraint set (--where) is analysed by the random method")
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
     system = prepared.system
-    domain = region(system, restricted=where is not None)
+    # A set's witness is drawn on its pieces; not with angles (their sine and cosine lie on the unit circle).
+    pieces = None if where is None or where.angles else [dict(p.solution) for p in (where, *where.others)]
+    domain = region(system, restricted=where is not None, on=pieces)
     if domain.qualified and domain.witness == ():
-        return _nowhere(system, method, seed, start, domain)
+        found = _nowhere(system, method, seed, start, domain)
+        return found if where is None else replace(found, restriction=where.described())
     if where is not None:
         return replace(rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start,
                                    directions, budget), region=domain)

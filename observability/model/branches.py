@@ -413,7 +413,7 @@ def _fmpq(value) -> flint.fmpq:
     return flint.fmpq(int(value.p), int(value.q))
 
 
-def region(system: System, restricted: bool = False) -> Region:
+def region(system: System, restricted: bool = False, on=None) -> Region:
     """The region a rank of ``system`` (as analysed: after the rewritings of
     :func:`~observability.model.prepare.prepare`) holds on: unqualified when
     the domain where its functions with branches are analytic is proven
@@ -423,7 +423,9 @@ def region(system: System, restricted: bool = False) -> Region:
     the domain that matters is S's part of it, which the cases above do not
     describe (y = 0 cuts the complement of {x = y = 0} in two: on it
     sqrt(x**2 + y**2) + x is 2x for x > 0 and 0 for x < 0); unqualified only
-    when every argument is positive everywhere."""
+    when every argument is positive everywhere. ``on``: the set's pieces (each
+    solved variable a rational function of the others), where its witness is
+    sought (:mod:`.witness`); None: no witness on a constraint set."""
     nodes = _mattering(system)
     if not nodes:
         return Region(False)
@@ -431,7 +433,7 @@ def region(system: System, restricted: bool = False) -> Region:
     # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
     sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
     failing = [node for node, s in zip(nodes, sets) if s.kind != "all"]
-    found = None if restricted or not failing else (witness(failing) or ())
+    found = None if (restricted and on is None) or not failing else (witness(failing, on=on or ({},)) or ())
     return replace(_region(system, restricted, conditions, sets), witness=found)
 
 

@@ -20,7 +20,7 @@ proves nothing (the caller says "undecided", never "empty").
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import sympy
 from flint import arb, fmpq
@@ -47,16 +47,26 @@ def _holds(node: sympy.Expr, point: dict) -> bool:
     return value.is_finite() and value > 0
 
 
-def witness(nodes: Sequence[sympy.Expr], seed: int = 0, attempts: int = ATTEMPTS
+def witness(nodes: Sequence[sympy.Expr], seed: int = 0, attempts: int = ATTEMPTS,
+            on: Sequence[Mapping[sympy.Symbol, sympy.Expr]] = ({},)
             ) -> tuple[tuple[sympy.Symbol, sympy.Rational], ...] | None:
     """A rational point (sorted by name) where every node's condition is proven
-    (module docstring), or None when none of ``attempts`` seeded points is one."""
-    symbols = sorted(set().union(*(n.free_symbols for n in nodes)), key=lambda s: s.name)
+    (module docstring), or None when none of ``attempts`` seeded points is one.
+    ``on``: the pieces of a constraint set, each solved variable a rational
+    function of the others; the point is then drawn on them in turn (its free
+    variables drawn, the solved ones computed exactly), so it is a point of the set."""
     rng = random.Random(seed)
     with precision():
-        for _ in range(attempts):
+        for attempt in range(attempts):
+            solution = on[attempt % len(on)]
+            symbols = sorted(set().union(*(n.free_symbols for n in nodes), *(g.free_symbols for g in solution.values()))
+                             - set(solution), key=lambda s: s.name)
             exact = {s: sympy.Rational(rng.choice((-1, 1)) * rng.randint(0, rng.choice(_SCALES) << 10), 1 << 10)
                      for s in symbols}
+            exact |= {v: g.xreplace(exact) for v, g in solution.items()}
+            if not all(v.is_Rational for v in exact.values()):
+                continue  # a pole of the set's solution
+            exact = dict(sorted(exact.items(), key=lambda item: item[0].name))
             point = {s: arb(fmpq(int(v.p), int(v.q))) for s, v in exact.items()}
             try:
                 if all(_holds(node, point) for node in nodes):
