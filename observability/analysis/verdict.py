@@ -201,9 +201,9 @@ def _rank(system: System, method: str, seed: int | None, input_derivatives: int 
           progress: Callable[[str], None] | None, domain: Region) -> tuple[RankEvidence, Directions | None]:
     """The chosen method's rank evidence, with the directions when the two-sided
     symbolic route already found them (None otherwise). The float route without
-    a point starts at the domain's witness, the others drawn with the seed: a
-    random point may lie outside the domain (z*sqrt(x - 1000) at N(0, 1)
-    values was exit 2); where the rows have a pole there, at random points."""
+    a point, when every random point is singular, takes the domain's witness
+    (the others drawn with the seed): random points may all lie outside the
+    domain (z*sqrt(x - 1000) at N(0, 1) values was exit 2)."""
     if method == "random":
         return random_evidence(system, seed, input_derivatives, max_order, previous, progress), None
     if method == "symbolic":
@@ -211,15 +211,16 @@ def _rank(system: System, method: str, seed: int | None, input_derivatives: int 
         if two_sided is not None:
             return two_sided
         return symbolic_evidence(system, seed, input_derivatives, max_order, previous, budget), None
-    if point is None and domain.witness:
-        inside = {s.name: float(v) for s, v in domain.witness}
-        chosen = (f"a point inside the domain of the functions with branches ({domain.point_text()}, each condition "
-                  "proven there in ball arithmetic; the other values drawn with the seed)")
-        try:
-            return float_evidence(system, seed, inside, input_derivatives, max_order, previous, chosen), None
-        except SingularModelError:
-            pass
-    return float_evidence(system, seed, point, input_derivatives, max_order, previous), None
+    try:
+        return float_evidence(system, seed, point, input_derivatives, max_order, previous), None
+    except SingularModelError:
+        if point is not None or not domain.witness:
+            raise
+    inside = {s.name: float(v) for s, v in domain.witness}
+    chosen = (f"a point inside the domain of the functions with branches ({domain.point_text()}, each condition "
+              "proven there in ball arithmetic; the other values drawn with the seed), the random points being "
+              "outside it")
+    return float_evidence(system, seed, inside, input_derivatives, max_order, previous, chosen), None
 
 
 def _undecided(system: System, method: str, evidence: RankEvidence, start: float, domain: Region) -> ObservabilityResult:

@@ -12,8 +12,9 @@ being strict and the functions continuous, it holds on an open neighbourhood
 of the point: the region is not empty, and the point names which of its parts
 the words "around the point" mean.
 
-The search is bounded and seeded: ``attempts`` points, each coordinate drawn at
-a random scale (up to 2**20) and sign, numerators over 2**10. Not finding one
+The search is bounded and seeded: ``attempts`` points, the coordinates drawn
+with random signs below a scale that grows from 1 to 2**20 (32 points each),
+numerators over 2**10. Not finding one
 proves nothing (the caller says "undecided", never "empty").
 """
 
@@ -31,8 +32,10 @@ __all__ = ["witness", "ATTEMPTS"]
 
 #: Points tried at most.
 ATTEMPTS = 256
-#: The scales a coordinate is drawn at (its magnitude below the scale).
+#: The scales the coordinates are drawn at (their magnitudes below the scale), in turn.
 _SCALES = (1, 2, 32, 1024, 1 << 15, 1 << 20)
+#: Points tried at each scale before the next (the last takes the rest).
+_PER_SCALE = 32
 
 
 def _holds(node: sympy.Expr, point: dict) -> bool:
@@ -61,8 +64,8 @@ def witness(nodes: Sequence[sympy.Expr], seed: int = 0, attempts: int = ATTEMPTS
             solution = on[attempt % len(on)]
             symbols = sorted(set().union(*(n.free_symbols for n in nodes), *(g.free_symbols for g in solution.values()))
                              - set(solution), key=lambda s: s.name)
-            exact = {s: sympy.Rational(rng.choice((-1, 1)) * rng.randint(0, rng.choice(_SCALES) << 10), 1 << 10)
-                     for s in symbols}
+            scale = _SCALES[min(attempt // _PER_SCALE, len(_SCALES) - 1)]  # small points first (float's scale)
+            exact = {s: sympy.Rational(rng.choice((-1, 1)) * rng.randint(0, scale << 10), 1 << 10) for s in symbols}
             exact |= {v: g.xreplace(exact) for v, g in solution.items()}
             if not all(v.is_Rational for v in exact.values()):
                 continue  # a pole of the set's solution
