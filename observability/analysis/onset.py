@@ -7,6 +7,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from ..directions.find import UnobservableDirection, directions_on_set, unobservable_directions
+from ..errors import SingularModelError
 from ..model.expressions import parse_expression
 from ..model.system import System
 from ..model.unknowninputs import input_model
@@ -31,34 +32,47 @@ def rank_on_set(
     each part: the verdict is the set's only when every part was solved and
     each is observable (a full rank, proven: the rank at a generic point of
     each part); otherwise it is the drawn part's, named, with the other parts'
-    ranks listed (``where.described()``)."""
+    ranks listed (``where.described()``). A part on which every random point
+    hits a pole of the model is outside its domain (the pole's denominator
+    vanishes on it, but with the probability of the draws, Schwartz-Zippel): no
+    rank is stated there, and it is named as such; when every other part is,
+    the verdict is the set's."""
+    parts, undefined = [], ""
+    for other in where.others:
+        try:
+            parts.append((other, _rank_on_part(system, other, seed, input_derivatives, max_order, previous, progress,
+                                               start, False, budget)))
+        except SingularModelError:
+            # Outside the model's domain (a pole at every point drawn on it): no rank to state there.
+            undefined += f"; {other.solution_text()}: the model is not defined there (a pole at every random point)"
+    if where.parts and not parts and where.every_part:  # one piece in the model's domain: the set is that piece
+        where = replace(where, parts=(), others=())
     drawn = _rank_on_part(system, where, seed, input_derivatives, max_order, previous, progress, start, directions,
                           budget)
     if not where.parts:
-        return drawn
-    others = [_rank_on_part(system, o, seed, input_derivatives, max_order, previous, progress, start, False, budget)
-              for o in where.others]
-    lowest = min(range(len(others)), key=lambda i: _height(others[i]), default=None)
-    if lowest is not None and _height(others[lowest]) < _height(drawn):
+        return replace(drawn, restriction=drawn.restriction + (
+            f" (its other pieces are outside the model's domain: {undefined.lstrip('; ')})" if undefined else ""))
+    lowest = min(parts, key=lambda pair: _height(pair[1]), default=None)
+    if lowest is not None and _height(lowest[1]) < _height(drawn):
         # The set is observable only where each part is: its verdict is its lowest part's, whatever the
         # order of the factors (the drawn part first gave exit 0 on x*y = 0 where x = 0 has rank 1).
-        low = where.others[lowest]
-        listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in
-                           [(where, drawn), *zip(where.others, others)] if o is not low)
+        low = lowest[0]
+        listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in [(where, drawn), *parts] if o is not low)
         # Named as a part of the set, so that its text and its lost directions say which part.
         low = replace(low, parts=((low.solution_text(), (where.parts_text(),)),))
         result = _rank_on_part(system, low, seed, input_derivatives, max_order, previous, progress, start,
                                directions, budget)
         return replace(result, restriction=low.described() + f" (the lowest rank of the parts); on the other parts: "
-                       f"{listed}" + ("" if where.every_part else "; not every part could be solved"))
-    listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in zip(where.others, others))
+                       f"{listed}{undefined}" + ("" if where.every_part else "; not every part could be solved"))
+    listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in parts) + undefined
     # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
-    if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for r in others):
-        probabilities = [r.error_probability for r in (drawn, *others) if r.error_probability is not None]
+    if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for _, r in parts):
+        probabilities = [r.error_probability for r in (drawn, *(r for _, r in parts)) if r.error_probability is not None]
         return replace(drawn, restriction=f"the set {where.text}, every part of it ({where.parts_text()}; "
-                                          f"each analysed: {drawn.rank} of {system.n} on each)",
+                                          f"each analysed: {drawn.rank} of {system.n} on each{undefined})",
                        error_probability=sum(probabilities) if probabilities else drawn.error_probability)
-    return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed}" if listed else "")
+    return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed.lstrip('; ')}" if listed
+                                                           else "")
                    + ("" if where.every_part else "; not every part could be solved"))
 
 

@@ -155,6 +155,8 @@ class ObservabilityResult:
         if self.global_answer is None:
             return {}
         answer = self.global_answer.to_dict()
+        if self.region.qualified:  # the global answers are about the same region as the rank (_global_lines)
+            answer["region"] = self.region.to_dict()
         return {"globally_observable_states": answer["globally_observable_states"],
                 "only_locally_observable_states": answer["only_locally_observable_states"], "global": answer}
 
@@ -209,7 +211,9 @@ class ObservabilityResult:
             f"  method: {self.method}; {self.details}",
         ]
         if self.region.qualified and (self.rank is not None or self.lower_bound is not None):
-            lines.insert(1, f"  region: {self.region.reason}")
+            lines.insert(1, f"  region: {self.region.reason}" + (
+                f"; a point of it: {self.region.point_text()} (each condition proven there in ball arithmetic)"
+                + (f"; {self.region.at_witness}" if self.region.at_witness else "") if self.region.witness else ""))
         if self.restriction:
             lines.insert(1, f"  restricted to: {self.restriction}")
         if self.unknown_input_model:
@@ -283,6 +287,10 @@ class ObservabilityResult:
         if answer is None:
             return []
         lines = [f"  globally observable (unique): {states(answer.globally)}"]
+        if self.region.qualified and (answer.globally or answer.only_locally):
+            # The global route takes rational models only, so a qualified model's answers are undecided today
+            # (a root or log left after prepare is not rational); were one decided, it is about the rank's region.
+            lines.append(f"  global answers: about the states{qualifier(self.region)}")
         # Never a bare "only locally": a reader takes it for real states (:mod:`.realvalues`).
         real = {False: [], True: [], None: []}
         for name in answer.only_locally:

@@ -22,7 +22,7 @@ import sympy
 from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
-from ..errors import ModelError
+from ..errors import ModelError, SingularModelError
 from ..model.branches import Region, refuse_unreal, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
@@ -130,17 +130,26 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     if system.arbitrary_inputs:
         if method != "random" or where is not None or point is not None:
             system.require_known_inputs(f"the {method} method" + (" on a set" if where is not None else ""))
+        domain = region(system)
+        if domain.qualified and domain.witness == ():
+            return _nowhere(system, method, seed, start, domain)
         return replace(arbitrary_inputs_verdict(system, seed, input_derivatives, max_order, budget, progress, start),
-                       region=region(system))
+                       region=domain)
     if where is not None and method != "random":
         raise ModelError("a constraint set (--where) is analysed by the random method")
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
     system = prepared.system
-    domain = region(system, restricted=where is not None)
+    # A set's witness is drawn on its pieces; not with angles (their sine and cosine lie on the unit circle).
+    pieces = None if where is None or where.angles else [dict(p.solution) for p in (where, *where.others)]
+    domain = region(system, restricted=where is not None, on=pieces)
+    if domain.qualified and domain.witness == ():
+        found = _nowhere(system, method, seed, start, domain)
+        return found if where is None else replace(found, restriction=where.described())
     if where is not None:
         return replace(rank_on_set(system, where, seed, input_derivatives, max_order, previous, progress, start,
                                    directions, budget), region=domain)
-    evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress)
+    evidence, found = _rank(system, method, seed, input_derivatives, max_order, budget, point, previous, progress,
+                            domain)
     if evidence.rank is None:
         return _undecided(system, method, evidence, start, domain)
     n, rank = system.n, evidence.rank
@@ -148,6 +157,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
                                         evidence.seed or 0, previous,
                                         symbolic=symbolic_directions or method == "symbolic")
+    domain = replace(domain, at_witness=_at_witness(system, evidence, domain, input_derivatives, previous))
     named, basis, note = found or ((), None, "")
     proof, probability, upper = _proof_status(system, method, evidence, basis, budget)
     details = evidence.details + upper + (f"; {note}" if note else "") + (
@@ -188,9 +198,12 @@ def _check_options(method: str, previous: str, max_order: int | None, input_deri
 
 def _rank(system: System, method: str, seed: int | None, input_derivatives: int | None, max_order: int | None,
           budget: float | None, point: Mapping[str, float] | None, previous: str,
-          progress: Callable[[str], None] | None) -> tuple[RankEvidence, Directions | None]:
+          progress: Callable[[str], None] | None, domain: Region) -> tuple[RankEvidence, Directions | None]:
     """The chosen method's rank evidence, with the directions when the two-sided
-    symbolic route already found them (None otherwise)."""
+    symbolic route already found them (None otherwise). The float route without
+    a point, when every random point is singular, takes the domain's witness
+    (the others drawn with the seed): random points may all lie outside the
+    domain (z*sqrt(x - 1000) at N(0, 1) values was exit 2)."""
     if method == "random":
         return random_evidence(system, seed, input_derivatives, max_order, previous, progress), None
     if method == "symbolic":
@@ -198,7 +211,16 @@ def _rank(system: System, method: str, seed: int | None, input_derivatives: int 
         if two_sided is not None:
             return two_sided
         return symbolic_evidence(system, seed, input_derivatives, max_order, previous, budget), None
-    return float_evidence(system, seed, point, input_derivatives, max_order, previous), None
+    try:
+        return float_evidence(system, seed, point, input_derivatives, max_order, previous), None
+    except SingularModelError:
+        if point is not None or not domain.witness:
+            raise
+    inside = {s.name: float(v) for s, v in domain.witness}
+    chosen = (f"a point inside the domain of the functions with branches ({domain.point_text()}, each condition "
+              "proven there in ball arithmetic; the other values drawn with the seed), the random points being "
+              "outside it")
+    return float_evidence(system, seed, inside, input_derivatives, max_order, previous, chosen), None
 
 
 def _undecided(system: System, method: str, evidence: RankEvidence, start: float, domain: Region) -> ObservabilityResult:
@@ -209,6 +231,43 @@ def _undecided(system: System, method: str, evidence: RankEvidence, start: float
         lower_bound=evidence.lower_bound, unknown_inputs=system.unknown_inputs,
         unknown_parameters=system.unknown_parameters, unknown_input_model=input_model(system), region=domain,
     )
+
+
+def _at_witness(system: System, evidence: RankEvidence, domain: Region, input_derivatives: int | None,
+                previous: str) -> str:
+    """The rank near the region's witness, in words: the minor the modular
+    elimination chose, proven non-zero in ball arithmetic at points with the
+    witness's values (the other coordinates drawn; the region's conditions
+    depend on the witness's symbols only, so those points are in its part of
+    the domain), proves the rank at least r on an open set of that part, hence
+    at its generic points; a full rank there is the verdict, proven on that
+    part. "" when not examined (no witness, rank 0, or a witness holding an input)."""
+    if not (domain.qualified and domain.witness) or not evidence.rank:
+        return ""
+    if any(s not in system.states and s not in system.free_parameters for s, _ in domain.witness):
+        return ""
+    lower = randomized_rank(system, seed=evidence.seed, input_derivatives=input_derivatives, max_order=evidence.orders,
+                            previous=previous)
+    if lower.rank != evidence.rank:
+        return ""
+    proof = certify_rank(system, lower.orders, lower.independent_rows, lower.pivot_columns, seed=lower.seed or 0,
+                         input_derivatives=input_derivatives, previous=previous, at=dict(domain.witness))
+    if not proof.proven:
+        return f"rank {evidence.rank} not shown near the point ({proof.how})"
+    return (f"rank at least {evidence.rank} proven near the point ({proof.how}, the point's values given), so at "
+            "generic points of the part of the domain around it")
+
+
+def _nowhere(system: System, method: str, seed: int | None, start: float, domain: Region) -> ObservabilityResult:
+    """Undecided: no witness was found for the region a qualified verdict would
+    be stated on, which may then be empty (a rank there would say nothing).
+    Not a refusal: not finding a point proves nothing."""
+    from ..model.witness import ATTEMPTS
+
+    evidence = RankEvidence(rank=None, orders=0, seed=seed, details=(
+        f"undecided: no real point found where {' and '.join(domain.conditions)} ({ATTEMPTS} rational points tried, "
+        "each condition checked in ball arithmetic): the region the rank would be stated on may be empty"))
+    return _undecided(system, method, evidence, start, domain)
 
 
 def _proof_status(system: System, method: str, evidence: RankEvidence, basis, budget: float | None

@@ -13,6 +13,8 @@ __all__ = ["sensors_command", "design_command"]
 
 
 def _text(choice) -> str:
+    from ..model.branches import qualifier  # sympy: not at the parser's import (--help stays light)
+
     def label(s) -> str:
         return "{" + ", ".join(s.candidates) + "}"
 
@@ -22,11 +24,15 @@ def _text(choice) -> str:
     if [s.candidates for s in choice.minimal_sets] == [()]:  # the empty set is the cheapest
         head = (f"observable without candidates (rank {n} of {n})" if choice.observable else
                 f"no candidate raises the rank: the best rank is the model's own, {choice.target} of {n}")
+    if any(s.region.qualified for s in choice.minimal_sets):
+        head += " on the regions named below"
     lines.append(f"{choice.model}: {head}")
-    lines.append(f"  without candidates: rank {choice.base.rank} of {n} ({choice.base.proof})")
+    # Each rank with its region, as check states it (a set's outputs may bring functions with branches).
+    lines.append(f"  without candidates: rank {choice.base.rank} of {n} ({choice.base.proof})"
+                 + qualifier(choice.base.region))
     for s in choice.minimal_sets:
         left = f"; still lost: {'; '.join(s.directions)}" if s.directions else ""
-        lines.append(f"  {label(s)}: cost {s.cost:g}, rank {s.rank} of {n} ({s.proof}){left}")
+        lines.append(f"  {label(s)}: cost {s.cost:g}, rank {s.rank} of {n} ({s.proof}){qualifier(s.region)}{left}")
     probability = f" (wrong with probability <= {choice.error_probability:.1e})" if choice.error_probability else ""
     lines.append(f"  no cheaper set reaches rank {choice.target}: {choice.minimality}{probability}: {choice.details}")
     lines.append(f"  ranks computed by the search: {choice.ranks_computed}")

@@ -480,6 +480,8 @@ class BallTaylorEvaluator(TaylorEvaluator):
         return arb(fmpq(self.rng.randint(1 << 20, 1 << 22), 1 << 21))
 
     def _random_constant(self, key: object) -> arb:
+        if key in self.constants:  # a value given (a point of a region: rank.certificate)
+            return self.constants[key]
         if key is sympy.pi:
             return arb.pi()
         if key is sympy.E:

@@ -58,15 +58,16 @@ makes a statement false; a qualified verdict is true on the region it names.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import flint
 import sympy
 
 from ..errors import ModelError
 from .system import System
+from .witness import witness
 
-__all__ = ["Region", "region", "qualifier", "refuse_unreal"]
+__all__ = ["Region", "no_real_zero", "region", "qualifier", "refuse_unreal"]
 
 #: Functions single-valued and analytic on every real point (entire).
 _ENTIRE = (sympy.sin, sympy.cos, sympy.exp, sympy.sinh, sympy.cosh)
@@ -91,9 +92,22 @@ class Region:
     qualified: bool
     conditions: tuple[str, ...] = ()
     reason: str = ""
+    #: A point where every condition that can fail is proven to hold (:mod:`.witness`): () when none was found
+    #: in the search's budget, None when not searched (no such condition, or a constraint set).
+    witness: tuple[tuple[sympy.Symbol, sympy.Rational], ...] | None = None
+    #: What the rank is shown to be near the witness, in words ("" when not examined).
+    at_witness: str = ""
+
+    def point_text(self) -> str:
+        """The witness in words ("x = 1/2, y = 3")."""
+        return ", ".join(f"{s} = {v}" for s, v in self.witness or ())
 
     def to_dict(self) -> dict:
-        return {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
+        found = {"qualified": self.qualified, "where": list(self.conditions), "reason": self.reason}
+        if self.qualified and self.witness is not None:
+            found["witness"] = {s.name: str(v) for s, v in self.witness} or None
+            found["at_witness"] = self.at_witness
+        return found
 
 
 def qualifier(found: Region, shown: int | None = _SHOWN) -> str:
@@ -160,6 +174,16 @@ def _positive_everywhere(expr: sympy.Expr) -> bool:
                     or (isinstance(factor, (sympy.exp, sympy.cosh)) and _entire(factor.args[0]))):
                 return False
     return True
+
+
+def no_real_zero(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` is proven non-zero at every real point: positive (or
+    negative) everywhere by the module's cases, a positive constant plus squares,
+    exp and cosh, or a quadratic classified exactly (x**2 + y**2 + 1)."""
+    if _positive_everywhere(expr) or _positive_everywhere(-expr):
+        return True
+    variables = sorted(expr.free_symbols, key=lambda s: s.name)
+    return bool(variables) and _quadratic(expr, variables).kind in ("all", "negative")
 
 
 @dataclass(frozen=True)
@@ -389,7 +413,7 @@ def _fmpq(value) -> flint.fmpq:
     return flint.fmpq(int(value.p), int(value.q))
 
 
-def region(system: System, restricted: bool = False) -> Region:
+def region(system: System, restricted: bool = False, on=None) -> Region:
     """The region a rank of ``system`` (as analysed: after the rewritings of
     :func:`~observability.model.prepare.prepare`) holds on: unqualified when
     the domain where its functions with branches are analytic is proven
@@ -399,13 +423,22 @@ def region(system: System, restricted: bool = False) -> Region:
     the domain that matters is S's part of it, which the cases above do not
     describe (y = 0 cuts the complement of {x = y = 0} in two: on it
     sqrt(x**2 + y**2) + x is 2x for x > 0 and 0 for x < 0); unqualified only
-    when every argument is positive everywhere."""
+    when every argument is positive everywhere. ``on``: the set's pieces (each
+    solved variable a rational function of the others), where its witness is
+    sought (:mod:`.witness`); None: no witness on a constraint set."""
     nodes = _mattering(system)
     if not nodes:
         return Region(False)
     conditions = [_condition(node) for node in nodes]
     # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
     sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
+    failing = [node for node, s in zip(nodes, sets) if s.kind != "all"]
+    found = None if (restricted and on is None) or not failing else (witness(failing, on=on or ({},)) or ())
+    return replace(_region(system, restricted, conditions, sets), witness=found)
+
+
+def _region(system: System, restricted: bool, conditions: list[str], sets: list[_Set]) -> Region:
+    """:func:`region` from the conditions and their sets."""
     # The conditions that can fail (the others always hold), or all when every one holds everywhere (discrete time).
     words = tuple(dict.fromkeys(text for text, s in zip(conditions, sets) if s.kind != "all")) or tuple(
         dict.fromkeys(conditions))

@@ -479,14 +479,18 @@ def _no_absolute_value(node: sympy.Pow, where: str) -> None:
     if any(isinstance(a, sympy.Pow) and a.exp.is_negative for a in sympy.preorder_traversal(base) if a is not base):
         base = sympy.together(base)  # a denominator inside: one fraction first
     numerator, denominator = sympy.fraction(base)
+    split = []
     for part in (numerator, denominator):
         if not part.free_symbols:
+            split.append((part, []))
             continue
         try:
-            _, factors = _squarefree(part)
+            split.append(_squarefree(part))
         except (sympy.PolynomialError, sympy.CoercionFailed, NotImplementedError):
             raise UnsupportedExpressionError(f"{where}: the radicand of {node} could not be factored to show the root "
                                              "is analytic") from None
+    _minus_a_square(node, split, where)
+    for _, factors in split:
         for factor, multiplicity in factors:
             if factor.free_symbols and multiplicity % 4 == 2:
                 power = "" if multiplicity == 2 else f"**{multiplicity // 2}"
@@ -494,6 +498,27 @@ def _no_absolute_value(node: sympy.Pow, where: str) -> None:
                     f"{where}: {node} holds the square root of ({factor})**{multiplicity}, which is |{factor}|{power}: "
                     f"not analytic where {factor} = 0, and the rank may differ on its two sides (as with Abs); write "
                     f"({factor}){power} or -({factor}){power} for the side you mean")
+
+
+def _minus_a_square(node: sympy.Pow, split, where: str) -> None:
+    """Refuse a root whose radicand is a negative constant times even powers
+    (over even powers): at most zero at every real point, zero only where a
+    factor vanishes, a set with no interior, so the root is real on no open set
+    and no rank holds anywhere (sqrt(-(x - y)**2) is real only on x = y).
+
+    Raises
+    ------
+    UnsupportedExpressionError
+        Naming the root and the factors it is real on.
+    """
+    (top, above), (bottom, below) = split
+    sign = top * bottom
+    if not (sign.is_number and sign.is_negative and above + below) or any(m % 2 for _, m in (*above, *below)):
+        return
+    zeros = " or ".join(f"{f} = 0" for f, _ in above) or "nowhere"
+    raise UnsupportedExpressionError(
+        f"{where}: the radicand of {node} is minus a square, at most zero at every real point: the root is real only "
+        f"where {zeros} (no open set), so the output is not real")
 
 
 def _squarefree(expr: sympy.Expr):

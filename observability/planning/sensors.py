@@ -47,6 +47,7 @@ from dataclasses import dataclass
 from ..analysis.result import ObservabilityResult
 from ..analysis.verdict import analyze
 from ..errors import ModelError
+from ..model.branches import Region
 from ..model.system import System
 
 __all__ = ["SensorSet", "SensorChoice", "select_sensors", "MAX_CANDIDATES"]
@@ -71,6 +72,11 @@ class SensorSet:
         The verdict's proof status ("proven", "lower bound", ...).
     directions : tuple of str
         The unobservable directions left, named (empty at full rank).
+    region : Region
+        The part of the domain the rank holds on, as ``check`` says it
+        (:func:`~observability.model.branches.region`): qualified when the
+        outputs' functions with branches are analytic on a domain not proven
+        connected.
     """
 
     candidates: tuple[str, ...]
@@ -78,10 +84,11 @@ class SensorSet:
     rank: int | None
     proof: str | None
     directions: tuple[str, ...] = ()
+    region: Region = Region(False)
 
     def to_dict(self) -> dict:
         return {"candidates": list(self.candidates), "cost": self.cost, "rank": self.rank, "proof": self.proof,
-                "directions": list(self.directions)}
+                "directions": list(self.directions), "region": self.region.to_dict()}
 
 
 @dataclass(frozen=True)
@@ -175,7 +182,8 @@ def _verdict(system: System, candidates: Mapping[str, str], chosen: tuple[str, .
     result = analyze(_with(system, candidates, chosen), seed=seed, budget=budget, directions=directions,
                      functions=False)
     named = tuple(d.name for d in result.unobservable_directions)
-    return SensorSet(chosen, float(sum(cost[c] for c in chosen)), result.rank, result.proof, named), result
+    return SensorSet(chosen, float(sum(cost[c] for c in chosen)), result.rank, result.proof, named,
+                     result.region), result
 
 
 def select_sensors(system: System, candidates: Mapping[str, str], costs: Mapping[str, float] | None = None,

@@ -14,9 +14,11 @@ modular elimination chose (its independent rows and pivot columns).
 from __future__ import annotations
 
 import random
+from collections.abc import Mapping
 from dataclasses import dataclass
 
-from flint import arb, arb_mat, ctx
+import sympy
+from flint import arb, arb_mat, ctx, fmpq
 
 from ..engine.expansion import AllRows, expand_rows
 from ..engine.program import Program
@@ -49,12 +51,16 @@ def certify_rank(
     seed: int = 0,
     input_derivatives: int | None = None,
     previous: str = "inverse",
+    at: Mapping[sympy.Symbol, sympy.Rational] | None = None,
 ) -> Certificate:
     """Prove that the minor (``rows`` x ``columns``) of the observability matrix
     with orders 0..``orders`` is non-zero at some real point.
 
     Tries up to four points (with rising precision); a proof at any one of them
-    proves the generic rank is at least ``len(rows)``.
+    proves the generic rank is at least ``len(rows)``. With ``at`` (values of
+    some states and free parameters) every point tried has those values, the
+    others drawn: a proof is then one near that point (a non-zero minor stays
+    non-zero on a neighbourhood, the rows being analytic where they are finite).
     """
     if not rows:
         return Certificate(True, "rank 0 needs no certificate")
@@ -70,7 +76,15 @@ def certify_rank(
             sink = AllRows()
 
             def make(program: Program, discrete: bool) -> BallTaylorEvaluator:
-                return BallTaylorEvaluator(program, system.n, rng, input_degree=input_derivatives, discrete=discrete)
+                evaluator = BallTaylorEvaluator(program, system.n, rng, input_degree=input_derivatives,
+                                                discrete=discrete)
+                for symbol, value in (at or {}).items():
+                    ball = arb(fmpq(int(value.p), int(value.q)))
+                    if symbol in system.states:
+                        evaluator.point[system.states.index(symbol)] = ball
+                    else:
+                        evaluator.constants[symbol] = ball
+                return evaluator
 
             try:
                 expand_rows(system, sink, make, max_order=orders, previous=previous, exhaustive=True)

@@ -183,8 +183,10 @@ def _undecided_with_lower_bound(system: System, why: str, seed: int | None, inpu
 
 
 def float_evidence(system: System, seed: int | None, point: Mapping[str, float] | None,
-                   input_derivatives: int | None, max_order: int | None, previous: str) -> RankEvidence:
-    """Singular values in floating point at ``point`` (or a random point): numerical, not a proof."""
+                   input_derivatives: int | None, max_order: int | None, previous: str,
+                   chosen: str = "the given point") -> RankEvidence:
+    """Singular values in floating point at ``point`` (or a random point): numerical, not a proof.
+    ``chosen``: the point in words, when one is given."""
     from .numeric import float_rank  # numpy, imported only by the float route
 
     fr = float_rank(system, seed=seed, point=point, input_derivatives=input_derivatives, max_order=max_order,
@@ -193,7 +195,7 @@ def float_evidence(system: System, seed: int | None, point: Mapping[str, float] 
         return truncated(system.n, max_order, fr.rank, fr.orders, fr.rule, False, seed)
     values = [f"{v:.3g}" for v in fr.singular_values]
     shown = ", ".join(values if len(values) <= 12 else values[:3] + ["..."] + values[-6:])
-    details = (f"SVD at {'the given' if point else 'a random'} point: singular values [{shown}], threshold "
+    details = (f"SVD at {chosen if point else 'a random point'}: singular values [{shown}], threshold "
                f"{fr.threshold:.2g}, gap {fr.gap:.3g}")
     if fr.rank < system.n:
         details += f"; numerical null space of dimension {system.n - fr.rank}"

@@ -18,6 +18,7 @@ from ..errors import ModelError
 from ..model.constants import irrational_constants
 from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
+from .parts import Piece, decompose
 
 __all__ = ["ConstraintSet", "parse_constraints", "solve_constraints"]
 
@@ -77,10 +78,14 @@ class ConstraintSet:
         is a random rational point of the unit circle, shared with the model's
         sin(v) and cos(v) (:meth:`place`).
     parts : tuple of (str, tuple of str)
-        For each equation whose polynomial factors over Q into several distinct
-        factors (the set is then a union of several parts, on which the rank may
-        differ): the factor solved ("x = 0") and all of them. Empty when no
-        equation splits: the points are then drawn on the whole set.
+        When the set has several pieces (:func:`~.parts.decompose`: an equation
+        that factors, or a division whose zeros are a piece of their own), on
+        which the rank may differ: the piece drawn on ("x = 0") and all of them.
+        Empty for one piece: the points are then drawn on the whole set.
+    others : tuple of ConstraintSet
+        The other pieces, each solved alone (at most 8 pieces in all).
+    every_part : bool
+        Whether every piece was solved (and is in ``others``).
     """
 
     text: str
@@ -216,103 +221,68 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
 
 def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str) -> ConstraintSet:
     """The set where every expression of ``equations`` (in states and parameters)
-    vanishes, solved rationally: each equation for a variable of degree 1 in it.
+    vanishes, solved rationally piece by piece (:func:`~.parts.decompose`): the
+    first piece solved is the one drawn on, the others are its ``others`` (a set
+    of several pieces is a union of parts, whose ranks may differ).
 
     Raises
     ------
     ModelError
-        No unique rational solution, or a solved variable inside a
-        transcendental function.
+        The set proven empty, no piece with a rational solution, or a solved
+        variable inside a transcendental function.
     """
     order = [s for s in (*system.states, *system.parameters)]
     equations, angles = _through_the_circle(equations, order)
-    given = list(equations)
     circle = {v for v, _, _ in angles}
-    chosen: list[sympy.Symbol] = []
-    parts: list[tuple[str, tuple[str, ...]]] = []
-    equations = list(equations)
-    for index, expr in enumerate(equations):
-        equations[index], split = _one_part(expr, order, circle, chosen, angles)
-        expr = equations[index]
-        if split:
-            parts.append(split)
-        candidates = [s for s in order if s in expr.free_symbols and s not in chosen and s not in circle
-                      and expr.is_polynomial(s) and sympy.degree(expr, s) == 1]
-        if not candidates:
-            written = expr.xreplace({x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)})
-            raise ModelError(f"--where: cannot solve {sympy.sstr(written)} = 0 rationally for a state or parameter")
-        chosen.append(candidates[0])
-    solutions = sympy.solve(list(equations), chosen, dict=True)
-    others = [s for s in order if s not in chosen] + [x for _, sine, cosine in angles for x in (sine, cosine)]
-    if len(solutions) != 1 or set(solutions[0]) != set(chosen) or not all(
-        v.is_rational_function(*others) and not (v.free_symbols & set(chosen)) for v in solutions[0].values()
-    ):
+    trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
+    pieces = decompose(equations, order, circle, trig)
+    if not pieces:
+        raise ModelError(f"--where {text!r}: the set has no real point (its equations are inconsistent, or a factor "
+                         "is non-zero at every real point)")
+    built: list[tuple[Piece, ConstraintSet]] = []
+    failed: list[ModelError] = []
+    for piece in pieces[:_MOST_PARTS]:
+        if piece.unsolved:
+            failed.append(ModelError(f"--where: cannot solve {piece.unsolved} rationally for a state or parameter"))
+            continue
+        try:
+            built.append((piece, _solved(system, piece, angles, text)))
+        except ModelError as exc:
+            failed.append(exc)
+    if not built:
+        raise failed[0]
+    if len(pieces) == 1:
+        return built[0][1]
+    named = [f"({p.text()})" if len(p.equations) > 1 else p.text() for p in pieces]
+    (piece, drawn), others = built[0], tuple(b for _, b in built[1:])
+    return ConstraintSet(text, drawn.solution, drawn.degree, drawn.invariant, angles, ((piece.text(), tuple(named)),),
+                         others, not failed and len(pieces) <= _MOST_PARTS)
+
+
+def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
+    """One solved piece as a set of its own (degree bound, invariance).
+
+    Raises
+    ------
+    ModelError
+        A solution that is not rational in the free variables, or a solved
+        variable inside a transcendental function.
+    """
+    solution = dict(piece.solution)
+    chosen = list(solution)
+    others = [s for s in (*system.states, *system.parameters) if s not in solution] + [
+        x for _, sine, cosine in angles for x in (sine, cosine)]
+    if not all(g.is_rational_function(*others) and not (g.free_symbols & set(chosen)) for g in solution.values()):
         raise ModelError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
-    solution = solutions[0]
     _check_atoms(system, chosen)
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
-    degree = 1 + max(_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values())
-    others, every = _other_parts(system, given, equations, text) if parts and not angles else ((), not parts)
-    return ConstraintSet(text, tuple((v, solution[v]) for v in chosen), degree, _invariant(system, solution, angles),
-                         angles, tuple(parts), others, every)
+    degree = 1 + max((_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values()),
+                     default=0)
+    return ConstraintSet(text, piece.solution, degree, _invariant(system, solution, angles), angles)
 
 
-#: Parts of a set (combinations of factors) solved at most.
+#: Parts of a set analysed at most (each a rank computation).
 _MOST_PARTS = 8
-
-
-def _other_parts(system: System, given: list, drawn: list, text: str) -> tuple[tuple[ConstraintSet, ...], bool]:
-    """The parts of the set other than ``drawn`` (one factor of each equation of
-    ``given``), each solved alone, and whether every part was solved."""
-    import itertools
-
-    choices = [_factors(expr) or [expr] for expr in given]
-    combinations = [c for c in itertools.product(*choices) if list(c) != drawn]
-    if len(combinations) + 1 > _MOST_PARTS:
-        return (), False
-    solved = []
-    for combination in combinations:
-        try:
-            solved.append(solve_constraints(system, list(combination), text))
-        except ModelError:
-            return tuple(solved), False  # a part that cannot be solved: its rank is not known
-    return tuple(solved), True
-
-
-def _factors(expr: sympy.Expr) -> list[sympy.Expr]:
-    """The distinct irreducible factors over Q of ``expr``'s numerator that hold
-    a symbol ([] when it is not a polynomial)."""
-    numerator, _ = sympy.fraction(sympy.together(expr))
-    try:
-        return [f for f, _ in sympy.factor_list(numerator, *sorted(numerator.free_symbols, key=str))[1]
-                if f.free_symbols]
-    except sympy.PolynomialError:
-        return []
-
-
-def _one_part(expr: sympy.Expr, order, circle, chosen, angles) -> tuple[sympy.Expr, tuple[str, tuple[str, ...]] | None]:
-    """The factor of ``expr``'s numerator to solve, and when the numerator has
-    several distinct irreducible factors over Q, (that factor, all of them) as
-    text: the zero set of a product is the union of its factors' zero sets, and
-    points drawn on one factor's say nothing about the others'. A repeated factor
-    is its square-free part (x**2 = 0 is x = 0). The factor chosen is the first
-    solvable for a variable of degree 1 (the whole expression when none is)."""
-    factors = _factors(expr)  # [] for a transcendental atom: solved, or refused, as it is
-    if not factors:
-        return expr, None
-
-    def solvable(f: sympy.Expr) -> bool:
-        return any(s in f.free_symbols and s not in chosen and s not in circle and sympy.degree(f, s) == 1
-                   for s in order)
-
-    pick = next((f for f in factors if solvable(f)), None)
-    if pick is None:
-        return expr, None
-    if len(factors) == 1:
-        return pick, None
-    trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
-    text = [f"{sympy.sstr(f.xreplace(trig))} = 0" for f in factors]
-    return pick, (text[factors.index(pick)], tuple(text))
 
 
 #: The circle parameter of the invariance check: (sin, cos) = (2t, 1 - t^2) / (1 + t^2).
