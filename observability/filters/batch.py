@@ -7,7 +7,7 @@ evaluated by the same instructions as the run-by-run filter, so the results are
 the same numbers (tests/test_filters.py compares them to 1e-12).
 
 A run that a run-by-run filter would refuse (a non-finite estimate, a covariance
-or innovation covariance that is not positive definite) is reported as refused,
+or innovation covariance that is not positive definite or too ill-conditioned) is reported as refused,
 with that filter's message, and its later values are meaningless; the other runs
 go on.
 """
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import casadi
 import numpy as np
 
-from . import validation
+from . import covariance, validation
 from .ekf import CloningEKF, FilterError, _Base, _Buffered
 
 __all__ = ["BatchFilter", "BatchStep"]
@@ -122,7 +122,7 @@ class BatchFilter:
             used = np.flatnonzero(mask[r] > 0)
             if refused[r] is None and used.size:
                 try:
-                    np.linalg.cholesky(S[r][np.ix_(used, used)])
-                except np.linalg.LinAlgError:
-                    refused[r] = f"step {step} (update): the innovation covariance S is not positive definite"
+                    covariance.innovation_checked(S[r][np.ix_(used, used)], f"step {step} (update)")
+                except FilterError as error:
+                    refused[r] = str(error)
         self._refuse(refused, health[1] if health else None, x, P, step, "update")

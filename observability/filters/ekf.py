@@ -277,10 +277,7 @@ class _Base:
         new = FilterState(self._on_manifold(x.ravel(), f"step {state.step} (update)"), P, x_prev=state.x_prev,
                           step=state.step)
         if not (health and health[0][0, 0] > 0):
-            try:
-                np.linalg.cholesky(S)  # the refusal test: S must be positive definite
-            except np.linalg.LinAlgError:
-                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+            covariance.innovation_checked(S, f"step {state.step} (update)")
         if not (health and health[1][0, 0] > 0):
             self._checked(new, "update")
         return Update(new, innovation.ravel(), S, tuple(used))
@@ -406,10 +403,7 @@ class CloningEKF(_Base):
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
         if not (health and health[0][0, 0] > 0):
-            try:
-                np.linalg.cholesky(S)
-            except np.linalg.LinAlgError:
-                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+            covariance.innovation_checked(S, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
                           joint=joint, step=state.step)
