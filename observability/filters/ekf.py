@@ -249,13 +249,13 @@ class _Base:
         above FUSED_STATES states numpy, O(n^2 m) for m present entries).
         ``u`` is needed only where the update uses the inputs (the generalized
         EKF's G_w, G_X of an input-dependent inverse motion)."""
-        return self._update_with(self._update_call, state, y, u)
+        return self._update_with(None if self._in_numpy else self._update_call, state, y, u)
 
-    def _update_with(self, call: _Buffered, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
+    def _update_with(self, call: _Buffered | None, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        if self._in_numpy:
+        if call is None:  # above FUSED_STATES states: no graph is built
             return self._numpy_update(state, values, used, u)
         try:
             return self._fused_update(call, state, values, used, u)
@@ -386,7 +386,7 @@ class CloningEKF(_Base):
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         if state.joint is None:  # before the first prediction there is no clone: a conventional update
-            return self._update_with(self._first_update_call, state, y, u)
+            return self._update_with(None if self._in_numpy else self._first_update_call, state, y, u)
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
