@@ -53,7 +53,7 @@ def _serial(function, arguments, shared=None, label=""):
 
 def test_the_exploration_study_keeps_three_directions():
     """4 landmarks seen within 3 m: some first seen mid-run (inside the
-    window); FEJ, both OC-EKFs and the ideal EKF keep the analysis's 3 directions, the
+    window); FEJ, the three OC-EKFs and the ideal EKF keep the analysis's 3 directions, the
     EKF 2, over the 40-step window of run 0."""
     from observability.report.slamstudy import STUDIES, _functions, run_slam_study
     from observability.report.slamstudy_models import simulate
@@ -64,9 +64,10 @@ def test_the_exploration_study_keeps_three_directions():
              for i in range(4)]
     assert min(first) == 1 and any(1 < f < 40 for f in first)  # one known at once, one initialised mid-window
     records = {r["filter"]: r for r in run_slam_study(study, _serial).records}
-    # No IJRR 2010 OC-EKF: its points are derived for landmarks in the state from the start (slamstudy.NOT_RUN).
+    # The IJRR 2010 OC-EKF too, its landmarks' first estimates recorded when they are initialised.
     assert {n: r["filter_unobservable_dimension"] for n, r in records.items()} == {"ekf": 2, "fej": 3, "oc": 3, "oc-huang": 3,
-                                                                                 "ideal": 3}
+                                                                                 "oc-ijrr2010": 3, "ideal": 3}
     assert all(r["refused_runs"] == 0 for r in records.values())
     assert np.isfinite(records["fej"]["anees_landmarks"]) and records["fej"]["warnings"] == []
     assert records["oc-huang"]["warnings"] == [] and records["oc-huang"]["max_constraint_residual"] < 1e-9
+    assert records["oc-ijrr2010"]["warnings"] == [] and records["oc-ijrr2010"]["max_constraint_residual"] < 1e-9

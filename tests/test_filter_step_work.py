@@ -156,3 +156,33 @@ def test_a_cloning_step_does_the_same_work_on_the_augmented_state(large, counted
     assert 4 * m * (2 * n) ** 2 <= Counted.work <= 5 * m * (2 * n) ** 2
     assert sorted(counted["cholesky"]) == [m, n]
     assert counted["casadi"] == ["motion", "measurement"]
+
+
+def test_batched_runs_of_a_large_model_take_the_numpy_step_and_build_no_graph(large, counted, monkeypatch):
+    """BatchFilter above FUSED_STATES states (issue 65: it built the fused casadi graphs at every size,
+    O(n^3) nodes for F P F^T and the Joseph form): two runs of a step cost twice the hand counts of
+    one run (prediction 36 n, update 4 m n^2 + 2 m^2 n; bound 2 (40 n + 5 m n^2)), call only the
+    model's own Functions, and never ask for a fused graph; each run's result is the run-by-run step's."""
+    from observability.filters.batch import BatchFilter
+
+    def no_graph(*args, **kwargs):
+        raise AssertionError("a fused casadi graph was built for a model above FUSED_STATES states")
+    for name in ("fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update"):
+        monkeypatch.setattr(ekf_module, name, no_graph)
+    ekf, x, measured, _ = large
+    n, m, runs = ekf.n, PRESENT, 2
+    fresh = ConventionalEKF(ekf.fn, ekf.Q, ekf.R, ekf.p)  # its cached graphs (none above the limit) not shared
+    batch = BatchFilter(fresh, runs)
+    X = np.stack([x, x + 0.01])
+    P = (np.repeat(np.eye(n)[None], runs, axis=0) * 0.01).view(Counted)
+    y = np.array([[0.0 if v is None else v for v in measured]] * runs)
+    mask = np.array([[0.0 if v is None else 1.0 for v in measured]] * runs)
+    Counted.bound = runs * (40 * n + 5 * m * n**2)
+    out = batch.step(X, P, np.zeros((runs, len(ekf.fn.inputs))), y, mask, step=1)
+    assert runs * 4 * m * n**2 <= Counted.work <= Counted.bound
+    assert out.refused == [None] * runs
+    assert sorted(counted["casadi"]) == ["measurement"] * runs + ["motion"] * runs
+    for r in range(runs):
+        single = ekf.update(ekf.predict(FilterState(X[r], np.eye(n) * 0.01)), measured).state
+        np.testing.assert_allclose(np.asarray(out.x[r]), single.x, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(out.P[r]), single.P, rtol=0, atol=1e-15)

@@ -40,29 +40,38 @@ def model():
     return system, fns, null_space_function(system, result.unobservable_directions, fns), system.n - result.rank
 
 
+def _propagated(x, P, prior, dp, first, observed):
+    """One prediction of the paper's OC-EKF in numpy (module docstring): x_k+1|k, P, Phi, dp*_k+1, lambda."""
+    m = len(observed)
+    b = np.concatenate([2 * ((x[3 + 2 * i:5 + 2 * i] - first[2 * i:2 * i + 2]) - (x[:2] - prior[:2] - dp))
+                        for i in observed])
+    lam = np.linalg.solve(np.kron(np.ones((m, m)) + np.eye(m), np.eye(2)), b).reshape(m, 2)
+    p_star = x[:2] + lam.sum(axis=0) / 2
+    C = np.array([[np.cos(x[2]), -np.sin(x[2])], [np.sin(x[2]), np.cos(x[2])]])
+    x_next = np.r_[x[:2] + DT * C @ U[:2], _wrap(x[2] + DT * U[2]), x[3:]]
+    Phi = np.eye(7)
+    Phi[:2, 2] = J @ (x_next[:2] - p_star)
+    G = np.zeros((7, 3))
+    G[:2, :2], G[2, 2] = DT * C, DT
+    return x_next, Phi @ P @ Phi.T + G @ Q @ G.T, Phi, dp + prior[:2] - p_star, lam
+
+
+def _points(x, dp, first, observed, lam):
+    """H's point: the prior, each used landmark at p̂_L - lambda / 2, the others on their constraint."""
+    point = np.r_[x[:3], first - np.tile(dp, 2)]  # a landmark left out of the multipliers: on its constraint
+    for j, i in enumerate(observed):
+        point[3 + 2 * i:5 + 2 * i] = x[3 + 2 * i:5 + 2 * i] - lam[j] / 2
+    return point
+
+
 def _reference(x0, P0, ys, observed=(0, 1), record=None):
     """The paper's OC-EKF in numpy (module docstring); ``record`` receives (Phi, H) per step."""
     x, P, prior, dp, first = x0.copy(), P0.copy(), x0.copy(), np.zeros(2), x0[3:].copy()
     out = []
     for y in ys:
-        m = len(observed)
-        b = np.concatenate([2 * ((x[3 + 2 * i:5 + 2 * i] - first[2 * i:2 * i + 2]) - (x[:2] - prior[:2] - dp))
-                            for i in observed])
-        lam = np.linalg.solve(np.kron(np.ones((m, m)) + np.eye(m), np.eye(2)), b).reshape(m, 2)
-        p_star = x[:2] + lam.sum(axis=0) / 2
-        C = np.array([[np.cos(x[2]), -np.sin(x[2])], [np.sin(x[2]), np.cos(x[2])]])
-        x_next = np.r_[x[:2] + DT * C @ U[:2], _wrap(x[2] + DT * U[2]), x[3:]]
-        Phi = np.eye(7)
-        Phi[:2, 2] = J @ (x_next[:2] - p_star)
-        G = np.zeros((7, 3))
-        G[:2, :2], G[2, 2] = DT * C, DT
-        P = Phi @ P @ Phi.T + G @ Q @ G.T
-        dp = dp + prior[:2] - p_star
-        x, prior = x_next, x_next
-        point = np.r_[x[:3], first - np.tile(dp, 2)]  # a landmark left out of the multipliers: on its constraint
-        for j, i in enumerate(observed):
-            point[3 + 2 * i:5 + 2 * i] = x[3 + 2 * i:5 + 2 * i] - lam[j] / 2
-        H = _hand_H(point)
+        x, P, Phi, dp, lam = _propagated(x, P, prior, dp, first, observed)
+        prior = x
+        H = _hand_H(_points(x, dp, first, observed, lam))
         if record is not None:
             record.append((Phi, H))
         x, P = _hand_update(x, P, H, y)

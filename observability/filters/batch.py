@@ -6,8 +6,14 @@ of a step is paid once per step instead of once per run and step. Each run is
 evaluated by the same instructions as the run-by-run filter, so the results are
 the same numbers (tests/test_filters.py compares them to 1e-12).
 
+Above :data:`~.fused.FUSED_STATES` states the graphs are not built (their dense
+products are O(n^3) nodes and loops): each run is stepped by the filter's own numpy
+route (:mod:`.covariance`, F P F^T on F's moving rows, the Joseph form in O(n^2 m)),
+as a run-by-run filter of that size is; the Python overhead per run is then small
+beside the arithmetic.
+
 A run that a run-by-run filter would refuse (a non-finite estimate, a covariance
-or innovation covariance that is not positive definite) is reported as refused,
+or innovation covariance that is not positive definite or too ill-conditioned) is reported as refused,
 with that filter's message, and its later values are meaningless; the other runs
 go on.
 """
@@ -19,8 +25,8 @@ from dataclasses import dataclass
 import casadi
 import numpy as np
 
-from . import validation
-from .ekf import CloningEKF, FilterError, _Base, _Buffered
+from . import covariance, validation
+from .ekf import CloningEKF, FilterError, FilterState, _Base, _Buffered
 
 __all__ = ["BatchFilter", "BatchStep"]
 
@@ -72,10 +78,12 @@ class BatchFilter:
             raise FilterError(f"{type(ekf).__name__} has no fused step to batch")
         self.ekf, self.runs = ekf, runs
         self.cloning = isinstance(ekf, CloningEKF)
+        self._p = ekf.p
+        if ekf._in_numpy:  # no graph: each run takes the filter's numpy route
+            return
         predict, update = ekf._predict_call.function, ekf._update_call.function
         self._predict = _Mapped(predict, runs, (3,))  # p is shared
         self._update = _Mapped(update, runs, (4,) if self.cloning else (6,))
-        self._p = ekf.p
 
     def step(self, x: np.ndarray, P: np.ndarray, u: np.ndarray, y: np.ndarray, mask: np.ndarray,
              gate=None, step: int = 1) -> BatchStep:
@@ -84,6 +92,8 @@ class BatchFilter:
         ``gate(x_pred, P_pred, x_prev)`` may return a new mask (R, m) from the
         predictions (the Section V disparity gate). ``step`` names the step in messages.
         """
+        if self.ekf._in_numpy:
+            return self._numpy_step(x, P, u, y, mask, gate, step)
         n, R = self.ekf.n, self.runs
         refused: list = [None] * R
         predicted = self._predict(x, P, u, self._p)
@@ -106,6 +116,38 @@ class BatchFilter:
         self._refuse_update(refused, out[4:], S, mask, x_new, P_new, step)
         return BatchStep(x_new, P_new, x_prev, joint, innovation, S, refused)
 
+    def _numpy_step(self, x, P, u, y, mask, gate, step: int) -> BatchStep:
+        """:meth:`step` run by run through the filter's own predict and update (numpy above
+        FUSED_STATES states); a refused run's later values are NaN, the others go on."""
+        ekf, R, n, m = self.ekf, self.runs, self.ekf.n, y.shape[1]
+        refused: list = [None] * R
+        predicted: list = [None] * R
+        for r in range(R):
+            try:
+                predicted[r] = ekf.predict(FilterState(x[r], P[r], step=step - 1), u[r])
+            except FilterError as error:
+                refused[r] = str(error)
+        nan = FilterState(np.full(n, np.nan), np.full((n, n), np.nan), x_prev=np.full(n, np.nan),
+                          joint=np.full((2 * n, 2 * n), np.nan) if self.cloning else None)
+        if gate is not None:
+            mask = gate(np.array([(s or nan).x for s in predicted]), np.array([(s or nan).P for s in predicted]), x)
+        innovation, S = np.zeros((R, m)), np.repeat(np.eye(m)[None], R, axis=0)
+        updated = []
+        for r in range(R):
+            state = predicted[r] or nan
+            if predicted[r] is not None:
+                try:
+                    outcome = ekf.update(state, [float(v) if on > 0 else None for v, on in zip(y[r], mask[r])], u[r])
+                    state, used = outcome.state, list(outcome.used)
+                    innovation[r, used], S[r][np.ix_(used, used)] = outcome.innovation, outcome.S
+                except FilterError as error:
+                    refused[r], state = str(error), nan
+            updated.append(state)
+        joint = np.array([s.joint for s in updated]) if self.cloning else None
+        x_prev = np.array([s.x_prev for s in updated]) if self.cloning else x
+        return BatchStep(np.array([s.x for s in updated]), np.array([s.P for s in updated]), x_prev, joint,
+                         innovation, S, refused)
+
     def _refuse(self, refused: list, health, x, P, step: int, what: str) -> None:
         suspects = range(self.runs) if health is None else np.flatnonzero(~(health.reshape(-1) > 0))
         for r in suspects:
@@ -122,7 +164,7 @@ class BatchFilter:
             used = np.flatnonzero(mask[r] > 0)
             if refused[r] is None and used.size:
                 try:
-                    np.linalg.cholesky(S[r][np.ix_(used, used)])
-                except np.linalg.LinAlgError:
-                    refused[r] = f"step {step} (update): the innovation covariance S is not positive definite"
+                    covariance.innovation_checked(S[r][np.ix_(used, used)], f"step {step} (update)")
+                except FilterError as error:
+                    refused[r] = str(error)
         self._refuse(refused, health[1] if health else None, x, P, step, "update")

@@ -249,13 +249,13 @@ class _Base:
         above FUSED_STATES states numpy, O(n^2 m) for m present entries).
         ``u`` is needed only where the update uses the inputs (the generalized
         EKF's G_w, G_X of an input-dependent inverse motion)."""
-        return self._update_with(self._update_call, state, y, u)
+        return self._update_with(None if self._in_numpy else self._update_call, state, y, u)
 
-    def _update_with(self, call: _Buffered, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
+    def _update_with(self, call: _Buffered | None, state: FilterState, y: Sequence[float | None], u: Sequence[float]) -> Update:
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        if self._in_numpy:
+        if call is None:  # above FUSED_STATES states: no graph is built
             return self._numpy_update(state, values, used, u)
         try:
             return self._fused_update(call, state, values, used, u)
@@ -277,10 +277,7 @@ class _Base:
         new = FilterState(self._on_manifold(x.ravel(), f"step {state.step} (update)"), P, x_prev=state.x_prev,
                           step=state.step)
         if not (health and health[0][0, 0] > 0):
-            try:
-                np.linalg.cholesky(S)  # the refusal test: S must be positive definite
-            except np.linalg.LinAlgError:
-                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+            covariance.innovation_checked(S, f"step {state.step} (update)")
         if not (health and health[1][0, 0] > 0):
             self._checked(new, "update")
         return Update(new, innovation.ravel(), S, tuple(used))
@@ -389,7 +386,7 @@ class CloningEKF(_Base):
 
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         if state.joint is None:  # before the first prediction there is no clone: a conventional update
-            return self._update_with(self._first_update_call, state, y, u)
+            return self._update_with(None if self._in_numpy else self._first_update_call, state, y, u)
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
@@ -406,10 +403,7 @@ class CloningEKF(_Base):
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
         if not (health and health[0][0, 0] > 0):
-            try:
-                np.linalg.cholesky(S)
-            except np.linalg.LinAlgError:
-                raise FilterError(f"step {state.step} (update): the innovation covariance S is not positive definite") from None
+            covariance.innovation_checked(S, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
                           joint=joint, step=state.step)

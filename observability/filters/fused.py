@@ -26,6 +26,7 @@ import casadi
 import numpy as np
 
 from ..codegen import FilterFunctions
+from .covariance import CONDITION_LIMIT
 
 __all__ = ["fused_predict", "fused_update", "fused_cloning_predict", "fused_cloning_update", "SX_STATES", "HEALTH_STATES", "FUSED_STATES"]
 
@@ -82,6 +83,29 @@ def _health(M, *vectors):
     return casadi.if_else(casadi.fabs(total) < casadi.inf, smallest, -1)
 
 
+def _gain(S, HP):
+    """K = P H^T S^-1 from S K^T = H P, and the innovation health: :func:`_health` of S where
+    cond_F(S) = ||S||_F ||S^-1||_F, an upper bound of the 2-norm condition number, is at most
+    :data:`~.covariance.CONDITION_LIMIT` (finite), else -1, so the numpy checks refuse or pass S
+    (:func:`~.covariance.innovation_checked`).
+
+    In a scalar (SX) graph the solves go through S's Cholesky factor (S = U^T U, two
+    triangular substitutions), which is backward stable; casadi's own SX solve is a symbolic
+    QR that lost every digit at cond(S) = 1e14 (the estimate off by 1.1 on a 2-state model,
+    tests/test_filter_conditioning.py). A matrix (MX) graph calls casadi's linear solver,
+    which fails (the step goes to numpy) rather than answer at such conditions."""
+    m = S.shape[0]
+    if isinstance(S, casadi.SX):
+        U = casadi.chol(S)
+        solve = lambda B: casadi.solve(U, casadi.solve(U.T, B))  # noqa: E731
+    elif m > HEALTH_STATES:
+        return casadi.solve(S, HP).T, casadi.MX(-1)
+    else:
+        solve = lambda B: casadi.solve(S, B)  # noqa: E731
+    condition = casadi.norm_fro(S) * casadi.norm_fro(solve(casadi.DM.eye(m)))
+    return solve(HP).T, casadi.if_else(condition <= CONDITION_LIMIT, _health(S), -1)
+
+
 def _wrapped(values, flags: list[bool]):
     """``values`` with the flagged entries (angles) brought to (-pi, pi]: an
     innovation of a bearing near +-pi is its small difference, not 2 pi."""
@@ -126,8 +150,8 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
     ``variant``: ``"conventional"`` (W = R), ``"generalized"`` (W = R + H_Xk-1 G_w Q
     G_w^T H_Xk-1^T, eq. 8) or ``"generalized-total"`` (the same W, and the total
     Jacobian H_Xk + H_Xk-1 G_X). ``mask`` is 1 for a present entry, 0 for a missing one.
-    ``S_health`` and ``health`` (:func:`_health`) are positive when S, and the
-    new estimate with P_new, pass the filter's checks.
+    ``S_health`` (:func:`_gain`) and ``health`` (:func:`_health`) are positive when S, and
+    the new estimate with P_new, pass the filter's checks.
     """
     X, model = _graph(functions)
     n, m = len(functions.states), len(functions.outputs)
@@ -145,11 +169,11 @@ def fused_update(functions: FilterFunctions, Q: np.ndarray, R: np.ndarray, varia
     output_angles, state_angles = _angle_flags(functions)
     H, W, innovation = _masked(mask, H, W, _wrapped(y - h, output_angles))
     S = _symmetric(casadi.mtimes([H, P, H.T]) + W)
-    K = casadi.solve(S, casadi.mtimes(H, P)).T  # S K^T = H P, P and S symmetric
+    K, S_health = _gain(S, casadi.mtimes(H, P))  # S K^T = H P, P and S symmetric
     x_new = _wrapped(x + casadi.mtimes(K, innovation), state_angles)
     A = casadi.DM.eye(n) - casadi.mtimes(K, H)
     P_new = _symmetric(casadi.mtimes([A, P, A.T]) + casadi.mtimes([K, W, K.T]))
-    outputs = [x_new, P_new, innovation, S, _health(S), _health(P_new, x_new)]
+    outputs = [x_new, P_new, innovation, S, S_health, _health(P_new, x_new)]
     names = ["x_new", "P_new", "innovation", "S", "S_health", "health"]
     return casadi.Function("update", [x, P, x_prev, u, y, mask, p], outputs,
                            ["x", "P", "x_prev", "u", "y", "mask", "p"], names)
@@ -187,10 +211,10 @@ def fused_cloning_update(functions: FilterFunctions, R: np.ndarray) -> casadi.Fu
     output_angles, state_angles = _angle_flags(functions)
     H, W, innovation = _masked(mask, casadi.horzcat(H, H_prev), casadi.DM(R), _wrapped(y - h, output_angles))
     S = _symmetric(casadi.mtimes([H, joint, H.T]) + W)
-    K = casadi.solve(S, casadi.mtimes(H, joint)).T
+    K, S_health = _gain(S, casadi.mtimes(H, joint))
     z_new = _wrapped(z + casadi.mtimes(K, innovation), state_angles + state_angles)
     A = casadi.DM.eye(2 * n) - casadi.mtimes(K, H)
     joint_new = _symmetric(casadi.mtimes([A, joint, A.T]) + casadi.mtimes([K, W, K.T]))
-    outputs = [z_new, joint_new, innovation, S, _health(S), _health(joint_new[:n, :n], z_new)]
+    outputs = [z_new, joint_new, innovation, S, S_health, _health(joint_new[:n, :n], z_new)]
     names = ["z_new", "joint_new", "innovation", "S", "S_health", "health"]
     return casadi.Function("cloning_update", [z, joint, y, mask, p], outputs, ["z", "joint", "y", "mask", "p"], names)

@@ -62,6 +62,19 @@ point above, so dp*_k = first - prior on the position. ``predict(state, u,
 observed)`` takes the indices of the landmarks the next update will use
 (default: every landmark, as in the studies, where each is measured at every
 step; a landmark the gate then rejects only moved p*_k).
+
+**A landmark first seen mid-run** (:meth:`Huang2010OCEKF.initialise_landmark`,
+after the prediction of step k, before its update): its estimate l̂ = g(x̂_k|k-1,
+z) and the augmentation A (rows G_X = [I, J (l̂ - p̂_R,k|k-1)] in the pose,
+:mod:`.augmentation`) are the standard ones; its first estimate, from then on
+in the constraint, is ``p̂_L^1 = l̂ + dp*_k``. Why (certain, not measured): A
+takes the rotation column at the point (robot rows J (p̂_R,k|k-1 + dp*_k))
+to one whose new landmark rows are J (p̂_R,k|k-1 + dp*_k) + J (l̂ -
+p̂_R,k|k-1) = J (l̂ + dp*_k), the column at the point with that first
+estimate; the translations are kept by any G_X with an identity position
+block. So A N_k = N_k+ and the constraint of every later step holds as for a
+landmark of step 0. The paper's filter has its landmarks from the start; this
+rule is derived here from its constraint, not quoted from it.
 """
 
 from __future__ import annotations
@@ -72,6 +85,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 from . import covariance
+from .augmentation import augmentation_matrix, initialise
 from .ekf import FilterError, FilterState, _quiet
 from .firstestimates import FirstEstimatesEKF
 
@@ -140,6 +154,24 @@ class Huang2010OCEKF(FirstEstimatesEKF):
         new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, prior=x_next, first=point_next,
                           first_prev=point)
         return self._checked(new, "prediction")
+
+    def initialise_landmark(self, state: FilterState, index: int, value: np.ndarray, G_X: np.ndarray,
+                            G_z: np.ndarray, R: np.ndarray) -> FilterState:
+        """Landmark ``index`` first seen at the prior ``state`` (module docstring): its estimate ``value``
+        from the inverse measurement, ``G_X`` (2 x n) and ``G_z`` its Jacobians at the prior pose, ``R``
+        the covariance of the measurement that fixed it; its first estimate is ``value + dp*_k``.
+        With a null space, the residual of A N_k = N_k+ is recorded as a transition of this step."""
+        where = f"step {state.step} (landmark {index} initialised)"
+        if not 0 <= index < self.landmarks:
+            raise FilterError(f"{where}: landmarks are indices in 0..{self.landmarks - 1}")
+        slot = [3 + 2 * index, 4 + 2 * index]
+        point = state.x if state.first is None else state.first
+        value = np.asarray(value, dtype=float)
+        new = initialise(self, state, slot, value, G_X, G_z, R, first=value + point[:2] - state.x[:2])  # + dp*_k
+        if self.null_space is not None:
+            A = augmentation_matrix(self.n, slot, G_X)
+            self.constraint.transition_step(state.step, A, self._N(point), self._N(new.first), ~self.static)
+        return new
 
     def _linearised_measurement(self, x: np.ndarray, x_prev: np.ndarray, first: np.ndarray,
                                 first_prev: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -13,8 +13,8 @@ observability-constrained EKFs, ``oc`` is the projection variant (Hesch et
 al.), ``oc-huang`` the Jacobian form (static block of Phi kept, H projected
 onto H N = 0; not the IJRR 2010 paper's own filter) and ``oc-ijrr2010`` the
 IJRR 2010 paper's OC-EKF (linearisation points by Lagrange multipliers; for a
-planar pose with landmarks known from the start: not run on the VIO-like model
-nor in the exploration study, see :data:`NOT_RUN`). Each
+planar pose moved by odometry and point landmarks, also landmarks first seen
+mid-run: not run on the VIO-like model, see :data:`NOT_RUN`). Each
 Monte Carlo run is simulated once and given to every filter; runs are Dask
 tasks. Per run and step: pose NEES, landmark NEES, NIS, and how many landmarks
 the chi-square gate rejected; the verdicts come from bootstrap intervals over
@@ -43,10 +43,10 @@ __all__ = ["FILTERS", "SlamStudy", "SlamStudyResult", "STUDIES", "not_run_reason
            "study_filters"]
 
 FILTERS = ("ekf", "fej", "oc", "oc-huang", "oc-ijrr2010", "ideal")
-#: Why a filter is not run in a study (the IJRR 2010 OC-EKF's points are derived for a pose (x, y, th) and
-#: landmarks in the state from the start).
-NOT_RUN = {"oc-ijrr2010": "the IJRR 2010 OC-EKF is derived for a planar pose (x, y, th) and landmarks known from "
-                          "the start; this study has {why}"}
+#: Why a filter is not run in a study (the IJRR 2010 OC-EKF's points are derived for a pose (x, y, th) moved
+#: by odometry, whose Phi_R is [[I, J dp], [0, 1]], and static point landmarks).
+NOT_RUN = {"oc-ijrr2010": "the IJRR 2010 OC-EKF's linearisation points are derived for a planar pose (x, y, th) "
+                          "moved by odometry and static point landmarks; this study has {why}"}
 
 
 def study_filters(study: SlamStudy) -> tuple[str, ...]:
@@ -56,8 +56,7 @@ def study_filters(study: SlamStudy) -> tuple[str, ...]:
 
 def not_run_reason(study: SlamStudy) -> str | None:
     """Why the IJRR 2010 OC-EKF is not run in ``study``, or None."""
-    why = ("velocity states" if study.noise_form == "vio" else
-           "landmarks added when first seen" if study.sensor_range > 0 else None)
+    why = "velocity states, which the rotation's column of Phi reads (J v)" if study.noise_form == "vio" else None
     return None if why is None else NOT_RUN["oc-ijrr2010"].format(why=why)
 #: Per run and step: pose NEES, squared position error, squared heading error, landmark NEES, NIS, NIS dof.
 QUANTITIES = ("pose", "position", "heading", "landmarks", "nis", "nis_dof")

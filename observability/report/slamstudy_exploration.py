@@ -4,8 +4,10 @@ The robot of :mod:`.slamstudy_models` (three-input odometry, range and
 bearing) sees a landmark only within ``sensor_range``; each landmark is
 initialised from its first range and bearing, l = p + r (cos(b + th),
 sin(b + th)), by :func:`observability.filters.augmentation.initialise`, with
-G_X at the prior pose (the pose of the first estimates for FEJ and Huang's
-OC-EKF) and at the truth for the ideal EKF. The
+G_X at the prior pose and at the truth for the ideal EKF; the IJRR 2010
+OC-EKF records the landmark's first estimate shifted by its points' dp*_k
+and takes its multipliers over the landmarks seen before and measured now
+(:meth:`~observability.filters.ocijrr.Huang2010OCEKF.initialise_landmark`). The
 record has the schema of :mod:`.slamstudy`; the landmark NEES is over the
 landmarks initialised so far, scaled to 2 L degrees of freedom like the NIS.
 The nullity of each filter's linearisation over the window counts the
@@ -62,8 +64,11 @@ def _new_landmarks(ekf, name: str, state, row: list, seen: set, truth_k: np.ndar
             G_R = np.hstack([np.eye(2), (J @ (truth_k[slot] - truth_k[:2]))[:, None]])
         G_X = np.zeros((2, n))
         G_X[:, :3] = G_R
-        state = initialise(ekf, state, slot, value, G_X, G_z, R[np.ix_([2 * i, 2 * i + 1], [2 * i, 2 * i + 1])],
-                           first=truth_k[slot] if name == "ideal" else None)
+        R_i = R[np.ix_([2 * i, 2 * i + 1], [2 * i, 2 * i + 1])]
+        if name == "oc-ijrr2010":  # its first estimate is shifted by the points' dp*_k (filters.ocijrr)
+            state = ekf.initialise_landmark(state, i, value, G_X, G_z, R_i)
+        else:
+            state = initialise(ekf, state, slot, value, G_X, G_z, R_i, first=truth_k[slot] if name == "ideal" else None)
         step_A = augmentation_matrix(n, slot, G_X)
         A = step_A if A is None else step_A @ A
         seen.add(i)
@@ -102,7 +107,10 @@ def run_exploration(shared, stream, observe: bool, filters, errors, groups, cons
         try:
             for k in range(study.steps):
                 posterior = state.x
-                state = ekf.predict(state, u)
+                if name == "oc-ijrr2010":  # its points follow the landmarks the update will use (filters.ocijrr)
+                    state = ekf.predict(state, u, sorted(i for i in seen if rows[k][2 * i] is not None))
+                else:
+                    state = ekf.predict(state, u)
                 row = list(rows[k])
                 state, A = _new_landmarks(ekf, name, state, row, seen, truth[k + 1], R)
                 if observe and name == "ekf" and k < study.window:
