@@ -80,6 +80,7 @@ class VinsStudy:
     record_images: int = 40
     sigma: tuple[float, float, float] = (0.01, 0.01, 0.02)
     yaw_sigma: float = 0.1
+    triangulation: str = "linear"
 
     def __post_init__(self):
         frames = int(round(self.duration * self.camera_rate))
@@ -109,7 +110,7 @@ class VinsStudy:
     def settings(self) -> MsckfSettings:
         camera = self.scenario().camera
         return MsckfSettings(window=self.window, variance=(camera.sigma_px / camera.focal) ** 2, gate=self.gate,
-                             record_images=self.record_images)
+                             record_images=self.record_images, triangulation=self.triangulation)
 
 
 def analysis_nullity(seed: int) -> int:
