@@ -66,6 +66,10 @@ class VinsStudy:
     larger translation prior would add the same constant to every filter's
     position variance and only dilute the position NEES, telling the filters
     apart no better.
+
+    ``triangulation`` is the filters' (:class:`~observability.filters.vins.msckf.MsckfSettings`):
+    ``linear`` by default, ``anchored`` for OpenVINS's (the same least-squares
+    point, more features rejected; not on the command line).
     """
 
     name: str = "vins-msckf"
