@@ -78,16 +78,16 @@ def test_the_functions_jacobian_differentiates_nothing_symbolically(monkeypatch)
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "models"
 
 
-def _counted_verdict(monkeypatch, path: Path, bounds: dict) -> tuple:
-    """The verdict on a model file, the completion in this process, with ``bounds``
-    (``{(owner, name): bound}``) on the calls counted; (result, counts)."""
+def _counted_verdict(monkeypatch, model, bounds: dict) -> tuple:
+    """The verdict on a model file (a path) or a system, the completion in this process,
+    with ``bounds`` (``{(owner, name): bound}``) on the calls counted; (result, counts)."""
     counts: dict[str, int] = {}
     for (owner, name), bound in bounds.items():
         _counter(monkeypatch, owner, name, bound, counts)
     real = completion.completed
     monkeypatch.setattr("observability.analysis.verdict.completed",
                         lambda *args, **kwargs: real(*args, **{**kwargs, "budget": None}))
-    return analyze(load_model(path), seed=1), counts
+    return analyze(load_model(model) if isinstance(model, Path) else model, seed=1), counts
 
 
 def test_the_33_state_quadrotor_verdict_stays_within_its_counts(monkeypatch):
@@ -124,3 +124,20 @@ def test_the_direction_search_evaluates_its_points_only_to_the_orders_it_needs(m
     assert "rotation about the z-axis" in {d.name for d in result.unobservable_directions}
     assert work["points"] > 100  # the batches were used
     assert work["point-orders"] <= 4 * work["points"]
+
+
+def test_the_40_state_vins_verdict_stays_within_its_counts(monkeypatch):
+    """vins with biases and 8 features, unit quaternion (n = 4 + 3 + 3 + 6 + 3 x 8 = 40,
+    the largest IMU model issue 69 item 6 asks about). By hand (Hesch et al. 2014):
+    the three translations, the rotation about gravity and the quaternion's norm are
+    lost, rank 35. Counts at the time of writing: 3,180 Taylor coefficients, 32 sympy
+    diff calls, no Lie derivative, no random point of the direction search; the bounds
+    leave a factor of about two. (0.3 s of CPU in this process at the time of writing.)"""
+    bounds = {(sympy, "diff"): 70, (lie, "lie_derivative"): 5, (taylor.TaylorEvaluator, "_coefficient"): 7_000,
+              (discovery._Points, "__call__"): 100}
+    system = models.build("vins", {"features": "8", "biases": "true", "attitude": "quaternion"})
+    result, counts = _counted_verdict(monkeypatch, system, bounds)
+    assert system.n == 40 and (result.rank, result.proof, result.functions_complete) == (35, "proven", True)
+    assert sorted(d.name for d in result.unobservable_directions) == [
+        "rotation about the z-axis", "the norm of (q0, q1, q2, q3)", "translation x", "translation y", "translation z"]
+    assert counts.get("_coefficient", 0) > 1_000  # the counter saw the rank's work

@@ -145,7 +145,7 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--steps", type=study_steps, default=None, help="time steps per run (default 80; SLAM 400; vins-msckf: camera frames at 10 Hz, 300)")
     consistency.add_argument("--yaw-sigma", type=angle, default=None, metavar="RAD",
                              help="vins-msckf: initial uncertainty (rad) of the unobservable rotation about gravity, "
-                                  "the attitude, position and velocity turned together (default 0)")
+                                  "the attitude, position and velocity turned together (default 0.1)")
     consistency.add_argument("--seed", type=seed_value, default=None,
                              help="seed of the Monte Carlo streams (default 7; paper: its simulation's, 2013)")
     consistency.add_argument("--seeds", type=seed_list, default=None, metavar="S1,S2,...",

@@ -9,7 +9,7 @@ and the planar (SO(2)) propagation from the ``vins2d`` model (:mod:`.planar`) wi
 its simulator (:mod:`.simulate2d`).
 
 The MSCKF on top: the sliding window of clones (:mod:`.window`), features
-(:mod:`.features`), the left null-space update (:mod:`.update`), the null space
+(:mod:`.features`; OpenVINS's triangulation in :mod:`.triangulation`), the left null-space update (:mod:`.update`), the null space
 over IMU, clones and features with its FEJ and OC keepers (:mod:`.nullspace`),
 the filter (:mod:`.msckf`) and one filter over one simulated run (:mod:`.run`).
 """
@@ -24,6 +24,7 @@ from .features import feature_jacobians, triangulate
 from .msckf import POLICIES, Msckf, MsckfSettings
 from .nullspace import fej_transition, null_space, oc_measurement, oc_transition
 from .run import MsckfRun, run_msckf
+from .triangulation import TriangulationOptions, triangulate_anchored
 from .update import left_null_project
 from .window import augment, marginalize
 
@@ -35,4 +36,5 @@ __all__ = [
     # the MSCKF
     "Msckf", "MsckfRun", "MsckfSettings", "POLICIES", "augment", "feature_jacobians", "fej_transition",
     "left_null_project", "marginalize", "null_space", "oc_measurement", "oc_transition", "run_msckf", "triangulate",
+    "TriangulationOptions", "triangulate_anchored",
 ]

@@ -25,7 +25,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["Extrinsic", "project", "feature_jacobians", "reprojection_residual", "triangulate", "MIN_DEPTH"]
+__all__ = ["Extrinsic", "project", "feature_jacobians", "reprojection_residual", "triangulate", "camera_poses", "MIN_DEPTH"]
 
 #: The camera's pose in the IMU frame, (R_IC (3, 3), p_IC (3,)); None: identity and zero.
 Extrinsic = tuple[np.ndarray, np.ndarray]
@@ -58,6 +58,12 @@ def _camera_rotations(rotations, extrinsic: Extrinsic | None) -> np.ndarray:
     """R_C = R_j R_IC per pose (m, 3, 3)."""
     Rs = np.asarray(rotations, dtype=float)
     return Rs if extrinsic is None else Rs @ extrinsic[0]
+
+
+def camera_poses(rotations, positions, extrinsic: Extrinsic | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The cameras' attitudes R_C = R_j R_IC (m, 3, 3) and centres o_j = p_j + R_j p_IC (m, 3) in the world."""
+    Rs, ps = np.asarray(rotations, dtype=float), np.asarray(positions, dtype=float)
+    return _camera_rotations(Rs, extrinsic), (ps if extrinsic is None else ps + Rs @ extrinsic[1])
 
 
 def _feature_rows(camera_rotations: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -103,8 +109,7 @@ def triangulate(rotations: Sequence[np.ndarray], positions: Sequence[np.ndarray]
     """
     Rs, ps = np.asarray(rotations, dtype=float), np.asarray(positions, dtype=float)
     zs = np.asarray(observations, dtype=float)
-    R_C = _camera_rotations(Rs, extrinsic)
-    centres = ps if extrinsic is None else ps + Rs @ extrinsic[1]
+    R_C, centres = camera_poses(Rs, ps, extrinsic)
     rays = np.einsum("mij,mj->mi", R_C, np.column_stack([zs, np.ones(len(zs))]))
     rays /= np.linalg.norm(rays, axis=1, keepdims=True)
     M = np.eye(3) - rays[:, :, None] * rays[:, None, :]

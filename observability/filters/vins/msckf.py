@@ -45,12 +45,14 @@ from .imu import ImuNoise, step
 from .nullspace import fej_transition, oc_measurement, oc_transition
 from .so3 import retract
 from .state import ImuState, boxplus
+from .triangulation import triangulate_anchored
 from .update import compress, innovation_nis, kalman_update, left_null_project
 from .window import CLONE_SIZE, IMU_SIZE, POSE, augment, clone_slice, marginalize
 
 __all__ = ["POLICIES", "Clone", "MsckfSettings", "Msckf"]
 
 POLICIES = ("ekf", "fej", "oc", "ideal")
+TRIANGULATIONS = {"linear": triangulate, "anchored": triangulate_anchored}
 
 
 @dataclass(frozen=True, eq=False)  # array fields: equality by identity
@@ -72,13 +74,16 @@ class MsckfSettings:
     """window: clones kept; variance: of each normalised image coordinate;
     gate: chi-square probability of a feature's projected residual (0: none);
     min_track: observations a feature needs to be used; record: keep the
-    observability rows of the first ``record_images`` images."""
+    observability rows of the first ``record_images`` images; triangulation:
+    ``linear`` (:func:`.features.triangulate`) or ``anchored`` (OpenVINS's,
+    :func:`.triangulation.triangulate_anchored`)."""
 
     window: int = 8
     variance: float = 1e-6
     gate: float = 0.99
     min_track: int = 3
     record_images: int = 0
+    triangulation: str = "linear"
 
 
 class Msckf:
@@ -101,6 +106,9 @@ class Msckf:
             raise FilterError(f"MSCKF: policy must be one of {', '.join(POLICIES)}, got {policy!r}")
         if policy == "ideal" and landmarks is None:
             raise FilterError("MSCKF: the ideal policy needs the true landmarks")
+        if settings.triangulation not in TRIANGULATIONS:
+            raise FilterError(f"MSCKF: triangulation must be one of {', '.join(TRIANGULATIONS)}, "
+                              f"got {settings.triangulation!r}")
         self.policy, self.imu, self.P, self.noise, self.settings = policy, state, np.array(P, float), noise, settings
         self.landmarks = landmarks
         self.extrinsic = None if extrinsic is None else _extrinsic(extrinsic)
@@ -181,7 +189,8 @@ class Msckf:
         position = {c.image: i for i, c in enumerate(self.clones)}
         index = [position[i] for i, _ in track]
         clones, zs = [self.clones[i] for i in index], [z for _, z in track]
-        f = triangulate([c.R for c in clones], [c.p for c in clones], zs, self.extrinsic)
+        f = TRIANGULATIONS[self.settings.triangulation]([c.R for c in clones], [c.p for c in clones], zs,
+                                                        self.extrinsic)
         if f is None:
             return None
         r = reprojection_residual([c.R for c in clones], [c.p for c in clones], zs, f, self.extrinsic)[0]
