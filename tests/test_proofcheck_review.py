@@ -24,14 +24,19 @@ from observability.report.proofs import proof_evidence
 from conftest import cli
 
 CLAIM = "the generic rank of the observability matrix of {} is {} of {}"
+#: The words a claim adds on a region, by hand from the file format: the functions with branches listed.
+REGION = " on the region around the point where its functions with branches ({}) are analytic (the rank may differ on other regions)"
 
 
 def _proof(name: str, states: list[str], outputs: dict, rows: list, point: dict, minor: str,
-           generators: list | None = None, dynamics: dict | None = None) -> dict:
-    """A proof written by hand: rank = len(rows), columns the first states, no input."""
+           generators: list | None = None, dynamics: dict | None = None, where: list | None = None) -> dict:
+    """A proof written by hand: rank = len(rows), columns the first states, no input; its claim on
+    the region where the functions ``where`` are analytic when given."""
     rank = len(rows)
-    return {
-        "format": "observability proof 1", "claim": CLAIM.format(name, rank, len(states)),
+    region = {"region": {"qualified": True, "where": where}} if where else {}
+    return region | {
+        "format": "observability proof 1",
+        "claim": CLAIM.format(name, rank, len(states)) + (REGION.format(", ".join(where)) if where else ""),
         "model": {"name": name, "time": "continuous", "states": states, "inputs": [], "parameters": {},
                   "dynamics": dynamics or {s: "0" for s in states}, "outputs": outputs, "analysed_outputs": {}},
         "rank": rank, "n_states": len(states),
@@ -55,8 +60,9 @@ def test_an_identity_on_one_branch_does_not_prove_a_contradiction():
     w = sympy.Symbol("w", real=True)
     reference = sympy.sqrt(w**2) - w  # with w real, sympy writes |w| - w: the independent reference
     assert sympy.diff(reference, w).subs(w, -1) == -2 and sympy.diff(reference, w).subs(w, 1) == 0
-    one = _proof("kink", ["w"], outputs, [["y", 0]], {"w": "-1"}, "-2")
-    zero = _proof("kink", ["w"], outputs, [], {"w": "1"}, "1", [{"name": "v", "vector": {"w": "sqrt(w**2) + w"}}])
+    one = _proof("kink", ["w"], outputs, [["y", 0]], {"w": "-1"}, "-2", where=["sqrt(w**2)"])
+    zero = _proof("kink", ["w"], outputs, [], {"w": "1"}, "1", [{"name": "v", "vector": {"w": "sqrt(w**2) + w"}}],
+                  where=["sqrt(w**2)"])
     tail = "where its functions with branches (sqrt(w**2)) are analytic; on other parts of its domain it may differ"
     assert proofcheck.check(one) == (f"accepted: {CLAIM.format('kink', 1, 1)} (minor non-zero exactly; 0 generator(s) "
                                      f"verified as identities and independent) on the connected open set around the "
@@ -90,13 +96,16 @@ def test_a_point_where_a_logarithm_is_not_real_is_refused_and_the_writer_avoids_
     """y = e^a + log b (rank 1 of 2 by hand: the gradient (e^a, 1/b), one field
     v = (1, -b e^a) with L_v y = e^a - b e^a / b = 0). Its proof was written at
     b = -2, where log b is not a real number (log is analytic only for b > 0):
-    refused there, and the writer now takes a point with b > 0, accepted."""
+    refused there, and the writer now takes a point with b > 0, accepted. log is analytic on
+    b > 0, a half-space (connected): the claim is about the whole domain, with no region."""
     system = System(["a", "b"], {"a": "0", "b": "0"}, {"y": "exp(a) + log(b)"}, name="explog")
     proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     b = sympy.Rational(proof["lower_bound"]["point"]["states"]["b"])
     assert b > 0
     a = proof["lower_bound"]["point"]["states"]["a"]
-    assert f"around the point (a = {a}, b = {b}) where its functions with branches (log(b))" in proofcheck.check(proof)
+    assert a and "region" not in proof
+    assert proofcheck.check(proof) == (f"accepted: {CLAIM.format('explog', 1, 2)} (minor non-zero exactly; 1 "
+                                       "generator(s) verified as identities and independent)")
     wrong = copy.deepcopy(proof)  # v = (1, -1): L_v y = e^a - 1/b, not 0 (e^a = 1/b only on a curve)
     wrong["upper_bound"]["generators"][0]["vector"] = {"a": "1", "b": "-1"}
     with pytest.raises(proofcheck.Rejected, match=r"L_v y is not zero$"):
@@ -263,7 +272,7 @@ def test_atan2_is_analytic_off_its_cut(x, y, analytic):
     minor = sympy.diff(sympy.atan2(x2, x1), sympy.Symbol(columns[0])).xreplace(point) if point[x1] or point[x2] \
         else sympy.S.One
     proof = _proof("angle", ["x1", "x2"], {"y": "atan2(x2, x1)"}, [["y", 0]], {"x1": x, "x2": y}, str(minor),
-                   [{"name": "scale", "vector": {"x1": "x1", "x2": "x2"}}])
+                   [{"name": "scale", "vector": {"x1": "x1", "x2": "x2"}}], where=["atan2(x2, x1)"])
     proof["lower_bound"]["columns"] = columns
     if analytic:
         assert proofcheck.check(proof).endswith(f"(atan2(x2, x1)) are analytic; on other parts of its domain it may "
@@ -373,15 +382,16 @@ def test_a_bad_input_value_is_named_in_process():
 
 
 def test_a_long_claim_with_branches_is_cut_where_it_says():
-    """30 states, y_i = sqrt(x_i^2 + 1) (rank 30 of 30: by hand the Jacobian is diagonal,
-    x_i / sqrt(x_i^2 + 1) = 3/5 at x_i = 3/4): the point's text is cut at 300 characters
+    """30 states, y_i = sqrt(x_i^2 - 1/2) (rank 30 of 30: by hand the Jacobian is diagonal,
+    x_i / sqrt(x_i^2 - 1/2) = (3/4)/(1/4) = 3 at x_i = 3/4): the point's text is cut at 300 characters
     and the list of functions with branches at 200, each joined by ', '."""
     names = [f"x{i}" for i in range(30)]
-    proof = _proof("many", names, {f"y{i}": f"sqrt({x}**2 + 1)" for i, x in enumerate(names)},
-                   [[f"y{i}", 0] for i in range(30)], {x: "3/4" for x in names}, str(sympy.Rational(3, 5) ** 30))
+    roots = sorted(f"sqrt({x}**2 - 1/2)" for x in names)  # x**2 - 1/2 > 0: two half-lines, not proven connected
+    proof = _proof("many", names, {f"y{i}": f"sqrt({x}**2 - 1/2)" for i, x in enumerate(names)},
+                   [[f"y{i}", 0] for i in range(30)], {x: "3/4" for x in names}, str(3 ** 30), where=roots)
     line = proofcheck.check(proof)
     where = ", ".join(f"{x} = 3/4" for x in names)[:300]
-    functions = ", ".join(sorted(f"sqrt({x}**2 + 1)" for x in names))[:200]
+    functions = ", ".join(roots)[:200]
     assert line.endswith(f"around the point ({where}) where its functions with branches ({functions}) are analytic; "
                          "on other parts of its domain it may differ")
 

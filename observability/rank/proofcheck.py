@@ -45,14 +45,13 @@ arithmetic (arb), the transcendental numbers.
   time and memory of the whole check, run in a child process. What does not
   fit is "not verified", with the reason.
 * Then r <= rank <= n - (number of generators) = r near the point, and at
-  generic points of the whole domain when every function is single-valued
-  (rational functions, exp, sin, cos, tan and their hyperbolic kin: analytic on
-  the connected set of complex points off their poles, so an identity or a
-  non-zero number on an open set of real points extends to all of it). A model
-  with functions that have branches (roots, log, atan, atan2) gets the claim on
-  the connected open set around the point where they are analytic (checked
-  there): on another branch the rank may differ (sqrt(w^2) - w: rank 1 for w < 0,
-  0 for w > 0). Functions that are not analytic (Abs, sign, floor, ...) are refused.
+  generic points of the whole domain when every function is single-valued, or
+  the set where the functions with branches are analytic is proven connected
+  (``proofregion``). Otherwise the claim is on the connected open set around the
+  point where they are analytic (checked there): on another branch the rank may
+  differ (sqrt(w^2) - w: rank 1 for w < 0, 0 for w > 0). The file's claim and
+  region must be exactly the ones derived. Functions that are not analytic (Abs,
+  sign, floor, ...) are refused.
 """
 
 from __future__ import annotations
@@ -72,9 +71,10 @@ import sympy
 from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
 from .proofzero import rational_zero
+from .proofregion import statement, unproven
 from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
 
-__all__ = ["check", "verify", "digest", "Rejected", "Unreadable", "MAX_NODES"]
+__all__ = ["check", "verify", "digest", "stated", "Rejected", "Unreadable", "MAX_NODES"]
 
 #: The largest proof file read (characters).
 MAX_FILE = 20_000_000
@@ -186,31 +186,35 @@ def _vector(generator: dict, model: dict, symbols: dict, known: dict) -> list[sy
     return [parse(generator["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
 
 
-def _claim(proof: dict, n: int) -> tuple[int, str]:
-    """The rank and the claim the file may make for a model of n states;
-    Rejected when its rank, n_states or claim text say anything else."""
+def _claim(proof: dict, n: int) -> int:
+    """The rank the file may state for a model of n states; Rejected when its
+    rank or n_states say anything else (its claim is compared in :func:`_stated`)."""
     rank = proof["rank"]
     if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
         raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")
-    claim = f"the generic rank of the observability matrix of {proof['model']['name']} is {rank} of {n}"
-    if proof.get("claim") not in (claim, claim + _region(proof)):
-        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say ({claim!r})")
-    return rank, claim
+    return rank
 
 
-def _region(proof: dict) -> str:
-    """The qualification a claim may carry: the proof's "region" (the writer found
-    the domain where the functions with branches are analytic not proven
-    connected), rebuilt here from its conditions; "" without one. The claim this
-    checker prints is its own (:func:`_accepted`), whatever the file says."""
-    region = proof.get("region")
-    if region is None:
-        return ""
-    where = region.get("where") if isinstance(region, dict) else None
-    if not isinstance(where, list) or region.get("qualified") is not True or not where or not all(
-            isinstance(w, str) for w in where):
-        raise Rejected("the proof's region is not a qualified list of conditions")
-    return f" on the region around the point where {' and '.join(where)} (the rank may differ on other regions)"
+def _stated(proof: dict, rank: int, n: int, time: str, expressions: list) -> list[str]:
+    """The functions with branches the claim is qualified by ([] for the whole
+    domain, ``proofregion``); Rejected unless the file's claim and region are
+    exactly the ones derived here from its model, rank and generators."""
+    where = unproven(expressions, time)
+    derived = statement(proof["model"]["name"], rank, n, where)
+    if proof.get("claim") != derived["claim"]:
+        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say "
+                       f"({derived['claim']!r})")
+    if proof.get("region") != derived.get("region"):
+        raise Rejected(f"the region {proof.get('region')!r} is not the one this claim holds on "
+                       f"({derived.get('region')!r}, derived from the model)")
+    return where
+
+
+def stated(proof: dict) -> dict:
+    """The "claim" (and "region") :func:`check` derives for a proof (the writer writes them from here)."""
+    spec, symbols, x, known, f, _, _, originals = _model(proof)
+    fields = [e for g in proof["upper_bound"]["generators"] for e in _vector(g, spec, symbols, known)]
+    return statement(spec["name"], proof["rank"], len(x), unproven([*f, *originals, *fields], spec["time"]))
 
 
 def check(proof: dict, model: dict | None = None) -> str:
@@ -225,7 +229,7 @@ def check(proof: dict, model: dict | None = None) -> str:
     spec, symbols, x, known, f, outputs, roots, originals = parsed
     _verified_previous(spec, symbols, known, x, f)
     n = len(x)
-    rank, _ = _claim(proof, n)
+    rank = _claim(proof, n)
     lower = proof["lower_bound"]
     rows, columns = _minor_labels(lower, spec, symbols, rank, n)
     orders = max((k for _, k in rows), default=0)
@@ -251,29 +255,31 @@ def check(proof: dict, model: dict | None = None) -> str:
         raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
     if fields and not independent(sympy.Matrix(fields).xreplace(values)):
         raise Rejected("the generators are not independent at the point")
-    return _accepted((model or spec)["name"], rank, n, how, fields, [*f, *originals, *(e for v in fields for e in v)],
+    expressions = [*f, *originals, *(e for v in fields for e in v)]
+    where = _stated(proof, rank, n, spec["time"], expressions)
+    return _accepted((model or spec)["name"], rank, n, how, where, expressions,
                      values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
 
 
-def _accepted(name: str, rank: int, n: int, how: str, fields: list, expressions: list, values: dict,
-              states: dict) -> str:
-    """The claim, once every part of the proof holds. Without functions with branches
-    it is the generic rank (every function is single-valued: what holds on an open
-    set of real points holds at generic points of the whole domain). With them it
-    is the generic rank on the connected open set around the proof's point on
-    which they are analytic (proven there, ``proofjets.analytic_at``): the
-    minor, non-zero at the point, is not the zero function there, and the
-    identities hold there; on another part of the domain (another branch) the
-    rank may differ (sqrt(w**2) - w has rank 1 where w < 0, 0 where w > 0)."""
+def _accepted(name: str, rank: int, n: int, how: str, where: list, expressions: list, values: dict,
+               states: dict) -> str:
+    """The claim, once every part of the proof holds: the generic rank on the whole
+    domain when ``where`` is empty (no function with branches, or their domain
+    proven connected: ``proofregion``), else on the connected open set around
+    the proof's point on which the functions ``where`` are analytic (proven
+    there, ``proofjets.analytic_at``): the minor, non-zero at the point, is not
+    the zero function there, and the identities hold there; on another part of
+    the domain (another branch) the rank may differ (sqrt(w**2) - w has rank 1
+    where w < 0, 0 where w > 0)."""
+    if branches(expressions):
+        analytic_at(expressions, values)
     claim = (f"accepted: the generic rank of the observability matrix of {name} is {rank} of {n} (minor non-zero "
-             f"{how}; {len(fields)} generator(s) verified as identities and independent)")
-    branched = branches(expressions)
-    if not branched:
+             f"{how}; {n - rank} generator(s) verified as identities and independent)")
+    if not where:
         return claim
-    analytic_at(expressions, values)
-    where = ", ".join(f"{s} = {v}" for s, v in states.items())
-    return (f"{claim} on the connected open set around the point ({where[:300]}) where its functions with branches "
-            f"({', '.join(branched)[:200]}) are analytic; on other parts of its domain it may differ")
+    at = ", ".join(f"{s} = {v}" for s, v in states.items())
+    return (f"{claim} on the connected open set around the point ({at[:300]}) where its functions with branches "
+            f"({', '.join(where)[:200]}) are analytic; on other parts of its domain it may differ")
 
 
 def _minor_labels(lower: dict, model: dict, symbols: dict, rank: int, n: int) -> tuple[list, list]:

@@ -30,10 +30,9 @@ import mpmath
 import sympy
 
 from ..analysis.result import ObservabilityResult
-from ..budget import with_budget
+from ..budget import Undecided, with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression, prev
-from ..model.branches import qualifier
 from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
 from ..engine.exactrows import NotRational
@@ -42,6 +41,7 @@ from ..engine.lie import input_derivative, lie_derivatives, step_input
 from ..engine.pointrows import exact_possible, exact_rows
 from ..engine.taylor import Redraw
 from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
+from ..rank.proofcheck import Rejected, stated
 from ..rank.randomized import randomized_rank
 from ..model.system import System
 
@@ -301,7 +301,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         When the verdict is not proven (nothing to write), or when no exact
         point with a non-zero minor is found.
     Undecided
-        When the symbolic rows do not fit ``budget`` CPU seconds.
+        When the symbolic rows do not fit ``budget`` CPU seconds, or the
+        checker's reader cannot read the model.
     """
     if result.proof != "proven" or result.rank is None:
         raise ObservabilityError(
@@ -309,7 +310,6 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         )
     original = system
     written = prepare(system, square_roots=False).system
-    qualified = result.region.to_dict() if result.region.qualified else None
     system = prepare(written).system  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
@@ -327,10 +327,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         if not spans_invariant_distribution(system, vectors):
             raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
         kind = "invariant span"
-    return {
+    proof = {
         "format": EVIDENCE_FORMAT,
-        "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}"
-                 + qualifier(result.region, shown=None),
         "conventions": CONVENTIONS,
         "model": proof_model(original),
         "rank": result.rank,
@@ -348,4 +346,11 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
             "kind": kind,
             "identities": IDENTITIES[kind],
         },
-    } | ({"region": qualified} if qualified else {})
+    }
+    # The claim and its region as the checker derives them (they are what the proof proves, and the checker
+    # refuses any other words): where check proves the domain connected by an argument the checker does not
+    # make, the proof claims the rank on the region around its point only.
+    try:
+        return proof | stated(proof)
+    except Rejected as exc:  # a proof nobody can check is not written
+        raise Undecided(f"the independent checker cannot read the model ({exc})") from None
