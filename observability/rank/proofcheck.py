@@ -402,7 +402,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
     """Rejected unless the proof's system is ``model``'s: the same name, time, states
     and inputs (in order), parameters and outputs (by name), parameter values, dynamics and
     outputs as expressions (equal in sympy's normal form, or their difference
-    cancelling to 0)."""
+    the zero function: :func:`_zero`)."""
     ours, theirs = _equations(proof_model), _equations(model)
     if proof_model["name"] != model["name"]:
         raise Rejected("the proof is not about the model given: its name differs")
@@ -417,7 +417,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
         for key, text in ours[part].items():
             other = theirs[part][key]
             if text != other and (text is None or other is None
-                                  or sympy.cancel(parse(text, symbols) - parse(other, symbols)) != 0):
+                                  or not _zero(parse(text, symbols) - parse(other, symbols))):
                 raise Rejected(f"the proof is not about the model given: {part} {key!r} differ")
 
 
