@@ -360,6 +360,30 @@ def test_rational_identities_with_different_denominators():
     assert rational_zero(sympy.exp(x) + 1 / x) is None
 
 
+def test_rational_identities_that_need_every_step_of_the_fractions():
+    """Each by hand, written so that sympy leaves it as it is:
+
+    * (x + 1/2)^2 - x^2 - x - 1/4 = 0 (a rational constant's denominator is needed:
+      with 1 for 1/2 it is (x + 1)^2 - x^2 - x - 1 = x);
+    * 1/(x(x + 1)) + 1/(x(x + 2)) = (2x + 3)/(x(x + 1)(x + 2)), so the difference is 0
+      (the sum's denominator must be the product over the common factor x);
+    * (x^2 - 1)/(x - 1) - x - 1 = 0 (the fraction reduced by its gcd x - 1 on both sides);
+    * the sum of 12 symbols less the same sum, reordered as a product by 1, is 0 and
+      x_0 + ... + x_11 is not (every symbol has its own variable: more than 9 names)."""
+    from observability.rank.proofzero import rational_zero
+
+    x = sympy.Symbol("x")
+    half = sympy.Rational(1, 2)
+    assert rational_zero((x + half) ** 2 - x**2 - x - half / 2) is True
+    assert rational_zero((x + 1) ** 2 - x**2 - x - 1) is False
+    parts = [1 / (x * (x + 1)), 1 / (x * (x + 2)), -(2 * x + 3) / (x * (x + 1) * (x + 2))]
+    assert rational_zero(sympy.Add(*parts, evaluate=False)) is True
+    assert rational_zero(sympy.Mul(x**2 - 1, 1 / (x - 1), evaluate=False) - x - 1) is True
+    names = sympy.symbols("x0:12")
+    assert rational_zero(sympy.Add(*names) - sympy.Mul(1, sympy.Add(*reversed(names)), evaluate=False)) is True
+    assert rational_zero(sympy.Add(*names) - names[11]) is False
+
+
 def test_a_division_by_a_zero_in_disguise_is_refused():
     """(x + 1)^2 - x^2 - 2x - 1 = 0 (by hand), which sympy does not see as written:
     an identity through 1/that divides by the zero polynomial and is refused, naming it."""
