@@ -18,7 +18,7 @@ import sympy
 
 from observability.analysis.verdict import analyze
 from observability.model.system import System
-from observability.rank import proofcheck, proofjets
+from observability.rank import proofbound, proofcheck, proofjets
 from observability.report.proofs import proof_evidence
 
 from conftest import cli
@@ -246,9 +246,9 @@ def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monke
         return found, products
 
     decided = []
-    rational_zero = proofcheck.rational_zero
+    rational_zero = proofbound.rational_zero
     monkeypatch.setattr(proofcheck, "rows_at", counting)
-    monkeypatch.setattr(proofcheck, "rational_zero", lambda e: decided.append(rational_zero(e)) or decided[-1])
+    monkeypatch.setattr(proofbound, "rational_zero", lambda e: decided.append(rational_zero(e)) or decided[-1])
     line = proofcheck.check(json.loads(path.read_text()))
     assert line.startswith(f"accepted: {CLAIM.format('vins-quaternion-F1', 8, 13)}") and counted[0] <= 10_000
     # 5 fields: L_v u1 and L_v v1 each decided as polynomials, none left to sympy (the brackets are 0 as written)
@@ -382,6 +382,19 @@ def test_rational_identities_that_need_every_step_of_the_fractions():
     names = sympy.symbols("x0:12")
     assert rational_zero(sympy.Add(*names) - sympy.Mul(1, sympy.Add(*reversed(names)), evaluate=False)) is True
     assert rational_zero(sympy.Add(*names) - names[11]) is False
+
+
+def test_a_free_parameter_takes_its_value_at_the_point_in_continuous_time():
+    """y = p x, x' = p: by hand y' = p^2, so the row of order 0 is (p) and at p = 3
+    the 1 x 1 minor dy/dx is 3, while 1 (the value without p's number) is refused."""
+    proof = _proof("scaled", ["x"], {"y": "p*x"}, [["y", 0]], {"x": "1"}, "3", dynamics={"x": "p"})
+    proof["model"]["parameters"] = {"p": None}
+    proof["lower_bound"]["point"]["parameters"] = {"p": "3"}
+    assert proofcheck.check(copy.deepcopy(proof)).startswith(f"accepted: {CLAIM.format('scaled', 1, 1)} (minor "
+                                                              "non-zero exactly;")
+    proof["lower_bound"]["minor"] = "1"
+    with pytest.raises(proofcheck.Rejected, match="^the minor is 3, the file says 1$"):
+        proofcheck.check(proof)
 
 
 def test_a_division_by_a_zero_in_disguise_is_refused():

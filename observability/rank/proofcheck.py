@@ -70,11 +70,11 @@ import sympy
 
 from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
-from .proofzero import rational_zero
+from .proofbound import identically_zero, vector, verified_generator, verified_span
 from .proofregion import statement, unproven
 from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
 
-__all__ = ["check", "verify", "digest", "stated", "Rejected", "Unreadable", "MAX_NODES"]
+__all__ = ["check", "verify", "digest", "stated", "minor", "Rejected", "Unreadable", "MAX_NODES"]
 
 #: The largest proof file read (characters).
 MAX_FILE = 20_000_000
@@ -84,20 +84,6 @@ CPU_SECONDS, MEMORY = 300.0, 4 << 30
 
 class Unreadable(Exception):
     """The file cannot be read as text (exit 2)."""
-
-
-def _zero(expr: sympy.Expr) -> bool:
-    """Whether ``expr`` is the zero function: decided exactly when it is rational
-    (``proofzero``), else shown by sympy's simplification (False: not shown)."""
-    if expr == 0:
-        return True
-    rational = rational_zero(expr)
-    if rational is not None:
-        return rational
-    for attempt in (sympy.cancel, sympy.simplify, lambda e: sympy.simplify(sympy.expand_trig(e))):
-        if attempt(expr) == 0:
-            return True
-    return False
 
 
 def _root_coefficient(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> sympy.Expr | None:
@@ -113,77 +99,6 @@ def _root_coefficient(output: sympy.Expr, radicand: sympy.Expr, variables: set) 
     if isinstance(factor, sympy.Pow) and factor.exp == sympy.Rational(1, 2) and sympy.expand(factor.base - radicand) == 0:
         return coefficient
     return None
-
-
-def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict) -> list:
-    """The generator's vector, once L_v h = 0 for every output and its bracket
-    with the dynamics vanish as identities (Rejected otherwise). A generator may
-    depend on the inputs: in continuous time the inputs move (u' enters the
-    bracket), in discrete time the next step has its own input."""
-    rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
-    following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
-    v = _vector(g, model, symbols, known)
-    for name, h in outputs.items():
-        if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
-            raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
-    for i, (vi, fi) in enumerate(zip(v, f)):
-        if model["time"] == "continuous":
-            bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
-                       + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
-        else:
-            bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
-                       - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
-        if not _zero(bracket):
-            raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
-    return v
-
-
-def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict,
-                   values: dict) -> list:
-    """The generators' vectors, once L_v h = 0 for every output and generator and
-    each bracket [f, v_a] is a combination of the generators with rational
-    coefficients (in discrete time DF(x) v_a(x), of the generators at F(x)), as
-    identities (Rejected otherwise). The coefficients are
-    solved here from rows where the generators are independent at the point,
-    then every row is checked. Inputs are symbols (any value) and must not enter
-    the generators."""
-    vectors = []
-    for g in generators:
-        v = _vector(g, model, symbols, known)
-        if any(e.has(*(symbols[u] for u in model["inputs"])) for e in v):
-            raise Rejected(f"generator {g['name']!r}: an invariant span needs generators free of inputs")
-        for name, h in outputs.items():
-            if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
-                raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
-        vectors.append(v)
-    # The span is kept where it is taken: at x ([f, v_a]), or at F(x) (DF(x) v_a(x)) in discrete time.
-    continuous = model["time"] == "continuous"
-    basis = sympy.Matrix(vectors if continuous else [[e.xreplace(dict(zip(x, f))) for e in v] for v in vectors]).T
-    _, pivots = basis.xreplace(values).T.rref()
-    rows = list(pivots)
-    if len(rows) != len(vectors) or not independent(basis.extract(rows, list(range(len(vectors)))).T.xreplace(values)):
-        raise Rejected("the generators are not independent at the point")
-    square = basis.extract(rows, list(range(len(vectors))))
-    for g, v in zip(generators, vectors):
-        bracket = [sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
-                   if continuous else sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v))
-                   for vi, fi in zip(v, f)]
-        coefficients = square.LUsolve(sympy.Matrix([bracket[r] for r in rows]))
-        for i, component in enumerate(bracket):
-            if not _zero(component - sum(c * basis[i, b] for b, c in enumerate(coefficients))):
-                moved = "[f, v]" if continuous else "DF v"
-                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of {moved} leaves the span")
-    return vectors
-
-
-
-
-def _vector(generator: dict, model: dict, symbols: dict, known: dict) -> list[sympy.Expr]:
-    """A generator's components, in the order of the states (a missing one is 0)."""
-    others = [k for k in generator["vector"] if k not in model["states"]]
-    if others:
-        raise Rejected(f"generator {generator['name']!r}: {others[0]!r} is not a state")
-    return [parse(generator["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
 
 
 def _claim(proof: dict, n: int) -> int:
@@ -213,7 +128,7 @@ def _stated(proof: dict, rank: int, n: int, time: str, expressions: list) -> lis
 def stated(proof: dict) -> dict:
     """The "claim" (and "region") :func:`check` derives for a proof (the writer writes them from here)."""
     spec, symbols, x, known, f, _, _, originals = _model(proof)
-    fields = [e for g in proof["upper_bound"]["generators"] for e in _vector(g, spec, symbols, known)]
+    fields = [e for g in proof["upper_bound"]["generators"] for e in vector(g, spec, symbols, known)]
     return statement(spec["name"], proof["rank"], len(x), unproven([*f, *originals, *fields], spec["time"]))
 
 
@@ -231,7 +146,39 @@ def check(proof: dict, model: dict | None = None) -> str:
     n = len(x)
     rank = _claim(proof, n)
     lower = proof["lower_bound"]
-    rows, columns = _minor_labels(lower, spec, symbols, rank, n)
+    matrix, values, inputs = _minor_at(parsed, lower, rank)
+    how = _minor_checked(matrix, lower)
+    generators = proof["upper_bound"]["generators"]
+    if len(generators) != n - rank:
+        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
+    kind = proof["upper_bound"].get("kind", "symmetries")
+    if kind == "symmetries":
+        fields = [verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
+    elif kind == "invariant span":
+        fields = verified_span(generators, spec, symbols, known, x, f, outputs, values)
+    else:
+        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
+    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
+        raise Rejected("the generators are not independent at the point")
+    expressions = [*f, *originals, *(e for v in fields for e in v)]
+    where = _stated(proof, rank, n, spec["time"], expressions)
+    return _accepted((model or spec)["name"], rank, n, how, where, expressions,
+                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+
+
+def minor(proof: dict) -> sympy.Matrix:
+    """The entries of the proof's minor at its point, as :func:`check` computes them
+    (the writer records its value from here); Rejected where they cannot be."""
+    parsed = _model(proof)
+    return _minor_at(parsed, proof["lower_bound"], _claim(proof, len(parsed[2])))[0]
+
+
+def _minor_at(parsed: tuple, lower: dict, rank: int) -> tuple[sympy.Matrix, dict, dict]:
+    """(the minor's entries, the point's values, the inputs' values): the rows of
+    the listed labels at the point, the coefficients of square roots proven
+    non-zero there."""
+    spec, symbols, x, _, f, outputs, roots, _ = parsed
+    rows, columns = _minor_labels(lower, spec, symbols, rank, len(x))
     orders = max((k for _, k in rows), default=0)
     values = _point(lower["point"], spec, symbols, orders)
     inputs = _input_values(spec, symbols, lower["point"], orders)
@@ -242,23 +189,7 @@ def check(proof: dict, model: dict | None = None) -> str:
     missing = [r for r in rows if r not in found]
     if missing:
         raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
-    how = _minor_checked(sympy.Matrix([found[r] for r in rows]) if rows else sympy.Matrix(0, 0, []), lower)
-    generators = proof["upper_bound"]["generators"]
-    if len(generators) != n - rank:
-        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    kind = proof["upper_bound"].get("kind", "symmetries")
-    if kind == "symmetries":
-        fields = [_verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
-    elif kind == "invariant span":
-        fields = _verified_span(generators, spec, symbols, known, x, f, outputs, values)
-    else:
-        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
-    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
-        raise Rejected("the generators are not independent at the point")
-    expressions = [*f, *originals, *(e for v in fields for e in v)]
-    where = _stated(proof, rank, n, spec["time"], expressions)
-    return _accepted((model or spec)["name"], rank, n, how, where, expressions,
-                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+    return sympy.Matrix([found[r] for r in rows]) if rows else sympy.Matrix(0, 0, []), values, inputs
 
 
 def _accepted(name: str, rank: int, n: int, how: str, where: list, expressions: list, values: dict,
@@ -417,7 +348,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
         for key, text in ours[part].items():
             other = theirs[part][key]
             if text != other and (text is None or other is None
-                                  or not _zero(parse(text, symbols) - parse(other, symbols))):
+                                  or not identically_zero(parse(text, symbols) - parse(other, symbols))):
                 raise Rejected(f"the proof is not about the model given: {part} {key!r} differ")
 
 
@@ -554,7 +485,7 @@ def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list
         raise Rejected("the previous-state table does not give one inverse per state and every output as written")
     g = [parse(previous["inverse"][s], symbols).xreplace(known) for s in model["states"]]
     for state, xi, fi in zip(model["states"], x, f):
-        if not _zero(fi.xreplace(dict(zip(x, g))) - xi):
+        if not identically_zero(fi.xreplace(dict(zip(x, g))) - xi):
             raise Rejected(f"the inverse motion model is not an inverse: F(g(x, u), u) - x is not 0 for state {state}")
     inputs = _previous_inputs(model)
     readable = symbols | inputs | {f"prev({s})": sympy.Symbol(f"prev({s})") for s in model["states"]}
@@ -564,7 +495,7 @@ def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list
     for name, text in previous["outputs"].items():
         written = parse(text, readable).xreplace(known)
         rewritten = parse(model["outputs"][name], symbols | inputs).xreplace(known)
-        if not _zero(written.xreplace(at) - rewritten):
+        if not identically_zero(written.xreplace(at) - rewritten):
             raise Rejected(f"output {name!r} is not the written one with prev(x) = g(x, prev(u))")
 
 
