@@ -50,3 +50,34 @@ def test_an_edited_model_under_the_same_name_is_refused(dynamics, outputs, part)
     proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     with pytest.raises(proofcheck.Rejected, match=f"^the proof is not about the model given: {part} differ$"):
         proofcheck.check(copy.deepcopy(proof), json.loads(json.dumps(proof_model(_system(dynamics, outputs)))))
+
+
+def test_a_transcendental_minor_is_the_one_of_the_symbolic_lie_derivatives():
+    """x' = cos(th), y' = sin(th), th' = 1 seen through x and y (rank 3 of 3: y'' =
+    cos(th) gives th). The proof's minor is taken at its point by the checker's
+    series (issue 61 item 6: vins2d's symbolic rows did not fit the budget); its
+    recorded value is compared here with the determinant of the gradients of the
+    symbolic Lie derivatives L_f^k h written out by sympy (another route), to 30 digits."""
+    import mpmath
+    import sympy
+
+    system = System(["x", "y", "th"], {"x": "cos(th)", "y": "sin(th)", "th": "1"}, {"h1": "x", "h2": "y"},
+                    name="turning")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    assert proof["rank"] == 3 and proofcheck.check(copy.deepcopy(proof)).startswith("accepted: ")
+    x, y, th = sympy.symbols("x y th")
+    f, h = [sympy.cos(th), sympy.sin(th), sympy.Integer(1)], {"h1": x, "h2": y}
+
+    def lie(expr, k):
+        for _ in range(k):
+            expr = sum(sympy.diff(expr, s) * fs for s, fs in zip((x, y, th), f))
+        return expr
+
+    lower = proof["lower_bound"]
+    columns = [sympy.Symbol(c) for c in lower["columns"]]
+    point = {sympy.Symbol(s): sympy.Rational(v) for s, v in lower["point"]["states"].items()}
+    matrix = sympy.Matrix([[sympy.diff(lie(h[o], k), c) for c in columns] for o, k in lower["rows"]]).xreplace(point)
+    with mpmath.workdps(60):
+        reference = mpmath.mpf(str(sympy.N(matrix.det(), 60)))
+        assert abs(mpmath.mpf(lower["minor"]) - reference) <= abs(reference) * mpmath.mpf(10) ** -30
+    assert reference != 0 and lower["exact"] is (matrix.det().is_Rational is True)
