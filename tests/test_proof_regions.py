@@ -23,9 +23,10 @@ from observability.report.proofs import proof_evidence
 #: (expression, time, connected by hand). Connected: 1 + x^2 > 0 everywhere; x^2 - 2x + 2 = (x - 1)^2 + 1 > 0
 #: everywhere; x^2 + y^2 = 0 only at the origin and (x + y)^2 + z^2 = 0 only on the line x = -y, z = 0 (codimension
 #: 2, complements connected); e^x + y^2 > 0; log b and sqrt(z + 1) on half-spaces; sqrt(x) log(1 - x) on
-#: 0 < x < 1; atan is analytic on the whole line; x^(3/2) on x > 0. Not connected, or not proven: x^2 (= 0 on the
+#: 0 < x < 1; atan is analytic on the whole line; x^(3/2) on x > 0; 1 - x^2 - y^2 > 0 is an open disc and
+#: 4 - (x - y)^2 > 0 the strip |x - y| < 2 (convex: concave quadratics; in discrete time not proven). Not connected, or not proven: x^2 (= 0 on the
 #: hyperplane x = 0: |x|), (x - y)^2 (the hyperplane x = y), 1 - cos(x)^2 (= 0 at every k pi), x^2 - y^2 (two
-#: crossing planes), xy + 1 (a hyperbola's two sides), a pole of 1/x or tan beside a root, atan(tan x) (tan's
+#: crossing planes), x^2 - 1 (two half-lines), xy + 1 (a hyperbola's two sides), a pole of 1/x or tan beside a root, atan(tan x) (tan's
 #: poles), atan2 (its cut); a constant written as log(6) - log(2) - log(3) beside x^2 (zero: sqrt(x^2) again), or times e^x
 #: (zero);
 #: in discrete time a half-space (the motion may leave it) and a pole of the motion.
@@ -35,6 +36,8 @@ CASES = [
     ("sqrt(exp(x) + y**2)", "continuous", True), ("exp(a) + log(b)", "continuous", True),
     ("x + sqrt(z + 1)", "continuous", True), ("sqrt(x)*log(1 - x)", "continuous", True),
     ("atan(x)", "continuous", True), ("x**(3/2)", "continuous", True), ("log(1 + x**2)", "discrete", True),
+    ("sqrt(1 - x**2 - y**2)", "continuous", True), ("log(4 - (x - y)**2)", "continuous", True),
+    ("sqrt(1 - x**2 - y**2)", "discrete", False), ("sqrt(x**2 - 1)", "continuous", False),
     ("sqrt(x**2)", "continuous", False), ("sqrt((x - y)**2)", "continuous", False),
     ("sqrt(1 - cos(x)**2)", "continuous", False), ("sqrt(x**2 - y**2)", "continuous", False),
     ("sqrt(x*y + 1)", "continuous", False), ("sqrt(1 + x**2)/x", "continuous", False),

@@ -20,14 +20,15 @@ function is analytic connected, by one argument:
     even powers, and sums and products of these with at least one positive term;
     or a quadratic polynomial with rational coefficients that is a positive
     semidefinite form of (x, 1) with no real zero;
-  - a non-constant affine polynomial (A > 0 is an open half-space);
+  - a non-constant affine polynomial, or a concave quadratic (its part of degree
+    2 negative semidefinite): A > 0 is an open convex set (a half-space, a disc);
   - a positive semidefinite quadratic whose zeros form an affine subspace of
     codimension >= 2 (z^T M z = 0 with M >= 0 exactly when M z = 0);
 
   and in discrete time positive everywhere only (the rows compose the motion,
   which keeps a positive-everywhere argument positive but not a half-space).
 
-Then D is an open convex set (the half-spaces' intersection, holding the point)
+Then D is an open convex set (the convex sets' intersection, holding the point)
 less finitely many affine subspaces of codimension >= 2, which is connected: for
 a, b in D and m near the middle of the segment, the path a -> m -> b meets such a
 subspace S only if m lies in the cone from a (or b) over S, of codimension >= 1,
@@ -146,8 +147,9 @@ def _degree(expr: sympy.Expr) -> float:
 
 
 def _quadratic(expr: sympy.Expr) -> str | None:
-    """"positive" (no real zero), "convex" (a half-space, or zeros of codimension
-    >= 2) or None, for a polynomial of degree 1 or 2 with rational coefficients."""
+    """"positive" (no real zero), "convex" (A > 0 convex: a half-space or a concave
+    quadratic; or A >= 0 with zeros of codimension >= 2) or None, for a polynomial
+    of degree 1 or 2 with rational coefficients."""
     used = sorted(expr.free_symbols, key=str)
     if len(used) > _MAX_SYMBOLS or _degree(expr) > 2:  # nothing larger is expanded
         return None
@@ -166,6 +168,8 @@ def _quadratic(expr: sympy.Expr) -> str | None:
         i, j = at[0], at[1]
         gram[i, j] += c if i == j else c / 2
         gram[j, i] = gram[i, j]
+    if (-gram[:n, :n]).is_positive_semidefinite:  # a concave quadratic: A > 0 is convex (a disc, a strip)
+        return "convex"
     if not gram.is_positive_semidefinite:
         return None
     linear, constant = gram[:, :n], -gram[:, n]
