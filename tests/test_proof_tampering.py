@@ -55,7 +55,21 @@ CORPUS = {
                            name="known"), 2),
     # a generator that moves with an input (x1' = u x2, h = x2): 1 of 2.
     "input generator": (System(["x1", "x2"], {"x1": "u*x2", "x2": "0"}, {"h": "x2"}, inputs=["u"], name="drift"), 1),
+    # a branch on a region: h1 = |sin x| + sin x is 2 sin x on (0, pi) (slope 2 cos x), 0 on (pi, 2 pi); h2 = y:
+    # 2 of 2 around the point (x = 7/5 at seed 1, in (0, pi)), 1 on the other region.
+    "branch": (System(["x", "y"], {"x": "0", "y": "0"}, {"h1": "sqrt(1 - cos(x)**2) + sin(x)", "h2": "y"},
+                      name="abs-sine"), 2),
+    # atan2 off its cut, with a generator: the angle of (x1, x2) is kept by the scaling (x1, x2), 1 of 2.
+    "atan2": (System(["x1", "x2"], {"x1": "0", "x2": "0"}, {"y": "atan2(x2, x1)"}, name="angle"), 1),
 }
+#: The words a claim adds on a region (the file format): the functions with branches listed.
+REGION = " on the region around the point where its functions with branches ({}) are analytic (the rank may differ on other regions)"
+#: The functions with branches each proof's claim is qualified by, by hand ([]: the whole domain). exp-log: log b
+#: is analytic on b > 0, a half-space; root: sqrt(z + 1) on z > -1, a half-space; radicand: sqrt(x^2 + y^2)
+#: off the origin, whose complement is connected (codimension 2); branch: 1 - cos(x)^2 = sin(x)^2 vanishes
+#: on every x = k pi, which cut the line into pieces; atan2 is not analytic on its cut x1 <= 0, x2 = 0. The
+#: others have no function with branches.
+REGIONS = {"branch": ["sqrt(1 - cos(x)**2)"], "atan2": ["atan2(x2, x1)"]}
 
 
 @functools.cache
@@ -126,6 +140,27 @@ def _edits(proof: dict) -> dict:
     if model.get("analysed_outputs"):
         name = next(iter(model["analysed_outputs"]))
         edits["radicand"] = lambda p: p["model"]["analysed_outputs"].update({name: "x**2"})
+    return edits | _region_edits(proof)
+
+
+def _region_edits(proof: dict) -> dict:
+    """The claim's region edited: dropped with the claim cut back to the whole
+    domain, added to a claim about the whole domain, or naming other functions."""
+    bare = f"the generic rank of the observability matrix of {proof['model']['name']} is {proof['rank']} of " \
+           f"{proof['n_states']}"
+    region = proof.get("region")
+    added = {"qualified": True, "where": [f"sqrt({proof['model']['states'][0]})"]}
+    edits = {"region: the claim's words with a region of other functions": lambda p: p.update(
+                 claim=bare + REGION.format(added["where"][0]), region=added),
+             "region: its qualified flag false": lambda p: p.update(region={**(region or added), "qualified": False})}
+    if region:
+        edits["region: stripped, claim cut back"] = lambda p: (p.pop("region"), p.update(claim=bare))
+        edits["region: stripped, claim kept"] = lambda p: p.pop("region")
+        edits["region: claim cut back, region kept"] = lambda p: p.update(claim=bare)
+        edits["region: a function dropped from it"] = lambda p: p.update(region={"qualified": True, "where": []})
+    else:
+        edits["region: added to a claim about the whole domain"] = lambda p: p.update(region=added)
+        edits["region: its words added to the claim"] = lambda p: p.update(claim=bare + REGION.format("sqrt(x)"))
     return edits
 
 
@@ -141,6 +176,19 @@ def test_every_edit_of_a_genuine_proof_is_refused(kind):
         edit(tampered)
         accepted, lines = proofcheck._answer(json.dumps(tampered), model)
         assert not accepted and lines[0].startswith("rejected: "), (kind, name, lines)
+
+
+@pytest.mark.parametrize("kind", list(CORPUS))
+def test_the_claim_and_region_are_the_ones_derived_by_hand(kind):
+    """Each proof states its rank on the whole domain, or on the region around its
+    point where the functions REGIONS lists (by hand, above) are analytic: its
+    "claim" and "region" fields are exactly those words."""
+    _, proof, model = _genuine(kind)
+    rank, n = CORPUS[kind][1], CORPUS[kind][0].n
+    bare = f"the generic rank of the observability matrix of {model['name']} is {rank} of {n}"
+    where = REGIONS.get(kind, [])
+    assert proof["claim"] == bare + (REGION.format(", ".join(where)) if where else "")
+    assert proof.get("region") == ({"qualified": True, "where": where} if where else None)
 
 
 FIELDS = st.sampled_from([
@@ -159,7 +207,8 @@ VALUES = st.recursive(
     max_leaves=6)
 
 
-@given(kind=st.sampled_from(["polynomial", "exp-log", "parameter", "span", "discrete", "radicand"]), field=FIELDS,
+@given(kind=st.sampled_from(["polynomial", "exp-log", "parameter", "span", "discrete", "radicand", "branch"]),
+       field=FIELDS,
        where=st.integers(0, 3), value=VALUES)
 def test_no_edit_of_one_field_makes_the_checker_accept_a_false_claim(kind, field, where, value):
     """Whatever one field (or one entry of it) becomes, the checker tied to the
@@ -179,3 +228,33 @@ def test_no_edit_of_one_field_makes_the_checker_accept_a_false_claim(kind, field
         target[field[-1]] = value
     accepted, lines = proofcheck._answer(json.dumps(tampered), model)
     assert lines[0].startswith("rejected: ") if not accepted else lines[0] == _genuine(kind)[0]
+
+
+CLAIMS = st.sampled_from(["", "the generic rank of the observability matrix of {name} is {rank} of {n}",
+                          "the generic rank of the observability matrix of {name} is {rank} of {n}" + REGION,
+                          "the generic rank of the observability matrix of {name} is {rank} of {n} on a region",
+                          "{claim}", "{claim} ", "{claim}\x1b[0m"])
+WHERE = st.lists(st.sampled_from(["sqrt(1 - cos(x)**2)", "atan2(x2, x1)", "sqrt(x)", "log(b)", "", "x > 0"]),
+                 max_size=2)
+
+
+@given(kind=st.sampled_from(["branch", "atan2", "exp-log", "radicand", "polynomial"]), claim=CLAIMS, where=WHERE,
+       qualified=st.sampled_from([True, False, None, 1]), drop=st.booleans())
+def test_no_claim_or_region_but_the_derived_ones_is_accepted(kind, claim, where, qualified, drop):
+    """Issue 61's last wrong answer: a file whose region was stripped and claim cut
+    back to the whole domain was accepted. Any "claim" and "region" other than the
+    genuine ones (written by hand in REGIONS) is refused, naming the field."""
+    proof, model = (json.loads(text) for text in _written(kind))
+    genuine = (proof["claim"], proof.get("region"))
+    rank, n = CORPUS[kind][1], CORPUS[kind][0].n
+    tampered = copy.deepcopy(proof)
+    tampered["claim"] = claim.replace("({})", "({where})").format(
+        name=model["name"], rank=rank, n=n, claim=proof["claim"], where=", ".join(where))
+    tampered.pop("region", None)
+    if not drop:
+        tampered["region"] = {"qualified": qualified, "where": where}
+    accepted, lines = proofcheck._answer(json.dumps(tampered), model)
+    if (tampered["claim"], tampered.get("region")) == genuine:
+        assert accepted, lines
+    else:
+        assert not accepted and lines[0].startswith(("rejected: the claim ", "rejected: the region ")), lines

@@ -18,20 +18,25 @@ import sympy
 
 from observability.analysis.verdict import analyze
 from observability.model.system import System
-from observability.rank import proofcheck, proofjets
+from observability.rank import proofbound, proofcheck, proofjets
 from observability.report.proofs import proof_evidence
 
 from conftest import cli
 
 CLAIM = "the generic rank of the observability matrix of {} is {} of {}"
+#: The words a claim adds on a region, by hand from the file format: the functions with branches listed.
+REGION = " on the region around the point where its functions with branches ({}) are analytic (the rank may differ on other regions)"
 
 
 def _proof(name: str, states: list[str], outputs: dict, rows: list, point: dict, minor: str,
-           generators: list | None = None, dynamics: dict | None = None) -> dict:
-    """A proof written by hand: rank = len(rows), columns the first states, no input."""
+           generators: list | None = None, dynamics: dict | None = None, where: list | None = None) -> dict:
+    """A proof written by hand: rank = len(rows), columns the first states, no input; its claim on
+    the region where the functions ``where`` are analytic when given."""
     rank = len(rows)
-    return {
-        "format": "observability proof 1", "claim": CLAIM.format(name, rank, len(states)),
+    region = {"region": {"qualified": True, "where": where}} if where else {}
+    return region | {
+        "format": "observability proof 1",
+        "claim": CLAIM.format(name, rank, len(states)) + (REGION.format(", ".join(where)) if where else ""),
         "model": {"name": name, "time": "continuous", "states": states, "inputs": [], "parameters": {},
                   "dynamics": dynamics or {s: "0" for s in states}, "outputs": outputs, "analysed_outputs": {}},
         "rank": rank, "n_states": len(states),
@@ -55,8 +60,9 @@ def test_an_identity_on_one_branch_does_not_prove_a_contradiction():
     w = sympy.Symbol("w", real=True)
     reference = sympy.sqrt(w**2) - w  # with w real, sympy writes |w| - w: the independent reference
     assert sympy.diff(reference, w).subs(w, -1) == -2 and sympy.diff(reference, w).subs(w, 1) == 0
-    one = _proof("kink", ["w"], outputs, [["y", 0]], {"w": "-1"}, "-2")
-    zero = _proof("kink", ["w"], outputs, [], {"w": "1"}, "1", [{"name": "v", "vector": {"w": "sqrt(w**2) + w"}}])
+    one = _proof("kink", ["w"], outputs, [["y", 0]], {"w": "-1"}, "-2", where=["sqrt(w**2)"])
+    zero = _proof("kink", ["w"], outputs, [], {"w": "1"}, "1", [{"name": "v", "vector": {"w": "sqrt(w**2) + w"}}],
+                  where=["sqrt(w**2)"])
     tail = "where its functions with branches (sqrt(w**2)) are analytic; on other parts of its domain it may differ"
     assert proofcheck.check(one) == (f"accepted: {CLAIM.format('kink', 1, 1)} (minor non-zero exactly; 0 generator(s) "
                                      f"verified as identities and independent) on the connected open set around the "
@@ -90,13 +96,16 @@ def test_a_point_where_a_logarithm_is_not_real_is_refused_and_the_writer_avoids_
     """y = e^a + log b (rank 1 of 2 by hand: the gradient (e^a, 1/b), one field
     v = (1, -b e^a) with L_v y = e^a - b e^a / b = 0). Its proof was written at
     b = -2, where log b is not a real number (log is analytic only for b > 0):
-    refused there, and the writer now takes a point with b > 0, accepted."""
+    refused there, and the writer now takes a point with b > 0, accepted. log is analytic on
+    b > 0, a half-space (connected): the claim is about the whole domain, with no region."""
     system = System(["a", "b"], {"a": "0", "b": "0"}, {"y": "exp(a) + log(b)"}, name="explog")
     proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     b = sympy.Rational(proof["lower_bound"]["point"]["states"]["b"])
     assert b > 0
     a = proof["lower_bound"]["point"]["states"]["a"]
-    assert f"around the point (a = {a}, b = {b}) where its functions with branches (log(b))" in proofcheck.check(proof)
+    assert a and "region" not in proof
+    assert proofcheck.check(proof) == (f"accepted: {CLAIM.format('explog', 1, 2)} (minor non-zero exactly; 1 "
+                                       "generator(s) verified as identities and independent)")
     wrong = copy.deepcopy(proof)  # v = (1, -1): L_v y = e^a - 1/b, not 0 (e^a = 1/b only on a curve)
     wrong["upper_bound"]["generators"][0]["vector"] = {"a": "1", "b": "-1"}
     with pytest.raises(proofcheck.Rejected, match=r"L_v y is not zero$"):
@@ -237,9 +246,9 @@ def test_the_visual_inertial_proof_is_verified_with_bounded_work(tmp_path, monke
         return found, products
 
     decided = []
-    rational_zero = proofcheck.rational_zero
+    rational_zero = proofbound.rational_zero
     monkeypatch.setattr(proofcheck, "rows_at", counting)
-    monkeypatch.setattr(proofcheck, "rational_zero", lambda e: decided.append(rational_zero(e)) or decided[-1])
+    monkeypatch.setattr(proofbound, "rational_zero", lambda e: decided.append(rational_zero(e)) or decided[-1])
     line = proofcheck.check(json.loads(path.read_text()))
     assert line.startswith(f"accepted: {CLAIM.format('vins-quaternion-F1', 8, 13)}") and counted[0] <= 10_000
     # 5 fields: L_v u1 and L_v v1 each decided as polynomials, none left to sympy (the brackets are 0 as written)
@@ -263,7 +272,7 @@ def test_atan2_is_analytic_off_its_cut(x, y, analytic):
     minor = sympy.diff(sympy.atan2(x2, x1), sympy.Symbol(columns[0])).xreplace(point) if point[x1] or point[x2] \
         else sympy.S.One
     proof = _proof("angle", ["x1", "x2"], {"y": "atan2(x2, x1)"}, [["y", 0]], {"x1": x, "x2": y}, str(minor),
-                   [{"name": "scale", "vector": {"x1": "x1", "x2": "x2"}}])
+                   [{"name": "scale", "vector": {"x1": "x1", "x2": "x2"}}], where=["atan2(x2, x1)"])
     proof["lower_bound"]["columns"] = columns
     if analytic:
         assert proofcheck.check(proof).endswith(f"(atan2(x2, x1)) are analytic; on other parts of its domain it may "
@@ -351,6 +360,43 @@ def test_rational_identities_with_different_denominators():
     assert rational_zero(sympy.exp(x) + 1 / x) is None
 
 
+def test_rational_identities_that_need_every_step_of_the_fractions():
+    """Each by hand, written so that sympy leaves it as it is:
+
+    * (x + 1/2)^2 - x^2 - x - 1/4 = 0 (a rational constant's denominator is needed:
+      with 1 for 1/2 it is (x + 1)^2 - x^2 - x - 1 = x);
+    * 1/(x(x + 1)) + 1/(x(x + 2)) = (2x + 3)/(x(x + 1)(x + 2)), so the difference is 0
+      (the sum's denominator must be the product over the common factor x);
+    * (x^2 - 1)/(x - 1) - x - 1 = 0 (the fraction reduced by its gcd x - 1 on both sides);
+    * the sum of 12 symbols less the same sum, reordered as a product by 1, is 0 and
+      x_0 + ... + x_11 is not (every symbol has its own variable: more than 9 names)."""
+    from observability.rank.proofzero import rational_zero
+
+    x = sympy.Symbol("x")
+    half = sympy.Rational(1, 2)
+    assert rational_zero((x + half) ** 2 - x**2 - x - half / 2) is True
+    assert rational_zero((x + 1) ** 2 - x**2 - x - 1) is False
+    parts = [1 / (x * (x + 1)), 1 / (x * (x + 2)), -(2 * x + 3) / (x * (x + 1) * (x + 2))]
+    assert rational_zero(sympy.Add(*parts, evaluate=False)) is True
+    assert rational_zero(sympy.Mul(x**2 - 1, 1 / (x - 1), evaluate=False) - x - 1) is True
+    names = sympy.symbols("x0:12")
+    assert rational_zero(sympy.Add(*names) - sympy.Mul(1, sympy.Add(*reversed(names)), evaluate=False)) is True
+    assert rational_zero(sympy.Add(*names) - names[11]) is False
+
+
+def test_a_free_parameter_takes_its_value_at_the_point_in_continuous_time():
+    """y = p x, x' = p: by hand y' = p^2, so the row of order 0 is (p) and at p = 3
+    the 1 x 1 minor dy/dx is 3, while 1 (the value without p's number) is refused."""
+    proof = _proof("scaled", ["x"], {"y": "p*x"}, [["y", 0]], {"x": "1"}, "3", dynamics={"x": "p"})
+    proof["model"]["parameters"] = {"p": None}
+    proof["lower_bound"]["point"]["parameters"] = {"p": "3"}
+    assert proofcheck.check(copy.deepcopy(proof)).startswith(f"accepted: {CLAIM.format('scaled', 1, 1)} (minor "
+                                                              "non-zero exactly;")
+    proof["lower_bound"]["minor"] = "1"
+    with pytest.raises(proofcheck.Rejected, match="^the minor is 3, the file says 1$"):
+        proofcheck.check(proof)
+
+
 def test_a_division_by_a_zero_in_disguise_is_refused():
     """(x + 1)^2 - x^2 - 2x - 1 = 0 (by hand), which sympy does not see as written:
     an identity through 1/that divides by the zero polynomial and is refused, naming it."""
@@ -373,15 +419,16 @@ def test_a_bad_input_value_is_named_in_process():
 
 
 def test_a_long_claim_with_branches_is_cut_where_it_says():
-    """30 states, y_i = sqrt(x_i^2 + 1) (rank 30 of 30: by hand the Jacobian is diagonal,
-    x_i / sqrt(x_i^2 + 1) = 3/5 at x_i = 3/4): the point's text is cut at 300 characters
+    """30 states, y_i = sqrt(x_i^2 - 1/2) (rank 30 of 30: by hand the Jacobian is diagonal,
+    x_i / sqrt(x_i^2 - 1/2) = (3/4)/(1/4) = 3 at x_i = 3/4): the point's text is cut at 300 characters
     and the list of functions with branches at 200, each joined by ', '."""
     names = [f"x{i}" for i in range(30)]
-    proof = _proof("many", names, {f"y{i}": f"sqrt({x}**2 + 1)" for i, x in enumerate(names)},
-                   [[f"y{i}", 0] for i in range(30)], {x: "3/4" for x in names}, str(sympy.Rational(3, 5) ** 30))
+    roots = sorted(f"sqrt({x}**2 - 1/2)" for x in names)  # x**2 - 1/2 > 0: two half-lines, not proven connected
+    proof = _proof("many", names, {f"y{i}": f"sqrt({x}**2 - 1/2)" for i, x in enumerate(names)},
+                   [[f"y{i}", 0] for i in range(30)], {x: "3/4" for x in names}, str(3 ** 30), where=roots)
     line = proofcheck.check(proof)
     where = ", ".join(f"{x} = 3/4" for x in names)[:300]
-    functions = ", ".join(sorted(f"sqrt({x}**2 + 1)" for x in names))[:200]
+    functions = ", ".join(roots)[:200]
     assert line.endswith(f"around the point ({where}) where its functions with branches ({functions}) are analytic; "
                          "on other parts of its domain it may differ")
 

@@ -45,14 +45,13 @@ arithmetic (arb), the transcendental numbers.
   time and memory of the whole check, run in a child process. What does not
   fit is "not verified", with the reason.
 * Then r <= rank <= n - (number of generators) = r near the point, and at
-  generic points of the whole domain when every function is single-valued
-  (rational functions, exp, sin, cos, tan and their hyperbolic kin: analytic on
-  the connected set of complex points off their poles, so an identity or a
-  non-zero number on an open set of real points extends to all of it). A model
-  with functions that have branches (roots, log, atan, atan2) gets the claim on
-  the connected open set around the point where they are analytic (checked
-  there): on another branch the rank may differ (sqrt(w^2) - w: rank 1 for w < 0,
-  0 for w > 0). Functions that are not analytic (Abs, sign, floor, ...) are refused.
+  generic points of the whole domain when every function is single-valued, or
+  the set where the functions with branches are analytic is proven connected
+  (``proofregion``). Otherwise the claim is on the connected open set around the
+  point where they are analytic (checked there): on another branch the rank may
+  differ (sqrt(w^2) - w: rank 1 for w < 0, 0 for w > 0). The file's claim and
+  region must be exactly the ones derived. Functions that are not analytic (Abs,
+  sign, floor, ...) are refused.
 """
 
 from __future__ import annotations
@@ -71,10 +70,11 @@ import sympy
 
 from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
-from .proofzero import rational_zero
+from .proofbound import identically_zero, vector, verified_generator, verified_span
+from .proofregion import statement, unproven
 from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
 
-__all__ = ["check", "verify", "digest", "Rejected", "Unreadable", "MAX_NODES"]
+__all__ = ["check", "verify", "digest", "stated", "minor", "Rejected", "Unreadable", "MAX_NODES"]
 
 #: The largest proof file read (characters).
 MAX_FILE = 20_000_000
@@ -84,20 +84,6 @@ CPU_SECONDS, MEMORY = 300.0, 4 << 30
 
 class Unreadable(Exception):
     """The file cannot be read as text (exit 2)."""
-
-
-def _zero(expr: sympy.Expr) -> bool:
-    """Whether ``expr`` is the zero function: decided exactly when it is rational
-    (``proofzero``), else shown by sympy's simplification (False: not shown)."""
-    if expr == 0:
-        return True
-    rational = rational_zero(expr)
-    if rational is not None:
-        return rational
-    for attempt in (sympy.cancel, sympy.simplify, lambda e: sympy.simplify(sympy.expand_trig(e))):
-        if attempt(expr) == 0:
-            return True
-    return False
 
 
 def _root_coefficient(output: sympy.Expr, radicand: sympy.Expr, variables: set) -> sympy.Expr | None:
@@ -115,102 +101,35 @@ def _root_coefficient(output: sympy.Expr, radicand: sympy.Expr, variables: set) 
     return None
 
 
-def _verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict) -> list:
-    """The generator's vector, once L_v h = 0 for every output and its bracket
-    with the dynamics vanish as identities (Rejected otherwise). A generator may
-    depend on the inputs: in continuous time the inputs move (u' enters the
-    bracket), in discrete time the next step has its own input."""
-    rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
-    following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
-    v = _vector(g, model, symbols, known)
-    for name, h in outputs.items():
-        if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
-            raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
-    for i, (vi, fi) in enumerate(zip(v, f)):
-        if model["time"] == "continuous":
-            bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
-                       + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
-        else:
-            bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
-                       - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
-        if not _zero(bracket):
-            raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
-    return v
-
-
-def _verified_span(generators: list, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict,
-                   values: dict) -> list:
-    """The generators' vectors, once L_v h = 0 for every output and generator and
-    each bracket [f, v_a] is a combination of the generators with rational
-    coefficients (in discrete time DF(x) v_a(x), of the generators at F(x)), as
-    identities (Rejected otherwise). The coefficients are
-    solved here from rows where the generators are independent at the point,
-    then every row is checked. Inputs are symbols (any value) and must not enter
-    the generators."""
-    vectors = []
-    for g in generators:
-        v = _vector(g, model, symbols, known)
-        if any(e.has(*(symbols[u] for u in model["inputs"])) for e in v):
-            raise Rejected(f"generator {g['name']!r}: an invariant span needs generators free of inputs")
-        for name, h in outputs.items():
-            if not _zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
-                raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
-        vectors.append(v)
-    # The span is kept where it is taken: at x ([f, v_a]), or at F(x) (DF(x) v_a(x)) in discrete time.
-    continuous = model["time"] == "continuous"
-    basis = sympy.Matrix(vectors if continuous else [[e.xreplace(dict(zip(x, f))) for e in v] for v in vectors]).T
-    _, pivots = basis.xreplace(values).T.rref()
-    rows = list(pivots)
-    if len(rows) != len(vectors) or not independent(basis.extract(rows, list(range(len(vectors)))).T.xreplace(values)):
-        raise Rejected("the generators are not independent at the point")
-    square = basis.extract(rows, list(range(len(vectors))))
-    for g, v in zip(generators, vectors):
-        bracket = [sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
-                   if continuous else sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v))
-                   for vi, fi in zip(v, f)]
-        coefficients = square.LUsolve(sympy.Matrix([bracket[r] for r in rows]))
-        for i, component in enumerate(bracket):
-            if not _zero(component - sum(c * basis[i, b] for b, c in enumerate(coefficients))):
-                moved = "[f, v]" if continuous else "DF v"
-                raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of {moved} leaves the span")
-    return vectors
-
-
-
-
-def _vector(generator: dict, model: dict, symbols: dict, known: dict) -> list[sympy.Expr]:
-    """A generator's components, in the order of the states (a missing one is 0)."""
-    others = [k for k in generator["vector"] if k not in model["states"]]
-    if others:
-        raise Rejected(f"generator {generator['name']!r}: {others[0]!r} is not a state")
-    return [parse(generator["vector"].get(s, "0"), symbols).xreplace(known) for s in model["states"]]
-
-
-def _claim(proof: dict, n: int) -> tuple[int, str]:
-    """The rank and the claim the file may make for a model of n states;
-    Rejected when its rank, n_states or claim text say anything else."""
+def _claim(proof: dict, n: int) -> int:
+    """The rank the file may state for a model of n states; Rejected when its
+    rank or n_states say anything else (its claim is compared in :func:`_stated`)."""
     rank = proof["rank"]
     if not isinstance(rank, int) or isinstance(rank, bool) or not 0 <= rank <= n or proof.get("n_states") != n:
         raise Rejected(f"rank {rank!r} of n_states {proof.get('n_states')!r} does not fit the model's {n} states")
-    claim = f"the generic rank of the observability matrix of {proof['model']['name']} is {rank} of {n}"
-    if proof.get("claim") not in (claim, claim + _region(proof)):
-        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say ({claim!r})")
-    return rank, claim
+    return rank
 
 
-def _region(proof: dict) -> str:
-    """The qualification a claim may carry: the proof's "region" (the writer found
-    the domain where the functions with branches are analytic not proven
-    connected), rebuilt here from its conditions; "" without one. The claim this
-    checker prints is its own (:func:`_accepted`), whatever the file says."""
-    region = proof.get("region")
-    if region is None:
-        return ""
-    where = region.get("where") if isinstance(region, dict) else None
-    if not isinstance(where, list) or region.get("qualified") is not True or not where or not all(
-            isinstance(w, str) for w in where):
-        raise Rejected("the proof's region is not a qualified list of conditions")
-    return f" on the region around the point where {' and '.join(where)} (the rank may differ on other regions)"
+def _stated(proof: dict, rank: int, n: int, time: str, expressions: list) -> list[str]:
+    """The functions with branches the claim is qualified by ([] for the whole
+    domain, ``proofregion``); Rejected unless the file's claim and region are
+    exactly the ones derived here from its model, rank and generators."""
+    where = unproven(expressions, time)
+    derived = statement(proof["model"]["name"], rank, n, where)
+    if proof.get("claim") != derived["claim"]:
+        raise Rejected(f"the claim {proof.get('claim')!r} is not what the file's rank and model say "
+                       f"({derived['claim']!r})")
+    if proof.get("region") != derived.get("region"):
+        raise Rejected(f"the region {proof.get('region')!r} is not the one this claim holds on "
+                       f"({derived.get('region')!r}, derived from the model)")
+    return where
+
+
+def stated(proof: dict) -> dict:
+    """The "claim" (and "region") :func:`check` derives for a proof (the writer writes them from here)."""
+    spec, symbols, x, known, f, _, _, originals = _model(proof)
+    fields = [e for g in proof["upper_bound"]["generators"] for e in vector(g, spec, symbols, known)]
+    return statement(spec["name"], proof["rank"], len(x), unproven([*f, *originals, *fields], spec["time"]))
 
 
 def check(proof: dict, model: dict | None = None) -> str:
@@ -225,9 +144,41 @@ def check(proof: dict, model: dict | None = None) -> str:
     spec, symbols, x, known, f, outputs, roots, originals = parsed
     _verified_previous(spec, symbols, known, x, f)
     n = len(x)
-    rank, _ = _claim(proof, n)
+    rank = _claim(proof, n)
     lower = proof["lower_bound"]
-    rows, columns = _minor_labels(lower, spec, symbols, rank, n)
+    matrix, values, inputs = _minor_at(parsed, lower, rank)
+    how = _minor_checked(matrix, lower)
+    generators = proof["upper_bound"]["generators"]
+    if len(generators) != n - rank:
+        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
+    kind = proof["upper_bound"].get("kind", "symmetries")
+    if kind == "symmetries":
+        fields = [verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
+    elif kind == "invariant span":
+        fields = verified_span(generators, spec, symbols, known, x, f, outputs, values)
+    else:
+        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
+    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
+        raise Rejected("the generators are not independent at the point")
+    expressions = [*f, *originals, *(e for v in fields for e in v)]
+    where = _stated(proof, rank, n, spec["time"], expressions)
+    return _accepted((model or spec)["name"], rank, n, how, where, expressions,
+                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+
+
+def minor(proof: dict) -> sympy.Matrix:
+    """The entries of the proof's minor at its point, as :func:`check` computes them
+    (the writer records its value from here); Rejected where they cannot be."""
+    parsed = _model(proof)
+    return _minor_at(parsed, proof["lower_bound"], _claim(proof, len(parsed[2])))[0]
+
+
+def _minor_at(parsed: tuple, lower: dict, rank: int) -> tuple[sympy.Matrix, dict, dict]:
+    """(the minor's entries, the point's values, the inputs' values): the rows of
+    the listed labels at the point, the coefficients of square roots proven
+    non-zero there."""
+    spec, symbols, x, _, f, outputs, roots, _ = parsed
+    rows, columns = _minor_labels(lower, spec, symbols, rank, len(x))
     orders = max((k for _, k in rows), default=0)
     values = _point(lower["point"], spec, symbols, orders)
     inputs = _input_values(spec, symbols, lower["point"], orders)
@@ -238,42 +189,28 @@ def check(proof: dict, model: dict | None = None) -> str:
     missing = [r for r in rows if r not in found]
     if missing:
         raise Rejected(f"row {missing[0]} is not a row of the observability matrix")
-    how = _minor_checked(sympy.Matrix([found[r] for r in rows]) if rows else sympy.Matrix(0, 0, []), lower)
-    generators = proof["upper_bound"]["generators"]
-    if len(generators) != n - rank:
-        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    kind = proof["upper_bound"].get("kind", "symmetries")
-    if kind == "symmetries":
-        fields = [_verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
-    elif kind == "invariant span":
-        fields = _verified_span(generators, spec, symbols, known, x, f, outputs, values)
-    else:
-        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
-    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
-        raise Rejected("the generators are not independent at the point")
-    return _accepted((model or spec)["name"], rank, n, how, fields, [*f, *originals, *(e for v in fields for e in v)],
-                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+    return sympy.Matrix([found[r] for r in rows]) if rows else sympy.Matrix(0, 0, []), values, inputs
 
 
-def _accepted(name: str, rank: int, n: int, how: str, fields: list, expressions: list, values: dict,
-              states: dict) -> str:
-    """The claim, once every part of the proof holds. Without functions with branches
-    it is the generic rank (every function is single-valued: what holds on an open
-    set of real points holds at generic points of the whole domain). With them it
-    is the generic rank on the connected open set around the proof's point on
-    which they are analytic (proven there, ``proofjets.analytic_at``): the
-    minor, non-zero at the point, is not the zero function there, and the
-    identities hold there; on another part of the domain (another branch) the
-    rank may differ (sqrt(w**2) - w has rank 1 where w < 0, 0 where w > 0)."""
+def _accepted(name: str, rank: int, n: int, how: str, where: list, expressions: list, values: dict,
+               states: dict) -> str:
+    """The claim, once every part of the proof holds: the generic rank on the whole
+    domain when ``where`` is empty (no function with branches, or their domain
+    proven connected: ``proofregion``), else on the connected open set around
+    the proof's point on which the functions ``where`` are analytic (proven
+    there, ``proofjets.analytic_at``): the minor, non-zero at the point, is not
+    the zero function there, and the identities hold there; on another part of
+    the domain (another branch) the rank may differ (sqrt(w**2) - w has rank 1
+    where w < 0, 0 where w > 0)."""
+    if branches(expressions):
+        analytic_at(expressions, values)
     claim = (f"accepted: the generic rank of the observability matrix of {name} is {rank} of {n} (minor non-zero "
-             f"{how}; {len(fields)} generator(s) verified as identities and independent)")
-    branched = branches(expressions)
-    if not branched:
+             f"{how}; {n - rank} generator(s) verified as identities and independent)")
+    if not where:
         return claim
-    analytic_at(expressions, values)
-    where = ", ".join(f"{s} = {v}" for s, v in states.items())
-    return (f"{claim} on the connected open set around the point ({where[:300]}) where its functions with branches "
-            f"({', '.join(branched)[:200]}) are analytic; on other parts of its domain it may differ")
+    at = ", ".join(f"{s} = {v}" for s, v in states.items())
+    return (f"{claim} on the connected open set around the point ({at[:300]}) where its functions with branches "
+            f"({', '.join(where)[:200]}) are analytic; on other parts of its domain it may differ")
 
 
 def _minor_labels(lower: dict, model: dict, symbols: dict, rank: int, n: int) -> tuple[list, list]:
@@ -396,7 +333,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
     """Rejected unless the proof's system is ``model``'s: the same name, time, states
     and inputs (in order), parameters and outputs (by name), parameter values, dynamics and
     outputs as expressions (equal in sympy's normal form, or their difference
-    cancelling to 0)."""
+    the zero function: :func:`_zero`)."""
     ours, theirs = _equations(proof_model), _equations(model)
     if proof_model["name"] != model["name"]:
         raise Rejected("the proof is not about the model given: its name differs")
@@ -411,7 +348,7 @@ def _same_system(proof_model: dict, model: dict) -> None:
         for key, text in ours[part].items():
             other = theirs[part][key]
             if text != other and (text is None or other is None
-                                  or sympy.cancel(parse(text, symbols) - parse(other, symbols)) != 0):
+                                  or not identically_zero(parse(text, symbols) - parse(other, symbols))):
                 raise Rejected(f"the proof is not about the model given: {part} {key!r} differ")
 
 
@@ -548,7 +485,7 @@ def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list
         raise Rejected("the previous-state table does not give one inverse per state and every output as written")
     g = [parse(previous["inverse"][s], symbols).xreplace(known) for s in model["states"]]
     for state, xi, fi in zip(model["states"], x, f):
-        if not _zero(fi.xreplace(dict(zip(x, g))) - xi):
+        if not identically_zero(fi.xreplace(dict(zip(x, g))) - xi):
             raise Rejected(f"the inverse motion model is not an inverse: F(g(x, u), u) - x is not 0 for state {state}")
     inputs = _previous_inputs(model)
     readable = symbols | inputs | {f"prev({s})": sympy.Symbol(f"prev({s})") for s in model["states"]}
@@ -558,7 +495,7 @@ def _verified_previous(model: dict, symbols: dict, known: dict, x: list, f: list
     for name, text in previous["outputs"].items():
         written = parse(text, readable).xreplace(known)
         rewritten = parse(model["outputs"][name], symbols | inputs).xreplace(known)
-        if not _zero(written.xreplace(at) - rewritten):
+        if not identically_zero(written.xreplace(at) - rewritten):
             raise Rejected(f"output {name!r} is not the written one with prev(x) = g(x, prev(u))")
 
 

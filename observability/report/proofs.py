@@ -30,18 +30,19 @@ import mpmath
 import sympy
 
 from ..analysis.result import ObservabilityResult
-from ..budget import with_budget
+from ..budget import Undecided, with_budget
 from ..errors import ObservabilityError
 from ..model.expressions import parse_expression, prev
-from ..model.branches import qualifier
 from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
 from ..engine.exactrows import NotRational
 from ..engine.halfangles import square_roots
-from ..engine.lie import input_derivative, lie_derivatives, step_input
+from ..engine.lie import input_derivative, step_input
 from ..engine.pointrows import exact_possible, exact_rows
 from ..engine.taylor import Redraw
 from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
+from ..rank.proofballs import determinant
+from ..rank.proofcheck import Rejected, minor, stated
 from ..rank.randomized import randomized_rank
 from ..model.system import System
 
@@ -75,7 +76,8 @@ def _rational(rng: random.Random) -> sympy.Rational:
     return sympy.Rational(rng.choice([-1, 1]) * rng.randint(1, 9), rng.randint(1, 5))
 
 
-def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int, written: System | None = None):
+def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int, written: System | None = None,
+           model: dict | None = None):
     """The chosen minor at an exact random point: (point, value, exact).
 
     Rows that are rational at a rational point (no sine, exponential, ...: a
@@ -83,7 +85,8 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
     arithmetic at the point (:mod:`observability.engine.pointrows`) and the
     minor from flint's exact determinant: no symbolic Lie derivative (those of
     ``vins`` did not end within the 60 s budget). Others from the symbolic rows
-    (:func:`_symbolic_minor`), their entries to 60 digits where not rational.
+    (:func:`_series_minor`, at the point by the checker's series; ``model``: the
+    proof's model table), proven non-zero by balls where not rational.
     The point is one where the functions with branches of ``written`` (the
     model as written, by default ``system``) are analytic at every step the
     rows use (:func:`_analytic_along`)."""
@@ -96,7 +99,7 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
         raise ObservabilityError(f"{system.name}: no point where the model is analytic was found in {_ATTEMPTS} "
                                  "tries; no proof written")
     if not exact_possible(system, rows):
-        return _symbolic_minor(system, rows, columns, seed, written)
+        return _series_minor(system, rows, columns, seed, written, model)
     highest = max(k for _, k in rows)
     symbols = _point_symbols(system, highest)
     for _ in range(_ATTEMPTS):
@@ -108,7 +111,7 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
         except Redraw:
             continue
         except NotRational:  # an irrational root at the point: the symbolic route says how far
-            return _symbolic_minor(system, rows, columns, seed, written)
+            return _series_minor(system, rows, columns, seed, written, model)
         if value is not None:
             return point, value, True
     raise ObservabilityError(
@@ -194,41 +197,35 @@ def _analytic_along(system: System, point: dict, orders: int) -> bool:
     return True
 
 
-def _symbolic_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int,
-                    written: System | None = None):
-    """:func:`_minor` from the symbolic Lie derivatives, where the rows are not all rational."""
-    wanted = set(rows)
+def _series_minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed: int,
+                  written: System | None = None, model: dict | None = None):
+    """:func:`_minor` where the rows are not all rational: the entries at a drawn
+    point as the checker computes them (its truncated series, ``proofcheck.minor``:
+    no symbolic Lie derivative, which for vins2d did not end within 60 s), the
+    value exact when they are rational, else the midpoint (40 digits) of a ball
+    that excludes 0 (arb): proven non-zero, as the checker proves it."""
     highest = max(order for _, order in rows)
-    expressions: dict[tuple[str, int], sympy.Expr] = {}
-    for k, block in enumerate(lie_derivatives(system, None)):
-        if k > highest:
-            break
-        for row in block:
-            if (row.output, row.order) in wanted:
-                expressions[(row.output, row.order)] = row.expression
-    states = [system.states[j] for j in columns]
-    matrix = sympy.Matrix([[sympy.diff(expressions[r], x) for x in states] for r in rows])
-    symbols = matrix.free_symbols | set(_point_symbols(system, highest))
+    model = model or proof_model(written or system)
     rng = random.Random(seed)
     for _ in range(_ATTEMPTS):
-        point = _drawn(system, symbols, list(matrix), rng)
+        point = _drawn(system, _point_symbols(system, highest), [], rng)
         if not _analytic_along(written or system, point, highest):
             continue
-        at = matrix.xreplace(point)
-        if all(e.is_Rational for e in at):
-            value = at.det(method="bareiss")
-            if value != 0:
-                return point, str(value), True
+        skeleton = {"format": EVIDENCE_FORMAT, "model": model, "rank": len(rows), "n_states": len(system.states),
+                    "lower_bound": {"rows": [list(r) for r in rows], "columns": [system.states[j].name for j in columns],
+                                    "point": _point_json(system, point, highest)}}
+        try:
+            entries = minor(skeleton)
+            if all(e.is_Rational for e in entries):
+                value = entries.det(method="bareiss")
+                if value != 0:
+                    return point, str(value), True
+                continue
+            ball = determinant(entries, "the minor")
+        except Rejected:  # a pole, a branch off its analytic part, or a minor not proven non-zero: another point
             continue
-        # Entries to 60 digits, then the determinant in mpmath at that precision
-        # (a symbolic determinant of transcendental numbers is far slower).
-        numbers = [[sympy.N(e, 60) for e in row] for row in at.tolist()]
-        if not all(n.is_Float or n.is_Rational for row in numbers for n in row):
-            continue  # a pole (zoo), or complex there (a root of a negative number): the minor must be real
         with mpmath.workdps(60):
-            value = mpmath.det(mpmath.matrix([[mpmath.mpf(str(n)) for n in row] for row in numbers]))
-            if abs(value) > mpmath.mpf("1e-25"):
-                return point, mpmath.nstr(value, 40), False
+            return point, mpmath.nstr(mpmath.mpf(ball.mid().str(60, radius=False)), 40), False
     raise ObservabilityError(
         f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
     )
@@ -301,7 +298,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         When the verdict is not proven (nothing to write), or when no exact
         point with a non-zero minor is found.
     Undecided
-        When the symbolic rows do not fit ``budget`` CPU seconds.
+        When the symbolic rows do not fit ``budget`` CPU seconds, or the
+        checker's reader cannot read the model.
     """
     if result.proof != "proven" or result.rank is None:
         raise ObservabilityError(
@@ -309,7 +307,6 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         )
     original = system
     written = prepare(system, square_roots=False).system
-    qualified = result.region.to_dict() if result.region.qualified else None
     system = prepare(written).system  # as the verdict was decided
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
@@ -317,7 +314,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         raise ObservabilityError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")
     rows = [lower.row_labels[i] for i in lower.independent_rows]
     columns = list(lower.pivot_columns)
-    point, minor, exact = with_budget(_minor, system, rows, columns, seed, written, seconds=budget)
+    point, value, exact = with_budget(_minor, system, rows, columns, seed, written, proof_model(original),
+                                      seconds=budget)
     names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
     generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
                   for d in result.unobservable_directions]
@@ -327,10 +325,8 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         if not spans_invariant_distribution(system, vectors):
             raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
         kind = "invariant span"
-    return {
+    proof = {
         "format": EVIDENCE_FORMAT,
-        "claim": f"the generic rank of the observability matrix of {system.name} is {result.rank} of {result.n_states}"
-                 + qualifier(result.region, shown=None),
         "conventions": CONVENTIONS,
         "model": proof_model(original),
         "rank": result.rank,
@@ -339,7 +335,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
             "rows": [[output, order] for output, order in rows],
             "columns": [system.states[j].name for j in columns],
             "point": _point_json(system, point, lower.orders),
-            "minor": minor,
+            "minor": value,
             "exact": exact,
         },
         "upper_bound": {
@@ -348,4 +344,11 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
             "kind": kind,
             "identities": IDENTITIES[kind],
         },
-    } | ({"region": qualified} if qualified else {})
+    }
+    # The claim and its region as the checker derives them (they are what the proof proves, and the checker
+    # refuses any other words): where check proves the domain connected by an argument the checker does not
+    # make, the proof claims the rank on the region around its point only.
+    try:
+        return proof | stated(proof)
+    except Rejected as exc:  # a proof nobody can check is not written
+        raise Undecided(f"the independent checker cannot read the model ({exc})") from None
