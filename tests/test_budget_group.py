@@ -118,7 +118,8 @@ def test_a_budget_counts_the_cpu_of_the_programs_its_child_starts(tmp_path):
     record = tmp_path / "cpu"
     with pytest.raises(Undecided):
         with_budget(_wait_for_a_spinning_program, str(record), seconds=1.0)
-    assert float(record.read_text()) < 1.6
+    # No record: stopped before its first look at its own clock (at the wall-time cap of a loaded machine).
+    assert (float(record.read_text()) if record.exists() else 0.0) < 1.6
 
 
 def _limit_msolve_is_given(fake: str) -> str:
