@@ -22,6 +22,7 @@ says how far apart the two are, not which is faster.
 
 from __future__ import annotations
 
+import os
 import resource
 import sys
 import time
@@ -36,7 +37,11 @@ from observability.model.sijl import parse_si_model
 
 
 def _cpu() -> float:
-    """CPU seconds of this process and of its children that have ended (msolve, the modular route)."""
+    """CPU seconds of this process and of its children that have ended (msolve, the modular route).
+
+    A program still running when its budgeted child is stopped (msolve) is killed with it but waited for by
+    nobody here, so its CPU is missing: at most what that step had left (:func:`observability.budget.remaining_cpu`
+    is its kernel limit)."""
     return sum(u.ru_utime + u.ru_stime for u in (resource.getrusage(resource.RUSAGE_SELF),
                                                  resource.getrusage(resource.RUSAGE_CHILDREN)))
 
@@ -61,9 +66,11 @@ def row(folder: Path, budget: float, decided: list[str]) -> str:
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], TIMINGS, 60.0, "CPU seconds for the global step")
     decided: list[str] = []
+    print(f"load average at the start: {os.getloadavg()[0]:.1f} (cores: {os.cpu_count()})", flush=True)
     print_table("model | n | rank | global | only local | undecided | field generated | ours s (wall) | ours s (CPU) "
                 "| SI.jl s | against SI.jl's field", folders, budget, partial(row, decided=decided))
     print(f"\nevery name decided: {len(decided)} of {len(folders)} models", flush=True)
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}", flush=True)
     return 0
 
 

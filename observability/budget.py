@@ -19,13 +19,31 @@ import time
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
-__all__ = ["Undecided", "with_budget", "BudgetedRun", "WALL_FACTOR", "paused_collection"]
+__all__ = ["Undecided", "with_budget", "BudgetedRun", "WALL_FACTOR", "paused_collection", "remaining_cpu"]
 
 T = TypeVar("T")
 
 
 class Undecided(Exception):
     """The symbolic route cannot decide (budget spent, or an algebraic function)."""
+
+
+#: In a budgeted child, the CPU seconds it may use with the programs it starts (None elsewhere).
+_BUDGET: float | None = None
+
+
+def remaining_cpu() -> float | None:
+    """The CPU seconds left to the budgeted child this runs in: its budget less its own CPU time and
+    that of the programs it has waited for; None outside a budgeted child.
+
+    A program started from a budgeted child (msolve, a budgeted child of its own) takes this as its
+    kernel CPU limit, so that the whole group stays within the budget even where the parent's next
+    look at the group's CPU (:func:`_cpu_seconds`) comes late or never."""
+    if _BUDGET is None:
+        return None
+    used = sum(u.ru_utime + u.ru_stime for u in (resource.getrusage(resource.RUSAGE_SELF),
+                                                 resource.getrusage(resource.RUSAGE_CHILDREN)))
+    return max(_BUDGET - used, 0.0)
 
 
 def _bound_self(seconds: float, parent: int) -> None:
@@ -37,8 +55,11 @@ def _bound_self(seconds: float, parent: int) -> None:
     the CPU limit is what stops it); and the kernel stops it after a little more
     CPU time than the budget (RLIMIT_CPU: SIGXCPU at the soft limit, SIGKILL at
     the hard one). (Linux's PR_SET_PDEATHSIG, reached through ctypes, did the
-    first: the package keeps no ctypes, issue 66.)"""
+    first: the package keeps no ctypes, issue 66.) ``seconds`` is the budget, already capped by what
+    the parent had left when the parent is a budgeted child itself (:func:`remaining_cpu`)."""
+    global _BUDGET
     os.setpgid(0, 0)  # its own process group, so that a program it starts (msolve) is killed with it
+    _BUDGET = seconds
     limit = math.ceil(seconds) + 2
     with contextlib.suppress(ValueError, OSError):
         resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
@@ -77,14 +98,39 @@ def _child(conn: Any, func: Callable[..., Any], args: tuple, seconds: float, par
         conn.close()
 
 
+def _stat(pid: int) -> tuple[float, list[int]]:
+    """One process's CPU time from /proc (user + system, its own and that of the children it has
+    waited for) and its children's ids (``/proc/<pid>/task/<tid>/children``, every thread's)."""
+    with open(f"/proc/{pid}/stat", "rb") as stat:
+        fields = stat.read().rsplit(b")", 1)[1].split()
+    ticks = sum(int(fields[k]) for k in (11, 12, 13, 14))  # utime, stime, cutime, cstime
+    children: list[int] = []
+    with contextlib.suppress(OSError):  # a kernel without the children files: the process alone
+        for task in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{task}/children", "rb") as listed:
+                children.extend(int(c) for c in listed.read().split())
+    return ticks / os.sysconf("SC_CLK_TCK"), children
+
+
 def _cpu_seconds(pid: int) -> float | None:
-    """CPU time (user + system) a process has used, from /proc; None where unavailable."""
+    """CPU time (user + system) used by a process and every program it started, from /proc; None
+    where unavailable.
+
+    A budgeted child's programs (msolve, a budgeted child of its own) count against its budget: each
+    running descendant's own time plus, for each, the time of the children it has already waited for
+    (the kernel adds those to the waiter's ``cutime`` when it reaps them, so nothing is counted twice;
+    a child reaped between two reads is missed until the next look). A descendant that ends while
+    being read is skipped for the same reason."""
     try:
-        with open(f"/proc/{pid}/stat", "rb") as stat:
-            fields = stat.read().rsplit(b")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        total, pending = _stat(pid)
     except (OSError, ValueError, IndexError):
         return None
+    while pending:
+        with contextlib.suppress(OSError, ValueError, IndexError):
+            seconds, children = _stat(pending.pop())
+            total += seconds
+            pending.extend(children)
+    return total
 
 
 #: A budget is CPU time; the wall clock may run this many times longer (a
@@ -125,7 +171,10 @@ class BudgetedRun:
         context = multiprocessing.get_context("fork")
         self.pipe, child = context.Pipe(duplex=False)
         # Not daemonic: a budgeted step may start another (its child dies with it).
-        self.process = context.Process(target=_child, args=(child, func, args, seconds, os.getpid()))
+        left = remaining_cpu()  # a budgeted child's own budgeted child gets no more than it has left
+        self.process = context.Process(target=_child, args=(child, func, args,
+                                                            seconds if left is None else min(seconds, left),
+                                                            os.getpid()))
         self.process.start()
         with contextlib.suppress(ProcessLookupError, PermissionError):  # as the child does: either may be first
             os.setpgid(self.process.pid, self.process.pid)

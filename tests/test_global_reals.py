@@ -238,3 +238,30 @@ def test_two_coupled_parameters_give_no_internal_error_and_no_false_uniqueness(t
     run = cli("check", path, "--global", "--seed", "0")
     assert run.returncode == 0, run.stderr
     assert "unique among real values" not in run.stdout and "p identifiable only locally" in run.stdout
+
+
+def test_a_monotone_rational_function_of_a_parameter_is_unique_among_real_values(tmp_path):
+    """x' = -(p^3/(1 + p^2)) x + u, y = x: by hand, f(p) = p^3/(1 + p^2) = (u - y')/y is fixed by the
+    outputs; f' = p^2 (p^2 + 3)/(1 + p^2)^2 >= 0, zero only at p = 0, and 1 + p^2 > 0, so f is strictly
+    increasing on R and a real p is unique. The eliminant T^3 - c T^2 - c is no odd binomial and its
+    level T^3 - c T^2 is not monotone (derivative 3 T^2 - 2 c T), so the rational function is what
+    decides (before, "over the reals undecided"). Its other two roots are complex: at c = 1/2 (p = 1),
+    numpy's companion eigenvalues of T^3 - T^2/2 - 1/2 have one real root."""
+    text = _global_run(tmp_path, "p**3/(1 + p**2)")
+    assert "  unique among real values (the other states with the same outputs are complex): p" in text
+    assert "the outputs determine p**3/(p**2 + 1)" in text
+    roots = numpy.roots([1, -0.5, 0, -0.5])
+    assert sum(abs(r.imag) < 1e-9 for r in roots) == 1
+
+
+def test_a_rational_function_is_monotone_only_without_poles_and_sign_changes():
+    """By hand: t^3/(1 + t^2) (W = N'D - ND' = t^2 (t^2 + 3), D > 0) and (t^3 + t)/1 are increasing on
+    R; t^2/(1 + t^2) is not (W = 2 t changes sign at 0); t - 1/t = (t^2 - 1)/t has W = t^2 + 1 > 0, is
+    increasing on each side of its pole, yet is 0 at t = 1 and t = -1: a real root of D is refused; a
+    constant 2 (1 + t^2)/(1 + t^2) is not."""
+    from observability.identifiability.realroots import strictly_monotone_ratio
+
+    T = sympy.Symbol("T")
+    for n, d, monotone in ((T**3, 1 + T**2, True), (T**3 + T, sympy.Integer(1), True), (T**2, 1 + T**2, False),
+                           (T**2 - 1, T, False), (2 + 2 * T**2, 1 + T**2, False)):
+        assert strictly_monotone_ratio(sympy.Poly(n, T), sympy.Poly(d, T)) is monotone, (n, d)

@@ -10,7 +10,7 @@ import sys
 import sympy
 
 from observability import System, analyze
-from observability.identifiability.outputforms import EXP, TAN, rational_form
+from observability.identifiability.outputforms import EXP, LOGS, TAN, rational_form
 from observability.identifiability.uniqueness import global_observability
 
 
@@ -26,10 +26,23 @@ def test_a_bearing_s_tangent_is_rational_in_the_heading_s_tangent():
 
 
 def test_logarithms_become_their_exponential():
-    """exp(log x + 2 log s - log y) = x s^2 / y; an output free of logs and arctangents is kept."""
+    """exp(log x + 2 log s - log y) = x s^2 / y; an output free of logs and arctangents is kept. Several
+    logarithms are told apart from one (:data:`LOGS`: -x, -s, y share x s^2 / y but log(-x) is not
+    real; before, this case was taken as one logarithm, :data:`EXP`, whose answers all carry over)."""
     x, y, s = sympy.symbols("x y s")
-    assert rational_form(sympy.log(x) + 2 * sympy.log(s) - sympy.log(y)) == (x * s**2 / y, EXP)
+    assert rational_form(sympy.log(x) + 2 * sympy.log(s) - sympy.log(y)) == (x * s**2 / y, LOGS)
     assert rational_form(x / y) == (x / y, "")
+
+
+def test_one_logarithm_with_coefficient_one_or_minus_one_is_told_from_the_rest():
+    """3 - log(x/y): exp = e^3 y/x, one logarithm (a second real state with the same y/x has y/x > 0);
+    log(x**2): one logarithm of x^2 (its second state -x is in the real domain); 2 log x: exp = x^2,
+    whose second state -x has no real log; log x + log y: exp = x y, shared by -x, -y."""
+    x, y = sympy.symbols("x y")
+    assert rational_form(3 - sympy.log(x / y)) == (sympy.exp(3) * y / x, EXP)
+    assert rational_form(sympy.log(x**2)) == (x**2, EXP)
+    assert rational_form(2 * sympy.log(x))[1] == LOGS
+    assert rational_form(sympy.log(x) + sympy.log(y)) == (x * y, LOGS)
 
 
 def test_bearings_to_three_known_beacons_give_the_position_and_leave_the_heading_undecided():
@@ -68,3 +81,14 @@ def test_a_model_outside_the_rational_test_is_undecided_not_bad_input(tmp_path):
     run = subprocess.run([sys.executable, "-m", "observability", "check", str(model), "--global", "--budget", "20"],
                          capture_output=True, text=True, check=False)
     assert run.returncode != 2 and "undecided: " in run.stdout, run.stderr
+
+
+def test_a_sum_of_logarithms_leaves_only_locally_undecided():
+    """x' = -k x + c, y = log x + log c (k, c unknown constants). With z = c x: exp(y) = z and
+    z' = -k z + c^2, so z, z', z'' give k and c^2 (z'' = -k z'): k globally. (x, c) and (-x, -c) share
+    exp(y), so for exp(y) x and c are only locally determined; but log(-x) is not real, and on the
+    real domain (x, c > 0) c^2 gives c: the answer for x and c must be undecided, not only locally."""
+    system = System(["x", "k", "c"], ["-k*x + c", "0", "0"], {"y": "log(x) + log(c)"})
+    answer = _global(system)
+    assert answer.globally == ("k",) and answer.only_locally == ()
+    assert set(answer.undecided) == {"x", "c"} and "may make an argument negative" in answer.details

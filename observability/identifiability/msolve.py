@@ -38,7 +38,7 @@ import tempfile
 from collections.abc import Sequence
 from fractions import Fraction
 
-from ..budget import WALL_FACTOR
+from ..budget import WALL_FACTOR, remaining_cpu
 
 __all__ = ["engine", "basis", "Polynomial", "LARGEST_PRIME"]
 
@@ -104,7 +104,9 @@ def _read_basis(text: str, variables: int) -> list[Polynomial] | str:
 def _limits(seconds: float) -> None:
     """In the child, before msolve starts: the kernel stops it past its CPU budget (never above the
     hard limit it inherits, e.g. from a budgeted child of :mod:`observability.budget`, which it may
-    not raise)."""
+    not raise). ``seconds`` is already capped by what the budgeted child running msolve has left
+    (:func:`~observability.budget.remaining_cpu`, read before the fork: the forked child's own
+    usage starts at zero)."""
     _, hard = resource.getrlimit(resource.RLIMIT_CPU)
     ceiling = hard if hard != resource.RLIM_INFINITY else math.inf
     limit = min(math.ceil(seconds) + 1, ceiling)
@@ -134,10 +136,12 @@ def basis(polynomials: Sequence[Polynomial], variables: int, characteristic: int
         source, target = os.path.join(folder, "in.ms"), os.path.join(folder, "out.ms")
         with open(source, "w", encoding="ascii") as handle:
             handle.write("\n".join(lines) + "\n")
+        left = remaining_cpu()
+        cap = seconds if left is None else min(seconds, left)
         try:  # -l 2: exact sparse linear algebra (msolve's 42 and 44 are probabilistic); one thread
             run = subprocess.run([program, "-g", "2", "-l", "2", "-t", "1", "-f", source, "-o", target],
                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=seconds * WALL_FACTOR,
-                                 preexec_fn=lambda: _limits(seconds), check=False)
+                                 preexec_fn=lambda: _limits(cap), check=False)
         except subprocess.TimeoutExpired:
             return f"msolve did not end within its budget of {seconds:g} s"
         except (OSError, subprocess.SubprocessError) as exc:

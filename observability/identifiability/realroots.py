@@ -17,6 +17,16 @@ square-free decomposition of q' and requires Sturm's count of its real roots
 (``count_roots``) to be 0. This is a certificate for all t0 at once, not a count
 at one point.
 
+**A rational function N/D strictly monotone on R: one real solution for every
+t0.** When D has no real root (Sturm), N/D is differentiable on all of R with
+(N/D)' = (N'D - ND')/D^2, whose sign is that of W = N'D - ND'. If W has no real
+root of odd multiplicity it does not change sign, and vanishes only at isolated
+points, so N/D is strictly monotone on R, hence injective: N(T)/D(T) =
+N(t0)/D(t0) has one real solution, T = t0, for every real t0
+(:func:`strictly_monotone_ratio`; t^3/(1 + t^2): W = t^2 (t^2 + 3), D = t^2 + 1).
+A constant N/D (W = 0) is not. Poles are excluded, not handled: t - 1/t has
+W = t^2 + 1 > 0, increasing on each side of 0, yet it is 0 at t = 1 and t = -1.
+
 **Otherwise a level with several real solutions, exhibited.** If q' has a real
 root r of odd multiplicity, q has a strict local extremum at r (q' changes sign
 there), so for every s close enough to r on either side, q(T) = q(s) has a
@@ -34,7 +44,7 @@ from __future__ import annotations
 
 import sympy
 
-__all__ = ["strictly_monotone", "several_real_levels", "real_roots", "MAX_HALVINGS"]
+__all__ = ["strictly_monotone", "strictly_monotone_ratio", "several_real_levels", "real_roots", "MAX_HALVINGS"]
 
 #: Halvings of the isolating interval of q''s root before the search gives up.
 MAX_HALVINGS = 60
@@ -47,6 +57,18 @@ def strictly_monotone(q: sympy.Poly) -> bool:
     if q.degree() < 1:
         return False
     _, factors = q.diff().sqf_list()
+    return all(f.count_roots() == 0 for f, multiplicity in factors if multiplicity % 2)
+
+
+def strictly_monotone_ratio(numerator: sympy.Poly, denominator: sympy.Poly) -> bool:
+    """Whether N/D is strictly monotone on R: D has no real root and N'D - ND' none of odd
+    multiplicity (the module's argument). A constant N/D is not."""
+    if denominator.sqf_part().count_roots() != 0:
+        return False
+    wronskian = numerator.diff() * denominator - numerator * denominator.diff()
+    if wronskian.is_zero:
+        return False
+    _, factors = wronskian.sqf_list()
     return all(f.count_roots() == 0 for f, multiplicity in factors if multiplicity % 2)
 
 

@@ -39,7 +39,13 @@ odd multiplicity, an exact certificate for every t0) and Q(x_i) in K, tested by
 field membership at a second point drawn independently of a from the range that
 bounds the test's error for Q(x_i) (Q was read off a, so a itself cannot test
 it: Q(x_i) - Q(t0) = E(x_i) lies in a's ideal by construction). Then every real
-state with the same outputs has the same Q(x_i), hence the same x_i. That error
+state with the same outputs has the same Q(x_i), hence the same x_i. Or the same with a rational function
+Q = N/D strictly monotone on R (:func:`~.realroots.strictly_monotone_ratio`: D
+without a real root, N'D - ND' without one of odd multiplicity), found where the
+generic eliminant is a pencil N - c D (c in K; x' = -(p^3/(1 + p^2)) x): E - E',
+E' the eliminant at a with the state moved by 1, is a multiple of D, and N/D =
+E/(E - E') up to a constant; this candidate is then tested in K at the second
+point exactly as the polynomial Q is. That error
 is added to the verdict's. The coordinates the fibre fixes to complete a
 transcendence basis do not change E generically: x_i is algebraic over K, and
 its minimal polynomial over K stays irreducible over K extended by
@@ -62,7 +68,7 @@ from sympy.polys.matrices import DomainMatrix
 from ..budget import Undecided, with_budget
 from ..engine.halfangles import shown
 from .fibre import FibreDraws, FibreEquations
-from .realroots import real_roots, several_real_levels, strictly_monotone
+from .realroots import real_roots, several_real_levels, strictly_monotone, strictly_monotone_ratio
 
 __all__ = ["RealAnswer", "real_answers", "REAL_BUDGET"]
 
@@ -146,7 +152,10 @@ def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str, equations: Fibr
                                       "polynomial (T - b)^d - c of odd degree d has one real root for every real b, c")
     level = eliminant - eliminant.eval(0)
     if draws is not None and strictly_monotone(level):
-        return _monotone(name, level, said, draws)
+        return _monotone(name, (level, sympy.Poly(1, level.gen)), said, draws)
+    ratio = None if draws is None or equations is None else _pencil(name, eliminant, equations, draws)
+    if ratio is not None and strictly_monotone_ratio(*ratio):
+        return _monotone(name, ratio, said, draws)
     if draws is not None and equations is not None:
         elsewhere = _elsewhere(name, eliminant, level, equations, draws)
         if elsewhere is not None:
@@ -158,10 +167,12 @@ def _answer(name: str, eliminant: tuple[sympy.Poly, bool] | str, equations: Fibr
                                   "real states")
 
 
-def _monotone(name: str, level: sympy.Poly, said: str, draws: FibreDraws) -> RealAnswer:
-    """Unique among real values when Q(x) = ``level`` (strictly monotone) is constant on
-    a fibre through an independent point (the module's argument); else undecided."""
-    q = level.as_expr()
+def _monotone(name: str, ratio: tuple[sympy.Poly, sympy.Poly], said: str, draws: FibreDraws) -> RealAnswer:
+    """Unique among real values when Q(x) = N(x)/D(x) (``ratio``, strictly monotone on R: a
+    polynomial Q when D = 1) is constant on a fibre through an independent point (the module's
+    argument); else undecided."""
+    numerator, denominator = ratio
+    q = sympy.cancel(numerator.as_expr() / denominator.as_expr())
     fraction = sympy.fraction(sympy.together(q))
     drawn = draws.independent([fraction])
     if isinstance(drawn, str):
@@ -170,10 +181,36 @@ def _monotone(name: str, level: sympy.Poly, said: str, draws: FibreDraws) -> Rea
     if not fibre.constant_on(fraction):
         return _undecided(name, f"{said}: {q} is strictly monotone, but not constant on the fibre through a "
                                 "second point, so the count may differ elsewhere")
+    why = (f"{numerator.diff().as_expr()} has no real root of odd multiplicity" if denominator.degree() < 1 else
+           f"its denominator has no real root, and the numerator of its derivative none of odd multiplicity")
     return RealAnswer(name, True, f"the outputs determine {q} (field membership at a second, independent random "
-                                  f"point) and it is strictly monotone in {name} ({level.diff().as_expr()} has no "
-                                  "real root of odd multiplicity: Sturm), so every real state with the same outputs "
-                                  f"has the same {name}; the other values are complex", error)
+                                  f"point) and it is strictly monotone in {name} ({why}: Sturm), so every real "
+                                  f"state with the same outputs has the same {name}; the other values are complex",
+                      error)
+
+
+def _pencil(name: str, eliminant: sympy.Poly, equations: FibreEquations, draws: FibreDraws
+            ) -> tuple[sympy.Poly, sympy.Poly] | None:
+    """N/D for the module's rational function: where the generic eliminant is N - c D (N, D over
+    Q, c in the outputs' field K, as for x' = -(p^3/(1 + p^2)) x: the minimal polynomial of p over K
+    is T^3 - c T^2 - c), the eliminant E' at the point a with the state moved by 1 differs from E by
+    a multiple of D: N/D = E/(E - E') up to a constant, both monic. None where E' is not found or
+    E - E' is constant (the polynomial level, tried before). The candidate is only that: the
+    module's argument tests whether N/D(x) lies in K, at an independent point."""
+    variable = eliminant.gen
+    point = {c: equations.values[c] for c in draws.model.coordinates} | dict(equations.given)
+    point[variable] = point[variable] + 1
+    at = draws.at(point)
+    there = at if isinstance(at, str) else _eliminants(at, {name: variable})[name]
+    if isinstance(there, str) or there[0].degree() != eliminant.degree():
+        return None
+    difference = eliminant.monic() - there[0].monic()
+    if difference.degree() < 1:
+        return None
+    common = sympy.gcd(eliminant.monic(), difference)
+    numerator, denominator = eliminant.monic().exquo(common), difference.exquo(common).monic()
+    quotient, remainder = numerator.div(denominator)  # less its constant part: t^3/(1 + t^2), not t^3/(1 + t^2) - c
+    return (quotient - quotient.eval(0)) * denominator + remainder, denominator
 
 
 def _elsewhere(name: str, eliminant: sympy.Poly, level: sympy.Poly, equations: FibreEquations,
