@@ -116,7 +116,9 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # The information along a recorded trajectory, window by window (issue 68).
     "trajectory": (["observability/trajectory/windows.py", "observability/trajectory/directions.py",
                     "observability/trajectory/results.py", "observability/trajectory/csvfiles.py"],
-                   ["tests/test_trajectory.py", "tests/test_trajectory_hardened.py", "tests/test_trajectory_wording.py"]),
+                   ["tests/test_trajectory.py", "tests/test_trajectory_hardened.py", "tests/test_trajectory_wording.py",
+                    # the CLI's trajectory refusals and strict files (4.3 s both; test_design.py, 17 s, is left out)
+                    "tests/test_hardened_inputs.py", "tests/test_files_exact.py"]),
     "fused-filters": (["observability/filters/fused.py", "observability/filters/constrained.py"],
                       ["tests/test_filters.py", "tests/test_mutation_guards.py", "tests/test_linearized.py",
                        "tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_fused_exact.py"]),
