@@ -7,6 +7,7 @@ import math
 from fractions import Fraction
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from observability import System
@@ -125,3 +126,67 @@ def test_named_directions_against_the_lost_one_and_their_json_keys():
         assert math.isnan(found.pop("cosine"))
         assert found.pop("reason") == f"the direction is {why} at the window's first state"
     assert zero == {"direction": "zero", "vector": {"x1": "x2"}, "motion": ""}
+
+
+def test_directions_given_as_functions_or_as_one_flat_array():
+    """The lost direction of _still() is e2. A function of the state returning (0, 1) gives cosine 1; one
+    whose function fails there (log x2 at x2 = 0: a ValueError) is not finite, nan with the reason; a
+    NamedDirection whose ``at`` returns the vectors of all rows as one flat array (row after row) is read
+    as those rows: (0, 1) again, cosine 1."""
+    from observability.trajectory import NamedDirection
+
+    def lost(directions) -> tuple:
+        (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5,
+                                           dt=0.25, directions=directions)
+        return window.in_null_space
+
+    along, log = lost({"along x2": lambda x: [0.0, 1.0], "log": lambda x: [math.log(x[1]), 0.0]})
+    assert along.cosine == pytest.approx(1.0) and along.reason == ""
+    assert math.isnan(log.cosine) and log.reason == "the direction is not finite at the window's first state"
+    (flat,) = lost([NamedDirection("flat", {"x2": "1"}, lambda rows: np.tile([0.0, 1.0], len(rows)))])
+    assert flat.cosine == pytest.approx(1.0) and flat.reason == ""
+
+
+def test_the_bound_on_a_table_s_rows(monkeypatch):
+    """With the bound at 3 rows: a header and 3 rows are read, a fourth row is refused, counted without the
+    header."""
+    import observability.trajectory.csvfiles as csvfiles
+
+    monkeypatch.setattr(csvfiles, "MAX_ROWS", 3)
+    assert len(states_from_csv("t,x\n0,1\n1,1\n2,1\n", "given.csv", ["x"])[1]) == 3
+    assert _refusal(states_from_csv, "t,x\n0,1\n1,1\n2,1\n3,1\n", ["x"]) == \
+        "given.csv: 4 rows, above the bound of 3 rows of a table"
+
+
+@pytest.mark.parametrize("text", ["", "t,u\n", "\n \n"])
+def test_an_empty_table_or_a_header_alone_is_refused(text):
+    """No line, a header without rows, or lines of spaces only: the header message, not an IndexError."""
+    assert _refusal(inputs_from_csv, text) == "given.csv: a header 't,<input>,...' and at least 1 row(s) are needed"
+
+
+def test_rows_of_spaces_are_not_rows():
+    """A last line ' , ' (spaces between commas) holds no value: skipped, so the table has the two rows."""
+    step, states = states_from_csv("t,x\n0,1\n0.5,2\n , \n", "given.csv", ["x"])
+    assert step == 0.5 and states.tolist() == [[1.0], [2.0]]
+
+
+def test_a_value_that_is_not_a_number_names_its_line():
+    """Header on line 1, rows on lines 2 and 3: 'a' is on line 3."""
+    assert _refusal(inputs_from_csv, "t,u\n0,1\n1,a\n") == "given.csv: line 3: not a number in ['1', 'a']"
+
+
+@pytest.mark.parametrize("text", ["t,x\n0,1\n1\n", "t,x\n0,1\n1,inf\n"])
+def test_a_row_short_of_values_or_not_finite_names_its_line(text):
+    """The second row (line 3) has one value for the two columns, or an infinite one."""
+    assert _refusal(states_from_csv, text, ["x"]) == "given.csv: line 3: 2 finite numbers expected"
+
+
+def test_the_weakest_directions_by_their_json_keys():
+    """_still() over one window of 2 samples (t = 0, 0.25): rows (1, 0) twice, F = diag(2, 0) by hand, so the
+    weakest direction is e2 with information 0 and the next is e1 with 2 (singular value sqrt 2)."""
+    (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    lost, kept = (w.to_dict() for w in window.weakest)
+    assert sorted(lost) == ["alignment", "information", "singular_value", "vector"]
+    assert [abs(v) for v in lost["vector"].values()] == [0.0, 1.0] and lost["information"] == pytest.approx(0.0)
+    assert [abs(v) for v in kept["vector"].values()] == [1.0, 0.0]
+    assert (kept["information"], kept["singular_value"]) == (pytest.approx(2.0), pytest.approx(math.sqrt(2.0)))
