@@ -822,6 +822,22 @@ EQUIVALENT: dict[str, str] = {
         "current block (checked) and P (checked when accepted) are",
     "observability.filters.constrained.xǁObservabilityConstrainedEKFǁ_N__mutmut_11": "reshape(n, -2): numpy reads "
         "any negative size as the unknown one, like -1 (checked)",
+    # The trajectory group (issue 68, 2026-12-07, third session; the survivors not listed here are killed by
+    # tests/test_trajectory_exact.py, each applied by hand to a clean clone).
+    **{f"observability.trajectory.{name}__mutmut_{k}": why for why, names in {
+        "float('NAN') is nan as float('nan') is": (("windows.x__not_evaluated", (4,)), ("windows.x__cosine", (9,))),
+        "t1 + t0 for the step t1 - t0: the step is read only when t0 == 0 (a first time other than 0 is refused "
+        "first, and the line of the refusal reads the step only on that branch), where both are t1":
+            (("csvfiles.x_states_from_csv", (31,)),),
+        "one row more of a given trajectory kept: only rows 0..steps are ever indexed (the windows' slices end at "
+        "count * per_window <= steps, no negative index), so it is never read":
+            (("windows.x__given", (26,)),),
+        "np.asarray without dtype=float: casadi reads an array of any numeric dtype as doubles, and the rows "
+        "come from the float trajectory": (("directions.x__rows", (5, 7)),),
+        "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
+        "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
+        "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),
+    }.items() for name, numbers in names for k in numbers},
     # first-estimates, partial run of 2026-12-07 (67 of 243 mutants: 66 killed, this one survivor).
     "observability.filters.firstestimates.xǁFirstEstimatesEKFǁ_N__mutmut_11": "reshape(n, -2): numpy reads any "
         "negative size as the unknown one, like -1",

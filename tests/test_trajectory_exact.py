@@ -190,3 +190,41 @@ def test_the_weakest_directions_by_their_json_keys():
     assert [abs(v) for v in lost["vector"].values()] == [0.0, 1.0] and lost["information"] == pytest.approx(0.0)
     assert [abs(v) for v in kept["vector"].values()] == [1.0, 0.0]
     assert (kept["information"], kept["singular_value"]) == (pytest.approx(2.0), pytest.approx(math.sqrt(2.0)))
+
+
+def test_a_window_by_its_json_keys():
+    """_still() over [0, 0.5]: rank 1 of 2, so a reason is given; y1 = x1, y2 = x2 (rank 2, by hand rows
+    (1, 0) and (0, 1)) needs none, and its dict has no reason key."""
+    keys = ["condition_number", "in_null_space", "min_error_variance", "rank", "t0", "t1", "unobservability_index",
+            "weakest"]
+    (lossy,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    both = System(["x1", "x2"], ["0", "0"], {"y1": "x1", "y2": "x2"})
+    (full,) = windowed_observability(both, {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    lossy, full = lossy.to_dict(), full.to_dict()
+    assert sorted(lossy) == sorted([*keys, "reason"]) and lossy["reason"].startswith("rank 1 of 2")
+    assert sorted(full) == keys and (full["t0"], full["t1"], full["rank"]) == (0.0, 0.5, 2)
+    assert sorted(full["min_error_variance"]) == ["x1", "x2"] and len(full["weakest"]) == 2
+
+
+def test_windows_in_groups_of_one_keep_their_own_factor(monkeypatch):
+    """y = x1 x2 along given states, rows (x2, x1): the first window at (1, 0) has rows (0, 1) and loses e1;
+    the second at (2, 3) has rows (3, 2) and loses (2, -3)/sqrt(13). With the memory bound at one window per
+    group (n (4n + 4m + 1) = 26 numbers a step, 2 steps a window), the second group still gets its own."""
+    import observability.trajectory.windows as windows
+
+    monkeypatch.setattr(windows, "SEGMENT_NUMBERS", 52)
+    product = System(["x1", "x2"], ["0", "0"], {"y": "x1*x2"})
+    first, second = windowed_observability(product, {}, {}, duration=1, window=0.5, dt=0.25,
+                                           states=[[1, 0], [1, 0], [2, 3], [2, 3], [2, 3]])
+    assert [abs(v) for v in first.weakest[0].vector.values()] == pytest.approx([1.0, 0.0])
+    assert [abs(v) for v in second.weakest[0].vector.values()] == pytest.approx([2 / 13**0.5, 3 / 13**0.5])
+
+
+def test_a_diverging_map_names_the_first_state_not_finite():
+    """x_(k+1) = 1e200 x_k from 1: x = 1, 1e200, inf (1e400 overflows), inf. Windows of one step: the first
+    two are evaluated, the third and fourth hold an infinite state, named with the time it appears."""
+    diverging = System(["x"], ["1e200*x"], {"y": "x"}, time="discrete")
+    found = windowed_observability(diverging, {"x": 1.0}, {}, duration=4, window=1, dt=1)
+    assert [w.rank for w in found] == [1, 1, None, None]
+    assert [w.reason for w in found[2:]] == [f"not evaluated: the simulated state is not finite from t = {t} (it "
+                                             "diverged or met a pole of the dynamics)" for t in (2, 3)]
