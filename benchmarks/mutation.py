@@ -832,8 +832,10 @@ EQUIVALENT: dict[str, str] = {
         "one row more of a given trajectory kept: only rows 0..steps are ever indexed (the windows' slices end at "
         "count * per_window <= steps, no negative index), so it is never read":
             (("windows.x__given", (26,)),),
-        "np.array without dtype=float on _inputs_at's list: its entries are Python floats (float() each), and an "
-        "empty list is float64 too": (("windows.x__controls", (11,)),),
+        "np.array without dtype=float on _inputs_at's lists: their entries are Python floats (float() each), and an "
+        "empty list is float64 too": (("windows.x__controls", (11, 23, 25)),),
+        "one row more of constant inputs: the simulation (steps = len(controls) - 1) runs one step further, a row "
+        "never indexed (as _given's), the rows before it the same": (("windows.x__controls", (20,)),),
         "np.asarray without dtype=float: casadi reads an array of any numeric dtype as doubles, and the rows "
         "come from the float trajectory": (("directions.x__rows", (5, 7)),),
         "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
