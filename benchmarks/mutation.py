@@ -838,6 +838,8 @@ EQUIVALENT: dict[str, str] = {
         "never indexed (as _given's), the rows before it the same": (("windows.x__controls", (20,)),),
         "np.asarray without dtype=float: casadi reads an array of any numeric dtype as doubles, and the rows "
         "come from the float trajectory": (("directions.x__rows", (5, 7)),),
+        "a mapping's function values without dtype=float: _directions_at, their one reader, converts them with "
+        "dtype=float": (("windows.x__as_named", (11, 13)),),
         "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
         "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
         "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),

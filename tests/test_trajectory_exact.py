@@ -142,6 +142,7 @@ def test_directions_given_as_functions_or_as_one_flat_array():
 
     along, log = lost({"along x2": lambda x: [0.0, 1.0], "log": lambda x: [math.log(x[1]), 0.0]})
     assert along.cosine == pytest.approx(1.0) and along.reason == ""
+    assert along.direction.to_dict() == {"direction": "along x2", "vector": {}, "motion": ""}
     assert math.isnan(log.cosine) and log.reason == "the direction is not finite at the window's first state"
     (flat,) = lost([NamedDirection("flat", {"x2": "1"}, lambda rows: np.tile([0.0, 1.0], len(rows)))])
     assert flat.cosine == pytest.approx(1.0) and flat.reason == ""
@@ -228,3 +229,27 @@ def test_a_diverging_map_names_the_first_state_not_finite():
     assert [w.rank for w in found] == [1, 1, None, None]
     assert [w.reason for w in found[2:]] == [f"not evaluated: the simulated state is not finite from t = {t} (it "
                                              "diverged or met a pole of the dynamics)" for t in (2, 3)]
+
+
+def test_an_output_through_the_previous_state():
+    """x_(k+1) = 2 x_k from 1 (x = 1, 2, 4, 8, 16), y = x prev(x), windows of 2 steps. By hand, with
+    dy_j/dx_start = H_j Phi_j + H'_j Phi_(j-1), H = prev(x), H' = x, and H' dropped at a window's first step:
+    window [0, 2): at t = 0 there is no earlier state, the previous one is read as x_0 itself: row 1; then
+    x_0 * 2 + x_1 * 1 = 4: information 1 + 16 = 17. Window [2, 4): x_1 = 2, then x_2 * 2 + x_3 * 1 = 16:
+    information 4 + 256 = 260 (y_3 = 2 x_2^2, derivative 4 x_2 = 16)."""
+    doubling = System(["x"], ["2*x"], {"y": "x*prev(x)"}, time="discrete")
+    found = windowed_observability(doubling, {"x": 1.0}, {}, duration=4, window=2, dt=1)
+    assert [w.weakest[0].information for w in found] == [pytest.approx(17.0), pytest.approx(260.0)]
+
+
+def test_inputs_are_called_only_within_the_duration():
+    """An input known on [0, 1] only (as an interpolation that refuses to extrapolate): x' = u, y = x over
+    1 s at dt = 0.25 asks u at 0, 0.25, ..., 1 and never beyond."""
+    def known(t: float) -> float:
+        if t > 1 + 1e-12:
+            raise ValueError(f"u asked at t = {t}, beyond the data")
+        return 1.0
+
+    found = windowed_observability(System(["x"], ["u"], {"y": "x"}, inputs=["u"]), {"x": 0.0}, {"u": known},
+                                   duration=1, window=0.5, dt=0.25)
+    assert [w.rank for w in found] == [1, 1]
