@@ -840,6 +840,10 @@ EQUIVALENT: dict[str, str] = {
         "come from the float trajectory": (("directions.x__rows", (5, 7)),),
         "a mapping's function values without dtype=float: _directions_at, their one reader, converts them with "
         "dtype=float": (("windows.x__as_named", (11, 13)),),
+        "a zero row more in the first QR: T^T T unchanged, and every window has at least n rows (grid refuses "
+        "fewer), so T is n x n either way": (("windows.x__factors", (10,)),),
+        "-2 instead of -1 for 'every step finite': every reader asks bad < 0 or bad >= 0":
+            (("windows.x__factors", (16,)),),
         "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
         "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
         "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),

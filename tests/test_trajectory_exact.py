@@ -253,3 +253,36 @@ def test_inputs_are_called_only_within_the_duration():
     found = windowed_observability(System(["x"], ["u"], {"y": "x"}, inputs=["u"]), {"x": 0.0}, {"u": known},
                                    duration=1, window=0.5, dt=0.25)
     assert [w.rank for w in found] == [1, 1]
+
+
+def _segments_of(monkeypatch, steps: int) -> None:
+    """Segments of ``steps`` steps for a model of one state and one output (n (4n + 4m + 1) = 9 numbers a step)."""
+    import observability.trajectory.windows as windows
+
+    monkeypatch.setattr(windows, "SEGMENT_NUMBERS", 9 * steps)
+
+
+def test_no_number_that_is_not_finite_reaches_the_qr(monkeypatch):
+    """d' = 0, y = 1/d from d = 0, one window of 4 steps in segments of one: dy/dd = -1/d^2 is infinite from
+    the first step, so the window is not finite at t = 0 (not at a later segment's step), and no segment
+    hands LAPACK's QR an infinite or nan entry (issue 63)."""
+    _segments_of(monkeypatch, 1)
+    real = np.linalg.qr
+
+    def checked(a, *args, **kwargs):
+        assert np.isfinite(np.asarray(a, dtype=float)).all(), "a number that is not finite reached the QR"
+        return real(a, *args, **kwargs)
+
+    monkeypatch.setattr(np.linalg, "qr", checked)
+    (window,) = windowed_observability(System(["d"], ["0"], {"y": "1/d"}), {"d": 0.0}, {}, duration=1, window=1,
+                                       dt=0.25)
+    assert window.rank is None and "not finite at t = 0 (" in window.reason
+
+
+def test_a_pole_inside_a_later_segment_is_named_at_its_step(monkeypatch):
+    """d' = 1 from d = -0.75 at dt = 0.25: d = -0.75, -0.5, -0.25, 0 (exact in binary), so y = 1/d has an
+    infinite sensitivity first at step 3, t = 0.75: the second step of the second segment of two."""
+    _segments_of(monkeypatch, 2)
+    (window,) = windowed_observability(System(["d"], ["1"], {"y": "1/d"}), {"d": -0.75}, {}, duration=1, window=1,
+                                       dt=0.25)
+    assert window.rank is None and "not finite at t = 0.75 (" in window.reason
