@@ -844,6 +844,10 @@ EQUIVALENT: dict[str, str] = {
         "fewer), so T is n x n either way": (("windows.x__factors", (10,)),),
         "-2 instead of -1 for 'every step finite': every reader asks bad < 0 or bad >= 0":
             (("windows.x__factors", (16,)),),
+        "rows of 1 instead of 0 for a window with a step not finite: _window returns it as not evaluated before "
+        "its T is read": (("windows.x__factors", (113,)),),
+        "reshape(count, -2, n): numpy reads any negative size as the unknown one, like -1":
+            (("windows.x__factors", (115,)),),
         "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
         "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
         "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),
