@@ -286,3 +286,21 @@ def test_a_pole_inside_a_later_segment_is_named_at_its_step(monkeypatch):
     (window,) = windowed_observability(System(["d"], ["1"], {"y": "1/d"}), {"d": -0.75}, {}, duration=1, window=1,
                                        dt=0.25)
     assert window.rank is None and "not finite at t = 0.75 (" in window.reason
+
+
+def test_the_chain_carried_between_segments_takes_the_segment_s_last_step(monkeypatch):
+    """x_(k+1) = u_k x_k with u_k = k + 1 (dt = 1), y = x: dy_j/dx_0 = Phi_j = 0! 1! ... = j!, so one window of 6
+    steps has the information 1 + 1 + 4 + 36 + 576 + 14400 = 15018 (by hand), also in segments of 3 steps,
+    where Phi_3 = u_2 Phi_2 is carried from the first segment's last step."""
+    _segments_of(monkeypatch, 3)
+    factorial = System(["x"], ["x*u"], {"y": "x"}, time="discrete", inputs=["u"])
+    (window,) = windowed_observability(factorial, {"x": 1.0}, {"u": lambda t: t + 1}, duration=6, window=6, dt=1)
+    assert window.weakest[0].information == pytest.approx(15018.0)
+
+
+def test_a_state_that_stops_being_finite_inside_a_window_is_named_at_its_step():
+    """x_(k+1) = 1e200 x_k from 1e-100: 1e-100, 1e100, 1e300, then 1e500 overflows at step 3, the second
+    step of the window [2, 4)."""
+    diverging = System(["x"], ["1e200*x"], {"y": "x"}, time="discrete")
+    found = windowed_observability(diverging, {"x": 1e-100}, {}, duration=4, window=2, dt=1)
+    assert "the simulated state is not finite from t = 3 (" in found[1].reason
