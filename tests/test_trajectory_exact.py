@@ -227,6 +227,7 @@ def test_a_diverging_map_names_the_first_state_not_finite():
     diverging = System(["x"], ["1e200*x"], {"y": "x"}, time="discrete")
     found = windowed_observability(diverging, {"x": 1.0}, {}, duration=4, window=1, dt=1)
     assert [w.rank for w in found] == [1, 1, None, None]
+    assert [(w.t0, w.t1) for w in found] == [(0, 1), (1, 2), (2, 3), (3, 4)]
     assert [w.reason for w in found[2:]] == [f"not evaluated: the simulated state is not finite from t = {t} (it "
                                              "diverged or met a pole of the dynamics)" for t in (2, 3)]
 
