@@ -305,3 +305,6 @@ def test_a_state_that_stops_being_finite_inside_a_window_is_named_at_its_step():
     diverging = System(["x"], ["1e200*x"], {"y": "x"}, time="discrete")
     found = windowed_observability(diverging, {"x": 1e-100}, {}, duration=4, window=2, dt=1)
     assert "the simulated state is not finite from t = 3 (" in found[1].reason
+    # steps of 0.5 (a map sampled every 0.5 s): step 3 is at t = 1.5, the second step of the window [1, 2)
+    halves = windowed_observability(diverging, {"x": 1e-100}, {}, duration=2, window=1, dt=0.5)
+    assert "the simulated state is not finite from t = 1.5 (" in halves[1].reason
