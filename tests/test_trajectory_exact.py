@@ -308,3 +308,14 @@ def test_a_state_that_stops_being_finite_inside_a_window_is_named_at_its_step():
     # steps of 0.5 (a map sampled every 0.5 s): step 3 is at t = 1.5, the second step of the window [1, 2)
     halves = windowed_observability(diverging, {"x": 1e-100}, {}, duration=2, window=1, dt=0.5)
     assert "the simulated state is not finite from t = 1.5 (" in halves[1].reason
+
+
+def test_a_factor_lapack_cannot_decompose_is_reported(monkeypatch):
+    """Should LAPACK's SVD fail on a window's factor (it may not converge), the window keeps its span and
+    says why, with LAPACK's words, instead of an exception."""
+    def fails(*args, **kwargs):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    monkeypatch.setattr(np.linalg, "svd", fails)
+    (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    assert (window.t0, window.t1, window.rank, window.reason) == (0.0, 0.5, None, "not evaluated: SVD did not converge")
