@@ -319,3 +319,16 @@ def test_a_factor_lapack_cannot_decompose_is_reported(monkeypatch):
     monkeypatch.setattr(np.linalg, "svd", fails)
     (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
     assert (window.t0, window.t1, window.rank, window.reason) == (0.0, 0.5, None, "not evaluated: SVD did not converge")
+
+
+def test_an_information_beyond_floating_point_is_said_without_a_warning():
+    """x' = 0, y = 1e200 x: the sensitivity 1e200 is finite, its square (the information) is not: the window
+    says so, and numpy's overflow warning does not leak (warnings are errors here)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        (window,) = windowed_observability(System(["x"], ["0"], {"y": "1e200*x"}), {"x": 1.0}, {}, duration=0.5,
+                                           window=0.5, dt=0.25)
+    assert window.reason == ("not evaluated: the Fisher information overflows floating point (values or "
+                             "variances beyond its range)")
