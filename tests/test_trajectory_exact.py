@@ -332,3 +332,23 @@ def test_an_information_beyond_floating_point_is_said_without_a_warning():
                                            window=0.5, dt=0.25)
     assert window.reason == ("not evaluated: the Fisher information overflows floating point (values or "
                              "variances beyond its range)")
+
+
+def test_the_smallest_normal_information_is_read_and_below_it_is_not():
+    """y = c x over one sample: the information is c^2. c = 2^-511 gives exactly 2^-1022, the smallest normal
+    float: rank 1; c = 1e-200 gives 1e-400, which underflows: not evaluated, said word for word, the window
+    keeping its span, and no numpy warning leaks (warnings are errors here)."""
+    import warnings
+
+    def window(c: str):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            (found,) = windowed_observability(System(["x"], ["0"], {"y": f"{c}*x"}), {"x": 1.0}, {}, duration=0.25,
+                                              window=0.25, dt=0.25)
+        return found
+
+    edge, below = window("2**(-511)"), window("1e-200")
+    assert edge.rank == 1 and edge.weakest[0].information == 2.0**-1022 == np.finfo(float).tiny
+    assert (below.t0, below.t1, below.rank) == (0.0, 0.25, None)
+    assert below.reason == ("not evaluated: the Fisher information underflows floating point (values or "
+                            "variances beyond its range)")
