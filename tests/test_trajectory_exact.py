@@ -352,3 +352,15 @@ def test_the_smallest_normal_information_is_read_and_below_it_is_not():
     assert (below.t0, below.t1, below.rank) == (0.0, 0.25, None)
     assert below.reason == ("not evaluated: the Fisher information underflows floating point (values or "
                             "variances beyond its range)")
+
+
+def test_a_singular_value_at_the_tolerance_is_not_counted():
+    """y1 = x1, y2 = 1e-9 x2 over one sample: T = diag(1, 1e-9), singular values 1 and 1e-9, the second exactly
+    RANK_TOLERANCE (1e-9) times the largest: the rank counts those strictly above, so 1 (information 1e-18
+    along x2)."""
+    from observability.trajectory.windows import RANK_TOLERANCE
+
+    assert RANK_TOLERANCE == 1e-9
+    scaled = System(["x1", "x2"], ["0", "0"], {"y1": "x1", "y2": "1e-9*x2"})
+    (window,) = windowed_observability(scaled, {"x1": 1.0, "x2": 1.0}, {}, duration=0.25, window=0.25, dt=0.25)
+    assert window.rank == 1 and window.weakest[0].information == pytest.approx(1e-18, rel=1e-12)
