@@ -364,3 +364,15 @@ def test_a_singular_value_at_the_tolerance_is_not_counted():
     scaled = System(["x1", "x2"], ["0", "0"], {"y1": "x1", "y2": "1e-9*x2"})
     (window,) = windowed_observability(scaled, {"x1": 1.0, "x2": 1.0}, {}, duration=0.25, window=0.25, dt=0.25)
     assert window.rank == 1 and window.weakest[0].information == pytest.approx(1e-18, rel=1e-12)
+    # singular, so infinite (not 1/1e-18 = 1e18 from the numerically zero eigenvalue)
+    assert window.condition_number == window.unobservability_index == math.inf
+
+
+def test_the_condition_number_and_the_index_of_a_regular_window():
+    """y1 = x1, y2 = 2 x2, y3 = 4 x3 over one sample: singular values 4, 2, 1, so F has eigenvalues 16, 4, 1: the
+    condition number 16 / 1 = 16 and Krener and Ide's index 1 / 1 = 1 (the smallest, not the middle one)."""
+    three = System(["x1", "x2", "x3"], ["0"] * 3, {"y1": "x1", "y2": "2*x2", "y3": "4*x3"})
+    (window,) = windowed_observability(three, {"x1": 1.0, "x2": 1.0, "x3": 1.0}, {}, duration=0.25, window=0.25,
+                                       dt=0.25)
+    assert window.rank == 3 and window.reason == ""
+    assert (window.condition_number, window.unobservability_index) == (pytest.approx(16.0), pytest.approx(1.0))
