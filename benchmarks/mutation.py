@@ -826,7 +826,7 @@ EQUIVALENT: dict[str, str] = {
     # tests/test_trajectory_exact.py, each applied by hand to a clean clone).
     **{f"observability.trajectory.{name}__mutmut_{k}": why for why, names in {
         "float('NAN') is nan as float('nan') is": (("windows.x__not_evaluated", (4,)), ("windows.x__cosine", (9,))),
-        "float('INF') is inf as float('inf') is": (("windows.x__window", (94,)),),
+        "float('INF') is inf as float('inf') is": (("windows.x__window", (94, 105)),),
         "t1 + t0 for the step t1 - t0: the step is read only when t0 == 0 (a first time other than 0 is refused "
         "first, and the line of the refusal reads the step only on that branch), where both are t1":
             (("csvfiles.x_states_from_csv", (31,)),),

@@ -120,6 +120,8 @@ def test_named_directions_against_the_lost_one_and_their_json_keys():
     (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25,
                                        directions=directions)
     along_x2, along_x1, zero, pole = (a.to_dict() for a in window.in_null_space)
+    # the weakest direction (e2, information 0) against each named one, in their order
+    assert [a.cosine for a in window.weakest[0].alignment[:2]] == [pytest.approx(1.0), pytest.approx(0.0)]
     assert along_x2 == {"direction": "along x2", "vector": {"x2": "1"}, "motion": "", "cosine": pytest.approx(1.0)}
     assert along_x1 == {"direction": "along x1", "vector": {"x1": "1"}, "motion": "", "cosine": pytest.approx(0.0)}
     for found, why in ((zero, "zero"), (pole, "not finite")):
@@ -374,5 +376,5 @@ def test_the_condition_number_and_the_index_of_a_regular_window():
     three = System(["x1", "x2", "x3"], ["0"] * 3, {"y1": "x1", "y2": "2*x2", "y3": "4*x3"})
     (window,) = windowed_observability(three, {"x1": 1.0, "x2": 1.0, "x3": 1.0}, {}, duration=0.25, window=0.25,
                                        dt=0.25)
-    assert window.rank == 3 and window.reason == ""
+    assert window.rank == 3 and window.reason == "" and len(window.weakest) == 2  # weakest=2 of the 3
     assert (window.condition_number, window.unobservability_index) == (pytest.approx(16.0), pytest.approx(1.0))
