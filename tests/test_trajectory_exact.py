@@ -203,6 +203,9 @@ def test_a_window_by_its_json_keys():
     (lossy,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
     both = System(["x1", "x2"], ["0", "0"], {"y1": "x1", "y2": "x2"})
     (full,) = windowed_observability(both, {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    (more,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25,
+                                     weakest=3)
+    assert len(more.weakest) == 2  # three asked of two states: both, once each
     lossy, full = lossy.to_dict(), full.to_dict()
     assert sorted(lossy) == sorted([*keys, "reason"]) and lossy["reason"].startswith("rank 1 of 2")
     assert sorted(full) == keys and (full["t0"], full["t1"], full["rank"]) == (0.0, 0.5, 2)
