@@ -829,7 +829,7 @@ EQUIVALENT: dict[str, str] = {
         "float('INF') is inf as float('inf') is": (("windows.x__window", (94, 105)),),
         "the index's finiteness in the reason: a regular window counts only eigenvalues >= the smallest normal "
         "float, so its index 1/information[-1] <= 1/2^-1022 < 2^1024 is always finite and the 'beyond floating "
-        "point' branch is unreachable (dead since the underflow check of 83bc02e)": (("windows.x__window", (164, 167)),),
+        "point' branch is unreachable (dead since the underflow check of 83bc02e)": (("windows.x__window", (164, 167, 171, 172)),),
         "t1 + t0 for the step t1 - t0: the step is read only when t0 == 0 (a first time other than 0 is refused "
         "first, and the line of the refusal reads the step only on that branch), where both are t1":
             (("csvfiles.x_states_from_csv", (31,)),),
