@@ -383,3 +383,14 @@ def test_the_condition_number_and_the_index_of_a_regular_window():
                                        dt=0.25)
     assert window.rank == 3 and window.reason == "" and len(window.weakest) == 2  # weakest=2 of the 3
     assert (window.condition_number, window.unobservability_index) == (pytest.approx(16.0), pytest.approx(1.0))
+
+
+def test_noise_variances_by_output():
+    """A mapping gives some outputs' variances, the others 1; a name that is no output is refused, with the
+    outputs listed."""
+    from observability.trajectory.windows import variances
+
+    assert variances({"y1": 4.0}, ["y1", "y2"]).tolist() == [4.0, 1.0]
+    with pytest.raises(ModelError) as caught:
+        variances({"z": 1.0}, ["y1", "y2"])
+    assert str(caught.value) == "--noise: 'z' is not an output (outputs: y1, y2)"
