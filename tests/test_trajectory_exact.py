@@ -394,3 +394,14 @@ def test_noise_variances_by_output():
     with pytest.raises(ModelError) as caught:
         variances({"z": 1.0}, ["y1", "y2"])
     assert str(caught.value) == "--noise: 'z' is not an output (outputs: y1, y2)"
+
+
+def test_a_variance_is_accepted_exactly_when_its_inverse_is_finite():
+    """1/1e-308 = 1e308 is below the largest float (1.797e308): accepted; 1/5e-309 = 2e308 is not: refused."""
+    from observability.trajectory.windows import variances
+
+    assert variances(1e-308, ["y"]).tolist() == [1e-308]
+    with pytest.raises(ModelError) as caught:
+        variances(5e-309, ["y"])
+    assert str(caught.value) == ("--noise y: the variance must be a finite number > 0 whose inverse is finite, "
+                                 "got 5e-309")
