@@ -827,6 +827,14 @@ EQUIVALENT: dict[str, str] = {
     **{f"observability.trajectory.{name}__mutmut_{k}": why for why, names in {
         "float('NAN') is nan as float('nan') is": (("windows.x__not_evaluated", (4,)), ("windows.x__cosine", (9,))),
         "float('INF') is inf as float('inf') is": (("windows.x__window", (94, 105)),),
+        "discretize() of a discrete-time model returns it unchanged, whatever its step": (
+            ("windows.x_discrete_functions", (17, 31, 35)),),
+        "process noise on every state instead of none: the trajectory passes w empty, which casadi reads as zero, "
+        "and w enters x_next additively, so f, h and their Jacobians are the same": (
+            ("windows.x_discrete_functions", (30, 34)),),
+        "inverse=None: falsy as False, the inverse model is not derived": (("windows.x_discrete_functions", (32,)),),
+        "a casadi label (the symbol's or the Function's name): the functions are called by position":
+            (("directions.x_direction_functions", (11, 12, 38, 39)),),
         "the index's finiteness in the reason: a regular window counts only eigenvalues >= the smallest normal "
         "float, so its index 1/information[-1] <= 1/2^-1022 < 2^1024 is always finite and the 'beyond floating "
         "point' branch is unreachable (dead since the underflow check of 83bc02e)": (("windows.x__window", (164, 167, 171, 172)),),

@@ -405,3 +405,51 @@ def test_a_variance_is_accepted_exactly_when_its_inverse_is_finite():
         variances(5e-309, ["y"])
     assert str(caught.value) == ("--noise y: the variance must be a finite number > 0 whose inverse is finite, "
                                  "got 5e-309")
+
+
+def test_the_grid_s_bounds():
+    """dt = 0 is refused by name (not a division by zero); exactly MAX_STEPS steps are allowed, twice as many
+    are refused with their count; 2 samples of 2 outputs (4 rows) suffice for 3 states."""
+    from observability.trajectory.windows import MAX_STEPS, grid
+
+    with pytest.raises(ModelError) as caught:
+        grid(1.0, 1.0, 0.0, 1, 1)
+    assert str(caught.value) == "need finite 0 < dt <= window <= duration, got dt=0, window=1, duration=1"
+    assert grid(float(MAX_STEPS), 1.0, 1.0, 1, 1) == (MAX_STEPS, 1)
+    with pytest.raises(ModelError) as caught:
+        grid(float(MAX_STEPS), 1.0, 0.5, 1, 1)
+    assert str(caught.value) == ("duration 1e+06 at the step 0.5 is 2e+06 steps, above the bound of 1000000 steps per "
+                                 "run (a larger step or a shorter duration)")
+    assert grid(1.0, 1.0, 0.5, 2, 3) == (2, 2)
+
+
+def test_a_continuous_model_is_stepped_by_rk4():
+    """x' = -x, y = x at h = 1/2: RK4 on a linear model multiplies by 1 - h + h^2/2 - h^3/6 + h^4/24 = 233/384
+    a step (Euler would give 1/2), so a window of two samples has the information 1 + (233/384)^2."""
+    (window,) = windowed_observability(System(["x"], ["-x"], {"y": "x"}), {"x": 1.0}, {}, duration=1, window=1,
+                                       dt=0.5)
+    assert window.weakest[0].information == pytest.approx(1 + (233 / 384) ** 2, rel=1e-12)
+
+
+def test_the_trajectory_does_not_derive_the_inverse_motion_model(monkeypatch):
+    """Only f, h and their Jacobians are used: the inverse model's symbolic derivation (and its CPU budget)
+    is never asked for."""
+    import observability.codegen as codegen
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the inverse motion model was derived")
+
+    monkeypatch.setattr(codegen, "_inverse", refused)
+    (window,) = windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=0.5, window=0.5, dt=0.25)
+    assert window.rank == 1
+
+
+def test_a_direction_with_a_parameter_and_one_that_does_not_parse():
+    """x1' = c: the direction {x1: c} with c = 2 is (2, 0) at any state; a direction whose text does not parse
+    is refused naming it."""
+    system = System(["x1", "x2"], ["c", "0"], {"y": "x1"}, parameters=["c"])
+    (direction,) = named_directions(system, [SimpleNamespace(name="along c", vector={"x1": "c"})], {"c": 2.0})
+    assert direction.at(np.array([[1.0, 1.0], [3.0, 4.0]])).tolist() == [[2.0, 0.0], [2.0, 0.0]]
+    with pytest.raises(ModelError) as caught:
+        named_directions(system, [SimpleNamespace(name="bad one", vector={"x1": "1/"})], {})
+    assert str(caught.value).startswith("bad one: ")
