@@ -833,6 +833,10 @@ EQUIVALENT: dict[str, str] = {
         "and w enters x_next additively, so f, h and their Jacobians are the same": (
             ("windows.x_discrete_functions", (30, 34)),),
         "inverse=None: falsy as False, the inverse model is not derived": (("windows.x_discrete_functions", (32,)),),
+        "the placeholder values of a given trajectory's states (1.0 for 0.0): check_request reads only their names":
+            (("windows.x_windowed_observability", (17,)),),
+        "the parameter vector without dtype=float: casadi reads any numeric dtype as doubles": (
+            ("windows.x_windowed_observability", (38, 40)),),
         "a casadi label (the symbol's or the Function's name): the functions are called by position":
             (("directions.x_direction_functions", (11, 12, 38, 39)),),
         "the index's finiteness in the reason: a regular window counts only eigenvalues >= the smallest normal "

@@ -450,6 +450,31 @@ def test_a_direction_with_a_parameter_and_one_that_does_not_parse():
     system = System(["x1", "x2"], ["c", "0"], {"y": "x1"}, parameters=["c"])
     (direction,) = named_directions(system, [SimpleNamespace(name="along c", vector={"x1": "c"})], {"c": 2.0})
     assert direction.at(np.array([[1.0, 1.0], [3.0, 4.0]])).tolist() == [[2.0, 0.0], [2.0, 0.0]]
+    assert (direction.label, direction.motion) == ("along c", "")
     with pytest.raises(ModelError) as caught:
         named_directions(system, [SimpleNamespace(name="bad one", vector={"x1": "1/"})], {})
     assert str(caught.value).startswith("bad one: ")
+
+
+def test_each_missing_value_is_named():
+    """States a, b, inputs u, v, parameters c, e: the first missing or unknown name of each kind is named."""
+    from observability.trajectory.windows import check_request
+
+    system = System(["a", "b"], ["u*c", "v*e"], {"y": "a"}, inputs=["u", "v"], parameters=["c", "e"])
+    full = {"a": 0.0, "b": 0.0}
+    cases = [({}, {}, {}, "--initial: no value for the state a (states: a, b)"),
+             (full | {"z": 1.0, "w": 2.0}, {}, {}, f"--initial: 'z' is not a state of {system.name}"),
+             (full, {}, {}, "--input: no value for the input u"),
+             (full, {"u": 1.0, "v": 1.0}, {}, "no value for the parameter c (give it with -o or System.with_values)")]
+    for initial, inputs, parameters, words in cases:
+        with pytest.raises(ModelError) as caught:
+            check_request(system, initial, inputs, parameters)
+        assert str(caught.value) == words
+
+
+def test_progress_is_told_of_each_group_of_windows():
+    """One group holds both windows of _still(): one status line, after them."""
+    lines: list = []
+    windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=1, window=0.5, dt=0.25,
+                           progress=lines.append)
+    assert lines == ["window 2 of 2"]
