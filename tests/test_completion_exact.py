@@ -157,3 +157,24 @@ def test_a_bare_angle_is_not_evaluated_off_the_circle(trig):
     system = System(["th", "x", "z"], ["0", "th*z", "0"], {"y1": str(trig(sympy.Symbol("th"))), "y2": "x"})
     th, x, _ = system.states
     assert completed(system, (trig(th), x), 3, seed=1, budget=None) == ((trig(th), x), 2)
+
+
+def test_order_n_replaces_a_coefficient_too_long_to_print(monkeypatch):
+    """x' = x/(3 x^2 + 1), y = x^3 + x (n = 1), with the printing limit at 7 characters. By hand:
+    y = x (x^2 + 1) has 12 characters in its factored form, too long, so order 0 adds nothing (its row,
+    8 characters, is within twice the limit: the search goes on); y' = (3 x^2 + 1) x/(3 x^2 + 1) = x,
+    gradient 1: the rank 1 is reached at order n = 1. Stopping at order n - 1 would return no function.
+
+    Why order n at all: when no coefficient is skipped, orders 0..n-1 reach the rank. The Jacobian in x
+    of y^(k) is sum_a u^a grad c_a (the c_a its coefficients in the input jets), so the c_a of orders
+    <= n-1 span every grad y^(k), k <= n-1, at any input; and the rank of the grad y^(k) over x and the
+    input jets stops growing at the first order that adds nothing (d y^(k) in the span of the lower ones
+    and the d u^(j): the derivative along the jet vector field keeps it there), so it reaches the rank by
+    order n-1. Order n is read for the coefficients skipped (too long, or not rational at the point)."""
+    monkeypatch.setattr(completion, "MAX_COMPLETION_CHARS", 7)
+    system = System(["x"], ["x/(3*x**2 + 1)"], {"y": "x**3 + x"})
+    (x,) = system.states
+    h, f = x**3 + x, x / (3 * x**2 + 1)
+    assert len(str(sympy.factor_terms(h))) > 7 and len(str(h)) <= 14
+    assert sympy.simplify(sympy.diff(h, x) * f - x) == 0
+    assert completed(system, (), 1, seed=1, budget=None) == ((x,), 1)

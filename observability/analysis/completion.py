@@ -148,6 +148,9 @@ def _grown(system: System, functions: tuple[sympy.Expr, ...], rank: int, seed: i
     # One point for every candidate: each is evaluated once and reduced against the
     # echelon form, not the whole list again per candidate (quadratic on large models).
     for order, block in enumerate(lie_derivatives(system)):
+        # Orders 0..n-1 reach the rank when no coefficient is skipped (the outputs' derivatives stop adding
+        # to it by order n-1, and their gradients are combinations of the coefficients'); order n may stand
+        # in for one skipped as too long or not rational at the point (tests/test_completion_exact.py).
         if order > system.n or any(len(sympy.sstr(row.expression, order="none")) > 2 * MAX_COMPLETION_CHARS
                                    for row in block):
             break  # the next order would only be longer
