@@ -35,6 +35,18 @@ def test_input_times_that_stop_increasing_name_their_line():
     assert _refusal(inputs_from_csv, "t,u\n0,1\n1,2\n1,3\n") == "given.csv: line 4: times must increase"
 
 
+def test_lines_after_a_blank_line_are_the_file_s_lines():
+    """Found by the trajectory group's mutation run: blank lines are skipped but
+    were not counted, so every message after one named the line above. By hand:
+    header line 1, rows on lines 2, 3, a blank line 4, then line 5 (t = 1 again),
+    line 6 ('x' not a number); for states, line 5's step 3 against 1."""
+    assert _refusal(inputs_from_csv, "t,u\n0,1\n1,2\n\n1,3\n") == "given.csv: line 5: times must increase"
+    assert _refusal(inputs_from_csv, "t,u\n0,1\n1,2\n\n2,3\nx,1\n") == \
+        "given.csv: line 6: not a number in ['x', '1']"
+    assert _refusal(states_from_csv, "t,x\n\n0,1\n1,1\n\n4,1\n", ["x"]) == \
+        "given.csv: line 6: the times must start at 0 and advance by one constant step"
+
+
 def test_an_unknown_column_anywhere_is_named_with_every_state():
     """Header t,w,x,y for the states x and y: w (the first column after t) is not a state."""
     assert _refusal(states_from_csv, "t,w,x,y\n0,1,2,3\n1,1,2,3\n", ["x", "y"]) == \

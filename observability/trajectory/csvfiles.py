@@ -30,9 +30,9 @@ def inputs_from_csv(text: str, source: str) -> dict[str, Callable[[float], float
     """
     import bisect
 
-    header, table = _csv_table(text, source, "input", 1)
+    header, table, lines = _csv_table(text, source, "input", 1)
     names = header[1:]
-    for line, (before, after) in enumerate(zip(table, table[1:]), start=3):
+    for line, before, after in zip(lines[1:], table, table[1:]):
         if after[0] <= before[0]:
             raise ModelError(f"{source}: line {line}: times must increase")
     if table[0][0] > 0:
@@ -56,7 +56,7 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
         A missing or unknown column, a value that is not a finite number, fewer
         than two rows, a first time other than 0 or an uneven step -- naming the line.
     """
-    header, table = _csv_table(text, source, "state", 2)
+    header, table, lines = _csv_table(text, source, "state", 2)
     missing = [s for s in states if s not in header]
     unknown = [c for c in header[1:] if c not in states]
     if missing or unknown:
@@ -65,25 +65,32 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
     times = np.array([r[0] for r in table])
     step = times[1] - times[0]
     if times[0] != 0 or not step > 0 or not np.allclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step):
-        bad = 2 if times[0] != 0 else 3 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))
+        bad = lines[0] if times[0] != 0 else lines[1 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))]
         raise ModelError(f"{source}: line {bad}: the times must start at 0 and advance by one constant step")
     order = [header.index(s) for s in states]
     return float(step), np.array([[r[i] for i in order] for r in table])
 
 
-def _csv_table(text: str, source: str, what: str, least: int) -> tuple[list[str], list[list[float]]]:
-    """A CSV table's header (first column t) and its rows of finite numbers, at
-    least ``least`` and at most ``MAX_ROWS`` of them; ModelError naming the line otherwise.
-    A byte-order mark before the header (what spreadsheet programs save) is not part of it."""
+def _csv_table(text: str, source: str, what: str, least: int) -> tuple[list[str], list[list[float]], list[int]]:
+    """A CSV table's header (first column t), its rows of finite numbers, at
+    least ``least`` and at most ``MAX_ROWS`` of them, and each row's line in
+    the file (blank lines skipped but counted, so a message names the line a
+    user sees); ModelError naming the line otherwise. A byte-order mark before
+    the header (what spreadsheet programs save) is not part of it."""
     lines = text.removeprefix("\ufeff").splitlines()
     if len(lines) > MAX_ROWS + 1:
         raise ModelError(f"{source}: {len(lines) - 1} rows, above the bound of {MAX_ROWS} rows of a table")
-    rows = [r for r in csv.reader(lines) if r and any(c.strip() for c in r)]
+    reader = csv.reader(lines)
+    rows, numbers = [], []
+    for r in reader:
+        if r and any(c.strip() for c in r):
+            rows.append(r)
+            numbers.append(reader.line_num)
     header = [c.strip() for c in rows[0]] if rows else []
     if header[:1] != ["t"] or len(rows) < least + 1:
         raise ModelError(f"{source}: a header 't,<{what}>,...' and at least {least} row(s) are needed")
     table = []
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in zip(numbers[1:], rows[1:]):
         try:
             values = [float(c) for c in row]
         except ValueError:
@@ -91,4 +98,4 @@ def _csv_table(text: str, source: str, what: str, least: int) -> tuple[list[str]
         if len(values) != len(header) or not all(math.isfinite(v) for v in values):
             raise ModelError(f"{source}: line {line}: {len(header)} finite numbers expected")
         table.append(values)
-    return header, table
+    return header, table, numbers[1:]

@@ -314,10 +314,12 @@ def _window(T: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: f
     if not np.isfinite(information).all():
         return _not_evaluated(t0, t1, "the Fisher information overflows floating point (values or variances "
                                       "beyond its range)")
+    if sigma[0] == 0:  # exactly zero, or below floating point already in T: no rank can be read either way
+        return _not_evaluated(t0, t1, "the outputs' sensitivity to the window's first state is zero in floating "
+                                      "point (the outputs do not move with it, or the sensitivity underflows)")
     if information[0] < np.finfo(float).tiny:  # squares below the smallest normal float: no rank can be read
-        return _not_evaluated(t0, t1, "the Fisher information is zero or below floating point's range (the "
-                                      "outputs do not move with the window's first state, or their sensitivity "
-                                      "underflows): no rank can be read")
+        return _not_evaluated(t0, t1, "the Fisher information underflows floating point (values or variances "
+                                      "beyond its range)")
     n = len(states)
     rank = int(np.sum((sigma > RANK_TOLERANCE * sigma[0]) & (information >= np.finfo(float).tiny)))
     null = right[rank:].T  # an orthonormal basis of the numerical null space
