@@ -33,7 +33,7 @@ vanish to rounding, relative to the size of its terms.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import sympy
@@ -48,6 +48,7 @@ from ..engine.expansion import stopping_rule
 from ..model.expressions import parse_number
 from ..model.prepare import prepare
 from ..rank.randomized import randomized_rank
+from .pointpieces import point_on_pieces
 from .sets import ConstraintSet, solve_constraints
 from ..rank.symbolic import observability_rows
 from ..model.system import System
@@ -83,6 +84,13 @@ class PointRank:
         state that moves; empty when the point is not fully given or the rank
         not final.
     details : str
+    pieces : tuple[str, ...]
+        On a ``--where`` set of several pieces: the pieces the point lies on
+        (:mod:`~.pointpieces`; none when a fully given point of the set is on
+        none of them as solved); ``generic_rank`` and ``singular`` are then None
+        (the verdict's generic rank is not that of the point's piece).
+    set_text : str
+        That set, as given ("" otherwise).
     """
 
     point: dict[str, str]
@@ -96,6 +104,8 @@ class PointRank:
     singular: bool | None
     null_space: tuple[dict[str, str], ...]
     details: str
+    pieces: tuple[str, ...] = ()
+    set_text: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -103,7 +113,7 @@ class PointRank:
             "rank_status": self.status, "orders": self.orders, "error_probability": self.error_probability,
             "n_states": self.n_states, "generic_rank": self.generic_rank, "singular": self.singular,
             "null_space": [{"vector": v} for v in self.null_space], "details": self.details,
-        }
+        } | ({"pieces": list(self.pieces)} if self.set_text else {})
 
     def text(self) -> str:
         rank = f"rank at least {self.rank}" if self.status == "at least" else f"rank {self.rank}"
@@ -116,6 +126,11 @@ class PointRank:
         elif self.generic_rank is not None:
             lines.append(f"  singular or not: undecided (the generic rank is {self.generic_rank}; higher orders could "
                          "still raise the rank at the point: --orders K)")
+        if self.set_text:
+            on = (f"on the piece{'s' if len(self.pieces) > 1 else ''} {'; '.join(self.pieces)} of the set"
+                  if self.pieces else "on none of the pieces as solved of the set")
+            lines.append(f"  {on} {self.set_text}; singular or not: not stated (that compares with the generic rank "
+                         "of the point's piece, and the verdict's is the set's)")
         lines += [f"  null vector: {{{', '.join(f'{k}: {v}' for k, v in vector.items())}}}" for vector in self.null_space]
         lines.append(f"  {self.details}")
         return "\n".join(lines)
@@ -152,7 +167,8 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     generic : ObservabilityResult, optional
         The verdict at a generic point, to say whether the point is singular.
     input_derivatives, previous, where
-        As for :func:`~observability.analysis.verdict.analyze`: the point lies on ``where``.
+        As for :func:`~observability.analysis.verdict.analyze`: the point lies on ``where``
+        (on a set of several pieces: on the pieces that hold it, :mod:`~.pointpieces`).
     orders : int, optional
         The highest Lie order (default :func:`point_orders`).
 
@@ -176,12 +192,14 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     if not values:
         raise ModelError("--point: give at least one name=value")
     text = ", ".join(f"{k} = {v}" for k, v in values.items())
-    if where is not None and where.parts:  # the generic rank compared with is one part's: name the part
-        raise ModelError(f"--point {text}: the set {where.text} is a union of parts ({where.parts_text()}), with "
-                         "their own generic ranks; give the part the point is on as --where")
+    pieces: tuple[str, ...] = ()
     try:
-        constraint = (solve_constraints(system, [s - v for s, v in values.items()], text) if where is None
-                      else where.with_values(system, values, text))
+        if where is not None and where.pieces:
+            # The verdict's generic rank is one part's (or the lowest): not compared with the point's own piece.
+            (constraint, pieces), generic = point_on_pieces(system, where, values, text), None
+        else:
+            constraint = (solve_constraints(system, [s - v for s, v in values.items()], text) if where is None
+                          else where.with_values(system, values, text))
     except ModelError as exc:
         raise ModelError(str(exc).replace("--where", "--point", 1)) from None
     limit = point_orders(system) if orders is None else orders
@@ -205,7 +223,8 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     exact = None
     if final and lower.rank < system.n and not generic_names and not system.inputs and lower.dependence is None:
         exact = _exact_rank(system, lower.orders, values, input_derivatives, previous)
-    return _verdict(system, values, generic, lower, final, generic_names, exact, previous)
+    verdict = _verdict(system, values, generic, lower, final, generic_names, exact, previous)
+    return replace(verdict, pieces=pieces, set_text=where.text) if where is not None and where.pieces else verdict
 
 
 #: CPU seconds for the exact rank over Q at a fully given point.

@@ -86,6 +86,12 @@ class ConstraintSet:
         The other pieces, each solved alone (at most 8 pieces in all).
     every_part : bool
         Whether every piece was solved (and is in ``others``).
+    pieces : tuple of Piece
+        For several pieces: each solved piece with its non-zero conditions, in
+        the order (this set, *others) (a point is on a piece when it satisfies
+        both: :mod:`~.points`).
+    equations : tuple of Expr
+        For several pieces: the set's equations (each expression = 0).
     """
 
     text: str
@@ -96,12 +102,14 @@ class ConstraintSet:
     parts: tuple[tuple[str, tuple[str, ...]], ...] = ()
     others: tuple[ConstraintSet, ...] = ()
     every_part: bool = True
+    pieces: tuple[Piece, ...] = ()
+    equations: tuple[sympy.Expr, ...] = ()
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
-                             tuple(o.on(system) for o in self.others), self.every_part)
+                             tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations)
 
     def solution_text(self) -> str:
         """The solved part in words ("x = 0")."""
@@ -130,10 +138,7 @@ class ConstraintSet:
         ModelError
             The values put the point off the set, or leave it unsolvable.
         """
-        given = sorted(v.name for v, _, _ in self.angles if v in values)
-        if given:
-            raise ModelError(f"--point {text}: {given[0]} is an angle of the set {self.text}, whose value is drawn on "
-                             "the unit circle; give the point without it")
+        self.refuse_angles(values, text)
         equations = [s - value for s, value in values.items()]
         for variable, g in self.solution:
             equation = sympy.cancel((variable - g).xreplace(dict(values)))
@@ -143,6 +148,19 @@ class ConstraintSet:
                 raise ModelError(f"--point {text}: the point is not on the set {self.text} ({variable} = {g})")
         trig = {sine: sympy.sin(v) for v, sine, _ in self.angles} | {cosine: sympy.cos(v) for v, _, cosine in self.angles}
         return solve_constraints(system, [e.xreplace(trig) for e in equations], f"{self.text}, {text}")
+
+    def refuse_angles(self, values: Mapping[sympy.Symbol, sympy.Rational], text: str) -> None:
+        """Refuse a point that gives an angle of the set (its value is drawn on the circle).
+
+        Raises
+        ------
+        ModelError
+            Naming the angle.
+        """
+        given = sorted(v.name for v, _, _ in self.angles if v in values)
+        if given:
+            raise ModelError(f"--point {text}: {given[0]} is an angle of the set {self.text}, whose value is drawn on "
+                             "the unit circle; give the point without it")
 
     def place(self, evaluator, system: System) -> None:
         """Move the evaluator's random point onto the set (states and parameter values)."""
@@ -232,10 +250,10 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
         variable inside a transcendental function.
     """
     order = [s for s in (*system.states, *system.parameters)]
-    equations, angles = _through_the_circle(equations, order)
+    circled, angles = _through_the_circle(equations, order)
     circle = {v for v, _, _ in angles}
     trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
-    pieces = decompose(equations, order, circle, trig)
+    pieces = decompose(circled, order, circle, trig)
     if not pieces:
         raise ModelError(f"--where {text!r}: the set has no real point (its equations are inconsistent, or a factor "
                          "is non-zero at every real point)")
@@ -256,7 +274,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     named = [f"({p.text()})" if len(p.equations) > 1 else p.text() for p in pieces]
     (piece, drawn), others = built[0], tuple(b for _, b in built[1:])
     return ConstraintSet(text, drawn.solution, drawn.degree, drawn.invariant, angles, ((piece.text(), tuple(named)),),
-                         others, not failed and len(pieces) <= _MOST_PARTS)
+                         others, not failed and len(pieces) <= _MOST_PARTS, tuple(p for p, _ in built),
+                         tuple(equations))
 
 
 def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
