@@ -77,14 +77,12 @@ def point_on_pieces(system: System, where: ConstraintSet, values: Mapping[sympy.
 
 def _held(system: System, where: ConstraintSet, values: Mapping[sympy.Symbol, sympy.Rational],
           text: str) -> list[tuple[str, ConstraintSet]]:
-    """The pieces that hold the point, each with the point's part of it: no
-    non-zero condition vanishes at the values (checked first: a piece's
-    solution may have a pole there), the piece's equations hold (its set
-    intersected with the values), and no condition vanishes on that part."""
+    """The pieces that hold the point, each with the point's part of it: the
+    piece's equations hold (its set intersected with the values) and no
+    non-zero condition vanishes on that part (the values included: where a
+    condition vanishes at them, whatever the solver made of a pole there)."""
     held = []
     for piece, part in zip(where.pieces, (where, *where.others)):
-        if not _conditions_hold(piece.nonzero, where, values):
-            continue
         try:
             at = part.with_values(system, values, text)
         except ModelError:
@@ -94,14 +92,13 @@ def _held(system: System, where: ConstraintSet, values: Mapping[sympy.Symbol, sy
     return held
 
 
-def _conditions_hold(nonzero, where: ConstraintSet, point: Mapping, at: ConstraintSet | None = None) -> bool:
+def _conditions_hold(nonzero, where: ConstraintSet, point: Mapping, at: ConstraintSet) -> bool:
     """Whether no condition of ``nonzero`` (in ``where``'s symbols) is identically
     zero once ``point`` is substituted (angles' sine and cosine through ``at``'s
     symbols): exactly zero at a fully given point, or zero at every point of
     the point's part of the piece."""
     trig = {sine: sympy.sin(v) for v, sine, _ in where.angles} | {cosine: sympy.cos(v) for v, _, cosine in where.angles}
-    circle = {} if at is None else (
-        {sympy.sin(v): sine for v, sine, _ in at.angles} | {sympy.cos(v): cosine for v, _, cosine in at.angles})
+    circle = {sympy.sin(v): sine for v, sine, _ in at.angles} | {sympy.cos(v): cosine for v, _, cosine in at.angles}
     return all(sympy.cancel(sympy.together(n.xreplace(trig).xreplace(circle).xreplace(dict(point)))) != 0
                for n in nonzero)
 

@@ -1,0 +1,134 @@
+"""``--point`` on a ``--where`` set of several pieces (issue 61 regression):
+the point is analysed on the pieces that hold it, decided exactly, instead of
+being refused with a request for the part (the umbrella's main piece
+z = x**2/y**2, y != 0, cannot be named as a --where).
+
+References, independent of the code: the rank at a point is that of the
+Jacobian of the outputs' Lie derivatives (orders 0..n-1), computed here with
+sympy at the point; which piece holds a point, by hand from the pieces'
+equations and non-zero conditions (each test's docstring).
+
+Model (static states, f = 0): h = (x, y, y z), Jacobian [[1, 0, 0], [0, 1, 0],
+[0, z, y]]: rank 3 where y != 0, 2 where y = 0.
+"""
+
+import subprocess
+import sys
+
+import pytest
+import sympy
+
+from observability.errors import ModelError
+from observability.model.modelfile import load_model
+from observability.where.points import rank_at_point
+from observability.where.sets import parse_constraints
+
+SCRIPT = [sys.executable, "-m", "observability"]
+X, Y, Z = sympy.symbols("x y z")
+DYNAMICS = (0, 0, 0)
+OUTPUTS = ("x", "y", "y*z")
+UMBRELLA = "x**2 - y**2*z = 0"
+MAIN = "x**2 - y**2*z = 0 and y != 0"
+AXIS = "the singular points of x**2 - y**2*z = 0 and y = 0 and x = 0"
+
+
+def _true_rank(outputs, point):
+    """The rank of the Jacobian of the outputs' Lie derivatives L_f^k h, k = 0..2, at ``point`` (exact)."""
+    rows, state = [], sympy.Matrix([X, Y, Z])
+    for h in outputs:
+        derivative = sympy.sympify(h)
+        for _ in range(3):
+            rows.append(derivative)
+            derivative = (sympy.Matrix([derivative]).jacobian(state) * sympy.Matrix(DYNAMICS))[0]
+    return sympy.Matrix(rows).jacobian(state).subs(point).rank()
+
+
+def _model(tmp_path, outputs=OUTPUTS):
+    lines = "\n".join(f'h{i}="{h}"' for i, h in enumerate(outputs))
+    path = tmp_path / "static.toml"
+    path.write_text(f'states=["x","y","z"]\n[dynamics]\nx="0"\ny="0"\nz="0"\n[outputs]\n{lines}\n')
+    return path
+
+
+def _at(tmp_path, where, point, outputs=OUTPUTS):
+    system = load_model(_model(tmp_path, outputs))
+    constraint, _ = parse_constraints(system, where)
+    return rank_at_point(system, point, where=constraint)
+
+
+@pytest.mark.parametrize("point, piece", [
+    ({"x": "2", "y": "1", "z": "4"}, MAIN),  # y = 1 != 0, z = 4 = 2**2/1**2
+    ({"x": "0", "y": "0", "z": "-1"}, AXIS),  # y = 0: off the main piece; x = y = 0: the axis
+    ({"x": "0", "y": "0", "z": "4"}, AXIS),  # in the main piece's closure, not on it (y != 0 fails)
+])
+def test_a_point_of_the_umbrella_is_analysed_on_the_piece_that_holds_it(tmp_path, point, piece):
+    """Before: refused ("give the part the point is on as --where"), though the main piece cannot be given
+    as a --where. Its rank is the point's (sympy: 3 at (2, 1, 4), 2 on the axis), certain, named with its
+    piece, and not compared with the set's generic rank (the axis's 2, another piece's)."""
+    at = _at(tmp_path, UMBRELLA, point)
+    expected = _true_rank(OUTPUTS, {s: sympy.Rational(point[s.name]) for s in (X, Y, Z)})
+    assert (at.rank, at.status, at.pieces) == (expected, "certain", (piece,))
+    assert at.singular is None and at.generic_rank is None and f"on the piece {piece} of the set" in at.text()
+
+
+def test_a_point_on_two_pieces_names_both(tmp_path):
+    """x*y = 0 is the planes x = 0 and y = 0 (no non-zero conditions): (0, 0, 1) lies on both, and its rank
+    is the point's whichever piece holds it: h = (y, x*y, z), Jacobian [[0, 1, 0], [y, x, 0], [0, 0, 1]],
+    rank 2 there (sympy), 3 at generic points of x = 0."""
+    outputs = ("y", "x*y", "z")
+    at = _at(tmp_path, "x*y = 0", {"x": "0", "y": "0", "z": "1"}, outputs)
+    assert at.rank == _true_rank(outputs, {X: 0, Y: 0, Z: 1}) == 2
+    assert set(at.pieces) == {"x = 0", "y = 0"}
+
+
+def test_a_condition_that_vanishes_where_the_solution_has_no_pole_excludes_the_piece(tmp_path):
+    """x*y = z**2, y = z: the piece {x = z, y = z, z != 0} (divided by y, then y = z; x = z**2/z cancelled,
+    no pole at 0) and {y = 0, z = 0}. The origin satisfies the first piece's equations but not z != 0: it
+    lies on the second only (rank 2 by sympy: y = 0 there)."""
+    at = _at(tmp_path, "x*y = z**2, y = z", {"x": "0", "y": "0", "z": "0"})
+    assert at.pieces == ("x*y - z**2 = 0 and y = 0 and z = 0",)
+    assert at.rank == _true_rank(OUTPUTS, {X: 0, Y: 0, Z: 0}) == 2
+
+
+def test_a_smooth_point_of_the_set_on_no_solved_piece_is_still_analysed(tmp_path):
+    """x*y = z**2 at (5, 0, 0): every equation is 0 there (5*0 - 0), so the point is on the set, but on
+    neither piece as solved (x = z**2/y needs y != 0; the singular points are the origin). The rank at a
+    point is the point's: 2 by sympy (y = 0)."""
+    at = _at(tmp_path, "x*y = z**2", {"x": "5", "y": "0", "z": "0"})
+    assert at.pieces == () and at.rank == _true_rank(OUTPUTS, {X: 5, Y: 0, Z: 0}) == 2
+    assert "on none of the pieces as solved of the set x*y = z**2" in at.text()
+
+
+def test_a_partial_point_is_analysed_on_the_largest_part_that_holds_it(tmp_path):
+    """y = 0, z = 1 on x*y = 0: the piece y = 0 leaves x free (a line), the piece x = 0 gives the point
+    (0, 0, 1) of that line: the generic points analysed are the line's, rank 2 (h = (y, x*y, z); sympy, at
+    x = 7/3)."""
+    outputs = ("y", "x*y", "z")
+    at = _at(tmp_path, "x*y = 0", {"y": "0", "z": "1"}, outputs)
+    assert at.pieces == ("y = 0",) and at.generic_names == ("x",)
+    assert at.rank == _true_rank(outputs, {X: sympy.Rational(7, 3), Y: 0, Z: 1}) == 2
+
+
+def test_a_partial_point_on_pieces_that_leave_different_names_free_is_refused(tmp_path):
+    """x = 0 on the umbrella: the main piece gives {x = 0, z = 0} (y free), the axis {x = 0, y = 0} (z free),
+    neither within the other, with ranks 3 and 2: the answer would depend on the piece."""
+    with pytest.raises(ModelError, match="lie on several pieces of the set .* give more of the point's names"):
+        _at(tmp_path, UMBRELLA, {"x": "0"})
+
+
+def test_the_regression_point_is_accepted_and_a_point_off_the_set_refused_in_one_line(tmp_path):
+    """End to end. (1, 1, 1) is on the umbrella (1 - 1*1 = 0) and on its main piece: accepted (exit 1, the
+    set's verdict: rank 2 on the axis), rank 3 at the point (sympy). (1, 1, 2): x**2 - y**2*z is
+    1 - 2 = -1 there: exit 2, that one line."""
+    path = _model(tmp_path)
+    run = subprocess.run([*SCRIPT, "check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=1"],
+                         capture_output=True, text=True)
+    assert run.returncode == 1 and _true_rank(OUTPUTS, {X: 1, Y: 1, Z: 1}) == 3
+    assert "rank 3 of 3 at the point x = 1, y = 1, z = 1" in run.stdout and f"on the piece {MAIN}" in run.stdout
+    # The set's generic rank (2, the axis's) is not the main piece's (3): no "singular", no "too low".
+    assert "singular or not: not stated" in run.stdout and "therefore too low" not in run.stdout
+    value = (X**2 - Y**2 * Z).subs({X: 1, Y: 1, Z: 2})
+    run = subprocess.run([*SCRIPT, "check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=2"],
+                         capture_output=True, text=True)
+    assert run.returncode == 2 and run.stdout == "" and len(run.stderr.splitlines()) == 1
+    assert run.stderr.rstrip().endswith(f"the point is not on the set: x**2 - y**2*z is {value} there")
