@@ -132,3 +132,16 @@ def test_the_regression_point_is_accepted_and_a_point_off_the_set_refused_in_one
                          capture_output=True, text=True)
     assert run.returncode == 2 and run.stdout == "" and len(run.stderr.splitlines()) == 1
     assert run.stderr.rstrip().endswith(f"the point is not on the set: x**2 - y**2*z is {value} there")
+
+
+def test_a_value_the_engine_cannot_take_is_refused_as_such_not_as_off_every_piece(tmp_path):
+    """th enters cos(th) in the motion: a value of it has no residue mod p, and --point th=1 is refused
+    for that reason with or without a set; on x*y = 0 it was refused as "no solved piece ... holds" (each
+    piece's solve refused it, read as the point being off the piece)."""
+    path = tmp_path / "angle.toml"
+    path.write_text('states=["x","y","th"]\n[dynamics]\nx="cos(th)"\ny="sin(th)"\nth="0"\n[outputs]\nh1="x"\n'
+                    'h2="x*y"\n')
+    system = load_model(path)
+    constraint, _ = parse_constraints(system, "x*y = 0")
+    with pytest.raises(ModelError, match=r"th appears inside cos\(th\)"):
+        rank_at_point(system, {"th": "1"}, where=constraint)

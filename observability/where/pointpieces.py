@@ -55,12 +55,14 @@ def point_on_pieces(system: System, where: ConstraintSet, values: Mapping[sympy.
         cut different sets out of the names not given.
     """
     where.refuse_angles(values, text)
-    held = _held(system, where, values, text)
+    # The values alone first: what refuses them (a name inside a sine) is said as such, not as "on no piece".
+    alone = solve_constraints(system, [s - v for s, v in values.items()], text)
     off = _off(where, values)
     if off:
         raise ModelError(f"--point {text}: the point is not on the set: {off}")
+    held = _held(system, where, values, text)
     if all(e.free_symbols <= set(values) for e in where.equations):
-        return solve_constraints(system, [s - v for s, v in values.items()], text), tuple(name for name, _ in held)
+        return alone, tuple(name for name, _ in held)
     if not held:
         raise ModelError(f"--point {text}: no solved piece of the set {where.text} holds a point with these values "
                          f"(pieces: {where.parts_text()}" + ("" if where.every_part else "; not every piece could be "
