@@ -490,3 +490,21 @@ def test_progress_is_told_of_each_group_of_windows():
     windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=1, window=0.5, dt=0.25,
                            progress=lines.append)
     assert lines == ["window 2 of 2"]
+
+
+@pytest.mark.parametrize("vector, words", [
+    # sympy evaluates sqrt(-1) to the imaginary unit I, which the parser accepts (its functions are all
+    # translated, but I is a number casadi's real SX has no translation for)
+    ({"x1": "sqrt(-1)"}, "ImaginaryUnit in I has no casadi translation"),
+    ({"x2": "log(-1)*x1"}, "ImaginaryUnit in I has no casadi translation"),
+    # c is declared but given no value here (neither in the parameters passed nor in the system)
+    ({"x1": "c"}, "symbol c has no value in the generated function"),
+])
+def test_a_direction_casadi_cannot_translate_is_refused_naming_it(vector, words):
+    """x1' = c: a direction the parser accepts but casadi cannot evaluate (a complex number: sqrt(-1) = I and
+    log(-1) = I*pi by sympy's evaluation; a parameter without a value) is refused with its name and the reason,
+    word for word, as a ModelError (exit 2 in the CLI), not a traceback."""
+    system = System(["x1", "x2"], ["c", "0"], {"y": "x1"}, parameters=["c"])
+    with pytest.raises(ModelError) as caught:
+        named_directions(system, [SimpleNamespace(name="odd one", vector=vector)], {})
+    assert str(caught.value) == f"the direction odd one: {words}"
