@@ -508,3 +508,21 @@ def test_a_direction_casadi_cannot_translate_is_refused_naming_it(vector, words)
     with pytest.raises(ModelError) as caught:
         named_directions(system, [SimpleNamespace(name="odd one", vector=vector)], {})
     assert str(caught.value) == f"the direction odd one: {words}"
+
+
+def test_a_step_of_microseconds_off_by_a_nanosecond_is_refused_at_its_line():
+    """Times 0, 1e-6, 2.001e-6 (lines 2-4): the second step, 1.001e-6, is off the first by 1e-9, far above the
+    tolerance 1e-12 * step + 1e-9 * step ~ 1e-15, so line 4 is refused. numpy's default atol (1e-8), or one of
+    1e-12 / step, would let it through; isclose's default atol also named line 3 (found by the mutation run)."""
+    assert _refusal(states_from_csv, "t,x\n0,1\n0.000001,1\n0.000002001,1\n", ["x"]) == \
+        "given.csv: line 4: the times must start at 0 and advance by one constant step"
+
+
+def test_a_window_whose_outputs_do_not_move_is_said_word_for_word_with_its_span():
+    """x' = 0, y = 0*x (sympy's 0): every row of O is 0, so T = 0 and no rank can be read; each window, (0, 0.5)
+    and (0.5, 1), says so word for word."""
+    windows = windowed_observability(System(["x"], ["0"], {"y": "0*x"}), {"x": 1.0}, {}, duration=1, window=0.5,
+                                     dt=0.25)
+    reason = ("not evaluated: the outputs' sensitivity to the window's first state is zero in floating point (the "
+              "outputs do not move with it, or the sensitivity underflows)")
+    assert [(w.t0, w.t1, w.rank, w.reason) for w in windows] == [(0.0, 0.5, None, reason), (0.5, 1.0, None, reason)]
