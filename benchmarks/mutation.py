@@ -839,6 +839,9 @@ EQUIVALENT: dict[str, str] = {
     # have no value. The 4 mutants of _window's "index beyond floating point" branch went with the branch (dead:
     # a regular window's index is finite); _window's numbers below are those of the code after that change
     # (float("INF") is its mutants 107 and 118; they were 94 and 105 in the run, before b4cfafa's zero branch).
+    # The functions changed after the run (_window, _csv_table, inputs_from_csv, states_from_csv: 374 mutants)
+    # re-run with --only on 2026-12-07: 6 survivors killed by new tests of test_trajectory_exact.py (_window 58,
+    # 59, 64, 66; states_from_csv 50, 53), then all killed but _window 107, 118 and states_from_csv 31 below.
     **{f"observability.trajectory.{name}__mutmut_{k}": why for why, names in {
         "float('NAN') is nan as float('nan') is": (("windows.x__not_evaluated", (4,)), ("windows.x__cosine", (9,))),
         "float('INF') is inf as float('inf') is": (("windows.x__window", (107, 118)),),
