@@ -490,3 +490,39 @@ def test_progress_is_told_of_each_group_of_windows():
     windowed_observability(_still(), {"x1": 1.0, "x2": 0.0}, {}, duration=1, window=0.5, dt=0.25,
                            progress=lines.append)
     assert lines == ["window 2 of 2"]
+
+
+@pytest.mark.parametrize("vector, words", [
+    # sympy evaluates sqrt(-1) to the imaginary unit I, which the parser accepts (its functions are all
+    # translated, but I is a number casadi's real SX has no translation for)
+    ({"x1": "sqrt(-1)"}, "ImaginaryUnit in I has no casadi translation"),
+    ({"x2": "log(-1)*x1"}, "ImaginaryUnit in I has no casadi translation"),
+    # c is declared but given no value here (neither in the parameters passed nor in the system)
+    ({"x1": "c"}, "symbol c has no value in the generated function"),
+])
+def test_a_direction_casadi_cannot_translate_is_refused_naming_it(vector, words):
+    """x1' = c: a direction the parser accepts but casadi cannot evaluate (a complex number: sqrt(-1) = I and
+    log(-1) = I*pi by sympy's evaluation; a parameter without a value) is refused with its name and the reason,
+    word for word, as a ModelError (exit 2 in the CLI), not a traceback."""
+    system = System(["x1", "x2"], ["c", "0"], {"y": "x1"}, parameters=["c"])
+    with pytest.raises(ModelError) as caught:
+        named_directions(system, [SimpleNamespace(name="odd one", vector=vector)], {})
+    assert str(caught.value) == f"the direction odd one: {words}"
+
+
+def test_a_step_of_microseconds_off_by_a_nanosecond_is_refused_at_its_line():
+    """Times 0, 1e-6, 2.001e-6 (lines 2-4): the second step, 1.001e-6, is off the first by 1e-9, far above the
+    tolerance 1e-12 * step + 1e-9 * step ~ 1e-15, so line 4 is refused. numpy's default atol (1e-8), or one of
+    1e-12 / step, would let it through; isclose's default atol also named line 3 (found by the mutation run)."""
+    assert _refusal(states_from_csv, "t,x\n0,1\n0.000001,1\n0.000002001,1\n", ["x"]) == \
+        "given.csv: line 4: the times must start at 0 and advance by one constant step"
+
+
+def test_a_window_whose_outputs_do_not_move_is_said_word_for_word_with_its_span():
+    """x' = 0, y = 0*x (sympy's 0): every row of O is 0, so T = 0 and no rank can be read; each window, (0, 0.5)
+    and (0.5, 1), says so word for word."""
+    windows = windowed_observability(System(["x"], ["0"], {"y": "0*x"}), {"x": 1.0}, {}, duration=1, window=0.5,
+                                     dt=0.25)
+    reason = ("not evaluated: the outputs' sensitivity to the window's first state is zero in floating point (the "
+              "outputs do not move with it, or the sensitivity underflows)")
+    assert [(w.t0, w.t1, w.rank, w.reason) for w in windows] == [(0.0, 0.5, None, reason), (0.5, 1.0, None, reason)]

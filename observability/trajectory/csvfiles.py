@@ -64,8 +64,10 @@ def states_from_csv(text: str, source: str, states: Sequence[str]) -> tuple[floa
                                           else f"{unknown[0]!r} is not a state (states: {', '.join(states)})"))
     times = np.array([r[0] for r in table])
     step = times[1] - times[0]
-    if times[0] != 0 or not step > 0 or not np.allclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step):
-        bad = lines[0] if times[0] != 0 else lines[1 + int(np.argmax(~np.isclose(np.diff(times), step, rtol=1e-9)))]
+    # one tolerance for the test and the line it names (isclose's default atol, 1e-8, hid steps of microseconds)
+    close = np.isclose(np.diff(times), step, rtol=1e-9, atol=1e-12 * step)
+    if times[0] != 0 or not step > 0 or not close.all():
+        bad = lines[0] if times[0] != 0 else lines[1 + int(np.argmax(~close))]
         raise ModelError(f"{source}: line {bad}: the times must start at 0 and advance by one constant step")
     order = [header.index(s) for s in states]
     return float(step), np.array([[r[i] for i in order] for r in table])

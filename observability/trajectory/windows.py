@@ -325,15 +325,16 @@ def _window(T: np.ndarray, bad: int, x: np.ndarray, states: Sequence[str], t0: f
     null = right[rank:].T  # an orthonormal basis of the numerical null space
     regular = rank == n
     condition = float((sigma[0] / sigma[-1]) ** 2) if regular else float("inf")
+    # Regular means every eigenvalue was counted, the smallest too, and only those >= the smallest normal float
+    # 2^-1022 are: so the index 1 / information[-1] <= 2^1022 is finite whenever the window is regular.
     index = float(1 / information[-1]) if regular else float("inf")
     variance = (right ** 2 / (information + PRIOR)[:, None]).sum(axis=0)  # diag(V (S^2 + lambda)^-1 V^T)
     weak = [WeakDirection(dict(zip(states, right[i].tolist())), float(information[i]),
                           tuple(_cosine(d, at, right[i][:, None]) for d, at in directions))
             for i in range(n - 1, max(n - 1 - count, -1), -1)]
     lost = tuple(_cosine(d, at, null) for d, at in directions)
-    why = "" if regular and math.isfinite(index) else (
-        f"rank {rank} of {n}: the Fisher information is singular, so its condition number and the "
-        "unobservability index are infinite" if not regular else "the unobservability index is beyond floating point")
+    why = "" if regular else (f"rank {rank} of {n}: the Fisher information is singular, so its condition number "
+                              "and the unobservability index are infinite")
     return Window(t0, t1, rank, condition, dict(zip(states, variance.tolist())), tuple(weak), index, lost, why)
 
 
