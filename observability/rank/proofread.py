@@ -84,7 +84,9 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int, source: s
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Div, ast.Pow)):
         (left, dl, bl), (right, dr, br) = _node(node.left, symbols, depth + 1, source), _node(node.right, symbols, depth + 1, source)
         if isinstance(node.op, ast.Pow):
-            if not (right.is_Rational and abs(right) <= MAX_EXPONENT):
+            if not right.is_Rational:  # a**b = exp(b*log(a)): see _general_power
+                return _bounded(_general_power(left, right), dl + dr, bl + br)
+            if abs(right) > MAX_EXPONENT:
                 raise Rejected(f"an exponent must be a number of size at most {MAX_EXPONENT}, got {right}")
             return _bounded(left**right, dl * abs(right), bl * abs(right) + br)
         if right == 0:
@@ -104,6 +106,19 @@ def _node(node: ast.AST, symbols: dict[str, sympy.Symbol], depth: int, source: s
         raise Rejected(f"{node.func.id} is not analytic: the checker verifies no proof about a model with it "
                        f"({ast.unparse(node)[:80]!r})")
     raise Rejected(f"not allowed in a proof's expression: {ast.unparse(node)[:80]!r}")
+
+
+def _general_power(base: sympy.Expr, exponent: sympy.Expr) -> sympy.Expr:
+    """``base**exponent`` for an exponent that is not a rational number (a free
+    parameter p in x**p, an expression, an irrational constant), written
+    exp(exponent*log(base)). For a real base > 0 this is the definition of the
+    real power (and sympy's principal power), the same function; where the
+    base is not positive the real power is undefined or off the principal
+    branch, and the checker evaluates log only where its argument is proven
+    positive at the point (a log is a function with branches: the claim is
+    then local to the region where it is analytic). Nothing is expanded, so
+    the size bounds of integer exponents are not needed here."""
+    return sympy.exp(exponent * sympy.log(base))
 
 
 def _previous(node: ast.Call, symbols: dict[str, sympy.Symbol]) -> sympy.Symbol:
