@@ -18,7 +18,7 @@ import sympy
 
 from observability import System, analyze
 from observability.engine.fractions import RationalFunctions
-from observability.errors import ObservabilityError
+from observability.budget import Undecided
 from observability.rank import proof, proofbound, proofcheck
 from observability.report import proofs
 from observability.report.proofs import proof_evidence
@@ -273,21 +273,23 @@ def test_a_range_written_with_a_root_keeps_its_form_in_the_artefact():
 
 
 def test_no_artefact_for_a_verdict_that_is_not_proven():
-    """Word for word, with the verdict's own word, or "undecided" when it has none."""
+    """Word for word, with the verdict's own word, or "undecided" when it has none.
+    Every limit of the writer on a well-formed model is Undecided (exit 3), not
+    the bad-input error (exit 2) it was."""
     result = analyze(PENDULUM, seed=1)
-    with pytest.raises(ObservabilityError) as refused:
+    with pytest.raises(Undecided) as refused:
         proof_evidence(PENDULUM, dataclasses.replace(result, proof="numerical"), budget=None)
     assert str(refused.value) == "pendulum: the verdict is not proven (numerical), so there is no proof to write"
-    with pytest.raises(ObservabilityError) as refused:
+    with pytest.raises(Undecided) as refused:
         proof_evidence(PENDULUM, dataclasses.replace(result, proof=None), budget=None)
     assert str(refused.value) == "pendulum: the verdict is not proven (undecided), so there is no proof to write"
 
 
 def test_the_artefact_refuses_a_rank_it_cannot_reproduce_and_passes_its_budget(monkeypatch):
-    """A randomized rank other than the verdict's is an internal mismatch, said
-    with both ranks; the minor's CPU budget is the caller's."""
+    """A randomized rank other than the verdict's is an internal mismatch (a bug:
+    RuntimeError, exit 4), said with both ranks; the minor's CPU budget is the caller's."""
     result = analyze(PENDULUM, seed=1)
-    with pytest.raises(ObservabilityError) as refused:
+    with pytest.raises(RuntimeError) as refused:
         proof_evidence(PENDULUM, dataclasses.replace(result, rank=1), budget=None)
     assert str(refused.value) == "pendulum: internal mismatch of ranks (2 != 1)"
     seen = []
@@ -306,7 +308,7 @@ def test_unverifiable_directions_write_no_artefact(monkeypatch):
     is written, word for word."""
     result = analyze(CUBIC, seed=1)
     monkeypatch.setattr(proofs, "spans_invariant_distribution", lambda system, vectors: False)
-    with pytest.raises(ObservabilityError) as refused:
+    with pytest.raises(Undecided) as refused:
         proof_evidence(CUBIC, result, budget=None)
     assert str(refused.value) == "cubic: the named directions could not be re-verified; no proof written"
 
@@ -314,7 +316,7 @@ def test_unverifiable_directions_write_no_artefact(monkeypatch):
 def test_a_minor_that_vanishes_everywhere_is_refused():
     """dh/dy for h = x is 0 at every point: after its tries the artefact says so."""
     system = _static("x")
-    with pytest.raises(ObservabilityError) as refused:
+    with pytest.raises(Undecided) as refused:
         proofs._minor(system, [("h", 0)], [1], 1)
     assert str(refused.value) == ("static: no exact point with a non-zero minor was found in 12 tries; "
                                   "no proof written")
@@ -545,3 +547,17 @@ def test_the_checker_takes_a_discrete_span_at_the_next_state():
         proofbound.verified_span([{"name": "shear", "vector": {"y": "1"}}], model, dict(zip("xyz", symbols)), {},
                                  [x, y, z], [x + y, y, z], {"h": z}, {x: 1, y: 2, z: 3})
     assert str(refused.value) == "generator 'shear': component x of DF v leaves the span"
+
+
+def test_a_proof_the_writer_cannot_make_exits_undecided(tmp_path, monkeypatch, capsys):
+    """slam1.5d is proven NOT observable with its directions (translation, scale);
+    when they cannot be re-verified the command writes nothing and exits 3
+    (undecided), naming why: a limit of the writer, not bad input (exit 2)."""
+    from observability.cli import main
+
+    monkeypatch.setattr(proofs, "fields_are_symmetries", lambda system, vectors: False)
+    monkeypatch.setattr(proofs, "spans_invariant_distribution", lambda system, vectors: False)
+    target = tmp_path / "p.json"
+    assert main(["check", "slam1.5d", "--proof", str(target)]) == 3
+    assert not target.exists()
+    assert "could not be re-verified; no proof written" in capsys.readouterr().err

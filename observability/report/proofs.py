@@ -31,7 +31,6 @@ import sympy
 
 from ..analysis.result import ObservabilityResult
 from ..budget import Undecided, with_budget
-from ..errors import ObservabilityError
 from ..model.expressions import parse_expression, prev
 from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
@@ -96,8 +95,8 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
             point = _drawn(system, _point_symbols(system, 0), [], rng)
             if _analytic_along(written or system, point, 0):
                 return point, "1", True
-        raise ObservabilityError(f"{system.name}: no point where the model is analytic was found in {_ATTEMPTS} "
-                                 "tries; no proof written")
+        raise Undecided(f"{system.name}: no point where the model is analytic was found in {_ATTEMPTS} "
+                        "tries; no proof written")
     if not exact_possible(system, rows):
         return _series_minor(system, rows, columns, seed, written, model)
     highest = max(k for _, k in rows)
@@ -114,7 +113,7 @@ def _minor(system: System, rows: list[tuple[str, int]], columns: list[int], seed
             return _series_minor(system, rows, columns, seed, written, model)
         if value is not None:
             return point, value, True
-    raise ObservabilityError(
+    raise Undecided(
         f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
     )
 
@@ -226,7 +225,7 @@ def _series_minor(system: System, rows: list[tuple[str, int]], columns: list[int
             continue
         with mpmath.workdps(60):
             return point, mpmath.nstr(mpmath.mpf(ball.mid().str(60, radius=False)), 40), False
-    raise ObservabilityError(
+    raise Undecided(
         f"{system.name}: no exact point with a non-zero minor was found in {_ATTEMPTS} tries; no proof written"
     )
 
@@ -294,15 +293,17 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
 
     Raises
     ------
-    ObservabilityError
-        When the verdict is not proven (nothing to write), or when no exact
-        point with a non-zero minor is found.
     Undecided
-        When the symbolic rows do not fit ``budget`` CPU seconds, or the
-        checker's reader cannot read the model.
+        When the verdict is not proven (nothing to write), when no exact point
+        with a non-zero minor is found, when the named directions cannot be
+        re-verified, when the symbolic rows do not fit ``budget`` CPU seconds,
+        or when the checker's reader cannot read the model: limits of the
+        writer on a well-formed model (exit 3), never bad input (exit 2).
+    RuntimeError
+        When the rank recomputed here differs from the verdict's (a bug).
     """
     if result.proof != "proven" or result.rank is None:
-        raise ObservabilityError(
+        raise Undecided(
             f"{system.name}: the verdict is not proven ({result.proof or 'undecided'}), so there is no proof to write"
         )
     original = system
@@ -311,7 +312,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
     seed = result.seed if result.seed is not None else 0
     lower = randomized_rank(system, seed=seed, max_order=result.orders)
     if lower.rank != result.rank:
-        raise ObservabilityError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")
+        raise RuntimeError(f"{system.name}: internal mismatch of ranks ({lower.rank} != {result.rank})")  # our bug: exit 4
     rows = [lower.row_labels[i] for i in lower.independent_rows]
     columns = list(lower.pivot_columns)
     point, value, exact = with_budget(_minor, system, rows, columns, seed, written, proof_model(original),
@@ -323,7 +324,7 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
     kind = "symmetries"
     if result.rank < result.n_states and not fields_are_symmetries(system, vectors):
         if not spans_invariant_distribution(system, vectors):
-            raise ObservabilityError(f"{system.name}: the named directions could not be re-verified; no proof written")
+            raise Undecided(f"{system.name}: the named directions could not be re-verified; no proof written")
         kind = "invariant span"
     proof = {
         "format": EVIDENCE_FORMAT,
