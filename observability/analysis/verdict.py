@@ -23,7 +23,7 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
 from ..errors import ModelError, SingularModelError
-from ..model.branches import Region, refuse_unreal, region
+from ..model.branches import Region, nowhere_on, refuse_unreal, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -143,6 +143,8 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     pieces = None if where is None or where.angles else [dict(p.solution) for p in (where, *where.others)]
     domain = region(system, restricted=where is not None, on=pieces)
     if domain.qualified and domain.witness == ():
+        if where is not None:
+            _refuse_outside(system, where, pieces)
         found = _nowhere(system, method, seed, start, domain)
         return found if where is None else replace(found, restriction=where.described())
     if where is not None:
@@ -256,6 +258,22 @@ def _at_witness(system: System, evidence: RankEvidence, domain: Region, input_de
         return f"rank {evidence.rank} not shown near the point ({proof.how})"
     return (f"rank at least {evidence.rank} proven near the point ({proof.how}, the point's values given), so at "
             "generic points of the part of the domain around it")
+
+
+def _refuse_outside(system: System, where: ConstraintSet, pieces) -> None:
+    """Refuse a set with no point in the domain of the functions with branches,
+    when that is proven on every piece (:func:`~observability.model.branches.nowhere_on`)
+    and every piece of the set was solved (an unsolved one may hold points).
+
+    Raises
+    ------
+    ModelError
+        Naming the set and the condition that fails on it.
+    """
+    failing = nowhere_on(system, pieces) if where.every_part else ""
+    if failing:
+        raise ModelError(f"--where {where.text!r}: the set has no real point where {failing} (on each of its pieces "
+                         "the argument is proven at most zero wherever it is defined)")
 
 
 def _nowhere(system: System, method: str, seed: int | None, start: float, domain: Region) -> ObservabilityResult:

@@ -1,0 +1,71 @@
+"""A set, or a root's radicand, proven outside the domain of the model's
+functions with branches is refused (exit 2), not left undecided (issue 61).
+
+References by hand, each checked in the test with sympy:
+- On x + y**2 + 1 = 0, x = -y**2 - 1 <= -1 (its maximum over the reals), so
+  sqrt(x) is real at no point of the set: "the set has no real point where
+  sqrt's argument x > 0". The same on x*(y**2 + 1) + (y - 1)**2 = 0, where
+  x = -(y - 1)**2/(y**2 + 1) <= 0, zero only at y = 1 (not an open set of the
+  curve, and sqrt is not analytic there).
+- On x + y**2 = 1 the set meets the domain (x = 3/4 at y = 1/2): h = (sqrt(x),
+  y) has Jacobian [[1/(2 sqrt x), 0], [0, 1]], rank 2 there, the verdict given.
+- sqrt(-(x - y)**2/(x**2 + 1)) is real only where x = y (the radicand is minus
+  a square over a positive polynomial): refused with that reason, as
+  sqrt(-(x - y)**2) is, not as |x - y|.
+- log(-(x - y)**2/(x**2 + 1)): its argument is at most 0 everywhere, so the
+  output is real nowhere; before: "observable (rank 2 of 2)", proven.
+"""
+
+import json
+import subprocess
+import sys
+
+import sympy
+
+SCRIPT = [sys.executable, "-m", "observability"]
+X, Y = sympy.symbols("x y", real=True)
+
+
+def _model(tmp_path, h1):
+    path = tmp_path / "m.toml"
+    path.write_text(f'states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="{h1}"\nh2="y"\n')
+    return path
+
+
+def _check(path, *args):
+    return subprocess.run([*SCRIPT, "check", str(path), *args], capture_output=True, text=True)
+
+
+def test_a_set_where_a_radicand_is_minus_squares_is_refused_as_empty(tmp_path):
+    """Before: undecided (exit 3), "no real point found ... may be empty"."""
+    assert sympy.maximum(-Y**2 - 1, Y, sympy.S.Reals) == -1
+    on_curve = -(Y - 1)**2 / (Y**2 + 1)
+    assert sympy.maximum(on_curve, Y, sympy.S.Reals) == 0 and sympy.solve(on_curve, Y) == [1]
+    path = _model(tmp_path, "sqrt(x)")
+    for where in ("x + y**2 + 1 = 0", "x*(y**2 + 1) + (y - 1)**2 = 0"):
+        run = _check(path, "--where", where, "--seed", "1")
+        assert run.returncode == 2 and not run.stdout and len(run.stderr.strip().splitlines()) == 1, run
+        assert "the set has no real point where sqrt's argument x > 0" in run.stderr
+
+
+def test_a_set_that_meets_the_domain_keeps_its_verdict(tmp_path):
+    h = sympy.Matrix([sympy.sqrt(X), Y])
+    assert h.jacobian([X, Y]).subs({X: sympy.Rational(3, 4), Y: sympy.Rational(1, 2)}).rank() == 2
+    answer = json.loads(_check(_model(tmp_path, "sqrt(x)"), "--where", "x + y**2 = 1", "--format", "json").stdout)
+    assert answer["rank"] == 2
+
+
+def test_a_root_of_minus_a_square_over_a_positive_polynomial_says_where_it_is_real(tmp_path):
+    """Before: refused as |x - y| (a reason about two sides, on neither of which the root is real)."""
+    radicand = -(X - Y)**2 / (X**2 + 1)
+    assert sympy.maximum(radicand.subs(Y, 0), X, sympy.S.Reals) == 0  # on a line through the zero set: <= 0
+    assert sympy.factor_list(sympy.fraction(radicand)[1])[1] == [(X**2 + 1, 1)]  # the denominator, > 0
+    run = _check(_model(tmp_path, "sqrt(-(x-y)**2/(x**2+1))"))
+    assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1
+    assert "real only where x - y = 0 (no open set)" in run.stderr and "|x - y|" not in run.stderr
+
+
+def test_a_log_of_minus_a_square_over_a_positive_polynomial_is_refused(tmp_path):
+    """Before: "observable (rank 2 of 2)", proven, of an output real nowhere."""
+    run = _check(_model(tmp_path, "log(-(x-y)**2/(x**2+1))"))
+    assert run.returncode == 2 and "positive for no real value" in run.stderr
