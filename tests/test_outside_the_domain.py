@@ -22,8 +22,11 @@ import sys
 
 import sympy
 
+from observability import System
+from observability.model.branches import nowhere_on
+
 SCRIPT = [sys.executable, "-m", "observability"]
-X, Y = sympy.symbols("x y", real=True)
+X, Y = sympy.symbols("x y")
 
 
 def _model(tmp_path, h1):
@@ -48,6 +51,18 @@ def test_a_set_where_a_radicand_is_minus_squares_is_refused_as_empty(tmp_path):
         assert "the set has no real point where sqrt's argument x > 0" in run.stderr
 
 
+def test_the_emptiness_is_claimed_only_where_the_sign_is_proven():
+    """x = 1 - y**2 meets x > 0 (y = 0: x = 1); x = -y**2 - 1 and x = -(y - 1)**2/(y**2 + 1) do not (the module
+    docstring); one piece meeting the domain is enough to claim nothing; a radicand x*y on x = -y**2 is y**3
+    times -1, of both signs (y = -1: 1)."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h1": "sqrt(x)", "h2": "y"})
+    assert nowhere_on(system, [{X: 1 - Y**2}]) == ""
+    assert nowhere_on(system, [{X: -Y**2 - 1}, {X: -(Y - 1)**2 / (Y**2 + 1)}]) == "sqrt's argument x > 0"
+    assert nowhere_on(system, [{X: -Y**2 - 1}, {X: 1 - Y**2}]) == ""
+    product = System(["x", "y"], {"x": "0", "y": "0"}, {"h1": "sqrt(x*y)", "h2": "y"})
+    assert (-Y**3).subs(Y, -1) == 1 and nowhere_on(product, [{X: -Y**2}]) == ""
+
+
 def test_a_set_that_meets_the_domain_keeps_its_verdict(tmp_path):
     h = sympy.Matrix([sympy.sqrt(X), Y])
     assert h.jacobian([X, Y]).subs({X: sympy.Rational(3, 4), Y: sympy.Rational(1, 2)}).rank() == 2
@@ -63,6 +78,10 @@ def test_a_root_of_minus_a_square_over_a_positive_polynomial_says_where_it_is_re
     run = _check(_model(tmp_path, "sqrt(-(x-y)**2/(x**2+1))"))
     assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1
     assert "real only where x - y = 0 (no open set)" in run.stderr and "|x - y|" not in run.stderr
+    # -(x - y)**2 * x is positive where x < 0 and x != y: not refused as real only on x = y.
+    assert (-(X - Y)**2 * X).subs({X: -1, Y: 0}) == 1
+    run = _check(_model(tmp_path, "sqrt(-(x-y)**2*x)"))
+    assert "real only where" not in run.stderr
 
 
 def test_a_log_of_minus_a_square_over_a_positive_polynomial_is_refused(tmp_path):
