@@ -10,7 +10,7 @@ the motion keeps the set decides whether the generic stopping rule holds on it.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy
 
@@ -87,11 +87,12 @@ class ConstraintSet:
     every_part : bool
         Whether every piece was solved (and is in ``others``).
     pieces : tuple of Piece
-        For several pieces: each solved piece with its non-zero conditions, in
-        the order (this set, *others) (a point is on a piece when it satisfies
-        both: :mod:`~.points`).
+        Each solved piece with its non-zero conditions, in the order (this
+        set, *others), one for a set of one piece (a point is on a piece when
+        it satisfies both: :mod:`~.pointpieces`); empty for a set solved again
+        with a point's values.
     equations : tuple of Expr
-        For several pieces: the set's equations (each expression = 0).
+        The set's equations (each expression = 0), with ``pieces``.
     """
 
     text: str
@@ -269,8 +270,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
             failed.append(exc)
     if not built:
         raise failed[0]
-    if len(pieces) == 1:
-        return built[0][1]
+    if len(pieces) == 1:  # its piece and equations kept: a point is checked against both (pointpieces.py)
+        return replace(built[0][1], pieces=(built[0][0],), equations=tuple(equations))
     named = [f"({p.text()})" if len(p.equations) > 1 else p.text() for p in pieces]
     (piece, drawn), others = built[0], tuple(b for _, b in built[1:])
     return ConstraintSet(text, drawn.solution, drawn.degree, drawn.invariant, angles, ((piece.text(), tuple(named)),),
