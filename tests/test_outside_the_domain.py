@@ -14,6 +14,9 @@ References by hand, each checked in the test with sympy:
   sqrt(-(x - y)**2) is, not as |x - y|.
 - log(-(x - y)**2/(x**2 + 1)): its argument is at most 0 everywhere, so the
   output is real nowhere; before: "observable (rank 2 of 2)", proven.
+- With an angle: on x + cos(th) + 2 = 0, x = -2 - cos(th) <= -1; on
+  x + cos(th) + 1 = 0, x <= 0 (0 only at th = pi, where sqrt is not analytic);
+  on x = sin(th), x = 1 at th = pi/2: the last meets the domain.
 """
 
 import json
@@ -88,3 +91,29 @@ def test_a_log_of_minus_a_square_over_a_positive_polynomial_is_refused(tmp_path)
     """Before: "observable (rank 2 of 2)", proven, of an output real nowhere."""
     run = _check(_model(tmp_path, "log(-(x-y)**2/(x**2+1))"))
     assert run.returncode == 2 and "positive for no real value" in run.stderr
+
+
+def test_a_set_of_an_angle_outside_the_domain_is_refused(tmp_path):
+    """Before: "observable (rank 3 of 3) on the region around the point where sqrt's argument x > 0" (exit 0),
+    on sets where x > 0 nowhere (no witness is sought on a set of an angle)."""
+    th = sympy.Symbol("th")
+    assert sympy.maximum(-2 - sympy.cos(th), th, sympy.Interval(0, 2 * sympy.pi)) == -1
+    assert sympy.maximum(-1 - sympy.cos(th), th, sympy.Interval(0, 2 * sympy.pi)) == 0
+    assert sympy.sin(sympy.pi / 2) == 1
+    path = tmp_path / "angle.toml"
+    path.write_text('states=["x","y","th"]\n[dynamics]\nx="0"\ny="0"\nth="0"\n[outputs]\nh1="sqrt(x)"\nh2="y"\n'
+                    'h3="th"\n')
+    for where in ("x + cos(th) + 2 = 0", "x + cos(th) + 1 = 0"):
+        run = _check(path, "--where", where)
+        assert run.returncode == 2 and "the set has no real point where sqrt's argument x > 0" in run.stderr, run
+    run = _check(path, "--where", "x - sin(th) = 0")
+    assert run.returncode == 0 and "rank 3 of 3" in run.stdout
+
+
+def test_a_set_with_a_piece_not_solved_is_not_refused_as_empty(tmp_path):
+    """(x + y**2 + 1)*(x**2 - y**3 - 5) = 0: the first piece has x <= -1, but the second (not solved: no
+    variable of degree 1) holds x = 3, y = 4**(1/3) (9 - 4 - 5 = 0), where sqrt(x) is real: undecided, not
+    "no real point"."""
+    assert (X**2 - Y**3 - 5).subs({X: 3, Y: sympy.Integer(4) ** sympy.Rational(1, 3)}) == 0
+    run = _check(_model(tmp_path, "sqrt(x)"), "--where", "(x + y**2 + 1)*(x**2 - y**3 - 5) = 0")
+    assert run.returncode == 3 and "undecided" in run.stdout

@@ -437,8 +437,30 @@ def region(system: System, restricted: bool = False, on=None) -> Region:
     # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
     sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
     failing = [node for node, s in zip(nodes, sets) if s.kind != "all"]
+    if system.time == "discrete":
+        failing += _iterates(system, failing)
     found = None if (restricted and on is None) or not failing else (witness(failing, on=on or ({},)) or ())
     return replace(_region(system, restricted, conditions, sets), witness=found)
+
+
+#: The size (tree nodes) of a function with branches at an iterate F^j(x) beyond which later steps are not added.
+_MOST_NODES = 2000
+
+
+def _iterates(system: System, nodes: list[sympy.Expr]) -> list[sympy.Expr]:
+    """The ``nodes`` at the states F^j(x), j = 1..n - 1 (discrete time: the
+    rows of order j evaluate them there, so a witness of the rows' domain
+    must satisfy their conditions too), while each stays below ``_MOST_NODES``
+    (later steps are then not in the witness, and its rank is not proven
+    near it unless they hold: the verdict says so)."""
+    motion = {x: system.substitute_values(f) for x, f in zip(system.states, system.dynamics)}
+    found, current = [], list(nodes)
+    for _ in range(system.n - 1):
+        current = [node.xreplace(motion) for node in current]
+        if any(sympy.count_ops(node, visual=False) > _MOST_NODES for node in current):
+            break
+        found += [node for node in current if _branched(node)]
+    return found
 
 
 #: The size of a rational argument whose sign :func:`_at_most_zero` examines: total degree and terms of each part.

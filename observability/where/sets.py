@@ -112,6 +112,18 @@ class ConstraintSet:
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
                              tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations)
 
+    def rational_pieces(self) -> list[dict[sympy.Expr, sympy.Expr]]:
+        """Each solved piece as a map to rational functions of its free
+        variables and, per angle v, a parameter t: (sin v, cos v) =
+        (2t, 1 - t**2)/(1 + t**2), every point of the circle but (0, -1), a
+        nowhere dense part of the piece (v stays free on every solved piece);
+        sin(v), cos(v) and the set's symbols for them mapped alike."""
+        parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in self.angles]
+        trig = {f(v): x for v, sine, cosine in self.angles for f, x in ((sympy.sin, sine), (sympy.cos, cosine))}
+        return [{k: _on_circle(g, self.angles, parameters)
+                 for k, g in (dict(part.solution) | trig | {x: x for x in trig.values()}).items()}
+                for part in (self, *self.others)]
+
     def solution_text(self) -> str:
         """The solved part in words ("x = 0")."""
         return ", ".join(f"{v} = {sympy.sstr(g)}" for v, g in self.solution)
