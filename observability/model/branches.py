@@ -362,7 +362,7 @@ def _classified(node: sympy.Expr) -> _Set:
     if _positive_everywhere(-argument):
         return _Set("negative")
     found = _quadratic(argument, variables)
-    return _Set("nonpositive") if found.kind == "unknown" and _at_most_zero(sympy.together(argument)) else found
+    return _Set("nonpositive") if found.kind == "unknown" and _at_most_zero(argument) else found
 
 
 def refuse_unreal(system: System) -> None:
@@ -488,7 +488,7 @@ def nowhere_on(system: System, pieces) -> str:
 
 def _never_positive(argument: sympy.Expr, solution) -> bool:
     """Whether ``argument`` with ``solution`` substituted is proven <= 0 wherever defined (:func:`nowhere_on`)."""
-    return _at_most_zero(sympy.together(argument.xreplace(dict(solution))))
+    return _at_most_zero(argument.xreplace(dict(solution)))
 
 
 def _at_most_zero(g: sympy.Expr) -> bool:
@@ -497,8 +497,12 @@ def _at_most_zero(g: sympy.Expr) -> bool:
     sympy's factor_list, exact), and every factor of odd multiplicity has one
     sign everywhere (:func:`one_sign`), their product with c being negative (a
     factor of even multiplicity is >= 0, a denominator's is > 0 where g is
-    defined). Bounded: a part of degree above ``_MOST_DEGREE`` (read off the
-    tree, before any expansion) or above ``_MOST_TERMS`` terms, False."""
+    defined). Bounded: an expression above ``_MOST_TERMS`` operations, or a
+    part of degree above ``_MOST_DEGREE`` (read off the tree, before any
+    expansion) or above ``_MOST_TERMS`` terms, False."""
+    if sympy.count_ops(g) > 4 * _MOST_TERMS:
+        return False
+    g = sympy.together(g)
     if g == 0:
         return True
     numerator, denominator = sympy.fraction(g)
