@@ -15,7 +15,8 @@ p̄_k, v̄_k the priors x_k|k-1 (the first estimates of moving states), so that 
 planar null space (translations; rotation J p, J v, 1, J l). The position row's entry is not F_X's (0 in
 this Euler model): the position is driven by no noise, so no noise carries p̄_k to p̄_k+1 and the
 difference absorbs what the update moved. Noise Jacobian at the posterior, H at the first estimates
-(pose at its prior, landmarks at x0), Joseph update.
+(pose at its prior, landmarks at x0; range and bearing Jacobians by hand, test_firstestimates._hand_H),
+Joseph update.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from observability.codegen import filter_functions
 from observability.filters import FirstEstimatesEKF, IdealEKF, null_space_function
 from observability.filters.linearized import recorded_observability
 from observability.report.slamstudy_models import SlamStudy, slam_model
+from test_firstestimates import _hand_H
 
 J = np.array([[0.0, -1.0], [1.0, 0.0]])
 DT = 1.0
@@ -74,19 +76,6 @@ def _h(x):
     return np.array(out)
 
 
-def _H(point):
-    """Range and bearing Jacobians at ``point`` (by hand; th is state 4)."""
-    H = np.zeros((4, 9))
-    for i, j in ((0, 5), (2, 7)):
-        d = point[j:j + 2] - point[:2]
-        rho = np.hypot(*d)
-        H[i, :2], H[i, j:j + 2] = -d / rho, d / rho
-        H[i + 1, :2] = np.array([d[1], -d[0]]) / rho ** 2
-        H[i + 1, j:j + 2] = -H[i + 1, :2]
-        H[i + 1, 4] = -1.0
-    return H
-
-
 def _li_mourikis(x0, P0, ys, truth=None):
     """The FEJ-EKF of the module docstring in numpy (with ``truth``: the ideal EKF, the true states as
     the points)."""
@@ -104,7 +93,7 @@ def _li_mourikis(x0, P0, ys, truth=None):
         G[2:4, :2], G[4, 2] = DT * _C(x[4]), DT
         P = Phi @ P @ Phi.T + G @ Q @ G.T
         x, first = x_next, first_next
-        H = _H(first)
+        H = _hand_H(first, heading=4)
         nu = y - _h(x)
         nu[1::2] = _wrap(nu[1::2])
         K = P @ H.T @ np.linalg.inv(H @ P @ H.T + R)
