@@ -68,13 +68,14 @@ class _Run:
         self.transfer, self.clone_transfer, self.rows, self.scale = np.eye(n), {}, [], 0.0
 
     def predicted(self, state, u, fns, k: int):
+        """The filter's prediction; the clones and the window's transfer moved by the transition it applied."""
         posterior = state.x
         before = len(getattr(self.ekf, "used", ()))
         state = self.ekf.predict(state, u)
         if self.name == "ekf":
             Phi = np.array(fns["F_X"](posterior, u, np.zeros(len(fns.noise)), []))
         else:
-            kind, _, Phi = self.ekf.used[before]  # the transition the filter applied to P
+            _, _, Phi = self.ekf.used[before]  # ("F", step, the transition the filter applied to P)
         self.clones = self.clones.predicted(Phi)
         if self.observe and k < self.study.window:
             self.transfer = Phi @ self.transfer
@@ -134,6 +135,7 @@ class _Run:
         return state
 
     def updated(self, prior, row: list, groups, fns, k: int):
+        """The filter's gated update; the clones conditioned on it; the row H_k Phi(k, 0) kept."""
         before = len(getattr(self.ekf, "used", ()))
         update, rejected = gated_update(self.ekf, prior, row, groups, self.study.gate)
         where = f"step {prior.step} (clones' update)"
