@@ -76,16 +76,17 @@ def _wrap(a):
 J = np.array([[0.0, -1.0], [1.0, 0.0]])
 
 
-def _hand_H(point):
-    """Range and bearing Jacobians of both landmarks at ``point`` (by hand)."""
-    H = np.zeros((4, 7))
-    for i, j in ((0, 3), (2, 5)):
+def _hand_H(point, heading=2):
+    """Range and bearing Jacobians of both landmarks at ``point`` (by hand); the heading is state
+    ``heading`` and the two landmarks follow it."""
+    H = np.zeros((4, heading + 5))
+    for i, j in ((0, heading + 1), (2, heading + 3)):
         d = point[j:j + 2] - point[:2]
         rho = np.hypot(*d)
         H[i, :2], H[i, j:j + 2] = -d / rho, d / rho
         H[i + 1, :2] = np.array([d[1], -d[0]]) / rho ** 2
         H[i + 1, j:j + 2] = -H[i + 1, :2]
-        H[i + 1, 2] = -1.0
+        H[i + 1, heading] = -1.0
     return H
 
 

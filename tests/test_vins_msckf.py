@@ -134,7 +134,7 @@ def test_compression_and_the_update_keep_the_information():
     assert T.shape == (6, 6)
     np.testing.assert_allclose(T.T @ T, H.T @ H, atol=1e-10)
     np.testing.assert_allclose(T.T @ q, H.T @ r, atol=1e-10)
-    dx, P_new = kalman_update(P, H, r, 0.3)
+    dx, P_new = kalman_update(P, H, r, 0.3, "test")
     S = H @ P @ H.T + 0.3 * np.eye(20)
     np.testing.assert_allclose(P_new, P - P @ H.T @ np.linalg.solve(S, H @ P), atol=1e-10)
     np.testing.assert_allclose(dx, P @ H.T @ np.linalg.solve(S, r), atol=1e-10)

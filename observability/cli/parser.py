@@ -132,13 +132,15 @@ def build_parser() -> argparse.ArgumentParser:
     consistency.add_argument("--out", type=out_directory, default=Path("reports"), help="directory of the report (default: reports)")
     consistency.add_argument("--study", choices=("odometry", "slam2d-range-bearing", "slam2d-bearing", "slam2d-odometry",
                                                       "slam2d-additive", "slam2d-vio", "slam2d-exploration",
+                                                      "slam2d-exploration-bearing",
                                                       "slam2d-paper", "vins-msckf"),
                              default="odometry",
                              help="odometry: the EKF family with a previous-state measurement (default); "
                                   "slam2d-range-bearing, slam2d-bearing: EKF, FEJ-EKF, three OC-EKFs (projection, Jacobian "
                                   "form, Huang et al. IJRR 2010) and ideal EKF on 2-D SLAM; slam2d-odometry, "
                                   "slam2d-additive, slam2d-vio: the same with two odometry inputs, world-frame noise, a VIO-like model; slam2d-exploration: landmarks seen within 3 m, "
-                                  "each added to the state when first seen; slam2d-paper: what FEJ and OC change on the paper's simulation "
+                                  "each added to the state when first seen; slam2d-exploration-bearing: the same with bearings only, each "
+                                  "landmark triangulated from two bearings once their rays make 20 degrees; slam2d-paper: what FEJ and OC change on the paper's simulation "
                                   "; vins-msckf: the MSCKF on visual-inertial navigation, standard, first-estimates, "
                                   "observability-constrained and ideal Jacobians (reports in OUT/STUDY)")
     consistency.add_argument("--runs", type=runs, default=None, help="Monte Carlo runs (default 50; SLAM 100; paper 3; vins-msckf 20)")

@@ -9,19 +9,33 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
+from .covariance import conditioned
+
 __all__ = ["AneesInterval", "VERDICTS", "agreed_verdict", "anees_interval", "chi2_bounds", "degree_of_observability",
            "nees", "nis"]
 
 
-def nees(error: np.ndarray, P: np.ndarray) -> float:
-    """Normalized estimation error squared e^T P^-1 e (chi-square with dim(e) dof if consistent)."""
+def nees(error: np.ndarray, P: np.ndarray, where: str = "NEES") -> float:
+    """Normalized estimation error squared e^T P^-1 e (chi-square with dim(e) dof if consistent).
+
+    Raises
+    ------
+    FilterError
+        P is not positive definite or its condition number passes
+        :data:`~.covariance.CONDITION_LIMIT` (:func:`~.covariance.conditioned`), naming ``where``.
+    """
     error = np.asarray(error, dtype=float)
+    P = np.asarray(P, dtype=float)
+    conditioned(P, "the covariance", where, "the NEES")
     return float(error @ np.linalg.solve(P, error))
 
 
-def nis(innovation: np.ndarray, S: np.ndarray) -> float:
-    """Normalized innovation squared nu^T S^-1 nu."""
-    return nees(innovation, S)
+def nis(innovation: np.ndarray, S: np.ndarray, where: str = "NIS") -> float:
+    """Normalized innovation squared nu^T S^-1 nu (refused as :func:`nees` is)."""
+    innovation = np.asarray(innovation, dtype=float)
+    S = np.asarray(S, dtype=float)
+    conditioned(S, "the innovation covariance S", where, "the NIS")
+    return float(innovation @ np.linalg.solve(S, innovation))
 
 
 def _chi2_quantile(q: float, dof: float) -> float:

@@ -36,8 +36,19 @@ TOLERANCE = 1e-8
 
 
 def kept_transition(Phi: np.ndarray, N_k: np.ndarray, N_next: np.ndarray, moving: np.ndarray) -> np.ndarray:
-    """Phi with its moving block A changed least (Frobenius) so that
-    Phi N_k = N_next on the moving rows: A - (Phi_m N_k - N_next,m) (N_k,m)^+.
+    """Phi with its moving block changed so that Phi N_k = N_next on the moving rows.
+
+    The change falls, if they can carry it, on the columns of the moving states
+    whose rows of N are the same at both points (:func:`_fixed_columns`: the
+    heading, whose generator entries are 1 for the rotation and 0 for the
+    translations): the least change (Frobenius) of those columns,
+    E (N_k,c)^+ with E = Phi_m N_k - N_next,m. This is the first-estimates
+    difference form of the papers: Huang et al. (ISER 2008) for planar odometry,
+    d p_k+1 / d th_k = J (p̄_k+1 - p̄_k); Li & Mourikis (IJRR 2013, eqs. 19-20)
+    for an IMU-driven model, the position and velocity rows of the attitude
+    column J (p̄_k+1 - p̄_k - dt v̄_k), J (v̄_k+1 - v̄_k) in the plane. Where
+    those columns cannot carry E, the least change of the whole moving block,
+    E (N_k,m)^+.
 
     When N_k restricted to the moving states has full column rank the moving
     rows then hold exactly; the static rows (unit rows of f_i = x_i) hold when N
@@ -46,10 +57,22 @@ def kept_transition(Phi: np.ndarray, N_k: np.ndarray, N_next: np.ndarray, moving
     if N_k.shape[1] == 0:
         return Phi
     out = np.array(Phi)
-    rows = np.ix_(moving, moving)
     error = out[moving] @ N_k - N_next[moving]
-    out[rows] = out[rows] - error @ np.linalg.pinv(N_k[moving])
+    index = np.flatnonzero(moving)
+    fixed = index[_fixed_columns(N_k[moving], N_next[moving])]
+    if fixed.size:
+        change = error @ np.linalg.pinv(N_k[fixed])
+        if np.max(np.abs(error - change @ N_k[fixed])) <= TOLERANCE * (1.0 + np.max(np.abs(N_k))):
+            out[np.ix_(index, fixed)] -= change
+            return out
+    out[np.ix_(index, index)] -= error @ np.linalg.pinv(N_k[moving])
     return out
+
+
+def _fixed_columns(N_k: np.ndarray, N_next: np.ndarray) -> np.ndarray:
+    """Which rows of N are the same at both points (to rounding, 1e-12 of max |N|)."""
+    scale = 1e-12 * max(1.0, float(np.max(np.abs(N_k), initial=0.0)))
+    return np.all(np.abs(N_k - N_next) <= scale, axis=1)
 
 
 def nearest_with(A: np.ndarray, N: np.ndarray, target: np.ndarray) -> np.ndarray:

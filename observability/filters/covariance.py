@@ -38,7 +38,8 @@ import numpy as np
 
 from .validation import FilterError
 
-__all__ = ["symmetric", "transitioned", "propagated", "gain", "joseph", "innovation_checked", "CONDITION_LIMIT"]
+__all__ = ["symmetric", "transitioned", "propagated", "gain", "joseph", "innovation_checked", "conditioned",
+           "CONDITION_LIMIT"]
 
 #: Above this condition number of the innovation covariance S, an update is refused (module docstring).
 CONDITION_LIMIT = 1e12
@@ -100,32 +101,47 @@ def gain(P: np.ndarray, H: np.ndarray, W: np.ndarray, where: str) -> tuple[np.nd
 
 
 def innovation_checked(S: np.ndarray, where: str) -> None:
-    """Refuse an innovation covariance S that is not positive definite (its Cholesky
-    factorisation fails and its smallest eigenvalue is negative beyond rounding, m eps ||S||)
-    or whose condition number (2-norm, from its eigenvalues; singular to working precision
-    when the factorisation fails by rounding only) passes :data:`CONDITION_LIMIT`, where no
-    double-precision update is right (module docstring).
+    """Refuse an innovation covariance S that is not positive definite or whose
+    condition number passes :data:`CONDITION_LIMIT` (:func:`conditioned`), where
+    no double-precision update is right (module docstring).
 
     Raises
     ------
     FilterError
         Naming ``where`` and, for the second, the condition number.
     """
-    eigenvalues = np.linalg.eigvalsh(np.asarray(S))
+    conditioned(S, "the innovation covariance S", where, "the gain")
+
+
+def conditioned(M: np.ndarray, name: str, where: str, result: str) -> None:
+    """Refuse a covariance M, about to be solved with, that is not positive definite
+    (its Cholesky factorisation fails and its smallest eigenvalue is negative beyond
+    rounding, m eps ||M||) or whose condition number (2-norm, from its eigenvalues;
+    singular to working precision when the factorisation fails by rounding only)
+    passes :data:`CONDITION_LIMIT`: a backward-stable solve with M is then wrong by
+    up to cond(M) m eps relative (module docstring). ``name`` names M and ``result``
+    what the solve gives, in the message.
+
+    Raises
+    ------
+    FilterError
+        Naming ``where``, ``name`` and, for the second, the condition number.
+    """
+    eigenvalues = np.linalg.eigvalsh(np.asarray(M))
     eps = np.finfo(float).eps
     try:
-        np.linalg.cholesky(S)
+        np.linalg.cholesky(M)
     except np.linalg.LinAlgError:
-        # Negative only by rounding (|smallest| within m eps ||S||): an S singular to working precision.
-        if not (eigenvalues[-1] > 0 and eigenvalues[0] >= -len(S) * eps * eigenvalues[-1]):
-            raise FilterError(f"{where}: the innovation covariance S is not positive definite") from None
-    # A smallest eigenvalue below eps ||S|| is rounding: cond(S) is then only known to pass 1/eps.
+        # Negative only by rounding (|smallest| within m eps ||M||): an M singular to working precision.
+        if not (eigenvalues[-1] > 0 and eigenvalues[0] >= -len(M) * eps * eigenvalues[-1]):
+            raise FilterError(f"{where}: {name} is not positive definite") from None
+    # A smallest eigenvalue below eps ||M|| is rounding: cond(M) is then only known to pass 1/eps.
     condition = eigenvalues[-1] / max(eigenvalues[0], eps * eigenvalues[-1])
     if not condition <= CONDITION_LIMIT:
         said = f"{condition:.1e}" if eigenvalues[0] > eps * eigenvalues[-1] else f"at least {condition:.1e}"
-        raise FilterError(f"{where}: the innovation covariance S has condition number {said}, above "
-                          f"{CONDITION_LIMIT:.0e}: the gain would be wrong by up to cond(S)·m·eps = "
-                          f"{min(condition * len(S) * eps, 1):.0e} relative in double precision")
+        raise FilterError(f"{where}: {name} has condition number {said}, above "
+                          f"{CONDITION_LIMIT:.0e}: {result} would be wrong by up to cond·m·eps = "
+                          f"{min(condition * len(M) * eps, 1):.0e} relative in double precision")
 
 
 def joseph(P: np.ndarray, K: np.ndarray, H: np.ndarray, W: np.ndarray, HP: np.ndarray | None = None) -> np.ndarray:

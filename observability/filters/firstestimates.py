@@ -23,7 +23,8 @@ in every Jacobian that contains it.
   construction (:func:`~observability.filters.constraint.kept_transition`): for
   noise the argument below does not cover (two odometry inputs, additive
   world-frame noise, an IMU-driven model) this is what keeps the null space,
-  and for planar odometry it is Huang's difference form exactly. Each step's
+  and for planar odometry it is Huang's difference form exactly (for the planar
+  VIO-like model, Li & Mourikis's, IJRR 2013: tests/test_fej_vio.py). Each step's
   Phi N_k - N_k+1 and H N_k are checked; a violation is recorded in
   ``warnings`` with its reason. Without N nothing can be checked, and
   ``warnings`` says that too.

@@ -57,6 +57,8 @@ def study_filters(study: SlamStudy) -> tuple[str, ...]:
 def not_run_reason(study: SlamStudy) -> str | None:
     """Why the IJRR 2010 OC-EKF is not run in ``study``, or None."""
     why = "velocity states, which the rotation's column of Phi reads (J v)" if study.noise_form == "vio" else None
+    if study.bearing_only and study.sensor_range > 0:
+        why = "landmarks initialised from two bearings (its first-estimate rule is derived for range and bearing)"
     return None if why is None else NOT_RUN["oc-ijrr2010"].format(why=why)
 #: Per run and step: pose NEES, squared position error, squared heading error, landmark NEES, NIS, NIS dof.
 QUANTITIES = ("pose", "position", "heading", "landmarks", "nis", "nis_dof")
@@ -156,10 +158,12 @@ def _nullity(shared: Shared, ekf, priors: list, posteriors: list, u: np.ndarray)
 def _chunk(shared: Shared, streams: list, first: int) -> list[dict]:
     """A Dask task: consecutive runs; the study's run 0 also reports the nullities."""
     if shared.study.sensor_range > 0:
+        from .slamstudy_delayed import run_delayed_exploration
         from .slamstudy_exploration import run_exploration
 
-        return [run_exploration(shared, stream, first + i == 0, _filters, _errors, _groups(shared.study),
-                                constraint_record)
+        explore = run_delayed_exploration if shared.study.bearing_only else run_exploration
+        return [explore(shared, stream, first + i == 0, _filters, _errors, _groups(shared.study),
+                        constraint_record)
                 for i, stream in enumerate(streams)]
     return [_run(shared, stream, first + i == 0) for i, stream in enumerate(streams)]
 

@@ -26,7 +26,7 @@ from ..filters.gating import gated_update
 from ..filters.linearized import observability_of, recorded_observability
 from .slamstudy_models import simulate
 
-__all__ = ["run_exploration"]
+__all__ = ["run_exploration", "run_record", "step_values"]
 
 J = np.array([[0.0, -1.0], [1.0, 0.0]])
 
@@ -89,6 +89,19 @@ def _initialised_only(null_space, seen: set, landmarks: int):
     return N
 
 
+def step_values(values: np.ndarray, k: int, errors: tuple, update) -> None:
+    """Step ``k``'s column of a run's values: the ``errors`` (pose NEES, squared position and
+    heading errors, landmark NEES), then the NIS and its dof when the update used a measurement."""
+    values[:4, k] = errors
+    if update.used:
+        values[4:, k] = nees(update.innovation, update.S), len(update.used)
+
+
+def run_record(values: np.ndarray, refusal: str | None, gated: int, ekf) -> dict:
+    """A filter's record of one run, before its nullity and constraint residuals."""
+    return {"values": values, "refusal": refusal, "gated": gated, "warnings": getattr(ekf, "warnings", ())}
+
+
 def run_exploration(shared, stream, observe: bool, filters, errors, groups, constraint_record) -> dict:
     """One Monte Carlo run of the exploration study (module docstring); the record of :func:`.slamstudy._run`
     (``filters``, ``errors`` and ``constraint_record`` are that module's)."""
@@ -120,12 +133,10 @@ def run_exploration(shared, stream, observe: bool, filters, errors, groups, cons
                     jacobians["H"].append(H[[j for j, y in enumerate(row) if y is not None]])
                 update, rejected = gated_update(ekf, state, row, groups, study.gate)
                 state, gated = update.state, gated + rejected
-                values[:4, k] = errors(study, truth[k + 1], state.x, state.P, sorted(seen))
-                if update.used:
-                    values[4:, k] = nees(update.innovation, update.S), len(update.used)
+                step_values(values, k, errors(study, truth[k + 1], state.x, state.P, sorted(seen)), update)
         except FilterError as error:
             refusal = str(error)
-        record = {"values": values, "refusal": refusal, "gated": gated, "warnings": getattr(ekf, "warnings", ())}
+        record = run_record(values, refusal, gated, ekf)
         if observe:
             # Placeholders not initialised at step 0 leave the linearisation with it (2 directions each).
             placeholders = 2 * (study.landmarks - first_seen)

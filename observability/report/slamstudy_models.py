@@ -62,17 +62,18 @@ class SlamStudy:
     window: int = 30
     #: Chi-square gate of each landmark's innovation (probability kept; 0 gates nothing).
     gate: float = 0.9999
-    #: Landmarks seen within this range only, each initialised at its first sight (0: all known from the start).
+    #: Landmarks seen within this range only, each initialised at its first sight (0: all known from the start);
+    #: with bearings only, once a later bearing's ray makes ``parallax`` (rad) with the first one.
     sensor_range: float = 0.0
+    parallax: float = 0.35
 
     def __post_init__(self) -> None:
         if self.runs < 2:
             raise OptionError(f"runs must be at least 2 for a Monte Carlo average, got {self.runs}")
         if self.window > self.steps:
             raise OptionError(f"the observability window ({self.window} steps) exceeds the steps ({self.steps})")
-        if self.sensor_range > 0 and (self.bearing_only or self.noise_form != "odometry3"):
-            raise OptionError("the exploration study initialises landmarks from range and bearing, on the "
-                              "three-input odometry model only")
+        if self.sensor_range > 0 and self.noise_form != "odometry3":
+            raise OptionError("the exploration study initialises landmarks on the three-input odometry model only")
         if self.noise_form not in FORMS:
             raise OptionError(f"noise form {self.noise_form!r}: expected one of {', '.join(FORMS)}")
 
@@ -119,6 +120,8 @@ STUDIES = {
     "slam2d-additive": SlamStudy(name="slam2d-additive", noise_form="additive"),
     "slam2d-vio": SlamStudy(name="slam2d-vio", noise_form="vio", steps=200),
     "slam2d-exploration": SlamStudy(name="slam2d-exploration", sensor_range=3.0, window=90),
+    "slam2d-exploration-bearing": SlamStudy(name="slam2d-exploration-bearing", bearing_only=True, sensor_range=3.0,
+                                            window=90),
 }
 
 

@@ -89,7 +89,12 @@ def _page(result: SlamStudyResult) -> str:
         f"w = {s.turn_rate} rad/s, dt = {s.dt} s) among {s.landmarks} landmarks and measures each one's {measured} "
         f"(range {s.sigma_range} m, bearing {s.sigma_bearing} rad) at every step; {s.steps} steps, {s.runs} Monte "
         f"Carlo runs, seed {s.seed}. "
-        + (f"Landmarks are seen within {s.sensor_range} m only and each enters the state at its first sight, "
+        + (f"Landmarks are seen within {s.sensor_range} m only; at its first bearing the pose is cloned beside the "
+           f"state, and the landmark enters it when a later bearing's ray makes {s.parallax} rad with the first, "
+           "triangulated from the two (the covariance of the linearised triangulation and its correlation with the "
+           "state; neither bearing used in an update); landmark NEES is over those entered so far. "
+           if s.sensor_range > 0 and s.bearing_only else
+           f"Landmarks are seen within {s.sensor_range} m only and each enters the state at its first sight, "
            "from that range and bearing (the covariance of the inversion and its correlation with the pose); "
            "landmark NEES is over those entered so far. " if s.sensor_range > 0 else
            f"Landmarks start from a prior map, each drawn {s.sigma_landmark} m (1 sigma) around the truth. "

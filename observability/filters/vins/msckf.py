@@ -180,7 +180,7 @@ class Msckf:
         if not blocks:
             return
         H, r = compress(np.vstack([b[0] for b in blocks]), np.concatenate([b[1] for b in blocks]))
-        dx, self.P = kalman_update(self.P, H, r, self.settings.variance)
+        dx, self.P = kalman_update(self.P, H, r, self.settings.variance, f"MSCKF image {self.images} (update)")
         self._inject(dx)
 
     def _feature_block(self, fid: int, track: list[tuple[int, np.ndarray]]) -> tuple[np.ndarray, np.ndarray] | None:
@@ -200,7 +200,8 @@ class Msckf:
             H_x[:, clone_slice(i)] = H_c[:, CLONE_SIZE * j:CLONE_SIZE * (j + 1)]
         H_o, r_o = left_null_project(H_x, H_f, r)
         s = self.settings
-        if s.gate > 0 and innovation_nis(H_o, r_o, self.P, s.variance) > gate_threshold(len(r_o), s.gate):
+        where = f"MSCKF image {self.images} (gate of feature {fid})"
+        if s.gate > 0 and innovation_nis(H_o, r_o, self.P, s.variance, where) > gate_threshold(len(r_o), s.gate):
             self.gated += 1
             return None
         self.used_features += 1

@@ -12,11 +12,19 @@ which has rank 3 for a triangulated feature),
 stacked residual of several features is compressed by a thin QR when it has
 more rows than the state has columns: H = Q_1 T_H, and Q_1^T r = T_H δx + Q_1^T n
 carries the same information in fewer rows (same paper, Section III-D).
+
+The innovation covariance S = H P H^T + σ² I is checked as on every other update
+route of the filters (:func:`~observability.filters.covariance.innovation_checked`):
+an S that is not positive definite, or whose condition number passes
+:data:`~observability.filters.covariance.CONDITION_LIMIT`, is refused naming the
+step, because no double-precision gain or NIS is right there.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from ..covariance import gain, innovation_checked, joseph
 
 __all__ = ["left_null_project", "compress", "kalman_update", "innovation_nis"]
 
@@ -36,18 +44,30 @@ def compress(H: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return T, Q.T @ r
 
 
-def innovation_nis(H: np.ndarray, r: np.ndarray, P: np.ndarray, variance: float) -> float:
-    """r^T (H P H^T + σ² I)^-1 r, the normalised innovation squared of one feature."""
+def innovation_nis(H: np.ndarray, r: np.ndarray, P: np.ndarray, variance: float, where: str) -> float:
+    """r^T (H P H^T + σ² I)^-1 r, the normalised innovation squared of one feature.
+
+    Raises
+    ------
+    FilterError
+        S is not positive definite or too ill-conditioned, naming ``where``.
+    """
     S = H @ P @ H.T + variance * np.eye(H.shape[0])
+    S = 0.5 * (S + S.T)
+    innovation_checked(S, where)
     return float(r @ np.linalg.solve(S, r))
 
 
-def kalman_update(P: np.ndarray, H: np.ndarray, r: np.ndarray, variance: float) -> tuple[np.ndarray, np.ndarray]:
+def kalman_update(P: np.ndarray, H: np.ndarray, r: np.ndarray, variance: float,
+                  where: str) -> tuple[np.ndarray, np.ndarray]:
     """The correction δx = K r and the posterior covariance (Joseph form, which
-    stays symmetric positive semidefinite to rounding) for noise σ² I."""
-    S = H @ P @ H.T + variance * np.eye(H.shape[0])
-    PHt = P @ H.T
-    K = np.linalg.solve(S, PHt.T).T
-    A = np.eye(P.shape[0]) - K @ H
-    P_new = A @ P @ A.T + variance * (K @ K.T)
-    return K @ r, 0.5 * (P_new + P_new.T)
+    stays symmetric positive semidefinite to rounding) for noise σ² I.
+
+    Raises
+    ------
+    FilterError
+        S is not positive definite or too ill-conditioned, naming ``where``.
+    """
+    W = variance * np.eye(H.shape[0])
+    K, _, HP = gain(P, H, W, where)
+    return K @ r, joseph(P, K, H, W, HP)
