@@ -11,6 +11,7 @@ __all__ = [
     "ModelError",
     "ModelFileError",
     "UnsupportedExpressionError",
+    "UnsupportedConstructError",
     "SingularModelError",
     "OptionError",
 ]
@@ -37,6 +38,17 @@ class UnsupportedExpressionError(ModelError):
 
     Examples are non-differentiable functions (``Abs``, ``sign``), non-constant
     exponents, or fractional powers other than square roots.
+    """
+
+
+class UnsupportedConstructError(UnsupportedExpressionError):
+    """A well-formed, analytic model uses a construct the engines cannot analyse
+    (a fractional multiple of an angle, a fractional power other than a square root).
+
+    Not bad input: the model means something and the rank exists, the tool only
+    cannot compute it, so the command line answers "undecided" (exit 3) with the
+    message, not an error (exit 2). A subclass of UnsupportedExpressionError, so
+    callers catching that still catch it.
     """
 
 

@@ -67,13 +67,18 @@ def test_a_function_written_with_the_constant_is_tested_with_it(tmp_path, capsys
     ("pi*a*x + log(2)", "the constants log(2) and pi are not supported together"),
     ("cos(1)*a*x", "cos(1) is not supported: it is not known here to be transcendental"),
 ])
-def test_other_irrational_constants_are_refused_under_global(tmp_path, capsys, dynamics, words):
+def test_other_irrational_constants_are_undecided_under_global(tmp_path, capsys, dynamics, words):
     """sqrt(2) is algebraic: Q(sqrt 2) is not Q(t) (y1 = x^2, y2 = (c^2 - 2) x makes x
     global for a generic c and only local at c = sqrt 2), so no generic answer is
-    given for it; two transcendental constants are not known to be independent."""
+    given for it; two transcendental constants are not known to be independent.
+    The model is well formed, so this is "undecided" (exit 3), not bad input (exit 2,
+    as an earlier version of this test expected: issue 66 item 3)."""
     model = _file(tmp_path, f'states = ["x"]\nunknown_parameters = ["a"]\n[dynamics]\nx = "{dynamics}"\n'
                   '[outputs]\ny = "x"\n')
-    _refused(capsys, ["check", model, "--global", "--seed", "1"], words)
+    code = main(["check", model, "--global", "--seed", "1"])
+    err = capsys.readouterr().err
+    assert code == 3, (code, err)
+    assert words in err and err.startswith("observability: undecided:") and len(err.strip().splitlines()) == 1
 
 
 def test_what_is_provably_transcendental():

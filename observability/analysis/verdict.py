@@ -22,6 +22,7 @@ import sympy
 from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
+from ..engine.taylor import Redraw
 from ..errors import ModelError, SingularModelError
 from ..model.branches import Region, nowhere_on, refuse_unreal, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
@@ -156,9 +157,13 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         return _undecided(system, method, evidence, start, domain)
     n, rank = system.n, evidence.rank
     if found is None and rank < n and (directions or evidence.observable_columns is None):
-        found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
-                                        evidence.seed or 0, previous,
-                                        symbolic=symbolic_directions or method == "symbolic")
+        try:
+            found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
+                                            evidence.seed or 0, previous,
+                                            symbolic=symbolic_directions or method == "symbolic")
+        except Redraw as exc:  # the searches work modulo 2^61 - 1: a constant root may have none there
+            found = ((), None, f"directions not searched: their points modulo 2^61-1 failed ({exc.reason}; "
+                                "a constant square root such as sqrt(3) has no root modulo 2^61-1)")
     words, shown = _at_witness(system, evidence, domain, input_derivatives, previous)
     domain = replace(domain, at_witness=words)
     if not shown:

@@ -8,12 +8,13 @@ line on stderr saying what and where), 3 undecided (symbolic budget spent),
 from __future__ import annotations
 
 import functools
+import json
 import os
 import sys
 from collections.abc import Sequence
 
-from ..errors import ObservabilityError
-from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, UsageError
+from ..errors import ObservabilityError, UnsupportedConstructError
+from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError
 from .parser import build_parser
 
 __all__ = ["main", "build_parser"]
@@ -36,6 +37,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         if getattr(args, "scheduler", None) is not None and getattr(args, "workers", None) is not None:
             raise UsageError("give --scheduler (a running cluster) or --workers (a local one), not both")
         return args.func(args)
+    except UnsupportedConstructError as exc:  # a well-formed model beyond the engines: undecided, not bad input
+        reason = str(exc).splitlines()[0]
+        if getattr(args, "format", None) == "json":  # a program reading --format json still gets one object
+            print(json.dumps({"rank": None, "observable": None, "details": f"undecided: {reason}"}))
+        print(f"observability: undecided: {reason}", file=sys.stderr)
+        return EXIT_UNDECIDED
     # Exit 2 only for errors raised on purpose about the input; anything else,
     # a ValueError from deep inside a library included, is a bug (exit 4).
     except (UsageError, ObservabilityError) as exc:

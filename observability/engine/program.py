@@ -26,7 +26,7 @@ from enum import IntEnum
 import sympy
 
 from .atoms import expanded_argument, exponential_form, split_log, split_root
-from ..errors import UnsupportedExpressionError
+from ..errors import UnsupportedConstructError, UnsupportedExpressionError
 
 __all__ = ["Op", "Program", "PRIME"]
 
@@ -167,7 +167,7 @@ class Program:
                 if self.ops[const] is Op.CONST:
                     value = self.args[const][0]
                     if value.q != 1:
-                        raise UnsupportedExpressionError(
+                        raise UnsupportedConstructError(
                             f"{value} * ({self.source.get(rest, 'an argument')}) inside sin, cos or exp: "
                             "introduce a new symbol for the fractional angle"
                         )
@@ -294,7 +294,7 @@ class Program:
             if base is sympy.E:
                 return self.build(sympy.exp(exponent))
             if not exponent.is_Rational or exponent.q not in (1, 2):
-                raise UnsupportedExpressionError(f"power {expr} (only integer powers and square roots)")
+                raise UnsupportedConstructError(f"power {expr} (only integer powers and square roots)")
             if exponent.q == 2:
                 # Square roots are taken where every factor of the radicand is positive.
                 split = split_root(base, exponent)
@@ -345,7 +345,7 @@ class Program:
         try:
             node = self.build(sympy.sympify(expr))
         except UnsupportedExpressionError as exc:
-            raise UnsupportedExpressionError(f"{self.where}: {exc}") from None
+            raise type(exc)(f"{self.where}: {exc}") from None  # an undecided construct stays one
         finally:
             self.bindings, self.expression_memo = saved
         return node

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles, shown
-from ..errors import ModelError
+from ..errors import UnsupportedConstructError
 from ..model.system import System
 from .outputforms import rational_form
 
@@ -36,7 +36,7 @@ class RationalModel:
         """A function of the states in these coordinates (refused when not rational there)."""
         rewritten = sympy.cancel(in_half_angles(expr, dict(self.half_angles)))
         if rewritten.free_symbols & {a for a, _ in self.half_angles} or not rewritten.is_rational_function():
-            raise ModelError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the coordinates")
+            raise UnsupportedConstructError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the coordinates")
         return rewritten
 
 
@@ -47,14 +47,14 @@ def rational_model(system: System) -> RationalModel:
     outputs = [h for h, _ in forms]
     angles = half_angles(system.states, [*dynamics, *outputs])
     if angles is None:
-        raise ModelError("--global: a sine or cosine of something other than a state")
+        raise UnsupportedConstructError("--global: a sine or cosine of something other than a state")
     coordinates = tuple(angles.get(s, s) for s in system.states)
     speeds = tuple(sympy.cancel(angle_speed(s, f, angles)) for s, f in zip(system.states, dynamics))
     rewritten = tuple(sympy.cancel(in_half_angles(h, angles)) for h in outputs)
     symbols = [*coordinates, *system.free_parameters, *system.inputs]
     for expr in (*speeds, *rewritten):
         if expr.free_symbols & set(angles) or not expr.is_rational_function(*symbols):
-            raise ModelError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the states; the test covers "
+            raise UnsupportedConstructError(f"--global: {sympy.sstr(shown(expr))[:80]} is not rational in the states; the test covers "
                              "rational models, with sines and cosines of states")
     return RationalModel(coordinates, speeds, rewritten, tuple(angles), tuple(angles.items()),
                          tuple(form for _, form in forms))

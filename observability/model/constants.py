@@ -31,7 +31,7 @@ from collections.abc import Iterable
 
 import sympy
 
-from ..errors import ModelError
+from ..errors import UnsupportedConstructError
 from .system import System
 
 __all__ = ["irrational_constants", "transcendence", "as_known_parameter"]
@@ -81,7 +81,7 @@ def as_known_parameter(system: System, what: str
 
     Raises
     ------
-    ModelError
+    UnsupportedConstructError
         Several irrational constants, or one not provably transcendental, naming
         it and ``what`` (the analysis that refuses it).
     """
@@ -92,13 +92,13 @@ def as_known_parameter(system: System, what: str
         return system, None
     if len(constants) > 1:
         shown = " and ".join(sympy.sstr(c) for c in constants[:2])
-        raise ModelError(f"{what}: the constants {shown} are not supported together: the test adjoins at most one "
+        raise UnsupportedConstructError(f"{what}: the constants {shown} are not supported together: the test adjoins at most one "
                          "transcendental constant to the rationals, and theirs is not known to be algebraically "
                          "independent")
     (constant,) = constants
     known = transcendence(constant)
     if known is not None:
-        raise ModelError(f"{what}: the constant {sympy.sstr(constant)} is not supported: it is {known}, and the test "
+        raise UnsupportedConstructError(f"{what}: the constant {sympy.sstr(constant)} is not supported: it is {known}, and the test "
                          "works over the rationals with at most one transcendental constant (pi, E, exp or log of a "
                          "rational) adjoined")
     taken = {s.name for s in (*system.states, *system.inputs, *system.parameters)}

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 import sympy
 
 from . import rotations
-from ..errors import ModelFileError, UnsupportedExpressionError
+from ..errors import ModelFileError, UnsupportedConstructError, UnsupportedExpressionError
 
 __all__ = ["FUNCTIONS", "VECTOR_FUNCTIONS", "parse_expression", "parse_value", "parse_number", "prev", "is_previous",
            "check_supported"]
@@ -450,9 +450,9 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
             if not exponent.is_Rational:
                 if node.base == sympy.E:
                     continue
-                raise UnsupportedExpressionError(f"{where}: irrational constant exponent in {node}")
+                raise UnsupportedConstructError(f"{where}: irrational constant exponent in {node}")
             if exponent.q not in (1, 2):
-                raise UnsupportedExpressionError(
+                raise UnsupportedConstructError(
                     f"{where}: fractional power {exponent} in {node} (only integer powers and square roots)"
                 )
             if exponent.q == 2:

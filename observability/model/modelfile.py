@@ -65,7 +65,7 @@ from typing import Any
 
 import sympy
 
-from ..errors import ModelError, ModelFileError
+from ..errors import ModelError, ModelFileError, UnsupportedConstructError
 from .expressions import parse_number, parse_value
 from .notation import component_latex, latex_name, validate_latex_name
 from .symmetry import EPSILON, Symmetry
@@ -358,6 +358,8 @@ def parse_model(text: str, source: str = "<model>") -> System:
             angles=angles,
             unknown_parameters=constants,
         )
+    except UnsupportedConstructError as exc:  # well-formed, beyond the engines: undecided, not bad input
+        raise UnsupportedConstructError(f"{source}: {exc}") from None
     except ModelError as exc:  # a ModelFileError too: every refusal names the file
         raise ModelFileError(f"{source}: {exc}") from None
 

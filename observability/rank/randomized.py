@@ -30,6 +30,7 @@ from ..engine.expansion import expand_rows
 from ..engine.independence import Dependence, dependence
 from ..engine.program import Op, Program
 from ..model.system import System
+from ..engine.primes import prime_for
 from ..engine.taylor import PRIME, Redraw, TaylorEvaluator
 
 __all__ = ["ModularRank", "randomized_rank", "dense_suits", "degree_bound"]
@@ -278,6 +279,9 @@ def randomized_rank(
     rng = random.Random(seed)
     if system.time == "discrete" and previous == "inverse":
         eliminate_previous_state(system)  # fail early, before any point is drawn
+    if prime == PRIME:  # a constant square root with no root modulo 2^61 - 1 moves to another prime
+        fixed = {} if constraint is None else {v: e for v, e in constraint.solution if e.is_Rational}
+        prime = prime_for((*system.dynamics, *(h for _, h in system.outputs)), fixed)
     args = (input_derivatives, max_order, progress, previous, constraint, exhaustive, prime)
     if prime == PRIME and dense_suits(system, max_order, constraint, exhaustive):
         full = _dense_full_rank(system, seed, args)

@@ -25,7 +25,7 @@ from ..engine.expansion import stopping_rule
 from ..engine.lie import lie_derivatives
 from ..engine.atoms import normal_form
 from ..budget import Undecided
-from ..errors import UnsupportedExpressionError
+from ..errors import UnsupportedConstructError, UnsupportedExpressionError
 from ..engine.fractions import factor
 from ..engine.halfangles import in_square_roots
 from ..model.system import System
@@ -76,7 +76,7 @@ def canonicalize(expr: sympy.Expr, where: str = "expression") -> sympy.Expr:
     for node in sympy.preorder_traversal(expr):
         if isinstance(node, (sympy.sin, sympy.cos, sympy.exp)):
             if _integer_coefficient(node.args[0]) is None:
-                raise UnsupportedExpressionError(
+                raise UnsupportedConstructError(
                     f"{where}: {node} has a fractional multiple of its argument; "
                     "introduce a new symbol for the half angle"
                 )

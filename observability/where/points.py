@@ -52,7 +52,7 @@ from .pointpieces import point_on_pieces
 from .sets import ConstraintSet, solve_constraints
 from ..rank.symbolic import observability_rows
 from ..model.system import System
-from ..engine.taylor import PRIME
+from ..engine.primes import prime_for
 
 __all__ = ["PointRank", "rank_at_point", "point_orders"]
 
@@ -143,15 +143,6 @@ def point_orders(system: System) -> int:
     return max(0, min(2 * system.n - 1, system.n + 15))
 
 
-def _prime_for(values: Mapping[sympy.Symbol, sympy.Rational]) -> int:
-    """2^61 - 1, or the largest prime below it that divides no given numerator or
-    denominator (x = 2^61 - 1 is 0 modulo 2^61 - 1, and 1/(2^61 - 1) has no residue)."""
-    prime = PRIME
-    while any(v != 0 and (v.p % prime == 0 or v.q % prime == 0) for v in values.values()):
-        prime = sympy.prevprime(prime)
-    return prime
-
-
 def rank_at_point(system: System, point: Mapping[str, str], generic: ObservabilityResult | None = None,
                   seed: int = 0, *, input_derivatives: int | None = None, previous: str = "inverse",
                   where: ConstraintSet | None = None, orders: int | None = None) -> PointRank:
@@ -204,7 +195,7 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     except ModelError as exc:
         raise ModelError(str(exc).replace("--where", "--point", 1)) from None
     limit = point_orders(system) if orders is None else orders
-    prime = _prime_for(values)
+    prime = prime_for((*system.dynamics, *(h for _, h in system.outputs)), values)
     try:
         lower = randomized_rank(system, seed=seed, constraint=constraint, exhaustive=True, max_order=limit,
                                 input_derivatives=input_derivatives, previous=previous, prime=prime)
