@@ -11,6 +11,7 @@ import functools
 import json
 import os
 import sys
+import unicodedata
 from collections.abc import Sequence
 
 from ..errors import ObservabilityError, UnsupportedConstructError
@@ -24,6 +25,12 @@ __all__ = ["main", "build_parser"]
 # and the malformed-model corpus pay per call; parse_args leaves it unchanged (argparse
 # copies list defaults before appending).
 _parser = functools.cache(build_parser)
+
+
+def _printable(text: str) -> str:
+    """``text`` with control and format characters as escapes: a message may quote a
+    file's bytes, and nothing quoted may move the terminal's cursor."""
+    return "".join(c if unicodedata.category(c)[0] != "C" else ascii(c)[1:-1] for c in text)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -47,7 +54,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # a ValueError from deep inside a library included, is a bug (exit 4).
     except (UsageError, ObservabilityError) as exc:
         message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"observability: error: {message}", file=sys.stderr)
+        print(f"observability: error: {_printable(message)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except BrokenPipeError:  # the reader (e.g. `| head`) closed the pipe: not an error
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet

@@ -111,6 +111,7 @@ def load_model(path: str | Path) -> System:
         text = data.decode("utf-8-sig")  # a byte-order mark, as Windows editors save, is not text
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelFileError(f"{path}: cannot read model file ({exc.__class__.__name__}: {exc})") from None
+    _refuse_control_characters(path.stem, str(path), "the file's name")  # it names the model
     if path.suffix.lower() == ".jl":
         from .sijl import parse_si_model  # a model pasted from StructuralIdentifiability.jl
 
@@ -288,6 +289,27 @@ class FloatText:
     __repr__ = __str__
 
 
+def _refuse_control_characters(value: Any, source: str, where: str = "") -> None:
+    """Refuse a control, format or unassigned character (an ANSI escape, a bidirectional
+    override) in any key or text of the file: names and texts are printed in verdicts,
+    and such a character could move the terminal's cursor or hide what follows (a
+    spoofed "observable"). Line breaks and tabs are allowed in a description only."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _refuse_control_characters(key, source, where)
+            _refuse_control_characters(item, source, f"{where}.{key}" if where else key)
+    elif isinstance(value, list):
+        for item in value:
+            _refuse_control_characters(item, source, where)
+    elif isinstance(value, str):
+        allowed = "\n\t" if where.split(".")[-1] == "description" else ""
+        bad = next((c for c in value if unicodedata.category(c)[0] == "C" and c not in allowed), None)
+        if bad is not None:
+            shown = ascii(bad)[1:-1]
+            raise ModelFileError(f"{source}: {where or 'a key'} holds the control character {shown} (texts are "
+                                 "printed in verdicts: none may move the terminal's cursor or hide what follows)")
+
+
 def parse_model(text: str, source: str = "<model>") -> System:
     """Build a :class:`System` from the text of a TOML model file."""
     try:
@@ -297,6 +319,7 @@ def parse_model(text: str, source: str = "<model>") -> System:
     if "unknown_input_order" in data:
         raise ModelFileError(f"{source}: 'unknown_input_order' is now 'unknown_input_degree' (a polynomial model of the "
                              "unknown inputs, an assumption); without it an unknown input may be any function of time")
+    _refuse_control_characters(data, source)
     unknown = sorted(set(data) - _KEYS)
     if unknown:
         raise ModelFileError(f"{source}: unknown key {unknown[0]!r} (allowed: {', '.join(sorted(_KEYS))})")
