@@ -891,7 +891,7 @@ def test_the_checker_reads_a_proof_file_and_refuses_a_bad_minor_or_generators(tm
     assert checker.verify(str(path)) == (False, f"rejected: a proof file of more than {size - 1} characters")
     monkeypatch.undo()
     path.write_text("{", encoding="utf-8")
-    assert checker.verify(str(path)) == (False, "rejected: malformed proof (JSONDecodeError: Expecting property name "
+    assert checker.verify(str(path)) == (False, "rejected: malformed proof, not JSON (JSONDecodeError: Expecting property name "
                                                 "enclosed in double quotes: line 1 column 2 (char 1))")
     repeated = json.loads(json.dumps(data))
     repeated["lower_bound"]["rows"] = [repeated["lower_bound"]["rows"][0]] * 2
@@ -962,7 +962,7 @@ def test_the_checker_reads_no_more_than_its_limit_and_cuts_long_reasons(tmp_path
 
     monkeypatch.setattr(checker, "check", malformed)
     accepted, line = checker.verify(str(path))
-    assert not accepted and line == f"rejected: malformed proof (KeyError: {repr('x' * 300)[:200]})"
+    assert not accepted and line == f"rejected: malformed proof, a field is missing (KeyError: {repr('x' * 300)[:200]})"
     monkeypatch.undo()
     data["claim"] = "x" * 3000  # a refusal quoting the file is cut at 1,000 characters
     path.write_text(json.dumps(data), encoding="utf-8")

@@ -360,6 +360,13 @@ def _integer(text: str) -> int:
     return int(text)
 
 
+#: What each way a file can be malformed means, in words (the exception's own text follows in parentheses).
+_MALFORMED = {"KeyError": "a field is missing", "TypeError": "a field has the wrong type",
+              "AttributeError": "a field has the wrong type", "IndexError": "a list is too short",
+              "RecursionError": "an expression is nested too deeply", "ZeroDivisionError": "a value divides by zero",
+              "SympifyError": "an expression cannot be read", "JSONDecodeError": "not JSON"}
+
+
 def _answer(text: str, model: dict | None) -> tuple[bool, list[str]]:
     """(accepted, the lines to print) for a proof file's text."""
     try:
@@ -374,7 +381,8 @@ def _answer(text: str, model: dict | None) -> tuple[bool, list[str]]:
         return False, [f"rejected: {str(exc)[:1000]}"]
     except (KeyError, TypeError, ValueError, AttributeError, IndexError, RecursionError, ZeroDivisionError,
             sympy.SympifyError) as exc:
-        return False, [f"rejected: malformed proof ({type(exc).__name__}: {str(exc)[:200]})"]
+        return False, [f"rejected: malformed proof, {_MALFORMED.get(type(exc).__name__, 'a value cannot be read')} "
+                       f"({type(exc).__name__}: {str(exc)[:200]})"]
     except Exception as exc:  # noqa: BLE001 - whatever sympy raises on a strange file, nothing is accepted on it
         return False, [f"rejected: the check could not be completed ({type(exc).__name__}: {str(exc)[:200]})"]
 
