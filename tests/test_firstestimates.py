@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import cli
 
 from observability import analyze
 from observability.codegen import filter_functions
@@ -328,11 +329,7 @@ def test_the_study_writes_its_summary(tmp_path):
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-range-bearing",
-                          "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    out = cli("consistency", "--study", "slam2d-range-bearing", "--runs", "1", "--out", tmp_path)
     assert out.returncode == 2 and "runs must be at least 2" in out.stderr and not any(tmp_path.iterdir())
 
 
@@ -354,12 +351,8 @@ def test_the_paper_comparison_takes_the_steps_it_is_given(tmp_path):
     400 steps whatever N; now the simulation lasts N steps (duration N dt) and
     the summary says so."""
     import json
-    import subprocess
-    import sys
 
-    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-paper",
-                          "--steps", "7", "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True,
-                         timeout=300)
+    out = cli("consistency", "--study", "slam2d-paper", "--steps", "7", "--runs", "1", "--out", tmp_path)
     assert out.returncode == 0, out.stderr
     summary = json.loads((tmp_path / "slam2d-paper" / "summary.json").read_text())
     assert summary["steps"] == 7 and summary["runs"] == 1 and "1 runs of 7 steps" in summary["reading"]
