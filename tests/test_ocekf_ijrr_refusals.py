@@ -12,7 +12,7 @@ import pytest
 from observability.codegen import filter_functions
 from observability.filters import FilterError, Huang2010OCEKF
 from observability.model.modelfile import parse_model
-from test_firstestimates import DT, ODOMETRY, Q, R, U
+from test_firstestimates import DT, ODOMETRY, Q, R, U, odometry_functions
 
 WORLD_FRAME = ODOMETRY.replace('x = "x + dt*(v*cos(th) - s*sin(th))"', 'x = "x + dt*v"').replace(
     'y = "y + dt*(v*sin(th) + s*cos(th))"', 'y = "y + dt*s"')
@@ -36,7 +36,7 @@ def test_models_not_invariant_under_planar_motions_are_refused(text, what):
 def odometry_filter() -> Huang2010OCEKF:
     """The accepted model's filter, built once (its casadi functions take over a second of CPU); the
     filter keeps no state between calls (each predict takes the state and returns a new one)."""
-    return _filter(ODOMETRY)
+    return Huang2010OCEKF(odometry_functions(), Q, R)
 
 
 def test_the_odometry_model_it_is_derived_for_is_accepted(odometry_filter):
