@@ -2,10 +2,9 @@
 derivations and an independent determinant."""
 
 import json
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
 from observability import analyze, models, parse_model
 from observability.where.conditions import rank_drops
@@ -92,13 +91,10 @@ def test_conditions_are_bounded(monkeypatch):
 
 
 def test_cli_degenerate_conditions():
-    script = [sys.executable, "-m", "observability"]
-    out = subprocess.run([*script, "degenerate", "slam1.5d-beacon", "--conditions"], capture_output=True, text=True,
-                         timeout=300)
+    out = cli("degenerate", "slam1.5d-beacon", "--conditions")
     assert out.returncode == 0, out.stderr
     assert "generic: rank 3 when cdot = 0 (stationary)" in out.stdout
-    out = subprocess.run([*script, "degenerate", "slam1.5d-beacon", "--conditions", "--format", "json"],
-                         capture_output=True, text=True, timeout=300)
+    out = cli("degenerate", "slam1.5d-beacon", "--conditions", "--format", "json")
     generic = json.loads(out.stdout)["motions"][0]
     assert {"condition": "f = 0", "rank": 0} in [{k: d[k] for k in ("condition", "rank")} for d in generic["rank_drops"]]
 

@@ -91,12 +91,9 @@ def test_the_gate_is_the_chi_square_quantile():
 def test_an_outlier_is_gated_and_counted():
     """One landmark's range 50 m off: rejected (NIS far above the 99.99 %
     gate), the update made as if it were missing; clean measurements pass."""
-    from test_firstestimates import ODOMETRY, Q, R, U, _simulate
+    from test_firstestimates import Q, R, U, _simulate, odometry_functions
 
-    from observability.codegen import filter_functions
-    from observability.model.modelfile import parse_model
-
-    fns = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    fns = odometry_functions()  # dt = 1
     truth, ys, x0, P0 = _simulate(fns, 2, seed=1)
     for ekf in (ConventionalEKF(fns, Q, R), FirstEstimatesEKF(fns, Q, R)):
         prior = ekf.predict(ekf.initial(x0, P0), U)

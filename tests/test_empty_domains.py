@@ -7,15 +7,12 @@ Hand references: -1 - x**2 <= -1; -2 - exp(x) < -2; -2 + 2x - x**2 - y**2 =
 -(x - 1)**2 - y**2 - 1 <= -1 (found by the quadratic test, not termwise);
 -(x - y)**2 <= 0 with equality only on x = y; 1 - x**2 > 0 on |x| < 1 (kept)."""
 
-import subprocess
-import sys
 
 import pytest
+from conftest import cli
 
 from observability import System, analyze
 from observability.errors import ModelError
-
-SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def _model(tmp_path, output):
@@ -32,7 +29,7 @@ def _model(tmp_path, output):
     ("z*log(-(x - y)**2)", "is positive for no real value"),
 ])
 def test_an_argument_negative_everywhere_is_refused(tmp_path, output, words):
-    run = subprocess.run([*SCRIPT, "check", str(_model(tmp_path, output))], capture_output=True, text=True)
+    run = cli("check", str(_model(tmp_path, output)))
     assert run.returncode == 2 and "Traceback" not in run.stderr
     (line,) = run.stderr.strip().splitlines()
     assert "output h1" in line and words in line and "the output is not real" in line

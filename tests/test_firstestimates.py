@@ -16,11 +16,14 @@ The filter below is written again here with those hand formulas, in numpy.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
+from conftest import cli
 
 from observability import analyze
-from observability.codegen import filter_functions
+from observability.codegen import FilterFunctions, filter_functions
 from observability.filters import (ConventionalEKF, FilterError, FirstEstimatesEKF, HuangOCEKF, IdealEKF,
                                    ObservabilityConstrainedEKF, null_space_function, static_states)
 from observability.filters.linearized import linearized_observability, recorded_observability
@@ -53,10 +56,17 @@ R = np.diag([0.1, 0.05, 0.1, 0.05]) ** 2
 U = np.array([0.5, 0.0, 0.2])
 
 
+@functools.lru_cache(maxsize=1)
+def odometry_functions() -> FilterFunctions:
+    """ODOMETRY's filter functions at dt = DT, noise on (v, s, om): built once per process and shared by
+    the filter test files that import them (each build costs about 1.5 s of CPU; the functions are a
+    frozen record that no filter changes)."""
+    return filter_functions(parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT), ["v", "s", "om"])
+
+
 @pytest.fixture(scope="module")
 def model():
-    system = parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT)
-    return system, filter_functions(system, ["v", "s", "om"])
+    return parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT), odometry_functions()
 
 
 def _simulate(fns, steps: int, seed: int):
@@ -329,11 +339,7 @@ def test_the_study_writes_its_summary(tmp_path):
 
 
 def test_the_study_command_checks_its_options_before_working(tmp_path):
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-range-bearing",
-                          "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True, timeout=300)
+    out = cli("consistency", "--study", "slam2d-range-bearing", "--runs", "1", "--out", tmp_path)
     assert out.returncode == 2 and "runs must be at least 2" in out.stderr and not any(tmp_path.iterdir())
 
 
@@ -355,12 +361,8 @@ def test_the_paper_comparison_takes_the_steps_it_is_given(tmp_path):
     400 steps whatever N; now the simulation lasts N steps (duration N dt) and
     the summary says so."""
     import json
-    import subprocess
-    import sys
 
-    out = subprocess.run([sys.executable, "-m", "observability", "consistency", "--study", "slam2d-paper",
-                          "--steps", "7", "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True,
-                         timeout=300)
+    out = cli("consistency", "--study", "slam2d-paper", "--steps", "7", "--runs", "1", "--out", tmp_path)
     assert out.returncode == 0, out.stderr
     summary = json.loads((tmp_path / "slam2d-paper" / "summary.json").read_text())
     assert summary["steps"] == 7 and summary["runs"] == 1 and "1 runs of 7 steps" in summary["reading"]

@@ -15,7 +15,7 @@ import pytest
 from observability.codegen import filter_functions
 from observability.filters import FilterError, FilterState, FirstEstimatesEKF, IdealEKF, static_states
 from observability.model.modelfile import parse_model
-from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _hand_N, _simulate
+from test_firstestimates import ODOMETRY, Q, R, U, _hand_filter, _hand_N, _simulate, odometry_functions
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +34,7 @@ def test_a_graph_that_cannot_be_read_counts_every_state_as_moving(odometry):
 
 def test_the_parameter_vector_reaches_every_jacobian(odometry):
     """dt = 1 given at run time: the estimates of Huang's formulas with dt = 1."""
-    valued = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    valued = odometry_functions()  # dt = 1
     truth, ys, x0, P0 = _simulate(valued, 8, seed=9)
     fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0])
     state = fej.initial(x0, P0)
@@ -264,7 +264,7 @@ def test_with_huangs_null_space_the_kept_transition_is_his_difference_form(odome
     odometry that is the difference form Phi_R = [[I, J (p̄_k+1 - p̄_k)], [0, 1]]
     already, so the estimates are the numpy filter's; both constraints are
     logged at every step (1..8) and met, and nothing is warned."""
-    valued = filter_functions(parse_model(ODOMETRY, "o.toml").with_values(dt=1.0), ["v", "s", "om"])
+    valued = odometry_functions()  # dt = 1
     _, ys, x0, P0 = _simulate(valued, 8, seed=5)
     fej = FirstEstimatesEKF(odometry, Q, R, parameters=[1.0], null_space=_hand_null_space)
     state = fej.initial(x0, P0)

@@ -9,10 +9,9 @@ polynomial; it must read in tan(p/2).
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
 from observability.engine.halfangles import half_angles, shown
 
@@ -22,8 +21,7 @@ MODEL = 'states = ["x"]\nunknown_parameters = ["p"]\n[dynamics]\nx = "-x"\n[outp
 def _check_global(tmp_path, output: str) -> str:
     path = tmp_path / "m.toml"
     path.write_text(MODEL.format(output))
-    run = subprocess.run([sys.executable, "-m", "observability", "check", str(path), "--global", "--seed", "1"],
-                         capture_output=True, text=True)
+    run = cli("check", str(path), "--global", "--seed", "1")
     assert run.returncode in (0, 1, 3), run.stderr
     return run.stdout
 

@@ -363,16 +363,3 @@ def test_named_subexpressions_equal_the_matrix():
     for name, value in replacements:  # each definition uses only earlier ones
         values[name] = value.xreplace(values).xreplace(point)
     assert reduced.xreplace(values).xreplace(point) == matrix.xreplace(point)
-
-
-def test_a_13_state_vector_model_gets_its_order_one_rows_within_a_cpu_budget(tmp_path):
-    """Issue 30 item 1: `latex` on the 13-state model fitted only order 0. With
-    the shared parts of the order-1 rows named it typesets orders 0..1 in about
-    4 pages, within 30 CPU seconds, and compiles."""
-    from observability.budget import with_budget
-
-    system = parse_model(VIO13, "vio13.toml")
-    document = with_budget(latex_document, system, None, False, 1, None, 0, 5.0, seconds=30)
-    assert "a_{1}" in document and "left out" not in document
-    assert "\\nabla L_f u" in document and "\\nabla L_f v" in document  # the order-1 rows
-    _compile(document, tmp_path)

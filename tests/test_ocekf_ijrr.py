@@ -29,13 +29,13 @@ from observability.filters.ocijrr import lagrange_points
 from observability.model.modelfile import parse_model
 from observability.report.slamstudy import SlamStudy, slam_model, study_filters
 from observability.codegen import filter_functions
-from test_firstestimates import DT, ODOMETRY, Q, R, U, J, _hand_H, _hand_N, _hand_update, _simulate, _wrap
+from test_firstestimates import DT, ODOMETRY, Q, R, U, J, _hand_H, _hand_N, _hand_update, _simulate, _wrap, odometry_functions
 
 
 @pytest.fixture(scope="module")
 def model():
     system = parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT)
-    fns = filter_functions(system, ["v", "s", "om"])
+    fns = odometry_functions()
     result = analyze(system, seed=1)
     return system, fns, null_space_function(system, result.unobservable_directions, fns), system.n - result.rank
 

@@ -20,11 +20,10 @@ import numpy as np
 import pytest
 
 from observability import analyze
-from observability.codegen import filter_functions
 from observability.filters import Huang2010OCEKF, null_space_function
 from observability.filters.linearized import recorded_observability
 from observability.model.modelfile import parse_model
-from test_firstestimates import DT, ODOMETRY, Q, R, U, J, _hand_H, _hand_N, _simulate, _wrap
+from test_firstestimates import DT, ODOMETRY, Q, R, U, J, _hand_H, _hand_N, _simulate, _wrap, odometry_functions
 from test_ocekf_ijrr import _points, _propagated
 
 K0, STEPS = 4, 12
@@ -33,7 +32,7 @@ K0, STEPS = 4, 12
 @pytest.fixture(scope="module")
 def model():
     system = parse_model(ODOMETRY, "odometry.toml").with_values(dt=DT)
-    fns = filter_functions(system, ["v", "s", "om"])
+    fns = odometry_functions()
     result = analyze(system, seed=1)
     return fns, null_space_function(system, result.unobservable_directions, fns), system.n - result.rank
 

@@ -4,10 +4,9 @@ the answer carries over; hand derivations in each docstring."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
 from observability import System, analyze
 from observability.identifiability.outputforms import EXP, LOGS, TAN, rational_form
@@ -78,8 +77,7 @@ def test_a_model_outside_the_rational_test_is_undecided_not_bad_input(tmp_path):
     assert answer.undecided == ("x",) and answer.details.startswith("undecided: ") and "log(x)" in answer.details
     model = tmp_path / "m.toml"
     model.write_text('states = ["x"]\n[dynamics]\nx = "log(x)"\n[outputs]\ny = "x + 1"\n')
-    run = subprocess.run([sys.executable, "-m", "observability", "check", str(model), "--global", "--budget", "20"],
-                         capture_output=True, text=True, check=False)
+    run = cli("check", str(model), "--global", "--budget", "20")
     assert run.returncode != 2 and "undecided: " in run.stdout, run.stderr
 
 

@@ -12,18 +12,16 @@ Model (static states, f = 0): h = (x, y, y z), Jacobian [[1, 0, 0], [0, 1, 0],
 [0, z, y]]: rank 3 where y != 0, 2 where y = 0.
 """
 
-import subprocess
-import sys
 
 import pytest
 import sympy
+from conftest import cli
 
 from observability.errors import ModelError
 from observability.model.modelfile import load_model
 from observability.where.points import rank_at_point
 from observability.where.sets import parse_constraints
 
-SCRIPT = [sys.executable, "-m", "observability"]
 X, Y, Z = sympy.symbols("x y z")
 DYNAMICS = (0, 0, 0)
 OUTPUTS = ("x", "y", "y*z")
@@ -121,15 +119,13 @@ def test_the_regression_point_is_accepted_and_a_point_off_the_set_refused_in_one
     set's verdict: rank 2 on the axis), rank 3 at the point (sympy). (1, 1, 2): x**2 - y**2*z is
     1 - 2 = -1 there: exit 2, that one line."""
     path = _model(tmp_path)
-    run = subprocess.run([*SCRIPT, "check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=1"],
-                         capture_output=True, text=True)
+    run = cli("check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=1")
     assert run.returncode == 1 and _true_rank(OUTPUTS, {X: 1, Y: 1, Z: 1}) == 3
     assert "rank 3 of 3 at the point x = 1, y = 1, z = 1" in run.stdout and f"on the piece {MAIN}" in run.stdout
     # The set's generic rank (2, the axis's) is not the main piece's (3): no "singular", no "too low".
     assert "singular or not: not stated" in run.stdout and "therefore too low" not in run.stdout
     value = (X**2 - Y**2 * Z).subs({X: 1, Y: 1, Z: 2})
-    run = subprocess.run([*SCRIPT, "check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=2"],
-                         capture_output=True, text=True)
+    run = cli("check", str(path), "--where", UMBRELLA, "--point", "x=1,y=1,z=2")
     assert run.returncode == 2 and run.stdout == "" and len(run.stderr.splitlines()) == 1
     assert run.stderr.rstrip().endswith(f"the point is not on the set: x**2 - y**2*z is {value} there")
 

@@ -1,17 +1,13 @@
 """The rank at a given point (check --point): hand-derived references."""
 
 import json
-import subprocess
-import sys
 
 import pytest
 import sympy
 
+from conftest import cli
 from observability import ModelError, analyze, models
 from observability.where.points import rank_at_point
-
-#: The command line, run by the interpreter running the tests (never whatever is on PATH).
-SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def test_full_point_gives_the_null_space_as_numbers():
@@ -52,22 +48,19 @@ def test_point_errors_name_the_problem():
 
 
 def test_cli_point_text_and_json():
-    out = subprocess.run([*SCRIPT, "check", "slam1.5d-beacon", "--point", "cdot=0"], capture_output=True, text=True,
-                         timeout=120)
+    out = cli("check", "slam1.5d-beacon", "--point", "cdot=0")
     assert out.returncode == 0 and "rank 3 of 4 at the point cdot = 0" in out.stdout and "singular" in out.stdout
-    out = subprocess.run([*SCRIPT, "check", "slam1.5d", "--point", "c=1,cdot=2,x_L2=3,d_L2=1/2,f=20", "--format",
-                          "json"], capture_output=True, text=True, timeout=120)
+    out = cli("check", "slam1.5d", "--point", "c=1,cdot=2,x_L2=3,d_L2=1/2,f=20", "--format", "json")
     record = json.loads(out.stdout)["at_point"]
     assert record["rank"] == 2 and record["singular"] is False and len(record["null_space"]) == 2
-    bad = subprocess.run([*SCRIPT, "check", "slam2d", "--point", "cth=1"], capture_output=True, text=True, timeout=120)
+    bad = cli("check", "slam2d", "--point", "cth=1")
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--point: cth appears inside" in bad.stderr
 
 
 def test_cli_float_method_evaluates_at_the_point():
     """With --method float the SVD is taken at the point itself, an angle
     included: slam2d keeps its four directions there (rank 4 of 8)."""
-    out = subprocess.run([*SCRIPT, "check", "slam2d", "--method", "float", "--point", "cth=1,cx=0", "--format", "json"],
-                         capture_output=True, text=True, timeout=120)
+    out = cli("check", "slam2d", "--method", "float", "--point", "cth=1,cx=0", "--format", "json")
     record = json.loads(out.stdout)
     assert out.returncode == 1 and record["rank"] == 4 and "at_point" not in record
     assert "SVD at the given point" in record["details"]

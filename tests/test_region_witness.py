@@ -14,14 +14,12 @@ References by hand:
 """
 
 import json
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
 from observability.model.witness import witness
 
-SCRIPT = [sys.executable, "-m", "observability"]
 X, Y, Z = sympy.symbols("x y z")
 
 
@@ -34,7 +32,7 @@ def _model(tmp_path, name, states, outputs):
 
 
 def _run(*args):
-    return subprocess.run([*SCRIPT, "check", *map(str, args)], capture_output=True, text=True)
+    return cli("check", *map(str, args))
 
 
 def test_a_region_with_no_point_found_is_undecided_not_a_rank(tmp_path):
@@ -95,12 +93,12 @@ def test_sensors_and_global_answers_carry_the_region_check_states(tmp_path):
     where sin x < 0, so rank 2 with y on one part and 1 on the other, by hand) made "rank 2 of 2 (proven)" in
     `sensors` with no region; `check --global` on z*sqrt(x**2 - 1) (x > 1 and x < -1, two parts) carried none."""
     path = _model(tmp_path, "sens", ["x", "y"], ["y"])
-    args = [*SCRIPT, "sensors", str(path), "--candidate", "a=sqrt(1 - cos(x)**2) + sin(x)", "--seed", "5"]
-    text = subprocess.run(args, capture_output=True, text=True).stdout
+    args = ["sensors", str(path), "--candidate", "a=sqrt(1 - cos(x)**2) + sin(x)", "--seed", "5"]
+    text = cli(*args).stdout
     line = next(row for row in text.splitlines() if row.startswith("  {a}:"))
     assert "rank 2 of 2 (proven) on the region around the point where sqrt's argument 1 - cos(x)**2 > 0" in line
     assert "on the regions named below" in text.splitlines()[0]
-    answer = json.loads(subprocess.run([*args, "--format", "json"], capture_output=True, text=True).stdout)
+    answer = json.loads(cli(*args, "--format", "json").stdout)
     assert answer["minimal_sets"][0]["region"]["qualified"] is True
     slab = _model(tmp_path, "slab", ["x", "z"], ["z*sqrt(x**2 - 1)", "z"])
     checked = json.loads(_run(slab, "--global", "--seed", "1", "--format", "json").stdout)

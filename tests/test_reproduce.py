@@ -2,11 +2,10 @@
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from conftest import cli
 
 from observability.report.claims import (
     CLAIMS, MODELLINGS, Claim, Modelling, claim_rows, claims_markdown, planar_rows, spatial_rows,
@@ -21,9 +20,11 @@ KEYS = {
 
 @pytest.fixture(scope="module")
 def quick_reports(tmp_path_factory):
+    """The smoke run in this process (what is tested is the files, not the interpreter) on a
+    local cluster of one worker: each worker process imports the package anew, and the
+    records do not depend on the number of workers (test_experiment checks one against two)."""
     out = tmp_path_factory.mktemp("reports")
-    result = subprocess.run([sys.executable, "-m", "observability", "reproduce", "--quick", "--out", str(out)],
-                            capture_output=True, text=True, timeout=600)
+    result = cli("reproduce", "--quick", "--workers", "1", "--out", out)
     assert result.returncode == 0, result.stderr
     return out
 

@@ -2,19 +2,15 @@
 degenerate-motion scan, against hand derivations and the literature."""
 
 import json
-import subprocess
-import sys
 
 import pytest
 
+from conftest import cli
 from observability import System, analyze, models
 from observability.errors import ModelError
 from observability.where.motions import degenerate_motions
 from observability.where.profiles import parse_profile, with_input_profiles
 from observability.where.sets import parse_constraints
-
-#: The command line, run by the interpreter running the tests (never whatever is on PATH).
-SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def _profiled(system, **profiles):
@@ -190,13 +186,11 @@ def test_cli_where_inputs_and_degenerate(tmp_path):
         '[outputs]\nz1 = "atan2(b1y - y, b1x - x) - th"\nz2 = "atan2(b2y - y, b2x - x) - th"\n'
         '[motions.turning]\ndescription = "turns in place"\ninputs = { v = "0" }\n'
     )
-    generic = subprocess.run([*SCRIPT, "check", str(model), "--seed", "1"], capture_output=True, text=True, timeout=300)
+    generic = cli("check", str(model), "--seed", "1")
     assert generic.returncode == 0
-    still = subprocess.run([*SCRIPT, "check", str(model), "--inputs", "zero", "--seed", "1"], capture_output=True,
-                           text=True, timeout=300)
+    still = cli("check", str(model), "--inputs", "zero", "--seed", "1")
     assert still.returncode == 1 and "rank 2 of 3" in still.stdout
-    scan = subprocess.run([*SCRIPT, "degenerate", str(model), "--format", "json", "--seed", "1"], capture_output=True,
-                          text=True, timeout=300)
+    scan = cli("degenerate", str(model), "--format", "json", "--seed", "1")
     data = json.loads(scan.stdout)
     motions = {m["motion"]: m for m in data["motions"]}
     assert set(motions["turning"]) >= {"motion", "rank", "n_states", "observable_states", "lost_directions"}
@@ -204,7 +198,7 @@ def test_cli_where_inputs_and_degenerate(tmp_path):
     assert motions["w = 0"]["rank"] == 3  # driving straight is enough
     bad = tmp_path / "bad.toml"
     bad.write_text(model.read_text().replace('inputs = { v = "0" }', 'where = "zz = 1"'))
-    refused = subprocess.run([*SCRIPT, "degenerate", str(bad)], capture_output=True, text=True, timeout=300)
+    refused = cli("degenerate", str(bad))
     assert refused.returncode == 2 and "motion 'turning'" in refused.stderr and "zz" in refused.stderr
-    where = subprocess.run([*SCRIPT, "check", "slam2d", "--where", "cx = 1"], capture_output=True, text=True, timeout=300)
+    where = cli("check", "slam2d", "--where", "cx = 1")
     assert where.returncode == 3 and "leaves the set" in where.stdout

@@ -14,12 +14,10 @@ derivative vanishes and the outputs' Jacobian is the whole matrix):
 
 import json
 import re
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
-SCRIPT = [sys.executable, "-m", "observability"]
 X, Y = sympy.symbols("x y")
 MODELS = {
     "where_xy": ("y", "x*y"),
@@ -48,7 +46,7 @@ def _true_rank(name, part):
 
 
 def _check(path, where, *extra):
-    return subprocess.run([*SCRIPT, "check", str(path), "--where", where, *extra], capture_output=True, text=True)
+    return cli("check", str(path), "--where", where, *extra)
 
 
 def _part(restriction):
@@ -92,13 +90,12 @@ def test_a_repeated_factor_is_its_square_free_part(tmp_path):
 
 def test_the_degenerate_scan_marks_a_motion_analysed_on_one_part(tmp_path):
     path = _model(tmp_path, "where_w4", '[motions.cross]\nwhere = "(x-1)*(y-2) = 0"\n')
-    out = subprocess.run([*SCRIPT, "degenerate", str(path)], capture_output=True, text=True).stdout
+    out = cli("degenerate", str(path)).stdout
     row = next(line for line in out.splitlines() if line.startswith("cross "))
     assert "(on a part of the set)" in row
     part = re.search(r"cross: the part (.+?) of the set", out).group(1)
     assert row.split()[1] == f"{_true_rank('where_w4', part)}/2"
-    listed = json.loads(subprocess.run([*SCRIPT, "degenerate", str(path), "--format", "json"], capture_output=True,
-                                       text=True).stdout)["motions"]
+    listed = json.loads(cli("degenerate", str(path), "--format", "json").stdout)["motions"]
     cross = next(m for m in listed if m["motion"] == "cross")
     assert cross["rank"] == _true_rank("where_w4", _part(cross["analysed_on"]))
 

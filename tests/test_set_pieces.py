@@ -23,14 +23,12 @@ outputs (the dynamics are zero, so the outputs' Jacobian is the whole matrix):
 """
 
 import json
-import subprocess
-import sys
 
 import sympy
+from conftest import cli
 
 from observability.where.parts import decompose
 
-SCRIPT = [sys.executable, "-m", "observability"]
 X, Y, Z = sympy.symbols("x y z")
 
 
@@ -47,8 +45,7 @@ def _rank(outputs, point):
 
 
 def _check(path, where):
-    run = subprocess.run([*SCRIPT, "check", str(path), "--where", where, "--format", "json", "--seed", "2"],
-                         capture_output=True, text=True)
+    run = cli("check", str(path), "--where", where, "--format", "json", "--seed", "2")
     return run.returncode, (json.loads(run.stdout) if run.stdout else None), run.stderr
 
 

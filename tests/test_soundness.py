@@ -7,18 +7,14 @@ rule (n + 2 compositions), and its rank over Q(x)."""
 
 import json
 import random
-import subprocess
-import sys
 
 import pytest
 import sympy
+from conftest import cli
 
 from observability import models
 from observability import System, analyze
 from observability.errors import ModelError
-
-#: The command line, run by the interpreter running the tests (never whatever is on PATH).
-SCRIPT = [sys.executable, "-m", "observability"]
 
 
 def _composed_rank(system: System, depth: int) -> int:
@@ -137,14 +133,11 @@ def test_order_limit_full_rank_is_certain():
 
 def test_order_limit_exit_code_three():
     """slam2d with two beacons is observable (rank 8); orders 0..1 give 6."""
-    out = subprocess.run(
-        [*SCRIPT, "check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2", "--max-order", "1", "--format", "json"],
-        capture_output=True, text=True, timeout=300,
-    )
+    out = cli("check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2", "--max-order", "1", "--format", "json")
     assert out.returncode == 3, out.stderr
     data = json.loads(out.stdout)
     assert data["rank"] is None and data["rank_lower_bound"] == 6
-    full = subprocess.run([*SCRIPT, "check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2"], capture_output=True, text=True)
+    full = cli("check", "slam2d", "-o", "landmarks=1", "-o", "beacons=2")
     assert full.returncode == 0
 
 
@@ -199,7 +192,7 @@ def test_constant_sum_vanishing_mod_p_is_refused():
 
 
 def test_cli_refuses_a_value_that_is_the_prime():
-    out = subprocess.run([*SCRIPT, "check", "slam1.5d", "-o", "f=2305843009213693951"], capture_output=True, text=True)
+    out = cli("check", "slam1.5d", "-o", "f=2305843009213693951")
     assert out.returncode == 2
     assert len(out.stderr.strip().splitlines()) == 1 and "working prime" in out.stderr
 

@@ -9,11 +9,10 @@ decimals denote, written out by hand.
 
 from __future__ import annotations
 
-import subprocess
-import sys
 
 import pytest
 import sympy
+from conftest import cli
 
 from observability.errors import ModelFileError
 from observability.model.modelfile import parse_model
@@ -52,7 +51,7 @@ def test_non_finite_float_is_refused_naming_the_key(literal):
 def test_non_finite_float_exit_2_one_line(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(_model("inf"))
-    run = subprocess.run([sys.executable, "-m", "observability", "check", str(path)], capture_output=True, text=True)
+    run = cli("check", str(path))
     assert run.returncode == 2
     assert run.stderr.strip().count("\n") == 0 and "parameters.a" in run.stderr
 

@@ -8,11 +8,10 @@ variables (x, w, w', ...), never the engine's expansion.
 from __future__ import annotations
 
 import random
-import subprocess
-import sys
 
 import pytest
 import sympy
+from conftest import cli
 
 from observability.analysis.verdict import analyze
 from observability.errors import ModelError
@@ -169,7 +168,6 @@ def test_analyses_that_take_inputs_as_known_refuse_an_arbitrary_input():
         path = pathlib.Path(folder) / "m.toml"
         path.write_text(model)
         for extra in (["--point", "p=1"], ["--method", "float"], ["--where", "p = 0"]):
-            run = subprocess.run([sys.executable, "-m", "observability", "check", str(path), *extra],
-                                 capture_output=True, text=True, timeout=120)
+            run = cli("check", str(path), *extra)
             assert run.returncode == 2, (extra, run.stderr)
             assert "any function of time" in run.stderr and "Traceback" not in run.stderr

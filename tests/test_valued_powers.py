@@ -4,24 +4,22 @@ analytic at x = 0; sqrt(x**2) + x is 2x for x > 0 and 0 for x < 0, rank 1 on
 one side, 0 on the other). The check is applied to the expressions with the
 values substituted, as the engine reads them (issue 61)."""
 
-import subprocess
-import sys
 
 import pytest
 import sympy
+from conftest import cli
 
 from observability import System, analyze
 from observability.engine.atoms import normal_form
 from observability.errors import ModelError
 
-SCRIPT = [sys.executable, "-m", "observability"]
 TEXT = 'states=["x","y"]\n[dynamics]\nx="0"\ny="0"\n[outputs]\nh1="(x**2)**p + x"\nh2="y"\n'
 
 
 def test_a_value_making_an_absolute_value_is_refused_on_the_command_line(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(TEXT + "[parameters]\np = 0.5\n")
-    run = subprocess.run([*SCRIPT, "check", str(path)], capture_output=True, text=True)
+    run = cli("check", str(path))
     assert run.returncode == 2 and "Traceback" not in run.stderr
     (line,) = run.stderr.strip().splitlines()
     assert "output h1 with p=1/2" in line and "|x|" in line

@@ -29,6 +29,7 @@ coefficients are added instead, and generate it over Q(u).
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -244,8 +245,22 @@ def _value(poly: Any, point: dict) -> Any:
 
 
 def _gradient(pair: tuple[sympy.Expr, sympy.Expr], coordinates: Sequence[sympy.Symbol], point: dict) -> list:
+    """The gradient of n/d at the point by the quotient rule, (n_c d - n d_c) / d**2, on the
+    polynomials' partial derivatives (the caller has d non-zero there)."""
     n, d = pair
-    return [sympy.diff(n / d, c).xreplace(point) for c in coordinates]
+    at_n, at_d = n.xreplace(point), d.xreplace(point)
+    return [(dn.xreplace(point) * at_d - at_n * dd.xreplace(point)) / at_d**2
+            for dn, dd in _partials(n, d, tuple(coordinates))]
+
+
+@functools.lru_cache(maxsize=512)
+def _partials(n: sympy.Expr, d: sympy.Expr, coordinates: tuple[sympy.Symbol, ...]) -> list:
+    """(dn/dc, dd/dc) for each coordinate c, as polynomials: derived once per pair, while
+    the pair's gradient is wanted at a new point for each candidate left out (sympy's
+    derivative of the quotient n/d, taken anew each time, was most of ``check --global``'s
+    time on SI.jl's three-compartment model)."""
+    numerator, denominator = sympy.Poly(n, *coordinates), sympy.Poly(d, *coordinates)
+    return [(numerator.diff(c).as_expr(), denominator.diff(c).as_expr()) for c in coordinates]
 
 
 def _fraction_gradient(fraction: Any, coordinates: Sequence[sympy.Symbol], point: dict) -> list:
