@@ -1,0 +1,157 @@
+"""Every verdict the suite obtains that is called proven, re-verified by the checker (issue 61).
+
+Installed by ``conftest.py`` when the tests are collected. Every verdict comes
+out of one function, ``observability.analysis.verdict._verdict`` (``analyze``
+calls it through the module, so every caller is seen however it imported
+``analyze``: the API, ``check``, ``sensors``, ``latex``, the set and motion
+scans). The recorder keeps each verdict whose ``proof`` is "proven", once per
+(system, rank, number of states). At the session's end each distinct one
+(deduplicated again by the checker's digest of its proof model, so the same
+equations built twice are verified once) is:
+
+1. written as ``check --proof`` writes it (``proof_evidence`` with its default
+   budget, 60 CPU seconds for the minor: issue 61 item 6, every verdict that
+   ``check`` calls proven must write its proof within the default budget);
+2. verified by the checker tied to the model, as ``verify-proof FILE --model``
+   does (``proof_model`` of the system the verdict was about, the check in the
+   checker's bounded child, :data:`CHECK_SECONDS` of CPU);
+3. and the claim the checker prints must be the verdict's rank of its number of
+   states about that model.
+
+A verdict whose proof a test already wrote (and which is verified, by that
+test or at the session's end by ``every_written_proof_is_verified``) is not
+written again.
+
+Not re-verified, and counted apart (:data:`UNSTATED`): verdicts whose claim a
+proof file cannot state. A proof states the generic rank with generic inputs
+(its ``CONVENTIONS``), through the inverse motion model for outputs that read
+the previous state. A verdict on a constraint set (``where``), with the inputs'
+derivatives limited (``input_derivatives``: input profiles, ``--input
+u=degree=K``) or with the previous state carried as states (``previous=
+"augment"`` on a model that reads it) claims something else; ``check --proof``
+refuses the last one (exit 3) and has no way to state the first two.
+
+Tests that forge a proven verdict on purpose (a simulated engine) must not
+leave it here: they use the ``unrecorded_verdicts`` fixture.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import pytest
+
+import observability.analysis.verdict as _verdict_module
+from observability.analysis.result import ObservabilityResult
+from observability.budget import Undecided
+from observability.model.system import System
+from observability.rank import proofcheck as _proofcheck
+from observability.report import proofs as _proofs
+
+#: CPU seconds the checker's child may take for one proof (as for the proofs the tests write).
+CHECK_SECONDS = 120
+
+
+@dataclass
+class Record:
+    """The proven verdicts of this process: by (system, rank, states) the first
+    result seen, and by the same key why a proof cannot state it (UNSTATED)."""
+
+    verdicts: dict = field(default_factory=dict)
+    unstated: dict = field(default_factory=dict)
+    paused: int = 0
+    #: What the session's end did: verdicts verified, skipped as covered, CPU seconds.
+    summary: str = ""
+
+
+RECORD = Record()
+_real_verdict = _verdict_module._verdict
+
+
+def _unstated(system: System, input_derivatives: int | None, previous: str, where) -> str | None:
+    """Why a proof file cannot state this verdict's claim (None: it can)."""
+    if where is not None:
+        return "a rank on a constraint set"
+    if input_derivatives is not None:
+        return f"the inputs' derivatives limited to {input_derivatives}"
+    if previous == "augment" and system.time == "discrete" and system.uses_previous_state:
+        return "the previous state carried as states (--previous augment)"
+    return None
+
+
+def _recording_verdict(system: System, method: str, seed, input_derivatives, max_order, budget, point,
+                       previous: str, directions, progress, where, *rest) -> ObservabilityResult:
+    result = _real_verdict(system, method, seed, input_derivatives, max_order, budget, point, previous, directions,
+                           progress, where, *rest)
+    if result.proof == "proven" and result.rank is not None and not RECORD.paused:
+        key = (system, result.rank, result.n_states)
+        reason = _unstated(system, input_derivatives, previous, where)
+        if reason is None:
+            RECORD.verdicts.setdefault(key, (system, result))
+        else:
+            RECORD.unstated.setdefault(key, reason)
+    return result
+
+
+def install() -> None:
+    """Record every verdict from now on (conftest calls it at import)."""
+    _verdict_module._verdict = _recording_verdict
+
+
+@pytest.fixture
+def unrecorded_verdicts():
+    """For a test that forges a proven verdict (a simulated rank): nothing it obtains is recorded."""
+    RECORD.paused += 1
+    yield
+    RECORD.paused -= 1
+
+
+def claim_problem(system: System, result: ObservabilityResult, seconds: float = CHECK_SECONDS) -> str | None:
+    """None when the proof of ``result`` about ``system`` is written as ``check
+    --proof`` writes it, within its default budget, and the checker tied to the
+    model accepts it with the verdict's rank; else one line saying what failed."""
+    model = _proofs.proof_model(system)
+    try:
+        evidence = _proofs.proof_evidence(system, result)
+    except (Undecided, RuntimeError) as exc:  # Undecided: exit 3; RuntimeError: a rank mismatch, exit 4
+        return f"check --proof writes no proof ({type(exc).__name__}: {exc})"
+    text = json.dumps(evidence, sort_keys=True)
+    accepted, lines = _proofcheck._in_child(lambda: _proofcheck._answer(text, model), seconds)
+    if not accepted:
+        return f"verify-proof --model refuses its proof: {lines[0]}"
+    claim = (f"accepted: the generic rank of the observability matrix of {model['name']} is {result.rank} of "
+             f"{result.n_states} (")
+    if not lines[0].startswith(claim):
+        return f"the checker's claim is not the verdict's rank {result.rank} of {result.n_states}: {lines[0]}"
+    return None
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and its waited-for children (the checker's and the budget's)."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult], str | None] = claim_problem
+                    ) -> list[str]:
+    """The failures among the recorded verdicts, one line each naming the model
+    and its claimed rank; ``covered``: (digest, rank, states) of the proofs the
+    tests wrote (verified already or at the session's end)."""
+    start, seen, failures, skipped = _cpu(), set(covered), [], 0
+    for system, result in list(RECORD.verdicts.values()):
+        key = (_proofcheck.digest(_proofs.proof_model(system)), result.rank, result.n_states)
+        if key in seen:
+            skipped += 1
+            continue
+        seen.add(key)
+        found = problem(system, result)
+        if found is not None:
+            failures.append(f"{system.name} (proven rank {result.rank} of {result.n_states}): {found}")
+    verified = len(seen) - len(covered)
+    RECORD.summary = (f"proven verdicts: {verified} re-verified by the checker, {skipped} already proven by a proof "
+                      f"the tests wrote, {len(RECORD.unstated)} not statable by a proof file "
+                      f"({_cpu() - start:.1f} s of CPU)")
+    return failures
