@@ -38,6 +38,7 @@ leave it here: they use the ``unrecorded_verdicts`` fixture.
 from __future__ import annotations
 
 import json
+import os
 import resource
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -90,7 +91,7 @@ def _recording_verdict(system: System, method: str, seed, input_derivatives, max
         key = (system, result.rank, result.n_states)
         reason = _unstated(system, input_derivatives, previous, where)
         if reason is None:
-            RECORD.verdicts.setdefault(key, (system, result))
+            RECORD.verdicts.setdefault(key, (system, result, os.environ.get("PYTEST_CURRENT_TEST", "?").split(" ")[0]))
         else:
             RECORD.unstated.setdefault(key, reason)
     return result
@@ -116,8 +117,10 @@ def claim_problem(system: System, result: ObservabilityResult, seconds: float = 
     model = _proofs.proof_model(system)
     try:
         evidence = _proofs.proof_evidence(system, result)
-    except (Undecided, RuntimeError) as exc:  # Undecided: exit 3; RuntimeError: a rank mismatch, exit 4
-        return f"check --proof writes no proof ({type(exc).__name__}: {exc})"
+    except Undecided as exc:
+        return f"check --proof writes no proof (exit 3: {exc})"
+    except Exception as exc:  # noqa: BLE001 - a rank mismatch (RuntimeError) or any other: check --proof exits 4
+        return f"check --proof fails (exit 4, {type(exc).__name__}: {str(exc)[:300]})"
     text = json.dumps(evidence, sort_keys=True)
     accepted, lines = _proofcheck._in_child(lambda: _proofcheck._answer(text, model), seconds)
     if not accepted:
@@ -127,6 +130,13 @@ def claim_problem(system: System, result: ObservabilityResult, seconds: float = 
     if not lines[0].startswith(claim):
         return f"the checker's claim is not the verdict's rank {result.rank} of {result.n_states}: {lines[0]}"
     return None
+
+
+def _equations(system: System) -> str:
+    """The model in a few words for a failure's line: its dynamics and outputs (300 characters at most)."""
+    dynamics = ", ".join(f"{s}' = {f}" for s, f in zip(system.states, system.dynamics))
+    text = f"{dynamics}; " + ", ".join(f"{name} = {h}" for name, h in system.outputs)
+    return text if len(text) <= 300 else text[:297] + "..."
 
 
 def _cpu() -> float:
@@ -140,18 +150,22 @@ def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult
     """The failures among the recorded verdicts, one line each naming the model
     and its claimed rank; ``covered``: (digest, rank, states) of the proofs the
     tests wrote (verified already or at the session's end)."""
-    start, seen, failures, skipped = _cpu(), set(covered), [], 0
-    for system, result in list(RECORD.verdicts.values()):
+    start, seen, failures, skipped, costs = _cpu(), set(covered), [], 0, []
+    for system, result, test in list(RECORD.verdicts.values()):
         key = (_proofcheck.digest(_proofs.proof_model(system)), result.rank, result.n_states)
         if key in seen:
             skipped += 1
             continue
         seen.add(key)
+        began = _cpu()
         found = problem(system, result)
+        costs.append((_cpu() - began, system.name))
         if found is not None:
-            failures.append(f"{system.name} (proven rank {result.rank} of {result.n_states}): {found}")
+            failures.append(f"{system.name} (proven rank {result.rank} of {result.n_states}; {_equations(system)}; "
+                            f"obtained by {test}): {found}")
     verified = len(seen) - len(covered)
     RECORD.summary = (f"proven verdicts: {verified} re-verified by the checker, {skipped} already proven by a proof "
                       f"the tests wrote, {len(RECORD.unstated)} not statable by a proof file "
-                      f"({_cpu() - start:.1f} s of CPU)")
+                      f"({_cpu() - start:.1f} s of CPU; the most: "
+                      f"{', '.join(f'{name} {cpu:.1f} s' for cpu, name in sorted(costs, reverse=True)[:3])})")
     return failures

@@ -36,7 +36,9 @@ def test_a_proven_verdict_is_recorded_with_its_system_and_rank():
     system = System(["x", "v"], {"x": "v", "v": "0"}, {"y": "x"}, name="recorded-probe")
     result = analyze(system, seed=3)
     assert (result.proof, result.rank) == ("proven", 2)  # y, y' = v: rows (1, 0), (0, 1)
-    assert proven_verdicts.RECORD.verdicts[(system, 2, 2)][0] is system
+    recorded, _, test = proven_verdicts.RECORD.verdicts[(system, 2, 2)]
+    assert recorded is system
+    assert test == "tests/test_proven_verdicts.py::test_a_proven_verdict_is_recorded_with_its_system_and_rank"
 
 
 def test_a_verdict_on_a_set_is_recorded_as_one_a_proof_cannot_state():
@@ -55,13 +57,16 @@ def test_the_genuine_verdict_is_verified():
 
 def test_a_forged_rank_is_reported_naming_the_model(monkeypatch):
     """A verdict claiming proven rank 2 of 2: the writer's own rank (1) differs, so no proof is
-    written, and the session's failure names the model and the claimed rank."""
+    written (``check --proof`` stops on it, exit 4), and the session's failure names the model,
+    its equations and the claimed rank."""
     system = _line()
     forged = dataclasses.replace(analyze(system, seed=1), rank=2, observable=True, unobservable_directions=())
-    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 2, 2): (system, forged)})
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 2, 2): (system, forged, "a test")})
     failures = proven_verdicts.verify_recorded(set())
     assert len(failures) == 1
-    assert failures[0].startswith("forged-line (proven rank 2 of 2): check --proof writes no proof (RuntimeError")
+    assert failures[0].startswith("forged-line (proven rank 2 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); "
+                                  "obtained by a test): check --proof fails (exit 4, RuntimeError: forged-line: internal "
+                                  "mismatch of ranks (1 != 2))")
 
 
 def test_a_proof_the_checker_refuses_is_reported(monkeypatch):
@@ -95,11 +100,11 @@ def test_a_verdict_already_proven_by_a_written_proof_is_not_proven_again(monkeyp
     """Covered by (digest, rank, states): the problem function is not even called."""
     system = _line()
     result = analyze(system, seed=1)
-    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 2): (system, result)})
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 2): (system, result, "a test")})
     covered = {(proofcheck.digest(json.loads(json.dumps(proofs.proof_model(system)))), 1, 2)}
     assert proven_verdicts.verify_recorded(covered, problem=lambda *_: "called") == []
     assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "called") == [
-        "forged-line (proven rank 1 of 2): called"]
+        "forged-line (proven rank 1 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by a test): called"]
 
 
 _FORGING_TEST = '''
@@ -135,4 +140,5 @@ def test_a_session_that_obtains_a_forged_proven_verdict_fails(tmp_path):
     assert run.returncode == 1, run.stdout + run.stderr
     assert "1 passed, 1 error" in run.stdout
     assert ("verdicts called proven whose proof is not written or not verified:\nE         forged-in-a-session "
-            "(proven rank 2 of 2): check --proof writes no proof (RuntimeError") in run.stdout
+            "(proven rank 2 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by "
+            "test_forged.py::test_obtains_a_forged_verdict): check --proof fails (exit 4, RuntimeError") in run.stdout
