@@ -54,6 +54,22 @@ from observability.report import proofs as _proofs
 
 #: CPU seconds the checker's child may take for one proof (as for the proofs the tests write).
 CHECK_SECONDS = 120
+_NO_DIRECTIONS = "the named directions could not be re-verified"
+#: Verdicts called proven whose proof ``check --proof`` does not write today (issue 61 item 6, open): by
+#: (rank, states, equations as in a failure's line) the words of the writer's refusal. Each is reported in the
+#: summary, not as a failure; one that is written and verified is a failure (remove it here). All are the symbolic
+#: method on outputs with a hidden identity among exp/log atoms (test_atoms.py); the verdicts' ranks are right
+#: (by hand: the hidden term is 0, so y = x1, rank 1; y2 = y1**2, rank 1; y0 = 2 x3 (x1 - x2) where the logs are
+#: real, whose rows of orders 0-2 have rank 3, exact sympy), but the writer's directions (from the outputs as
+#: written) are not identities it can verify, or none of its exact points gives a non-zero minor.
+KNOWN = {
+    (1, 2, "x1' = 0, x2' = 1; y = x1 - exp(x1)*exp(x1*x2) + exp(x1*(x2 + 1))"): _NO_DIRECTIONS,
+    (1, 2, "x1' = 0, x2' = 1; y = x1 + x2**2*(-log(x2) - log(x1 + 1) + log(x1*x2 + x2))"): _NO_DIRECTIONS,
+    (1, 2, "x1' = 0, x2' = 1; y = x1 - exp(2*x1)*exp(x2) + exp(2*x1 + x2)"): _NO_DIRECTIONS,
+    (1, 2, "x' = 0, z' = 0; y1 = z + exp(x), y2 = z**2 + 2*z*exp(x) + exp(2*x)"): _NO_DIRECTIONS,
+    (3, 3, "x1' = x3, x2' = 0, x3' = x2*x3; y0 = 2*x1*x3 - 2*x2*x3 + x3**2*(-log(x3) - log(x2 + 1) + "
+           "log(x2*x3 + x3))"): "no exact point with a non-zero minor was found in 12 tries",
+}
 
 
 @dataclass
@@ -149,23 +165,26 @@ def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult
                     ) -> list[str]:
     """The failures among the recorded verdicts, one line each naming the model
     and its claimed rank; ``covered``: (digest, rank, states) of the proofs the
-    tests wrote (verified already or at the session's end)."""
-    start, seen, failures, skipped, costs = _cpu(), set(covered), [], 0, []
+    tests wrote (verified already or at the session's end). A verdict listed in
+    :data:`KNOWN` that fails as listed is counted in the summary instead; one
+    that is now verified is a failure (the list is out of date)."""
+    start, seen, failures, known, costs = _cpu(), set(covered), [], 0, []
     for system, result, test in list(RECORD.verdicts.values()):
         key = (_proofcheck.digest(_proofs.proof_model(system)), result.rank, result.n_states)
         if key in seen:
-            skipped += 1
             continue
         seen.add(key)
         began = _cpu()
         found = problem(system, result)
         costs.append((_cpu() - began, system.name))
-        if found is not None:
+        listed = KNOWN.get((result.rank, result.n_states, _equations(system)))
+        if listed is not None and found is not None and listed in found:
+            known += 1
+        elif listed is not None or found is not None:
             failures.append(f"{system.name} (proven rank {result.rank} of {result.n_states}; {_equations(system)}; "
-                            f"obtained by {test}): {found}")
-    verified = len(seen) - len(covered)
-    RECORD.summary = (f"proven verdicts: {verified} re-verified by the checker, {skipped} already proven by a proof "
-                      f"the tests wrote, {len(RECORD.unstated)} not statable by a proof file "
-                      f"({_cpu() - start:.1f} s of CPU; the most: "
+                            f"obtained by {test}): {found or 'verified, but listed in KNOWN: remove it there'}")
+    RECORD.summary = (f"proven verdicts: {len(seen) - len(covered) - known} re-verified by the checker (beyond the "
+                      f"proofs the tests wrote), {known} known to write no proof (KNOWN), {len(RECORD.unstated)} not "
+                      f"statable by a proof file ({_cpu() - start:.1f} s of CPU; the most: "
                       f"{', '.join(f'{name} {cpu:.1f} s' for cpu, name in sorted(costs, reverse=True)[:3])})")
     return failures

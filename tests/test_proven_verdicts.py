@@ -107,6 +107,21 @@ def test_a_verdict_already_proven_by_a_written_proof_is_not_proven_again(monkeyp
         "forged-line (proven rank 1 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by a test): called"]
 
 
+def test_a_known_verdict_is_counted_while_it_fails_as_listed_and_reported_once_it_passes(monkeypatch):
+    system = _line()
+    result = analyze(system, seed=1)
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 2): (system, result, "a test")})
+    monkeypatch.setattr(proven_verdicts, "KNOWN", {(1, 2, "x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2)"): "writes no"})
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "check --proof writes no proof") == []
+    assert "1 known to write no proof (KNOWN)" in proven_verdicts.RECORD.summary
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "another refusal") == [
+        "forged-line (proven rank 1 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by a test): "
+        "another refusal"]
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: None) == [
+        "forged-line (proven rank 1 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by a test): "
+        "verified, but listed in KNOWN: remove it there"]
+
+
 _FORGING_TEST = '''
 import dataclasses
 
