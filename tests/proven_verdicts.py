@@ -31,8 +31,10 @@ u=degree=K``) or with the previous state carried as states (``previous=
 "augment"`` on a model that reads it) claims something else; ``check --proof``
 refuses the last one (exit 3) and has no way to state the first two.
 
-Tests that forge a proven verdict on purpose (a simulated engine) must not
-leave it here: they use the ``unrecorded_verdicts`` fixture.
+Tests that forge a proven verdict on purpose (a simulated engine), or obtain
+one whose proof is out of the writer's reach on purpose (to test that
+``check --proof`` says so), must not leave it here: they use the
+``unrecorded_verdicts`` fixture.
 """
 
 from __future__ import annotations
@@ -120,7 +122,8 @@ def install() -> None:
 
 @pytest.fixture
 def unrecorded_verdicts():
-    """For a test that forges a proven verdict (a simulated rank): nothing it obtains is recorded."""
+    """For a test that forges a proven verdict (a simulated rank) or tests the writer's limits on purpose:
+    nothing it obtains is recorded."""
     RECORD.paused += 1
     yield
     RECORD.paused -= 1
