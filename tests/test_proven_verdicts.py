@@ -122,6 +122,18 @@ def test_a_known_verdict_is_counted_while_it_fails_as_listed_and_reported_once_i
         "verified, but listed in KNOWN: remove it there"]
 
 
+def test_verdicts_on_more_than_the_largest_states_wait_for_the_slow_run(monkeypatch):
+    system = _line()
+    result = analyze(system, seed=1)
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 2): (system, result, "a test")})
+    monkeypatch.setattr(proven_verdicts, "LARGEST", 1)
+    monkeypatch.delenv("OBSERVABILITY_SLOW_TESTS", raising=False)
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "called") == []
+    assert "1 of more than 1 states left to OBSERVABILITY_SLOW_TESTS=1" in proven_verdicts.RECORD.summary
+    monkeypatch.setenv("OBSERVABILITY_SLOW_TESTS", "1")
+    assert len(proven_verdicts.verify_recorded(set(), problem=lambda *_: "called")) == 1
+
+
 _FORGING_TEST = '''
 import dataclasses
 
