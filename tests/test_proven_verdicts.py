@@ -134,6 +134,16 @@ def test_verdicts_on_more_than_the_largest_states_wait_for_the_slow_run(monkeypa
     assert len(proven_verdicts.verify_recorded(set(), problem=lambda *_: "called")) == 1
 
 
+def test_a_model_the_checker_cannot_read_is_reported(monkeypatch, unrecorded_verdicts):
+    """y = x**1001 (the checker's reader bounds exponents by 1000): proven rank 1 of 1, no proof."""
+    system = System(["x"], {"x": "0"}, {"y": "x**1001"}, name="power")
+    result = analyze(system, seed=1)
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 1): (system, result, "a test")})
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: None) == [
+        "power (proven rank 1 of 1; x' = 0; y = x**1001; obtained by a test): check --proof writes no proof (the "
+        "checker cannot read the model: an exponent must be a number of size at most 1000, got 1001)"]
+
+
 _FORGING_TEST = '''
 import dataclasses
 
