@@ -144,6 +144,17 @@ def test_a_model_the_checker_cannot_read_is_reported(monkeypatch, unrecorded_ver
         "checker cannot read the model: an exponent must be a number of size at most 1000, got 1001)"]
 
 
+def test_a_broken_ast_state_of_this_process_is_checked_again_in_a_new_one(monkeypatch):
+    """The checker's child answers with CPython's ast error (as after a RecursionError in the parent): the
+    proof is checked again in a new interpreter, which accepts the genuine one."""
+    system = _line("genuine-line")
+    result = analyze(system, seed=1)
+    broken = (False, ["rejected: the check could not be completed (SystemError: AST constructor recursion depth "
+                      "mismatch (before=144, after=162))"])
+    monkeypatch.setattr(proofcheck, "_in_child", lambda answer, seconds: broken)
+    assert proven_verdicts.claim_problem(system, result) is None
+
+
 _FORGING_TEST = '''
 import dataclasses
 
