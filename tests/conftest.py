@@ -5,7 +5,9 @@ import pytest
 from hypothesis import settings
 
 import observability.report.proofs as _proofs
+import proven_verdicts
 from observability.rank import proofcheck as _proofcheck
+from proven_verdicts import unrecorded_verdicts  # noqa: F401 - the fixture, for the tests that forge a verdict
 
 settings.register_profile("default", deadline=None, max_examples=25, derandomize=True)
 settings.register_profile("thorough", deadline=None, max_examples=300)
@@ -110,15 +112,32 @@ def _recording_verify(path, model=None, *args, **kwargs):
 _proofs.proof_evidence, _proofcheck.check, _proofcheck.verify = _recording_evidence, _recording_check, _recording_verify
 
 
+proven_verdicts.install()
+
+
 @pytest.fixture(scope="session", autouse=True)
 def every_written_proof_is_verified():
     """The session's last word on proofs: each one the suite wrote and no test had
-    accepted is verified now (in the checker's bounded child, 120 CPU seconds each)."""
+    accepted is verified now (in the checker's bounded child, 120 CPU seconds each);
+    then every verdict called proven whose proof no test wrote is proven now
+    (:mod:`proven_verdicts`: written as ``check --proof`` writes it, verified by
+    ``verify-proof --model``, the claim the verdict's rank). Each xdist worker
+    verifies its own."""
     yield
-    refused = []
+    refused, covered = [], set()
     for text, (name, model) in list(_WRITTEN.items()):
+        written = json.loads(text)
+        covered.add((_proofcheck.digest(written["model"]), written["rank"], written["n_states"]))
         if text not in _ACCEPTED:
             accepted, lines = _proofcheck._in_child(lambda: _proofcheck._answer(text, model), 120)
             if not accepted:
                 refused.append(f"{name}: {lines[0]}")
+    unproven = proven_verdicts.verify_recorded(covered)
     assert not refused, "proofs the suite wrote that verify-proof refuses:\n" + "\n".join(refused)
+    assert not unproven, "verdicts called proven whose proof is not written or not verified:\n" + "\n".join(unproven)
+
+
+def pytest_terminal_summary(terminalreporter):
+    """How many proven verdicts the session re-verified, and at what CPU cost (one process: -n 0)."""
+    if proven_verdicts.RECORD.summary:
+        terminalreporter.write_line(proven_verdicts.RECORD.summary)

@@ -409,7 +409,7 @@ def test_a_model_with_an_unknown_input_is_not_the_model_with_it_known(tmp_path):
     assert checked.returncode == 1 and "not about the model given" in checked.stdout
 
 
-def test_no_proof_is_written_that_the_checker_cannot_read(tmp_path):
+def test_no_proof_is_written_that_the_checker_cannot_read(tmp_path, unrecorded_verdicts):
     """y = x^1001, x' = 0: proven (rank 1 of 1), but the independent checker's reader bounds exponents by 1000:
     exit 3, no file, one line saying why (it was exit 4 after writing the file). (The model was y = tanh(x)
     before the reader had tanh: see test_proofcheck_review.py.)"""

@@ -1,15 +1,19 @@
 """The command line's argument types and its usage error: each converter names
-the option and what it expects in one line (exit 2)."""
+the option and what it expects in one line (exit 2); :func:`about` puts the model's
+name in front of an error raised while working on it."""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 from collections.abc import Sequence
 from pathlib import Path
 
+from ..errors import ObservabilityError
+
 __all__ = ["UsageError", "Parser", "EXIT_OBSERVABLE", "EXIT_NOT_OBSERVABLE", "EXIT_BAD_INPUT", "EXIT_UNDECIDED",
-           "EXIT_INTERNAL"]
+           "EXIT_INTERNAL", "about"]
 
 EXIT_OBSERVABLE, EXIT_NOT_OBSERVABLE, EXIT_BAD_INPUT, EXIT_UNDECIDED, EXIT_INTERNAL = 0, 1, 2, 3, 4
 
@@ -192,3 +196,15 @@ def key_values(pairs: Sequence[str], option: str = "-o", once: bool = False) -> 
 def model_options(pairs: Sequence[str]) -> dict[str, str]:
     """``-o KEY=VALUE`` (repeatable): model options and known parameter values."""
     return key_values(pairs)
+
+
+@contextlib.contextmanager
+def about(model: str | None):
+    """Errors raised while working on ``model`` name it (a file path or a built-in)."""
+    try:
+        yield
+    except ObservabilityError as exc:
+        text = str(exc)
+        if model and model not in text:
+            raise type(exc)(f"{model}: {text}") from None
+        raise

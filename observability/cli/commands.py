@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import codecs
-import contextlib
 import dataclasses
 import math
 import os
@@ -14,27 +13,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..budget import Undecided, with_budget
-from ..errors import ModelError, ObservabilityError
+from ..errors import ModelError
 from ..progress import clear_line, status_line
 from ..report.files import json_text
-from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError,
+from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, about,
                         model_options)
 
 if TYPE_CHECKING:  # the engine (and sympy) is imported by the commands that use it
     from ..analysis.result import ObservabilityResult
     from ..model.system import System
-
-
-@contextlib.contextmanager
-def _about(model: str | None):
-    """Errors raised while working on ``model`` name it (a file path or a built-in)."""
-    try:
-        yield
-    except ObservabilityError as exc:
-        text = str(exc)
-        if model and model not in text:
-            raise type(exc)(f"{model}: {text}") from None
-        raise
 
 
 def resolve_model(model: str, options: dict[str, str], time: str | None = None) -> System:
@@ -156,7 +143,7 @@ def check_command(args: argparse.Namespace) -> int:
         return 0
     if not args.model:
         raise UsageError("check needs a MODEL (a built-in name or a .toml file) or --all")
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         # One prepared system (input profiles, set) for the verdict and the point alike.
         prepared = _restricted(system, args, args.where)
@@ -188,7 +175,9 @@ def check_command(args: argparse.Namespace) -> int:
     except BrokenPipeError:  # `check ... | head`: the verdict's exit status still stands
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - keeps the interpreter's final flush quiet
     if args.proof is not None:
-        return _write_proof(system, result, args) or code
+        from .proofwrite import write_proof
+
+        return write_proof(system, result, args) or code
     return code
 
 
@@ -205,47 +194,10 @@ def _global(prepared: tuple, result: ObservabilityResult, args: argparse.Namespa
     return dataclasses.replace(result, global_answer=answer)
 
 
-def _write_proof(system: System, result, args: argparse.Namespace) -> int | None:
-    """``check --proof FILE``: None when written, EXIT_UNDECIDED when there is no proof to write."""
-    from ..report.proofs import proof_evidence
-    from ..report.files import write_json
-
-    if result.proof != "proven":
-        print(f"observability: no proof written to {args.proof}: the verdict is "
-              f"{result.proof or 'undecided'}, not proven", file=sys.stderr)
-        return EXIT_UNDECIDED
-    if system.time == "discrete" and system.uses_previous_state and getattr(args, "previous", "inverse") == "augment":
-        # A proof's rows are those of the outputs rewritten through the inverse motion model (its conventions),
-        # which the checker verifies; the augmented route has no such rewriting to verify.
-        print(f"observability: no proof written to {args.proof}: proofs rewrite prev() through the inverse motion "
-              "model, and this verdict was decided with --previous augment (check without it for a proof)",
-              file=sys.stderr)
-        return EXIT_UNDECIDED
-    with _about(args.model):
-        try:
-            evidence = proof_evidence(system, result, budget=args.budget)
-        except Undecided as exc:
-            print(f"observability: no proof written to {args.proof}: {exc}", file=sys.stderr)
-            return EXIT_UNDECIDED
-    from ..rank.proofcheck import Rejected, digest
-
-    try:  # the checker's own reader must read the model, or the file would be a proof nobody can check
-        sha = digest(evidence["model"])
-    except Rejected as exc:
-        print(f"observability: no proof written to {args.proof}: the independent checker cannot read the model "
-              f"({exc})", file=sys.stderr)
-        return EXIT_UNDECIDED
-    write_json(args.proof, evidence)
-    given = " ".join([args.model, *(f"-o {o}" for o in args.option), *([f"--time {args.time}"] if args.time else [])])
-    print(f"wrote the proof to {args.proof}, its equations sha256 {sha} (re-check it with: "
-          f"observability verify-proof {args.proof} --model {given})", file=sys.stderr)
-    return None
-
-
 def codegen_command(args: argparse.Namespace) -> int:
     from ..codegen import filter_functions, write_c
 
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         noise = [n.strip() for n in args.noise.split(",") if n.strip()] if args.noise else None
         functions = filter_functions(system, noise, dt=args.dt, method=args.discretization)
@@ -282,7 +234,7 @@ def latex_command(args: argparse.Namespace) -> int:
     from ..report.latex import DoesNotFit, latex_document
 
     point = _point(args.point)
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         result = analyze(system, seed=args.seed or 0, budget=args.budget, functions=False)
         show = status_line()
@@ -444,7 +396,7 @@ def trajectory_command(args: argparse.Namespace) -> int:
     from ..report.trajectory_text import poorly_informed, profile_summary, window_line
     from ..trajectory import windowed_observability
 
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         parameters = _numbers(args.parameters, "--parameters")
         states, dt, duration = _trajectory_source(system, args)
@@ -533,7 +485,7 @@ def verify_proof_command(args: argparse.Namespace) -> int:
     if args.model is not None:
         from ..report.proofs import proof_model
 
-        with _about(args.model):
+        with about(args.model):
             expected = proof_model(resolve_model(args.model, model_options(args.option), args.time))
     elif args.option or args.time:
         raise UsageError("-o and --time describe the model given with --model")
@@ -548,7 +500,7 @@ def verify_proof_command(args: argparse.Namespace) -> int:
 def degenerate_command(args: argparse.Namespace) -> int:
     from ..where.motions import degenerate_motions
 
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         rows = degenerate_motions(system, seed=args.seed or 0, conditions=args.conditions, budget=args.budget)
     if args.format == "json":

@@ -6,8 +6,9 @@ import argparse
 
 from ..progress import clear_line, status_line
 from ..report.files import json_text, write_text
-from .arguments import EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, key_values, model_options
-from .commands import _about, _numbers, resolve_model
+from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, about, key_values,
+                        model_options)
+from .commands import _numbers, resolve_model
 
 __all__ = ["sensors_command", "design_command"]
 
@@ -44,7 +45,7 @@ def sensors_command(args: argparse.Namespace) -> int:
 
     candidates = key_values(args.candidate, "--candidate", once=True)
     costs = _numbers(args.cost, "--cost")
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         choice = select_sensors(system, candidates, costs, seed=args.seed or 0, budget=args.budget)
     if args.format == "json":
@@ -88,7 +89,7 @@ def _initials(args: argparse.Namespace):
 def design_command(args: argparse.Namespace) -> int:
     from ..planning.design import design_inputs
 
-    with _about(args.model):
+    with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         show = status_line()
         if show is not None:

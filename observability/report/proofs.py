@@ -42,6 +42,7 @@ from ..engine.taylor import Redraw
 from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
 from ..rank.proofballs import determinant
 from ..rank.proofcheck import Rejected, minor, stated
+from ..rank.proofread import MAX_NUMBER
 from ..rank.randomized import randomized_rank
 from ..model.system import System
 
@@ -147,10 +148,19 @@ def _previous_inputs(system: System) -> list[sympy.Symbol]:
 
 
 def _exact_minor(system: System, rows, columns, point) -> str | None:
-    """The minor over Q at ``point``; None when it is 0 there."""
+    """The minor over Q at ``point``; None when it is 0 there; Undecided when its text is longer than the
+    checker reads (a minor of 20 steps of a quadratic map has thousands of digits)."""
     found = exact_rows(system, rows, point)
     value = flint.fmpq_mat([[found[r].get(c, 0) for c in columns] for r in rows]).det()
-    return None if value == 0 else str(sympy.Rational(int(value.p), int(value.q)))
+    if value == 0:
+        return None
+    p, q = int(value.p), int(value.q)
+    # The checker reads a minor of MAX_NUMBER characters; Python's str() stops at 4,300 digits (bits bound digits).
+    text = None if p.bit_length() + q.bit_length() > 4 * MAX_NUMBER else str(sympy.Rational(p, q))
+    if text is None or len(text) > MAX_NUMBER:
+        raise Undecided(f"{system.name}: the exact minor at the point has more than {MAX_NUMBER} characters, more "
+                        "than the checker reads; no proof written")
+    return text
 
 
 def _analytic_at(system: System, point: dict) -> bool:
