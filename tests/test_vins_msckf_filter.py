@@ -169,3 +169,31 @@ def test_the_yaw_sigma_option_is_checked_with_exit_2(tmp_path):
         out = cli("consistency", *args, "--out", str(tmp_path))
         assert out.returncode == 2 and message in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert not any(tmp_path.iterdir())
+
+
+def test_fej_holds_each_clone_at_its_prior_while_its_estimate_moves():
+    """FEJ's measurement Jacobians are taken at each clone's first estimate: the
+    IMU prior at its image (propagated, before that image's update), never moved
+    by later updates (OpenVINS's clone ``Rot_fej``/``pos_fej``). Reference: the
+    prior read off the filter just before each ``image`` call. Not vacuous: the
+    clones' current estimates move away from it (the updates do correct them)."""
+    simulation = simulate(SCENARIO, 3)
+    truth = simulation.truth(0)
+    P0 = np.diag(np.repeat([1e-4, 1e-4, 4e-4, 4e-6, 4e-4], 3))
+    camera = simulation.scenario.camera
+    msckf = Msckf("fej", imu_state(R=truth.R, p=truth.p + 0.01, v=truth.v), P0, simulation.scenario.noise,
+                  SETTINGS, extrinsic=(camera.R_IC, camera.p_IC))
+    priors, moved = {}, 0.0
+    frame_of = {int(k): j for j, k in enumerate(simulation.frames)}
+    for k in range(len(simulation.t)):
+        if k > 0:
+            msckf.propagate(*simulation.interval(k - 1), simulation.t[k] - simulation.t[k - 1])
+        if k in frame_of:
+            priors[msckf.images] = (msckf.imu.R.copy(), msckf.imu.p.copy())
+            ids, pixels = simulation.observations(frame_of[k])
+            msckf.image(dict(zip(ids.tolist(), camera.normalized(pixels))))
+            for clone in msckf.clones:
+                R_prior, p_prior = priors[clone.image]
+                assert np.array_equal(clone.R_first, R_prior) and np.array_equal(clone.p_first, p_prior)
+                moved = max(moved, float(np.linalg.norm(clone.p - clone.p_first)))
+    assert msckf.used_features > 0 and moved > 1e-4
