@@ -190,19 +190,29 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofjets.x__evaluate__mutmut_64": "the cut of a message at 81 characters instead of 80",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
        "False" for k in (2, 5)},
-    # The factors a rewriting drops (group zero-factors, 2026-12-07): 190 mutants, 28 survivors in the first
-    # run; the note's words, the catch-all of an unevaluable construct, powers at 0 and a previous state in
-    # the coefficient are killed by tests in tests/test_zero_factors.py (the re-run of the 28: 14 killed);
-    # these 14 are equivalent.
-    "observability.intervals.x_ball__mutmut_2": "the message of a ValueError that nonzero() and the certificate "
-        "catch without reading it",
+    # The factors a rewriting drops (group zero-factors): the whole group re-run on 4e18356 (2026-12-07, fourth
+    # session, after a symbolic exponent in ball, nonzero rewritten, positive_somewhere, _radicand's variables
+    # and prev(u)): 236 mutants, 203 killed, 2 timeouts, 1 segfault, 30 survivors; 9 killed by tests added to
+    # tests/test_zero_factors.py, each applied by hand (positive_somewhere 14, 28, 29, 33: -x^2 - 1, -|x| - 1,
+    # x - 5; nonzero 9, 11, 12: two parameters, a Symbol has no order; nonzero 16: log(p - 5); without_square_
+    # root_outputs 8: a coefficient prev(u)); these 21 are equivalent.
+    **{f"observability.intervals.x_ball__mutmut_{k}": "the message of a ValueError that every caller (nonzero, "
+       "positive_somewhere, the witness, the certificate, the compensated span) catches without reading it"
+       for k in (2, 79)},
     **{f"observability.intervals.x_ball__mutmut_{k}": "root**p or 1/root**(-p) for p >= 0 or p = 0: the same "
        "value, both balls hold it (p = 0 gives 1 either way; at a zero base only a negative p differs, not finite "
        "either way)" for k in (44, 46, 47)},
     **{f"observability.intervals.x_rational_point__mutmut_{k}": "another box or denominator for the random "
        "rational point: the argument holds at any rational point where the balls are finite" for k in (14, 16, 18, 19)},
-    **{f"observability.intervals.x_nonzero__mutmut_{k}": "another order of the symbols or another seed: the "
-       "argument holds at any point drawn" for k in (9, 11, 12, 14)},
+    **{f"observability.intervals.x_{name}__mutmut_{k}": "another seed (a default of 1, or none): the argument holds "
+       "at any point drawn" for name, k in (("nonzero", 1), ("nonzero", 14), ("positive_somewhere", 1),
+                                              ("positive_somewhere", 12))},
+    **{f"observability.intervals.x_{name}__mutmut_2": "a ninth point by default, tried only after eight gave no "
+       "proof: a True is proven at whichever point gives it, and False proves nothing either way"
+       for name in ("nonzero", "positive_somewhere")},
+    **{f"observability.intervals.x_{name}__mutmut_{k}": "more than one attempt for an expression without symbols: "
+       "every attempt evaluates it at the same empty point, so the same balls and the same answer"
+       for name, k in (("nonzero", 17), ("nonzero", 18), ("positive_somewhere", 15), ("positive_somewhere", 16))},
     **{f"observability.model.squareroots.x__radicand__mutmut_{k}": "as_Add of as_independent on a term of a sum "
        "(a product or a power, never a sum): not read" for k in (7, 9)},
     # SI.jl's @ODEmodel reader (issue 68, 2026-12-07): 226 mutants, 202 killed, 2 timeouts, 22 survivors; the

@@ -89,6 +89,14 @@ def test_a_coefficient_with_a_previous_state_is_not_dropped():
     assert rewritten is system and note == ""
 
 
+def test_a_coefficient_with_a_previous_input_is_not_dropped():
+    """y = prev(u)*sqrt(x), x+ = x/2 + u: the factor in front is u at the step before,
+    a variable (not a constant a), so the output is left as written."""
+    system = System(["x"], {"x": "x/2 + u"}, {"y": "prev(u)*sqrt(x)"}, inputs=["u"], time="discrete")
+    rewritten, note = without_square_root_outputs(system)
+    assert rewritten is system and note == ""
+
+
 def test_the_note_names_every_rewritten_output():
     """Word for word, for one output and for two."""
     one = System(["x"], {"x": "0"}, {"r": "2*sqrt(x) + 3"})
