@@ -57,6 +57,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "observability/rank/proofbound.py"],
                        ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_regions.py",
                         "tests/test_proof_audit.py"]),
+    # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
+    # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
+    "checker-read": (["observability/rank/proofread.py"],
+                     ["tests/test_proof_free_powers.py", "tests/test_proofcheck_review.py", "tests/test_proofcheck.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
