@@ -436,3 +436,11 @@ def test_a_first_order_that_adds_nothing_ends_the_growth_at_once():
     jet = jet_rank(system, seed=1, orders=6)
     assert jet.final and jet.orders == 1 and jet.rank == 1 and jet.observable == ("x1",)
     assert jet_rank(system, seed=1, orders=1).final
+
+
+def test_final_is_a_bool_when_no_rule_applies():
+    """x' = w, y = x with orders 1: the model has degree 0 (no input-derivative
+    block to test) and order 1 adds dw (rank 1 -> 2), so neither rule fires: the
+    documented ``final : bool`` is False, not merely falsy."""
+    driven = System(["x"], {"x": "w"}, {"y": "x"}, unknown_inputs=["w"])
+    assert jet_rank(driven, seed=1, orders=1).final is False
