@@ -177,7 +177,9 @@ EQUIVALENT: dict[str, str] = {
        "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
     "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
         "fixed point after order + 1 steps, so one more changes nothing",
-    "observability.rank.proofjets.x_rows__mutmut_85": "discrete time with series of order 1: only the t^0 "
+    # (rows re-run after 0f76c20 dropped sympy.expand, 2026-12-07, fourth session, --only on its 132 mutants:
+    # 131 killed; this one, numbered 85 before, is the survivor)
+    "observability.rank.proofjets.x_rows__mutmut_84": "discrete time with series of order 1: only the t^0 "
         "coefficient is read (each step is a map, not a motion)",
     "observability.rank.proofzero.x__fraction__mutmut_73": "the cut of a message at 81 characters instead of 80",
     "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
