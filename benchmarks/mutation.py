@@ -177,6 +177,10 @@ EQUIVALENT: dict[str, str] = {
        "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
     "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
         "fixed point after order + 1 steps, so one more changes nothing",
+    # (proofread's _general_power and the lines of _node that a8d235b changed (x**p read as exp(p log x)), group
+    # checker-read --only on _general_power 1-3 and _node 90-105, 2026-12-07, fourth session: 17 killed, _node 101
+    # and 102 (a free power's degree and bits as a difference) killed by test_proof_free_powers.py's
+    # test_a_free_power_keeps_the_size_bounds_of_its_parts, applied by hand)
     # (rows re-run after 0f76c20 dropped sympy.expand, 2026-12-07, fourth session, --only on its 132 mutants:
     # 131 killed; this one, numbered 85 before, is the survivor)
     "observability.rank.proofjets.x_rows__mutmut_84": "discrete time with series of order 1: only the t^0 "
