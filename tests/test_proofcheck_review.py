@@ -498,3 +498,28 @@ def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_nam
     proof["upper_bound"]["kind"] = "orbits"
     with pytest.raises(proofcheck.Rejected, match="^unknown kind of upper bound 'orbits' for continuous time$"):
         proofcheck.check(proof)
+
+
+def test_a_proof_about_another_model_is_refused_with_its_reason_word_for_word():
+    """verify-proof --model compares the proof's system with the model named
+    (issue 61 item 4); each difference is refused with the sentence that names it:
+    another name; another state list; the same states but a parameter renamed
+    (p for q) while the outputs agree; the same parameters but an output renamed."""
+    from observability.report.proofs import proof_model
+
+    def model(name="m", states=("x",), parameters=("p",), output="y"):
+        return proof_model(System(list(states), {s: "0" for s in states}, {output: "p*x"},
+                                  parameters=list(parameters), name=name))
+
+    base = model()
+    refusals = [
+        (model(name="other"), "the proof is not about the model given: its name differs"),
+        (model(states=("x", "z")), "the proof is not about the model given: its states differ"),
+        (model(parameters=("p", "q")), "the proof is not about the model given: its parameters or outputs differ"),
+        (model(output="w"), "the proof is not about the model given: its parameters or outputs differ"),
+    ]
+    proofcheck._same_system(base, model())
+    for other, reason in refusals:
+        with pytest.raises(proofcheck.Rejected) as refused:
+            proofcheck._same_system(base, other)
+        assert str(refused.value) == reason
