@@ -504,7 +504,8 @@ def test_a_proof_about_another_model_is_refused_with_its_reason_word_for_word():
     """verify-proof --model compares the proof's system with the model named
     (issue 61 item 4); each difference is refused with the sentence that names it:
     another name; another state list; the same states but a parameter renamed
-    (p for q) while the outputs agree; the same parameters but an output renamed."""
+    (p for q) while the outputs agree; the same parameters but an output renamed;
+    a parameter free in one and given a value in the other."""
     from observability.report.proofs import proof_model
 
     def model(name="m", states=("x",), parameters=("p",), output="y"):
@@ -518,6 +519,9 @@ def test_a_proof_about_another_model_is_refused_with_its_reason_word_for_word():
         (model(parameters=("p", "q")), "the proof is not about the model given: its parameters or outputs differ"),
         (model(output="w"), "the proof is not about the model given: its parameters or outputs differ"),
     ]
+    valued = copy.deepcopy(base)
+    valued["parameters"]["p"] = "2"  # p given the value 2 on one side, free on the other
+    refusals += [(valued, "the proof is not about the model given: parameters 'p' differ")]
     proofcheck._same_system(base, model())
     for other, reason in refusals:
         with pytest.raises(proofcheck.Rejected) as refused:
