@@ -527,3 +527,21 @@ def test_a_proof_about_another_model_is_refused_with_its_reason_word_for_word():
         with pytest.raises(proofcheck.Rejected) as refused:
             proofcheck._same_system(base, other)
         assert str(refused.value) == reason
+
+
+def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
+    """y = atan2(x2, x1), x1' = x2' = 0: the only row is d atan2 = (-x2, x1)/(x1^2 + x2^2),
+    rank 1 of 2 (by hand). atan2 has branches (its cut x1 <= 0, x2 = 0) and the checker
+    does not prove the region to be the whole domain, so the claim derived (what the
+    writer writes) is the local one, word for word; a file claiming 2 of 2 instead is
+    refused with both claims quoted."""
+    system = System(["x1", "x2"], {"x1": "0", "x2": "0"}, {"y": "atan2(x2, x1)"}, name="bearing")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    local = ("the generic rank of the observability matrix of bearing is 1 of 2 on the region around the point where "
+             "its functions with branches (atan2(x2, x1)) are analytic (the rank may differ on other regions)")
+    assert proofcheck.stated(proof) == {"claim": local, "region": {"qualified": True, "where": ["atan2(x2, x1)"]}}
+    edited = "the generic rank of the observability matrix of bearing is 2 of 2"
+    proof["claim"] = edited
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck.check(proof)
+    assert str(refused.value) == f"the claim {edited!r} is not what the file's rank and model say ({local!r})"
