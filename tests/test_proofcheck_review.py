@@ -534,7 +534,8 @@ def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
     rank 1 of 2 (by hand). atan2 has branches (its cut x1 <= 0, x2 = 0) and the checker
     does not prove the region to be the whole domain, so the claim derived (what the
     writer writes) is the local one, word for word; a file claiming 2 of 2 instead is
-    refused with both claims quoted, and a region emptied with both regions."""
+    refused with both claims quoted, a region emptied with both regions, and a rank
+    True or 1.0 (not an integer) with the file's n_states."""
     system = System(["x1", "x2"], {"x1": "0", "x2": "0"}, {"y": "atan2(x2, x1)"}, name="bearing")
     proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
     local = ("the generic rank of the observability matrix of bearing is 1 of 2 on the region around the point where "
@@ -550,3 +551,9 @@ def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
         proofcheck.check(proof)
     assert str(refused.value) == ("the region {'qualified': True, 'where': []} is not the one this claim holds on "
                                   "({'qualified': True, 'where': ['atan2(x2, x1)']}, derived from the model)")
+    proof["region"] = {"qualified": True, "where": ["atan2(x2, x1)"]}
+    for rank in (True, 1.0):  # 1 as a bool or a float: no integer rank
+        proof["rank"] = rank
+        with pytest.raises(proofcheck.Rejected) as refused:
+            proofcheck.check(proof)
+        assert str(refused.value) == f"rank {rank!r} of n_states 2 does not fit the model's 2 states"
