@@ -177,6 +177,10 @@ EQUIVALENT: dict[str, str] = {
        "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
     "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
         "fixed point after order + 1 steps, so one more changes nothing",
+    # (proofcheck's _claim, _stated, stated, _accepted, _same_system, group checker-review --only on 20e415c,
+    # 2026-12-07, fourth session: 187 mutants, 164 killed, 1 timeout, 22 survivors, all killed by tests added to
+    # test_proofcheck_review.py after the run (messages word for word, a rank True or 1.0, a parameter free on one
+    # side only, a bearing's claim local), each applied by hand)
     # (proofread's _general_power and the lines of _node that a8d235b changed (x**p read as exp(p log x)), group
     # checker-read --only on _general_power 1-3 and _node 90-105, 2026-12-07, fourth session: 17 killed, _node 101
     # and 102 (a free power's degree and bits as a difference) killed by test_proof_free_powers.py's
