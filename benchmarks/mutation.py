@@ -57,6 +57,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "observability/rank/proofbound.py"],
                        ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_regions.py",
                         "tests/test_proof_audit.py"]),
+    # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
+    # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
+    "checker-read": (["observability/rank/proofread.py"],
+                     ["tests/test_proof_free_powers.py", "tests/test_proofcheck_review.py", "tests/test_proofcheck.py"]),
     "files": (["observability/report/files.py"], ["tests/test_files_exact.py", "tests/test_cli.py", "tests/test_edges.py"]),
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
@@ -173,7 +177,17 @@ EQUIVALENT: dict[str, str] = {
        "the exact guess needs) then fix every coefficient up to t^order" for k in (3, 5, 7)},
     "observability.rank.proofjets.xǁ_Jetsǁsolve__mutmut_10": "one Picard step more: the truncated series is its "
         "fixed point after order + 1 steps, so one more changes nothing",
-    "observability.rank.proofjets.x_rows__mutmut_85": "discrete time with series of order 1: only the t^0 "
+    # (proofcheck's _claim, _stated, stated, _accepted, _same_system, group checker-review --only on 20e415c,
+    # 2026-12-07, fourth session: 187 mutants, 164 killed, 1 timeout, 22 survivors, all killed by tests added to
+    # test_proofcheck_review.py after the run (messages word for word, a rank True or 1.0, a parameter free on one
+    # side only, a bearing's claim local), each applied by hand)
+    # (proofread's _general_power and the lines of _node that a8d235b changed (x**p read as exp(p log x)), group
+    # checker-read --only on _general_power 1-3 and _node 90-105, 2026-12-07, fourth session: 17 killed, _node 101
+    # and 102 (a free power's degree and bits as a difference) killed by test_proof_free_powers.py's
+    # test_a_free_power_keeps_the_size_bounds_of_its_parts, applied by hand)
+    # (rows re-run after 0f76c20 dropped sympy.expand, 2026-12-07, fourth session, --only on its 132 mutants:
+    # 131 killed; this one, numbered 85 before, is the survivor)
+    "observability.rank.proofjets.x_rows__mutmut_84": "discrete time with series of order 1: only the t^0 "
         "coefficient is read (each step is a map, not a motion)",
     "observability.rank.proofzero.x__fraction__mutmut_73": "the cut of a message at 81 characters instead of 80",
     "observability.rank.proofcheck.x_check__mutmut_92": "sympy.Matrix([]) for no rows is the 0 x 0 matrix too",
@@ -190,19 +204,29 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofjets.x__evaluate__mutmut_64": "the cut of a message at 81 characters instead of 80",
     **{f"observability.rank.proofjets.x__proven__mutmut_{k}": "the message of a refusal that _proven turns into "
        "False" for k in (2, 5)},
-    # The factors a rewriting drops (group zero-factors, 2026-12-07): 190 mutants, 28 survivors in the first
-    # run; the note's words, the catch-all of an unevaluable construct, powers at 0 and a previous state in
-    # the coefficient are killed by tests in tests/test_zero_factors.py (the re-run of the 28: 14 killed);
-    # these 14 are equivalent.
-    "observability.intervals.x_ball__mutmut_2": "the message of a ValueError that nonzero() and the certificate "
-        "catch without reading it",
+    # The factors a rewriting drops (group zero-factors): the whole group re-run on 4e18356 (2026-12-07, fourth
+    # session, after a symbolic exponent in ball, nonzero rewritten, positive_somewhere, _radicand's variables
+    # and prev(u)): 236 mutants, 203 killed, 2 timeouts, 1 segfault, 30 survivors; 9 killed by tests added to
+    # tests/test_zero_factors.py, each applied by hand (positive_somewhere 14, 28, 29, 33: -x^2 - 1, -|x| - 1,
+    # x - 5; nonzero 9, 11, 12: two parameters, a Symbol has no order; nonzero 16: log(p - 5); without_square_
+    # root_outputs 8: a coefficient prev(u)); these 21 are equivalent.
+    **{f"observability.intervals.x_ball__mutmut_{k}": "the message of a ValueError that every caller (nonzero, "
+       "positive_somewhere, the witness, the certificate, the compensated span) catches without reading it"
+       for k in (2, 79)},
     **{f"observability.intervals.x_ball__mutmut_{k}": "root**p or 1/root**(-p) for p >= 0 or p = 0: the same "
        "value, both balls hold it (p = 0 gives 1 either way; at a zero base only a negative p differs, not finite "
        "either way)" for k in (44, 46, 47)},
     **{f"observability.intervals.x_rational_point__mutmut_{k}": "another box or denominator for the random "
        "rational point: the argument holds at any rational point where the balls are finite" for k in (14, 16, 18, 19)},
-    **{f"observability.intervals.x_nonzero__mutmut_{k}": "another order of the symbols or another seed: the "
-       "argument holds at any point drawn" for k in (9, 11, 12, 14)},
+    **{f"observability.intervals.x_{name}__mutmut_{k}": "another seed (a default of 1, or none): the argument holds "
+       "at any point drawn" for name, k in (("nonzero", 1), ("nonzero", 14), ("positive_somewhere", 1),
+                                              ("positive_somewhere", 12))},
+    **{f"observability.intervals.x_{name}__mutmut_2": "a ninth point by default, tried only after eight gave no "
+       "proof: a True is proven at whichever point gives it, and False proves nothing either way"
+       for name in ("nonzero", "positive_somewhere")},
+    **{f"observability.intervals.x_{name}__mutmut_{k}": "more than one attempt for an expression without symbols: "
+       "every attempt evaluates it at the same empty point, so the same balls and the same answer"
+       for name, k in (("nonzero", 17), ("nonzero", 18), ("positive_somewhere", 15), ("positive_somewhere", 16))},
     **{f"observability.model.squareroots.x__radicand__mutmut_{k}": "as_Add of as_independent on a term of a sum "
        "(a product or a power, never a sum): not read" for k in (7, 9)},
     # SI.jl's @ODEmodel reader (issue 68, 2026-12-07): 226 mutants, 202 killed, 2 timeouts, 22 survivors; the
@@ -282,10 +306,14 @@ EQUIVALENT: dict[str, str] = {
        "every column's position",
     **{f"observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_{k}": "ModularEchelon's column count None: it "
        "is read only by free_columns and null_space, which the sink never calls" for k in (13, 26)},
-    "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_22": "final None instead of False before the test "
-       "order: read only as a condition (falsy either way), and set to a bool once the test order is reached",
     "observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_24": "from_outputs None at first: order 0 is always "
        "expanded, and its last row sets it (a new sink for each point drawn)",
+    # _JetSink re-run after 199eff4 (2026-12-07, fourth session, --only on its 71 mutants): 59 killed, 12
+    # survivors; __init__ 22 (final None: the documented bool) and add_row 26 and 27 (the stationarity rule
+    # from order 2 only) killed by tests added to test_unknown_inputs_decided.py, each applied by hand; the
+    # rest listed here.
+    **{f"observability.rank.unknown.xǁ_JetSinkǁ__init____mutmut_{k}": "_before's initial value (None or 1): "
+       "add_row sets it before reading it, at its first row (rows = 0 is a multiple of outputs)" for k in (30, 31)},
     "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_15": "row.get(c, None) instead of 0: only its "
        "truth is read, and a missing entry is falsy either way",
     "observability.rank.unknown.xǁ_JetSinkǁadd_row__mutmut_17": "row.get(c) (default None) instead of 0: only "

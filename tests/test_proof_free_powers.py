@@ -80,3 +80,23 @@ def test_a_free_power_of_a_negative_base_at_the_point_is_refused(written, tmp_pa
     check = cli("verify-proof", path, "--model", model)
     assert check.returncode == 1, check.stdout + check.stderr
     assert "log" in check.stdout + check.stderr
+
+
+def test_a_free_power_keeps_the_size_bounds_of_its_parts():
+    """a**b read as exp(b log a) carries the bounds of both parts (proofread's rule:
+    a power's degree bound is deg a + deg b, the bits of its numbers those of a plus
+    those of b; an integer exponent k multiplies both and adds its own bits), so it
+    cannot hide a hostile size. By hand: x**p has degree bound 1 + 1 = 2, so
+    (x**p)**400 has 800 <= 1000 (read) and (x**p)**600 has 1200 > 1000 (refused).
+    N = 2**260 + 1 has 261 bits, plus 1 for its denominator: p*N has 0 + 262 + 2
+    (a product adds its number of factors) = 264, 2**(p*N) adds the base's 2 + 1:
+    267, and (2**(p*N))**400 has 267 * 400 + 10 = 106,810 > 100,000 bits (refused),
+    while (2**p)**400 has 3 * 400 + 10 = 1,210 (read)."""
+    x, p = sympy.symbols("x p")
+    names = {"x": x, "p": p}
+    parse("(x**p)**400", names)
+    with pytest.raises(Rejected, match="degree above 1000"):
+        parse("(x**p)**600", names)
+    parse("(2**p)**400", names)
+    with pytest.raises(Rejected, match="more than 100000 bits"):
+        parse(f"(2**(p*{2**260 + 1}))**400", names)

@@ -498,3 +498,62 @@ def test_a_rank_and_a_number_of_generators_that_do_not_add_up_are_refused_by_nam
     proof["upper_bound"]["kind"] = "orbits"
     with pytest.raises(proofcheck.Rejected, match="^unknown kind of upper bound 'orbits' for continuous time$"):
         proofcheck.check(proof)
+
+
+def test_a_proof_about_another_model_is_refused_with_its_reason_word_for_word():
+    """verify-proof --model compares the proof's system with the model named
+    (issue 61 item 4); each difference is refused with the sentence that names it:
+    another name; another state list; the same states but a parameter renamed
+    (p for q) while the outputs agree; the same parameters but an output renamed;
+    a parameter free in one and given a value in the other."""
+    from observability.report.proofs import proof_model
+
+    def model(name="m", states=("x",), parameters=("p",), output="y"):
+        return proof_model(System(list(states), {s: "0" for s in states}, {output: "p*x"},
+                                  parameters=list(parameters), name=name))
+
+    base = model()
+    refusals = [
+        (model(name="other"), "the proof is not about the model given: its name differs"),
+        (model(states=("x", "z")), "the proof is not about the model given: its states differ"),
+        (model(parameters=("p", "q")), "the proof is not about the model given: its parameters or outputs differ"),
+        (model(output="w"), "the proof is not about the model given: its parameters or outputs differ"),
+    ]
+    valued = copy.deepcopy(base)
+    valued["parameters"]["p"] = "2"  # p given the value 2 on one side, free on the other
+    refusals += [(valued, "the proof is not about the model given: parameters 'p' differ")]
+    proofcheck._same_system(base, model())
+    for other, reason in refusals:
+        with pytest.raises(proofcheck.Rejected) as refused:
+            proofcheck._same_system(base, other)
+        assert str(refused.value) == reason
+
+
+def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
+    """y = atan2(x2, x1), x1' = x2' = 0: the only row is d atan2 = (-x2, x1)/(x1^2 + x2^2),
+    rank 1 of 2 (by hand). atan2 has branches (its cut x1 <= 0, x2 = 0) and the checker
+    does not prove the region to be the whole domain, so the claim derived (what the
+    writer writes) is the local one, word for word; a file claiming 2 of 2 instead is
+    refused with both claims quoted, a region emptied with both regions, and a rank
+    True or 1.0 (not an integer) with the file's n_states."""
+    system = System(["x1", "x2"], {"x1": "0", "x2": "0"}, {"y": "atan2(x2, x1)"}, name="bearing")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    local = ("the generic rank of the observability matrix of bearing is 1 of 2 on the region around the point where "
+             "its functions with branches (atan2(x2, x1)) are analytic (the rank may differ on other regions)")
+    assert proofcheck.stated(proof) == {"claim": local, "region": {"qualified": True, "where": ["atan2(x2, x1)"]}}
+    edited = "the generic rank of the observability matrix of bearing is 2 of 2"
+    proof["claim"] = edited
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck.check(proof)
+    assert str(refused.value) == f"the claim {edited!r} is not what the file's rank and model say ({local!r})"
+    proof["claim"], proof["region"] = local, {"qualified": True, "where": []}
+    with pytest.raises(proofcheck.Rejected) as refused:
+        proofcheck.check(proof)
+    assert str(refused.value) == ("the region {'qualified': True, 'where': []} is not the one this claim holds on "
+                                  "({'qualified': True, 'where': ['atan2(x2, x1)']}, derived from the model)")
+    proof["region"] = {"qualified": True, "where": ["atan2(x2, x1)"]}
+    for rank in (True, 1.0):  # 1 as a bool or a float: no integer rank
+        proof["rank"] = rank
+        with pytest.raises(proofcheck.Rejected) as refused:
+            proofcheck.check(proof)
+        assert str(refused.value) == f"rank {rank!r} of n_states 2 does not fit the model's 2 states"

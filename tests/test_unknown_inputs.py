@@ -161,6 +161,12 @@ def test_analyses_that_take_inputs_as_known_refuse_an_arbitrary_input():
     system = System(["p", "v"], {"p": "v", "v": "a"}, {"y": "p"}, unknown_inputs=["a"])
     with pytest.raises(ModelError, match="any function of time"):
         analyze(system, method="float", seed=1)
+
+
+@pytest.mark.fresh_interpreter
+def test_the_command_line_refuses_an_arbitrary_input_where_it_would_be_known():
+    """The same three refusals through ``python -m observability check``: one clear
+    line, exit 2, no traceback (a new interpreter: mutation runs skip it)."""
     model = """states = ["p", "v"]\nunknown_inputs = ["a"]\n[dynamics]\np = "v"\nv = "a"\n[outputs]\ny = "p"\n"""
     import tempfile
     import pathlib

@@ -424,3 +424,23 @@ def test_the_compensating_inputs_are_named_in_the_description():
                           (two, "; the unknown inputs w1, w2 compensate"), (none, "moves these states together")):
         (direction,) = analyze(system, seed=1).unobservable_directions
         assert direction.description.endswith(words), direction.description
+
+
+def test_a_first_order_that_adds_nothing_ends_the_growth_at_once():
+    """x1' = 0, x2' = w, y = x1: y' = 0, so dy' = 0 lies in span(dy) and order 1
+    adds nothing to the rank of all the rows; by the stationarity of the
+    filtration nothing later does (rank/unknown.py): the rank 1 (x1 alone) is
+    final at order 1, though w never reaches the outputs (dy'/dw = 0: no block
+    rule). x2 and w are not observable (y = x1 at every order, by hand)."""
+    system = System(["x1", "x2"], {"x1": "0", "x2": "w"}, {"y": "x1"}, unknown_inputs=["w"])
+    jet = jet_rank(system, seed=1, orders=6)
+    assert jet.final and jet.orders == 1 and jet.rank == 1 and jet.observable == ("x1",)
+    assert jet_rank(system, seed=1, orders=1).final
+
+
+def test_final_is_a_bool_when_no_rule_applies():
+    """x' = w, y = x with orders 1: the model has degree 0 (no input-derivative
+    block to test) and order 1 adds dw (rank 1 -> 2), so neither rule fires: the
+    documented ``final : bool`` is False, not merely falsy."""
+    driven = System(["x"], {"x": "w"}, {"y": "x"}, unknown_inputs=["w"])
+    assert jet_rank(driven, seed=1, orders=1).final is False

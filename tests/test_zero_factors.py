@@ -12,7 +12,7 @@ import pytest
 import sympy
 
 from observability import System, analyze
-from observability.intervals import ball, nonzero
+from observability.intervals import ball, nonzero, positive_somewhere
 from observability.model.squareroots import without_square_root_outputs
 
 #: Zero, but not written as 0 (sympy keeps each unevaluated).
@@ -89,6 +89,14 @@ def test_a_coefficient_with_a_previous_state_is_not_dropped():
     assert rewritten is system and note == ""
 
 
+def test_a_coefficient_with_a_previous_input_is_not_dropped():
+    """y = prev(u)*sqrt(x), x+ = x/2 + u: the factor in front is u at the step before,
+    a variable (not a constant a), so the output is left as written."""
+    system = System(["x"], {"x": "x/2 + u"}, {"y": "prev(u)*sqrt(x)"}, inputs=["u"], time="discrete")
+    rewritten, note = without_square_root_outputs(system)
+    assert rewritten is system and note == ""
+
+
 def test_the_note_names_every_rewritten_output():
     """Word for word, for one output and for two."""
     one = System(["x"], {"x": "0"}, {"r": "2*sqrt(x) + 3"})
@@ -96,3 +104,45 @@ def test_the_note_names_every_rewritten_output():
     tail = " analysed through the radicand: the same rows wherever it is positive (observability/model/squareroots.py)"
     assert without_square_root_outputs(one)[1] == "output r = sqrt(x)" + tail
     assert without_square_root_outputs(two)[1] == "outputs r = sqrt(x); s = sqrt(z + 1)" + tail
+
+
+def test_positive_somewhere_is_false_where_nothing_is_positive():
+    """-x^2 - 1 <= -1 and -x^2 <= 0 at every real x (by hand): no ball is above 0,
+    so the radicand's set {g > 0} is never called non-empty."""
+    x = sympy.Symbol("x")
+    assert positive_somewhere(-x**2 - 1) is False
+    assert positive_somewhere(-x**2) is False
+    assert positive_somewhere(sympy.Integer(-3)) is False
+
+
+def test_positive_somewhere_looks_beyond_the_first_box():
+    """x - 5 > 0 exactly for x > 5 (by hand): the boxes (0, 2] and [-2, 0) hold no
+    such point, the third, (2, 32], does; so the answer needs more than one point."""
+    x = sympy.Symbol("x")
+    assert positive_somewhere(x - 5) is True
+    assert positive_somewhere(sympy.Integer(3)) is True
+
+
+def test_positive_somewhere_proves_nothing_from_a_construct_not_evaluated():
+    """-|x| - 1 <= -1 everywhere (by hand), and Abs is not evaluated in balls: the
+    answer is False (nothing proven), never True."""
+    x = sympy.Symbol("x")
+    assert positive_somewhere(-sympy.Abs(x) - 1) is False
+
+
+def test_nonzero_of_a_coefficient_with_two_parameters():
+    """(p - q)(p + q) is a non-zero polynomial; p^2 - q^2 - (p - q)(p + q) is 0
+    (expanded by hand). Several free symbols are ordered by name (a sympy Symbol
+    has no order of its own)."""
+    p, q = sympy.symbols("p q")
+    assert nonzero((p - q) * (p + q)) is True
+    assert nonzero(p**2 - q**2 - (p - q) * (p + q)) is False
+    system = System(["x"], {"x": "0"}, {"y": "p*q*sqrt(x)"}, parameters=["p", "q"])
+    assert [str(e) for _, e in without_square_root_outputs(system)[0].outputs] == ["x"]
+
+
+def test_nonzero_looks_beyond_the_first_box():
+    """log(p - 5) is real only for p > 5 and 0 only at p = 6 (by hand): no point of
+    (0, 2] or [-2, 0) evaluates it, a point of (2, 32] proves it non-zero."""
+    p = sympy.Symbol("p")
+    assert nonzero(sympy.log(p - 5)) is True
