@@ -139,12 +139,14 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     constants are refused (ModelError).
     """
     check_names(system, known)
+    # Known initial values may make observable what the verdict found unobservable: undecided, every state.
+    open_ = tuple(s.name for s in system.states) if known else tuple(result.observable_states or ())
     if reason := _unsupported(system):
-        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {reason}")
+        return GlobalVerdict((), (), open_, None, f"undecided: {reason}")
     system, result, constant = with_parameter(system, result, "--global")
     given = known_values(system, result, known) if known else None
     if isinstance(given, str):
-        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {given}")
+        return GlobalVerdict((), (), open_, None, f"undecided: {given}")
     verdict = _global(system, result, seed, error, budget, given)
     return verdict if constant is None else written_back(verdict, constant)
 
