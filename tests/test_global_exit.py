@@ -81,3 +81,17 @@ def test_a_locally_unobservable_state_with_a_known_initial_value_is_not_a_decide
     assert record["observable"] is False and record["globally_observable"] is None
     code, record, _ = _run(tmp_path, model)  # without known values x1 and x2 are decided not observable
     assert code == 1 and record["globally_observable"] is False
+
+
+def test_an_undecided_local_verdict_still_shows_the_global_answer(tmp_path):
+    """x1' = x2, x2' = x3, x3' = w (w an unknown input, any function), y = x1, with --max-order 1: by
+    hand y, y', y'', y''' are x1, x2, x3, w (all determined), but orders 0..1 show only x1, x2; the
+    local verdict is undecided and --global takes no arbitrary unknown inputs. Exit 3, and the global
+    lines are printed under the undecided verdict too (they were only under a decided one)."""
+    model = ('states = ["x1", "x2", "x3"]\nunknown_inputs = ["w"]\n[dynamics]\nx1 = "x2"\nx2 = "x3"\nx3 = "w"\n'
+             '[outputs]\ny = "x1"\n')
+    code, record, text = _run(tmp_path, model, "--max-order", "1")
+    assert code == 3, text
+    assert record["observable"] is None and record["globally_observable"] is None
+    assert "  global verdict: undecided (for x1, x2, x3, w: the reason is on the 'global:' line)" in text
+    assert "  global: undecided: the unknown inputs w may be any function of time" in text
