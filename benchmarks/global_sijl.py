@@ -7,7 +7,8 @@ maintainers' machine (2023, ``id_total``). For each model this script reads the 
 (:func:`observability.identifiability.uniqueness.global_observability`) under a CPU budget,
 and prints the states and unknown constants found globally observable, only locally,
 and undecided (the undecided by name), whether the field of globally observable
-functions was decided, the global step's wall time and CPU time (this process and its
+functions was decided, the exit code ``check --global`` gives for that answer (0 every name
+global, 1 some name not, 3 none shown not to be but some undecided), the global step's wall time and CPU time (this process and its
 children: msolve, the modular route), and each answer checked against the field SI.jl
 stored (a "globally" name must lie in it, an "only locally" one must not: see
 :func:`identifiable.against_field`), then how many models had every name decided. Not a test: SI.jl's code is not part of this
@@ -26,6 +27,7 @@ import os
 import resource
 import sys
 import time
+from dataclasses import replace
 from functools import partial
 from pathlib import Path
 
@@ -58,8 +60,10 @@ def row(folder: Path, budget: float, decided: list[str]) -> str:
     if not answer.undecided:
         decided.append(name)
     check = against_field(folder, system, answer.globally, answer.only_locally, budget)
+    # The exit code `check --global` gives for this answer (0 every name global, 1 some not, 3 undecided).
+    code = {True: 0, False: 1, None: 3}[replace(result, global_answer=answer).globally_observable]
     return (f"| {name} | {system.n} | {result.rank} | {len(answer.globally)} | {len(answer.only_locally)} "
-            f"| {len(answer.undecided)} {' '.join(answer.undecided)} | {field} | {seconds:.1f} | {cpu:.1f} "
+            f"| {len(answer.undecided)} {' '.join(answer.undecided)} | {field} | {code} | {seconds:.1f} | {cpu:.1f} "
             f"| {si_seconds(folder):.1f} | {check} |")
 
 
@@ -67,7 +71,7 @@ def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], TIMINGS, 60.0, "CPU seconds for the global step")
     decided: list[str] = []
     print(f"load average at the start: {os.getloadavg()[0]:.1f} (cores: {os.cpu_count()})", flush=True)
-    print_table("model | n | rank | global | only local | undecided | field generated | ours s (wall) | ours s (CPU) "
+    print_table("model | n | rank | global | only local | undecided | field generated | exit | ours s (wall) | ours s (CPU) "
                 "| SI.jl s | against SI.jl's field", folders, budget, partial(row, decided=decided))
     print(f"\nevery name decided: {len(decided)} of {len(folders)} models", flush=True)
     print(f"load average at the end: {os.getloadavg()[0]:.1f}", flush=True)

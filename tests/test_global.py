@@ -287,8 +287,9 @@ def test_the_command_line_reports_the_mirror_in_json():
 
     model = Path(__file__).resolve().parents[1] / "examples" / "models" / "range_fix_two_beacons.toml"
     run = cli("check", model, "--global", "--format", "json", "--seed", "2")
-    assert run.returncode == 0, run.stderr
+    assert run.returncode == 1, run.stderr  # y only locally: not every state globally observable
     record = json.loads(run.stdout)
+    assert record["observable"] is True and record["globally_observable"] is False
     assert record["globally_observable_states"] == ["x"]
     assert record["only_locally_observable_states"] == ["y"]
     assert record["global"]["mirrors"] == ["y -> -y"] and record["global"]["error_probability"] < 1e-5
@@ -303,13 +304,14 @@ def test_the_command_line_reports_the_mirror_in_json():
 
 
 def test_the_command_line_refuses_what_it_cannot_answer(tmp_path):
-    """Discrete time: undecided with the reason, the local verdict's exit status (a well-formed
-    model); a constraint set: one line, exit 2."""
+    """Discrete time: undecided with the reason, exit 3 (a well-formed model; x is locally
+    observable, so no name is decided not globally observable); a constraint set: one line, exit 2."""
 
     model = tmp_path / "d.toml"
     model.write_text('time = "discrete"\nstates = ["x"]\n[dynamics]\nx = "2*x"\n[outputs]\ny = "x**2"\n')
     run = cli("check", model, "--global")
-    assert run.returncode == 0 and "undecided: continuous time only" in run.stdout, run.stderr
+    assert run.returncode == 3 and "undecided: continuous time only" in run.stdout, run.stderr
+    assert "  global verdict: undecided (for x: the reason is on the 'global:' line)" in run.stdout
     run = cli("check", "slam2d", "--global", "--where", "cxdot = 0")
     assert run.returncode == 2 and "--where" in run.stderr
     run = cli("check", "--all", "--global")

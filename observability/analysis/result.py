@@ -151,13 +151,37 @@ class ObservabilityResult:
             "seconds": round(self.seconds, 6),
         } | self._global_dict()
 
+    def _global_split(self) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """With ``--global``: the names (states and unknown constants) decided NOT globally
+        observable, and those undecided. "Not" is certain for each: only locally observable
+        (another complex state shares the outputs) or not even locally observable (the verdict's
+        unobservable states, which known initial values, :mod:`observability.identifiability.knownvalues`,
+        make observable only where the global answer lists them)."""
+        answer = self.global_answer
+        listed = (*answer.globally, *answer.only_locally, *answer.undecided)
+        local = self._decided(self.states) if self.observable is not None or self.undecided_states else {}
+        no = tuple(s for s in self.states if s in answer.only_locally or (s not in listed and local.get(s) is False))
+        return no, tuple(s for s in self.states if s not in no and s not in answer.globally)
+
+    @property
+    def globally_observable(self) -> bool | None:
+        """With ``--global``: True when every state and unknown constant is globally observable,
+        False when some is decided not to be (only locally, or not even locally), None when none is
+        decided not to be but some is undecided (or without ``--global``): the exit code of
+        ``check --global`` (0, 1, 3)."""
+        if self.global_answer is None:
+            return None
+        no, undecided = self._global_split()
+        return False if no else None if undecided else True
+
     def _global_dict(self) -> dict[str, Any]:
         if self.global_answer is None:
             return {}
         answer = self.global_answer.to_dict()
         if self.region.qualified:  # the global answers are about the same region as the rank (_global_lines)
             answer["region"] = self.region.to_dict()
-        return {"globally_observable_states": answer["globally_observable_states"],
+        return {"globally_observable": self.globally_observable,
+                "globally_observable_states": answer["globally_observable_states"],
                 "only_locally_observable_states": answer["only_locally_observable_states"], "global": answer}
 
     def verdict(self) -> str:
@@ -247,6 +271,7 @@ class ObservabilityResult:
                     lines.append(f"  not observable: {states(self.unobservable_states)}")
                 lines.append(f"  undecided: {states(self.undecided_states)}")
                 lines += self._name_lines()
+            lines += self._global_lines(states)  # the exit code of --global is its answer's, so it is always shown
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d.text(limit)}")
         return "\n".join(lines)
@@ -282,11 +307,25 @@ class ObservabilityResult:
                 lines.append(f"  unknown {kind}: " + "; ".join(f"{c} {self._answer(kind, c, d)}" for c, d in decided.items()))
         return lines
 
+    def _global_headline(self, no: tuple[str, ...], undecided: tuple[str, ...],
+                         states: Callable[[tuple[str, ...] | None], str]) -> str:
+        """The answer to --global's question, every name globally observable (the exit code's)."""
+        if no:
+            only = tuple(s for s in no if s in self.global_answer.only_locally)
+            parts = [f"only locally: {states(only)}"] if only else []
+            parts += [f"not observable: {states(rest)}"] if (rest := tuple(s for s in no if s not in only)) else []
+            return f"NOT every state globally observable ({'; '.join(parts)})"
+        if undecided:
+            return f"undecided (for {states(undecided)}: the reason is on the 'global:' line)"
+        return "every state globally observable"
+
     def _global_lines(self, states: Callable[[tuple[str, ...] | None], str]) -> list[str]:
         answer = self.global_answer
         if answer is None:
             return []
-        lines = [f"  globally observable (unique): {states(answer.globally)}"]
+        no, undecided = self._global_split()
+        lines = [f"  global verdict: {self._global_headline(no, undecided, states)}",
+                 f"  globally observable (unique): {states(answer.globally)}"]
         if self.region.qualified and (answer.globally or answer.only_locally):
             # The global route takes rational models only, so a qualified model's answers are undecided today
             # (a root or log left after prepare is not rational); were one decided, it is about the rank's region.

@@ -2,7 +2,9 @@
 
 Exit codes of ``check MODEL``: 0 observable, 1 not observable, 2 bad input (one
 line on stderr saying what and where), 3 undecided (symbolic budget spent),
-4 internal error (a bug: please report the line printed).
+4 internal error (a bug: please report the line printed). With ``--global``:
+0 every state and unknown constant globally observable, 1 some not (only
+locally, or not even locally), 3 none shown not to be but some undecided.
 """
 
 from __future__ import annotations

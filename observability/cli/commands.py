@@ -162,10 +162,9 @@ def check_command(args: argparse.Namespace) -> int:
             result = _global(prepared, result, args)
         elif getattr(args, "known_initial", None) is not None:
             raise UsageError("--known-initial applies to --global (the local verdict takes no initial values)")
-    if result.observable is None:
-        code = EXIT_UNDECIDED
-    else:
-        code = EXIT_OBSERVABLE if result.observable else EXIT_NOT_OBSERVABLE
+    # With --global the question is whether every state and unknown constant is globally observable.
+    answer = result.observable if result.global_answer is None else result.globally_observable
+    code = EXIT_UNDECIDED if answer is None else EXIT_OBSERVABLE if answer else EXIT_NOT_OBSERVABLE
     try:
         if args.format == "json":
             record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})

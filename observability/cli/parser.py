@@ -40,7 +40,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="rank-condition check of a model (exit 0 observable, 1 not, 2 bad input, 3 undecided)",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="exit status:\n  0 observable\n  1 not observable\n  2 bad input (one line on stderr)\n"
-        "  3 undecided (budget, order limit, or no certificate; the reason is printed)\n  4 internal error (a bug)",
+        "  3 undecided (budget, order limit, or no certificate; the reason is printed)\n  4 internal error (a bug)\n"
+        "with --global the question is whether every state and unknown constant is globally observable:\n"
+        "  0 every one is\n  1 some one is not (only locally, or not even locally)\n"
+        "  3 none is shown not to be, but some is undecided (the reason is printed)",
     )
     check.add_argument("model", nargs="?", help="built-in model name or path to a .toml model file")
     check.add_argument("--all", action="store_true", help="check every built-in model and print a table")
@@ -83,7 +86,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--global", dest="global_", action="store_true",
                        help="also which locally observable states are determined uniquely (globally) and which only "
                             "up to finitely many values: field membership at a random point, with its error probability "
-                            "(continuous time, rational models; sines and cosines of states allowed)")
+                            "(continuous time, rational models; sines and cosines of states allowed); the exit "
+                            "status is then its answer: 0 every name global, 1 some not, 3 undecided")
     check.add_argument("--known-initial", default=None, metavar="NAME,...",
                        help="with --global: states whose initial values are known (generic values, as SI.jl's "
                             "known_ic); the answers are then about what the outputs and those values determine")

@@ -72,10 +72,24 @@ class InputOutputEquation:
     terms: tuple[tuple[tuple[int, ...], Any], ...]
     size: int
 
+    def __reduce__(self) -> tuple:
+        """Pickled with each coefficient as its dictionary (flint's polynomials do not pickle), so a
+        budgeted child can hand the equation to the steps after it (:mod:`.uniqueness`)."""
+        terms = tuple((key, c.to_dict()) for key, c in self.terms)
+        return _rebuilt, (self.output, self.order, self.constants, self.jets, terms, self.size)
+
     def expression(self, coefficient: Any) -> sympy.Expr:
         """A coefficient as a sympy polynomial in the constants."""
         return sympy.Add(*(int(c) * sympy.Mul(*(v**e for v, e in zip(self.constants, m)))
                            for m, c in zip(coefficient.monoms(), coefficient.coeffs())))
+
+
+def _rebuilt(output: str, order: int, constants: tuple[sympy.Symbol, ...], jets: tuple[str, ...],
+             terms: tuple[tuple[tuple[int, ...], dict], ...], size: int) -> InputOutputEquation:
+    """An :class:`InputOutputEquation` from its pickled form (:meth:`InputOutputEquation.__reduce__`)."""
+    context = flint.fmpz_mpoly_ctx.get(tuple(c.name for c in constants), "degrevlex")
+    return InputOutputEquation(output, order, constants, jets,
+                               tuple((key, context.from_dict(c)) for key, c in terms), size)
 
 
 class _Ring:

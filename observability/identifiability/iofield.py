@@ -111,14 +111,16 @@ class FieldAnswers:
 
 def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: Sequence[str],
                   orders: dict[str, int], tested: Sequence[sympy.Symbol], rank: int, seed: int,
-                  error: float, failed: Mapping[str, str] | None = None, known: Sequence[sympy.Symbol] = (),
+                  error: float, before: Mapping[str, Any] | None = None, known: Sequence[sympy.Symbol] = (),
                   joint: bool = False, functions: Sequence[tuple[sympy.Expr, sympy.Expr]] = ()) -> FieldAnswers | str:
     """Whether each locally observable state or constant ``tested`` lies in K (the
     module's argument), or why it was not decided. ``outputs``: the names of the
     model's outputs, in order; ``orders``: the truncation orders of each output's
     Lie derivatives (:func:`~.truncation.lie_orders`); ``rank``: the verdict's;
-    ``failed``: outputs whose equation was not found before, with the reason (their
-    truncated Lie derivatives are used at once); ``known``: constants already found
+    ``before``: outputs whose equation was sought before: why it was not found (their
+    truncated Lie derivatives are used at once), or :func:`~.ioglobal.checked_equation`'s
+    answer (used as it is: the same model, inputs and seed give the same equation, whose
+    elimination and Wronskian took half of PK2's route when done twice); ``known``: constants already found
     in K (their error is the caller's to add: the answers here rest on theirs); ``joint``: G
     from the outputs' projections eliminated together (the module's argument), else why not;
     ``functions``: reduced (n, d) pairs in the model's coordinates, algebraic over K (the
@@ -130,7 +132,7 @@ def field_members(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs:
             return plans
     else:
         plans = [_plan(model, inputs, index, name, orders[name], rank if len(outputs) == 1 else None, seed, rng,
-                       failed, known) for index, name in enumerate(outputs)]
+                       before, known) for index, name in enumerate(outputs)]
     fixed = [pair for plan in plans for pair in plan.ratios] + [(c, sympy.Integer(1)) for c in known]
     heights = [plan.order for plan in plans]
     derivatives = lie_derivatives_of_outputs(model, heights, inputs)
@@ -187,10 +189,10 @@ def _joint_plans(model: RationalModel, inputs: Sequence[sympy.Symbol], outputs: 
 
 
 def _plan(model: RationalModel, inputs: Sequence[sympy.Symbol], index: int, name: str, order: int, rank: int | None,
-          seed: int, rng: random.Random, failed: Mapping[str, str] | None, known: Sequence[sympy.Symbol]) -> _Plan:
+          seed: int, rng: random.Random, before: Mapping[str, Any] | None, known: Sequence[sympy.Symbol]) -> _Plan:
     """How output ``index`` enters G (the module's argument): through its equation where it
     has one that serves, else through its truncation T_i to ``order``."""
-    found = (failed or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
+    found = (before or {}).get(name) or checked_equation(replace(model, outputs=(model.outputs[index],)), inputs,
                                                          name, seed)
     if not isinstance(found, str) and fixed_by(found[0], known):
         ratios, complete = [], True

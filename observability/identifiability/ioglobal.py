@@ -70,11 +70,14 @@ FULL_TERMS = 20000
 
 @dataclass(frozen=True)
 class ConstantAnswers:
-    """Each tested constant: True (globally), False (only locally), None (undecided)."""
+    """Each tested constant: True (globally), False (only locally), None (undecided); ``checked``:
+    the equation they were read from, with whether its Wronskian has corank one
+    (:func:`checked_equation`'s answer), for the field's step to reuse (None: several outputs' projections)."""
 
     members: dict[str, bool | None]
     error: float
     how: str
+    checked: tuple[InputOutputEquation, bool] | None = None
 
 
 def checked_equation(model: RationalModel, inputs: Sequence[sympy.Symbol], output: str, seed: int
@@ -108,7 +111,7 @@ def constants_from_io_equation(model: RationalModel, inputs: Sequence[sympy.Symb
     members, spent = _membership(equation, tested, random.Random(seed + 2), error, rank)
     if not corank_one:
         members = {k: (None if v else v) for k, v in members.items()}
-    return ConstantAnswers(members, spent, _how(equation, corank_one, None in members.values()))
+    return ConstantAnswers(members, spent, _how(equation, corank_one, None in members.values()), found)
 
 
 def point_error(error: float) -> float:

@@ -139,12 +139,14 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     constants are refused (ModelError).
     """
     check_names(system, known)
+    # Known initial values may make observable what the verdict found unobservable: undecided, every state.
+    open_ = tuple(s.name for s in system.states) if known else tuple(result.observable_states or ())
     if reason := _unsupported(system):
-        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {reason}")
+        return GlobalVerdict((), (), open_, None, f"undecided: {reason}")
     system, result, constant = with_parameter(system, result, "--global")
     given = known_values(system, result, known) if known else None
     if isinstance(given, str):
-        return GlobalVerdict((), (), tuple(result.observable_states or ()), None, f"undecided: {given}")
+        return GlobalVerdict((), (), open_, None, f"undecided: {given}")
     verdict = _global(system, result, seed, error, budget, given)
     return verdict if constant is None else written_back(verdict, constant)
 
@@ -313,12 +315,13 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
                 progress.add(*jointly[:3])
                 progress.functions = jointly[3]
             return
-    placed, more, failed, extra = _constants_by_equation(
+    placed, more, sought, extra = _constants_by_equation(
         system, model, result, [c for c in items.constants if items.names[c] not in progress.where], items.names, seed,
         error, budget)
     progress.extend(placed, more, extra)
-    progress.reasons += [f"{output}: {why}" for output, why in failed.items() if why != _NOT_NEEDED]
-    field = _field_step(model, system, outputs, orders, items, progress.where, result.rank, seed, error, budget, failed,
+    progress.reasons += [f"{output}: {why}" for output, why in sought.items()
+                         if isinstance(why, str) and why != _NOT_NEEDED]
+    field = _field_step(model, system, outputs, orders, items, progress.where, result.rank, seed, error, budget, sought,
                         False)
     if isinstance(field, str):
         progress.reasons.append(f"the outputs' field: {field}")
@@ -331,7 +334,7 @@ def _io_route(system: System, model: RationalModel, result: ObservabilityResult,
 
 
 def _field_step(model: RationalModel, system: System, outputs: list[str], orders: dict[str, int], items: _Open,
-                where: dict, rank: int, seed: int, error: float, budget: float | None, failed: dict[str, str],
+                where: dict, rank: int, seed: int, error: float, budget: float | None, sought: dict[str, Any],
                 joint: bool) -> tuple[dict[str, bool | None], str, float, tuple[bool, ...]] | str | None:
     """The states and constants ``where`` leaves open, in the field the outputs determine
     (:func:`~.iofield.field_members`; ``joint``: through the projections), within a budget of
@@ -339,9 +342,9 @@ def _field_step(model: RationalModel, system: System, outputs: list[str], orders
     error spent and the functions' answers; why not; None when nothing is open or tested.
 
     Its own budget, as its test is the longer one (SIWR's did not end in 10 minutes) and must not
-    cost the constants' answers. An output whose equation was not found (``failed``, its budget
+    cost the constants' answers. An output whose equation was not found (``sought``, its budget
     spent) gives its truncated Lie derivatives at once: the step would only spend its budget on the
-    same elimination. The constants found globally join the generators (K is the same): with them
+    same elimination; one whose equation was found there is not eliminated again (``sought`` holds it). The constants found globally join the generators (K is the same): with them
     an equation's ratios become numbers, and its output needs only y, ..., y^(d) (SIWR's states: 4
     unknowns, not 11)."""
     open_ = [c for c in (*items.states, *items.constants) if items.names[c] not in where]
@@ -349,7 +352,7 @@ def _field_step(model: RationalModel, system: System, outputs: list[str], orders
         return None
     known = [c for c in items.constants if where.get(items.names[c]) is True]
     field = _budgeted(field_members, budget, model, list(system.inputs), outputs, orders, open_, rank, seed, error,
-                      failed, known, joint, items.functions)
+                      sought, known, joint, items.functions)
     if isinstance(field, str):
         return field
     return {items.names[c]: field.members[c.name] for c in open_}, field.how, field.error, field.functions
@@ -380,32 +383,35 @@ _NOT_NEEDED = "not computed: every constant was placed without it"
 
 def _constants_by_equation(system: System, model: RationalModel, result: ObservabilityResult,
                            constants: list[sympy.Symbol], names: dict, seed: int, error: float, budget: float | None
-                           ) -> tuple[dict[str, bool | None], list[str], dict[str, str], float]:
+                           ) -> tuple[dict[str, bool | None], list[str], dict[str, Any], float]:
     """The constants' step of :func:`_through_io_equation`: each output's equation in turn, each
     within ``budget``, until every constant is placed (one output: both answers; several: only
-    "globally"). Returns the answers, the notes, the outputs whose equation was not found or,
-    with several outputs, not needed (with why), and the error probability spent. An output's
+    "globally"). Returns the answers, the notes, each output whose equation was sought with what
+    came of it (why it was not found or, with several outputs, not needed; else the checked
+    equation, which the field's step reuses), and the error probability spent. An output's
     own elimination may not end where the projections' did (HIV's: 300 s), so with several
     outputs the field's step then takes its truncated Lie derivatives, lowered over the
     constants found."""
     single = len(system.outputs) == 1
     where: dict[str, bool | None] = {}
-    notes, failed, spent = [], {}, 0.0
+    notes, sought, spent = [], {}, 0.0
     for index, (output, _) in enumerate(system.outputs):
         open_ = [c for c in constants if names[c] not in where]
         if not open_:
             if not single:  # an equation not asked for here is not computed in the field's step either
-                failed[output] = _NOT_NEEDED
+                sought[output] = _NOT_NEEDED
             continue
         found = _budgeted(constants_from_io_equation, budget, replace(model, outputs=(model.outputs[index],)),
                           list(system.inputs), output, open_, seed, error, result.rank if single else None)
         if isinstance(found, str):
-            failed[output] = found
+            sought[output] = found
             continue
+        if found.checked is not None:
+            sought[output] = found.checked
         where |= {names[c]: v for c in open_ if (v := found.members.get(c.name)) or (v is False and single)}
         notes.append(found.how)
         spent += found.error
-    return where, notes, failed, spent
+    return where, notes, sought, spent
 
 
 def _budgeted(func: Any, budget: float | None, *arguments: Any) -> Any:
