@@ -324,8 +324,10 @@ class ObservabilityResult:
         if answer is None:
             return []
         no, undecided = self._global_split()
+        angles = [a for a in answer.angles if a in answer.globally]  # an angle is unique modulo 2 pi only
+        modulo = f"; {', '.join(angles)} modulo 2 pi" if angles else ""
         lines = [f"  global verdict: {self._global_headline(no, undecided, states)}",
-                 f"  globally observable (unique): {states(answer.globally)}"]
+                 f"  globally observable (unique{modulo}): {states(answer.globally)}"]
         if self.region.qualified and (answer.globally or answer.only_locally):
             # The global route takes rational models only, so a qualified model's answers are undecided today
             # (a root or log left after prepare is not rational); were one decided, it is about the rank's region.

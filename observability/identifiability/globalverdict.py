@@ -50,6 +50,8 @@ class GlobalVerdict:
     reals : tuple of RealAnswer
         The states of ``only_locally`` over the reals (:mod:`.realvalues`), with
         the argument; a state without one has only other complex values known.
+    angles : tuple of str
+        The states read through tan(angle/2): for them "unique" means modulo 2 pi.
     field : FieldGenerators or None
         Generators of the field of globally observable functions: the printed
         functions when they generate it, else those of :mod:`.globalfield`;
@@ -67,6 +69,7 @@ class GlobalVerdict:
     generation: str = ""
     field: FieldGenerators | None = None
     reals: tuple[RealAnswer, ...] = ()
+    angles: tuple[str, ...] = ()
 
     def over_the_reals(self, name: str) -> bool | None:
         """For a state of ``only_locally``: True unique among real values, False a
@@ -79,6 +82,7 @@ class GlobalVerdict:
                 "only_locally_over_the_reals": {r.name: r.to_dict() for r in self.reals},
                 "undecided": list(self.undecided), "error_probability": self.error_probability,
                 "details": self.details, "mirrors": list(self.mirrors), "functions": dict(self.functions),
+                "angles_modulo_2pi": list(self.angles),
                 "functions_generate_the_field": self.generates_field, "generation": self.generation,
                 "globally_observable_functions": list(self.field.generators) if self.field else None,
                 "globally_observable_functions_generate": self.field.generates if self.field else None,

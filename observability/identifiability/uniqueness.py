@@ -67,7 +67,7 @@ from typing import TYPE_CHECKING, Any
 import sympy
 
 from ..budget import BudgetedRun, Undecided, with_budget
-from ..errors import ModelError
+from ..errors import ModelError, UnsupportedConstructError
 from ..model.prepare import prepare
 from ..model.system import System
 from ..model.expressions import parse_expression
@@ -143,7 +143,10 @@ def global_observability(system: System, result: ObservabilityResult, *, seed: i
     open_ = tuple(s.name for s in system.states) if known else tuple(result.observable_states or ())
     if reason := _unsupported(system):
         return GlobalVerdict((), (), open_, None, f"undecided: {reason}")
-    system, result, constant = with_parameter(system, result, "--global")
+    try:
+        system, result, constant = with_parameter(system, result, "--global")
+    except UnsupportedConstructError as exc:  # an algebraic constant, or two transcendental ones: undecided
+        return GlobalVerdict((), (), open_, None, f"undecided: {str(exc).removeprefix('--global: ')}")
     given = known_values(system, result, known) if known else None
     if isinstance(given, str):
         return GlobalVerdict((), (), open_, None, f"undecided: {given}")
@@ -219,7 +222,7 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         probability += (error + field.error) if field.generates else 0.0
     return carried_over(GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                                       tuple(s for s in local if where[s] is None), probability, details, mirrors,
-                                      answers, generates, generation, field, reals),
+                                      answers, generates, generation, field, reals, tuple(angles)),
                         model.output_forms, [name for name, _ in prepared.outputs])
 
 
