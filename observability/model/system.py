@@ -428,6 +428,10 @@ class System:
         unknown = set(changes) - set(arguments)
         if unknown:
             raise TypeError(f"System.replace got unknown argument {sorted(unknown)[0]!r}")
+        if "outputs" in changes and "latex_names" not in changes and self.latex_names:
+            # Fewer outputs (the rows a minor uses): their LaTeX names go with them (a vector output's p_1).
+            dropped = {name for name, _ in self.outputs} - set(dict(changes["outputs"]))
+            arguments["latex_names"] = {k: v for k, v in dict(self.latex_names).items() if k not in dropped}
         replaced = System(**(arguments | changes))
         object.__setattr__(replaced, "unknown_inputs", recorded)
         object.__setattr__(replaced, "unknown_input_degree", degree if recorded else None)
