@@ -246,21 +246,32 @@ def _value(poly: Any, point: dict) -> Any:
 
 def _gradient(pair: tuple[sympy.Expr, sympy.Expr], coordinates: Sequence[sympy.Symbol], point: dict) -> list:
     """The gradient of n/d at the point by the quotient rule, (n_c d - n d_c) / d**2, on the
-    polynomials' partial derivatives (the caller has d non-zero there)."""
-    n, d = pair
-    at_n, at_d = n.xreplace(point), d.xreplace(point)
-    return [(dn.xreplace(point) * at_d - at_n * dd.xreplace(point)) / at_d**2
-            for dn, dd in _partials(n, d, tuple(coordinates))]
+    polynomials' partial derivatives (the caller has d non-zero there), each evaluated as a
+    polynomial by Horner's rule (sympy's ``xreplace`` rebuilt every product of the expanded
+    expressions: two thirds of ``check --global`` on SI.jl's three-compartment model)."""
+    coordinates = tuple(coordinates)
+    (n, d), partials = _partials(*pair, coordinates)
+    values = [point[c] for c in coordinates]
+    at_n, at_d = _at(n, values, point), _at(d, values, point)
+    return [(_at(dn, values, point) * at_d - at_n * _at(dd, values, point)) / at_d**2 for dn, dd in partials]
+
+
+def _at(poly: sympy.Poly, values: list, point: dict) -> sympy.Expr:
+    """The polynomial at the coordinates' ``values``, then its coefficients' other symbols (known
+    constants, inputs' derivatives) at ``point``."""
+    value = poly(*values)
+    return value if value.is_Number else value.xreplace(point)
 
 
 @functools.lru_cache(maxsize=512)
-def _partials(n: sympy.Expr, d: sympy.Expr, coordinates: tuple[sympy.Symbol, ...]) -> list:
-    """(dn/dc, dd/dc) for each coordinate c, as polynomials: derived once per pair, while
-    the pair's gradient is wanted at a new point for each candidate left out (sympy's
-    derivative of the quotient n/d, taken anew each time, was most of ``check --global``'s
+def _partials(n: sympy.Expr, d: sympy.Expr, coordinates: tuple[sympy.Symbol, ...]
+              ) -> tuple[tuple[sympy.Poly, sympy.Poly], list[tuple[sympy.Poly, sympy.Poly]]]:
+    """n and d, and (dn/dc, dd/dc) for each coordinate c, as polynomials in the coordinates: derived
+    once per pair, while the pair's gradient is wanted at a new point for each candidate left out
+    (sympy's derivative of the quotient n/d, taken anew each time, was most of ``check --global``'s
     time on SI.jl's three-compartment model)."""
     numerator, denominator = sympy.Poly(n, *coordinates), sympy.Poly(d, *coordinates)
-    return [(numerator.diff(c).as_expr(), denominator.diff(c).as_expr()) for c in coordinates]
+    return (numerator, denominator), [(numerator.diff(c), denominator.diff(c)) for c in coordinates]
 
 
 def _fraction_gradient(fraction: Any, coordinates: Sequence[sympy.Symbol], point: dict) -> list:
