@@ -86,14 +86,17 @@ def test_a_missing_entry_at_a_pole_does_not_reach_the_estimate(kind):
 
 @pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
 def test_an_estimate_that_overflows_in_the_update_is_refused(kind):
-    """y = p / 2, P = 1, R = 1e-6: the gain is 0.5 / (0.25 + 1e-6), about 2, so a
-    measurement of 1.7e308 moves p to about 3.4e308, past the largest double: the
-    covariance stays finite, the estimate does not, and the step is refused by name."""
+    """y = p / 2 at p = 1e308, P = 1e308, R = 1e-6: S = P/4 + R = 2.5e307, the gain
+    0.5 P / S = 2; a measurement of 1e308 has nu = 5e307 (nu^T S^-1 nu = 1e308, finite:
+    the innovation is weighed) and moves p to 1e308 + 2 * 5e307 = 2e308, past the largest
+    double: the covariance ((1 - K H)^2 P + K^2 R = 4e-6) stays finite, the estimate does
+    not, and the step is refused by name. (From p = 0 with P = 1, a measurement of 1.7e308
+    is now refused earlier, its nu^T S^-1 nu ~ 1e617 not a double: test_filter_nonfinite.)"""
     system = System(["p"], {"p": "p"}, {"y": "p/2"}, time="discrete")
     ekf = kind(filter_functions(system), np.zeros((1, 1)), np.array([[1e-6]]))
-    state = ekf.predict(ekf.initial([0.0], np.eye(1)))
+    state = ekf.predict(ekf.initial([1e308], np.eye(1) * 1e308))
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the state estimate is not finite$"):
-        ekf.update(state, [1.7e308])
+        ekf.update(state, [1e308])
 
 
 @pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
