@@ -9,9 +9,9 @@ import pytest
 
 from observability import System
 from observability.codegen import filter_functions
-from observability.filters import CloningEKF, ConventionalEKF, FilterError, GeneralizedEKF
+from observability.filters import CloningEKF, ConventionalEKF, FilterError, FirstEstimatesEKF, GeneralizedEKF
 
-FILTERS = [ConventionalEKF, GeneralizedEKF, CloningEKF]
+FILTERS = [ConventionalEKF, GeneralizedEKF, CloningEKF, FirstEstimatesEKF]
 RANGE = System(["x", "y"], {"x": "x", "y": "y"}, {"r": "sqrt(x**2 + y**2)"}, time="discrete")
 CV = System(["p", "v"], {"p": "p + dt*v", "v": "v"}, {"gps": "p", "odo": "p - prev(p)"}, parameters={"dt": 0.1},
             time="discrete")
@@ -30,7 +30,8 @@ def test_a_measurement_jacobian_that_is_not_finite_is_named(kind, predicted):
     with pytest.raises(FilterError) as caught:
         ekf.update(state, [1.0])
     message = str(caught.value)
-    assert message.startswith(f"step {state.step} (update): the measurement Jacobian H is not finite at the estimate")
+    at = "the linearisation point" if kind is FirstEstimatesEKF else "the estimate"  # FEJ: H at the first estimates
+    assert message.startswith(f"step {state.step} (update): the measurement Jacobian H is not finite at {at}")
     assert "condition number" not in message
 
 

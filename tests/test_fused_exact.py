@@ -154,8 +154,8 @@ def test_the_oc_ekf_with_a_previous_state_output_and_no_directions_is_the_conven
 
 def test_the_oc_ekf_names_the_step_of_each_refusal():
     """Every refusal of the OC-EKF says where: a prediction past the largest double
-    (p -> 2 p from 1e308), an update that overflows the estimate (gain about 2 on
-    1.7e308, as for the fused filters above), an indefinite P (S not positive
+    (p -> 2 p from 1e308), an update that overflows the estimate (gain 2 on an
+    innovation of 4e307 from p = 1.6e308), an indefinite P (S not positive
     definite), a manifold hook that returns NaN, in the prediction and in the
     update, and a covariance that overflows in the update's Joseph form."""
     system = System(["p"], {"p": "2*p"}, {"y": "p/2"}, time="discrete")
@@ -163,8 +163,14 @@ def test_the_oc_ekf_names_the_step_of_each_refusal():
     oc = _without_directions(system, np.zeros((1, 1)), np.array([[1e-6]]), fns)
     with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite$"):
         oc.predict(oc.initial([1e308], np.eye(1)))
-    state = oc.predict(oc.initial([0.0], np.eye(1)))
+    # p = 8e307, P = 1e307 predict to p = 1.6e308, P = 4e307; S = P/4 + R = 1e307, gain 0.5 P / S = 2;
+    # y = 1.2e308 gives nu = 4e307 (nu^T S^-1 nu = 1.6e308, finite), p -> 1.6e308 + 8e307 = 2.4e308.
+    large = oc.predict(oc.initial([8e307], np.eye(1) * 1e307))
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the estimate is not finite$"), np.errstate(over="ignore"):
+        oc.update(large, [1.2e308])
+    state = oc.predict(oc.initial([0.0], np.eye(1)))
+    # From p = 0, P = 4: 1.7e308 has nu^2 / S ~ 2.9e616 / 1: refused before any step (review 2's rule).
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation \(1\.7e\+308\) is too large"):
         oc.update(state, [1.7e308])
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation covariance S is not positive definite$"):
         oc.update(dataclasses.replace(state, P=-np.eye(1)), [1.0])
