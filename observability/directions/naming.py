@@ -3,7 +3,11 @@
 A field is named from its structure: a constant field is a translation, a
 linear one with a diagonal part a scaling, with a skew-symmetric part a
 rotation (of planes, about a centre, or of an attitude quaternion about an
-axis); anything else is reported with its vector.
+axis); anything else is reported with its vector. The description says what
+the vector does to each state it moves: equal or opposite amounts, with the
+combination kept when two states move (checked by hand: b x - a y has
+derivative b a - a b = 0 along (a, b)); a state a rotation shifts by a constant
+is said to turn with it only when it is an angle, else it is shifted (a screw).
 """
 
 from __future__ import annotations
