@@ -86,14 +86,17 @@ def test_a_missing_entry_at_a_pole_does_not_reach_the_estimate(kind):
 
 @pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
 def test_an_estimate_that_overflows_in_the_update_is_refused(kind):
-    """y = p / 2, P = 1, R = 1e-6: the gain is 0.5 / (0.25 + 1e-6), about 2, so a
-    measurement of 1.7e308 moves p to about 3.4e308, past the largest double: the
-    covariance stays finite, the estimate does not, and the step is refused by name."""
+    """y = p / 2 at p = 1e308, P = 1e308, R = 1e-6: S = P/4 + R = 2.5e307, the gain
+    0.5 P / S = 2; a measurement of 1e308 has nu = 5e307 (nu^T S^-1 nu = 1e308, finite:
+    the innovation is weighed) and moves p to 1e308 + 2 * 5e307 = 2e308, past the largest
+    double: the covariance ((1 - K H)^2 P + K^2 R = 4e-6) stays finite, the estimate does
+    not, and the step is refused by name. (From p = 0 with P = 1, a measurement of 1.7e308
+    is now refused earlier, its nu^T S^-1 nu ~ 1e617 not a double: test_filter_nonfinite.)"""
     system = System(["p"], {"p": "p"}, {"y": "p/2"}, time="discrete")
     ekf = kind(filter_functions(system), np.zeros((1, 1)), np.array([[1e-6]]))
-    state = ekf.predict(ekf.initial([0.0], np.eye(1)))
+    state = ekf.predict(ekf.initial([1e308], np.eye(1) * 1e308))
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the state estimate is not finite$"):
-        ekf.update(state, [1.7e308])
+        ekf.update(state, [1e308])
 
 
 @pytest.mark.parametrize("kind", [ConventionalEKF, CloningEKF])
@@ -151,8 +154,8 @@ def test_the_oc_ekf_with_a_previous_state_output_and_no_directions_is_the_conven
 
 def test_the_oc_ekf_names_the_step_of_each_refusal():
     """Every refusal of the OC-EKF says where: a prediction past the largest double
-    (p -> 2 p from 1e308), an update that overflows the estimate (gain about 2 on
-    1.7e308, as for the fused filters above), an indefinite P (S not positive
+    (p -> 2 p from 1e308), an update that overflows the estimate (gain 2 on an
+    innovation of 4e307 from p = 1.6e308), an indefinite P (S not positive
     definite), a manifold hook that returns NaN, in the prediction and in the
     update, and a covariance that overflows in the update's Joseph form."""
     system = System(["p"], {"p": "2*p"}, {"y": "p/2"}, time="discrete")
@@ -160,8 +163,14 @@ def test_the_oc_ekf_names_the_step_of_each_refusal():
     oc = _without_directions(system, np.zeros((1, 1)), np.array([[1e-6]]), fns)
     with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the state estimate is not finite$"):
         oc.predict(oc.initial([1e308], np.eye(1)))
-    state = oc.predict(oc.initial([0.0], np.eye(1)))
+    # p = 8e307, P = 1e307 predict to p = 1.6e308, P = 4e307; S = P/4 + R = 1e307, gain 0.5 P / S = 2;
+    # y = 1.2e308 gives nu = 4e307 (nu^T S^-1 nu = 1.6e308, finite), p -> 1.6e308 + 8e307 = 2.4e308.
+    large = oc.predict(oc.initial([8e307], np.eye(1) * 1e307))
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the estimate is not finite$"), np.errstate(over="ignore"):
+        oc.update(large, [1.2e308])
+    state = oc.predict(oc.initial([0.0], np.eye(1)))
+    # From p = 0, P = 4: 1.7e308 has nu^2 / S ~ 2.9e616 / 1: refused before any step (review 2's rule).
+    with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation \(1\.7e\+308\) is too large"):
         oc.update(state, [1.7e308])
     with pytest.raises(FilterError, match=r"^step 1 \(update\): the innovation covariance S is not positive definite$"):
         oc.update(dataclasses.replace(state, P=-np.eye(1)), [1.0])

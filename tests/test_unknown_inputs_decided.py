@@ -421,7 +421,7 @@ def test_the_compensating_inputs_are_named_in_the_description():
                  unknown_inputs=["w1", "w2"])
     none = System(["x1", "x2"], {"x1": "w", "x2": "0"}, {"y": "x1 + x2"}, unknown_inputs=["w"])
     for system, words in ((one, "; the unknown input w compensates"),
-                          (two, "; the unknown inputs w1, w2 compensate"), (none, "moves these states together")):
+                          (two, "; the unknown inputs w1, w2 compensate"), (none, "moves x1 and x2 by equal and opposite amounts (x1 + x2 unchanged)")):
         (direction,) = analyze(system, seed=1).unobservable_directions
         assert direction.description.endswith(words), direction.description
 

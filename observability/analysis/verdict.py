@@ -357,8 +357,19 @@ def _functions(system: System, basis, rank: int, seed: int) -> tuple[tuple[sympy
     functions = tuple(sympy.factor_terms(e) for e in observable_functions(system, basis, rank, seed=seed))
     if not functions and rank:
         outputs = (system.substitute_values(h) for _, h in system.outputs)
-        functions = tuple(h for h in outputs if h.free_symbols & set(system.states))
+        functions = _distinct(h for h in outputs if h.free_symbols & set(system.states))
     return completed(system, functions, rank, seed)
+
+
+def _distinct(functions) -> tuple[sympy.Expr, ...]:
+    """``functions`` without repeats, the first of each kept: two outputs written
+    differently may be one function (x exp(y)^2 + y and x exp(2 y) + y). Equal
+    expanded forms are equal functions, so nothing distinct is dropped; a repeat
+    no normal form shows stays listed."""
+    kept: dict[sympy.Expr, sympy.Expr] = {}
+    for f in functions:
+        kept.setdefault(sympy.expand(f), f)
+    return tuple(kept.values())
 
 
 def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: int, proof: str,

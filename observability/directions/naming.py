@@ -3,7 +3,11 @@
 A field is named from its structure: a constant field is a translation, a
 linear one with a diagonal part a scaling, with a skew-symmetric part a
 rotation (of planes, about a centre, or of an attitude quaternion about an
-axis); anything else is reported with its vector.
+axis); anything else is reported with its vector. The description says what
+the vector does to each state it moves: equal or opposite amounts, with the
+combination kept when two states move (checked by hand: b x - a y has
+derivative b a - a b = 0 along (a, b)); a state a rotation shifts by a constant
+is said to turn with it only when it is an angle, else it is shifted (a screw).
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
     states = list(system.states)
     moved = [s.name for s, v in zip(states, vector) if v != 0]
     if all(v.free_symbols.isdisjoint(states) for v in vector):
-        return f"translation of {_listing(moved)}", "moves these states together"
+        return f"translation of {_listing(moved)}", _translation(vector, states)
     if any(not v.is_polynomial(*states) for v in vector):
         return "unnamed direction", "not a polynomial field"
     terms = [sympy.Poly(v, *states).as_dict() if v != 0 else {} for v in vector]
@@ -84,7 +88,30 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
         return f"scaling{about}", f"scales the states with weights {weights}"
     if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
         return _rotation(A, b, sorted({(min(i, j), max(i, j)) for i, j in off}), system)
-    return "unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation"
+    kind = "an affine" if any(b) else "a linear"  # x' = A x + b with b != 0 is affine, not linear
+    return "unnamed direction", f"{kind} field that is neither a pure scaling nor a pure rotation"
+
+
+def _translation(vector: Sequence[sympy.Expr], states: list[sympy.Symbol]) -> str:
+    """What a constant field does to each state it moves. Equal components move
+    the states together; for two states moved by a and b, the combination
+    b x - a y is unchanged (its derivative along the field is b a - a b = 0),
+    said exactly, with the sign that makes its first coefficient positive."""
+    moved = [(s, v) for s, v in zip(states, vector) if v != 0]
+    if not moved:  # only unknown inputs move (their compensation is said by the caller)
+        return "moves no state"
+    if len(moved) == 1:
+        return f"moves {moved[0][0].name} only"
+    if len({v for _, v in moved}) == 1:
+        return "moves these states together, by equal amounts"
+    if len(moved) > 2:
+        return "moves " + ", ".join(f"{s.name} by {v}" for s, v in moved) + " per unit"
+    (x, a), (y, b) = moved
+    kept = sympy.expand(b * x - a * y)
+    kept = -kept if sympy.expand(b).could_extract_minus_sign() else kept
+    if sympy.expand(a + b) == 0:
+        return f"moves {x.name} and {y.name} by equal and opposite amounts ({kept} unchanged)"
+    return f"moves {x.name} by {a} and {y.name} by {b} per unit ({kept} unchanged)"
 
 
 def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], system: System) -> tuple[str, str]:
@@ -114,15 +141,31 @@ def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], 
     rate = A[j][i]
     centre = (sympy.cancel(-b[j] / rate), sympy.cancel(b[i] / rate))
     in_pairs = {k for pair in pairs for k in pair} | set(turned_attitudes)
-    turned = [states[k].name for k in range(n) if k not in in_pairs and b[k] != 0]
+    # Only an angle turns; any other state the field moves by a constant is shifted (a screw motion).
+    outside = [states[k] for k in range(n) if k not in in_pairs and b[k] != 0]
+    turned = [s.name for s in outside if _is_angle(s, system)]
+    shifted = [s.name for s in outside if not _is_angle(s, system)]
     description = "rotates the pairs " + _listing([f"({states[p].name}, {states[q].name})" for p, q in pairs])
     description += f" and turns {_listing(turned)} with them" if turned else ""
+    undeclared = "not an angle" if len(shifted) == 1 else "not angles"
+    description += f"{',' if turned else ''} and shifts {_listing(shifted)} with them ({undeclared})" if shifted else ""
     description += f", and turns {_listing(said)} with them" if said else ""
     axis = _axis([(states[p].name, states[q].name) for p, q in pairs], {x.name for x in states})
+    screw = f" with {_listing(shifted)} shifted" if shifted else ""
     if axis and centre == (0, 0):
-        return f"rotation about the {axis}-axis", description
+        return f"rotation about the {axis}-axis{screw}", description
     about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
-    return f"rotation{about}", description
+    return f"rotation{about}{screw}", description
+
+
+def _is_angle(state: sympy.Symbol, system: System) -> bool:
+    """Whether ``state`` is an angle: declared one (``angles``), or read by the
+    model inside a sine or cosine (a heading: v cos(th)). Shifting it by a
+    constant then turns it; any other state is only shifted (z in z - atan2(y, x))."""
+    if state.name in system.angles:
+        return True
+    return any(state in t.args[0].free_symbols for e in (*system.dynamics, *(h for _, h in system.outputs))
+               for t in e.atoms(sympy.sin, sympy.cos))
 
 
 def _attitudes(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]],

@@ -43,7 +43,7 @@ from ..model.expressions import parse_expression
 from ..model.system import System
 from .constraint import nearest_with
 from .manifolds import wrap_angles
-from . import covariance
+from . import covariance, validation
 from .ekf import FilterError, FilterState, Update, _Base
 from .firstestimates import static_states
 
@@ -110,7 +110,9 @@ class ObservabilityConstrainedEKF(_Base):
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
         x_prev = state.x if state.x_prev is None else state.x_prev
+        where = f"step {state.step} (update)"
         h, H, _ = (np.array(a) for a in self.fn["measurement"](state.x, x_prev, self.p))
+        validation.jacobians(where, "the estimate", **{"measurement Jacobian H": H})
         N = self._N(state.x)
         H = nearest_with(H, N, np.zeros((H.shape[0], N.shape[1])))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
@@ -118,8 +120,9 @@ class ObservabilityConstrainedEKF(_Base):
         self.residuals.append((state.step, float(np.max(np.abs(H @ N), initial=0.0))))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h.ravel()[used], [self._output_angles[i] for i in used])
-        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
-        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), f"step {state.step} (update)")
+        K, S, HP = covariance.gain(state.P, H, W, where)
+        validation.innovation(innovation, S, where)
+        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
         new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step, prior=state.prior)
         if not np.all(np.isfinite(x)):
             raise FilterError(f"step {state.step} (update): the estimate is not finite")

@@ -203,13 +203,21 @@ class _Base:
     def _measurement_call(self) -> _Buffered:
         return _Buffered(self.fn["measurement"])
 
-    def _motion(self, x: np.ndarray, u: np.ndarray, w: np.ndarray | None = None):
-        """f, F_X and F_w at (x, u, w), the noise w zero unless given."""
+    def _motion(self, x: np.ndarray, u: np.ndarray, w: np.ndarray | None = None, where: str | None = None):
+        """f, F_X and F_w at (x, u, w), the noise w zero unless given; with ``where`` (x the
+        estimate), F_X and F_w are refused unless finite (:func:`~.validation.jacobians`)."""
         x_next, F, Fw = self._motion_call(x, u, self.w0 if w is None else w, self.p)
+        if where is not None:
+            validation.jacobians(where, "the estimate", **{"motion Jacobian F": F, "noise Jacobian F_w": Fw})
         return x_next.ravel(), F, Fw
 
-    def _measurement(self, x: np.ndarray, x_prev: np.ndarray):
+    def _measurement(self, x: np.ndarray, x_prev: np.ndarray, where: str | None = None):
+        """h, H_X and H_X_prev at (x, x_prev); with ``where`` (at the estimate), the Jacobians
+        are refused unless finite."""
         y, H, H_prev = self._measurement_call(x, x_prev, self.p)
+        if where is not None:
+            validation.jacobians(where, "the estimate", **{"measurement Jacobian H": H,
+                                                            "measurement Jacobian H_prev (in the previous state)": H_prev})
         return y.ravel(), H, H_prev
 
     def _select(self, y: Sequence[float | None], step: int) -> tuple[np.ndarray, list[int]]:
@@ -237,10 +245,13 @@ class _Base:
         FUSED_STATES states numpy, F_X applied to its moving rows only)."""
         u = self._inputs(u, state.step + 1)
         fused = None if self._in_numpy else _fused(self._predict_call, state.x, state.P.T, u, self.p)
-        x, P, *health = fused or self._numpy_predict(state.x, state.P, u)
-        x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
+        where = f"step {state.step + 1} (prediction)"
+        x, P, *health = fused or self._numpy_predict(state.x, state.P, u, where)
+        x = self._on_manifold(x.ravel(), where)
         new = FilterState(x, P, x_prev=state.x, step=state.step + 1)
-        if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong
+        if not (health and health[0][0, 0] > 0):  # the numpy checks name what is wrong, a Jacobian first
+            if fused:
+                self._motion(state.x, u, where=where)
             self._checked(new, "prediction")
         return new
 
@@ -276,17 +287,20 @@ class _Base:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
         new = FilterState(self._on_manifold(x.ravel(), f"step {state.step} (update)"), P, x_prev=state.x_prev,
                           step=state.step)
-        if not (health and health[0][0, 0] > 0):
-            covariance.innovation_checked(S, f"step {state.step} (update)")
+        where = f"step {state.step} (update)"
+        if not (health and health[0][0, 0] > 0):  # a non-finite Jacobian is named before what it spoils
+            self._linearised(state.x, x_prev, u, where)
+            covariance.innovation_checked(S, where)
+        validation.innovation(innovation.ravel(), S, where)
         if not (health and health[1][0, 0] > 0):
             self._checked(new, "update")
         return Update(new, innovation.ravel(), S, tuple(used))
 
 
     @_quiet
-    def _numpy_predict(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _numpy_predict(self, x: np.ndarray, P: np.ndarray, u: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
         """The fused prediction's x and P (:func:`~.fused.fused_predict`) in numpy, F P F^T block-wise."""
-        x_next, F, Fw = self._motion(x, u)
+        x_next, F, Fw = self._motion(x, u, where=where)
         return x_next, covariance.propagated(P, F, Fw, self.Q)
 
     @functools.cached_property
@@ -295,15 +309,19 @@ class _Base:
         names = {"generalized": ["G_w"], "generalized-total": ["G_w", "G_X"]}.get(self.variant, [])
         return {name: _Buffered(self.fn[name]) for name in names}
 
-    def _linearised(self, x: np.ndarray, x_prev: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """h, H and W of the fused update's ``variant`` (:func:`~.fused.fused_update`), every output."""
-        h, H, H_prev = self._measurement(x, x_prev)
+    def _linearised(self, x: np.ndarray, x_prev: np.ndarray, u: np.ndarray,
+                    where: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """h, H and W of the fused update's ``variant`` (:func:`~.fused.fused_update`), every output;
+        each Jacobian refused unless finite."""
+        h, H, H_prev = self._measurement(x, x_prev, where)
         W = self.R
-        if "G_w" in self._inverse_calls:
-            G = H_prev @ self._inverse_calls["G_w"](x, u, self.w0, self.p)[0]
+        inverse = {name: call(x, u, self.w0, self.p)[0] for name, call in self._inverse_calls.items()}
+        validation.jacobians(where, "the estimate", **{f"inverse motion Jacobian {k}": v for k, v in inverse.items()})
+        if "G_w" in inverse:
+            G = H_prev @ inverse["G_w"]
             W = W + G @ self.Q @ G.T
-        if "G_X" in self._inverse_calls:
-            H = H + H_prev @ self._inverse_calls["G_X"](x, u, self.w0, self.p)[0]
+        if "G_X" in inverse:
+            H = H + H_prev @ inverse["G_X"]
         return h, H, W
 
     @_quiet
@@ -315,11 +333,12 @@ class _Base:
         else:
             u = self._inputs(u, state.step)
         where = f"step {state.step} (update)"
-        h, H, W = self._linearised(state.x, state.x if state.x_prev is None else state.x_prev, u)
+        h, H, W = self._linearised(state.x, state.x if state.x_prev is None else state.x_prev, u, where)
         if len(used) < len(h):
             H, W = H[used], W[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
         K, S, HP = covariance.gain(state.P, H, W, where)
+        validation.innovation(innovation, S, where)
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
         new = FilterState(x, covariance.joseph(state.P, K, H, W, HP), x_prev=state.x_prev, step=state.step)
         return Update(self._checked(new, "update"), innovation, S, tuple(used))
@@ -374,11 +393,13 @@ class CloningEKF(_Base):
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         u = self._inputs(u, state.step + 1)
         fused = None if self._in_numpy else _fused(self._predict_call, state.x, state.P.T, u, self.p)
-        x, joint, *health = fused or self._numpy_joint(state.x, state.P, u)
-        n = self.n
-        x = self._on_manifold(x.ravel(), f"step {state.step + 1} (prediction)")
+        n, where = self.n, f"step {state.step + 1} (prediction)"
+        x, joint, *health = fused or self._numpy_joint(state.x, state.P, u, where)
+        x = self._on_manifold(x.ravel(), where)
         new = FilterState(x, joint[:n, :n].copy(), x_prev=state.x, joint=joint, step=state.step + 1)
         if not (health and health[0][0, 0] > 0):
+            if fused:
+                self._motion(state.x, u, where=where)
             if not np.all(np.isfinite(new.x)) or not np.all(np.isfinite(joint)):
                 raise FilterError(f"step {new.step} (prediction): the prediction is not finite")
             validation.estimate(new.x, new.P, f"step {new.step} (prediction)")
@@ -402,9 +423,11 @@ class CloningEKF(_Base):
         z = z.ravel()
         if len(used) < m:
             innovation, S = innovation.ravel()[used], S[np.ix_(used, used)]
-        if not (health and health[0][0, 0] > 0):
-            covariance.innovation_checked(S, f"step {state.step} (update)")
         where = f"step {state.step} (update)"
+        if not (health and health[0][0, 0] > 0):
+            self._measurement(state.x, state.x_prev, where)
+            covariance.innovation_checked(S, where)
+        validation.innovation(innovation.ravel(), S, where)
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
                           joint=joint, step=state.step)
         if not (health and health[1][0, 0] > 0):
@@ -413,10 +436,10 @@ class CloningEKF(_Base):
 
 
     @_quiet
-    def _numpy_joint(self, x: np.ndarray, P: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _numpy_joint(self, x: np.ndarray, P: np.ndarray, u: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
         """The fused cloning prediction's x and joint covariance (:func:`~.fused.fused_cloning_predict`)
         in numpy, F applied to its moving rows only."""
-        x_next, F, Fw = self._motion(x, u)
+        x_next, F, Fw = self._motion(x, u, where=where)
         cross = covariance.transitioned(F, P)
         return x_next, _symmetric(np.block([[covariance.propagated(P, F, Fw, self.Q), cross], [cross.T, P]]))
 
@@ -425,10 +448,11 @@ class CloningEKF(_Base):
         """The fused cloning update (:func:`~.fused.fused_cloning_update`) in numpy: h(x_k, x_k-1)
         as a measurement of [x_k; x_k-1], H = [H_Xk, H_Xk-1], the present entries only."""
         n, where = self.n, f"step {state.step} (update)"
-        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        h, H, H_prev = self._measurement(state.x, state.x_prev, where)
         H, W = np.hstack([H, H_prev])[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
         K, S, HP = covariance.gain(state.joint, H, W, where)
+        validation.innovation(innovation, S, where)
         z = wrap_angles(np.concatenate([state.x, state.x_prev]) + K @ innovation, self._state_angles * 2)
         joint = covariance.joseph(state.joint, K, H, W, HP)
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n].copy(), x_prev=self._on_manifold(z[n:], where),
@@ -483,7 +507,7 @@ class ColoredNoiseEKF(_Base):
     @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         n, q = self.n, self.q
-        x, F, Fw = self._motion(state.x, self._inputs(u, state.step + 1))
+        x, F, Fw = self._motion(state.x, self._inputs(u, state.step + 1), where=f"step {state.step + 1} (prediction)")
         keep = list(range(n)) + list(range(2 * n, 2 * n + q))  # x_k-1 and nu_k-1 (the latest of each)
         M = state.joint[np.ix_(keep, keep)]
         T = np.zeros((2 * n + 2 * q, n + q))
@@ -507,17 +531,17 @@ class ColoredNoiseEKF(_Base):
         values, used = self._select(y, state.step)
         if not used:
             return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        n, q = self.n, self.q
-        h, H, H_prev = self._measurement(state.x, state.x_prev)
+        n, q, where = self.n, self.q, f"step {state.step} (update)"
+        h, H, H_prev = self._measurement(state.x, state.x_prev, where)
         D0, D1 = self._weights(state.x, state.x_prev)
         predicted = h + D0 @ state.noise[:q] + D1 @ state.noise[q:]
         H_aug = np.hstack([H, H_prev, D0, D1])[used]
         W = self.R[np.ix_(used, used)]
-        K, S, HP = covariance.gain(state.joint, H_aug, W, f"step {state.step} (update)")
+        K, S, HP = covariance.gain(state.joint, H_aug, W, where)
         nu = values - predicted[used]
+        validation.innovation(nu, S, where)
         z = np.concatenate([state.x, state.x_prev, state.noise]) + K @ nu
         joint = covariance.joseph(state.joint, K, H_aug, W, HP)
-        where = f"step {state.step} (update)"
         new = FilterState(self._on_manifold(z[:n], where), joint[:n, :n], x_prev=self._on_manifold(z[n : 2 * n], where),
                           joint=joint, step=state.step, noise=z[2 * n :])
         validation.estimate(new.x, new.P, f"step {new.step} (update)")

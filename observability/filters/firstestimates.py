@@ -73,7 +73,7 @@ import numpy as np
 
 from ..codegen import FilterFunctions
 from .constraint import ConstraintLog, kept_transition
-from . import covariance
+from . import covariance, validation
 from .ekf import FilterError, FilterState, Update, _Base, _quiet
 from .manifolds import wrap_angles
 
@@ -216,15 +216,18 @@ class FirstEstimatesEKF(_Base):
         x_prev = state.x if state.x_prev is None else state.x_prev
         first = state.first if state.first is not None else state.x
         first_prev = first if state.first_prev is None else state.first_prev
+        where = f"step {state.step} (update)"
         h, H, H_prev = self._linearised_measurement(state.x, x_prev, first, first_prev)
+        validation.jacobians(where, "the linearisation point", **{
+            "measurement Jacobian H": H, "measurement Jacobian H_prev (in the previous state)": H_prev})
         if self.null_space is not None:
             self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
             self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
         innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
-        K, S, HP = covariance.gain(state.P, H, W, f"step {state.step} (update)")
-        where = f"step {state.step} (update)"
+        K, S, HP = covariance.gain(state.P, H, W, where)
+        validation.innovation(innovation, S, where)
         x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
         new = dataclasses.replace(state, x=x, P=covariance.joseph(state.P, K, H, W, HP))  # the points carried as they are
         return Update(self._checked(new, "update"), innovation, S, tuple(used))

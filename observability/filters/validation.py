@@ -13,7 +13,8 @@ import numpy as np
 
 from ..errors import ObservabilityError
 
-__all__ = ["FilterError", "SYMMETRY_TOLERANCE", "covariance", "vector", "measurement", "estimate"]
+__all__ = ["FilterError", "SYMMETRY_TOLERANCE", "covariance", "vector", "measurement", "estimate", "jacobians",
+           "innovation"]
 
 #: A matrix is symmetric when |M - M^T| <= SYMMETRY_TOLERANCE * max(1, |M|_max).
 SYMMETRY_TOLERANCE = 1e-9
@@ -119,3 +120,33 @@ def estimate(x: np.ndarray, P: np.ndarray, where: str) -> None:
         raise FilterError(f"{where}: the covariance is not positive definite") from None
     if not np.isfinite(factor).all():
         raise FilterError(f"{where}: the covariance has entries that are not finite")
+
+
+def jacobians(where: str, at: str, **named: np.ndarray) -> None:
+    """Refuse a Jacobian with an entry that is not finite (H of sqrt((x - x_prev)^2 + ...) at
+    x = x_prev is 0/0): every product with it would be NaN, and the fault would be reported
+    later as a NaN condition number or covariance instead of where it is. ``named`` maps the
+    words for each matrix ("measurement Jacobian H") to it (keywords with spaces: pass **dict)."""
+    for name, matrix in named.items():
+        bad = np.argwhere(~np.isfinite(np.asarray(matrix, dtype=float)))
+        if bad.size:
+            entries = ", ".join(f"({', '.join(map(str, e))})" for e in bad[:4]) + (", ..." if len(bad) > 4 else "")
+            raise FilterError(f"{where}: the {name} is not finite at {at} (entries {entries})")
+
+
+def innovation(nu: np.ndarray, S: np.ndarray, where: str) -> None:
+    """Refuse an innovation whose normalized square nu^T S^-1 nu (the statistic every gate and
+    consistency test reads, :mod:`.gating`, :mod:`.consistency`) is not a finite double.
+
+    No magnitude limit is invented: a measurement is refused only when float arithmetic cannot
+    represent what the update is judged by (nu = 1e300 against S ~ 1 overflows to inf), so a
+    state of 1e299 is never returned as if such a measurement had been weighed. A non-finite
+    state or covariance after the update is refused by :func:`estimate`. ``S`` has been
+    checked positive definite and well conditioned before (:func:`~.covariance.innovation_checked`).
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        square = float(nu @ np.linalg.solve(S, nu)) if len(nu) else 0.0
+    if not np.isfinite(square):
+        shown = ", ".join(f"{v:.3g}" for v in nu[:4]) + (", ..." if len(nu) > 4 else "")
+        raise FilterError(f"{where}: the innovation ({shown}) is too large for its normalized square "
+                          f"nu^T S^-1 nu to be a finite double: the measurement is refused")
