@@ -296,7 +296,7 @@ def test_the_command_line_reports_the_mirror_in_json():
     assert record["global"]["only_locally_over_the_reals"]["y"]["unique_among_real_values"] is False
     assert set(record["global"]) == {"globally_observable_states", "only_locally_observable_states", "undecided",
                                      "only_locally_over_the_reals",
-                                     "error_probability", "details", "mirrors", "functions",
+                                     "error_probability", "details", "mirrors", "functions", "angles_modulo_2pi",
                                      "functions_generate_the_field", "generation", "globally_observable_functions",
                                      "globally_observable_functions_generate", "globally_observable_functions_how"}
     assert record["global"]["undecided"] == [] and record["global"]["functions"] == {}
