@@ -12,8 +12,8 @@ import os
 import sys
 from collections.abc import Sequence
 
-from ..errors import ObservabilityError
-from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, UsageError
+from ..errors import ObservabilityError, UnsolvedSetError
+from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError
 from .parser import build_parser
 
 __all__ = ["main", "build_parser"]
@@ -36,6 +36,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if getattr(args, "scheduler", None) is not None and getattr(args, "workers", None) is not None:
             raise UsageError("give --scheduler (a running cluster) or --workers (a local one), not both")
         return args.func(args)
+    except UnsolvedSetError as exc:  # a well-formed set the tool cannot solve: its limit, not bad input
+        print(f"observability: undecided: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return EXIT_UNDECIDED
     # Exit 2 only for errors raised on purpose about the input; anything else,
     # a ValueError from deep inside a library included, is a bug (exit 4).
     except (UsageError, ObservabilityError) as exc:
