@@ -91,3 +91,15 @@ def test_the_cones_vertex_is_in_the_closure_not_a_part(tmp_path, capsys):
     assert code == 0 and answer["rank"] == 3 and answer["restriction"] == f"the set {CONE[2]}"
     _, answer = _check(tmp_path, capsys, CONE, {"x": "0", "y": "0", "z": "0"})
     assert answer["at_point"]["rank"] == 0
+
+
+@pytest.mark.parametrize("equations", ["x1*x2 = x3*(x3 - 1), x1 = 5", "x1 = 5, x1*x2 = x3*(x3 - 1)"])
+def test_points_in_a_curves_closure_are_no_part_whatever_the_order(tmp_path, capsys, equations):
+    """The curve x1 = 5, x2 = x3 (x3 - 1)/5: solved with x1 first (x1 = x3 (x3 - 1)/x2, x2 != 0), its points
+    x3 in {0, 1} were pieces of their own, rank 2 (exit 1, 'NOT observable'); with x1 = 5 first, rank 3
+    (exit 0). They are on the curve (the curve's solution holds there): one part, rank 3 at (5, 2/5, 2)
+    (rows (1,0,0), (2/5,5,0), (0,2,2/5)), whatever the order; --point gives 2 at (5, 0, 1)."""
+    assert _rank((W2[0], W2[1], "x1*x2 = x3*(x3 - 1)"), {"x1": "5", "x2": "2/5", "x3": "2"}) == 3
+    case = (W2[0], W2[1], equations)
+    code, answer = _check(tmp_path, capsys, case)
+    assert code == 0 and answer["rank"] == 3 and answer["restriction"] == f"the set {equations}"

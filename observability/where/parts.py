@@ -39,6 +39,11 @@ Pieces dropped, each by an exact argument:
   through their generic point proves them in the closure too (:func:`_in_closure`:
   the cone x z = y**2's vertex, not the umbrella's axis).
 
+* **A lower-dimensional piece in the closure of a larger one**, where the
+  larger one's solution is defined and holds (:func:`_limit_of`: the points
+  x3 in {0, 1} of x1 x2 = x3 (x3 - 1), x1 = 5, on the curve x1 = 5,
+  x2 = (x3**2 - x3)/5 but cut from it by the division by x2).
+
 So a set's parts are its real parts, each with its generic points, and a
 lower-dimensional subset in the closure of a part (the lines y = 0, z = 0 and
 y = 0, z = 1 of x y = z (z - 1), where the solution x = z (z - 1)/y divides by
@@ -102,6 +107,8 @@ def decompose(equations, order, circle, trig) -> list[Piece]:
     solved = [p for p in found if not p.unsolved]
     kept = [p for i, p in enumerate(solved)
             if not any(j != i and _contains(q, p) and (not _contains(p, q) or j < i) for j, q in enumerate(solved))]
+    # A lower-dimensional piece in a larger one's closure is no part (module docstring); strictly larger: no cycle.
+    kept = [p for p in kept if not any(len(q.solution) < len(p.solution) and _limit_of(q, p, trig) for q in kept)]
     return kept + [p for p in found if p.unsolved]
 
 
@@ -255,6 +262,33 @@ def _normal(f: sympy.Expr) -> sympy.Expr:
         return sympy.Poly(f, *sorted(f.free_symbols, key=str)).monic().as_expr()
     except (sympy.PolynomialError, sympy.CoercionFailed):
         return f
+
+
+def _limit_of(outer: Piece, inner: Piece, trig) -> bool:
+    """Whether ``inner``'s generic points lie in the closure of ``outer``:
+    ``outer`` is the graph of its solution over the points of its free
+    variables where its non-zero conditions hold, a dense open set (each
+    condition a non-zero polynomial, whose zeros are nowhere dense); where the
+    solution is continuous (no denominator zero) at a point that satisfies it,
+    that point is a limit of the graph's. So: every equation v = g of
+    ``outer`` holds identically on ``inner`` and no denominator of g is
+    identically zero there (x1 x2 = x3 (x3 - 1), x1 = 5 solved as x1 = 5,
+    x2 = (x3**2 - x3)/5, x2 != 0: its points x3 = 0 and x3 = 1, a piece of
+    their own where the division by x2 failed, are on that curve's closure).
+    False with angles (their free variables lie on a circle, not open sets)."""
+    at = dict(inner.solution)
+    angles = set(trig)
+    if any((g.free_symbols | {v}) & angles for v, g in (*outer.solution, *inner.solution)):
+        return False
+    if any(sympy.expand(n) == 0 or n.free_symbols & angles for n in outer.nonzero):
+        return False
+    for v, g in outer.solution:
+        denominator = sympy.fraction(sympy.cancel(sympy.together(g)))[1]
+        if sympy.cancel(sympy.together(denominator.xreplace(at))) == 0:
+            return False
+        if sympy.cancel(sympy.together(v.xreplace(at) - g.xreplace(at))) != 0:
+            return False
+    return True
 
 
 def _contains(outer: Piece, inner: Piece) -> bool:
