@@ -89,3 +89,16 @@ def test_a_set_with_no_part_solved_is_undecided_not_bad_input(tmp_path, capsys):
     assert not isinstance(refused.value, UnsolvedSetError)
     code, _, err = _check(capsys, ["check", model, "--where", "x1**2 + x2**2 = -3"])
     assert code == 2 and "no real point" in err
+
+
+def test_a_point_whose_part_cannot_be_solved_is_undecided(tmp_path, capsys):
+    """--point x3=1 on the set: the points with x3 = 1 are the circle x1**2 + x2**2 = 3, which the tool cannot
+    solve: undecided (exit 3), not bad input (was exit 2). A fully given point of the plane keeps its exact
+    rank, 3 (sympy at (1, 2, 0)), while the set's verdict stays undecided."""
+    outputs = ("x3", "(x1**2 + x2**2 - 3)*x1", "(x1**2 + x2**2 - 3)*x2")
+    model = _model(tmp_path, outputs)
+    code, _, err = _check(capsys, ["check", model, "--where", SET, "--point", "x3=1"])
+    assert code == 3 and "undecided" in err and "cannot solve x1**2 + x2**2 - 3 = 0" in err
+    code, answer, _ = _check(capsys, ["check", model, "--where", SET, "--point", "x1=1,x2=2,x3=0", "--format",
+                                      "json"])
+    assert code == 3 and answer["at_point"]["rank"] == _rank(outputs, PLANE) == 3
