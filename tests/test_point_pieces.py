@@ -147,3 +147,75 @@ def test_a_value_the_engine_cannot_take_is_refused_as_such_not_as_off_every_piec
     constraint, _ = parse_constraints(system, "x*y = 0")
     with pytest.raises(ModelError, match=r"th appears inside cos\(th\)"):
         rank_at_point(system, {"th": "1"}, where=constraint)
+
+
+# The Veronese map v -> v v'/2 (up to its repeated entries): its differential is injective where v != 0
+# (rank 3) and zero at v = 0 (tests/test_set_pieces.py derives it), so on the cone x*z = y**2 the vertex has
+# rank 0 and every other point rank 3.
+VERONESE = ("x**2/2", "y**2/2", "z**2/2", "x*y", "y*z", "x*z")
+CONE = "x*z - y**2 = 0"
+
+
+def test_a_partial_point_in_the_closure_of_a_piece_is_analysed_on_its_own_part(tmp_path):
+    """z = 0 on the cone: x*0 = y**2 gives y = 0, the line y = z = 0 with x free (by hand), rank 3 at its
+    generic points (sympy at x = 5). It is off the piece x = y**2/z (z != 0) and meets the singular points'
+    piece only at the vertex: before, the vertex was analysed ("rank 0 at the point z = 0, y = 0, x = 0")."""
+    at = _at(tmp_path, CONE, {"z": "0"}, VERONESE)
+    assert at.generic_names == ("x",) and at.pieces == ()
+    assert at.rank == _true_rank(VERONESE, {X: 5, Y: 0, Z: 0}) == 3
+
+
+def test_a_partial_point_with_several_points_on_the_set_is_refused(tmp_path):
+    """x = 4, z = 1 on the cone: y**2 = 4, two points (y = 2 and y = -2; by hand). Before: y = 2 analysed
+    alone, the other not said. y = 0: x*z = 0, the two lines x = y = 0 and y = z = 0."""
+    for point in ({"x": "4", "z": "1"}, {"y": "0"}):
+        with pytest.raises(ModelError, match="lie on several pieces of the set .* give more of the point's names"):
+            _at(tmp_path, CONE, point, VERONESE)
+
+
+def test_a_point_of_a_set_of_one_piece_is_checked_against_its_equations(tmp_path):
+    """x*y = z*(y + 1) is one piece, x = z*(y + 1)/y (y != 0): the line y = z = 0 is in its closure
+    (tests/test_set_pieces.py). (5, 0, 0) satisfies the equation (5*0 - 0*1 = 0): before, refused as "not on
+    the set" (only the solution was checked, 0/0 at y = 0); its rank is the point's (sympy: 2, y = 0). y = 0
+    alone: the line, x free, rank 2 at its generic points. (1, 0, 1) is off the set: 1*0 - 1*1 = -1."""
+    one = "x*y - z*(y + 1) = 0"
+    at = _at(tmp_path, one, {"x": "5", "y": "0", "z": "0"})
+    assert at.rank == _true_rank(OUTPUTS, {X: 5, Y: 0, Z: 0}) == 2
+    at = _at(tmp_path, one, {"y": "0"})
+    assert at.generic_names == ("x",) and at.rank == _true_rank(OUTPUTS, {X: sympy.Rational(7, 3), Y: 0, Z: 0}) == 2
+    value = (X * Y - Z * (Y + 1)).subs({X: 1, Y: 0, Z: 1})
+    with pytest.raises(ModelError, match=f"the point is not on the set: x\\*y - z\\*\\(y \\+ 1\\) is {value} there"):
+        _at(tmp_path, one, {"x": "1", "y": "0", "z": "1"})
+
+
+ANGLE_OUTPUTS = ("x*cos(th)", "y", "x*sin(th)")
+
+
+def test_points_on_sets_of_an_angle(tmp_path):
+    """Model h = (x cos th, y, x sin th), static: Jacobian [[cos th, 0, -x sin th], [0, 1, 0], [sin th, 0,
+    x cos th]], determinant x (cos**2 + sin**2) = x: rank 3 where x != 0, 2 where x = 0 (sympy below).
+    - y = x*cos(th) at x = 0: y = 0, th free: rank 2.
+    - x*sin(th) = y*cos(th) at (1, 0): sin(th) = 0, th in {0, pi}, not solved rationally: refused; before:
+      "the point is not on the set" (only the piece x = y cos(th)/sin(th) was checked), though (1, 0, 0) is.
+    - x*sin(th) = 0 at y = 2: x = 0 (th free) or sin(th) = 0 (x free), ranks 2 and 3: refused; before:
+      x = 0 analysed alone (rank 2), the part sin(th) = 0 not said."""
+    th = sympy.Symbol("th")
+    h = sympy.Matrix([sympy.sympify(e) for e in ANGLE_OUTPUTS])
+    jacobian = h.jacobian([X, Y, th])
+    assert sympy.simplify(jacobian.det()) == X
+    assert jacobian.subs({X: 0, Y: 0, th: sympy.Rational(1, 3)}).rank() == 2
+
+    def at(where, point):
+        path = tmp_path / "angle.toml"
+        lines = "\n".join(f'h{i}="{e}"' for i, e in enumerate(ANGLE_OUTPUTS))
+        path.write_text(f'states=["x","y","th"]\n[dynamics]\nx="0"\ny="0"\nth="0"\n[outputs]\n{lines}\n')
+        system = load_model(path)
+        return rank_at_point(system, point, where=parse_constraints(system, where)[0])
+
+    found = at("y - x*cos(th) = 0", {"x": "0"})
+    assert found.generic_names == ("th",) and found.rank == 2
+    assert (X * sympy.sin(th) - Y * sympy.cos(th)).subs({X: 1, Y: 0, th: 0}) == 0
+    with pytest.raises(ModelError, match=r"cannot solve sin\(th\) = 0 rationally"):
+        at("x*sin(th) - y*cos(th) = 0", {"x": "1", "y": "0"})
+    with pytest.raises(ModelError, match="lie on several pieces of the set .* not every piece could be solved"):
+        at("x*sin(th) = 0", {"y": "2"})

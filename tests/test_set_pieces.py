@@ -12,6 +12,14 @@ outputs (the dynamics are zero, so the outputs' Jacobian is the whole matrix):
   determinant y: rank 3 at generic points of x = 0. "x*y = 0, x*(y-1) = 0" is
   x = 0, or y = 0 and y = 1 (empty): the plane x = 0 alone; the lines
   {x = 0, y = 0} and {x = 0, y = 1} lie in it.
+- cone, h = (x**2/2, y**2/2, z**2/2, x y, y z, x z) (the entries of v v'/2 up
+  to the symmetric ones, v = (x, y, z)): its differential dv -> (dv v' + v
+  dv')/2 is injective when v != 0 (v'(dv v' + v dv')v = 2 (v'v)(v'dv), so
+  v'dv = 0, then dv v' = -v dv' forces dv = 0), rank 3, and is 0 at v = 0:
+  the rank drops at the origin only. The cone x z = y**2 is solved as
+  x = y**2/z (z != 0); z = 0 leaves the line y = z = 0, in the closure of the
+  surface, and its one singular point, the vertex (the gradient (z, -2y, x)
+  vanishes there only): the vertex is a part, with rank 0.
 """
 
 import json
@@ -54,6 +62,20 @@ def test_the_umbrellas_axis_is_a_part_of_its_own(tmp_path):
     assert code == 1 and answer["rank"] == 2 and answer["observable"] is False
     assert answer["restriction"].startswith("the part y = 0, x = 0 of the set x**2 - y**2*z = 0")
     assert "z = x**2/y**2: rank 3 of 3" in answer["restriction"]
+
+
+def test_the_cones_vertex_is_a_part_where_the_rank_drops(tmp_path):
+    """A verdict of rank 3 for the whole cone would miss its vertex, where the rank is 0 (module docstring):
+    the vertex is the singular points' part and the set's verdict is its rank."""
+    outputs = ("x**2/2", "y**2/2", "z**2/2", "x*y", "y*z", "x*z")
+    assert _rank(outputs, {X: 4, Y: 2, Z: 1}) == 3 and 4 * 1 - 2 ** 2 == 0  # a point of the surface
+    assert _rank(outputs, {X: 5, Y: 0, Z: 0}) == 3  # the line y = z = 0, off the vertex
+    assert _rank(outputs, {X: 0, Y: 0, Z: 0}) == 0
+    code, answer, _ = _check(_model(tmp_path, "cone", outputs), "x*z - y**2 = 0")
+    assert code == 1 and answer["rank"] == 0
+    assert answer["restriction"].startswith("the part z = 0, y = 0, x = 0 of the set x*z - y**2 = 0")
+    assert "the singular points of x*z - y**2 = 0" in answer["restriction"]
+    assert "x = y**2/z: rank 3 of 3" in answer["restriction"]
 
 
 def test_a_set_that_is_one_plane_is_answered_on_the_plane(tmp_path):

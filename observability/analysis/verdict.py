@@ -23,7 +23,7 @@ from ..budget import paused_collection
 from ..directions.find import UnobservableDirection, unobservable_directions
 from ..directions.invariants import MAX_MONOMIALS, observable_functions
 from ..errors import ModelError, SingularModelError
-from ..model.branches import Region, refuse_unreal, region
+from ..model.branches import Region, nowhere_on, refuse_unreal, region
 from ..model.methods import METHODS, PREVIOUS_METHODS, Method, Previous
 from ..model.prepare import prepare
 from ..model.system import System
@@ -142,6 +142,8 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     # A set's witness is drawn on its pieces; not with angles (their sine and cosine lie on the unit circle).
     pieces = None if where is None or where.angles else [dict(p.solution) for p in (where, *where.others)]
     domain = region(system, restricted=where is not None, on=pieces)
+    if where is not None and domain.qualified and not domain.witness:  # none found, or none sought (angles)
+        _refuse_outside(system, where)
     if domain.qualified and domain.witness == ():
         found = _nowhere(system, method, seed, start, domain)
         return found if where is None else replace(found, restriction=where.described())
@@ -157,7 +159,10 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         found = unobservable_directions(system, n - rank, evidence.orders, input_derivatives, budget,
                                         evidence.seed or 0, previous,
                                         symbolic=symbolic_directions or method == "symbolic")
-    domain = replace(domain, at_witness=_at_witness(system, evidence, domain, input_derivatives, previous))
+    words, shown = _at_witness(system, evidence, domain, input_derivatives, previous)
+    domain = replace(domain, at_witness=words)
+    if not shown:
+        return _unshown(system, method, evidence, start, domain)
     named, basis, note = found or ((), None, "")
     proof, probability, upper = _proof_status(system, method, evidence, basis, budget)
     details = evidence.details + upper + (f"; {note}" if note else "") + (
@@ -234,28 +239,62 @@ def _undecided(system: System, method: str, evidence: RankEvidence, start: float
 
 
 def _at_witness(system: System, evidence: RankEvidence, domain: Region, input_derivatives: int | None,
-                previous: str) -> str:
-    """The rank near the region's witness, in words: the minor the modular
-    elimination chose, proven non-zero in ball arithmetic at points with the
-    witness's values (the other coordinates drawn; the region's conditions
-    depend on the witness's symbols only, so those points are in its part of
-    the domain), proves the rank at least r on an open set of that part, hence
-    at its generic points; a full rank there is the verdict, proven on that
-    part. "" when not examined (no witness, rank 0, or a witness holding an input)."""
+                previous: str) -> tuple[str, bool]:
+    """The rank near the region's witness, in words, and whether it was not
+    found wanting: the minor the modular elimination chose, proven non-zero in
+    ball arithmetic at points with the witness's values (the other coordinates
+    drawn; the region's conditions depend on the witness's symbols only, so
+    those points are in its part of the domain), proves the rank at least r on
+    an open set of that part, hence at its generic points; a full rank there is
+    the verdict, proven on that part. ("", True) when not examined (no
+    witness, rank 0, or a witness holding an input); False when the minor was
+    not proven non-zero there (the verdict is then undecided: :func:`_unshown`)."""
     if not (domain.qualified and domain.witness) or not evidence.rank:
-        return ""
+        return "", True
     if any(s not in system.states and s not in system.free_parameters for s, _ in domain.witness):
-        return ""
+        return "", True
     lower = randomized_rank(system, seed=evidence.seed, input_derivatives=input_derivatives, max_order=evidence.orders,
                             previous=previous)
     if lower.rank != evidence.rank:
-        return ""
+        return "", True
     proof = certify_rank(system, lower.orders, lower.independent_rows, lower.pivot_columns, seed=lower.seed or 0,
                          input_derivatives=input_derivatives, previous=previous, at=dict(domain.witness))
     if not proof.proven:
-        return f"rank {evidence.rank} not shown near the point ({proof.how})"
+        return f"rank {evidence.rank} not shown near the point ({proof.how})", False
     return (f"rank at least {evidence.rank} proven near the point ({proof.how}, the point's values given), so at "
-            "generic points of the part of the domain around it")
+            "generic points of the part of the domain around it"), True
+
+
+def _unshown(system: System, method: str, evidence: RankEvidence, start: float, domain: Region
+             ) -> ObservabilityResult:
+    """Undecided: the rank r was found at a random point, but not shown near
+    the point of the region the verdict would speak of (the rank there may be
+    lower: sqrt(1 - cos(x)**2) + sin(x) is 0 where sin x < 0, and r at random
+    points may reflect the branch 2 sin x). A rank "on the region around the
+    point" would be a claim about a region where it was never shown."""
+    found = RankEvidence(rank=None, orders=evidence.orders, seed=evidence.seed, details=(
+        f"undecided: rank {evidence.rank} at a random point (seed {evidence.seed}), not shown on the region around "
+        f"the point {domain.point_text()} where {' and '.join(domain.conditions)} ({domain.at_witness}): the rank "
+        "there may be another"))
+    return _undecided(system, method, found, start, domain)
+
+
+def _refuse_outside(system: System, where: ConstraintSet) -> None:
+    """Refuse a set with no point in the domain of the functions with branches,
+    when that is proven on every piece (:func:`~observability.model.branches.nowhere_on`
+    on :meth:`~observability.where.sets.ConstraintSet.rational_pieces`: an
+    argument <= 0 off a nowhere dense part of a piece is <= 0 on all of it, by
+    continuity) and every piece of the set was solved (an unsolved one may hold points).
+
+    Raises
+    ------
+    ModelError
+        Naming the set and the condition that fails on it.
+    """
+    failing = nowhere_on(system, where.rational_pieces()) if where.every_part else ""
+    if failing:
+        raise ModelError(f"--where {where.text!r}: the set has no real point where {failing} (on each of its pieces "
+                         "the argument is proven at most zero wherever it is defined)")
 
 
 def _nowhere(system: System, method: str, seed: int | None, start: float, domain: Region) -> ObservabilityResult:

@@ -59,15 +59,18 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import flint
 import sympy
 
 from ..errors import ModelError
-from .system import System
 from .witness import witness
 
-__all__ = ["Region", "no_real_zero", "region", "qualifier", "refuse_unreal"]
+if TYPE_CHECKING:  # Systems are read here, not built: expressions.py (which System imports) asks one_sign
+    from .system import System
+
+__all__ = ["Region", "no_real_zero", "nowhere_on", "one_sign", "region", "qualifier", "refuse_unreal"]
 
 #: Functions single-valued and analytic on every real point (entire).
 _ENTIRE = (sympy.sin, sympy.cos, sympy.exp, sympy.sinh, sympy.cosh)
@@ -358,7 +361,8 @@ def _classified(node: sympy.Expr) -> _Set:
         return _Set("all")
     if _positive_everywhere(-argument):
         return _Set("negative")
-    return _quadratic(argument, variables)
+    found = _quadratic(argument, variables)
+    return _Set("nonpositive") if found.kind == "unknown" and _at_most_zero(argument) else found
 
 
 def refuse_unreal(system: System) -> None:
@@ -433,8 +437,124 @@ def region(system: System, restricted: bool = False, on=None) -> Region:
     # An empty domain is refused by refuse_unreal; here it is at most "not proven connected".
     sets = [s if s.kind not in ("negative", "nonpositive") else _Set("unknown") for s in map(_classify, nodes)]
     failing = [node for node, s in zip(nodes, sets) if s.kind != "all"]
+    if system.time == "discrete":
+        failing += _iterates(system, failing)
     found = None if (restricted and on is None) or not failing else (witness(failing, on=on or ({},)) or ())
     return replace(_region(system, restricted, conditions, sets), witness=found)
+
+
+#: The size (tree nodes) of a function with branches at an iterate F^j(x) beyond which later steps are not added.
+_MOST_NODES = 2000
+
+
+def _iterates(system: System, nodes: list[sympy.Expr]) -> list[sympy.Expr]:
+    """The ``nodes`` at the states F^j(x), j = 1..n - 1 (discrete time: the
+    rows of order j evaluate them there, so a witness of the rows' domain
+    must satisfy their conditions too), while each stays below ``_MOST_NODES``
+    (later steps are then not in the witness, and its rank is not proven
+    near it unless they hold: the verdict says so)."""
+    motion = {x: system.substitute_values(f) for x, f in zip(system.states, system.dynamics)}
+    found, current = [], list(nodes)
+    for _ in range(system.n - 1):
+        current = [node.xreplace(motion) for node in current]
+        if any(sympy.count_ops(node, visual=False) > _MOST_NODES for node in current):
+            break
+        found += [node for node in current if _branched(node)]
+    return found
+
+
+#: The size of a rational argument whose sign :func:`_at_most_zero` examines: total degree and terms of each part.
+_MOST_DEGREE = 12
+_MOST_TERMS = 64
+
+
+def nowhere_on(system: System, pieces) -> str:
+    """A condition of ``system``'s functions with branches proven to fail at
+    every real point of every piece (each a map {solved variable: rational
+    function of the others}, as :func:`region`'s ``on``), in words; "" when
+    none is. The argument g of a root, power or log, with a piece's solution
+    substituted, is a rational function; when it is proven at most zero
+    wherever defined (:func:`_at_most_zero`, exact), g > 0 holds at no point of
+    the piece, and when that holds on every piece for one function, the set
+    has no point where the rows are analytic. "" proves nothing.
+    """
+    nodes = [n for n in _mattering(system) if not isinstance(n, (sympy.atan, sympy.atan2))
+             and not (isinstance(n, sympy.Pow) and not n.exp.is_Rational)]
+    for node in nodes:
+        if all(_never_positive(node.args[0], solution) for solution in pieces):
+            return _condition(node)
+    return ""
+
+
+def _never_positive(argument: sympy.Expr, solution) -> bool:
+    """Whether ``argument`` with ``solution`` substituted is proven <= 0 wherever defined (:func:`nowhere_on`)."""
+    return _at_most_zero(argument.xreplace(dict(solution)))
+
+
+def _at_most_zero(g: sympy.Expr) -> bool:
+    """Whether the rational function ``g`` is proven <= 0 wherever it is
+    defined: g = c * prod f_i**m_i (numerator and denominator factored over Q,
+    sympy's factor_list, exact), and every factor of odd multiplicity has one
+    sign everywhere (:func:`one_sign`), their product with c being negative (a
+    factor of even multiplicity is >= 0, a denominator's is > 0 where g is
+    defined). Bounded: an expression above ``_MOST_TERMS`` operations, or a
+    part of degree above ``_MOST_DEGREE`` (read off the tree, before any
+    expansion) or above ``_MOST_TERMS`` terms, False."""
+    if sympy.count_ops(g) > 4 * _MOST_TERMS:
+        return False
+    g = sympy.together(g)
+    if g == 0:
+        return True
+    numerator, denominator = sympy.fraction(g)
+    for part in (numerator, denominator):
+        degree = _degree(part)
+        if degree is None or degree > _MOST_DEGREE or len(sympy.Add.make_args(sympy.expand(part))) > _MOST_TERMS:
+            return False
+    sign = sympy.Integer(1)
+    for part in (numerator, denominator):
+        if not part.free_symbols:
+            sign *= sympy.sign(part)
+            continue
+        try:
+            constant, factors = sympy.factor_list(part, *sorted(part.free_symbols, key=lambda s: s.name))
+        except (sympy.PolynomialError, sympy.CoercionFailed):
+            return False
+        sign *= sympy.sign(constant)
+        for factor, multiplicity in factors:
+            if multiplicity % 2:
+                sign *= one_sign(factor)
+    return sign == -1
+
+
+def _degree(expr: sympy.Expr) -> int | None:
+    """A bound on the total degree of the polynomial ``expr`` from its tree (None: not a polynomial)."""
+    if expr.is_Symbol or expr.is_Rational:
+        return int(expr.is_Symbol)
+    if isinstance(expr, sympy.Pow) and expr.exp.is_Integer and expr.exp >= 0:
+        base = _degree(expr.base)
+        return None if base is None else base * int(expr.exp)
+    if not isinstance(expr, (sympy.Add, sympy.Mul)):
+        return None
+    parts = [_degree(a) for a in expr.args]
+    if None in parts:
+        return None
+    return max(parts) if isinstance(expr, sympy.Add) else sum(parts)
+
+
+def one_sign(f: sympy.Expr) -> int:
+    """1 when the polynomial ``f`` is proven >= 0 at every real point, -1 when
+    proven <= 0, 0 when neither is: a positive constant plus positive multiples
+    of even powers (or such terms alone), or a quadratic classified exactly."""
+    for sign in (1, -1):
+        h = sign * f
+        constant = h.as_independent(*h.free_symbols, as_Add=True)[0]
+        # h + 1 positive by the module's cases: every term of h is >= 0, and so is its constant.
+        if constant.is_number and constant >= 0 and _positive_everywhere(h + 1):
+            return sign
+        variables = sorted(h.free_symbols, key=lambda s: s.name)
+        if variables and _quadratic(-h, variables).kind in ("negative", "nonpositive"):
+            return sign
+    return 0
 
 
 def _region(system: System, restricted: bool, conditions: list[str], sets: list[_Set]) -> Region:

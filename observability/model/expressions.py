@@ -502,22 +502,33 @@ def _no_absolute_value(node: sympy.Pow, where: str) -> None:
 
 def _minus_a_square(node: sympy.Pow, split, where: str) -> None:
     """Refuse a root whose radicand is a negative constant times even powers
-    (over even powers): at most zero at every real point, zero only where a
-    factor vanishes, a set with no interior, so the root is real on no open set
-    and no rank holds anywhere (sqrt(-(x - y)**2) is real only on x = y).
+    (over even powers), and times (or over) factors each proven of one sign at
+    every real point (:func:`~observability.model.branches.one_sign`, exact),
+    the product of the signs negative: at most zero at every real point, zero
+    only where a factor vanishes, a set with no interior, so the root is real
+    on no open set and no rank holds anywhere (sqrt(-(x - y)**2) and
+    sqrt(-(x - y)**2/(x**2 + 1)) are real only on x = y).
 
     Raises
     ------
     UnsupportedExpressionError
         Naming the root and the factors it is real on.
     """
+    from .branches import no_real_zero, one_sign  # branches reads Systems, built from these expressions
+
     (top, above), (bottom, below) = split
     sign = top * bottom
-    if not (sign.is_number and sign.is_negative and above + below) or any(m % 2 for _, m in (*above, *below)):
+    odd = [f for f, m in (*above, *below) if m % 2]
+    if not (sign.is_number and len(odd) < len(above + below)):
+        return  # no square: a radicand of one sign is refuse_unreal's (model/branches.py)
+    for factor in odd:
+        sign *= one_sign(factor)
+    if not sign.is_negative:
         return
-    zeros = " or ".join(f"{f} = 0" for f, _ in above) or "nowhere"
+    zeros = " or ".join(f"{f} = 0" for f, m in above if m % 2 == 0 or not no_real_zero(f))
+    kind = "minus a square" + (f" times factors of one sign ({', '.join(map(str, odd))})" if odd else "")
     raise UnsupportedExpressionError(
-        f"{where}: the radicand of {node} is minus a square, at most zero at every real point: the root is real only "
+        f"{where}: the radicand of {node} is {kind}, at most zero at every real point: the root is real only "
         f"where {zeros} (no open set), so the output is not real")
 
 

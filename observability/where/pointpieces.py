@@ -15,12 +15,19 @@ point is fully given, every piece that holds it gives the same point, and it
 is analysed once, naming each piece it lies on (the umbrella's axis point
 (0, 0, 4) lies on the axis x = y = 0 only: y != 0 fails for the main piece,
 whose closure it is in; the origin of x*y = 0 lies on both lines). When names
-are left generic, each piece cuts a part out of them; a part within another's
-(every equation of the larger holds identically on it) is a special subset of
-it, and the generic points analysed are the larger part's (y = 0 on x*y = 0:
-the line y = 0, whose point (0, 0) the piece x = 0 holds). Two parts neither
-within the other would make the answer depend on the piece: refused, asking
-for more names.
+are left generic, the points analysed are the generic points of the set's
+part with those values: the set's equations and the values, cut into pieces
+afresh (:func:`~.parts.decompose`, exact), not each piece with the values: a
+piece's closure may hold points that are on no piece but a smaller one (the
+cone x z = y**2 at z = 0 is the line y = z = 0, off the piece x = y**2/z,
+z != 0, whose singular points give only the vertex: the line's rank is not
+the vertex's). That part of one piece is analysed, naming the set's pieces
+whose part it is; of several pieces (y = 0 on the cone: the lines x = y = 0
+and y = z = 0; x = 4, z = 1: the two points y = 2 and y = -2), or with one
+not solved, the answer could depend on the piece: refused, asking for more
+names. A set of one piece is checked the same way (its piece's non-zero
+conditions may fail on the set: x y = z (y + 1) holds (5, 0, 0), off its
+piece x = z (y + 1)/y).
 """
 
 from __future__ import annotations
@@ -51,8 +58,8 @@ def point_on_pieces(system: System, where: ConstraintSet, values: Mapping[sympy.
     ------
     ModelError
         The point off the set ("the point is not on the set: x**2 - y**2*z is
-        -1 there"), a partly given point on no solved piece, or on pieces that
-        cut different sets out of the names not given.
+        -1 there"), or a partly given point whose part of the set has several
+        pieces (or one not solved).
     """
     where.refuse_angles(values, text)
     # The values alone first: what refuses them (a name inside a sine) is said as such, not as "on no piece".
@@ -63,18 +70,15 @@ def point_on_pieces(system: System, where: ConstraintSet, values: Mapping[sympy.
     held = _held(system, where, values, text)
     if all(e.free_symbols <= set(values) for e in where.equations):
         return alone, tuple(name for name, _ in held)
-    if not held:
-        raise ModelError(f"--point {text}: no solved piece of the set {where.text} holds a point with these values "
-                         f"(pieces: {where.parts_text()}" + ("" if where.every_part else "; not every piece could be "
-                                                            "solved") + "); give more of the point's names")
-    solved = [_solution(at) for _, at in held]
-    # A piece's part within another's is a special subset of it: the generic points are the larger part's.
-    largest = [i for i, a in enumerate(solved) if not any(_within(a, b) and not _within(b, a) for b in solved)]
-    if any(not _within(solved[i], solved[largest[0]]) for i in largest):
+    # The point's part: the set's equations with the values, cut afresh (a piece's closure may hold it).
+    part = solve_constraints(system, [*(s - v for s, v in values.items()), *where.equations], f"{where.text}, {text}")
+    if part.others or not part.every_part:
         raise ModelError(f"--point {text}: the points with these values lie on several pieces of the set {where.text} "
-                         f"({'; '.join(held[i][0] for i in largest)}), which leave different names free, with their "
-                         "own ranks; give more of the point's names")
-    return held[largest[0]][1], tuple(held[i][0] for i in largest)
+                         f"({part.parts_text()}" + ("" if part.every_part else "; not every piece could be solved")
+                         + "), which may have their own ranks; give more of the point's names")
+    solution = _solution(part)
+    return part, tuple(name for name, at in held if _within(_solution(at), solution) and _within(solution,
+                                                                                                   _solution(at)))
 
 
 def _held(system: System, where: ConstraintSet, values: Mapping[sympy.Symbol, sympy.Rational],

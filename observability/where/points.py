@@ -195,8 +195,9 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     pieces: tuple[str, ...] = ()
     try:
         if where is not None and where.pieces:
+            constraint, pieces = point_on_pieces(system, where, values, text)
             # The verdict's generic rank is one part's (or the lowest): not compared with the point's own piece.
-            (constraint, pieces), generic = point_on_pieces(system, where, values, text), None
+            generic = None if where.parts else generic
         else:
             constraint = (solve_constraints(system, [s - v for s, v in values.items()], text) if where is None
                           else where.with_values(system, values, text))
@@ -224,7 +225,7 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
     if final and lower.rank < system.n and not generic_names and not system.inputs and lower.dependence is None:
         exact = _exact_rank(system, lower.orders, values, input_derivatives, previous)
     verdict = _verdict(system, values, generic, lower, final, generic_names, exact, previous)
-    return replace(verdict, pieces=pieces, set_text=where.text) if where is not None and where.pieces else verdict
+    return replace(verdict, pieces=pieces, set_text=where.text) if where is not None and where.parts else verdict
 
 
 #: CPU seconds for the exact rank over Q at a fully given point.

@@ -10,7 +10,7 @@ the motion keeps the set decides whether the generic stopping rule holds on it.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy
 
@@ -92,11 +92,12 @@ class ConstraintSet:
         set's verdict is its lowest part's, so these leave it undecided unless
         a part analysed is already not observable (:mod:`~observability.analysis.onset`).
     pieces : tuple of Piece
-        For several pieces: each solved piece with its non-zero conditions, in
-        the order (this set, *others) (a point is on a piece when it satisfies
-        both: :mod:`~.points`).
+        Each solved piece with its non-zero conditions, in the order (this
+        set, *others), one for a set of one piece (a point is on a piece when
+        it satisfies both: :mod:`~.pointpieces`); empty for a set solved again
+        with a point's values.
     equations : tuple of Expr
-        For several pieces: the set's equations (each expression = 0).
+        The set's equations (each expression = 0), with ``pieces``.
     """
 
     text: str
@@ -117,6 +118,18 @@ class ConstraintSet:
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
                              tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations,
                              self.unsolved)
+
+    def rational_pieces(self) -> list[dict[sympy.Expr, sympy.Expr]]:
+        """Each solved piece as a map to rational functions of its free
+        variables and, per angle v, a parameter t: (sin v, cos v) =
+        (2t, 1 - t**2)/(1 + t**2), every point of the circle but (0, -1), a
+        nowhere dense part of the piece (v stays free on every solved piece);
+        sin(v), cos(v) and the set's symbols for them mapped alike."""
+        parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in self.angles]
+        trig = {f(v): x for v, sine, cosine in self.angles for f, x in ((sympy.sin, sine), (sympy.cos, cosine))}
+        return [{k: _on_circle(g, self.angles, parameters)
+                 for k, g in (dict(part.solution) | trig | {x: x for x in trig.values()}).items()}
+                for part in (self, *self.others)]
 
     def solution_text(self) -> str:
         """The solved part in words ("x = 0")."""
@@ -283,8 +296,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
             unsolved.append(f"{piece.text()}: {str(exc).removeprefix('--where: ')}")
     if not built:
         raise failed[0]
-    if len(pieces) == 1:
-        return built[0][1]
+    if len(pieces) == 1:  # its piece and equations kept: a point is checked against both (pointpieces.py)
+        return replace(built[0][1], pieces=(built[0][0],), equations=tuple(equations))
     named = [f"({p.text()})" if len(p.equations) > 1 else p.text() for p in pieces]
     (piece, drawn), others = built[0], tuple(b for _, b in built[1:])
     return ConstraintSet(text, drawn.solution, drawn.degree, drawn.invariant, angles, ((piece.text(), tuple(named)),),
