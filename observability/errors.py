@@ -14,6 +14,7 @@ __all__ = [
     "UnsupportedConstructError",
     "SingularModelError",
     "OptionError",
+    "UnsolvedSetError",
 ]
 
 
@@ -63,3 +64,12 @@ class SingularModelError(ObservabilityError, ArithmeticError):
 class OptionError(ObservabilityError, ValueError):
     """An option of an analysis, a report or a study makes no sense (a negative
     order, one Monte Carlo step after a burn-in of ten, ...); the message names it."""
+
+
+class UnsolvedSetError(ModelError):
+    """A well-formed constraint set (``--where``) none of whose parts the tool
+    can solve (``x1**2 + x2**2 = 3``: no variable of degree 1): a limit of the
+    tool, not bad input, so the command line says undecided, exit 3, with the
+    reason. A :class:`ModelError` still, so that callers which try a set and
+    fall back when they cannot use it (``degenerate --conditions``) treat it as
+    any set they cannot use."""

@@ -89,12 +89,14 @@ def test_a_condition_that_vanishes_where_the_solution_has_no_pole_excludes_the_p
 
 
 def test_a_smooth_point_of_the_set_on_no_solved_piece_is_still_analysed(tmp_path):
-    """x*y = z**2 at (5, 0, 0): every equation is 0 there (5*0 - 0), so the point is on the set, but on
-    neither piece as solved (x = z**2/y needs y != 0; the singular points are the origin). The rank at a
-    point is the point's: 2 by sympy (y = 0)."""
-    at = _at(tmp_path, "x*y = z**2", {"x": "5", "y": "0", "z": "0"})
+    """(x*y - z**2)*(x - 3) = 0 at (5, 0, 0): every equation is 0 there (5*0 - 0), so the point is on the
+    set, but on neither piece as solved (x = 3 fails; x = z**2/y needs y != 0; the cone's vertex, the origin,
+    is in the closure of x = z**2/y and no piece). The rank at a point is the point's: 2 by sympy (y = 0).
+    The cone x*y = z**2 alone is one piece now (its vertex in the closure), and the point is on it."""
+    at = _at(tmp_path, "(x*y - z**2)*(x - 3) = 0", {"x": "5", "y": "0", "z": "0"})
     assert at.pieces == () and at.rank == _true_rank(OUTPUTS, {X: 5, Y: 0, Z: 0}) == 2
-    assert "on none of the pieces as solved of the set x*y = z**2" in at.text()
+    assert "on none of the pieces as solved of the set (x*y - z**2)*(x - 3) = 0" in at.text()
+    assert _at(tmp_path, "x*y = z**2", {"x": "5", "y": "0", "z": "0"}).rank == 2
 
 
 def test_a_partial_point_is_analysed_on_the_largest_part_that_holds_it(tmp_path):

@@ -29,10 +29,15 @@ def rank_on_set(
     them (:func:`~observability.directions.find.directions_on_set`).
 
     A set that is a union of parts (an equation that factors) is answered on
-    each part: the verdict is the set's only when every part was solved and
-    each is observable (a full rank, proven: the rank at a generic point of
-    each part); otherwise it is the drawn part's, named, with the other parts'
-    ranks listed (``where.described()``). A part on which every random point
+    each part, and its verdict is its lowest part's (a set is observable only
+    where each of its parts is): observable only when every part was solved
+    and each is observable (a full rank, proven: the rank at a generic point of
+    each part); otherwise the lowest part's, named, with the other parts' ranks
+    listed (``where.described()``). A part that could not be solved has an
+    unknown rank, possibly the lowest: with it the verdict is undecided when
+    every part analysed is observable (:func:`_not_analysed`), and NOT
+    observable, certain, when one is not (the text says which parts were not
+    analysed, and that the set's rank may be lower still). A part on which every random point
     hits a pole of the model is outside its domain (the pole's denominator
     vanishes on it, but with the probability of the draws, Schwartz-Zippel): no
     rank is stated there, and it is named as such; when every other part is,
@@ -63,7 +68,7 @@ def rank_on_set(
         result = _rank_on_part(system, low, seed, input_derivatives, max_order, previous, progress, start,
                                directions, budget)
         return replace(result, restriction=low.described() + f" (the lowest rank of the parts); on the other parts: "
-                       f"{listed}{undefined}" + ("" if where.every_part else "; not every part could be solved"))
+                       f"{listed}{undefined}" + _unanalysed_text(where))
     listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in parts) + undefined
     # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
     if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for _, r in parts):
@@ -71,9 +76,37 @@ def rank_on_set(
         return replace(drawn, restriction=f"the set {where.text}, every part of it ({where.parts_text()}; "
                                           f"each analysed: {drawn.rank} of {system.n} on each{undefined})",
                        error_probability=sum(probabilities) if probabilities else drawn.error_probability)
+    if not where.every_part and drawn.observable:
+        return _not_analysed(where, drawn, parts, undefined)
     return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed.lstrip('; ')}" if listed
                                                            else "")
-                   + ("" if where.every_part else "; not every part could be solved"))
+                   + _unanalysed_text(where))
+
+
+def _not_analysed(where: ConstraintSet, drawn: ObservabilityResult, parts: list, undefined: str) -> ObservabilityResult:
+    """Undecided: every part analysed is observable, but not every part could be analysed.
+
+    Why nothing is certain: the set's verdict is its lowest part's, and a part
+    not solved has an unknown rank (w4's cylinder x1**2 + x2**2 = 3, which has
+    no rational parametrisation, has rank 2 where the plane x3 = 0 of the same
+    set has 3): "observable" would claim a rank nobody computed, and a full
+    rank elsewhere shows nothing lower."""
+    listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in [(where, drawn), *parts])
+    return replace(drawn, rank=None, observable=None, error_probability=None, observable_states=None, proof=None,
+                   unobservable_directions=(), lower_bound=None,
+                   details=f"undecided: every part analysed has rank {drawn.rank} of {drawn.n_states}, but a set is "
+                           "observable only where each of its parts is, and a part not analysed (named above) may "
+                           "have a lower rank",
+                   restriction=f"the set {where.text}, a union of parts ({where.parts_text()}); analysed: "
+                               f"{listed}{undefined}" + _unanalysed_text(where))
+
+
+def _unanalysed_text(where: ConstraintSet) -> str:
+    """The parts not analysed, for a verdict's restriction ("" when every part was)."""
+    if where.every_part:
+        return ""
+    return ("; not analysed (their ranks are unknown, possibly lower): "
+            + ("; ".join(where.unsolved) or "not every part could be solved"))
 
 
 def _height(result: ObservabilityResult) -> float:

@@ -16,7 +16,7 @@ import sys
 import unicodedata
 from collections.abc import Sequence
 
-from ..errors import ObservabilityError, UnsupportedConstructError
+from ..errors import ObservabilityError, UnsolvedSetError, UnsupportedConstructError
 from .arguments import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError
 from .parser import build_parser
 
@@ -46,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if getattr(args, "scheduler", None) is not None and getattr(args, "workers", None) is not None:
             raise UsageError("give --scheduler (a running cluster) or --workers (a local one), not both")
         return args.func(args)
-    except UnsupportedConstructError as exc:  # a well-formed model beyond the engines: undecided, not bad input
+    except (UnsupportedConstructError, UnsolvedSetError) as exc:  # well-formed, beyond the tool: undecided
         reason = str(exc).splitlines()[0]
         if getattr(args, "format", None) == "json":  # a program reading --format json still gets one object
             print(json.dumps({"rank": None, "observable": None, "details": f"undecided: {reason}"}))

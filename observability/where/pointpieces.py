@@ -18,10 +18,10 @@ whose closure it is in; the origin of x*y = 0 lies on both lines). When names
 are left generic, the points analysed are the generic points of the set's
 part with those values: the set's equations and the values, cut into pieces
 afresh (:func:`~.parts.decompose`, exact), not each piece with the values: a
-piece's closure may hold points that are on no piece but a smaller one (the
-cone x z = y**2 at z = 0 is the line y = z = 0, off the piece x = y**2/z,
-z != 0, whose singular points give only the vertex: the line's rank is not
-the vertex's). That part of one piece is analysed, naming the set's pieces
+piece's closure holds points that are on no piece as solved (the cone
+x z = y**2 at z = 0 is the line y = z = 0, off the piece x = y**2/z, z != 0,
+whose one singular point, the vertex, is in its closure and no piece: the
+line's rank is not the vertex's). That part of one piece is analysed, naming the set's pieces
 whose part it is; of several pieces (y = 0 on the cone: the lines x = y = 0
 and y = z = 0; x = 4, z = 1: the two points y = 2 and y = -2), or with one
 not solved, the answer could depend on the piece: refused, asking for more
@@ -51,8 +51,8 @@ def point_on_pieces(system: System, where: ConstraintSet, values: Mapping[sympy.
     When the values give every name of the set's equations, each equation is
     evaluated exactly there: all zero, the set adds nothing to the values (the
     point's set is the values' own, whichever pieces hold it, possibly none as
-    solved: x*y = z**2 at (5, 0, 0), a smooth point with y = 0, is on neither
-    the piece x = z**2/y (y != 0) nor its singular points).
+    solved: x*y = z**2 at (5, 0, 0), a smooth point with y = 0, is off the
+    piece x = z**2/y (y != 0), in its closure).
 
     Raises
     ------

@@ -192,8 +192,8 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
         else:
             constraint = (solve_constraints(system, [s - v for s, v in values.items()], text) if where is None
                           else where.with_values(system, values, text))
-    except ModelError as exc:
-        raise ModelError(str(exc).replace("--where", "--point", 1)) from None
+    except ModelError as exc:  # its kind kept: a part the tool cannot solve is undecided (UnsolvedSetError)
+        raise type(exc)(str(exc).replace("--where", "--point", 1)) from None
     limit = point_orders(system) if orders is None else orders
     prime = prime_for((*system.dynamics, *(h for _, h in system.outputs)), values)
     try:

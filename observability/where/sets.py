@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 
 import sympy
 
-from ..errors import ModelError
+from ..errors import ModelError, UnsolvedSetError
 from ..model.constants import irrational_constants
 from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
@@ -86,6 +86,11 @@ class ConstraintSet:
         The other pieces, each solved alone (at most 8 pieces in all).
     every_part : bool
         Whether every piece was solved (and is in ``others``).
+    unsolved : tuple of str
+        The pieces not solved or not analysed, each with the reason
+        ("x1**2 + x2**2 - 3 = 0: no variable of degree 1 to solve for"): the
+        set's verdict is its lowest part's, so these leave it undecided unless
+        a part analysed is already not observable (:mod:`~observability.analysis.onset`).
     pieces : tuple of Piece
         Each solved piece with its non-zero conditions, in the order (this
         set, *others), one for a set of one piece (a point is on a piece when
@@ -105,12 +110,14 @@ class ConstraintSet:
     every_part: bool = True
     pieces: tuple[Piece, ...] = ()
     equations: tuple[sympy.Expr, ...] = ()
+    unsolved: tuple[str, ...] = ()
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
-                             tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations)
+                             tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations,
+                             self.unsolved)
 
     def rational_pieces(self) -> list[dict[sympy.Expr, sympy.Expr]]:
         """Each solved piece as a map to rational functions of its free
@@ -258,9 +265,11 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
 
     Raises
     ------
+    UnsolvedSetError
+        No piece solved because none could be (a limit of the tool: undecided).
     ModelError
-        The set proven empty, no piece with a rational solution, or a solved
-        variable inside a transcendental function.
+        The set proven empty, or a solved variable inside a transcendental
+        function.
     """
     order = [s for s in (*system.states, *system.parameters)]
     circled, angles = _through_the_circle(equations, order)
@@ -272,14 +281,19 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
                          "is non-zero at every real point)")
     built: list[tuple[Piece, ConstraintSet]] = []
     failed: list[ModelError] = []
+    unsolved = [f"{len(pieces) - _MOST_PARTS} more part(s) beyond the {_MOST_PARTS} analysed"] * (
+        len(pieces) > _MOST_PARTS)
     for piece in pieces[:_MOST_PARTS]:
         if piece.unsolved:
-            failed.append(ModelError(f"--where: cannot solve {piece.unsolved} rationally for a state or parameter"))
+            failed.append(UnsolvedSetError(f"--where: cannot solve {piece.unsolved} rationally for a state or "
+                                           "parameter"))
+            unsolved.append(f"{piece.text()}: not solved rationally (no variable of degree 1)")
             continue
         try:
             built.append((piece, _solved(system, piece, angles, text)))
         except ModelError as exc:
             failed.append(exc)
+            unsolved.append(f"{piece.text()}: {str(exc).removeprefix('--where: ')}")
     if not built:
         raise failed[0]
     if len(pieces) == 1:  # its piece and equations kept: a point is checked against both (pointpieces.py)
@@ -287,8 +301,7 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     named = [f"({p.text()})" if len(p.equations) > 1 else p.text() for p in pieces]
     (piece, drawn), others = built[0], tuple(b for _, b in built[1:])
     return ConstraintSet(text, drawn.solution, drawn.degree, drawn.invariant, angles, ((piece.text(), tuple(named)),),
-                         others, not failed and len(pieces) <= _MOST_PARTS, tuple(p for p, _ in built),
-                         tuple(equations))
+                         others, not unsolved, tuple(p for p, _ in built), tuple(equations), tuple(unsolved))
 
 
 def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
@@ -305,7 +318,7 @@ def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
     others = [s for s in (*system.states, *system.parameters) if s not in solution] + [
         x for _, sine, cosine in angles for x in (sine, cosine)]
     if not all(g.is_rational_function(*others) and not (g.free_symbols & set(chosen)) for g in solution.values()):
-        raise ModelError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
+        raise UnsolvedSetError(f"--where {text!r}: no unique rational solution for {', '.join(map(str, chosen))}")
     _check_atoms(system, chosen)
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
     degree = 1 + max((_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values()),
