@@ -32,7 +32,8 @@ _parser = functools.cache(build_parser)
 def _printable(text: str) -> str:
     """``text`` with control and format characters as escapes: a message may quote a
     file's bytes, and nothing quoted may move the terminal's cursor."""
-    return "".join(c if unicodedata.category(c)[0] != "C" else ascii(c)[1:-1] for c in text)
+    return "".join(ascii(c)[1:-1] if unicodedata.category(c)[0] == "C" or unicodedata.category(c) in ("Zl", "Zp")
+                   else c for c in text)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

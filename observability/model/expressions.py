@@ -112,8 +112,9 @@ def _power(base: sympy.Expr, exponent: sympy.Expr, fail) -> sympy.Expr:
     """base**exponent, refused before evaluation when the result would be huge
     (9**9**9**9 would otherwise be computed exactly)."""
     if exponent.is_number:
-        if not exponent.is_Rational:
-            raise fail(f"the exponent {exponent} is not a rational number")
+        if not exponent.is_Rational:  # analytic where the base is positive: beyond the engines, not bad input
+            raise UnsupportedConstructError(str(fail(f"the exponent {exponent} is not a rational number: a power "
+                                                     "the engines lack")))
         if abs(exponent) > MAX_EXPONENT:
             raise fail(f"the exponent {exponent} is beyond {MAX_EXPONENT}")
         if base.is_Rational and base != 0:

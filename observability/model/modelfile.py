@@ -289,11 +289,17 @@ class FloatText:
     __repr__ = __str__
 
 
+def _unprintable(c: str) -> bool:
+    """A control, format or unassigned character, or a line or paragraph separator (U+2028, U+2029)."""
+    category = unicodedata.category(c)
+    return category[0] == "C" or category in ("Zl", "Zp")
+
+
 def _refuse_control_characters(value: Any, source: str, where: str = "") -> None:
     """Refuse a control, format or unassigned character (an ANSI escape, a bidirectional
     override) in any key or text of the file: names and texts are printed in verdicts,
     and such a character could move the terminal's cursor or hide what follows (a
-    spoofed "observable"). Line breaks and tabs are allowed in a description only."""
+    spoofed "observable"). Line breaks (also Windows's) and tabs are allowed in a description only."""
     if isinstance(value, dict):
         for key, item in value.items():
             _refuse_control_characters(key, source, where)
@@ -302,8 +308,8 @@ def _refuse_control_characters(value: Any, source: str, where: str = "") -> None
         for item in value:
             _refuse_control_characters(item, source, where)
     elif isinstance(value, str):
-        allowed = "\n\t" if where.split(".")[-1] == "description" else ""
-        bad = next((c for c in value if unicodedata.category(c)[0] == "C" and c not in allowed), None)
+        allowed = "\r\n\t" if where.split(".")[-1] == "description" else ""
+        bad = next((c for c in value if _unprintable(c) and c not in allowed), None)
         if bad is not None:
             shown = ascii(bad)[1:-1]
             raise ModelFileError(f"{source}: {where or 'a key'} holds the control character {shown} (texts are "

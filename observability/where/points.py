@@ -274,8 +274,8 @@ def _verdict(system, values, generic, lower, final: bool, generic_names, exact: 
     singular = None
     if generic_rank is not None and status != "at least":
         singular = lower.rank < generic_rank
-    elif generic_rank is not None and lower.rank >= generic_rank:
-        singular = False
+    elif generic_rank is not None and lower.rank >= generic_rank and lower.dependence is None:
+        singular = False  # a certain lower bound at the generic rank: no point exceeds it
     if generic_rank is not None and lower.rank > generic_rank:
         how += f"; above the generic rank {generic_rank}, which is therefore too low"
     null_space: tuple[dict[str, str], ...] = ()
