@@ -9,6 +9,7 @@ import dataclasses
 import math
 import os
 import sys
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -153,9 +154,15 @@ def check_command(args: argparse.Namespace) -> int:
             from ..where.points import rank_at_point
 
             restricted, input_derivatives, constraint = prepared
-            at_point = rank_at_point(restricted, _point(args.point) or {}, result, seed=args.seed or 0,
-                                     input_derivatives=input_derivatives, previous=args.previous, where=constraint,
-                                     orders=args.orders)
+            # Bounded like every symbolic step: --orders has no upper limit of its own.
+            try:
+                at_point = with_budget(partial(rank_at_point, restricted, _point(args.point) or {}, result,
+                                               seed=args.seed or 0, input_derivatives=input_derivatives,
+                                               previous=args.previous, where=constraint, orders=args.orders),
+                                       seconds=args.budget)
+            except Undecided as exc:
+                at_point = _PointUndecided(f"the rank at the point did not fit --budget {args.budget:g} s ({exc}); "
+                                           "try fewer --orders or a larger --budget")
         elif args.orders is not None:
             raise UsageError("--orders applies to --point (the highest Lie order computed at the point)")
         if getattr(args, "global_", False):
@@ -165,6 +172,7 @@ def check_command(args: argparse.Namespace) -> int:
     # With --global the question is whether every state and unknown constant is globally observable.
     answer = result.observable if result.global_answer is None else result.globally_observable
     code = EXIT_UNDECIDED if answer is None else EXIT_OBSERVABLE if answer else EXIT_NOT_OBSERVABLE
+    code = EXIT_UNDECIDED if isinstance(at_point, _PointUndecided) else code
     try:
         if args.format == "json":
             record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
@@ -225,6 +233,19 @@ def _point(text: str | None, flag: str = "--point") -> dict[str, str] | None:
             raise UsageError(f"{flag}: {key.strip()} is given twice ({point[key.strip()]} and {value.strip()})")
         point[key.strip()] = value.strip()
     return point
+
+
+@dataclasses.dataclass(frozen=True)
+class _PointUndecided:
+    """``--point``'s answer when the rank at the point did not fit the budget: no rank is stated."""
+
+    reason: str
+
+    def text(self) -> str:
+        return f"at the point: undecided: {self.reason}"
+
+    def to_dict(self) -> dict:
+        return {"rank": None, "rank_status": "undecided", "details": f"undecided: {self.reason}"}
 
 
 def latex_command(args: argparse.Namespace) -> int:

@@ -62,6 +62,7 @@ import math
 import os
 import resource
 import signal
+import stat
 import unicodedata
 from collections.abc import Callable
 
@@ -399,6 +400,9 @@ def verify(path: str, model: dict | None = None, seconds: float = CPU_SECONDS) -
     Unreadable
         It is not UTF-8 text.
     """
+    # A pipe or device would block the read or never end: only a regular file is read.
+    if not stat.S_ISREG(os.stat(path).st_mode):
+        raise Unreadable(f"{path}: not a regular file")
     with open(path, encoding="utf-8") as handle:
         try:
             text = handle.read(MAX_FILE + 1)
