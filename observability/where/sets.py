@@ -98,6 +98,10 @@ class ConstraintSet:
         with a point's values.
     equations : tuple of Expr
         The set's equations (each expression = 0), with ``pieces``.
+    doubt : str
+        Why this piece is not proven a part of the set ("" when it is): it was
+        proven neither in the closure of a larger piece nor off it
+        (:func:`~.parts.decompose`), so its rank may not decide the set's verdict.
     """
 
     text: str
@@ -111,13 +115,14 @@ class ConstraintSet:
     pieces: tuple[Piece, ...] = ()
     equations: tuple[sympy.Expr, ...] = ()
     unsolved: tuple[str, ...] = ()
+    doubt: str = ""
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
                              tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations,
-                             self.unsolved)
+                             self.unsolved, self.doubt)
 
     def rational_pieces(self) -> list[dict[sympy.Expr, sympy.Expr]]:
         """Each solved piece as a map to rational functions of its free
@@ -275,7 +280,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     circled, angles = _through_the_circle(equations, order)
     circle = {v for v, _, _ in angles}
     trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
-    pieces = decompose(circled, order, circle, trig)
+    # Pieces proven parts first: the one drawn on is a part of the set.
+    pieces = sorted(decompose(circled, order, circle, trig), key=lambda p: bool(p.doubt))
     if not pieces:
         raise ModelError(f"--where {text!r}: the set has no real point (its equations are inconsistent, or a factor "
                          "is non-zero at every real point)")
@@ -323,7 +329,7 @@ def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
     degree = 1 + max((_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values()),
                      default=0)
-    return ConstraintSet(text, piece.solution, degree, _invariant(system, solution, angles), angles)
+    return ConstraintSet(text, piece.solution, degree, _invariant(system, solution, angles), angles, doubt=piece.doubt)
 
 
 #: Parts of a set analysed at most (each a rank computation).
