@@ -222,10 +222,13 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
 
     Raises
     ------
+    UnsolvedSetError
+        A well-formed set the tool cannot analyse: an irrational constant, or no
+        part solved rationally (undecided, not bad input).
     ModelError
         An equation that is not ``lhs = rhs``, an unknown symbol, an input that is
-        not set to a number, no rational solution, or a solved variable inside a
-        transcendental function (the engine draws such values independently).
+        not set to a number, or a solved variable inside a transcendental
+        function (the engine draws such values independently).
     """
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     inputs = set(system.inputs)
@@ -240,9 +243,10 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         expr = system.substitute_values(expr)
         irrational = irrational_constants([expr])
         if irrational:
-            raise ModelError(f"--where {piece!r}: {sympy.sstr(irrational[0])} is irrational; sets are solved and "
-                             "their random points drawn exactly over the rationals, where it has no exact value: "
-                             "give rational values (such as 1/2)")
+            # Well-formed (x = sqrt(3)*y is a plane): a limit of the tool, undecided, as x**2 = 3 is.
+            raise UnsolvedSetError(f"--where {piece!r}: {sympy.sstr(irrational[0])} is irrational; sets are solved and "
+                                   "their random points drawn exactly over the rationals, where it has no exact "
+                                   "value: the tool cannot analyse this set (a rational value, such as 1/2, it can)")
         if expr.free_symbols & inputs:
             if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
                 raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
