@@ -20,7 +20,7 @@ from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
 from .parts import Piece, decompose
 
-__all__ = ["ConstraintSet", "parse_constraints", "solve_constraints"]
+__all__ = ["ConstraintSet", "parse_constraints", "set_equations", "solve_constraints"]
 
 
 def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
@@ -223,12 +223,30 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
     Raises
     ------
     UnsolvedSetError
-        A well-formed set the tool cannot analyse: an irrational constant, or no
-        part solved rationally (undecided, not bad input).
+        A well-formed set the tool cannot analyse (:func:`set_equations`), or
+        no part solved rationally (undecided, not bad input).
+    ModelError
+        As :func:`set_equations`, or a solved variable inside a transcendental
+        function (the engine draws such values independently).
+    """
+    equations, fixed_inputs = set_equations(system, text)
+    if not equations:
+        return None, fixed_inputs
+    return solve_constraints(system, equations, text), fixed_inputs
+
+
+def set_equations(system: System, text: str) -> tuple[list[sympy.Expr], dict[str, str]]:
+    """``--where``'s equations on states and parameters (each expression = 0,
+    parameter values substituted; those that hold everywhere left out) and the
+    inputs it fixes, not solved.
+
+    Raises
+    ------
+    UnsolvedSetError
+        An irrational constant (a well-formed set the tool cannot analyse).
     ModelError
         An equation that is not ``lhs = rhs``, an unknown symbol, an input that is
-        not set to a number, or a solved variable inside a transcendental
-        function (the engine draws such values independently).
+        not set to a number or set twice, or an equation with no solution.
     """
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     inputs = set(system.inputs)
@@ -261,9 +279,7 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         if not expr.free_symbols:
             raise ModelError(f"--where {piece!r}: the equation has no solution")
         equations.append(expr)
-    if not equations:
-        return None, fixed_inputs
-    return solve_constraints(system, equations, text), fixed_inputs
+    return equations, fixed_inputs
 
 
 def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str) -> ConstraintSet:
