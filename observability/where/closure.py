@@ -152,17 +152,21 @@ def _real_root(equation: sympy.Expr, ds: list, leading: list) -> bool:
 def off_closure(outer, inner, trig):
     """A proof that an open subset of ``inner``'s real points is off the closure
     of ``outer``: "dense" (off it at every point but a nowhere dense subset),
-    (w, sign) (off it where sign * w < 0), or None (not proven).
+    (w, sign, level) (off it where sign * (w - level) < 0, level a polynomial
+    in inner's free variables other than w), or None (not proven).
 
     "dense": for a solved w = N/D of outer (cancelled) D w - N vanishes on
     outer, hence on its closure, and is not identically zero on inner (each
     angle's sine and cosine through the circle's parameter): its zeros are
     nowhere dense in inner (the plane x = 0 of x y = 0, x z = 0 and its line y
-    = z = 0). (w, sign): w is free on inner and N and D each keep a sign at
-    every real point (:func:`~observability.model.branches.one_sign`), so
-    sign * w >= 0 on outer and on its closure, while inner's points with sign *
-    w < 0 are a non-empty open subset of them (w free): the Whitney umbrella's
-    z = x**2/y**2 and its axis x = y = 0, off where z < 0."""
+    = z = 0). (w, sign, level): w is free on inner; N = Q D + R (polynomial
+    division), and R and D each keep a sign at every real point
+    (:func:`~observability.model.branches.one_sign`), so sign * (w - Q) =
+    sign * R/D >= 0 on outer and, Q being continuous, on its closure; at
+    inner's points Q is ``level``, free of w, so those with sign * (w - level)
+    < 0 are a non-empty open subset of them: the Whitney umbrella's z =
+    x**2/y**2 and its axis x = y = 0, off where z < 0; z = x**2/y**2 - y
+    (Q = -y, R = x**2) off the same axis where z < 0."""
     at = dict(inner.solution)
     circle = _circle(trig)
     for w, g in outer.solution:
@@ -174,9 +178,13 @@ def off_closure(outer, inner, trig):
         if w in at or w in trig:
             continue
         numerator, denominator = sympy.fraction(sympy.cancel(sympy.together(g)))
-        sign = one_sign(sympy.expand(numerator)) * one_sign(sympy.expand(denominator))
-        if sign:
-            return (w, sign)
+        symbols = sorted(numerator.free_symbols | denominator.free_symbols, key=str)
+        # Every term of N divisible by D's leading term moved into Q (multivariate division).
+        (quotient,), remainder = sympy.reduced(numerator, [denominator], *symbols) if symbols else ((0,), numerator)
+        sign = one_sign(sympy.expand(remainder)) * one_sign(sympy.expand(denominator))
+        level = sympy.expand(sympy.sympify(quotient).xreplace(at))
+        if sign and w not in level.free_symbols:
+            return (w, sign, level)
     return None
 
 

@@ -131,17 +131,17 @@ def decompose(equations, order, circle, trig) -> list[Piece]:
 def _off_every(larger: list[Piece], piece: Piece, trig) -> bool:
     """Whether an open subset of ``piece``'s real points is proven off the
     closure of each piece of ``larger`` (:func:`~.closure.off_closure`): each
-    proof holds off a nowhere dense subset or on a half-space sign * w < 0 of a
-    free variable w, and half-spaces of distinct variables, or of one with one
-    sign, meet in a non-empty open set (a nowhere dense subset removed)."""
-    signs: dict = {}
-    for q in larger:
-        proof = off_closure(q, piece, trig)
-        if proof is None:
-            return False
-        if proof != "dense":
-            signs.setdefault(proof[0], set()).add(proof[1])
-    return all(len(s) == 1 for s in signs.values())
+    proof holds off a nowhere dense subset or where sign * (w - level) < 0 for
+    a free variable w; with one sign per w and no level holding any of these
+    w, the other free variables fixed, each w below (or above) its levels
+    gives a non-empty open set (a nowhere dense subset removed)."""
+    proofs = [off_closure(q, piece, trig) for q in larger]
+    if None in proofs:
+        return False
+    halves = [p for p in proofs if p != "dense"]
+    signs = {w: {sign for v, sign, _ in halves if v == w} for w, _, _ in halves}
+    return all(len(s) == 1 for s in signs.values()) and not any(
+        level.free_symbols & set(signs) for _, _, level in halves)
 
 
 def _split(equations, solution, nonzero, labels, found, order, circle, trig, steps) -> None:
