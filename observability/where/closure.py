@@ -36,7 +36,7 @@ _CLOSURE_SIZE = 8
 _WEIGHTS = {1: 1, 2: 8, 3: 4, 4: 2}
 
 
-def in_closure(outer, inner, trig) -> bool:
+def in_closure(outer, inner, trig, curves: list[int]) -> bool:
     """Whether the generic points of ``inner`` are limits of points of ``outer``
     (two :class:`~.parts.Piece`), proven by a curve.
 
@@ -60,7 +60,8 @@ def in_closure(outer, inner, trig) -> bool:
     z d_y**3, odd in d_x: the curves (cbrt(z) t, t, z)); the axis of
     x**2 z = y**3 (weights (3, 2): P = d_y**3 - z d_x**2). False for the Whitney
     umbrella's axis (P = d_x**2 - z d_y**2, even), with angles (a curve leaves
-    the circle), or above :data:`_CLOSURE_SIZE`."""
+    the circle), above :data:`_CLOSURE_SIZE`, or once ``curves[0]`` (the
+    curves left to try, shared by the caller's pairs of pieces) is spent."""
     at = dict(inner.solution)
     expressions = [g for _, g in outer.solution] + list(outer.nonzero)
     angles = set(trig)
@@ -72,6 +73,9 @@ def in_closure(outer, inner, trig) -> bool:
         return False
     special = [x for x in moving if x in at]
     for weights in _weights(special, moving):
+        if curves[0] <= 0:
+            return False
+        curves[0] -= 1
         if _along(outer, at, weights):
             return True
     return False
@@ -127,11 +131,14 @@ def _along(outer, at: dict, weights: dict) -> bool:
 def _lowest(expr: sympy.Expr, t: sympy.Symbol) -> tuple[float, sympy.Expr]:
     """The order in ``t`` of ``expr``'s numerator (a polynomial in t; its
     denominator is free of t) and its coefficient there (infinite and 0 when it is zero)."""
-    numerator = sympy.expand(sympy.fraction(sympy.together(expr))[0])
-    if numerator == 0:
+    others = sorted(expr.free_symbols - {t}, key=str)
+    if expr.is_polynomial(t, *others):  # the common case, without a costly together()
+        poly = sympy.Poly(expr, t, domain=sympy.QQ[tuple(others)] if others else sympy.QQ)
+    else:
+        poly = sympy.Poly(sympy.expand(sympy.fraction(sympy.together(expr))[0]), t)
+    if poly.is_zero:
         return float("inf"), sympy.Integer(0)
-    terms = sympy.Poly(numerator, t).terms()
-    (order,), coefficient = min(terms, key=lambda term: term[0][0])
+    (order,), coefficient = min(poly.terms(), key=lambda term: term[0][0])
     return order, coefficient
 
 

@@ -74,6 +74,8 @@ __all__ = ["Piece", "decompose"]
 
 #: Branches explored at most (each a factor solved or divided by); beyond them the rest is "not solved".
 _MOST_STEPS = 64
+#: Curves tried at most for all the set's pieces (:func:`~.closure.in_closure`); beyond them a piece is in doubt.
+_MOST_CURVES = 256
 
 
 @dataclass(frozen=True)
@@ -116,11 +118,11 @@ def decompose(equations, order, circle, trig) -> list[Piece]:
     solved = [p for p in found if not p.unsolved]
     kept = [p for i, p in enumerate(solved)
             if not any(j != i and _contains(q, p) and (not _contains(p, q) or j < i) for j, q in enumerate(solved))]
-    parts = []
+    parts, curves = [], [_MOST_CURVES]
     for p in kept:
         # A lower-dimensional piece in a larger one's closure is no part (module docstring); strictly larger: no cycle.
         larger = [q for q in kept if len(q.solution) < len(p.solution)]
-        if any(in_closure(q, p, trig) for q in larger):
+        if any(in_closure(q, p, trig, curves) for q in larger):
             continue
         parts.append(p if _off_every(larger, p, trig) else replace(
             p, doubt="neither proven a limit of the points of " + " or ".join(q.text() for q in larger)
