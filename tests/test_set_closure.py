@@ -122,3 +122,16 @@ def test_the_pieces_and_their_doubts_against_hand_decompositions():
     assert sorted(pieces("x*y", "x*z"), key=str) == sorted([({X: 0}, False), ({Y: 0, Z: 0}, False)], key=str)
     assert pieces("x**2 - y**2*z - y**3")[1] == ({Y: 0, X: 0}, False)
     assert pieces("x**2 - x*y - y**2*z")[1] == ({Y: 0, X: 0}, True)
+
+
+def test_the_curves_tried_are_counted_and_bounded():
+    """The closure search is bounded by a count of curves shared by a set's pieces: with none left the axis of
+    x**3 = y**3 z is not proven in the surface's closure (it would be kept, in doubt, never dropped); with some
+    it is, at the first curve (the line (t, t): P = d_x**3 - z d_y**3, odd in d_x)."""
+    from observability.where.closure import in_closure
+
+    surface = decompose([X**3 - Y**3 * Z], [X, Y, Z], set(), {})[0]
+    axis = type(surface)(("x = 0", "y = 0"), ((Y, sympy.Integer(0)), (X, sympy.Integer(0))))
+    assert in_closure(surface, axis, {}, [0]) is False
+    left = [5]
+    assert in_closure(surface, axis, {}, left) is True and left == [4]
