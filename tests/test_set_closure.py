@@ -135,3 +135,15 @@ def test_the_curves_tried_are_counted_and_bounded():
     assert in_closure(surface, axis, {}, [0]) is False
     left = [5]
     assert in_closure(surface, axis, {}, left) is True and left == [4]
+
+
+def test_a_doubtful_piece_below_a_part_not_observable_leaves_the_rank_open(tmp_path, capsys):
+    """h = (x, z (x**2 + y**2)): rank 2 on the surface of x**2 - x y = y**2 z ((2, 1, 2): rows (1, 0, 0) and
+    (20, 10, 5)), 1 on its doubtful axis ((0, 0, -1): the second row vanishes). NOT observable either way (exit 1),
+    but the set's rank is 2 or 1 depending on whether the axis is a part: undecided (JSON rank null); y and z are
+    not observable on the surface, so not on the set; x is undecided."""
+    outputs = ("x", "z*(x**2 + y**2)")
+    assert _rank({X: 2, Y: 1, Z: 2}, outputs) == 2 and _rank({X: 0, Y: 0, Z: -1}, outputs) == 1
+    code, answer = _check(tmp_path, capsys, "x**2 - x*y - y**2*z = 0", outputs)
+    assert (code, answer["rank"], answer["observable"]) == (1, None, False)
+    assert answer["unobservable_states"] == ["y", "z"] and answer["undecided_states"] == ["x"]

@@ -71,8 +71,8 @@ def rank_on_set(
         low = replace(low, parts=((low.solution_text(), (where.parts_text(),)),))
         result = _rank_on_part(system, low, seed, input_derivatives, max_order, previous, progress, start,
                                directions, budget)
-        return replace(result, restriction=low.described() + f" (the lowest rank of the parts); on the other parts: "
-                       f"{listed}{undefined}" + _unanalysed_text(where))
+        return _rank_open(where, replace(result, restriction=low.described() + " (the lowest rank of the parts); on "
+                                         f"the other parts: {listed}{undefined}" + _unanalysed_text(where)))
     listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in parts) + undefined
     # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
     if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for _, r in parts):
@@ -82,9 +82,8 @@ def rank_on_set(
                        error_probability=sum(probabilities) if probabilities else drawn.error_probability)
     if not where.every_part and drawn.observable:
         return _not_analysed(where, drawn, parts, undefined)
-    return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed.lstrip('; ')}" if listed
-                                                           else "")
-                   + _unanalysed_text(where))
+    return _rank_open(where, replace(drawn, restriction=where.described() + (
+        f"; on the other parts: {listed.lstrip('; ')}" if listed else "") + _unanalysed_text(where)))
 
 
 def _not_analysed(where: ConstraintSet, drawn: ObservabilityResult, parts: list, undefined: str) -> ObservabilityResult:
@@ -122,6 +121,22 @@ def _set_aside(where: ConstraintSet, drawn: ObservabilityResult, parts: list) ->
     said = tuple(f"{o.solution_text()}: {_said(r)} there, but {o.doubt}" for o, r in low)
     return (replace(where, every_part=False, unsolved=where.unsolved + said),
             [(o, r) for o, r in parts if all(o is not x for x, _ in low)])
+
+
+def _rank_open(where: ConstraintSet, result: ObservabilityResult) -> ObservabilityResult:
+    """A NOT observable verdict from the parts analysed, its rank left open when not every part was.
+
+    NOT observable stays certain (with the probability stated): a set is
+    observable only where each part is, and a part analysed is not; so is
+    each state not observable there. Its rank is not: a part not analysed,
+    or a piece not proven a part, may have a lower rank, and a state
+    observable on the parts analysed may not be there (undecided)."""
+    if where.every_part or result.observable is not False:
+        return result
+    return replace(result, rank=None, proof="randomized", lower_bound=None, observable_states=(),
+                   undecided_states=result.observable_states or (),
+                   details=f"{result.details}; the set's rank is undecided: {result.rank} of {result.n_states} on "
+                           "the part named, possibly lower on a part not analysed or a piece not proven a part")
 
 
 def _unanalysed_text(where: ConstraintSet) -> str:
