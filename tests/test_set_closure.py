@@ -118,6 +118,10 @@ def test_the_pieces_and_their_doubts_against_hand_decompositions():
     assert pieces("x**3 - y**3*z") == [({Z: X**3 / Y**3}, False)]
     assert pieces("x**3 - y**3*z", "w") == [({Z: X**3 / Y**3, W: 0}, False)]
     assert pieces("x**2*z - y**3") == [({Z: Y**3 / X**2}, False)]
+    # x**5 = y**3 z**2 - w y**4: for any (z, w) and small y the real fifth root x = (y**3 (z**2 - w y))**(1/5) -> 0,
+    # so the axis x = y = 0 is in the closure of w = (y**3 z**2 - x**5)/y**4 (no weighted line finds it).
+    ((solved, doubt),) = pieces("x**5 - y**3*z**2 + w*y**4")
+    assert sympy.cancel(solved[W] - (Y**3 * Z**2 - X**5) / Y**4) == 0 and not doubt
     assert pieces("x**2 - y**2*z") == [({Z: X**2 / Y**2}, False), ({Y: 0, X: 0}, False)]
     assert sorted(pieces("x*y", "x*z"), key=str) == sorted([({X: 0}, False), ({Y: 0, Z: 0}, False)], key=str)
     assert pieces("x**2 - y**2*z - y**3")[1] == ({Y: 0, X: 0}, False)

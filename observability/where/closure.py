@@ -9,7 +9,8 @@ map over the points of its free variables where its non-zero conditions hold
 generic rank is taken on any open subset of them.
 
 * :func:`in_closure` proves "in" along a curve u_i = p_i + d_i t**k_i through
-  the inner piece's generic point p (module of that function).
+  the inner piece's generic point p, or by a sign change of the set's equation
+  across p (its docstring and :func:`_by_a_root`'s).
 * :func:`off_closure` proves "off" by an equation of the larger piece's
   Zariski closure that fails on the inner piece, or by a sign the larger piece
   keeps (the Whitney umbrella's z = x**2/y**2 >= 0: its handle z < 0 is off).
@@ -77,6 +78,50 @@ def in_closure(outer, inner, trig, curves: list[int]) -> bool:
             return False
         curves[0] -= 1
         if _along(outer, at, weights):
+            return True
+    return _by_a_root(outer, at, special)
+
+
+def _by_a_root(outer, at: dict, special: list) -> bool:
+    """:func:`in_closure` by roots of the set's equation near the inner point p.
+
+    One solved w = N/D of outer has D = 0 at p; every other is continuous
+    there (its denominator not zero at p) and equal to p's value. Let F = N -
+    p_w D (a polynomial in outer's free variables u, coefficients in inner's
+    free variables s). If, with every u but one u_j at p, F vanishes at p_j
+    to an odd order m (F = c tau**m + ..., c != 0 at generic s, tau = u_j -
+    p_j), F changes sign across p_j: for small e its values at p_j - e and
+    p_j + e have opposite signs, and still do for the other u within some d
+    of p, so each such u has a root u_j within e of p_j (intermediate value
+    theorem): these roots project onto an open ball. Where D and outer's
+    non-zero conditions do not vanish there, they are points of outer with
+    w = N/D = p_w (F = 0) and the other solved variables near their values at
+    p. They cannot all vanish: F has no common factor with D or with a
+    condition (checked: gcd free of u), so F = 0 with one of them zero has
+    dimension two below u's, and cannot project onto an open ball of the other
+    u. So p is a limit of outer's points: x**5 = y**3 z**2 - w y**4
+    (w = (y**3 z**2 - x**5)/y**4) at x = y = 0, as x**5 at y = 0 has odd
+    order 5 in x; not the umbrella (x**2 - z y**2: orders 2)."""
+    dividing = []
+    for w, g in outer.solution:
+        numerator, denominator = sympy.fraction(sympy.cancel(sympy.together(g)))
+        if sympy.cancel(denominator.xreplace(at)) == 0:
+            dividing.append((w, numerator, denominator))
+        elif sympy.cancel(sympy.together(g.xreplace(at) - at.get(w, w))) != 0:
+            return False
+    if len(dividing) != 1:
+        return False
+    w, numerator, denominator = dividing[0]
+    f = sympy.expand(sympy.fraction(sympy.together(numerator - at.get(w, w) * denominator))[0])
+    u = {x for x in f.free_symbols if x not in at or x in special} - {w}
+    for factor in (denominator, *outer.nonzero):
+        if sympy.gcd(f, factor).free_symbols & u:
+            return False
+    tau = sympy.Dummy("tau")
+    for x in special:
+        line = f.xreplace({y: at[y] for y in special if y != x} | {x: at[x] + tau})
+        order, _ = _lowest(line, tau)
+        if order != float("inf") and order % 2 == 1:
             return True
     return False
 
