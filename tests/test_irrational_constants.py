@@ -102,11 +102,17 @@ XV = ('states = ["x", "v"]\ninputs = ["ax"]\n[dynamics]\nx = "v"\nv = "ax"\n[out
 
 @pytest.mark.parametrize("where, shown", [
     ("x = log(2)", "log(2)"), ("x = pi", "pi"), ("x = sqrt(2)", "sqrt(2)"), ("x = exp(1)", "E"),
-    ("x = pi*v", "pi"),
+    ("x = pi*v", "pi"), ("x = sqrt(3)*v", "sqrt(3)"), ("x**2 = 3", None),
 ])
-def test_a_set_at_an_irrational_value_is_refused(tmp_path, capsys, where, shown):
-    _refused(capsys, ["check", _file(tmp_path, XV), "--where", where, "--seed", "1"],
-             f"{shown} is irrational; sets are solved and their random points drawn exactly over the rationals")
+def test_a_set_at_an_irrational_value_is_undecided_not_bad_input(tmp_path, capsys, where, shown):
+    """x = sqrt(3)*v is a well-formed set (a line through 0) that the tool cannot analyse: undecided, exit 3, with
+    the reason, as x**2 = 3 (the same points x = +-sqrt(3), unsolvable rationally) already was. Old expectation:
+    exit 2, bad input (issue 61, third review: "x = sqrt(3)*y exit 2 while x**2 = 3 gives 3")."""
+    code = main(["check", _file(tmp_path, XV), "--where", where, "--seed", "1"])
+    err = capsys.readouterr().err
+    assert code == 3 and "undecided" in err and len(err.strip().splitlines()) == 1, err
+    assert (f"{shown} is irrational; sets are solved and their random points drawn exactly over the rationals"
+            if shown else "cannot solve x**2 - 3 = 0 rationally") in err
 
 
 def test_a_motion_at_an_irrational_value_is_refused(tmp_path, capsys):

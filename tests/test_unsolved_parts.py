@@ -64,12 +64,15 @@ def test_observable_parts_and_an_unsolved_one_are_undecided(tmp_path, capsys):
 def test_a_part_not_observable_with_an_unsolved_one_is_not_observable(tmp_path, capsys):
     """h = (x3**2, x1, x2): rank 2 on the plane x3 = 0 (the row 2 x3 dx3 vanishes), 3 on the cylinder. The
     plane alone makes the set NOT observable whatever the cylinder's rank: exit 1, the text says the
-    cylinder was not analysed (so the set's rank may be lower still)."""
+    cylinder was not analysed (so the set's rank may be lower still). Old expectation (where5): rank 2, stated as a
+    certain lower bound of the set's rank; the cylinder's rank is unknown, so the set's rank is undecided (JSON
+    null), while NOT observable and x3 not observable stay certain, x1 and x2 undecided."""
     outputs = ("x3**2", "x1", "x2")
     assert _rank(outputs, PLANE) == 2 and _rank(outputs, CYLINDER) == 3
     code, answer, _ = _check(capsys, ["check", _model(tmp_path, outputs), "--where", SET, "--format", "json",
                                       "--seed", "1"])
-    assert code == 1 and answer["rank"] == 2 and answer["observable"] is False
+    assert code == 1 and answer["rank"] is None and answer["observable"] is False
+    assert answer["unobservable_states"] == ["x3"] and sorted(answer["undecided_states"]) == ["x1", "x2"]
     assert "not analysed" in answer["restriction"] and "x1**2 + x2**2 - 3 = 0" in answer["restriction"]
 
 

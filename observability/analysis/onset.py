@@ -37,7 +37,10 @@ def rank_on_set(
     unknown rank, possibly the lowest: with it the verdict is undecided when
     every part analysed is observable (:func:`_not_analysed`), and NOT
     observable, certain, when one is not (the text says which parts were not
-    analysed, and that the set's rank may be lower still). A part on which every random point
+    analysed, and that the set's rank may be lower still). A piece not proven a
+    part (``doubt``: neither proven in the closure of a larger piece nor off
+    it) with a rank below the parts' is treated as such a part
+    (:func:`_set_aside`). A part on which every random point
     hits a pole of the model is outside its domain (the pole's denominator
     vanishes on it, but with the probability of the draws, Schwartz-Zippel): no
     rank is stated there, and it is named as such; when every other part is,
@@ -54,6 +57,7 @@ def rank_on_set(
         where = replace(where, parts=(), others=())
     drawn = _rank_on_part(system, where, seed, input_derivatives, max_order, previous, progress, start, directions,
                           budget)
+    where, parts = _set_aside(where, drawn, parts)
     if not where.parts:
         return replace(drawn, restriction=drawn.restriction + (
             f" (its other pieces are outside the model's domain: {undefined.lstrip('; ')})" if undefined else ""))
@@ -67,8 +71,8 @@ def rank_on_set(
         low = replace(low, parts=((low.solution_text(), (where.parts_text(),)),))
         result = _rank_on_part(system, low, seed, input_derivatives, max_order, previous, progress, start,
                                directions, budget)
-        return replace(result, restriction=low.described() + f" (the lowest rank of the parts); on the other parts: "
-                       f"{listed}{undefined}" + _unanalysed_text(where))
+        return _rank_open(where, replace(result, restriction=low.described() + " (the lowest rank of the parts); on "
+                                         f"the other parts: {listed}{undefined}" + _unanalysed_text(where)))
     listed = "; ".join(f"{o.solution_text()}: {_said(r)}" for o, r in parts) + undefined
     # Only a full rank is claimed for the whole set: below it, the states and directions are each part's own.
     if where.every_part and drawn.observable and all(r.observable and r.proof == drawn.proof for _, r in parts):
@@ -78,9 +82,8 @@ def rank_on_set(
                        error_probability=sum(probabilities) if probabilities else drawn.error_probability)
     if not where.every_part and drawn.observable:
         return _not_analysed(where, drawn, parts, undefined)
-    return replace(drawn, restriction=where.described() + (f"; on the other parts: {listed.lstrip('; ')}" if listed
-                                                           else "")
-                   + _unanalysed_text(where))
+    return _rank_open(where, replace(drawn, restriction=where.described() + (
+        f"; on the other parts: {listed.lstrip('; ')}" if listed else "") + _unanalysed_text(where)))
 
 
 def _not_analysed(where: ConstraintSet, drawn: ObservabilityResult, parts: list, undefined: str) -> ObservabilityResult:
@@ -95,17 +98,52 @@ def _not_analysed(where: ConstraintSet, drawn: ObservabilityResult, parts: list,
     return replace(drawn, rank=None, observable=None, error_probability=None, observable_states=None, proof=None,
                    unobservable_directions=(), lower_bound=None,
                    details=f"undecided: every part analysed has rank {drawn.rank} of {drawn.n_states}, but a set is "
-                           "observable only where each of its parts is, and a part not analysed (named above) may "
-                           "have a lower rank",
+                           "observable only where each of its parts is, and a part not analysed, or a piece not proven "
+                           "a part (named above), may have a lower rank",
                    restriction=f"the set {where.text}, a union of parts ({where.parts_text()}); analysed: "
                                f"{listed}{undefined}" + _unanalysed_text(where))
+
+
+def _set_aside(where: ConstraintSet, drawn: ObservabilityResult, parts: list) -> tuple[ConstraintSet, list]:
+    """The set with its doubtful pieces below the parts' lowest rank set aside as not analysed.
+
+    A doubtful piece (``doubt``: proven neither in the closure of a larger
+    piece nor off it) is a part of the set or not: if it is, the set's rank is
+    at most its rank; if not, the parts' lowest rank stands. Below the parts'
+    lowest rank it could decide the verdict and is treated as a part whose
+    contribution is unknown (:func:`_not_analysed`: undecided when every part is
+    observable; the parts' NOT observable stays certain otherwise, its rank
+    possibly lower); at or above it, it changes nothing and is listed."""
+    floor = min((_height(r) for o, r in [(where, drawn), *parts] if not o.doubt or o is where), default=None)
+    low = [(o, r) for o, r in parts if o.doubt and floor is not None and _height(r) < floor]
+    if not low:
+        return where, parts
+    said = tuple(f"{o.solution_text()}: {_said(r)} there, but {o.doubt}" for o, r in low)
+    return (replace(where, every_part=False, unsolved=where.unsolved + said),
+            [(o, r) for o, r in parts if all(o is not x for x, _ in low)])
+
+
+def _rank_open(where: ConstraintSet, result: ObservabilityResult) -> ObservabilityResult:
+    """A NOT observable verdict from the parts analysed, its rank left open when not every part was.
+
+    NOT observable stays certain (with the probability stated): a set is
+    observable only where each part is, and a part analysed is not; so is
+    each state not observable there. Its rank is not: a part not analysed,
+    or a piece not proven a part, may have a lower rank, and a state
+    observable on the parts analysed may not be there (undecided)."""
+    if where.every_part or result.observable is not False:
+        return result
+    return replace(result, rank=None, proof="randomized", lower_bound=None, observable_states=(),
+                   undecided_states=result.observable_states or (),
+                   details=f"{result.details}; the set's rank is undecided: {result.rank} of {result.n_states} on "
+                           "the part named, possibly lower on a part not analysed or a piece not proven a part")
 
 
 def _unanalysed_text(where: ConstraintSet) -> str:
     """The parts not analysed, for a verdict's restriction ("" when every part was)."""
     if where.every_part:
         return ""
-    return ("; not analysed (their ranks are unknown, possibly lower): "
+    return ("; not analysed, or not proven parts of the set (their ranks may be lower): "
             + ("; ".join(where.unsolved) or "not every part could be solved"))
 
 

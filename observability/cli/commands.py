@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..budget import Undecided, with_budget
-from ..errors import ModelError
+from ..errors import ModelError, UnsolvedSetError
 from ..progress import clear_line, status_line
 from ..report.files import json_text
 from .arguments import (EXIT_NOT_OBSERVABLE, EXIT_OBSERVABLE, EXIT_UNDECIDED, UsageError, about,
@@ -147,7 +147,12 @@ def check_command(args: argparse.Namespace) -> int:
     with about(args.model):
         system = resolve_model(args.model, model_options(args.option), args.time)
         # One prepared system (input profiles, set) for the verdict and the point alike.
-        prepared = _restricted(system, args, args.where)
+        try:
+            prepared = _restricted(system, args, args.where)
+        except UnsolvedSetError as exc:
+            if args.point is None or args.method == "float" or getattr(args, "global_", False) or args.proof:
+                raise
+            return _point_on_unsolved(system, args, exc)
         result = _analyze(system, args, prepared)
         at_point = None
         if args.point is not None and args.method != "float":
@@ -216,6 +221,33 @@ def codegen_command(args: argparse.Namespace) -> int:
     print(f"  x = [{', '.join(functions.states)}], u = [{', '.join(functions.inputs)}], "
           f"w = [{', '.join(functions.noise)}], p = [{', '.join(functions.parameters)}]")
     return 0
+
+
+def _point_on_unsolved(system: System, args: argparse.Namespace, unsolved: UnsolvedSetError) -> int:
+    """``check --where SET --point P`` on a set the tool cannot solve: the set's
+    verdict stays undecided (exit 3, said as without --point), and a point that
+    gives every name of the set's equations, checked on the set by them, gets
+    its own rank (:func:`~observability.where.points.rank_on_unsolved_set`)."""
+    from ..where.points import rank_on_unsolved_set
+    from ..where.sets import set_equations
+
+    equations, fixed = set_equations(system, args.where)
+    if fixed:  # the set also fixes inputs: not handled here
+        raise unsolved
+    restricted, input_derivatives, _ = _restricted(system, args, None)
+    at_point = rank_on_unsolved_set(restricted, _point(args.point) or {}, args.where, equations, seed=args.seed or 0,
+                                    input_derivatives=input_derivatives, previous=args.previous, orders=args.orders)
+    if at_point is None:
+        raise unsolved
+    reason = str(unsolved).splitlines()[0]
+    reason = reason if args.model in reason else f"{args.model}: {reason}"
+    if args.format == "json":
+        print(json_text({"rank": None, "observable": None, "details": f"undecided: {reason}",
+                         "at_point": at_point.to_dict()}), flush=True)
+    else:
+        print(at_point.text(), flush=True)
+    print(f"observability: undecided: {reason}", file=sys.stderr)
+    return EXIT_UNDECIDED
 
 
 def _point(text: str | None, flag: str = "--point") -> dict[str, str] | None:

@@ -35,21 +35,26 @@ Pieces dropped, each by an exact argument:
   *singular* points {a1 = a0 = 0, grad f = 0} (the circle equations added for
   angles) can lie off its closure, and only they are a further piece (the
   Whitney umbrella's axis x = y = 0; none for (lx - x) sin(th) = (ly - y) cos(th),
-  divided by sin(th), whose gradient has cos(th) != 0 there), unless a line
-  through their generic point proves them in the closure too (:func:`_in_closure`:
-  the cone x z = y**2's vertex, not the umbrella's axis).
+  divided by sin(th), whose gradient has cos(th) != 0 there).
 
-* **A lower-dimensional piece in the closure of a larger one**, where the
-  larger one's solution is defined and holds (:func:`_limit_of`: the points
-  x3 in {0, 1} of x1 x2 = x3 (x3 - 1), x1 = 5, on the curve x1 = 5,
-  x2 = (x3**2 - x3)/5 but cut from it by the division by x2).
+* **A lower-dimensional piece in the closure of a larger one** (fewer solved
+  variables), proven by a curve through its generic point along which the
+  larger piece's points tend to it (:func:`~.closure.in_closure`): the cone
+  x z = y**2's vertex; the axis x = y = 0 of x**3 = y**3 z (curves
+  (cbrt(z) t, t, z)); the points x3 in {0, 1} of x1 x2 = x3 (x3 - 1), x1 = 5,
+  on the curve x1 = 5, x2 = (x3**2 - x3)/5 but cut from it by the division by x2.
 
 So a set's parts are its real parts, each with its generic points, and a
 lower-dimensional subset in the closure of a part (the lines y = 0, z = 0 and
 y = 0, z = 1 of x y = z (z - 1), where the solution x = z (z - 1)/y divides by
 zero; the cone's vertex) is not a part of its own: the verdict is about generic
 points, and ``--point`` answers at any point of the set (:mod:`.pointpieces`).
-A subset off the closure (the umbrella's axis where z < 0) is a part.
+A lower-dimensional piece is a part when an open subset of its real points is
+proven off the closure of every larger piece (:func:`~.closure.off_closure`:
+the umbrella's axis where z < 0, as z = x**2/y**2 >= 0 on the surface; the
+line y = z = 0 of x y = 0, x z = 0, off the plane x = 0). A piece proven
+neither way is kept with its ``doubt``: its rank may not decide the set's
+verdict (:mod:`~observability.analysis.onset`).
 
 What is not solved (no variable of degree 1, or a piece of angles' sines and
 cosines alone) is returned as such: the set's verdict then says that not every
@@ -63,11 +68,14 @@ from dataclasses import dataclass, replace
 import sympy
 
 from ..model.branches import no_real_zero
+from .closure import in_closure, off_closure
 
 __all__ = ["Piece", "decompose"]
 
 #: Branches explored at most (each a factor solved or divided by); beyond them the rest is "not solved".
 _MOST_STEPS = 64
+#: Curves tried at most for all the set's pieces (:func:`~.closure.in_closure`); beyond them a piece is in doubt.
+_MOST_CURVES = 256
 
 
 @dataclass(frozen=True)
@@ -75,12 +83,15 @@ class Piece:
     """One piece of a set: ``equations`` (the factors whose zeros it is, as text),
     ``solution`` (each solved variable as a rational function of the free ones),
     ``nonzero`` (polynomials in the free variables non-zero on it); ``unsolved``:
-    the equation that could not be solved ("" for a solved piece)."""
+    the equation that could not be solved ("" for a solved piece); ``doubt``:
+    why the piece is not proven a part ("" when it is: no larger piece, or its
+    generic points proven off their closure, :func:`decompose`)."""
 
     equations: tuple[str, ...]
     solution: tuple[tuple[sympy.Symbol, sympy.Expr], ...] = ()
     nonzero: tuple[sympy.Expr, ...] = ()
     unsolved: str = ""
+    doubt: str = ""
 
     def text(self) -> str:
         """The piece's equations in words ("x = 0 and y - 1 = 0")."""
@@ -107,9 +118,32 @@ def decompose(equations, order, circle, trig) -> list[Piece]:
     solved = [p for p in found if not p.unsolved]
     kept = [p for i, p in enumerate(solved)
             if not any(j != i and _contains(q, p) and (not _contains(p, q) or j < i) for j, q in enumerate(solved))]
-    # A lower-dimensional piece in a larger one's closure is no part (module docstring); strictly larger: no cycle.
-    kept = [p for p in kept if not any(len(q.solution) < len(p.solution) and _limit_of(q, p, trig) for q in kept)]
-    return kept + [p for p in found if p.unsolved]
+    parts, curves = [], [_MOST_CURVES]
+    for p in kept:
+        # A lower-dimensional piece in a larger one's closure is no part (module docstring); strictly larger: no cycle.
+        larger = [q for q in kept if len(q.solution) < len(p.solution)]
+        if any(in_closure(q, p, trig, curves) for q in larger):
+            continue
+        parts.append(p if _off_every(larger, p, trig) else replace(
+            p, doubt="neither proven a limit of the points of " + " or ".join(q.text() for q in larger)
+                     + " nor proven off their closure"))
+    return parts + [p for p in found if p.unsolved]
+
+
+def _off_every(larger: list[Piece], piece: Piece, trig) -> bool:
+    """Whether an open subset of ``piece``'s real points is proven off the
+    closure of each piece of ``larger`` (:func:`~.closure.off_closure`): each
+    proof holds off a nowhere dense subset or where sign * (w - level) < 0 for
+    a free variable w; with one sign per w and no level holding any of these
+    w, the other free variables fixed, each w below (or above) its levels
+    gives a non-empty open set (a nowhere dense subset removed)."""
+    proofs = [off_closure(q, piece, trig) for q in larger]
+    if None in proofs:
+        return False
+    halves = [p for p in proofs if p != "dense"]
+    signs = {w: {sign for v, sign, _ in halves if v == w} for w, _, _ in halves}
+    return all(len(s) == 1 for s in signs.values()) and not any(
+        level.free_symbols & set(signs) for _, _, level in halves)
 
 
 def _split(equations, solution, nonzero, labels, found, order, circle, trig, steps) -> None:
@@ -157,53 +191,7 @@ def _split(equations, solution, nonzero, labels, found, order, circle, trig, ste
         _split(singular, solution, nonzero, said[:-1] + (f"the singular points of {said[-1]}",), divided,
                [*order, *angles], circle, trig, steps)
         found += [p if p.unsolved or not {w for w, _ in p.solution} & set(angles) else
-                  replace(p, unsolved=p.text()) for p in divided if not _in_closure(f, v, a1, nonzero, p, trig)]
-
-
-#: Largest total degree (and number of variables) of f for which singular points are tested for lying in the
-#: main piece's closure (:func:`_in_closure`); above it they stay a part (cautious: a lower rank, never a lost one).
-_CLOSURE_SIZE = 8
-
-
-def _in_closure(f: sympy.Expr, v: sympy.Symbol, a1: sympy.Expr, nonzero, piece: Piece, trig) -> bool:
-    """Whether the generic points of ``piece`` (singular points of f = a1*v + a0
-    = 0 where a1 = 0) are limits of points of the main piece v = -a0/a1,
-    a1 != 0 (``nonzero`` holding), proven by a line through them.
-
-    Let p be the piece's generic point (its free variables s as symbols) and
-    w = p + t*d, t real, d a direction, on every variable of f but v. On the
-    main piece over that line, v - p_v = -f(p_v, w)/a1(w). As polynomials in
-    t (coefficients in s and d), let m1 be the order of a1(w) and m0 that of
-    f(p_v, w). The coefficient of t**m1 is a non-zero polynomial in (s, d):
-    for generic s there is a real d where it is non-zero, so a1(w) != 0 for
-    small t != 0, and a coefficient of f(p_v, w) below t**m0 is zero for every
-    (s, d). If m0 > m1, v - p_v -> 0 as t -> 0: the main piece's points tend
-    to p (``nonzero`` not identically zero on the piece, so non-zero near
-    generic p), which is in its closure (the cone x z = y**2 solved as
-    x = y**2/z: at the vertex a1 = t d_z, f = -t**2 d_y**2, orders 1 < 2).
-    The Whitney umbrella's handle x = y = 0 fails (orders 2 and 2: half of it,
-    z < 0, is off the surface's closure) and stays a part. False also for a
-    piece with angles (a line leaves the circle) or above :data:`_CLOSURE_SIZE`."""
-    at = dict(piece.solution)
-    variables = sorted(f.free_symbols - {v}, key=str)
-    if piece.unsolved or (f.free_symbols | {x for g in at.values() for x in g.free_symbols}) & set(trig):
-        return False
-    if len(variables) > _CLOSURE_SIZE or sympy.Poly(f, v, *variables).total_degree() > _CLOSURE_SIZE:
-        return False
-    if any(sympy.cancel(sympy.together(n.xreplace(at))) == 0 for n in nonzero):
-        return False
-    t = sympy.Dummy("t")
-    line = {w: at.get(w, w) + t * sympy.Dummy(f"d_{w}") for w in variables}
-    return _order(f.xreplace(line).xreplace({v: at.get(v, v)}), t) > _order(a1.xreplace(line), t)
-
-
-def _order(expr: sympy.Expr, t: sympy.Symbol) -> float:
-    """The order in ``t`` of ``expr``'s numerator (a polynomial in t whose
-    coefficients hold other symbols; infinite when it is zero)."""
-    numerator = sympy.expand(sympy.fraction(sympy.together(expr))[0])
-    if numerator == 0:
-        return float("inf")
-    return min(m[0] for m in sympy.Poly(numerator, t).monoms())
+                  replace(p, unsolved=p.text()) for p in divided]
 
 
 def _gradient(f: sympy.Expr, circle, trig) -> list[sympy.Expr]:
@@ -262,33 +250,6 @@ def _normal(f: sympy.Expr) -> sympy.Expr:
         return sympy.Poly(f, *sorted(f.free_symbols, key=str)).monic().as_expr()
     except (sympy.PolynomialError, sympy.CoercionFailed):
         return f
-
-
-def _limit_of(outer: Piece, inner: Piece, trig) -> bool:
-    """Whether ``inner``'s generic points lie in the closure of ``outer``:
-    ``outer`` is the graph of its solution over the points of its free
-    variables where its non-zero conditions hold, a dense open set (each
-    condition a non-zero polynomial, whose zeros are nowhere dense); where the
-    solution is continuous (no denominator zero) at a point that satisfies it,
-    that point is a limit of the graph's. So: every equation v = g of
-    ``outer`` holds identically on ``inner`` and no denominator of g is
-    identically zero there (x1 x2 = x3 (x3 - 1), x1 = 5 solved as x1 = 5,
-    x2 = (x3**2 - x3)/5, x2 != 0: its points x3 = 0 and x3 = 1, a piece of
-    their own where the division by x2 failed, are on that curve's closure).
-    False with angles (their free variables lie on a circle, not open sets)."""
-    at = dict(inner.solution)
-    angles = set(trig)
-    if any((g.free_symbols | {v}) & angles for v, g in (*outer.solution, *inner.solution)):
-        return False
-    if any(sympy.expand(n) == 0 or n.free_symbols & angles for n in outer.nonzero):
-        return False
-    for v, g in outer.solution:
-        denominator = sympy.fraction(sympy.cancel(sympy.together(g)))[1]
-        if sympy.cancel(sympy.together(denominator.xreplace(at))) == 0:
-            return False
-        if sympy.cancel(sympy.together(v.xreplace(at) - g.xreplace(at))) != 0:
-            return False
-    return True
 
 
 def _contains(outer: Piece, inner: Piece) -> bool:

@@ -54,7 +54,7 @@ from ..rank.symbolic import observability_rows
 from ..model.system import System
 from ..engine.primes import prime_for
 
-__all__ = ["PointRank", "rank_at_point", "point_orders"]
+__all__ = ["rank_on_unsolved_set", "PointRank", "rank_at_point", "point_orders"]
 
 
 @dataclass(frozen=True)
@@ -217,6 +217,47 @@ def rank_at_point(system: System, point: Mapping[str, str], generic: Observabili
         exact = _exact_rank(system, lower.orders, values, input_derivatives, previous)
     verdict = _verdict(system, values, generic, lower, final, generic_names, exact, previous)
     return replace(verdict, pieces=pieces, set_text=where.text) if where is not None and where.parts else verdict
+
+
+def rank_on_unsolved_set(system: System, point: Mapping[str, str], text: str, equations, seed: int = 0, *,
+                         input_derivatives: int | None = None, previous: str = "inverse",
+                         orders: int | None = None) -> PointRank | None:
+    """The rank at ``point`` on a set the tool cannot solve (``text``, its
+    ``equations`` each = 0), when the point gives every name of the equations;
+    None when it leaves one out (its part of the set would need the set solved)
+    or an equation's value there is not a rational number (not decided).
+
+    Certain as the rank at a point without a set is (:func:`rank_at_point`
+    with no ``where``, the same computation): the rank at a point is the
+    point's, and the set only says which point is asked about. The point is on
+    the set when each equation is exactly 0 there (rational arithmetic, names
+    not in the equations left generic as without a set): x**2 + y**2 = z**2 at
+    (3, 4, 5). Not compared with a generic rank (the set's is unknown).
+
+    Raises
+    ------
+    ModelError
+        A name that is not a state or a free parameter, a value that is not an
+        exact number, or the point off the set ("x**2 + y**2 - z**2 is 1 there").
+    """
+    names = {s.name: s for s in (*system.states, *system.free_parameters)}
+    unknown = sorted(set(point) - set(names))
+    if unknown:
+        raise ModelError(f"--point: {unknown[0]!r} is not a state or a free parameter")
+    values = {names[k]: parse_number(str(v), f"--point {k}") for k, v in point.items()}
+    if not all(e.free_symbols <= set(values) for e in equations):
+        return None
+    for equation in equations:
+        value = sympy.cancel(sympy.together(equation.xreplace(values)))
+        if not value.is_Rational:
+            return None  # sin(1)**2 + cos(1)**2 - 1: not decided here
+        if value != 0:
+            raise ModelError(f"--point: the point is not on the set {text}: {sympy.sstr(equation)} is "
+                             f"{sympy.sstr(value)} there")
+    found = rank_at_point(system, point, None, seed, input_derivatives=input_derivatives, previous=previous,
+                          orders=orders)
+    return replace(found, details=f"{found.details}; on the set {text}: each of its equations is exactly 0 at the "
+                                  "point (the set itself could not be solved, its verdict is undecided)")
 
 
 #: CPU seconds for the exact rank over Q at a fully given point.

@@ -20,7 +20,7 @@ from ..model.expressions import parse_expression, split_top_level
 from ..model.system import System
 from .parts import Piece, decompose
 
-__all__ = ["ConstraintSet", "parse_constraints", "solve_constraints"]
+__all__ = ["ConstraintSet", "parse_constraints", "set_equations", "solve_constraints"]
 
 
 def _degree(expr: sympy.Expr, symbols: Sequence[sympy.Symbol]) -> int:
@@ -98,6 +98,10 @@ class ConstraintSet:
         with a point's values.
     equations : tuple of Expr
         The set's equations (each expression = 0), with ``pieces``.
+    doubt : str
+        Why this piece is not proven a part of the set ("" when it is): it was
+        proven neither in the closure of a larger piece nor off it
+        (:func:`~.parts.decompose`), so its rank may not decide the set's verdict.
     """
 
     text: str
@@ -111,13 +115,14 @@ class ConstraintSet:
     pieces: tuple[Piece, ...] = ()
     equations: tuple[sympy.Expr, ...] = ()
     unsolved: tuple[str, ...] = ()
+    doubt: str = ""
 
     def on(self, system: System) -> ConstraintSet:
         """The same set for ``system`` with restricted inputs (invariance re-decided)."""
         return ConstraintSet(self.text, self.solution, self.degree,
                              _invariant(system, dict(self.solution), self.angles), self.angles, self.parts,
                              tuple(o.on(system) for o in self.others), self.every_part, self.pieces, self.equations,
-                             self.unsolved)
+                             self.unsolved, self.doubt)
 
     def rational_pieces(self) -> list[dict[sympy.Expr, sympy.Expr]]:
         """Each solved piece as a map to rational functions of its free
@@ -217,10 +222,31 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
 
     Raises
     ------
+    UnsolvedSetError
+        A well-formed set the tool cannot analyse (:func:`set_equations`), or
+        no part solved rationally (undecided, not bad input).
+    ModelError
+        As :func:`set_equations`, or a solved variable inside a transcendental
+        function (the engine draws such values independently).
+    """
+    equations, fixed_inputs = set_equations(system, text)
+    if not equations:
+        return None, fixed_inputs
+    return solve_constraints(system, equations, text), fixed_inputs
+
+
+def set_equations(system: System, text: str) -> tuple[list[sympy.Expr], dict[str, str]]:
+    """``--where``'s equations on states and parameters (each expression = 0,
+    parameter values substituted; those that hold everywhere left out) and the
+    inputs it fixes, not solved.
+
+    Raises
+    ------
+    UnsolvedSetError
+        An irrational constant (a well-formed set the tool cannot analyse).
     ModelError
         An equation that is not ``lhs = rhs``, an unknown symbol, an input that is
-        not set to a number, no rational solution, or a solved variable inside a
-        transcendental function (the engine draws such values independently).
+        not set to a number or set twice, or an equation with no solution.
     """
     names = {s.name: s for s in (*system.states, *system.inputs, *system.parameters)}
     inputs = set(system.inputs)
@@ -235,9 +261,10 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         expr = system.substitute_values(expr)
         irrational = irrational_constants([expr])
         if irrational:
-            raise ModelError(f"--where {piece!r}: {sympy.sstr(irrational[0])} is irrational; sets are solved and "
-                             "their random points drawn exactly over the rationals, where it has no exact value: "
-                             "give rational values (such as 1/2)")
+            # Well-formed (x = sqrt(3)*y is a plane): a limit of the tool, undecided, as x**2 = 3 is.
+            raise UnsolvedSetError(f"--where {piece!r}: {sympy.sstr(irrational[0])} is irrational; sets are solved and "
+                                   "their random points drawn exactly over the rationals, where it has no exact "
+                                   "value: the tool cannot analyse this set (a rational value, such as 1/2, it can)")
         if expr.free_symbols & inputs:
             if len(expr.free_symbols) != 1 or sympy.degree(expr, *expr.free_symbols) != 1:
                 raise ModelError(f"--where {piece!r}: an input can only be set to a number (or use --input)")
@@ -252,9 +279,7 @@ def parse_constraints(system: System, text: str) -> tuple[ConstraintSet | None, 
         if not expr.free_symbols:
             raise ModelError(f"--where {piece!r}: the equation has no solution")
         equations.append(expr)
-    if not equations:
-        return None, fixed_inputs
-    return solve_constraints(system, equations, text), fixed_inputs
+    return equations, fixed_inputs
 
 
 def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str) -> ConstraintSet:
@@ -275,7 +300,8 @@ def solve_constraints(system: System, equations: Sequence[sympy.Expr], text: str
     circled, angles = _through_the_circle(equations, order)
     circle = {v for v, _, _ in angles}
     trig = {x: f(v) for v, *pair in angles for f, x in zip((sympy.sin, sympy.cos), pair)}
-    pieces = decompose(circled, order, circle, trig)
+    # Pieces proven parts first: the one drawn on is a part of the set.
+    pieces = sorted(decompose(circled, order, circle, trig), key=lambda p: bool(p.doubt))
     if not pieces:
         raise ModelError(f"--where {text!r}: the set has no real point (its equations are inconsistent, or a factor "
                          "is non-zero at every real point)")
@@ -323,7 +349,7 @@ def _solved(system: System, piece: Piece, angles, text: str) -> ConstraintSet:
     parameters = [sympy.Dummy(f"t_{v}") for v, _, _ in angles]
     degree = 1 + max((_degree(_on_circle(g, angles, parameters), [*others, *parameters]) for g in solution.values()),
                      default=0)
-    return ConstraintSet(text, piece.solution, degree, _invariant(system, solution, angles), angles)
+    return ConstraintSet(text, piece.solution, degree, _invariant(system, solution, angles), angles, doubt=piece.doubt)
 
 
 #: Parts of a set analysed at most (each a rank computation).
