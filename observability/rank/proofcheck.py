@@ -17,7 +17,9 @@ arithmetic (arb), the transcendental numbers.
   listed states, computed at the point by truncated series (``proofjets``: no
   Lie derivative is written out). The listed r x r minor at the listed exact point is non-zero
   *proven*: its exact rational value, or a ball (arb) that contains its true
-  value and excludes 0, and it is the recorded value (exactly, or to 30 digits).
+  value and excludes 0, and it is the recorded value (exactly; to 30 digits for a
+  ball, and for an exact value of more than MAX_NUMBER characters, which the file
+  gives as a decimal: the value checked non-zero is the one computed here).
   A non-zero minor at one point is non-zero as a function, so the generic rank is
   at least r. No proof needs a row above order n - 1 (continuous) or n (discrete):
   the rank is final there (the codistribution filtration is stationary from the
@@ -72,7 +74,7 @@ from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
 from .proofbound import identically_zero, vector, verified_generator, verified_span
 from .proofregion import statement, unproven
-from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
+from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, MAX_NUMBER, Rejected, exact_text, number, parse, printable, rational
 
 __all__ = ["check", "verify", "digest", "stated", "minor", "Rejected", "Unreadable", "MAX_NODES"]
 
@@ -291,22 +293,33 @@ def _input_values(model: dict, symbols: dict, point: dict, orders: int) -> dict:
 
 def _minor_checked(minor: sympy.Matrix, lower: dict) -> str:
     """How the minor was proven non-zero and equal to the recorded value: "exactly"
-    (rational entries, the determinant over Q) or "by balls" (a ball that excludes
-    0, its midpoint equal to the recorded value to 30 digits)."""
+    (rational entries, the determinant over Q, recorded as p/q, or when that has
+    more than MAX_NUMBER characters as a decimal equal to it to 30 digits) or "by
+    balls" (a ball that excludes 0, its midpoint equal to the recorded value to 30
+    digits)."""
     recorded = lower["minor"]
     if lower["exact"] is not all(e.is_Rational for e in minor):
         raise Rejected(f"the file says the minor is {'' if lower['exact'] else 'not '}exact; its entries say otherwise")
     if lower["exact"]:
         value = minor.det(method="bareiss")
-        if value == 0 or value != rational(recorded, "the minor"):
-            raise Rejected(f"the minor is {value}, the file says {recorded}")
+        text = exact_text(value)
+        if value == 0 or (text is not None and value != rational(recorded, "the minor")):
+            raise Rejected(f"the minor is {text or 'a number of more than ' + str(MAX_NUMBER) + ' characters'}, the "
+                           f"file says {recorded}")
+        if text is None:  # too long to write: its decimal, as a ball's midpoint is given
+            with mpmath.workdps(60):
+                _same_decimal(mpmath.mpf(int(value.p)) / int(value.q), recorded)
         return "exactly"
     ball = determinant(minor, "the minor")
     with mpmath.workdps(60):
-        value = mpmath.mpf(ball.mid().str(60, radius=False))
-        if abs(value - mpmath.mpf(number(recorded, "the minor", DECIMAL))) > abs(value) * mpmath.mpf("1e-30"):
-            raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
+        _same_decimal(mpmath.mpf(ball.mid().str(60, radius=False)), recorded)
     return "by balls"
+
+
+def _same_decimal(value: mpmath.mpf, recorded: object) -> None:
+    """Rejected unless ``recorded`` is a decimal equal to ``value`` to 30 significant digits."""
+    if abs(value - mpmath.mpf(number(recorded, "the minor", DECIMAL))) > abs(value) * mpmath.mpf("1e-30"):
+        raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
 
 
 def _equations(model: dict) -> dict:
