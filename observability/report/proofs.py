@@ -39,9 +39,9 @@ from ..engine.halfangles import square_roots
 from ..engine.lie import input_derivative, step_input
 from ..engine.pointrows import exact_possible, exact_rows
 from ..engine.taylor import Redraw
-from ..rank.proof import fields_are_symmetries, spans_invariant_distribution
+from ..rank.proof import PROOF_BUDGET, fields_are_symmetries, spans_invariant_distribution
 from ..rank.proofballs import determinant
-from ..rank.proofcheck import Rejected, minor, stated
+from ..rank.proofcheck import Rejected, minor, stated, upper_bound
 from ..rank.proofread import exact_text
 from ..rank.randomized import randomized_rank
 from ..model.system import System
@@ -252,6 +252,28 @@ def _series_minor(system: System, rows: list[tuple[str, int]], columns: list[int
     )
 
 
+def _kind(system: System, vectors: list[list[sympy.Expr]], proof: dict) -> str:
+    """The kind of upper bound the generators prove: by the engine's identities
+    (flint fractions, each exp or log a variable of its own), or, where those miss
+    a relation among the atoms (exp(2 x) = exp(x)**2; log(x y + y) = log(y) +
+    log(x + 1) where real: the symbolic verdict's normal form sees them), by the
+    checker's own verification of each kind (``proofcheck.upper_bound``, within
+    PROOF_BUDGET): the proof is written when the checker accepts it. Undecided
+    when neither kind holds."""
+    if not vectors or fields_are_symmetries(system, vectors):
+        return "symmetries"
+    if spans_invariant_distribution(system, vectors):
+        return "invariant span"
+    for kind in IDENTITIES:
+        trial = proof | {"upper_bound": proof["upper_bound"] | {"kind": kind}}
+        try:
+            with_budget(upper_bound, trial, seconds=PROOF_BUDGET)
+            return kind
+        except (Rejected, Undecided):
+            continue
+    raise Undecided(f"{system.name}: the named directions could not be re-verified; no proof written")
+
+
 def _point_json(system: System, point: dict, orders: int) -> dict[str, Any]:
     values = {str(k): str(v) for k, v in point.items()}
 
@@ -342,12 +364,6 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
     names = {s.name: s for s in (*system.states, *system.parameters, *system.inputs)}
     generators = [(d.name, [parse_expression(d.vector.get(s.name, "0"), names, where=d.name) for s in system.states])
                   for d in result.unobservable_directions]
-    vectors = [v for _, v in generators]
-    kind = "symmetries"
-    if result.rank < result.n_states and not fields_are_symmetries(system, vectors):
-        if not spans_invariant_distribution(system, vectors):
-            raise Undecided(f"{system.name}: the named directions could not be re-verified; no proof written")
-        kind = "invariant span"
     proof = {
         "format": EVIDENCE_FORMAT,
         "conventions": CONVENTIONS,
@@ -364,10 +380,10 @@ def proof_evidence(system: System, result: ObservabilityResult, budget: float | 
         "upper_bound": {
             "generators": [{"name": name, "vector": {s.name: str(e) for s, e in zip(system.states, v)}}
                            for name, v in generators],
-            "kind": kind,
-            "identities": IDENTITIES[kind],
         },
     }
+    kind = _kind(system, [v for _, v in generators], proof)
+    proof["upper_bound"] |= {"kind": kind, "identities": IDENTITIES[kind]}
     # The claim and its region as the checker derives them (they are what the proof proves, and the checker
     # refuses any other words): where check proves the domain connected by an argument the checker does not
     # make, the proof claims the rank on the region around its point only.
