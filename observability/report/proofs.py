@@ -32,7 +32,6 @@ import sympy
 from ..analysis.result import ObservabilityResult
 from ..budget import Undecided, with_budget
 from ..model.expressions import parse_expression, prev
-from ..model.inverse import inverse_dynamics
 from ..model.prepare import prepare
 from ..engine.exactrows import NotRational
 from ..engine.halfangles import square_roots
@@ -42,6 +41,7 @@ from ..engine.taylor import Redraw
 from ..rank.proof import PROOF_BUDGET, fields_are_symmetries, spans_invariant_distribution
 from ..rank.proofballs import determinant
 from ..rank.proofcheck import Rejected, minor, stated, upper_bound
+from ..rank.proofmodel import proof_model
 from ..rank.proofread import exact_text
 from ..rank.randomized import randomized_rank
 from ..model.system import System
@@ -295,41 +295,6 @@ def _point_json(system: System, point: dict, orders: int) -> dict[str, Any]:
     if previous:  # u[-1], read by prev(u) at step 0 (only in files whose outputs read it)
         table["previous_inputs"] = {u.name: value(step_input(u, -1)) for u in previous}
     return table
-
-
-def proof_model(system: System) -> dict[str, Any]:
-    """The "model" table of a proof of ``system``, with the rewritings the verdict
-    makes (outputs through the previous state; square-root outputs analysed
-    through their radicands, listed beside the outputs as written):
-    ``verify-proof --model`` compares it with the proof's."""
-    written = prepare(system, square_roots=False).system
-    prepared = prepare(written).system
-    return {
-        "name": prepared.name,
-        "time": prepared.time,
-        "states": [s.name for s in prepared.states],
-        "inputs": [u.name for u in prepared.inputs],
-        # What is assumed unknown changes the claim: verify-proof --model compares it.
-        "unknown_inputs": list(prepared.unknown_inputs),
-        "parameters": {p.name: None for p in prepared.free_parameters}
-        | {p.name: str(v) for p, v in prepared.parameter_values},
-        "dynamics": {s.name: str(e) for s, e in zip(prepared.states, prepared.dynamics)},
-        "outputs": {name: str(e) for name, e in written.outputs},
-        # Outputs a*sqrt(g) + b analysed through g (the checker verifies the form).
-        "analysed_outputs": {name: str(e) for (name, e), (_, w) in zip(prepared.outputs, written.outputs) if e != w},
-    } | _previous_table(system)
-
-
-def _previous_table(system: System) -> dict[str, Any]:
-    """For outputs that read the previous state: {"previous": the outputs as
-    written (with prev(x)) and the inverse motion model g(x, u) used to rewrite
-    them} (the checker verifies F(g(x, u), u) = x and that the "outputs" are the
-    written ones with prev(x) = g(x, prev(u)), as identities); {} otherwise."""
-    if system.time != "discrete" or not system.uses_previous_state:
-        return {}
-    inverse = inverse_dynamics(system)  # proven exact (model/inverse.py), or ModelError before any verdict
-    return {"previous": {"outputs": {name: str(e) for name, e in system.outputs},
-                         "inverse": {s.name: str(g) for s, g in zip(system.states, inverse)}}}
 
 
 def proof_evidence(system: System, result: ObservabilityResult, budget: float | None = EVIDENCE_BUDGET) -> dict[str, Any]:
