@@ -377,7 +377,7 @@ def test_the_checker_imports_nothing_of_the_package():
     math, os, re, resource, signal, unicodedata, flint, mpmath, sympy)."""
     import ast
 
-    base = {"proofcheck", "proofread", "proofballs", "proofjets", "proofzero", "proofregion", "proofbound"}
+    base = {"proofcheck", "proofread", "proofballs", "proofjets", "proofzero", "proofregion", "proofbound", "prooflogs"}
     for module in base:
         tree = ast.parse((ROOT / "observability" / "rank" / f"{module}.py").read_text())
         imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import)

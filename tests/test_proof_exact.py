@@ -303,11 +303,18 @@ def test_the_artefact_refuses_a_rank_it_cannot_reproduce_and_passes_its_budget(m
     assert seen == [7.0]
 
 
+def _refused(proof: dict) -> None:
+    """The checker's verification of the generators, refusing (as on directions that are not identities)."""
+    raise proofcheck.Rejected("not an identity")
+
+
 def test_unverifiable_directions_write_no_artefact(monkeypatch):
-    """When the named directions are neither symmetries nor a kept span, no proof
-    is written, word for word."""
+    """When the named directions are neither symmetries nor a kept span (by the
+    engine's identities, nor by the checker's, which the writer asks second), no
+    proof is written, word for word."""
     result = analyze(CUBIC, seed=1)
     monkeypatch.setattr(proofs, "spans_invariant_distribution", lambda system, vectors: False)
+    monkeypatch.setattr(proofs, "upper_bound", _refused)
     with pytest.raises(Undecided) as refused:
         proof_evidence(CUBIC, result, budget=None)
     assert str(refused.value) == "cubic: the named directions could not be re-verified; no proof written"
@@ -557,6 +564,7 @@ def test_a_proof_the_writer_cannot_make_exits_undecided(tmp_path, monkeypatch, c
 
     monkeypatch.setattr(proofs, "fields_are_symmetries", lambda system, vectors: False)
     monkeypatch.setattr(proofs, "spans_invariant_distribution", lambda system, vectors: False)
+    monkeypatch.setattr(proofs, "upper_bound", _refused)
     target = tmp_path / "p.json"
     assert main(["check", "slam1.5d", "--proof", str(target)]) == 3
     assert not target.exists()

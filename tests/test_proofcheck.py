@@ -410,8 +410,9 @@ def test_a_model_with_an_unknown_input_is_not_the_model_with_it_known(tmp_path):
 
 
 def test_no_proof_is_written_that_the_checker_cannot_read(tmp_path, unrecorded_verdicts):
-    """y = x^1001, x' = 0: proven (rank 1 of 1), but the independent checker's reader bounds exponents by 1000:
-    exit 3, no file, one line saying why (it was exit 4 after writing the file). (The model was y = tanh(x)
+    """y = x^1001, x' = 0: rank 1 of 1, but the independent checker's reader bounds exponents by 1000 (the verdict
+    is "unchecked", not "proven": test_unchecked_verdicts.py): exit 3, no file, one line saying why (it was exit 4
+    after writing the file). (The model was y = tanh(x)
     before the reader had tanh: see test_proofcheck_review.py.)"""
     model, proof, out = _genuine(tmp_path, 'states = ["x"]\n[dynamics]\nx = "0"\n[outputs]\ny = "x**1001"\n')
     assert out.returncode == 3 and not proof.exists()

@@ -135,7 +135,8 @@ def test_verdicts_on_more_than_the_largest_states_wait_for_the_slow_run(monkeypa
 
 
 def test_a_model_the_checker_cannot_read_is_reported(monkeypatch, unrecorded_verdicts):
-    """y = x**1001 (the checker's reader bounds exponents by 1000): proven rank 1 of 1, no proof."""
+    """y = x**1001 (the checker's reader bounds exponents by 1000): a verdict called proven about it (analyze
+    now calls it "unchecked", test_unchecked_verdicts.py; recorded here as if proven) is reported: no proof."""
     system = System(["x"], {"x": "0"}, {"y": "x**1001"}, name="power")
     result = analyze(system, seed=1)
     monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 1): (system, result, "a test")})

@@ -22,6 +22,8 @@ PROOFS = {
     "fields that annihilate the observability matrix as identities)",
     "full rank": "proven (a full rank at a point, in exact arithmetic, is certain: the generic rank is never "
     "lower than a rank at a point, nor above n)",
+    "unchecked": "certain by this tool's own proof (a certified lower bound meets an upper bound from independent "
+    "fields verified as identities, or a full rank), but no proof file: the independent checker cannot read the model",
     "lower bound": "lower bound (the rank is certainly not lower; a higher rank is excluded only with the "
     "stated probability)",
     "numerical": "numerical (singular values in floating point; not a proof)",
@@ -52,7 +54,9 @@ class ObservabilityResult:
     bound, and an upper bound from independent fields that annihilate the matrix
     as identities, or a full rank), "lower bound" (only the lower bound is
     certain; the upper one holds with ``error_probability``), "numerical" (the
-    float method: no certificate); None when undecided.
+    float method: no certificate), "unchecked" (certain as "proven", but the
+    independent proof checker cannot read the model, so no proof file can be
+    written: every verdict called "proven" writes its proof); None when undecided.
     ``observable_functions``: functions of the states that every unobservable
     direction leaves unchanged (what the outputs still determine): polynomial
     and rational invariants of degree <= 2 in the states, free parameters and

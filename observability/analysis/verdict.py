@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+from functools import lru_cache
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
@@ -32,6 +33,8 @@ from ..model.unknowninputs import input_model
 from ..rank.certificate import certify_rank
 from ..rank.evidence import EXACT, RankEvidence, float_evidence, random_evidence, symbolic_evidence
 from ..rank.proof import PROOF_BUDGET, fields_are_symmetries, spans_invariant_distribution
+from ..rank.proofcheck import Rejected, digest
+from ..rank.proofmodel import proof_model
 from ..rank.randomized import randomized_rank
 from .arbitrary import arbitrary_inputs_verdict
 from .completion import completed, jacobian_rank_at
@@ -139,7 +142,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
     if where is not None and method != "random":
         raise ModelError("a constraint set (--where) is analysed by the random method")
     prepared = prepare(system, previous, square_roots=method != "float" and where is None)
-    system = prepared.system
+    written, system = system, prepared.system
     # A set's witness is drawn on its pieces; not with angles (their sine and cosine lie on the unit circle).
     pieces = None if where is None or where.angles else [dict(p.solution) for p in (where, *where.others)]
     domain = region(system, restricted=where is not None, on=pieces)
@@ -181,6 +184,10 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         details += "; observable states unknown"
     if functions is None and too_many:
         details += f"; observable functions not searched above {MAX_MONOMIALS} variables"
+    complete = _complete(system, functions, rank, proof, reached)
+    unread = _unreadable(written) if proof == "proven" else None
+    if unread is not None:
+        proof, details = "unchecked", details + f"; no proof file: the independent checker cannot read the model ({unread})"
     return ObservabilityResult(
         model=system.name, states=tuple(s.name for s in system.states), rank=rank, observable=rank == n,
         method=method, seed=evidence.seed, error_probability=probability, orders=evidence.orders,
@@ -188,7 +195,7 @@ def _verdict(system: System, method: str, seed: int | None, input_derivatives: i
         seconds=time.perf_counter() - start, details=details, time=system.time,
         singular_values=evidence.singular_values, row_labels=evidence.labels,
         observable_functions=None if functions is None else tuple(map(str, functions)),
-        functions_complete=_complete(system, functions, rank, proof, reached), proof=proof,
+        functions_complete=complete, proof=proof,
         unknown_inputs=system.unknown_inputs, unknown_parameters=system.unknown_parameters,
         unknown_input_model=input_model(system), region=domain,
     )
@@ -329,6 +336,21 @@ def _proof_status(system: System, method: str, evidence: RankEvidence, basis, bu
     if upper:
         return "proven", 0.0, f"; rank {rank} proven from above: {upper}"
     return "lower bound", evidence.probability, evidence.upper
+
+
+@lru_cache(maxsize=256)
+def _unreadable(system: System) -> str | None:
+    """Why the proof checker's reader refuses ``system``'s proof table (None when it
+    reads it): a rank this tool proves is then "unchecked", not "proven", since
+    ``check --proof`` could write no proof (issue 61 item 6; x**2000: the checker
+    reads exponents up to 1000). Cached: one parse per model, not per verdict."""
+    try:
+        digest(proof_model(system))
+    except Rejected as exc:
+        return str(exc)
+    except ModelError:  # no inverse motion model: --previous augment, whose proof no file states anyway
+        return None
+    return None
 
 
 def _upper_bound(system: System, basis, seconds: float) -> str:

@@ -18,8 +18,9 @@ def write_proof(system: System, result, args: argparse.Namespace) -> int | None:
     from ..report.files import write_json
 
     if result.proof != "proven":
+        unread = " (certain, but the independent checker cannot read the model)" if result.proof == "unchecked" else ""
         print(f"observability: no proof written to {args.proof}: the verdict is "
-              f"{result.proof or 'undecided'}, not proven", file=sys.stderr)
+              f"{result.proof or 'undecided'}, not proven{unread}", file=sys.stderr)
         return EXIT_UNDECIDED
     restricted = [flag for flag, given in (("--where", args.where), ("--input", args.input), ("--inputs", args.inputs),
                                            ("--input-derivatives", args.input_derivatives is not None)) if given]

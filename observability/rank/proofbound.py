@@ -10,10 +10,11 @@ from __future__ import annotations
 import sympy
 
 from .proofballs import independent
+from .prooflogs import zero_by_log_relations
 from .proofread import Rejected, parse
 from .proofzero import rational_zero
 
-__all__ = ["identically_zero", "vector", "verified_generator", "verified_span"]
+__all__ = ["identically_zero", "vector", "verified_generator", "verified_span", "zero_near"]
 
 
 def identically_zero(expr: sympy.Expr) -> bool:
@@ -30,25 +31,37 @@ def identically_zero(expr: sympy.Expr) -> bool:
     return False
 
 
-def verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict) -> list:
+def zero_near(expr: sympy.Expr, values: dict) -> bool:
+    """Whether ``expr`` is zero on the connected open set around the point ``values``
+    where the model's functions with branches are analytic (the set the claim is
+    about): :func:`identically_zero`, or through the relations among its logs
+    (``prooflogs``). Only for expressions whose logs are the model's and the
+    generators' (so real on that set): not for a generator composed with the map."""
+    return identically_zero(expr) or zero_by_log_relations(expr, values, identically_zero)
+
+
+def verified_generator(g: dict, model: dict, symbols: dict, known: dict, x: list, f: list, outputs: dict,
+                       values: dict) -> list:
     """The generator's vector, once L_v h = 0 for every output and its bracket
-    with the dynamics vanish as identities (Rejected otherwise). A generator may
-    depend on the inputs: in continuous time the inputs move (u' enters the
-    bracket), in discrete time the next step has its own input."""
+    with the dynamics vanish as identities near the point ``values``
+    (:func:`zero_near`; Rejected otherwise). A generator may depend on the
+    inputs: in continuous time the inputs move (u' enters the bracket), in
+    discrete time the next step has its own input."""
     rates = {symbols[u]: sympy.Dummy(f"{u}_rate") for u in model["inputs"]}
     following = {symbols[u]: sympy.Dummy(f"{u}_next") for u in model["inputs"]}
     v = vector(g, model, symbols, known)
     for name, h in outputs.items():
-        if not identically_zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
+        if not zero_near(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v)), values):
             raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
     for i, (vi, fi) in enumerate(zip(v, f)):
         if model["time"] == "continuous":
             bracket = (sum(sympy.diff(vi, xj) * fj - sympy.diff(fi, xj) * vj for xj, fj, vj in zip(x, f, v))
                        + sum(sympy.diff(vi, u) * rate for u, rate in rates.items()))
-        else:
-            bracket = (vi.xreplace(following).xreplace(dict(zip(x, f)))
-                       - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
-        if not identically_zero(bracket):
+            shown = zero_near(bracket, values)
+        else:  # v at F(x): its logs' arguments there are not bounded by the claim's set
+            shown = identically_zero(vi.xreplace(following).xreplace(dict(zip(x, f)))
+                                     - sum(sympy.diff(fi, xj) * vj for xj, vj in zip(x, v)))
+        if not shown:
             raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of the bracket is not zero")
     return v
 
@@ -68,7 +81,7 @@ def verified_span(generators: list, model: dict, symbols: dict, known: dict, x: 
         if any(e.has(*(symbols[u] for u in model["inputs"])) for e in v):
             raise Rejected(f"generator {g['name']!r}: an invariant span needs generators free of inputs")
         for name, h in outputs.items():
-            if not identically_zero(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v))):
+            if not zero_near(sum(sympy.diff(h, xi) * vi for xi, vi in zip(x, v)), values):
                 raise Rejected(f"generator {g['name']!r}: L_v {name} is not zero")
         vectors.append(v)
     # The span is kept where it is taken: at x ([f, v_a]), or at F(x) (DF(x) v_a(x)) in discrete time.
@@ -85,7 +98,8 @@ def verified_span(generators: list, model: dict, symbols: dict, known: dict, x: 
                    for vi, fi in zip(v, f)]
         coefficients = square.LUsolve(sympy.Matrix([bracket[r] for r in rows]))
         for i, component in enumerate(bracket):
-            if not identically_zero(component - sum(c * basis[i, b] for b, c in enumerate(coefficients))):
+            rest = component - sum(c * basis[i, b] for b, c in enumerate(coefficients))
+            if not (zero_near(rest, values) if continuous else identically_zero(rest)):
                 moved = "[f, v]" if continuous else "DF v"
                 raise Rejected(f"generator {g['name']!r}: component {model['states'][i]} of {moved} leaves the span")
     return vectors

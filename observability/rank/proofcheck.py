@@ -4,8 +4,9 @@
 
 Nothing of the observability package is imported but this base's reader
 (:mod:`~observability.rank.proofread`), numbers (:mod:`~observability.rank.proofballs`),
-rows at a point (:mod:`~observability.rank.proofjets`) and rational identities
-(:mod:`~observability.rank.proofzero`) (a test keeps it so): the model is read by its own
+rows at a point (:mod:`~observability.rank.proofjets`), rational identities
+(:mod:`~observability.rank.proofzero`) and relations among logs
+(:mod:`~observability.rank.prooflogs`) (a test keeps it so): the model is read by its own
 parser, and the rows, the minor, the identities and the independence of the generators are
 recomputed here from the model's equations, independently of the code that wrote the proof.
 sympy does the algebra, python-flint the polynomials (fmpq_mpoly) and, by ball
@@ -17,7 +18,9 @@ arithmetic (arb), the transcendental numbers.
   listed states, computed at the point by truncated series (``proofjets``: no
   Lie derivative is written out). The listed r x r minor at the listed exact point is non-zero
   *proven*: its exact rational value, or a ball (arb) that contains its true
-  value and excludes 0, and it is the recorded value (exactly, or to 30 digits).
+  value and excludes 0, and it is the recorded value (exactly; to 30 digits for a
+  ball, and for an exact value of more than MAX_NUMBER characters, which the file
+  gives as a decimal: the value checked non-zero is the one computed here).
   A non-zero minor at one point is non-zero as a function, so the generic rank is
   at least r. No proof needs a row above order n - 1 (continuous) or n (discrete):
   the rank is final there (the codistribution filtration is stationary from the
@@ -33,7 +36,9 @@ arithmetic (arb), the transcendental numbers.
 * Upper bound: each generator v satisfies L_v h = 0 for every output and
   [f, v] + sum_u dv/du u' = 0 (continuous: a generator that depends on an input
   moves with it) or v(F(x, u), u+) - DF(x, u) v(x, u) = 0 (discrete, u+ the next
-  step's input), shown by sympy's simplification; the generators are independent
+  step's input), shown by sympy's simplification, or, on the set the claim is
+  about, through linear relations among the logs (``prooflogs``: each verified by
+  its gradient and its value at the point); the generators are independent
   at the point. Then every row annihilates them, and the rank is at most n - (their number).
 * Nothing is taken on the file's word: n_states, the exact flag and the claim
   must be what the model and the verified rank say, and the printed claim is
@@ -73,9 +78,9 @@ from .proofjets import analytic_at, branches, rows as rows_at
 from .proofballs import determinant, independent, nonzero
 from .proofbound import identically_zero, vector, verified_generator, verified_span
 from .proofregion import statement, unproven
-from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, Rejected, number, parse, printable, rational
+from .proofread import DECIMAL, MAX_DIGITS, MAX_NODES, MAX_NUMBER, Rejected, exact_text, number, parse, printable, rational
 
-__all__ = ["check", "verify", "digest", "stated", "minor", "Rejected", "Unreadable", "MAX_NODES"]
+__all__ = ["check", "verify", "digest", "stated", "minor", "upper_bound", "Rejected", "Unreadable", "MAX_NODES"]
 
 #: The largest proof file read (characters).
 MAX_FILE = 20_000_000
@@ -149,22 +154,42 @@ def check(proof: dict, model: dict | None = None) -> str:
     lower = proof["lower_bound"]
     matrix, values, inputs = _minor_at(parsed, lower, rank)
     how = _minor_checked(matrix, lower)
-    generators = proof["upper_bound"]["generators"]
-    if len(generators) != n - rank:
-        raise Rejected(f"{len(generators)} generators cannot bound the rank of {n} states by {rank}")
-    kind = proof["upper_bound"].get("kind", "symmetries")
-    if kind == "symmetries":
-        fields = [verified_generator(g, spec, symbols, known, x, f, outputs) for g in generators]
-    elif kind == "invariant span":
-        fields = verified_span(generators, spec, symbols, known, x, f, outputs, values)
-    else:
-        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
-    if fields and not independent(sympy.Matrix(fields).xreplace(values)):
-        raise Rejected("the generators are not independent at the point")
+    at = values | {u: us[0] for u, us in inputs.items()}
+    fields = _upper_bound(proof, parsed, rank, at)
     expressions = [*f, *originals, *(e for v in fields for e in v)]
     where = _stated(proof, rank, n, spec["time"], expressions)
-    return _accepted((model or spec)["name"], rank, n, how, where, expressions,
-                     values | {u: us[0] for u, us in inputs.items()}, lower["point"]["states"])
+    return _accepted((model or spec)["name"], rank, n, how, where, expressions, at, lower["point"]["states"])
+
+
+def upper_bound(proof: dict) -> None:
+    """Rejected unless the proof's generators verify as :func:`check` verifies them
+    at its point (the writer asks, where its own faster identities fail)."""
+    parsed = _model(proof)
+    spec, symbols = parsed[0], parsed[1]
+    rows, _ = _minor_labels(proof["lower_bound"], spec, symbols, _claim(proof, len(parsed[2])), len(parsed[2]))
+    orders = max((k for _, k in rows), default=0)
+    values = _point(proof["lower_bound"]["point"], spec, symbols, orders)
+    inputs = _input_values(spec, symbols, proof["lower_bound"]["point"], orders)
+    _upper_bound(proof, parsed, proof["rank"], values | {u: us[0] for u, us in inputs.items()})
+
+
+def _upper_bound(proof: dict, parsed: tuple, rank: int, at: dict) -> list:
+    """The generators' vectors, verified (by their kind) near the point ``at`` and
+    independent there; Rejected otherwise."""
+    spec, symbols, x, known, f, outputs, _, _ = parsed
+    generators = proof["upper_bound"]["generators"]
+    if len(generators) != len(x) - rank:
+        raise Rejected(f"{len(generators)} generators cannot bound the rank of {len(x)} states by {rank}")
+    kind = proof["upper_bound"].get("kind", "symmetries")
+    if kind == "symmetries":
+        fields = [verified_generator(g, spec, symbols, known, x, f, outputs, at) for g in generators]
+    elif kind == "invariant span":
+        fields = verified_span(generators, spec, symbols, known, x, f, outputs, at)
+    else:
+        raise Rejected(f"unknown kind of upper bound {kind!r} for {spec['time']} time")
+    if fields and not independent(sympy.Matrix(fields).xreplace(at)):
+        raise Rejected("the generators are not independent at the point")
+    return fields
 
 
 def minor(proof: dict) -> sympy.Matrix:
@@ -292,22 +317,33 @@ def _input_values(model: dict, symbols: dict, point: dict, orders: int) -> dict:
 
 def _minor_checked(minor: sympy.Matrix, lower: dict) -> str:
     """How the minor was proven non-zero and equal to the recorded value: "exactly"
-    (rational entries, the determinant over Q) or "by balls" (a ball that excludes
-    0, its midpoint equal to the recorded value to 30 digits)."""
+    (rational entries, the determinant over Q, recorded as p/q, or when that has
+    more than MAX_NUMBER characters as a decimal equal to it to 30 digits) or "by
+    balls" (a ball that excludes 0, its midpoint equal to the recorded value to 30
+    digits)."""
     recorded = lower["minor"]
     if lower["exact"] is not all(e.is_Rational for e in minor):
         raise Rejected(f"the file says the minor is {'' if lower['exact'] else 'not '}exact; its entries say otherwise")
     if lower["exact"]:
         value = minor.det(method="bareiss")
-        if value == 0 or value != rational(recorded, "the minor"):
-            raise Rejected(f"the minor is {value}, the file says {recorded}")
+        text = exact_text(value)
+        if value == 0 or (text is not None and value != rational(recorded, "the minor")):
+            raise Rejected(f"the minor is {text or 'a number of more than ' + str(MAX_NUMBER) + ' characters'}, the "
+                           f"file says {recorded}")
+        if text is None:  # too long to write: its decimal, as a ball's midpoint is given
+            with mpmath.workdps(60):
+                _same_decimal(mpmath.mpf(int(value.p)) / int(value.q), recorded)
         return "exactly"
     ball = determinant(minor, "the minor")
     with mpmath.workdps(60):
-        value = mpmath.mpf(ball.mid().str(60, radius=False))
-        if abs(value - mpmath.mpf(number(recorded, "the minor", DECIMAL))) > abs(value) * mpmath.mpf("1e-30"):
-            raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
+        _same_decimal(mpmath.mpf(ball.mid().str(60, radius=False)), recorded)
     return "by balls"
+
+
+def _same_decimal(value: mpmath.mpf, recorded: object) -> None:
+    """Rejected unless ``recorded`` is a decimal equal to ``value`` to 30 significant digits."""
+    if abs(value - mpmath.mpf(number(recorded, "the minor", DECIMAL))) > abs(value) * mpmath.mpf("1e-30"):
+        raise Rejected(f"the minor is {mpmath.nstr(value, 30)}, the file says {recorded}")
 
 
 def _equations(model: dict) -> dict:

@@ -11,7 +11,7 @@ import unicodedata
 
 import sympy
 
-__all__ = ["Rejected", "parse", "number", "rational", "printable", "RATIONAL", "DECIMAL"]
+__all__ = ["exact_text", "Rejected", "parse", "number", "rational", "printable", "RATIONAL", "DECIMAL"]
 
 
 class Rejected(Exception):
@@ -184,6 +184,20 @@ def number(text: object, what: str, pattern: re.Pattern = RATIONAL) -> str:
 
 def rational(text: object, what: str) -> sympy.Rational:
     return sympy.Rational(number(text, what))
+
+
+def exact_text(value: sympy.Rational) -> str | None:
+    """The text of an exact minor as a proof writes it: p/q when it has at most
+    MAX_NUMBER characters, None when it has more (then the proof gives its
+    decimal, and the checker the exact value it computes itself). Decided from
+    the bits first (Python's str() of an integer stops at 4,300 digits): an
+    integer of n bits has at least (n - 1) log10(2) + 1 digits, so p and q of
+    more than 4 MAX_NUMBER bits together have more than MAX_NUMBER digits."""
+    p, q = int(value.p), int(value.q)
+    if p.bit_length() + q.bit_length() > 4 * MAX_NUMBER:
+        return None
+    text = str(value)
+    return text if len(text) <= MAX_NUMBER else None
 
 
 def printable(text: str) -> str:
