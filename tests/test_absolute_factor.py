@@ -80,3 +80,36 @@ def test_an_absolute_value_not_a_factor_or_of_a_state_is_still_refused(output):
     both sides, refused as before; |x| sqrt(u) (p = x a state) keeps the old refusal too."""
     with pytest.raises(UnsupportedExpressionError, match="which is |"):
         System(["x"], ["0"], {"y": output}, inputs=["u"])
+
+
+STEP = '''name = "steplength"
+time = "discrete"
+states = ["x", "y", "th", "c"]
+[dynamics]
+x = "x + c*cos(th)"
+y = "y + c*sin(th)"
+th = "th"
+c = "c"
+[outputs]
+d = "sqrt((x - prev(x))**2 + (y - prev(y))**2)"
+'''
+
+
+def test_a_state_s_absolute_value_made_by_the_rewriting_is_undecided(tmp_path):
+    """The step length c a state: the inverse makes d = sqrt(c**2 (sin^2 + cos^2)) = |c|, which the
+    model as written does not hold (its radicand is no square). A well-formed model: undecided,
+    exit 3, saying the rewriting made it, in check and in sensors (never exit 2)."""
+    path = _model(tmp_path, STEP)
+    for command in (("check", path), ("sensors", path, "--candidate", "px=x")):
+        done = cli(*command, "--seed", "1")
+        assert done.returncode == 3, (command, done.stdout, done.stderr)
+        assert "once prev() is written by the inverse motion model" in done.stderr
+        assert "side you mean" not in done.stderr
+
+
+def test_the_step_length_is_answered_with_the_previous_state_carried(tmp_path):
+    """Under --previous augment the same d is answered: by hand d = |c| (the step's length), so only
+    c is seen: rank 1 of 4, c observable."""
+    done = cli("check", _model(tmp_path, STEP), "--previous", "augment", "--seed", "1")
+    assert done.returncode == 1 and "NOT observable (rank 1 of 4)" in done.stdout, (done.stdout, done.stderr)
+    assert "observable states: c" in done.stdout
