@@ -20,7 +20,7 @@ from ..model.system import System
 from ..rank.symbolic import null_space, observability_rows
 from .atpoint import directions_at_a_point
 from .discovery import Discovery, discover_directions
-from .naming import classify
+from .naming import classify, named_in_span
 from .symmetry import independent_basis, verify_all
 
 __all__ = ["UnobservableDirection", "components", "unobservable_directions", "directions_on_set", "DIRECTIONS_BUDGET"]
@@ -157,7 +157,7 @@ def unobservable_directions(
         note = "; ".join(x for x in (note, missing) if x)
     directions = [UnobservableDirection(s.name, components(system.states, v), s.description) for s, v in named]
     for v in unnamed:
-        name, description = classify(v, system)
+        v, name, description = named_in_span(v, [*(w for _, w in named), *unnamed], system)
         directions.append(UnobservableDirection(name, components(system.states, v), description))
     directions += [UnobservableDirection("unnamed direction", vector, description) for vector, description in numeric]
     return tuple(directions), basis, note

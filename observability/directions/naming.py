@@ -20,7 +20,7 @@ import sympy
 
 from ..model.system import System
 
-__all__ = ["classify"]
+__all__ = ["classify", "named_in_span", "without_translations"]
 
 
 def _listing(names: list[str], limit: int = 6) -> str:
@@ -40,14 +40,16 @@ def _norm_preserving(system: System, group: list[sympy.Symbol]) -> bool:
         sympy.expand(jacobian[i][j] + jacobian[j][i]) == 0 for i in range(4) for j in range(4))
 
 
-def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
+def classify(vector: Sequence[sympy.Expr], system: System, fixed: bool = True) -> tuple[str, str]:
     """A name and a description from the structure of a field: constant
     (translation), linear with a diagonal part (scaling, about its centre; four
     states scaled alike about zero whose motion keeps their norm: "the norm of"
     them, a quaternion's gauge),
     with a skew-symmetric part (rotation, about its centre); otherwise "unnamed
     direction". Names of found fields say what they are; declared candidates
-    keep their own names."""
+    keep their own names. With ``fixed``, a field unnamed so is named once
+    its terms in the states it does not move (constants along it) count as its
+    offset: a rotation or scaling about a centre that moves with other states."""
     states = list(system.states)
     moved = [s.name for s, v in zip(states, vector) if v != 0]
     if all(v.free_symbols.isdisjoint(states) for v in vector):
@@ -58,15 +60,70 @@ def classify(vector: Sequence[sympy.Expr], system: System) -> tuple[str, str]:
     if any(sum(powers) > 1 for t in terms for powers in t):
         return _rotation_with_attitude(vector, terms, system) or (
             "unnamed direction", f"a field of degree {max(sum(powers) for t in terms for powers in t)}")
+    named = _affine(*_parts(terms, states, set()), system)
+    if named[0] != "unnamed direction" or not fixed or not any(v == 0 for v in vector):
+        return named
+    # The states the field does not move are constants along it: a term in them is part of the
+    # offset, so that (lx - x, ly - y) scales (lx, ly) about (x, y), the robot's position.
+    offset = _affine(*_parts(terms, states, {s for s, v in zip(states, vector) if v == 0}), system)
+    return named if offset[0] == "unnamed direction" else offset
+
+
+def named_in_span(vector: Sequence[sympy.Expr], fields: Sequence[Sequence[sympy.Expr]], system: System
+                  ) -> tuple[list[sympy.Expr], str, str]:
+    """A found field, its name and description: as :func:`classify` names it with
+    no offset; when unnamed so, the field without its multiples of the translations
+    among ``fields`` (:func:`without_translations`: the same directions), else the
+    field itself, named with offsets; the first named."""
+    name, description = classify(vector, system, fixed=False)
+    if name != "unnamed direction":
+        return list(vector), name, description
+    for candidate in (without_translations(vector, fields), list(vector)):
+        if any(candidate) and (said := classify(candidate, system))[0] != "unnamed direction":
+            return candidate, *said
+    return list(vector), *classify(vector, system)
+
+
+def without_translations(vector: Sequence[sympy.Expr], fields: Sequence[Sequence[sympy.Expr]]) -> list[sympy.Expr]:
+    """``vector`` minus the multiples of the constant ``fields`` (translations) that
+    clear their pivot states: v - sum_k v[p_k] R_k, R_k the rows of the translations'
+    reduced echelon form, p_k their pivots (zero in every other R_j). A function times
+    a null field is null (the observability matrix annihilates each field at every
+    point), so the result and the translations span what ``vector`` and they span, at
+    every point: the same directions, in a form :func:`classify` may name (the scaling
+    (lx - x, ly - y) out of (x, 0, 0, lx, ly - y) and x (1, 0, 0, 1, 0))."""
+    constant = [list(f) for f in fields if any(c != 0 for c in f) and not any(
+        sympy.sympify(c).free_symbols for c in f)]
+    if not constant:
+        return list(vector)
+    echelon, pivots = sympy.Matrix(constant).rref()
+    reduced = [sympy.sympify(c) for c in vector]
+    for k, p in enumerate(pivots):
+        coefficient = reduced[p]
+        reduced = [sympy.expand(c - coefficient * echelon[k, j]) for j, c in enumerate(reduced)]
+    return reduced
+
+
+def _parts(terms: list[dict], states: list[sympy.Symbol], fixed: set[sympy.Symbol]) -> tuple[list[list], list]:
+    """A and b of the field A x + b whose components' ``terms`` are given, with the
+    linear terms in the ``fixed`` states (those it does not move) counted in b."""
     n = len(states)
     A = [[0] * n for _ in range(n)]
     b = [sympy.Integer(0)] * n
     for i, t in enumerate(terms):
         for powers, c in t.items():
-            if any(powers):
-                A[i][powers.index(1)] = c
+            if not any(powers):
+                b[i] += c
+            elif states[powers.index(1)] in fixed:
+                b[i] += c * states[powers.index(1)]
             else:
-                b[i] = c
+                A[i][powers.index(1)] = c
+    return A, b
+
+
+def _affine(A: list[list], b: list[sympy.Expr], system: System) -> tuple[str, str]:
+    """:func:`classify`'s name for the affine field A x + b."""
+    states, n = list(system.states), len(system.states)
     off = [(i, j) for i in range(n) for j in range(n) if i != j and A[i][j] != 0]
     diagonal = [i for i in range(n) if A[i][i] != 0]
     if not off and diagonal:

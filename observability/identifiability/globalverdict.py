@@ -22,7 +22,9 @@ class GlobalVerdict:
     Attributes
     ----------
     globally : tuple of str
-        States and unknown constants determined uniquely (angles modulo 2 pi).
+        States and unknown constants determined uniquely (declared angles modulo
+        2 pi; a state read through sin and cos but not declared an angle is never
+        here: x + 2 pi shares its outputs, :mod:`.period`).
     only_locally : tuple of str
         Locally observable, not globally: other (complex) states share the outputs;
         ``reals`` says which of them have a second real value, which are unique
@@ -51,7 +53,8 @@ class GlobalVerdict:
         The states of ``only_locally`` over the reals (:mod:`.realvalues`), with
         the argument; a state without one has only other complex values known.
     angles : tuple of str
-        The states read through tan(angle/2): for them "unique" means modulo 2 pi.
+        The declared angles read through tan(angle/2): for them "unique" means
+        modulo 2 pi (JSON ``angles_modulo_2pi``).
     field : FieldGenerators or None
         Generators of the field of globally observable functions: the printed
         functions when they generate it, else those of :mod:`.globalfield`;

@@ -50,7 +50,8 @@ with the argument there), in a step of their own; the rest stays undecided.
 
 Sines and cosines of states are written through T = tan(angle/2) (a bijection
 from the angles modulo 2 pi, minus pi, to the reals), so an angle is globally
-observable modulo 2 pi. "Only locally" is a statement over the complex
+observable modulo 2 pi, and a state read so that is not declared an angle is only
+locally observable, x + 2 pi sharing the outputs (:mod:`.period`). "Only locally" is a statement over the complex
 numbers: other complex states give the same outputs; over the reals they may not
 (y = x**3 determines a real x): :mod:`.realvalues` says which have a second real
 value, which are unique among real values, and which are undecided there.
@@ -84,6 +85,7 @@ from .realvalues import real_answers
 from .ioprojection import constants_from_projections
 from .ioglobal import constants_from_io_equation
 from .outputforms import carried_over
+from .period import modulo_two_pi
 from .rationalmodel import RationalModel, rational_model
 from .truncation import truncation_orders
 
@@ -166,6 +168,14 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         model = rational_model(prepared)
     except ModelError as exc:  # a well-formed model outside the rational test: undecided, not bad input
         return GlobalVerdict((), (), local, None, f"undecided: {str(exc).removeprefix('--global: ')}")
+    return modulo_two_pi(_rational(prepared, model, result, seed, error, budget, given), system,
+                         [a.name for a in model.angles])
+
+
+def _rational(prepared: System, model: RationalModel, result: ObservabilityResult, seed: int, error: float,
+              budget: float | None, given: KnownValues | None) -> GlobalVerdict:
+    """:func:`_global` of the model in rational coordinates ``model`` (an angle's T decided for it)."""
+    local = tuple(result.observable_states or ())
     functions = [] if given else _functions(prepared, result)
     local, rank = (given.local, given.rank) if given else (local, result.rank)
     if not local and not functions:
@@ -191,18 +201,17 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         if isinstance(decided, str):
             return replace(through_io, details=f"{through_io.details}; the fibre's route again, with the whole "
                                                f"budget: {decided}")
-    members, bits, probability, angles, mirrors, paired, how, equations = decided
+    members, bits, probability, mirrors, paired, how, equations = decided
     where = dict(zip(local, members))
     index = {s.name: c for s, c in zip(prepared.states, model.coordinates)}
     # Further fibres are drawn without the known values, so with them only the first fibre is read.
     reals = real_answers(equations, index, tuple(s for s in local if where[s] is False), mirrors, budget,
                          None if given else FibreDraws(prepared, model, orders, result.rank, error, seed))
     answers = tuple((text, member) for (text, _), member in zip(functions, members[len(local):]))
-    angle_note = f"; angles {', '.join(angles)} through tan(angle/2): globally means modulo 2 pi" if angles else ""
     details = (f"field membership (Dong, Goodbrake, Harrington, Pogudin 2023, Thm 3.3) at a random integer point of "
                f"{bits} bits, seed {seed}, in the field of the Lie derivatives {used} (they generate every Lie "
                f"derivative: certain), as polynomial equations in the states' derivatives (SIAN's form), decided "
-               f"by {how}; 'only locally' means other complex states share the outputs{angle_note}"
+               f"by {how}; 'only locally' means other complex states share the outputs"
                + (f"; {given.how}" if given else ""))
     if mirrors:
         details += ("; certain (over the reals too) for the states a mirror moves: " + ", ".join(mirrors)
@@ -222,7 +231,7 @@ def _global(system: System, result: ObservabilityResult, seed: int, error: float
         probability += (error + field.error) if field.generates else 0.0
     return carried_over(GlobalVerdict(tuple(s for s in local if where[s]), tuple(s for s in local if where[s] is False),
                                       tuple(s for s in local if where[s] is None), probability, details, mirrors,
-                                      answers, generates, generation, field, reals, tuple(angles)),
+                                      answers, generates, generation, field, reals),
                         model.output_forms, [name for name, _ in prepared.outputs])
 
 
@@ -527,7 +536,7 @@ def _functions(system: System, result: ObservabilityResult) -> list[tuple[str, s
 def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: int, local: tuple[str, ...],
             functions: list[sympy.Expr], error: float, seed: int, modular: bool = False, given: tuple[str, ...] = ()):
     """The symbolic work, in one budgeted child: (members of the states, then of the functions
-    (None: undecided), range bits, error, angle names, mirrors, pairs found, how), or why not
+    (None: undecided), range bits, error, mirrors, pairs found, how), or why not
     when the Jacobian does not reach ``rank`` at the point. ``modular``: decided modulo random
     primes (:mod:`.modularfibre`) instead of by the basis over Q. ``given``: states whose initial
     values are known, fixed on the fibre (``rank`` the rank with them: :mod:`.knownvalues`)."""
@@ -556,8 +565,8 @@ def _decide(system: System, model: RationalModel, orders: dict[str, int], rank: 
     only = tuple(s for s, member in zip(local, members[:len(local)]) if member is False)
     outside = {i for i, member in enumerate(members) if member is False}
     found = tuple(f for ((i, j), f), member in zip(pairs, every[len(fractions):]) if {i, j} <= outside and member)
-    return members, bound.bit_length(), probability, tuple(a.name for a in model.angles), \
-        mirrors(system, model, only, given), found, how, None if modular else equations
+    return members, bound.bit_length(), probability, mirrors(system, model, only, given), found, how, \
+        None if modular else equations
 
 
 def _unsupported(system: System) -> str:

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import ast
 import functools
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 
 import sympy
 
@@ -430,7 +430,7 @@ _SMOOTH = (
 )
 
 
-def check_supported(expr: sympy.Expr, where: str) -> None:
+def check_supported(expr: sympy.Expr, where: str, states: Collection[sympy.Symbol] | None = None) -> None:
     """Raise if ``expr`` uses a construct the engines cannot differentiate exactly.
 
     Accepted: rational functions, integer powers, square roots (and their integer
@@ -457,7 +457,7 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
                     f"{where}: fractional power {exponent} in {node} (only integer powers and square roots)"
                 )
             if exponent.q == 2:
-                _no_absolute_value(node, where)
+                _no_absolute_value(node, where, states if node in _factors(expr) else None)
             continue
         if isinstance(node, _SMOOTH):
             continue
@@ -469,13 +469,29 @@ def check_supported(expr: sympy.Expr, where: str) -> None:
         )
 
 
-def _no_absolute_value(node: sympy.Pow, where: str) -> None:
+def _factors(expr: sympy.Expr) -> tuple[sympy.Expr, ...]:
+    """The factors of ``expr`` as a product (itself when it is no product)."""
+    return expr.args if isinstance(expr, sympy.Mul) else (expr,)
+
+
+def _no_absolute_value(node: sympy.Pow, where: str, states: Collection[sympy.Symbol] | None = None) -> None:
     """Refuse a half-integer power of p**m c with m = 2 mod 4 (p non-constant):
     it is |p|**odd * ..., which is not analytic where p changes sign, and the
     two sides may have different ranks (sqrt(w**2) + w is 2w where w > 0 and 0
     where w < 0), so no rank at a random point speaks for both (Abs is refused
     for the same reason). With m odd the root is real only on one side of
-    p = 0, a single branch; with m = 0 mod 4 it is p**(m/2), analytic."""
+    p = 0, a single branch; with m = 0 mod 4 it is p**(m/2), analytic.
+
+    Accepted, when ``states`` is given (the root then a factor of a whole output):
+    a p free of the states (inputs, previous inputs, known constants: the
+    |dt*prev(v)| that writing prev(x) by the motion model makes of a distance
+    between poses). The output is then s * (p**odd * the rest), s = sign(p) a
+    constant wherever p != 0 (a dense open set of the inputs and constants; p
+    not identically 0, having symbols and a square-free part), so each of its
+    rows (a Lie derivative: s is constant on each interval of time where p !=
+    0; in discrete time a shifted output: its own s_k) is the row of the
+    analytic output p**odd * the rest times +-1: the same rank on both sides,
+    that of the analytic output, which the engines compute."""
     base = node.base
     if any(isinstance(a, sympy.Pow) and a.exp.is_negative for a in sympy.preorder_traversal(base) if a is not base):
         base = sympy.together(base)  # a denominator inside: one fraction first
@@ -493,7 +509,7 @@ def _no_absolute_value(node: sympy.Pow, where: str) -> None:
     _minus_a_square(node, split, where)
     for _, factors in split:
         for factor, multiplicity in factors:
-            if factor.free_symbols and multiplicity % 4 == 2:
+            if factor.free_symbols and multiplicity % 4 == 2 and (states is None or factor.free_symbols & set(states)):
                 power = "" if multiplicity == 2 else f"**{multiplicity // 2}"
                 raise UnsupportedExpressionError(
                     f"{where}: {node} holds the square root of ({factor})**{multiplicity}, which is |{factor}|{power}: "

@@ -25,7 +25,7 @@ import functools
 import sympy
 
 from ..budget import Undecided, with_budget
-from ..errors import ModelError
+from ..errors import ModelError, UnsupportedConstructError, UnsupportedExpressionError
 from .expressions import prev
 from .identities import identity_verdicts
 from .methods import PREVIOUS_METHODS, Previous
@@ -181,4 +181,14 @@ def eliminate_previous_state(system: System, method: Previous = "inverse") -> Sy
     else:
         act = dict(zip(system.states, system.dynamics)) | dict(zip(system.previous_states, system.states))
     outputs = {name: expr.xreplace(act) for name, expr in system.outputs}
-    return system.replace(outputs=outputs)
+    try:
+        return system.replace(outputs=outputs)
+    except UnsupportedConstructError:
+        raise
+    except UnsupportedExpressionError as exc:
+        # The model as written passed these checks: what fails is the rewriting's (|c| out of a distance
+        # between poses whose step is a state c), so the model is well-formed and the answer undecided.
+        said = str(exc).split("; write (")[0]  # not the user's to rewrite: their model does not hold it
+        hint = "; --previous augment carries the previous state instead" if method == "inverse" else ""
+        raise UnsupportedConstructError(f"{said}, once prev() is written by the {method} motion model (the model as "
+                                        f"written holds no such root: undecided, not bad input){hint}") from None

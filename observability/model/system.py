@@ -194,16 +194,20 @@ class System:
             self._check_symbols(expr, allowed, f"dynamics of {x[i]}")
         prev_allowed = {prev(s) for s in (*x, *u)} if time == "discrete" else set()
         output_allowed = allowed | prev_allowed  # once: a union per output is quadratic in large models
+        # An output may hold |p| as a factor for p free of these (check_supported says why).
+        states = {*x, *(prev(s) for s in x)}
         for oname, expr in h:
-            self._check_symbols(expr, output_allowed, f"output {oname}", continuous=time == "continuous")
+            self._check_symbols(expr, output_allowed, f"output {oname}", continuous=time == "continuous",
+                                states=states)
         if values:
-            for where, expr in [*((f"dynamics of {xi}", fi) for xi, fi in zip(x, f)), *((f"output {n}", e) for n, e in h)]:
+            for where, expr, among in [*((f"dynamics of {xi}", fi, None) for xi, fi in zip(x, f)),
+                                       *((f"output {n}", e, states) for n, e in h)]:
                 valued = expr.xreplace(values)
                 given = ", ".join(f"{k}={v}" for k, v in values.items() if k in expr.free_symbols)
                 if valued.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
                     raise ModelError(f"{where}: {expr} is undefined (division by zero) with {given}")
                 if valued != expr:  # (x**2)**p with p = 1/2 is |x|: checked as the engine will read it
-                    check_supported(valued, f"{where} with {given}")
+                    check_supported(valued, f"{where} with {given}", among)
 
     def _describe(self, quantities, latex_names, names, known: set[str], motions, angles) -> None:
         """Quantities, LaTeX names, motions and angles, each checked against the names declared."""
@@ -331,7 +335,8 @@ class System:
         return tuple(out)
 
     @staticmethod
-    def _check_symbols(expr: sympy.Expr, allowed: set, where: str, continuous: bool = False) -> None:
+    def _check_symbols(expr: sympy.Expr, allowed: set, where: str, continuous: bool = False,
+                       states: set | None = None) -> None:
         for sym in sorted(expr.free_symbols, key=lambda s: s.name):
             if sym in allowed:
                 continue
@@ -340,7 +345,7 @@ class System:
                     raise ModelError(f"{where} uses {sym}: previous-state outputs need a discrete-time system")
                 raise ModelError(f"{where} uses {sym}, but {previous_of(sym)!r} is not a state or input")
             raise ModelError(f"{where} uses undeclared symbol {sym.name!r}")
-        check_supported(expr, where)
+        check_supported(expr, where, states)
 
     # ------------------------------------------------------------------ views
     @property

@@ -186,11 +186,12 @@ def _label(output: str, order: int, discrete: bool, names: Mapping[str, str]) ->
 
 
 _DERIVATIVE = re.compile(r"^(.+)\^\((\d+)\)$")
-_STEP = re.compile(r"^(.+)\[(\d+)\]$")
+_STEP = re.compile(r"^(.+)\[(-?\d+)\]$")  # u[-1]: the input before step 0
 
 
 def _symbol_names(symbols: set[sympy.Symbol], names: Mapping[str, str]) -> dict[sympy.Symbol, str]:
-    """LaTeX for every symbol: declared names, input derivatives u^(j) and later inputs u[k]."""
+    """LaTeX for every symbol: declared names, input derivatives u^(j) and the inputs u[k] of each step
+    (u[-1], before the first, among them: one notation, u_{[k]})."""
     out = {}
     for s in symbols:
         if m := _DERIVATIVE.match(s.name):

@@ -147,7 +147,13 @@ def _off_every(larger: list[Piece], piece: Piece, trig) -> bool:
 
 
 def _split(equations, solution, nonzero, labels, found, order, circle, trig, steps) -> None:
-    """Append to ``found`` the pieces of {equations = 0} within the piece (``solution``, ``nonzero``)."""
+    """Append to ``found`` the pieces of {equations = 0} within the piece (``solution``, ``nonzero``).
+
+    An equation whose numerator as written is proven non-zero at every real point
+    (:func:`~observability.model.branches.no_real_zero`: a positive constant plus
+    positive multiples of even powers is at least that constant) leaves no point;
+    it is read before expanding, which hides the squares ((x**2 - y)**2 + 1 is
+    x**4 - 2*x**2*y + y**2 + 1, no factor of which the test recognises)."""
     steps[0] += 1
     if steps[0] > _MOST_STEPS:
         raise _Exhausted
@@ -156,6 +162,8 @@ def _split(equations, solution, nonzero, labels, found, order, circle, trig, ste
         return
     expr, rest = equations[0], equations[1:]
     numerator, _ = sympy.fraction(sympy.together(expr.xreplace(solution)))
+    if no_real_zero(numerator):
+        return
     numerator = sympy.expand(numerator)
     if numerator == 0:
         return _split(rest, solution, nonzero, labels, found, order, circle, trig, steps)
