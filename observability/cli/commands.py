@@ -154,9 +154,9 @@ def check_command(args: argparse.Namespace) -> int:
                 raise
             return _point_on_unsolved(system, args, exc)
         result = _analyze(system, args, prepared)
-        at_point = None
+        at_point, point_undecided = None, False
         if args.point is not None and args.method != "float":
-            from ..where.points import rank_at_point
+            from ..where.points import UndecidedAtPoint, rank_at_point
 
             restricted, input_derivatives, constraint = prepared
             # Bounded like every symbolic step: --orders has no upper limit of its own.
@@ -166,8 +166,9 @@ def check_command(args: argparse.Namespace) -> int:
                                                previous=args.previous, where=constraint, orders=args.orders),
                                        seconds=args.budget)
             except Undecided as exc:
-                at_point = _PointUndecided(f"the rank at the point did not fit --budget {args.budget:g} s ({exc}); "
+                at_point = UndecidedAtPoint(f"the rank at the point did not fit --budget {args.budget:g} s ({exc}); "
                                            "try fewer --orders or a larger --budget")
+                point_undecided = True
         elif args.orders is not None:
             raise UsageError("--orders applies to --point (the highest Lie order computed at the point)")
         if getattr(args, "global_", False):
@@ -177,7 +178,7 @@ def check_command(args: argparse.Namespace) -> int:
     # With --global the question is whether every state and unknown constant is globally observable.
     answer = result.observable if result.global_answer is None else result.globally_observable
     code = EXIT_UNDECIDED if answer is None else EXIT_OBSERVABLE if answer else EXIT_NOT_OBSERVABLE
-    code = EXIT_UNDECIDED if isinstance(at_point, _PointUndecided) else code
+    code = EXIT_UNDECIDED if point_undecided else code
     try:
         if args.format == "json":
             record = result.to_dict() | ({"at_point": at_point.to_dict()} if at_point is not None else {})
@@ -265,19 +266,6 @@ def _point(text: str | None, flag: str = "--point") -> dict[str, str] | None:
             raise UsageError(f"{flag}: {key.strip()} is given twice ({point[key.strip()]} and {value.strip()})")
         point[key.strip()] = value.strip()
     return point
-
-
-@dataclasses.dataclass(frozen=True)
-class _PointUndecided:
-    """``--point``'s answer when the rank at the point did not fit the budget: no rank is stated."""
-
-    reason: str
-
-    def text(self) -> str:
-        return f"at the point: undecided: {self.reason}"
-
-    def to_dict(self) -> dict:
-        return {"rank": None, "rank_status": "undecided", "details": f"undecided: {self.reason}"}
 
 
 def latex_command(args: argparse.Namespace) -> int:

@@ -136,6 +136,19 @@ class PointRank:
         return "\n".join(lines)
 
 
+@dataclass(frozen=True)
+class UndecidedAtPoint:
+    """``--point``'s answer when the rank at the point did not fit the budget: no rank is stated."""
+
+    reason: str
+
+    def text(self) -> str:
+        return f"at the point: undecided: {self.reason}"
+
+    def to_dict(self) -> dict:
+        return {"rank": None, "rank_status": "undecided", "details": f"undecided: {self.reason}"}
+
+
 def point_orders(system: System) -> int:
     """The default highest order at a point: 2n - 1 (twice the orders a generic
     point needs), at most n + 15, so that a special point whose rank grows late
