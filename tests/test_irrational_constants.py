@@ -19,7 +19,7 @@ from observability.identifiability import ioequation
 from observability.budget import Undecided
 from observability.cli import main
 from observability.model.constants import irrational_constants, transcendence
-from test_hardened_inputs import _file, _refused
+from test_hardened_inputs import _file
 
 
 def _global(capsys, argv: list[str]) -> dict:
@@ -115,8 +115,29 @@ def test_a_set_at_an_irrational_value_is_undecided_not_bad_input(tmp_path, capsy
             if shown else "cannot solve x**2 - 3 = 0 rationally") in err
 
 
-def test_a_motion_at_an_irrational_value_is_refused(tmp_path, capsys):
-    _refused(capsys, ["degenerate", _file(tmp_path, XV), "--seed", "1"], "motion 'at_pi'")
+UV = 'states = ["x", "s"]\ninputs = ["v"]\n[dynamics]\nx = "s"\ns = "v"\n[outputs]\ny = "x*s"\n'
+
+
+@pytest.mark.parametrize("model, where, reason", [
+    (XV, None, "motion 'at_pi': --where 'v = pi': pi is irrational"),  # v a state
+    (XV.replace('"v = pi"', '"v**2 = 3"'), None, "motion 'at_pi': --where: cannot solve v**2 - 3 = 0 rationally"),
+    (UV, "v = pi", "motion 'm': --where 'v = pi': pi is irrational"),  # v the input
+])
+def test_a_motion_at_an_irrational_value_is_undecided_not_bad_input(tmp_path, capsys, model, where, reason):
+    """A motion is a set like `check --where`'s: well-formed, beyond the tool, so undecided (exit 3) with the
+    motion and the reason named, as `check --where "v = pi"` is. Old expectation: exit 2, bad input (the motion
+    scan turned every set error into a ModelError); a rational value is analysed (the control)."""
+    text = model + (f'[motions.m]\nwhere = "{where}"\n' if where else "")
+    for form in ("text", "json"):
+        code = main(["degenerate", _file(tmp_path, text), "--seed", "1", "--format", form])
+        captured = capsys.readouterr()
+        assert code == 3 and len(captured.err.strip().splitlines()) == 1, captured.err
+        assert "observability: undecided:" in captured.err and reason in captured.err, captured.err
+    if where:
+        assert main(["check", _file(tmp_path, UV), "--where", where, "--seed", "1"]) == 3
+        capsys.readouterr()
+        assert main(["degenerate", _file(tmp_path, text.replace("pi", "1/2")), "--seed", "1"]) == 0
+        assert "m                2/2   observable" in capsys.readouterr().out
 
 
 def test_an_unsolvable_set_is_named_in_the_users_words(tmp_path, capsys):

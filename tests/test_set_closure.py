@@ -15,11 +15,15 @@ Model: x, y, z constant, outputs h = (x, y, z (x**2 + y**2)). Its Jacobian is
   axis points with z < 0 are no limits of it: a part, rank 2, NOT observable.
 - x**2 = y**2 z + y**3: z = x**2/y**2 - y >= -y on the surface, so near the
   axis z >= -|y| -> 0: its points with z < 0 are off the closure, a part, rank 2.
-- x**2 - x y = y**2 z: z = u**2 - u with u = x/y, so z >= -1/4 on the surface
-  (the axis is a part: its points z < -1/4 are off), but the tool proves neither
-  (no curve, and no sign of z - Q by division: the remainder x**2 - x y changes
-  sign): whether the axis is a part is not proven, and its rank 2 may not
-  decide: undecided (exit 3), the axis named.
+- x**2 - x y = y**2 z: z = u**2 - u = (u - 1/2)**2 - 1/4 with u = x/y, so
+  z >= -1/4 on the surface: the axis points with z < -1/4 are off its closure,
+  the axis is a part, rank 2, NOT observable (the remainder x**2 - x y of the
+  division changes sign; its bound as a polynomial in the ratio u is exact).
+- x**4 - x y**3 = y**4 z: z = u**4 - u >= -(3/4) 4**(-1/3) (at u = 4**(-1/3)),
+  so the axis is truly a part too, but the critical point is irrational and
+  the tool proves neither (no curve, no rational bound): whether the axis is a
+  part is not proven, and its rank 2 may not decide: undecided (exit 3), the
+  axis named.
 """
 
 from __future__ import annotations
@@ -76,10 +80,12 @@ def test_an_axis_in_the_surfaces_closure_gives_no_certain_lower_rank(tmp_path, c
 @pytest.mark.parametrize("where, surface, shown", [
     ("x**2 - y**2*z = 0", {X: 2, Y: 1, Z: 4}, "z = x**2/y**2: rank 3 of 3"),
     ("x**2 - y**2*z - y**3 = 0", {X: 2, Y: 1, Z: 3}, "z = (x**2 - y**3)/y**2: rank 3 of 3"),
+    ("x**2 - x*y - y**2*z = 0", {X: 2, Y: 1, Z: 2}, "z = (x**2 - x*y)/y**2: rank 3 of 3"),
 ])
 def test_an_axis_proven_off_the_surface_stays_a_part(tmp_path, capsys, where, surface, shown):
-    """z = x**2/y**2 >= 0 (z = x**2/y**2 - y >= -y) on the surface, so (0, 0, -1) is no limit of it: the axis is a
-    part of rank 2 (exact), the verdict NOT observable, certain (exit 1), with the surface's rank 3 listed."""
+    """z = x**2/y**2 >= 0 (z = x**2/y**2 - y >= -y; z = (x/y)**2 - x/y >= -1/4) on the surface, so (0, 0, -1) is no
+    limit of it: the axis is a part of rank 2 (exact), the verdict NOT observable, certain (exit 1), with the
+    surface's rank 3 listed. The third was undecided (exit 3: the axis in doubt) before the bound by a ratio."""
     left, right = (sympy.sympify(side, locals={"x": X, "y": Y, "z": Z}) for side in where.split("="))
     assert (left - right).subs(surface) == 0 and _rank(surface) == 3 and _rank({X: 0, Y: 0, Z: -1}) == 2
     code, answer = _check(tmp_path, capsys, where)
@@ -88,28 +94,29 @@ def test_an_axis_proven_off_the_surface_stays_a_part(tmp_path, capsys, where, su
 
 
 def test_a_piece_proven_neither_in_nor_off_the_closure_leaves_the_verdict_undecided(tmp_path, capsys):
-    """x**2 - x y = y**2 z: the surface (x, y, z) = (2, 1, 2) has rank 3, the axis (0, 0, -1) rank 2 (exact);
-    whether the axis is a part is not proven: undecided, exit 3, JSON rank null, the axis named with its rank."""
-    assert 2**2 - 2 * 1 - 1 * 2 == 0 and _rank({X: 2, Y: 1, Z: 2}) == 3 and _rank({X: 0, Y: 0, Z: -1}) == 2
-    code, answer = _check(tmp_path, capsys, "x**2 - x*y - y**2*z = 0")
+    """x**4 - x y**3 = y**4 z: the surface (x, y, z) = (2, 1, 14) has rank 3, the axis (0, 0, -1) rank 2 (exact);
+    whether the axis is a part is not proven (an irrational critical point): undecided, exit 3, JSON rank null, the
+    axis named with its rank. (x**2 - x y = y**2 z, the example before, is now proven: a part.)"""
+    assert 2**4 - 2 * 1 - 1 * 14 == 0 and _rank({X: 2, Y: 1, Z: 14}) == 3 and _rank({X: 0, Y: 0, Z: -1}) == 2
+    code, answer = _check(tmp_path, capsys, "x**4 - x*y**3 - y**4*z = 0")
     assert code == 3 and answer["rank"] is None and answer["observable"] is None
     assert "y = 0, x = 0: rank 2 of 3" in answer["restriction"] and "nor proven off" in answer["restriction"]
 
 
 def test_a_doubtful_piece_at_the_parts_rank_does_not_change_the_verdict(tmp_path, capsys):
     """With h = (x, y, z) the Jacobian is the identity: rank 3 everywhere, the axis included. The doubtful axis
-    of x**2 - x y = y**2 z cannot lower the rank: observable, certain, exit 0."""
+    of x**4 - x y**3 = y**4 z cannot lower the rank: observable, certain, exit 0."""
     outputs = ("x", "y", "z")
-    assert _rank({X: 0, Y: 0, Z: -1}, outputs) == 3 and _rank({X: 2, Y: 1, Z: 2}, outputs) == 3
-    code, answer = _check(tmp_path, capsys, "x**2 - x*y - y**2*z = 0", outputs)
+    assert _rank({X: 0, Y: 0, Z: -1}, outputs) == 3 and _rank({X: 2, Y: 1, Z: 14}, outputs) == 3
+    code, answer = _check(tmp_path, capsys, "x**4 - x*y**3 - y**4*z = 0", outputs)
     assert (code, answer["rank"], answer["observable"]) == (0, 3, True)
 
 
 def test_the_pieces_and_their_doubts_against_hand_decompositions():
     """The axis is dropped from x**3 = y**3 z (also with a second equation w = 0, the division then made before
     the last equation) and from x**2 z = y**3; kept and proven a part for the umbrella, for x**2 = y**2 z + y**3
-    and for the line y = z = 0 of x y = 0, x z = 0 (x = 0 fails on it: x free); kept in doubt for
-    x**2 - x y = y**2 z."""
+    and for the line y = z = 0 of x y = 0, x z = 0 (x = 0 fails on it: x free), for x**2 - x y = y**2 z and
+    x y - x**2 = y**2 z (z <= 1/4); kept in doubt for x**4 - x y**3 = y**4 z (an irrational critical point)."""
     def pieces(*equations):
         return [(dict(p.solution), bool(p.doubt))
                 for p in decompose([sympy.sympify(e, locals={"x": X, "y": Y, "z": Z, "w": W}) for e in equations],
@@ -125,7 +132,29 @@ def test_the_pieces_and_their_doubts_against_hand_decompositions():
     assert pieces("x**2 - y**2*z") == [({Z: X**2 / Y**2}, False), ({Y: 0, X: 0}, False)]
     assert sorted(pieces("x*y", "x*z"), key=str) == sorted([({X: 0}, False), ({Y: 0, Z: 0}, False)], key=str)
     assert pieces("x**2 - y**2*z - y**3")[1] == ({Y: 0, X: 0}, False)
-    assert pieces("x**2 - x*y - y**2*z")[1] == ({Y: 0, X: 0}, True)
+    assert pieces("x**2 - x*y - y**2*z")[1] == ({Y: 0, X: 0}, False)
+    assert pieces("x*y - x**2 - y**2*z")[1] == ({Y: 0, X: 0}, False)
+    assert pieces("x**4 - x*y**3 - y**4*z")[1] == ({Y: 0, X: 0}, True)
+
+
+def test_the_bound_by_a_ratio_is_the_hand_minimum():
+    """z = (x**2 - x y)/y**2 = t**2 - t (t = x/y) = (t - 1/2)**2 - 1/4 >= -1/4, attained at (1, 2, -1/4); below it
+    no real point (y = 1: x**2 - x - z = 0 has discriminant 1 + 4 z < 0). So the axis is off where z < -1/4:
+    (z, 1, -1/4); negated, z = t - t**2 <= 1/4: (z, -1, 1/4). z = t**3 - 3 t (x**3 - 3 x y**2 = y**3 z) is unbounded
+    both ways (t -> +-infinity), though its critical points t = +-1 are rational: no proof (None)."""
+    from observability.where.closure import off_closure
+
+    t = sympy.Symbol("t")
+    assert sympy.expand((t - sympy.Rational(1, 2)) ** 2 - sympy.Rational(1, 4) - (t**2 - t)) == 0
+    assert (X**2 - X * Y - Y**2 * Z).subs({X: 1, Y: 2, Z: sympy.Rational(-1, 4)}) == 0
+    assert sympy.discriminant(X**2 - X - Z, X) == 1 + 4 * Z
+    for equation, proof in ((X**2 - X * Y - Y**2 * Z, (Z, 1, sympy.Rational(-1, 4))),
+                            (X * Y - X**2 - Y**2 * Z, (Z, -1, sympy.Rational(1, 4)))):
+        surface, axis = decompose([equation], [X, Y, Z], set(), {})
+        assert off_closure(surface, axis, {}) == proof
+    surface = decompose([X**3 - 3 * X * Y**2 - Y**3 * Z], [X, Y, Z], set(), {})[0]
+    axis = type(surface)(("x = 0", "y = 0"), ((Y, sympy.Integer(0)), (X, sympy.Integer(0))))
+    assert off_closure(surface, axis, {}) is None
 
 
 def test_the_curves_tried_are_counted_and_bounded():
@@ -142,12 +171,12 @@ def test_the_curves_tried_are_counted_and_bounded():
 
 
 def test_a_doubtful_piece_below_a_part_not_observable_leaves_the_rank_open(tmp_path, capsys):
-    """h = (x, z (x**2 + y**2)): rank 2 on the surface of x**2 - x y = y**2 z ((2, 1, 2): rows (1, 0, 0) and
-    (20, 10, 5)), 1 on its doubtful axis ((0, 0, -1): the second row vanishes). NOT observable either way (exit 1),
+    """h = (x, z (x**2 + y**2)): rank 2 on the surface of x**4 - x y**3 = y**4 z ((2, 1, 14): rows (1, 0, 0) and
+    (56, 28, 5)), 1 on its doubtful axis ((0, 0, -1): the second row vanishes). NOT observable either way (exit 1),
     but the set's rank is 2 or 1 depending on whether the axis is a part: undecided (JSON rank null); y and z are
     not observable on the surface, so not on the set; x is undecided."""
     outputs = ("x", "z*(x**2 + y**2)")
-    assert _rank({X: 2, Y: 1, Z: 2}, outputs) == 2 and _rank({X: 0, Y: 0, Z: -1}, outputs) == 1
-    code, answer = _check(tmp_path, capsys, "x**2 - x*y - y**2*z = 0", outputs)
+    assert _rank({X: 2, Y: 1, Z: 14}, outputs) == 2 and _rank({X: 0, Y: 0, Z: -1}, outputs) == 1
+    code, answer = _check(tmp_path, capsys, "x**4 - x*y**3 - y**4*z = 0", outputs)
     assert (code, answer["rank"], answer["observable"]) == (1, None, False)
     assert answer["unobservable_states"] == ["y", "z"] and answer["undecided_states"] == ["x"]

@@ -12,8 +12,9 @@ generic rank is taken on any open subset of them.
   the inner piece's generic point p, or by a sign change of the set's equation
   across p (its docstring and :func:`_by_a_root`'s).
 * :func:`off_closure` proves "off" by an equation of the larger piece's
-  Zariski closure that fails on the inner piece, or by a sign the larger piece
-  keeps (the Whitney umbrella's z = x**2/y**2 >= 0: its handle z < 0 is off).
+  Zariski closure that fails on the inner piece, or by a sign or an exact
+  bound the larger piece keeps (the Whitney umbrella's z = x**2/y**2 >= 0: its
+  handle z < 0 is off; z = (x/y)**2 - x/y >= -1/4: the axis z < -1/4 is off).
 
 Neither proven: the piece is in doubt, and its rank may not decide a verdict
 (:mod:`~observability.analysis.onset`).
@@ -218,7 +219,12 @@ def off_closure(outer, inner, trig):
     inner's points Q is ``level``, free of w, so those with sign * (w - level)
     < 0 are a non-empty open subset of them: the Whitney umbrella's z =
     x**2/y**2 and its axis x = y = 0, off where z < 0; z = x**2/y**2 - y
-    (Q = -y, R = x**2) off the same axis where z < 0."""
+    (Q = -y, R = x**2) off the same axis where z < 0. When R/D keeps no sign
+    but sign * R/D >= sign * b on outer for an exact number b
+    (:func:`_bound_of_a_ratio`), sign * (w - Q - b) >= 0 on outer and its
+    closure, and the same argument holds with ``level`` Q + b at inner's
+    points: z = (x**2 - x y)/y**2 = (x/y)**2 - x/y >= -1/4 (b = -1/4), off
+    the axis x = y = 0 where z < -1/4."""
     at = dict(inner.solution)
     circle = _circle(trig)
     for w, g in outer.solution:
@@ -234,9 +240,51 @@ def off_closure(outer, inner, trig):
         # Every term of N divisible by D's leading term moved into Q (multivariate division).
         (quotient,), remainder = sympy.reduced(numerator, [denominator], *symbols) if symbols else ((0,), numerator)
         sign = one_sign(sympy.expand(remainder)) * one_sign(sympy.expand(denominator))
-        level = sympy.expand(sympy.sympify(quotient).xreplace(at))
+        offset = sympy.Integer(0)
+        if not sign:
+            sign, offset = _bound_of_a_ratio(sympy.expand(remainder), sympy.expand(denominator)) or (0, offset)
+        level = sympy.expand(sympy.sympify(quotient).xreplace(at) + offset)
         if sign and w not in level.free_symbols:
             return (w, sign, level)
+    return None
+
+
+def _bound_of_a_ratio(remainder: sympy.Expr, denominator: sympy.Expr) -> tuple[int, sympy.Expr] | None:
+    """(sign, bound) with sign * R/D >= sign * bound wherever D != 0, proven
+    exactly, or None.
+
+    Case covered: R and D polynomials in two variables a, b alone, D = c
+    b**d (c a rational number) and R homogeneous of degree d. Where D != 0,
+    b != 0 and R(a, b)/D = R(t, 1)/c = P(t) with t = a/b: a polynomial in one
+    ratio. P of even degree with sign * (leading coefficient) > 0 tends to
+    +infinity for sign * P at both ends, so sign * P attains its minimum over
+    the reals at a real root of P'; the roots are
+    sympy's exact real roots of P', and only rational ones are used (the
+    values then exact rationals; an irrational critical point: None, so
+    never a bound not proven), the bound being P at the root that minimises
+    sign * P. P of odd degree (unbounded both ways), constant (the division
+    leaves none) or of degree above :data:`_CLOSURE_SIZE`: None. Example:
+    R = x**2 - x y, D = y**2, P = t**2 - t, P' = 2 t - 1: (1, -1/4), as P +
+    1/4 = (t - 1/2)**2."""
+    variables = sorted(remainder.free_symbols | denominator.free_symbols, key=str)
+    if len(variables) != 2:
+        return None
+    t = sympy.Dummy("t")
+    for a, b in (variables, variables[::-1]):
+        below = sympy.Poly(denominator, a, b)
+        if len(below.terms()) != 1 or below.monoms()[0][0] != 0:
+            continue
+        above = sympy.Poly(remainder, a, b)
+        if not above.is_homogeneous or above.homogeneous_order() != below.monoms()[0][1]:
+            continue
+        p = sympy.Poly(remainder.xreplace({a: t, b: 1}) / below.coeffs()[0], t)
+        if not 0 < p.degree() <= _CLOSURE_SIZE or p.degree() % 2 == 1:
+            return None
+        sign = 1 if p.LC() > 0 else -1
+        critical = sympy.real_roots(p.diff(t))
+        if not all(r.is_Rational for r in critical):
+            return None
+        return sign, min((p.eval(r) for r in critical), key=lambda value: sign * value)
     return None
 
 

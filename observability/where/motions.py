@@ -29,7 +29,7 @@ from .conditions import RankDrop, rank_drops
 from ..directions.find import UnobservableDirection
 from ..directions.symmetry import independent_basis
 from ..engine.taylor import Redraw
-from ..errors import ModelError
+from ..errors import ModelError, UnsolvedSetError, UnsupportedConstructError
 from .restrict import restrict
 from ..model.expressions import parse_expression
 from ..model.system import Motion, System
@@ -116,6 +116,10 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
     ModelError
         A motion whose equations or profiles do not fit the model (named), or
         unknown inputs that may be any function of time (a motion fixes inputs).
+    UnsolvedSetError, UnsupportedConstructError
+        A well-formed motion the tool cannot analyse (a set at ``v = pi``, or
+        ``v**2 = 3`` on a state v): named, and of the same kind as ``check
+        --where`` raises, so that the command line answers undecided (exit 3).
     """
     system.require_known_inputs("the degenerate-motion scan")
     out: list[MotionResult] = []
@@ -123,6 +127,9 @@ def degenerate_motions(system: System, seed: int = 0, motions: list[Motion] | No
     for motion in motions if motions is not None else catalogue(system):
         try:
             restricted, result, drops, note = _analyse(system, motion, seed, conditions, budget)
+        except (UnsolvedSetError, UnsupportedConstructError) as exc:
+            # Well-formed, beyond the tool: the same kind, so that the command line says undecided (exit 3).
+            raise type(exc)(f"motion {motion.name!r}: {exc}") from None
         except ModelError as exc:
             raise ModelError(f"motion {motion.name!r}: {exc}") from None
         if generic is None:
