@@ -90,8 +90,11 @@ class ObservabilityConstrainedEKF(_Base):
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi* P Phi*^T + F_w Q F_w^T."""
         u = self._inputs(u, state.step + 1)
-        x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
-        x_next = self._on_manifold(wrap_angles(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
+        where = f"step {state.step + 1} (prediction)"
+        x_next, F, Fw = self._motion(state.x, u, where=where)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
+        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
         N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
         projected = nearest_with(F, N_k, N_next)
         change, moving = np.abs(projected - F), ~self.static

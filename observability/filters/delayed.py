@@ -57,6 +57,7 @@ import numpy as np
 from .covariance import conditioned
 from .ekf import FilterState
 from .manifolds import wrap_angles
+from . import validation
 from .validation import FilterError
 
 __all__ = ["Clones", "parallax", "triangulate_bearings"]
@@ -148,8 +149,16 @@ class Clones:
                     G: np.ndarray, variance: float) -> tuple[FilterState, Clones]:
         """The ``state`` with the landmark ``slot`` set to ``value``, triangulated from clone ``j`` and
         the current pose with Jacobian ``G`` (2 x 6: clone pose, current pose), each bearing of
-        ``variance`` (module docstring); the clones' cross-covariance with the new slot filled in."""
-        n, c = len(state.x), len(self.z)
+        ``variance`` (module docstring); the clones' cross-covariance with the new slot filled in.
+
+        Raises
+        ------
+        FilterError
+            ``value`` or ``G`` not finite, or the state's covariance after it not positive
+            definite, naming the step."""
+        n, c, where = len(state.x), len(self.z), f"step {state.step} (landmark initialisation)"
+        value = validation.vector(value, "the landmark's value", len(slot), where)
+        validation.jacobians(where, "the linearisation point", **{"triangulation Jacobian G": G})
         joint = np.block([[state.P, self.C], [self.C.T, self.P_ZZ]])
         A = np.eye(n + c)
         A[slot] = 0.0
@@ -161,4 +170,5 @@ class Clones:
         x = state.x.copy()
         x[slot] = value
         new = dataclasses.replace(state, x=x, P=joint[:n, :n])
+        validation.estimate(new.x, new.P, where)
         return new, Clones(self.z, self.points, joint[:n, n:], joint[n:, n:])
