@@ -102,3 +102,22 @@ def test_a_triangulation_jacobian_that_is_not_finite_is_named():
     with pytest.raises(FilterError, match=r"^step 7 \(landmark initialisation\): the triangulation Jacobian G is not "
                                           r"finite at the linearisation point \(entries \(0, 5\)\)$"):
         clones.initialised(state, 0, [0, 1, 2], [3, 4], np.array([1.0, 1.0]), G, 0.01)
+
+
+LINEAR = System(["x", "y"], {"x": "x + v", "y": "y"}, {"h": "x", "g": "y"}, inputs=["v"], time="discrete")
+WITH_N = {
+    "fej": lambda fns, N: FirstEstimatesEKF(fns, Q, R, null_space=N),
+    "huang-oc": lambda fns, N: HuangOCEKF(fns, Q, R, N),
+    "projection-oc": lambda fns, N: ObservabilityConstrainedEKF(fns, Q, R, N),
+}
+
+
+@pytest.mark.parametrize("name", sorted(WITH_N))
+def test_a_null_space_that_is_not_finite_is_named(name):
+    """x+ = x + v (F = I, finite everywhere) with a null space N = (0, NaN) (an analysis's direction
+    evaluated at a pole): the filter names N, not Phi (FEJ said Phi was not finite) and not LAPACK's
+    "SVD did not converge" (the projection OC-EKF's traceback)."""
+    ekf = WITH_N[name](filter_functions(LINEAR, ["v"]), lambda x, p: np.array([[0.0], [np.nan]]))
+    with pytest.raises(FilterError, match=r"^step 1 \(prediction\): the null space N of the analysis is not finite "
+                                          r"at x = \(1, 0\)$"):
+        ekf.predict(ekf.initial([1.0, 0.0], np.eye(2)), [0.5])

@@ -148,8 +148,8 @@ class FirstEstimatesEKF(_Base):
         """Where the filter's linearisation may not keep the analysis's null space, and why."""
         return self.constraint.warnings
 
-    def _N(self, x: np.ndarray) -> np.ndarray:
-        return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
+    def _N(self, x: np.ndarray, where: str = "the null space") -> np.ndarray:
+        return validation.null_space(np.array(self.null_space(x, self.p)).reshape(self.n, -1), x, where)
 
     def _transition(self, posterior: np.ndarray, first: np.ndarray, first_next: np.ndarray, u: np.ndarray, step: int,
                     where: str) -> np.ndarray:
@@ -163,7 +163,7 @@ class FirstEstimatesEKF(_Base):
                 self.constraint.note("carry", step, f"the noise cannot carry the first estimate to the next (residual "
                                                     f"{residual:.1e}): the Jacobian may lose an unobservable direction")
             return Phi
-        N_k, N_next = self._N(first), self._N(first_next)
+        N_k, N_next = self._N(first, where), self._N(first_next, where)
         Phi = kept_transition(Phi, N_k, N_next, ~self.static)
         self.constraint.transition_step(step, Phi, N_k, N_next, ~self.static)
         return Phi
@@ -231,7 +231,8 @@ class FirstEstimatesEKF(_Base):
         validation.jacobians(where, "the linearisation point", **{
             "measurement Jacobian H": H, "measurement Jacobian H_prev (in the previous state)": H_prev})
         if self.null_space is not None:
-            self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
+            self.constraint.measurement_step(state.step, H, self._N(first, where), H_prev,
+                                             self._N(first_prev, where))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
             self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]
