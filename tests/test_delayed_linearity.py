@@ -5,6 +5,8 @@ triangulation with small noise."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from observability.filters.delayed import Clones, linearity_index, triangulate_bearings
@@ -66,12 +68,10 @@ def test_the_point_covariance_is_that_of_the_triangulation_sampled():
 def _waiting(linearity: float):
     """A bearing-only run of the study's bookkeeping (report/slamstudy_delayed.py) for one landmark, the
     robot at (0, 0, 0) with P = 0.01 I: the first bearing pi/4 clones the pose."""
-    import dataclasses as dc
-
     from observability.report.slamstudy_delayed import _Run
     from observability.report.slamstudy_models import STUDIES
 
-    study = dc.replace(STUDIES["slam2d-exploration-bearing"], landmarks=1, linearity=linearity)
+    study = dataclasses.replace(STUDIES["slam2d-exploration-bearing"], landmarks=1, linearity=linearity)
     run = _Run("ekf", None, study, observe=False)
     state = FilterState(np.zeros(5), 0.01 * np.eye(5))
     state = run.sighted(state, [np.pi / 4], np.zeros(5), 0)
@@ -85,7 +85,7 @@ def test_the_bearing_that_decides_is_not_the_one_that_initialises():
     bearing's ray meets the first. Intersection by hand: t (1, 1) = (2, 0) + s (cos c, sin c),
     c = 3 pi/4 + 0.05, so t = 2 sin c / (sin c - cos c)."""
     run, state = _waiting(0.1)
-    moved = dataclasses_replace(state, np.array([2.0, 0.0, 0.0, 0.0, 0.0]))
+    moved = dataclasses.replace(state, x=np.array([2.0, 0.0, 0.0, 0.0, 0.0]))
     after = run.sighted(moved, [3 * np.pi / 4], np.zeros(5), 1)
     assert np.array_equal(after.x, moved.x) and run.pending[0][2] is True
     c = 3 * np.pi / 4 + 0.05
@@ -101,17 +101,11 @@ def test_a_point_not_yet_linear_waits():
     linearity threshold of 1e-4 the index 4 sigma_d / d_2 |cos 1.25| (sigma_d of order 0.1 at P = 0.01 I,
     d_2 = 1.1, |cos| = 0.32: of order 0.1) is above it -- still not ready; with a threshold of 0.5 it is."""
     run, state = _waiting(1e-4)
-    near = dataclasses_replace(state, np.array([0.3, 0.0, 0.0, 0.0, 0.0]))
+    near = dataclasses.replace(state, x=np.array([0.3, 0.0, 0.0, 0.0, 0.0]))
     assert run.sighted(near, [np.arctan2(1.0, 0.7)], np.zeros(5), 1) is near and run.pending[0][2] is False
-    far = dataclasses_replace(state, np.array([1.5, 0.0, 0.0, 0.0, 0.0]))
+    far = dataclasses.replace(state, x=np.array([1.5, 0.0, 0.0, 0.0, 0.0]))
     run.sighted(far, [np.arctan2(1.0, -0.5)], np.zeros(5), 2)
     assert run.pending[0][2] is False
-    run.study = __import__("dataclasses").replace(run.study, linearity=0.5)
+    run.study = dataclasses.replace(run.study, linearity=0.5)
     run.sighted(far, [np.arctan2(1.0, -0.5)], np.zeros(5), 3)
     assert run.pending[0][2] is True
-
-
-def dataclasses_replace(state: FilterState, x: np.ndarray) -> FilterState:
-    import dataclasses as dc
-
-    return dc.replace(state, x=x)
