@@ -24,6 +24,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from . import validation
 from .ekf import FilterState, _symmetric
 
 __all__ = ["augmentation_matrix", "initialise"]
@@ -45,14 +46,25 @@ def initialise(ekf, state: FilterState, slot: Sequence[int], value: np.ndarray, 
     The first estimate of a first-estimates filter, and the prior of the OC-EKF,
     take ``value`` in the slot (``first``: the slot's first estimate instead,
     e.g. the truth for the ideal filter). A filter that records its Jacobians
-    has A folded into its last transition."""
-    slot = list(slot)
+    has A folded into its last transition.
+
+    Raises
+    ------
+    FilterError
+        ``value``, ``G_X`` or ``G_z`` not finite, ``R`` not a covariance, or the
+        covariance after it not positive definite, naming the step."""
+    slot, where = list(slot), f"step {state.step} (landmark initialisation)"
+    value = validation.vector(value, "the landmark's value", len(slot), where)
+    validation.jacobians(where, "the linearisation point", **{"inverse measurement Jacobian G_X": G_X,
+                                                             "inverse measurement Jacobian G_z": G_z})
+    R = validation.covariance(R, "R (the initialising measurement's noise)", np.shape(G_z)[1], where)
     A = augmentation_matrix(len(state.x), slot, G_X)
     x = state.x.copy()
     x[slot] = value
     P = A @ state.P @ A.T
     P[np.ix_(slot, slot)] += G_z @ R @ G_z.T
     changes = {"x": x, "P": _symmetric(P)}
+    validation.estimate(x, changes["P"], where)
     for name, point in (("first", first if first is not None else value), ("prior", value)):
         if getattr(state, name) is not None:
             changed = getattr(state, name).copy()

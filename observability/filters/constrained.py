@@ -84,15 +84,18 @@ class ObservabilityConstrainedEKF(_Base):
         self.record = record
         self.used: list[tuple[str, int, np.ndarray]] = []
 
-    def _N(self, x: np.ndarray) -> np.ndarray:
-        return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
+    def _N(self, x: np.ndarray, where: str = "the null space") -> np.ndarray:
+        return validation.null_space(np.array(self.null_space(x, self.p)).reshape(self.n, -1), x, where)
 
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi* P Phi*^T + F_w Q F_w^T."""
         u = self._inputs(u, state.step + 1)
-        x_next, F, Fw = (np.array(a) for a in self.fn["motion"](state.x, u, self.w0, self.p))
-        x_next = self._on_manifold(wrap_angles(x_next.ravel(), self._state_angles), f"step {state.step + 1} (prediction)")
-        N_k, N_next = self._N(state.prior if state.prior is not None else state.x), self._N(x_next)
+        where = f"step {state.step + 1} (prediction)"
+        x_next, F, Fw = self._motion(state.x, u, where=where)
+        if not np.all(np.isfinite(x_next)):
+            raise FilterError(f"{where}: the state estimate is not finite")
+        x_next = self._on_manifold(wrap_angles(x_next, self._state_angles), where)
+        N_k, N_next = self._N(state.prior if state.prior is not None else state.x, where), self._N(x_next, where)
         projected = nearest_with(F, N_k, N_next)
         change, moving = np.abs(projected - F), ~self.static
         self.block_change.append((state.step + 1, float(np.max(change[self.static], initial=0.0)),
@@ -113,7 +116,7 @@ class ObservabilityConstrainedEKF(_Base):
         where = f"step {state.step} (update)"
         h, H, _ = (np.array(a) for a in self.fn["measurement"](state.x, x_prev, self.p))
         validation.jacobians(where, "the estimate", **{"measurement Jacobian H": H})
-        N = self._N(state.x)
+        N = self._N(state.x, where)
         H = nearest_with(H, N, np.zeros((H.shape[0], N.shape[1])))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
             self.used.append(("H", state.step, H[used]))

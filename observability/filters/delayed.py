@@ -57,9 +57,10 @@ import numpy as np
 from .covariance import conditioned
 from .ekf import FilterState
 from .manifolds import wrap_angles
+from . import validation
 from .validation import FilterError
 
-__all__ = ["Clones", "parallax", "triangulate_bearings"]
+__all__ = ["Clones", "linearity_index", "parallax", "triangulate_bearings"]
 
 
 def triangulate_bearings(p_1: np.ndarray, a_1: float, p_2: np.ndarray, a_2: float) -> tuple[np.ndarray, np.ndarray,
@@ -88,6 +89,28 @@ def triangulate_bearings(p_1: np.ndarray, a_1: float, p_2: np.ndarray, a_2: floa
 def parallax(a_1: float, a_2: float) -> float:
     """|a_2 - a_1| wrapped to [0, pi]: the angle between the two rays."""
     return float(abs(wrap_angles(np.array([a_2 - a_1]), [True])[0]))
+
+
+def linearity_index(a_1: float, a_2: float, rho: np.ndarray, covariance: np.ndarray) -> float:
+    """Civera, Davison & Montiel's linearity index of a Euclidean point (IEEE T-RO 24(5), 2008,
+    expression (15); as in Sola's SLAM toolbox, slamtb ``xyzLinTest.m``):
+    L = 4 (sigma_d / d_2) |cos alpha|, with sigma_d the standard deviation of the triangulated
+    point along the first ray (its depth there), d_2 = ``rho[1]`` its distance from the second
+    pose, alpha = a_2 - a_1 the angle between the rays, ``covariance`` the point's (2 x 2,
+    linearised).
+
+    What it measures (Civera et al., sec. VI): the point seen from the second pose, as a
+    function of its depth along the first ray, over the +-2 sigma_d interval, the size of the
+    second-order term against the first; they take a point as linear enough for a Euclidean
+    (Gaussian) coding below L = 0.1. A heuristic bound, not a proof of Gaussianity."""
+    u_1 = np.array([np.cos(a_1), np.sin(a_1)])
+    sigma_d = float(np.sqrt(max(u_1 @ covariance @ u_1, 0.0)))
+    return 4.0 * sigma_d / float(rho[1]) * abs(np.cos(a_2 - a_1))
+
+
+def _bearings_noise(G: np.ndarray, variance: float) -> np.ndarray:
+    """The two bearings' independent noise in the triangulated point: columns 2 and 5 of G."""
+    return variance * (np.outer(G[:, 2], G[:, 2]) + np.outer(G[:, 5], G[:, 5]))
 
 
 @dataclass(frozen=True, eq=False)  # array fields: equality by identity
@@ -144,21 +167,38 @@ class Clones:
         z = self.z + L.T @ wrap_angles(posterior.x - prior.x, angles)
         return Clones(z, self.points, C, 0.5 * (P_ZZ + P_ZZ.T))
 
+    def point_covariance(self, state: FilterState, j: int, pose: list[int], G: np.ndarray, variance: float) -> np.ndarray:
+        """The linearised covariance (2 x 2) of the point triangulated from clone ``j`` and the current
+        ``pose`` with Jacobian ``G``, each bearing of ``variance``: the slot block of :meth:`initialised`."""
+        columns = slice(3 * j, 3 * j + 3)
+        cross = self.C[pose, columns]  # cov(x_pose, z_j)
+        poses = np.block([[self.P_ZZ[columns, columns], cross.T], [cross, state.P[np.ix_(pose, pose)]]])
+        return G @ poses @ G.T + _bearings_noise(G, variance)
+
     def initialised(self, state: FilterState, j: int, pose: list[int], slot: list[int], value: np.ndarray,
                     G: np.ndarray, variance: float) -> tuple[FilterState, Clones]:
         """The ``state`` with the landmark ``slot`` set to ``value``, triangulated from clone ``j`` and
         the current pose with Jacobian ``G`` (2 x 6: clone pose, current pose), each bearing of
-        ``variance`` (module docstring); the clones' cross-covariance with the new slot filled in."""
-        n, c = len(state.x), len(self.z)
+        ``variance`` (module docstring); the clones' cross-covariance with the new slot filled in.
+
+        Raises
+        ------
+        FilterError
+            ``value`` or ``G`` not finite, or the state's covariance after it not positive
+            definite, naming the step."""
+        n, c, where = len(state.x), len(self.z), f"step {state.step} (landmark initialisation)"
+        value = validation.vector(value, "the landmark's value", len(slot), where)
+        validation.jacobians(where, "the linearisation point", **{"triangulation Jacobian G": G})
         joint = np.block([[state.P, self.C], [self.C.T, self.P_ZZ]])
         A = np.eye(n + c)
         A[slot] = 0.0
         A[np.ix_(slot, pose)] = G[:, 3:]
         A[np.ix_(slot, range(n + 3 * j, n + 3 * j + 3))] = G[:, :3]
         joint = A @ joint @ A.T
-        joint[np.ix_(slot, slot)] += variance * (np.outer(G[:, 2], G[:, 2]) + np.outer(G[:, 5], G[:, 5]))
+        joint[np.ix_(slot, slot)] += _bearings_noise(G, variance)
         joint = 0.5 * (joint + joint.T)
         x = state.x.copy()
         x[slot] = value
         new = dataclasses.replace(state, x=x, P=joint[:n, :n])
+        validation.estimate(new.x, new.P, where)
         return new, Clones(self.z, self.points, joint[:n, n:], joint[n:, n:])

@@ -77,7 +77,7 @@ from . import covariance, validation
 from .ekf import FilterError, FilterState, Update, _Base, _quiet
 from .manifolds import wrap_angles
 
-__all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states"]
+__all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states", "transition_checked"]
 
 #: Gauss-Newton steps for the noise carrying x̄_k to x̄_k+1, and the residual at which it stops.
 CARRY_STEPS, CARRY_TOLERANCE = 20, 1e-12
@@ -95,6 +95,14 @@ def static_states(functions: FilterFunctions) -> np.ndarray:
     arguments = f.sx_in()
     x, x_next = arguments[0], f.call(arguments)[0]
     return np.array([casadi.is_equal(x_next[i], x[i], 1) for i in range(x.shape[0])], dtype=bool)
+
+
+def transition_checked(Phi: np.ndarray, where: str) -> None:
+    """Refuse a transition Phi with an entry that is not finite: F_X at a first estimate (or the
+    truth) can be at a pole of the model where the estimate is not (sqrt(x) at a first estimate
+    x = 0 while the estimate has moved on), and P = Phi P Phi^T would then be refused later as
+    a covariance that is not finite, without saying why."""
+    validation.jacobians(where, "the linearisation point", **{"motion Jacobian Phi (the transition)": Phi})
 
 
 class FirstEstimatesEKF(_Base):
@@ -140,8 +148,8 @@ class FirstEstimatesEKF(_Base):
         """Where the filter's linearisation may not keep the analysis's null space, and why."""
         return self.constraint.warnings
 
-    def _N(self, x: np.ndarray) -> np.ndarray:
-        return np.array(self.null_space(x, self.p)).reshape(self.n, -1)
+    def _N(self, x: np.ndarray, where: str = "the null space") -> np.ndarray:
+        return validation.null_space(np.array(self.null_space(x, self.p)).reshape(self.n, -1), x, where)
 
     def _transition(self, posterior: np.ndarray, first: np.ndarray, first_next: np.ndarray, u: np.ndarray, step: int,
                     where: str) -> np.ndarray:
@@ -155,7 +163,7 @@ class FirstEstimatesEKF(_Base):
                 self.constraint.note("carry", step, f"the noise cannot carry the first estimate to the next (residual "
                                                     f"{residual:.1e}): the Jacobian may lose an unobservable direction")
             return Phi
-        N_k, N_next = self._N(first), self._N(first_next)
+        N_k, N_next = self._N(first, where), self._N(first_next, where)
         Phi = kept_transition(Phi, N_k, N_next, ~self.static)
         self.constraint.transition_step(step, Phi, N_k, N_next, ~self.static)
         return Phi
@@ -179,10 +187,11 @@ class FirstEstimatesEKF(_Base):
 
     def _propagated(self, state: FilterState, u: Sequence[float]) -> tuple[np.ndarray, str, np.ndarray, np.ndarray,
                                                                            np.ndarray]:
-        """The checked input, the step's name, and f, F_X, F_w at the posterior (f wrapped and retracted)."""
+        """The checked input, the step's name, and f, F_X, F_w at the posterior (f wrapped and retracted;
+        F_X and F_w refused unless finite)."""
         u = self._inputs(u, state.step + 1)
         where = f"step {state.step + 1} (prediction)"
-        x_next, F, Fw = self._motion(state.x, u)
+        x_next, F, Fw = self._motion(state.x, u, where=where)
         if not np.all(np.isfinite(x_next)):
             raise FilterError(f"{where}: the state estimate is not finite")
         return u, where, self._on_manifold(wrap_angles(x_next, self._state_angles), where), F, Fw
@@ -194,6 +203,7 @@ class FirstEstimatesEKF(_Base):
         first = state.first if state.first is not None else state.x
         first_next = self._point(state.step + 1, x_next, first)
         Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
+        transition_checked(Phi, where)
         if self.record:
             self.used.append(("F", state.step, Phi))
         P = covariance.propagated(state.P, Phi, Fw, self.Q)
@@ -221,7 +231,8 @@ class FirstEstimatesEKF(_Base):
         validation.jacobians(where, "the linearisation point", **{
             "measurement Jacobian H": H, "measurement Jacobian H_prev (in the previous state)": H_prev})
         if self.null_space is not None:
-            self.constraint.measurement_step(state.step, H, self._N(first), H_prev, self._N(first_prev))
+            self.constraint.measurement_step(state.step, H, self._N(first, where), H_prev,
+                                             self._N(first_prev, where))
         if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
             self.used.append(("H", state.step, H[used]))
         H, W = H[used], self.R[np.ix_(used, used)]

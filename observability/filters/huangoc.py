@@ -79,7 +79,7 @@ class HuangOCEKF(FirstEstimatesEKF):
                     where: str) -> np.ndarray:
         """Phi_k: F_X at the posterior, its moving block kept on N (module docstring)."""
         _, Phi, _ = self._motion(posterior, u)
-        N_k, N_next = self._N(first), self._N(first_next)
+        N_k, N_next = self._N(first, where), self._N(first_next, where)
         Phi = kept_transition(Phi, N_k, N_next, ~self.static)
         self.constraint.transition_step(step, Phi, N_k, N_next, ~self.static)
         return Phi

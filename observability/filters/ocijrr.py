@@ -146,7 +146,7 @@ class Huang2010OCEKF(FirstEstimatesEKF):
         Phi[:2, 2] = J @ (x_next[:2] - p_star)
         point_next = np.r_[x_next[:2] + shift + prior[:2] - p_star, x_next[2], point[3:]]
         if self.null_space is not None:
-            N_k, N_next = self._N(point), self._N(point_next)
+            N_k, N_next = self._N(point, where), self._N(point_next, where)
             self.constraint.transition_step(state.step + 1, Phi, N_k, N_next, ~self.static)
         if self.record:
             self.used.append(("F", state.step, Phi))
@@ -170,7 +170,8 @@ class Huang2010OCEKF(FirstEstimatesEKF):
         new = initialise(self, state, slot, value, G_X, G_z, R, first=value + point[:2] - state.x[:2])  # + dp*_k
         if self.null_space is not None:
             A = augmentation_matrix(self.n, slot, G_X)
-            self.constraint.transition_step(state.step, A, self._N(point), self._N(new.first), ~self.static)
+            self.constraint.transition_step(state.step, A, self._N(point, where), self._N(new.first, where),
+                                            ~self.static)
         return new
 
     def _linearised_measurement(self, x: np.ndarray, x_prev: np.ndarray, first: np.ndarray,

@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import ObservabilityError
 
 __all__ = ["FilterError", "SYMMETRY_TOLERANCE", "covariance", "vector", "measurement", "estimate", "jacobians",
-           "innovation"]
+           "innovation", "null_space"]
 
 #: A matrix is symmetric when |M - M^T| <= SYMMETRY_TOLERANCE * max(1, |M|_max).
 SYMMETRY_TOLERANCE = 1e-9
@@ -132,6 +132,16 @@ def jacobians(where: str, at: str, **named: np.ndarray) -> None:
         if bad.size:
             entries = ", ".join(f"({', '.join(map(str, e))})" for e in bad[:4]) + (", ..." if len(bad) > 4 else "")
             raise FilterError(f"{where}: the {name} is not finite at {at} (entries {entries})")
+
+
+def null_space(N: np.ndarray, x: np.ndarray, where: str) -> np.ndarray:
+    """``N`` (the analysis's null space evaluated at ``x``) unless an entry is not finite: the
+    projections and least-squares solves built on it fail inside LAPACK ("SVD did not converge")
+    or spread NaN into Phi and H, where the fault would be named as theirs."""
+    if not np.all(np.isfinite(N)):
+        shown = ", ".join(f"{v:.3g}" for v in x[:6]) + (", ..." if len(x) > 6 else "")
+        raise FilterError(f"{where}: the null space N of the analysis is not finite at x = ({shown})")
+    return N
 
 
 def innovation(nu: np.ndarray, S: np.ndarray, where: str) -> None:

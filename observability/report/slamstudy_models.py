@@ -66,6 +66,9 @@ class SlamStudy:
     #: with bearings only, once a later bearing's ray makes ``parallax`` (rad) with the first one.
     sensor_range: float = 0.0
     parallax: float = 0.35
+    #: ... and, when positive, once Civera et al.'s linearity index of the triangulated point is at most this
+    #: (:func:`observability.filters.delayed.linearity_index`; 0: the parallax alone decides).
+    linearity: float = 0.0
 
     def __post_init__(self) -> None:
         if self.runs < 2:
@@ -121,7 +124,7 @@ STUDIES = {
     "slam2d-vio": SlamStudy(name="slam2d-vio", noise_form="vio", steps=200),
     "slam2d-exploration": SlamStudy(name="slam2d-exploration", sensor_range=3.0, window=90),
     "slam2d-exploration-bearing": SlamStudy(name="slam2d-exploration-bearing", bearing_only=True, sensor_range=3.0,
-                                            window=90),
+                                            window=90, linearity=0.1),
 }
 
 

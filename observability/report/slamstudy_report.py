@@ -90,9 +90,13 @@ def _page(result: SlamStudyResult) -> str:
         f"(range {s.sigma_range} m, bearing {s.sigma_bearing} rad) at every step; {s.steps} steps, {s.runs} Monte "
         f"Carlo runs, seed {s.seed}. "
         + (f"Landmarks are seen within {s.sensor_range} m only; at its first bearing the pose is cloned beside the "
-           f"state, and the landmark enters it when a later bearing's ray makes {s.parallax} rad with the first, "
-           "triangulated from the two (the covariance of the linearised triangulation and its correlation with the "
-           "state; neither bearing used in an update); landmark NEES is over those entered so far. "
+           f"state; once a later bearing's ray makes {s.parallax} rad with the first"
+           + (f" and the two-ray point's linearity index (Civera et al. 2008) is at most {s.linearity:g}"
+              if s.linearity else "")
+           + ", the landmark is triangulated from the first bearing and the next one (the bearing that decided is "
+           "not used: its noise would choose the moment) and enters the state (the covariance of the linearised "
+           "triangulation and its correlation with the state; no bearing of a waiting landmark used in an update); "
+           "landmark NEES is over those entered so far. "
            if s.sensor_range > 0 and s.bearing_only else
            f"Landmarks are seen within {s.sensor_range} m only and each enters the state at its first sight, "
            "from that range and bearing (the covariance of the inversion and its correlation with the pose); "
