@@ -88,10 +88,13 @@ def test_a_motion_lists_only_directions_independent_of_the_generic_ones():
 def test_turning_away_regains_the_direction_lost_driving_at_the_landmark(tmp_path, capsys):
     """Issue 62 item 4, the user's run: 2 s straight at the landmark (5, 0)
     from the origin, then turning (w = 1). Window ranks from the exact
-    reference: 1, 1, 2, 2. The zero-input motion's one direction (at x: it is
-    (x, 0, 0, lx, ly - y)) is in the null space of the straight windows (cosine
-    1) and, in the third, has the cosine of its projection on the generic span
-    at (2, 0, 0, 5, 0), computed exactly here; only the straight windows print it."""
+    reference: 1, 1, 2, 2. The zero-input motion's one direction (the landmark
+    scaled about the robot, (0, 0, 0, lx - x, ly - y): the earlier representative
+    (x, 0, 0, lx, ly - y) less the translation x (1, 0, 0, 1, 0), named since
+    2026-12-08) is in the null space of the straight windows (cosine 1) and, in
+    the third, has the cosine of its projection on the generic span at
+    (2, 0, 0, 5, 0), computed exactly here (1/sqrt 2); only the straight windows
+    print it."""
     model = _file(tmp_path, "uni.toml", UNICYCLE_TOML)
     inputs = _file(tmp_path, "turn.csv", "t,v,w\n0,1,0\n2,1,1\n")
     argv = ["trajectory", model, "--initial", "x=0,y=0,th=0,lx=5,ly=0", "--inputs-csv", inputs, "--duration", "4",
@@ -104,7 +107,7 @@ def test_turning_away_regains_the_direction_lost_driving_at_the_landmark(tmp_pat
     assert [w["rank"] for w in windows] == reference == [1, 1, 2, 2]
     cosines = [[a["cosine"] for a in w["in_null_space"] if a["motion"] == "zero inputs"] for w in windows]
     assert all(len(c) == 1 for c in cosines)
-    at = sympy.Matrix([2, 0, 0, 5, 0])
+    at = sympy.Matrix([0, 0, 0, 5 - 2, 0 - 0])  # (0, 0, 0, lx - x, ly - y) at (2, 0, 0, 5, 0)
     span = sympy.Matrix([[1, 0, 0, 1, 0], [0, 1, 0, 0, 1], [0, -2, -1, 0, -5]]).T
     projection = span * (span.T * span).inv() * span.T * at
     assert cosines[0][0] > 0.999 and cosines[1][0] > 0.999
