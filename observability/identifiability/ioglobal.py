@@ -52,6 +52,7 @@ from typing import Any
 import flint
 import sympy
 
+from ..engine.fractions import RationalFunctions
 from .membership import contained, exact_rank, rank_mod_prime, sampling_range
 from .ioequation import IO_PRIME, InputOutputEquation, _Ring, _solution, input_output_equation
 from .ioseries import evaluate_series, quotient
@@ -347,14 +348,21 @@ def _point_off_denominators(denominators: Sequence[sympy.Expr], coordinates: Seq
 
 def _jacobian_at(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinates: Sequence[sympy.Symbol],
                 point: dict) -> list[list[sympy.Expr]]:
-    """The Jacobian of the n / d at ``point`` by the quotient rule, on sympy's Poly (as
-    expressions, differentiating SIWR's 249 ratios took 26 s), each denominator's value
-    and gradient taken once (the ratios share one)."""
-    values = [point[c] for c in coordinates]
+    """The Jacobian of the n / d at ``point`` by the quotient rule, each n and d evaluated with its
+    gradient as a FLINT polynomial (as expressions, differentiating SIWR's 249 ratios took 26 s; on
+    sympy's Poly, converting and evaluating PK2's took most of the constants' test), each
+    denominator's value and gradient taken once (the ratios share one)."""
+    field = RationalFunctions(list(coordinates))
+    values = [flint.fmpq(int(point[c].p), int(point[c].q)) for c in coordinates]
+
+    def exact(value: Any) -> sympy.Rational:
+        return sympy.Rational(int(value.p), int(value.q))
 
     def at(expr: sympy.Expr) -> tuple:
-        poly = sympy.Poly(expr, *coordinates)
-        return poly(*values), [poly.diff(c)(*values) for c in coordinates]
+        top, bottom = field.of(expr)
+        t0, b0 = top(*values), bottom(*values)
+        return exact(t0 / b0), [exact((top.derivative(i)(*values) * b0 - t0 * bottom.derivative(i)(*values)) / b0**2)
+                                for i in range(len(values))]
 
     denominators = {d: at(d) for d in dict.fromkeys(d for _, d in generators)}
     rows = []
