@@ -360,9 +360,9 @@ def _jacobian_at(generators: Sequence[tuple[sympy.Expr, sympy.Expr]], coordinate
 
     def at(expr: sympy.Expr) -> tuple:
         top, bottom = field.of(expr)
-        t0, b0 = top(*values), bottom(*values)
-        return exact(t0 / b0), [exact((top.derivative(i)(*values) * b0 - t0 * bottom.derivative(i)(*values)) / b0**2)
-                                for i in range(len(values))]
+        if not bottom.is_constant():  # monic: 1 for a polynomial with rational coefficients
+            raise sympy.PolynomialError(f"not a polynomial: {expr}")
+        return exact(top(*values)), [exact(top.derivative(i)(*values)) for i in range(len(values))]
 
     denominators = {d: at(d) for d in dict.fromkeys(d for _, d in generators)}
     rows = []
