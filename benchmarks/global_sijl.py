@@ -23,6 +23,7 @@ says how far apart the two are, not which is faster.
 
 from __future__ import annotations
 
+import math
 import os
 import resource
 import sys
@@ -48,8 +49,9 @@ def _cpu() -> float:
                                                  resource.getrusage(resource.RUSAGE_CHILDREN)))
 
 
-def row(folder: Path, budget: float, decided: list[str]) -> str:
-    """One model's line of the table; its name joins ``decided`` when no name is left undecided."""
+def row(folder: Path, budget: float, decided: list[str], totals: list[float]) -> str:
+    """One model's line of the table; its name joins ``decided`` when no name is left undecided, and
+    our CPU time and SI.jl's stored time (where stored) join ``totals``."""
     name = folder.name
     system = parse_si_model((folder / f"{name}.jl").read_text(), str(folder), name=name)
     result = analyze(system, seed=1, directions=False)
@@ -59,6 +61,8 @@ def row(folder: Path, budget: float, decided: list[str]) -> str:
     field = "-" if answer.field is None else ("yes" if answer.field.generates else "?")
     if not answer.undecided:
         decided.append(name)
+    totals[0] += cpu
+    totals[1] += 0.0 if math.isnan(si_seconds(folder)) else si_seconds(folder)  # none stored: SEUIR, NFkB
     check = against_field(folder, system, answer.globally, answer.only_locally, budget)
     # The exit code `check --global` gives for this answer (0 every name global, 1 some not, 3 undecided).
     code = {True: 0, False: 1, None: 3}[replace(result, global_answer=answer).globally_observable]
@@ -70,10 +74,13 @@ def row(folder: Path, budget: float, decided: list[str]) -> str:
 def main(argv: list[str]) -> int:
     folders, budget = arguments(argv, __doc__.splitlines()[0], TIMINGS, 60.0, "CPU seconds for the global step")
     decided: list[str] = []
+    seconds = [0.0, 0.0]
     print(f"load average at the start: {os.getloadavg()[0]:.1f} (cores: {os.cpu_count()})", flush=True)
     print_table("model | n | rank | global | only local | undecided | field generated | exit | ours s (wall) | ours s (CPU) "
-                "| SI.jl s | against SI.jl's field", folders, budget, partial(row, decided=decided))
-    print(f"\nevery name decided: {len(decided)} of {len(folders)} models", flush=True)
+                "| SI.jl s | against SI.jl's field", folders, budget, partial(row, decided=decided, totals=seconds))
+    print(f"\nevery name decided: {len(decided)} of {len(folders)} models ({', '.join(decided)})", flush=True)
+    print(f"CPU of the global steps in all: ours {seconds[0]:.1f} s; SI.jl's stored times {seconds[1]:.1f} s "
+          "(its machine)", flush=True)
     print(f"load average at the end: {os.getloadavg()[0]:.1f}", flush=True)
     return 0
 

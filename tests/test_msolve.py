@@ -99,3 +99,13 @@ def test_the_fake_engines_leave_no_file(tmp_path):
     msolve.basis(SYSTEM, 2, 0, 5, _engine(tmp_path, "exit 1"))
     after = set(os.listdir(os.environ.get("TMPDIR", "/tmp")))
     assert not {name for name in after - before if name.startswith("observability-msolve-")}
+
+
+@INSTALLED
+def test_coefficients_past_a_machine_word_are_reduced_modulo_the_prime():
+    """x - (p + 3) 2^40 y, y^2 - 4 modulo p = 2147483629: (p + 3) 2^40 = 3 * 2^40 (mod p), so the
+    reduced basis is x - (3 * 2^40 mod p) y, y^2 - 4, with coefficients in [0, p). msolve itself
+    misreads the 72-bit coefficient (it gave x + 2147482907 y), so it is reduced before msolve."""
+    p = 2147483629
+    found = msolve.basis([{(1, 0): 1, (0, 1): -(p + 3) * 2**40}, {(0, 2): 1, (0, 0): -4}], 2, p, 10)
+    assert found == [{(1, 0): 1, (0, 1): -(3 * 2**40) % p}, {(0, 2): 1, (0, 0): p - 4}]

