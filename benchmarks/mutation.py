@@ -18,6 +18,8 @@ picks the tests that run it.
 
 from __future__ import annotations
 
+import ast
+import fnmatch
 import subprocess
 import sys
 import tempfile
@@ -65,7 +67,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
-                        ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
+                        ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py",
+                         "tests/test_filter_nonfinite.py"]),
     "global": (["observability/identifiability/uniqueness.py", "observability/identifiability/truncation.py", "observability/identifiability/mirrors.py",
                 "observability/identifiability/fibre.py",
                 "observability/identifiability/rationalmodel.py",
@@ -919,7 +922,16 @@ EQUIVALENT: dict[str, str] = {
 }
 
 
-def _configuration(modules: list[str], tests: list[str]) -> str:
+#: mutmut's statuses (`mutmut results --all true`) -> the category reported: a timeout is its own (not
+#: killed: it may be a slow run on a loaded machine as well as a mutant that loops) until a re-run with a
+#: larger budget kills it; SIGKILL after the CPU limit shows as "segfault" and is re-run with the timeouts.
+CATEGORY = {"killed": "killed", "caught by type check": "killed", "timeout": "timeout", "segfault": "timeout",
+            "survived": "survived", "no tests": "survived"}
+#: The CPU budget of a timed-out mutant's re-run, as mutmut's timeout_multiplier (the first run's is 4).
+RERUN_MULTIPLIER = 16.0
+
+
+def _configuration(modules: list[str], tests: list[str], multiplier: float = 4.0) -> str:
     listing = lambda items: "[" + ", ".join(f'"{i}"' for i in items) + "]"  # noqa: E731 - a one-line formatter
     return (
         "\n[tool.mutmut]\n"
@@ -929,41 +941,105 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
         'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider", "-m", "not fresh_interpreter"]\n'
         # mutmut's CPU limit per mutant is 2 x multiplier x (the tests' time + 1 s); its default multiplier, 15,
         # lets a mutant that loops forever (a Groebner basis that never closes) run for minutes.
-        'timeout_multiplier = 4.0\n'
+        f"timeout_multiplier = {multiplier}\n"
         f"pytest_add_cli_args_test_selection = {listing(tests)}\n"
     )
 
 
+def decorated(modules: list[str]) -> list[str]:
+    """The functions of ``modules`` mutmut does not mutate: it skips every decorated function but a
+    staticmethod or classmethod (mutmut/mutation/file_mutation.py), so a test of these kills nothing."""
+    found = []
+    for module in modules:
+        for node in ast.walk(ast.parse((ROOT / module).read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.decorator_list and not (
+                    len(node.decorator_list) == 1 and isinstance(node.decorator_list[0], ast.Name)
+                    and node.decorator_list[0].id in ("staticmethod", "classmethod")):
+                found.append(f"{module}:{node.lineno} {node.name}")
+    return found
+
+
+def _mutmut(clone: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "mutmut", *args], cwd=clone, capture_output=True, text=True)
+
+
+def _failure(ran: subprocess.CompletedProcess) -> str:
+    """mutmut's error without its spinner: the lines of the traceback's end (an assertion's message
+    lists every name given, so it is cut)."""
+    lines = [line for line in (ran.stdout + "\n" + ran.stderr).splitlines()
+             if line.strip() and not any(c in line for c in "⠋⠙⠹⠸⠼⠴⠦⠧⠇⠏")]
+    text = "\n".join(line[:300] for line in lines[-12:])
+    if "nothing matches" in text:
+        text += ("\n(no mutant has any of the --only names: mutmut names them after a run without --only, and "
+                 "does not mutate decorated functions)")
+    return text
+
+
+def _statuses(clone: Path, only: list[str] | None) -> dict[str, str]:
+    """Each mutant run (those of ``only`` when given) -> mutmut's status."""
+    statuses = {}
+    for line in _mutmut(clone, "results", "--all", "true").stdout.splitlines():
+        if ":" in line:
+            name, status = (part.strip() for part in line.rsplit(":", 1))
+            if only is None or name in only or any(fnmatch.fnmatch(name, pattern) for pattern in only):
+                statuses[name] = status
+    return statuses
+
+
 def run(group: str, only: list[str] | None = None, children: int = 1) -> int:
     """Mutate ``group``'s modules (``only``: just the mutants of these names, e.g. the
-    survivors of an earlier run, checked again after new tests)."""
+    survivors of an earlier run, checked again after new tests). Timed-out mutants are
+    run again with RERUN_MULTIPLIER; those that time out again are reported as such,
+    not as killed. Returns the number of survivors not listed in EQUIVALENT plus the
+    timeouts left."""
     modules, tests = GROUPS[group]
+    for function in decorated(modules):
+        print(f"## {group}: not mutated (decorated): {function}")
     with tempfile.TemporaryDirectory(prefix=f"mutation-{group}-") as tmp:
         clone = Path(tmp) / "repo"
         subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
-        with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
-            handle.write(_configuration(modules, tests))
-        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(children), *(only or [])], cwd=clone,
-                             capture_output=True, text=True)
+        configuration = (clone / "pyproject.toml").read_text(encoding="utf-8")
+        (clone / "pyproject.toml").write_text(configuration + _configuration(modules, tests), encoding="utf-8")
+        ran = _mutmut(clone, "run", "--max-children", str(children), *(only or []))
         if ran.returncode != 0:
-            print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
+            print(f"## {group}: mutmut failed\n{_failure(ran)}")
             return 1
-        results = subprocess.run([sys.executable, "-m", "mutmut", "results", "--all", "true"], cwd=clone,
-                                 capture_output=True, text=True).stdout
-        counts: dict[str, int] = {}
-        for line in results.splitlines():
-            if ":" in line:
-                status = line.rsplit(":", 1)[1].strip()
-                counts[status] = counts.get(status, 0) + 1
-        print(f"## {group}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
-        survivors = [line.split(":")[0].strip() for line in results.splitlines() if line.strip().endswith("survived")]
-        print(f"## {group}: {', '.join(modules)}")
-        print("\n".join(line for line in results.splitlines() if not line.strip().endswith("killed")))
-        for name in survivors:
-            diff = subprocess.run([sys.executable, "-m", "mutmut", "show", name], cwd=clone, capture_output=True,
-                                  text=True).stdout
-            print(diff + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
-        return sum(name not in EQUIVALENT for name in survivors)
+        statuses = _statuses(clone, only)
+        timeouts = [name for name, status in statuses.items() if CATEGORY.get(status) == "timeout"]
+        if timeouts:  # mutmut re-runs only the timeouts when only the budget changed
+            (clone / "pyproject.toml").write_text(configuration + _configuration(modules, tests, RERUN_MULTIPLIER),
+                                                  encoding="utf-8")
+            again = _mutmut(clone, "run", "--max-children", str(children), *timeouts)
+            if again.returncode != 0:
+                print(f"## {group}: mutmut failed on the timeouts' re-run\n{_failure(again)}")
+                return 1
+            rerun = _statuses(clone, timeouts)
+            print(f"## {group}: {len(timeouts)} timeouts re-run with timeout_multiplier {RERUN_MULTIPLIER}: "
+                  f"{sum(CATEGORY.get(s) == 'killed' for s in rerun.values())} killed")
+            statuses.update(rerun)
+        return _report(group, modules, clone, statuses)
+
+
+def _report(group: str, modules: list[str], clone: Path, statuses: dict[str, str]) -> int:
+    counts: dict[str, int] = {}
+    for status in statuses.values():
+        category = CATEGORY.get(status, status)
+        counts[category] = counts.get(category, 0) + 1
+    print(f"## {group}: {len(statuses)} mutants run: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    print(f"## {group}: {', '.join(modules)}")
+    for name, status in statuses.items():
+        if CATEGORY.get(status) != "killed":
+            print(f"    {name}: {status}" + (" (equivalent)" if name in EQUIVALENT else ""))
+    unexplained = 0
+    for name, status in statuses.items():
+        category = CATEGORY.get(status, status)
+        if category == "killed":
+            continue
+        print(f"# {name}: {status}\n" + _mutmut(clone, "show", name).stdout
+              + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
+        unexplained += category == "timeout" or name not in EQUIVALENT
+    print(f"## {group}: unexplained (survivors not listed as equivalent, timeouts, others): {unexplained}")
+    return unexplained
 
 
 def main(argv: list[str]) -> int:
