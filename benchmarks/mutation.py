@@ -59,6 +59,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "observability/rank/proofbound.py"],
                        ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_regions.py",
                         "tests/test_proof_audit.py"]),
+    # The claim regions against their own tests (issue 68: survivors and timeouts re-run with --only).
+    "regions": (["observability/rank/proofregion.py"], ["tests/test_proof_regions.py"]),
     # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
     # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
     "checker-read": (["observability/rank/proofread.py"],
@@ -913,6 +915,24 @@ EQUIVALENT: dict[str, str] = {
         "how many steps are held at once (a memory bound): it only groups the windows and splits a long one into "
         "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
         "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),
+    }.items() for name, numbers in names for k in numbers},
+    # The checker's claim regions (rank/proofregion.py, issue 68, 2026-12-07 fourth session: 204 mutants, 182
+    # killed, 22 survivors; 11 killed by tests added to test_proof_regions.py on 2026-12-08, each applied by hand;
+    # these 11 equivalent). Every expression unproven() reads is built by proofread with sympy's evaluation on.
+    **{f"observability.rank.proofregion.{name}__mutmut_{k}": why for why, names in {
+        "an integer exponent > 0 or >= 1 for >= 0: they differ only at exponent 0, and sympy evaluates b**0 to 1 "
+        "when the expression is built, so no Pow with exponent 0 is ever read": (("x__shape", (20, 21)),
+                                                                               ("x__degree", (12, 13))),
+        "float('INF') is inf as float('inf') is": (("x__degree", (19,)),),
+        "a rational >= 0 counted positive: 0 never reaches _positive (sympy drops 0 from an Add's terms, "
+        "evaluates a Mul with a factor 0 to 0, and 0**e, sqrt(0) and log(0) to numbers, so no root's argument, "
+        "term, factor or base is the number 0)": (("x__positive", (2,)),),
+        "the argument's shape read without the time: the line before returns for an argument holding a function "
+        "with branches, and _shape reads the time only through one (a log or rational power with a name in it)":
+            (("x__admissible", (5,)),),
+        "sympy.zeros(m, None) and sympy.zeros(m) are m x m, as zeros(m, m)": (("x__quadratic", (28, 29, 30)),),
+        "= for += on the Gram matrix: each monomial of degree <= 2 (x_i x_j with i <= j, x_i, 1) fills its own "
+        "entry (i, j) with i <= j, once, from 0": (("x__quadratic", (42,)),),
     }.items() for name, numbers in names for k in numbers},
     # first-estimates, partial run of 2026-12-07 (67 of 243 mutants: 66 killed, this one survivor); the run with
     # --only of the 79 mutants not in the full run (_transition 26-51, _N, _linearised_measurement, IdealEKF):
