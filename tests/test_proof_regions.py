@@ -136,7 +136,9 @@ def test_only_quadratics_with_rational_coefficients_written_below_degree_three_a
     sqrt(2) x + 1 > 0 is a half-line, so both sets are in fact connected; the
     checker does not read them and keeps the claim to the region, cautious, not
     wrong. The mutants reading degree 3 (_quadratic 10) or any coefficient domain
-    (13, 16) would call both the whole domain."""
+    (13, 16) would call both the whole domain, and so would those that misread the
+    tree's degree (_degree 3: a name of degree 0; 14: a power dividing it; _quadratic
+    6: either bound alone enough), which timed out on (x + y + z)^1000 before."""
     x = sympy.Symbol("x")
     assert sympy.expand((x + 1) ** 3 - x**3) == 3 * x**2 + 3 * x + 1 and sympy.discriminant(3 * x**2 + 3 * x + 1) < 0
     for root in (sympy.sqrt((x + 1) ** 3 - x**3), sympy.sqrt(sympy.sqrt(2) * x + 1)):
