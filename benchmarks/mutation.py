@@ -61,6 +61,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "tests/test_proof_audit.py"]),
     # The claim regions against their own tests (issue 68: survivors and timeouts re-run with --only).
     "regions": (["observability/rank/proofregion.py"], ["tests/test_proof_regions.py"]),
+    # The checker's answer to a file (_answer, with --only: its malformed-file words), against the tests that call it
+    # in process (verify's forked child records no call for mutmut).
+    "checker-answer": (["observability/rank/proofcheck.py"],
+                       ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py"]),
     # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
     # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
     "checker-read": (["observability/rank/proofread.py"],

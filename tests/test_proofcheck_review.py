@@ -557,3 +557,44 @@ def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
         with pytest.raises(proofcheck.Rejected) as refused:
             proofcheck.check(proof)
         assert str(refused.value) == f"rank {rank!r} of n_states 2 does not fit the model's 2 states"
+
+
+@pytest.mark.parametrize("error, words", [
+    (KeyError("k"), "a field is missing (KeyError: 'k')"), (TypeError("t"), "a field has the wrong type (TypeError: t)"),
+    (AttributeError("a"), "a field has the wrong type (AttributeError: a)"),
+    (IndexError("i"), "a list is too short (IndexError: i)"),
+    (RecursionError("r"), "an expression is nested too deeply (RecursionError: r)"),
+    (ZeroDivisionError("z"), "a value divides by zero (ZeroDivisionError: z)"),
+    (sympy.SympifyError("s"), "an expression cannot be read (SympifyError: SympifyError: 's')"),  # sympy's own str
+    (ValueError("v" * 300), f"a value cannot be read (ValueError: {'v' * 200})"),
+])
+def test_a_malformed_proof_is_refused_in_words_in_process(monkeypatch, error, words):
+    """The refusal of a malformed file says in words what is wrong, then the
+    exception's own text cut at 200 characters (the review's words: a field missing
+    or of the wrong type, a list too short, nested too deeply, a division by zero, an
+    expression sympy cannot read; any other ValueError a value that cannot be read).
+    In process: mutmut sees no call made in verify's forked child."""
+    def malformed(proof, model=None):
+        raise error
+
+    monkeypatch.setattr(proofcheck, "check", malformed)
+    assert proofcheck._answer("{}", None) == (False, [f"rejected: malformed proof, {words}"])
+
+
+def test_a_refusal_is_cut_at_a_thousand_characters_and_a_failure_is_not_a_malformed_file(monkeypatch):
+    """A Rejected reason is printed up to 1,000 characters; an exception of no listed
+    kind is 'the check could not be completed', its text cut at 200."""
+    def refused(proof, model=None):
+        raise proofcheck.Rejected("r" * 1200)
+
+    monkeypatch.setattr(proofcheck, "check", refused)
+    assert proofcheck._answer("{}", None) == (False, ["rejected: " + "r" * 1000])
+
+    def failed(proof, model=None):
+        raise LookupError("l" * 300)
+
+    monkeypatch.setattr(proofcheck, "check", failed)
+    assert proofcheck._answer("{}", None) == (False, [f"rejected: the check could not be completed (LookupError: "
+                                                       f"{'l' * 200})"])
+    assert proofcheck._answer("{", None) == (False, ["rejected: malformed proof, not JSON (JSONDecodeError: Expecting "
+                                                     "property name enclosed in double quotes: line 1 column 2 (char 1))"])
