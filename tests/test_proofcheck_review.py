@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import json
+import re
 
 import pytest
 import sympy
@@ -598,3 +599,19 @@ def test_a_refusal_is_cut_at_a_thousand_characters_and_a_failure_is_not_a_malfor
                                                        f"{'l' * 200})"])
     assert proofcheck._answer("{", None) == (False, ["rejected: malformed proof, not JSON (JSONDecodeError: Expecting "
                                                      "property name enclosed in double quotes: line 1 column 2 (char 1))"])
+
+
+def test_an_accepted_proof_says_what_it_is_about_in_process():
+    """An accepted file's second line: with --model, that the proof's system is the
+    model given; without, the SHA-256 of the equations it is about (64 hex digits;
+    its value is tested with verify-proof) and how to compare it. y1 = sqrt(1 + x^2),
+    y2 = v, x' = v, v' = 0 has rank 2 of 2 (by hand: a triangular Jacobian at x != 0).
+    In process: verify's forked child records no call for mutmut."""
+    system = System(["x", "v"], {"x": "v", "v": "0"}, {"y1": "sqrt(1 + x**2)", "y2": "v"}, name="hyp")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=2))))
+    accepted, (_, about) = proofcheck._answer(json.dumps(proof), None)
+    assert accepted and re.fullmatch(r"about the equations in the file, sha256 [0-9a-f]{64} \(compare with what "
+                                     r"check --proof printed, or give --model MODEL\)", about)
+    accepted, (_, given) = proofcheck._answer(json.dumps(proof), proof["model"])
+    assert accepted and given == ("the proof's system is the model given (its states, inputs, parameters, dynamics "
+                                  "and outputs)")
