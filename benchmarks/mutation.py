@@ -65,6 +65,9 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     # in process (verify's forked child records no call for mutmut).
     "checker-answer": (["observability/rank/proofcheck.py"],
                        ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py"]),
+    # A proof's upper bound (issue 68) against the fast tests that check proofs in process.
+    "bound": (["observability/rank/proofbound.py"],
+              ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_exact.py"]),
     # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
     # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
     "checker-read": (["observability/rank/proofread.py"],
