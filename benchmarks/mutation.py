@@ -2,7 +2,8 @@
 
     pip install mutmut
     python benchmarks/mutation.py [GROUP ...]      # default: every group; --list shows them
-    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors; globs)
+    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors); a glob
+                                                     # works only if it matches a function's name too (mod.*)
     python benchmarks/mutation.py GROUP --children N # N mutants at a time (default 1: a shared machine)
 
 Each group is a set of modules and the tests that guard them. For a group the
