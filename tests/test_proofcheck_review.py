@@ -615,3 +615,16 @@ def test_an_accepted_proof_says_what_it_is_about_in_process():
     accepted, (_, given) = proofcheck._answer(json.dumps(proof), proof["model"])
     assert accepted and given == ("the proof's system is the model given (its states, inputs, parameters, dynamics "
                                   "and outputs)")
+
+
+def test_a_generator_naming_no_state_is_refused_by_name():
+    """x' = y' = 0, h = x + y: rank 1 of 2 (by hand: the row (1, 1)), and v = (1, -1)
+    moves x and y by equal and opposite amounts, keeping h. A generator that also
+    moves 'zz', which is no state of the model, is refused naming the generator and
+    the name (a proof is refused either way; the words say why)."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    assert proof["rank"] == 1 and proof["upper_bound"]["generators"][0]["vector"] == {"x": "1", "y": "-1"}
+    proof["upper_bound"]["generators"][0]["vector"]["zz"] = "1"
+    with pytest.raises(proofcheck.Rejected, match=r"^generator 'translation of x, y': 'zz' is not a state$"):
+        proofcheck.check(proof)
