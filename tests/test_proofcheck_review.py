@@ -628,3 +628,15 @@ def test_a_generator_naming_no_state_is_refused_by_name():
     proof["upper_bound"]["generators"][0]["vector"]["zz"] = "1"
     with pytest.raises(proofcheck.Rejected, match=r"^generator 'translation of x, y': 'zz' is not a state$"):
         proofcheck.check(proof)
+
+
+def test_a_generator_dividing_by_a_hidden_zero_is_refused_for_that_reason():
+    """(x + 1)^2 - x^2 - 2x - 1 = 0 identically (by hand), so a generator component
+    1 + 1/((x + 1)^2 - x^2 - 2x - 1) is defined nowhere: the identity L_v h = 0 is
+    decided exactly (rational) and the refusal names the division, not a non-zero
+    L_v h (which the simplification route, without the exact one, would say)."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    proof["upper_bound"]["generators"][0]["vector"] = {"x": "1 + 1/((x + 1)**2 - x**2 - 2*x - 1)", "y": "-1"}
+    with pytest.raises(proofcheck.Rejected, match=r"^a division by an expression that is identically 0: "):
+        proofcheck.check(proof)
