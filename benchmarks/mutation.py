@@ -173,7 +173,8 @@ EQUIVALENT: dict[str, str] = {
     # (proofcheck's _zero moved to proofbound.identically_zero on 2026-12-07, third session: same body, same numbers)
     **{f"observability.rank.proofbound.x_identically_zero__mutmut_{k}": "the third attempt (expand_trig, then simplify) "
        "dropped: as mutant 4 of the run of 2026-12-04, it only adds identities simplify alone misses, none known to "
-       "us, and without it the checker only refuses more" for k in (7, 8, 9)},
+       "us, and without it the checker only refuses more (8 and 9, simplify(None) or expand_trig(None), raise: killed "
+       "by group bound on 2026-12-08)" for k in (7,)},
     **{f"observability.rank.proofzero.x__fraction__mutmut_{k}": "a power 0 taken as negative: sympy writes e**0 as 1, "
        "so no power 0 reaches the reader of fractions" for k in (69, 70)},
     "observability.rank.proofcheck.x__input_values__mutmut_8": "one more input value read when the file gives it: "
@@ -1063,8 +1064,7 @@ def _report(group: str, modules: list[str], clone: Path, statuses: dict[str, str
         category = CATEGORY.get(status, status)
         if category == "killed":
             continue
-        print(f"# {name}: {status}\n" + _mutmut(clone, "show", name).stdout
-              + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
+        print(_mutmut(clone, "show", name).stdout + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
         unexplained += category == "timeout" or name not in EQUIVALENT
     print(f"## {group}: unexplained (survivors not listed as equivalent, timeouts, others): {unexplained}")
     return unexplained
