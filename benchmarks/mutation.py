@@ -171,6 +171,13 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofread.x__decimal__mutmut_20": "an integer exponent e is above 100000 / 3 = 33333.3 exactly "
         "when it is above 100000 // 3 = 33333",
     # (proofcheck's _zero moved to proofbound.identically_zero on 2026-12-07, third session: same body, same numbers)
+    **{f"observability.rank.proofbound.x_verified_generator__mutmut_{k}": "a Dummy without a name (an input's rate "
+       "or next value): every Dummy is a new symbol whatever its name, and no refusal prints an expression holding it"
+       for k in (2, 6)},
+    **{f"observability.rank.proofbound.x_verified_generator__mutmut_{k}": "the input-rate term subtracted (44) or "
+       "divided by the rate (64): the bracket must vanish identically in the rate u', a symbol of its own, which holds "
+       "exactly when its part free of u' and the coefficient of u' both vanish, whatever the sign or the power of u' "
+       "(decided exactly when rational; sympy's simplification is given the same two zero parts)" for k in (44, 64)},
     **{f"observability.rank.proofbound.x_identically_zero__mutmut_{k}": "the third attempt (expand_trig, then simplify) "
        "dropped: as mutant 4 of the run of 2026-12-04, it only adds identities simplify alone misses, none known to "
        "us, and without it the checker only refuses more (8 and 9, simplify(None) or expand_trig(None), raise: killed "

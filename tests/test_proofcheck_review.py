@@ -640,3 +640,15 @@ def test_a_generator_dividing_by_a_hidden_zero_is_refused_for_that_reason():
     proof["upper_bound"]["generators"][0]["vector"] = {"x": "1 + 1/((x + 1)**2 - x**2 - 2*x - 1)", "y": "-1"}
     with pytest.raises(proofcheck.Rejected, match=r"^a division by an expression that is identically 0: "):
         proofcheck.check(proof)
+
+
+def test_a_generator_whose_bracket_is_not_zero_is_refused_naming_the_component():
+    """The proof of x' = y' = 0, h = x + y (v = (1, -1)) with x' = x written in its
+    model: L_v h = 1 - 1 = 0 still, but [f, v] = Dv f - Df v = 0 - diag(1, 0) (1, -1)
+    = (-1, 0) by hand, so component x of the bracket is not zero: refused in words."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    proof["model"]["dynamics"]["x"] = "x"
+    with pytest.raises(proofcheck.Rejected,
+                       match=r"^generator 'translation of x, y': component x of the bracket is not zero$"):
+        proofcheck.check(proof)
