@@ -2,7 +2,8 @@
 
     pip install mutmut
     python benchmarks/mutation.py [GROUP ...]      # default: every group; --list shows them
-    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors; globs)
+    python benchmarks/mutation.py GROUP --only FILE  # only the mutants named in FILE (earlier survivors); a glob
+                                                     # works only if it matches a function's name too (mod.*)
     python benchmarks/mutation.py GROUP --children N # N mutants at a time (default 1: a shared machine)
 
 Each group is a set of modules and the tests that guard them. For a group the
@@ -18,6 +19,8 @@ picks the tests that run it.
 
 from __future__ import annotations
 
+import ast
+import fnmatch
 import subprocess
 import sys
 import tempfile
@@ -57,6 +60,15 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
                         "observability/rank/proofbound.py"],
                        ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_regions.py",
                         "tests/test_proof_audit.py"]),
+    # The claim regions against their own tests (issue 68: survivors and timeouts re-run with --only).
+    "regions": (["observability/rank/proofregion.py"], ["tests/test_proof_regions.py"]),
+    # The checker's answer to a file (_answer, with --only: its malformed-file words), against the tests that call it
+    # in process (verify's forked child records no call for mutmut).
+    "checker-answer": (["observability/rank/proofcheck.py"],
+                       ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py"]),
+    # A proof's upper bound (issue 68) against the fast tests that check proofs in process.
+    "bound": (["observability/rank/proofbound.py"],
+              ["tests/test_proofcheck_review.py", "tests/test_proof_tampering.py", "tests/test_proof_exact.py"]),
     # The checker's reader against its fast tests (run with --only on the functions changed since the last run:
     # the proof-writing tests of "checker" and "checker-review" take about 80 s a mutant on a shared machine).
     "checker-read": (["observability/rank/proofread.py"],
@@ -65,7 +77,8 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "validation": (["observability/filters/validation.py"],
                    ["tests/test_validation_exact.py", "tests/test_filter_validation.py", "tests/test_filters.py"]),
     "first-estimates": (["observability/filters/firstestimates.py"],
-                        ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py"]),
+                        ["tests/test_firstestimates.py", "tests/test_firstestimates_exact.py", "tests/test_linearized.py",
+                         "tests/test_filter_nonfinite.py"]),
     "global": (["observability/identifiability/uniqueness.py", "observability/identifiability/truncation.py", "observability/identifiability/mirrors.py",
                 "observability/identifiability/fibre.py",
                 "observability/identifiability/rationalmodel.py",
@@ -158,9 +171,17 @@ EQUIVALENT: dict[str, str] = {
     "observability.rank.proofread.x__decimal__mutmut_20": "an integer exponent e is above 100000 / 3 = 33333.3 exactly "
         "when it is above 100000 // 3 = 33333",
     # (proofcheck's _zero moved to proofbound.identically_zero on 2026-12-07, third session: same body, same numbers)
+    **{f"observability.rank.proofbound.x_verified_generator__mutmut_{k}": "a Dummy without a name (an input's rate "
+       "or next value): every Dummy is a new symbol whatever its name, and no refusal prints an expression holding it"
+       for k in (2, 6)},
+    **{f"observability.rank.proofbound.x_verified_generator__mutmut_{k}": "the input-rate term subtracted (44) or "
+       "divided by the rate (64): the bracket must vanish identically in the rate u', a symbol of its own, which holds "
+       "exactly when its part free of u' and the coefficient of u' both vanish, whatever the sign or the power of u' "
+       "(decided exactly when rational; sympy's simplification is given the same two zero parts)" for k in (44, 64)},
     **{f"observability.rank.proofbound.x_identically_zero__mutmut_{k}": "the third attempt (expand_trig, then simplify) "
        "dropped: as mutant 4 of the run of 2026-12-04, it only adds identities simplify alone misses, none known to "
-       "us, and without it the checker only refuses more" for k in (7, 8, 9)},
+       "us, and without it the checker only refuses more (8 and 9, simplify(None) or expand_trig(None), raise: killed "
+       "by group bound on 2026-12-08)" for k in (7,)},
     **{f"observability.rank.proofzero.x__fraction__mutmut_{k}": "a power 0 taken as negative: sympy writes e**0 as 1, "
        "so no power 0 reaches the reader of fractions" for k in (69, 70)},
     "observability.rank.proofcheck.x__input_values__mutmut_8": "one more input value read when the file gives it: "
@@ -911,6 +932,24 @@ EQUIVALENT: dict[str, str] = {
         "segments; the factor T (T^T T = O^T R^-1 O, QR of the stacked rows in any grouping) and so every "
         "answer are the same up to rounding": (("windows.x__windows", (7, 13, 16)),),
     }.items() for name, numbers in names for k in numbers},
+    # The checker's claim regions (rank/proofregion.py, issue 68, 2026-12-07 fourth session: 204 mutants, 182
+    # killed, 22 survivors; 11 killed by tests added to test_proof_regions.py on 2026-12-08, each applied by hand;
+    # these 11 equivalent). Every expression unproven() reads is built by proofread with sympy's evaluation on.
+    **{f"observability.rank.proofregion.{name}__mutmut_{k}": why for why, names in {
+        "an integer exponent > 0 or >= 1 for >= 0: they differ only at exponent 0, and sympy evaluates b**0 to 1 "
+        "when the expression is built, so no Pow with exponent 0 is ever read": (("x__shape", (20, 21)),
+                                                                               ("x__degree", (12, 13))),
+        "float('INF') is inf as float('inf') is": (("x__degree", (19,)),),
+        "a rational >= 0 counted positive: 0 never reaches _positive (sympy drops 0 from an Add's terms, "
+        "evaluates a Mul with a factor 0 to 0, and 0**e, sqrt(0) and log(0) to numbers, so no root's argument, "
+        "term, factor or base is the number 0)": (("x__positive", (2,)),),
+        "the argument's shape read without the time: the line before returns for an argument holding a function "
+        "with branches, and _shape reads the time only through one (a log or rational power with a name in it)":
+            (("x__admissible", (5,)),),
+        "sympy.zeros(m, None) and sympy.zeros(m) are m x m, as zeros(m, m)": (("x__quadratic", (28, 29, 30)),),
+        "= for += on the Gram matrix: each monomial of degree <= 2 (x_i x_j with i <= j, x_i, 1) fills its own "
+        "entry (i, j) with i <= j, once, from 0": (("x__quadratic", (42,)),),
+    }.items() for name, numbers in names for k in numbers},
     # first-estimates, partial run of 2026-12-07 (67 of 243 mutants: 66 killed, this one survivor); the run with
     # --only of the 79 mutants not in the full run (_transition 26-51, _N, _linearised_measurement, IdealEKF):
     # 73 killed, 3 timeouts, 3 survivors (this one and _transition 26 and 27, listed above).
@@ -919,7 +958,16 @@ EQUIVALENT: dict[str, str] = {
 }
 
 
-def _configuration(modules: list[str], tests: list[str]) -> str:
+#: mutmut's statuses (`mutmut results --all true`) -> the category reported: a timeout is its own (not
+#: killed: it may be a slow run on a loaded machine as well as a mutant that loops) until a re-run with a
+#: larger budget kills it; SIGKILL after the CPU limit shows as "segfault" and is re-run with the timeouts.
+CATEGORY = {"killed": "killed", "caught by type check": "killed", "timeout": "timeout", "segfault": "timeout",
+            "survived": "survived", "no tests": "survived"}
+#: The CPU budget of a timed-out mutant's re-run, as mutmut's timeout_multiplier (the first run's is 4).
+RERUN_MULTIPLIER = 16.0
+
+
+def _configuration(modules: list[str], tests: list[str], multiplier: float = 4.0) -> str:
     listing = lambda items: "[" + ", ".join(f'"{i}"' for i in items) + "]"  # noqa: E731 - a one-line formatter
     return (
         "\n[tool.mutmut]\n"
@@ -929,41 +977,104 @@ def _configuration(modules: list[str], tests: list[str]) -> str:
         'pytest_add_cli_args = ["-n", "0", "-q", "-p", "no:cacheprovider", "-m", "not fresh_interpreter"]\n'
         # mutmut's CPU limit per mutant is 2 x multiplier x (the tests' time + 1 s); its default multiplier, 15,
         # lets a mutant that loops forever (a Groebner basis that never closes) run for minutes.
-        'timeout_multiplier = 4.0\n'
+        f"timeout_multiplier = {multiplier}\n"
         f"pytest_add_cli_args_test_selection = {listing(tests)}\n"
     )
 
 
+def decorated(modules: list[str]) -> list[str]:
+    """The functions of ``modules`` mutmut does not mutate: it skips every decorated function but a
+    staticmethod or classmethod (mutmut/mutation/file_mutation.py), so a test of these kills nothing."""
+    found = []
+    for module in modules:
+        for node in ast.walk(ast.parse((ROOT / module).read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.decorator_list and not (
+                    len(node.decorator_list) == 1 and isinstance(node.decorator_list[0], ast.Name)
+                    and node.decorator_list[0].id in ("staticmethod", "classmethod")):
+                found.append(f"{module}:{node.lineno} {node.name}")
+    return found
+
+
+def _mutmut(clone: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "mutmut", *args], cwd=clone, capture_output=True, text=True)
+
+
+def _failure(ran: subprocess.CompletedProcess) -> str:
+    """mutmut's error without its spinner: the lines of the traceback's end (an assertion's message
+    lists every name given, so it is cut)."""
+    lines = [line for line in (ran.stdout + "\n" + ran.stderr).splitlines()
+             if line.strip() and not any(c in line for c in "⠋⠙⠹⠸⠼⠴⠦⠧⠇⠏")]
+    text = "\n".join(line[:300] for line in lines[-12:])
+    if "nothing matches" in text:
+        text += ("\n(no mutant has any of the --only names: mutmut names them after a run without --only, and "
+                 "does not mutate decorated functions)")
+    return text
+
+
+def _statuses(clone: Path, only: list[str] | None) -> dict[str, str]:
+    """Each mutant run (those of ``only`` when given) -> mutmut's status."""
+    statuses = {}
+    for line in _mutmut(clone, "results", "--all", "true").stdout.splitlines():
+        if ":" in line:
+            name, status = (part.strip() for part in line.rsplit(":", 1))
+            if only is None or name in only or any(fnmatch.fnmatch(name, pattern) for pattern in only):
+                statuses[name] = status
+    return statuses
+
+
 def run(group: str, only: list[str] | None = None, children: int = 1) -> int:
     """Mutate ``group``'s modules (``only``: just the mutants of these names, e.g. the
-    survivors of an earlier run, checked again after new tests)."""
+    survivors of an earlier run, checked again after new tests). Timed-out mutants are
+    run again with RERUN_MULTIPLIER; those that time out again are reported as such,
+    not as killed. Returns the number of survivors not listed in EQUIVALENT plus the
+    timeouts left."""
     modules, tests = GROUPS[group]
+    for function in decorated(modules):
+        print(f"## {group}: not mutated (decorated): {function}")
     with tempfile.TemporaryDirectory(prefix=f"mutation-{group}-") as tmp:
         clone = Path(tmp) / "repo"
         subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
-        with open(clone / "pyproject.toml", "a", encoding="utf-8") as handle:
-            handle.write(_configuration(modules, tests))
-        ran = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(children), *(only or [])], cwd=clone,
-                             capture_output=True, text=True)
+        configuration = (clone / "pyproject.toml").read_text(encoding="utf-8")
+        (clone / "pyproject.toml").write_text(configuration + _configuration(modules, tests), encoding="utf-8")
+        ran = _mutmut(clone, "run", "--max-children", str(children), *(only or []))
         if ran.returncode != 0:
-            print(f"## {group}: mutmut failed\n{ran.stdout[-3000:]}\n{ran.stderr[-3000:]}")
+            print(f"## {group}: mutmut failed\n{_failure(ran)}")
             return 1
-        results = subprocess.run([sys.executable, "-m", "mutmut", "results", "--all", "true"], cwd=clone,
-                                 capture_output=True, text=True).stdout
-        counts: dict[str, int] = {}
-        for line in results.splitlines():
-            if ":" in line:
-                status = line.rsplit(":", 1)[1].strip()
-                counts[status] = counts.get(status, 0) + 1
-        print(f"## {group}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
-        survivors = [line.split(":")[0].strip() for line in results.splitlines() if line.strip().endswith("survived")]
-        print(f"## {group}: {', '.join(modules)}")
-        print("\n".join(line for line in results.splitlines() if not line.strip().endswith("killed")))
-        for name in survivors:
-            diff = subprocess.run([sys.executable, "-m", "mutmut", "show", name], cwd=clone, capture_output=True,
-                                  text=True).stdout
-            print(diff + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
-        return sum(name not in EQUIVALENT for name in survivors)
+        statuses = _statuses(clone, only)
+        timeouts = [name for name, status in statuses.items() if CATEGORY.get(status) == "timeout"]
+        if timeouts:  # mutmut re-runs only the timeouts when only the budget changed
+            (clone / "pyproject.toml").write_text(configuration + _configuration(modules, tests, RERUN_MULTIPLIER),
+                                                  encoding="utf-8")
+            again = _mutmut(clone, "run", "--max-children", str(children), *timeouts)
+            if again.returncode != 0:
+                print(f"## {group}: mutmut failed on the timeouts' re-run\n{_failure(again)}")
+                return 1
+            rerun = _statuses(clone, timeouts)
+            print(f"## {group}: {len(timeouts)} timeouts re-run with timeout_multiplier {RERUN_MULTIPLIER}: "
+                  f"{sum(CATEGORY.get(s) == 'killed' for s in rerun.values())} killed")
+            statuses.update(rerun)
+        return _report(group, modules, clone, statuses)
+
+
+def _report(group: str, modules: list[str], clone: Path, statuses: dict[str, str]) -> int:
+    counts: dict[str, int] = {}
+    for status in statuses.values():
+        category = CATEGORY.get(status, status)
+        counts[category] = counts.get(category, 0) + 1
+    print(f"## {group}: {len(statuses)} mutants run: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    print(f"## {group}: {', '.join(modules)}")
+    for name, status in statuses.items():
+        if CATEGORY.get(status) != "killed":
+            print(f"    {name}: {status}" + (" (equivalent)" if name in EQUIVALENT else ""))
+    unexplained = 0
+    for name, status in statuses.items():
+        category = CATEGORY.get(status, status)
+        if category == "killed":
+            continue
+        print(_mutmut(clone, "show", name).stdout + (f"equivalent: {EQUIVALENT[name]}\n" if name in EQUIVALENT else ""))
+        unexplained += category == "timeout" or name not in EQUIVALENT
+    print(f"## {group}: unexplained (survivors not listed as equivalent, timeouts, others): {unexplained}")
+    return unexplained
 
 
 def main(argv: list[str]) -> int:

@@ -56,3 +56,16 @@ def test_a_measurement_float_cannot_weigh_is_refused_and_a_large_one_is_not(kind
         ekf.update(predicted, [1e300, 0.1])
     accepted = ekf.update(predicted, [1e150, 0.1])
     assert np.all(np.isfinite(accepted.state.x)) and abs(accepted.state.x[0]) > 1e140  # moved by K nu, K of order 0.01
+
+
+def test_a_previous_state_jacobian_that_is_not_finite_is_named_by_the_first_estimates_update():
+    """q = y sqrt(prev(x)^2 + prev(y)^2) at (0, 0), before any prediction (the previous
+    state and its first estimate are then the estimate): its row in the current state
+    is (0, sqrt(0)) = (0, 0), finite, and in the previous state y (px, py) / r = 0 * (0/0)
+    (by hand), NaN. The first-estimates update names that Jacobian, H_prev."""
+    model = System(["x", "y"], {"x": "x", "y": "y"}, {"q": "y*sqrt(prev(x)**2 + prev(y)**2)"}, time="discrete")
+    fej = FirstEstimatesEKF(filter_functions(model), np.eye(2) * 0.01, np.eye(1) * 0.1)
+    words = (r"^step 0 \(update\): the measurement Jacobian H_prev \(in the previous state\) is not finite at the "
+             r"linearisation point")
+    with pytest.raises(FilterError, match=words):
+        fej.update(fej.initial([0.0, 0.0], np.eye(2)), [1.0])

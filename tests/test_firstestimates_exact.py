@@ -143,6 +143,27 @@ def test_an_output_of_the_previous_state_takes_its_first_estimate():
         assert np.allclose(state.x, x, atol=1e-12) and np.allclose(state.P, P, atol=1e-12)
 
 
+
+def test_an_update_before_any_prediction_takes_the_estimate_as_its_previous_state():
+    """At step 0 there is no previous state: q = x_k x_(k-1) reads the initial
+    estimate for it, at the estimate and at the first estimates alike. By hand, at
+    x0 = (1, 5): h = (5 - 1, 1 * 1) = (4, 1), H = [[-1, 1], [1, 0]] (q's row in
+    x_k is x_(k-1) = 1), and the Kalman update with S = H P0 H^T + R. (Mutants
+    reading the missing previous state or its missing first estimate as None fail:
+    casadi gets nan.)"""
+    fns = filter_functions(parse_model(PREVIOUS, "p.toml"), ["v"])
+    Rq = np.diag([0.04, 0.09])
+    fej = FirstEstimatesEKF(fns, np.array([[0.01]]), Rq)
+    x0, P0, y = np.array([1.0, 5.0]), np.diag([0.1, 0.5]), np.array([4.3, 1.2])
+    update = fej.update(fej.initial(x0, P0), y)
+    H = np.array([[-1.0, 1.0], [1.0, 0.0]])
+    S = H @ P0 @ H.T + Rq
+    K = P0 @ H.T @ np.linalg.inv(S)
+    A = np.eye(2) - K @ H
+    assert np.allclose(update.innovation, [0.3, 0.2], atol=1e-12) and np.allclose(update.S, S, atol=1e-12)
+    assert np.allclose(update.state.x, x0 + K @ np.array([0.3, 0.2]), atol=1e-12)
+    assert np.allclose(update.state.P, A @ P0 @ A.T + K @ Rq @ K.T, atol=1e-12)
+
 def test_the_truth_of_the_ideal_filter_is_checked(odometry):
     with pytest.raises(FilterError, match="truth must be finite states of length 7"):
         IdealEKF(odometry, Q, R, [[0.0] * 6], parameters=[1.0])

@@ -89,3 +89,58 @@ def test_a_proven_connected_domain_gives_an_unqualified_proof():
     proof["region"] = {"qualified": True, "where": ["sqrt(x**2 + 1)"]}
     with pytest.raises(proofcheck.Rejected, match="^the region "):
         proofcheck.check(proof)
+
+
+#: Survivors of mutation testing (issue 68), each with the hand derivation of its answer:
+#: sqrt(2) sqrt(1 + x^2): sqrt(2) is a finite constant and 1 + x^2 >= 1, so analytic on all of R (connected);
+#: atan(sqrt(x + 1)): sqrt on the half-line x > -1 (an affine argument, continuous time), atan analytic on the
+#: real line, so analytic on that half-line (convex); log(x + 1)^2: log on x > -1, squared (an integer power of an
+#: analytic function): the half-line; x^4 + 1 >= 1 > 0 everywhere (read from its form: an even power plus the
+#: positive 1, not a quadratic); log(1 + 1/x^2): 1 + 1/x^2 > 0 wherever it is defined, but it has a pole at x = 0,
+#: so the set is R less {0}, two half-lines: not connected.
+SURVIVOR_CASES = [
+    ("sqrt(2)*sqrt(1 + x**2)", True), ("atan(sqrt(x + 1))", True), ("log(x + 1)**2", True),
+    ("sqrt(x**4 + 1)", True), ("log(1 + 1/x**2)", False),
+]
+
+
+@pytest.mark.parametrize("text, connected", SURVIVOR_CASES)
+def test_constants_atan_powers_and_poles_inside_a_root(text, connected):
+    """Mutation survivors of proofregion (issue 68): a constant factor's finiteness
+    read as not finite (_shape 3, 4), atan's or an integer power's argument read
+    without the time (14, 23: an affine argument then counts as not convex), a
+    rational 1 not counted positive (_positive 3), an argument with a pole accepted
+    (_admissible 1, 8). References in the comment above SURVIVOR_CASES."""
+    expr = sympy.sympify(text)
+    branched = sorted({str(n) for n in sympy.preorder_traversal(expr) if n.free_symbols and (
+        isinstance(n, (sympy.log, sympy.atan)) or (isinstance(n, sympy.Pow) and not n.exp.is_Integer))})
+    assert unproven([expr], "continuous") == ([] if connected else branched)
+
+
+def test_an_affine_argument_in_forty_names_is_a_half_space():
+    """sqrt(x0 + ... + x39 + 1): the argument is affine and not constant, so it is
+    positive on an open half-space of R^40 (convex): unqualified. 40 names is the
+    largest number the quadratics are classified in (_MAX_SYMBOLS; the mutant '>='
+    for '>' left it out); 41 are not classified (cautious: the region stays)."""
+    names = sympy.symbols("x0:41")
+    assert unproven([sympy.sqrt(sum(names[:40]) + 1)], "continuous") == []
+    root = sympy.sqrt(sum(names) + 1)
+    assert unproven([root], "continuous") == [str(root)]
+
+
+def test_only_quadratics_with_rational_coefficients_written_below_degree_three_are_read():
+    """The module's argument classifies a polynomial argument only when its degree
+    read from the tree is at most 2 (nothing larger is expanded) and its
+    coefficients are rational (the signs and ranks of the matrix are then exact
+    over Q). (x + 1)^3 - x^3 = 3x^2 + 3x + 1 > 0 (discriminant 9 - 12 < 0) and
+    sqrt(2) x + 1 > 0 is a half-line, so both sets are in fact connected; the
+    checker does not read them and keeps the claim to the region, cautious, not
+    wrong. The mutants reading degree 3 (_quadratic 10) or any coefficient domain
+    (13, 16) would call both the whole domain, and so would those that misread the
+    tree's degree (_degree 3: a name of degree 0; 14: a power dividing it; _quadratic
+    6: either bound alone enough), which timed out on (x + y + z)^1000 before."""
+    x = sympy.Symbol("x")
+    assert sympy.expand((x + 1) ** 3 - x**3) == 3 * x**2 + 3 * x + 1 and sympy.discriminant(3 * x**2 + 3 * x + 1) < 0
+    for root in (sympy.sqrt((x + 1) ** 3 - x**3), sympy.sqrt(sympy.sqrt(2) * x + 1)):
+        assert unproven([root], "continuous") == [str(root)]
+    assert unproven([sympy.sqrt(3 * x**2 + 3 * x + 1), sympy.sqrt(x / 2 + 1)], "continuous") == []

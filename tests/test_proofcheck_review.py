@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import json
+import re
 
 import pytest
 import sympy
@@ -557,3 +558,97 @@ def test_the_claim_of_a_bearing_is_local_and_an_edited_claim_is_named():
         with pytest.raises(proofcheck.Rejected) as refused:
             proofcheck.check(proof)
         assert str(refused.value) == f"rank {rank!r} of n_states 2 does not fit the model's 2 states"
+
+
+@pytest.mark.parametrize("error, words", [
+    (KeyError("k"), "a field is missing (KeyError: 'k')"), (TypeError("t"), "a field has the wrong type (TypeError: t)"),
+    (AttributeError("a"), "a field has the wrong type (AttributeError: a)"),
+    (IndexError("i"), "a list is too short (IndexError: i)"),
+    (RecursionError("r"), "an expression is nested too deeply (RecursionError: r)"),
+    (ZeroDivisionError("z"), "a value divides by zero (ZeroDivisionError: z)"),
+    (sympy.SympifyError("s"), "an expression cannot be read (SympifyError: SympifyError: 's')"),  # sympy's own str
+    (ValueError("v" * 300), f"a value cannot be read (ValueError: {'v' * 200})"),
+])
+def test_a_malformed_proof_is_refused_in_words_in_process(monkeypatch, error, words):
+    """The refusal of a malformed file says in words what is wrong, then the
+    exception's own text cut at 200 characters (the review's words: a field missing
+    or of the wrong type, a list too short, nested too deeply, a division by zero, an
+    expression sympy cannot read; any other ValueError a value that cannot be read).
+    In process: mutmut sees no call made in verify's forked child."""
+    def malformed(proof, model=None):
+        raise error
+
+    monkeypatch.setattr(proofcheck, "check", malformed)
+    assert proofcheck._answer("{}", None) == (False, [f"rejected: malformed proof, {words}"])
+
+
+def test_a_refusal_is_cut_at_a_thousand_characters_and_a_failure_is_not_a_malformed_file(monkeypatch):
+    """A Rejected reason is printed up to 1,000 characters; an exception of no listed
+    kind is 'the check could not be completed', its text cut at 200."""
+    def refused(proof, model=None):
+        raise proofcheck.Rejected("r" * 1200)
+
+    monkeypatch.setattr(proofcheck, "check", refused)
+    assert proofcheck._answer("{}", None) == (False, ["rejected: " + "r" * 1000])
+
+    def failed(proof, model=None):
+        raise LookupError("l" * 300)
+
+    monkeypatch.setattr(proofcheck, "check", failed)
+    assert proofcheck._answer("{}", None) == (False, [f"rejected: the check could not be completed (LookupError: "
+                                                       f"{'l' * 200})"])
+    assert proofcheck._answer("{", None) == (False, ["rejected: malformed proof, not JSON (JSONDecodeError: Expecting "
+                                                     "property name enclosed in double quotes: line 1 column 2 (char 1))"])
+
+
+def test_an_accepted_proof_says_what_it_is_about_in_process():
+    """An accepted file's second line: with --model, that the proof's system is the
+    model given; without, the SHA-256 of the equations it is about (64 hex digits;
+    its value is tested with verify-proof) and how to compare it. y1 = sqrt(1 + x^2),
+    y2 = v, x' = v, v' = 0 has rank 2 of 2 (by hand: a triangular Jacobian at x != 0).
+    In process: verify's forked child records no call for mutmut."""
+    system = System(["x", "v"], {"x": "v", "v": "0"}, {"y1": "sqrt(1 + x**2)", "y2": "v"}, name="hyp")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=2))))
+    accepted, (_, about) = proofcheck._answer(json.dumps(proof), None)
+    assert accepted and re.fullmatch(r"about the equations in the file, sha256 [0-9a-f]{64} \(compare with what "
+                                     r"check --proof printed, or give --model MODEL\)", about)
+    accepted, (_, given) = proofcheck._answer(json.dumps(proof), proof["model"])
+    assert accepted and given == ("the proof's system is the model given (its states, inputs, parameters, dynamics "
+                                  "and outputs)")
+
+
+def test_a_generator_naming_no_state_is_refused_by_name():
+    """x' = y' = 0, h = x + y: rank 1 of 2 (by hand: the row (1, 1)), and v = (1, -1)
+    moves x and y by equal and opposite amounts, keeping h. A generator that also
+    moves 'zz', which is no state of the model, is refused naming the generator and
+    the name (a proof is refused either way; the words say why)."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    assert proof["rank"] == 1 and proof["upper_bound"]["generators"][0]["vector"] == {"x": "1", "y": "-1"}
+    proof["upper_bound"]["generators"][0]["vector"]["zz"] = "1"
+    with pytest.raises(proofcheck.Rejected, match=r"^generator 'translation of x, y': 'zz' is not a state$"):
+        proofcheck.check(proof)
+
+
+def test_a_generator_dividing_by_a_hidden_zero_is_refused_for_that_reason():
+    """(x + 1)^2 - x^2 - 2x - 1 = 0 identically (by hand), so a generator component
+    1 + 1/((x + 1)^2 - x^2 - 2x - 1) is defined nowhere: the identity L_v h = 0 is
+    decided exactly (rational) and the refusal names the division, not a non-zero
+    L_v h (which the simplification route, without the exact one, would say)."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    proof["upper_bound"]["generators"][0]["vector"] = {"x": "1 + 1/((x + 1)**2 - x**2 - 2*x - 1)", "y": "-1"}
+    with pytest.raises(proofcheck.Rejected, match=r"^a division by an expression that is identically 0: "):
+        proofcheck.check(proof)
+
+
+def test_a_generator_whose_bracket_is_not_zero_is_refused_naming_the_component():
+    """The proof of x' = y' = 0, h = x + y (v = (1, -1)) with x' = x written in its
+    model: L_v h = 1 - 1 = 0 still, but [f, v] = Dv f - Df v = 0 - diag(1, 0) (1, -1)
+    = (-1, 0) by hand, so component x of the bracket is not zero: refused in words."""
+    system = System(["x", "y"], {"x": "0", "y": "0"}, {"h": "x + y"}, name="sum")
+    proof = json.loads(json.dumps(proof_evidence(system, analyze(system, seed=1))))
+    proof["model"]["dynamics"]["x"] = "x"
+    with pytest.raises(proofcheck.Rejected,
+                       match=r"^generator 'translation of x, y': component x of the bracket is not zero$"):
+        proofcheck.check(proof)

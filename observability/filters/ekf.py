@@ -130,13 +130,20 @@ def _fused(call: _Buffered, *args) -> list[np.ndarray] | None:
         return None
 
 
-def _quiet(method):
+def _silenced() -> np.errstate:
     """Overflow inside a step is not warned about: the step's result is checked
-    (validation.estimate) and a non-finite one is refused with a FilterError."""
+    (validation.estimate) and a non-finite one is refused with a FilterError.
+    As a ``with`` block in a step's body where the step must be mutated (mutmut
+    skips decorated functions), as ``_quiet`` elsewhere."""
+    return np.errstate(over="ignore", invalid="ignore")
+
+
+def _quiet(method):
+    """A step run under ``_silenced``."""
 
     @functools.wraps(method)
     def wrapper(*args, **kwargs):
-        with np.errstate(over="ignore", invalid="ignore"):
+        with _silenced():
             return method(*args, **kwargs)
 
     return wrapper

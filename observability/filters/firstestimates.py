@@ -74,7 +74,7 @@ import numpy as np
 from ..codegen import FilterFunctions
 from .constraint import ConstraintLog, kept_transition
 from . import covariance, validation
-from .ekf import FilterError, FilterState, Update, _Base, _quiet
+from .ekf import FilterError, FilterState, Update, _Base, _silenced
 from .manifolds import wrap_angles
 
 __all__ = ["FirstEstimatesEKF", "IdealEKF", "static_states", "transition_checked"]
@@ -196,19 +196,19 @@ class FirstEstimatesEKF(_Base):
             raise FilterError(f"{where}: the state estimate is not finite")
         return u, where, self._on_manifold(wrap_angles(x_next, self._state_angles), where), F, Fw
 
-    @_quiet
     def predict(self, state: FilterState, u: Sequence[float] = ()) -> FilterState:
         """x = f(x, u, 0), P = Phi P Phi^T + F_w Q F_w^T with Phi = F_X(x̄_k, u, w̃)."""
-        u, where, x_next, _, Fw = self._propagated(state, u)
-        first = state.first if state.first is not None else state.x
-        first_next = self._point(state.step + 1, x_next, first)
-        Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
-        transition_checked(Phi, where)
-        if self.record:
-            self.used.append(("F", state.step, Phi))
-        P = covariance.propagated(state.P, Phi, Fw, self.Q)
-        new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
-        return self._checked(new, "prediction")
+        with _silenced():  # not a decorator: mutmut mutates no decorated function
+            u, where, x_next, _, Fw = self._propagated(state, u)
+            first = state.first if state.first is not None else state.x
+            first_next = self._point(state.step + 1, x_next, first)
+            Phi = self._transition(state.x, first, first_next, u, state.step + 1, where)
+            transition_checked(Phi, where)
+            if self.record:
+                self.used.append(("F", state.step, Phi))
+            P = covariance.propagated(state.P, Phi, Fw, self.Q)
+            new = FilterState(x_next, P, x_prev=state.x, step=state.step + 1, first=first_next, first_prev=first)
+            return self._checked(new, "prediction")
 
     def _linearised_measurement(self, x: np.ndarray, x_prev: np.ndarray, first: np.ndarray,
                                 first_prev: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -217,31 +217,32 @@ class FirstEstimatesEKF(_Base):
         _, H, H_prev = self._measurement(first, first_prev)
         return h, H, H_prev
 
-    @_quiet
     def update(self, state: FilterState, y: Sequence[float | None], u: Sequence[float] = ()) -> Update:
         """The Joseph-form update with h at the estimate and H at the first estimates."""
-        values, used = self._select(y, state.step)
-        if not used:
-            return Update(state, np.zeros(0), np.zeros((0, 0)), ())
-        x_prev = state.x if state.x_prev is None else state.x_prev
-        first = state.first if state.first is not None else state.x
-        first_prev = first if state.first_prev is None else state.first_prev
-        where = f"step {state.step} (update)"
-        h, H, H_prev = self._linearised_measurement(state.x, x_prev, first, first_prev)
-        validation.jacobians(where, "the linearisation point", **{
-            "measurement Jacobian H": H, "measurement Jacobian H_prev (in the previous state)": H_prev})
-        if self.null_space is not None:
-            self.constraint.measurement_step(state.step, H, self._N(first, where), H_prev,
-                                             self._N(first_prev, where))
-        if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
-            self.used.append(("H", state.step, H[used]))
-        H, W = H[used], self.R[np.ix_(used, used)]
-        innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
-        K, S, HP = covariance.gain(state.P, H, W, where)
-        validation.innovation(innovation, S, where)
-        x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
-        new = dataclasses.replace(state, x=x, P=covariance.joseph(state.P, K, H, W, HP))  # the points carried as they are
-        return Update(self._checked(new, "update"), innovation, S, tuple(used))
+        with _silenced():  # not a decorator: mutmut mutates no decorated function
+            values, used = self._select(y, state.step)
+            if not used:
+                return Update(state, np.zeros(0), np.zeros((0, 0)), ())
+            x_prev = state.x if state.x_prev is None else state.x_prev
+            first = state.first if state.first is not None else state.x
+            first_prev = first if state.first_prev is None else state.first_prev
+            where = f"step {state.step} (update)"
+            h, H, H_prev = self._linearised_measurement(state.x, x_prev, first, first_prev)
+            validation.jacobians(where, "the linearisation point", **{
+                "measurement Jacobian H": H, "measurement Jacobian H_prev (in the previous state)": H_prev})
+            if self.null_space is not None:
+                self.constraint.measurement_step(state.step, H, self._N(first, where), H_prev,
+                                                 self._N(first_prev, where))
+            if self.record:  # the rows of the outputs used: an unmeasured output adds nothing to the observability
+                self.used.append(("H", state.step, H[used]))
+            H, W = H[used], self.R[np.ix_(used, used)]
+            innovation = wrap_angles(values - h[used], [self._output_angles[i] for i in used])
+            K, S, HP = covariance.gain(state.P, H, W, where)
+            validation.innovation(innovation, S, where)
+            x = self._on_manifold(wrap_angles(state.x + K @ innovation, self._state_angles), where)
+            # the points carried as they are
+            new = dataclasses.replace(state, x=x, P=covariance.joseph(state.P, K, H, W, HP))
+            return Update(self._checked(new, "update"), innovation, S, tuple(used))
 
 
 class IdealEKF(FirstEstimatesEKF):
