@@ -275,7 +275,8 @@ class ObservabilityResult:
                 lines.append(f"  observable functions: {states(self.observable_functions)}" + {
                     True: " (complete: their transcendence degree is the rank, so every observable function is "
                           "algebraic over them)",
-                    False: " (incomplete: their transcendence degree is below the rank)", None: ""}[
+                    False: " (incomplete: their transcendence degree is below the rank)",
+                    None: " (not shown complete: other observable functions may be missing)"}[
                     self.functions_complete])
             lines += self._name_lines()
         else:
