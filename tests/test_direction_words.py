@@ -94,11 +94,14 @@ def test_opposite_sign_scalings_are_a_squeeze_not_a_scaling():
 
 
 def test_a_squeeze_about_a_centre_names_the_kept_monomial():
-    """(x, -2 (y - 1)) squeezes about y = 1: x^2 (y - 1) is kept, since its
-    derivative along the field is 2 x (y - 1) x + x^2 (-2 (y - 1)) = 0."""
-    name, description = classify([x, -2 * y + 2], _static("x y", {"h": "x**2*(y - 1)"}))
+    """(2 x, -2 (y - 1)) squeezes about y = 1: x (y - 1) is kept, since its
+    derivative along the field is 2 x (y - 1) - 2 x (y - 1) = 0. Weights of
+    both signs that do not sum to zero change volume (determinant e^(t (1 - 2)))
+    and stay a scaling: slam1.5d's lengths up and inverse depth down."""
+    name, description = classify([2 * x, -2 * y + 2], _static("x y", {"h": "x*(y - 1)"}))
     assert name == "squeeze about y = 1"
-    assert "x**2*(y - 1) unchanged" in description
+    assert "x*(y - 1) unchanged" in description
+    assert classify([x, -2 * y], _static("x y", {"h": "x**2*y"}))[0] == "scaling"
 
 
 def test_a_rotation_of_three_states_names_its_axis():

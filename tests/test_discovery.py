@@ -39,8 +39,7 @@ def test_slam15d_translation_and_scale(time):
     projection f (x_L2 - c) d_L2 unchanged."""
     c, cdot, x, d = sympy.symbols("c cdot x_L2 d_L2")
     _, found = _directions(_bare("slam1.5d", {"time": time}))
-    # Lengths up, inverse depth down (opposite-sign weights): a squeeze keeping (x_L2 - c) d_L2 (review 7)
-    assert [name for name, _ in found] == ["translation of c, x_L2", "squeeze"]
+    assert [name for name, _ in found] == ["translation of c, x_L2", "scaling"]
     assert _same_line(found[0][1], {"c": 1, "x_L2": 1})
     assert _same_line(found[1][1], {"c": c, "cdot": cdot, "x_L2": x, "d_L2": -d})
 

@@ -153,12 +153,15 @@ def _affine(A: list[list], b: list[sympy.Expr], system: System) -> tuple[str, st
 
 
 def _squeeze(weights: list[sympy.Expr], offsets: list[sympy.Expr]) -> str | None:
-    """What a diagonal field does (a template for its ``weights``) when its weights are numbers of both signs:
-    it stretches some states and shrinks others (a hyperbolic squeeze, not a
-    scaling: no common factor). For two states u, v (offsets from the centre)
-    with weights a > 0 > c, u^(-c) v^a is unchanged: its derivative along the
-    field is (-c a + a c) u^(-c) v^a = 0. None unless both signs occur."""
-    if not all(sympy.sympify(w).is_Rational for w in weights):
+    """What a diagonal field does (a template for its ``weights``) when it is a
+    squeeze: its weights are numbers of both signs summing to zero, so its flow
+    diag(e^(t w)) has determinant e^(t sum w) = 1 -- it stretches some states and
+    shrinks others keeping volume (a hyperbolic squeeze, not a scaling: no
+    common factor). Weights of both signs not summing to zero stay a scaling
+    (lengths up, an inverse depth down: monocular SLAM's scale). For two states
+    u, v (offsets from the centre) with weights a > 0 > c, u^(-c) v^a is
+    unchanged: its derivative along the field is (-c a + a c) u^(-c) v^a = 0."""
+    if not all(sympy.sympify(w).is_Rational for w in weights) or sum(weights) != 0:
         return None
     up = [o for o, w in zip(offsets, weights) if w > 0]
     down = [o for o, w in zip(offsets, weights) if w < 0]
