@@ -77,3 +77,44 @@ def test_a_field_with_a_constant_part_is_affine_not_linear():
     linear = classify([y, sympy.Integer(0)], _static("x y", {"h": "y"}))
     assert affine == ("unnamed direction", "an affine field that is neither a pure scaling nor a pure rotation")
     assert linear == ("unnamed direction", "a linear field that is neither a pure scaling nor a pure rotation")
+
+
+def test_opposite_sign_scalings_are_a_squeeze_not_a_scaling():
+    """Review 7, d6.toml: x+ = -y, y+ = x, h = x y. The exact null space of
+    dh = (y, x) is spanned by (x, -y) (sympy below), which stretches x and
+    shrinks y: d(x y)(x, -y) = y x - x y = 0, a hyperbolic squeeze with x y kept,
+    not a scaling (no common factor). Equal-sign weights stay a scaling."""
+    system = System(["x", "y"], {"x": "-y", "y": "x"}, {"h": "x*y"}, time="discrete")
+    (null,) = sympy.Matrix([[y, x]]).nullspace()
+    assert sympy.simplify(null[0] / null[1] + x / y) == 0  # proportional to (x, -y)
+    (direction,) = analyze(system, seed=1).unobservable_directions
+    assert direction.name == "squeeze"
+    assert "x*y unchanged" in direction.description and "stretches x and shrinks y" in direction.description
+    assert classify([3 * x, y / 2], _static("x y", {"h": "x**2*y**6"}))[0] == "scaling"
+
+
+def test_a_squeeze_about_a_centre_names_the_kept_monomial():
+    """(2 x, -2 (y - 1)) squeezes about y = 1: x (y - 1) is kept, since its
+    derivative along the field is 2 x (y - 1) - 2 x (y - 1) = 0. Weights of
+    both signs that do not sum to zero change volume (determinant e^(t (1 - 2)))
+    and stay a scaling: slam1.5d's lengths up and inverse depth down."""
+    name, description = classify([2 * x, -2 * y + 2], _static("x y", {"h": "x*(y - 1)"}))
+    assert name == "squeeze about y = 1"
+    assert "x*(y - 1) unchanged" in description
+    assert classify([x, -2 * y], _static("x y", {"h": "x**2*y"}))[0] == "scaling"
+
+
+def test_a_rotation_of_three_states_names_its_axis():
+    """Review 7, m_tilted.toml: outputs x + y + z and x^2 + y^2 + z^2. The null
+    space of their gradients (1, 1, 1) and 2 (x, y, z) is (y - z, z - x, x - y)
+    = (1, 1, 1) x (x, y, z) (cross product by hand), a rotation about the fixed
+    axis (1, 1, 1), which the field does not move (y - z, z - x, x - y all 0)."""
+    system = _static("x y z", {"a": "x + y + z", "r": "x**2 + y**2 + z**2"})
+    (null,) = sympy.Matrix([[1, 1, 1], [2 * x, 2 * y, 2 * z]]).nullspace()
+    axis_cross = sympy.Matrix([1, 1, 1]).cross(sympy.Matrix([x, y, z]))
+    assert sympy.simplify(null.cross(axis_cross)) == sympy.zeros(3, 1)
+    (direction,) = analyze(system, seed=1).unobservable_directions
+    assert direction.name == "rotation of (x, y, z) about the axis (1, 1, 1)"
+    # (1, 2, 1) x (x, y, z) = (2 z - y, x - z, y - 2 x) by hand; its negative is classified
+    name, _ = classify([y - 2 * z, z - x, 2 * x - y], system)
+    assert name == "rotation of (x, y, z) about the axis (1, 2, 1)"

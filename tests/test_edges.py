@@ -248,3 +248,19 @@ def test_paused_collection_restores_the_collector():
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_a_motion_model_that_forgets_a_state_is_called_not_invertible():
+    """x1+ = x2, x2+ = u (review 7, d4.toml): the next state (x2, u) does not
+    depend on the previous x1 at all, so no inverse exists (by hand: x1+ = x2
+    gives x2 = x1+, nothing gives x1). sympy returns one solution that leaves x1
+    free; the old message called that 'not unique ... (1 solutions)'."""
+    from observability import System, analyze
+    from observability.errors import ModelError
+
+    system = System(["x1", "x2"], {"x1": "x2", "x2": "u"}, {"y": "x1 + prev(x1)"}, inputs=["u"], time="discrete")
+    with pytest.raises(ModelError) as caught:
+        analyze(system, seed=1)
+    message = str(caught.value)
+    assert "not invertible" in message and "previous x1" in message
+    assert "1 solutions" not in message

@@ -159,8 +159,12 @@ def test_complete_observable_functions_are_said_complete():
         assert result.to_dict()["observable_functions_complete"] is True
         functions = [sympy.sympify(f, locals={s.name: s for s in (*system.states, *system.parameters)})
                      for f in result.observable_functions]
-        assert _complete(system, functions, result.rank + 1, "proven", None) is None
-        assert _complete(system, functions, result.rank + 1, "proven", result.rank) is None  # the rank reached
+        # Fewer functions than the claimed rank: certainly incomplete (k functions have transcendence
+        # degree <= k); enough of them, with a Jacobian rank below it at the point: not claimed.
+        assert _complete(system, functions, result.rank + 1, "proven", None) is (
+            False if len(functions) <= result.rank else None)
+        assert _complete(system, [*functions, *functions], result.rank + 1, "proven", None) is None
+        assert _complete(system, [*functions, *functions], result.rank + 1, "proven", result.rank) is None  # reached
         assert _complete(system, functions, result.rank, "proven", None) is True  # computed here
         assert _complete(system, functions, result.rank, "lower bound", result.rank) is None
     assert "(complete: their transcendence degree is the rank" in str(analyze(models.build("slam1.5d"), seed=1))
@@ -180,3 +184,22 @@ def test_a_transcendental_number_in_a_field_is_left_to_the_other_routes():
     [direction] = result.unobservable_directions
     assert sympy.simplify(sympy.sympify(direction.vector["y"]) - sympy.log(sympy.Rational(9, 10))) == 0
     assert direction.vector["b"] == "1"
+
+
+def test_the_outputs_are_listed_when_the_functions_are_not_shown_complete():
+    """Review 7, m_screw.toml: static (x, y, z), outputs r = x^2 + y^2 and
+    s = z - 3 atan2(y, x). Exact sympy: their Jacobian has rank 2 and null space
+    (y, -x, -3) (a screw), so rank 2 of 3. The invariant search found only
+    x^2 + y^2 and the list omitted s, which is observable by definition (an
+    output), with nothing said. Now s is listed and, completeness not shown,
+    the text says other functions may be missing."""
+    x, y, z = sympy.symbols("x y z")
+    jacobian = sympy.Matrix([x**2 + y**2, z - 3 * sympy.atan2(y, x)]).jacobian([x, y, z])
+    (null,) = jacobian.nullspace()
+    assert jacobian.rank() == 2 and sympy.simplify(null - null[2] / -3 * sympy.Matrix([y, -x, -3])) == sympy.zeros(3, 1)
+    system = System(["x", "y", "z"], {"x": "0", "y": "0", "z": "0"}, {"r": "x**2 + y**2", "s": "z - 3*atan2(y, x)"})
+    result = analyze(system, seed=1)
+    assert result.rank == 2
+    assert "z - 3*atan2(y, x)" in result.observable_functions
+    if result.functions_complete is not True:
+        assert "observable functions may be missing" in result.text() or "incomplete" in result.text()

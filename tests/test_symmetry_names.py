@@ -205,5 +205,5 @@ def test_a_rotation_of_three_states_names_no_plane():
                     {"h": "x1 - x2", "r": "x0**2 + x1**2 + x2**2"})
     result = analyze(system, seed=4)
     [direction] = result.unobservable_directions
-    assert direction.name == "rotation of (x0, x1, x2)"
+    assert direction.name == "rotation of (x0, x1, x2) about the axis (0, 1, -1)"  # the axis a of the docstring (review 7)
     assert direction.description.endswith("keeping the sum of their squares")

@@ -177,3 +177,24 @@ def test_the_command_line_refuses_an_arbitrary_input_where_it_would_be_known():
             run = cli("check", str(path), *extra)
             assert run.returncode == 2, (extra, run.stderr)
             assert "any function of time" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_a_lost_direction_no_field_was_found_for_is_said_missing():
+    """Review 7, ui8.toml: x1' = w, x2' = x1 w, y = x2, w unknown. By hand,
+    x1^2 - 2 x2 has derivative 2 x1 w - 2 x1 w = 0: an unknown constant the
+    output does not give, so one direction is lost. Exact sympy: the Jacobian of
+    (y, y', y'') = (x2, x1 w, w^2 + x1 w') in (x1, x2, w, w') has rank 3, of
+    which the new jet w' takes 1: rank 2 of the 3 unknowns (x1, x2, w). No
+    direction is listed (the lost one, dx1 = 1/x1 with w compensated, is not
+    polynomial), so the text and JSON must say 0 of 1 found, not imply none is lost."""
+    x1, x2, w, w1 = sympy.symbols("x1 x2 w w1")
+    rows = sympy.Matrix([x2, x1 * w, w**2 + x1 * w1]).jacobian([x1, x2, w, w1])
+    assert rows.rank() - 1 == 2
+    assert sympy.expand(sympy.diff(x1**2 - 2 * x2, x1) * w + sympy.diff(x1**2 - 2 * x2, x2) * x1 * w) == 0
+    system = System(["x1", "x2"], {"x1": "w", "x2": "x1*w"}, {"y": "x2"}, unknown_inputs=["w"])
+    result = analyze(system, seed=1)
+    assert result.rank == 2 and result.n_states == 3
+    missing = 3 - 2 - len(result.unobservable_directions)
+    assert result.directions_missing == missing == 1
+    assert result.to_dict()["unobservable_directions_missing"] == 1
+    assert f"{3 - 2 - missing} of 1 found; 1 not named" in result.text()

@@ -68,6 +68,8 @@ class ObservabilityResult:
     not proven connected, the connected part of it around the point where the
     rank was shown (on another part the rank may differ). The exit code stays
     the verdict's.
+    ``directions_missing`` (JSON ``unobservable_directions_missing``): how
+    many of the n - rank lost directions are not listed (the text says so).
     ``functions_complete``: True when those functions have transcendence degree
     equal to the rank (the rank of their Jacobian at a random rational point,
     exact, equals a proven rank: every observable function is then algebraic
@@ -105,6 +107,15 @@ class ObservabilityResult:
     @property
     def n_states(self) -> int:
         return len(self.states)
+
+    @property
+    def directions_missing(self) -> int | None:
+        """How many of the n - rank lost directions no listed direction
+        accounts for (the listed ones are independent fields, so they account
+        for at most their number); None when the rank is undecided."""
+        if self.rank is None:
+            return None
+        return max(0, self.n_states - self.rank - len(self.unobservable_directions))
 
     @property
     def unobservable_states(self) -> tuple[str, ...] | None:
@@ -150,6 +161,7 @@ class ObservabilityResult:
             ),
             "undecided_states": list(self.undecided_states),
             "unobservable_directions": [d.to_dict() for d in self.unobservable_directions],
+            "unobservable_directions_missing": self.directions_missing,
             "singular_values": list(self.singular_values) if self.singular_values is not None else None,
             "details": self.details,
             "seconds": round(self.seconds, 6),
@@ -263,7 +275,8 @@ class ObservabilityResult:
                 lines.append(f"  observable functions: {states(self.observable_functions)}" + {
                     True: " (complete: their transcendence degree is the rank, so every observable function is "
                           "algebraic over them)",
-                    False: " (incomplete: their transcendence degree is below the rank)", None: ""}[
+                    False: " (incomplete: their transcendence degree is below the rank)",
+                    None: " (not shown complete: other observable functions may be missing)"}[
                     self.functions_complete])
             lines += self._name_lines()
         else:
@@ -278,6 +291,11 @@ class ObservabilityResult:
             lines += self._global_lines(states)  # the exit code of --global is its answer's, so it is always shown
         for d in self.unobservable_directions:
             lines.append(f"  unobservable direction: {d.text(limit)}")
+        if self.directions_missing:  # never let the list read as complete
+            lost = self.n_states - self.rank
+            it = "it" if self.directions_missing == 1 else "them"
+            lines.append(f"  unobservable directions: {lost - self.directions_missing} of {lost} found; "
+                         f"{self.directions_missing} not named (the search found no field for {it})")
         return "\n".join(lines)
 
     def _identifiable(self, name: str) -> str:

@@ -368,6 +368,10 @@ def _upper_bound(system: System, basis, seconds: float) -> str:
     return ""
 
 
+#: Most outputs added to observable functions not shown complete.
+MAX_LISTED_OUTPUTS = 6
+
+
 def _functions(system: System, basis, rank: int, seed: int) -> tuple[tuple[sympy.Expr, ...] | None, int | None]:
     """The observable functions: invariants of the null-space basis; the outputs
     themselves when none of low degree is found ("[]" would read as "none");
@@ -377,10 +381,16 @@ def _functions(system: System, basis, rank: int, seed: int) -> tuple[tuple[sympy
         return None, None
     # Common factors pulled out (d_L2*(c - x_L2)); a full factorisation costs seconds at n = 40.
     functions = tuple(sympy.factor_terms(e) for e in observable_functions(system, basis, rank, seed=seed))
+    outputs = tuple(h for h in (system.substitute_values(h) for _, h in system.outputs)
+                    if h.free_symbols & set(system.states))
     if not functions and rank:
-        outputs = (system.substitute_values(h) for _, h in system.outputs)
-        functions = _distinct(h for h in outputs if h.free_symbols & set(system.states))
-    return completed(system, functions, rank, seed)
+        functions = _distinct(outputs)
+    functions, reached = completed(system, functions, rank, seed)
+    if reached != rank and len(outputs) <= MAX_LISTED_OUTPUTS:
+        # Not shown complete: the outputs, observable by definition, are listed too (review 7's screw
+        # lost z - 3 atan2(y, x)); hundreds of them would bury the list, which then says it is incomplete.
+        functions = _distinct((*functions, *outputs))
+    return functions, reached
 
 
 def _distinct(functions) -> tuple[sympy.Expr, ...]:
@@ -401,10 +411,13 @@ def _complete(system: System, functions: tuple[sympy.Expr, ...] | None, rank: in
     arithmetic (``reached``, the completion's, else computed here), is a certain
     lower bound on it; every observable function's differential lies in the
     observability codistribution, so a proven rank bounds it from above. Equal:
-    True. Below: False only when the Jacobian rank at the point is itself
-    certain to be generic -- not claimed, so None."""
+    True. Fewer functions than the rank: False (k functions have transcendence
+    degree at most k). Else below: False only when the Jacobian rank at the
+    point is itself certain to be generic -- not claimed, so None."""
     if not functions or proof != "proven":
         return None
+    if len(functions) < rank:
+        return False
     if reached != rank:
         reached = jacobian_rank_at(system, [sympy.sympify(f) for f in functions], 7)
     return True if reached == rank else None

@@ -142,11 +142,45 @@ def _affine(A: list[list], b: list[sympy.Expr], system: System) -> tuple[str, st
                     f"scales {scaled} with weights {weights} and shifts {_listing(shifted)}")
         centre = [(states[i].name, sympy.cancel(-b[i] / A[i][i])) for i in diagonal if b[i] != 0]
         about = f" about {', '.join(f'{k} = {v}' for k, v in centre)}" if centre else ""
+        squeeze = _squeeze([A[i][i] for i in diagonal], [states[i] - sympy.cancel(-b[i] / A[i][i]) for i in diagonal])
+        if squeeze:
+            return f"squeeze{about}", squeeze.format(weights=weights)
         return f"scaling{about}", f"scales the states with weights {weights}"
     if off and all(A[j][i] == -A[i][j] for i, j in off) and not diagonal:
         return _rotation(A, b, sorted({(min(i, j), max(i, j)) for i, j in off}), system)
     kind = "an affine" if any(b) else "a linear"  # x' = A x + b with b != 0 is affine, not linear
     return "unnamed direction", f"{kind} field that is neither a pure scaling nor a pure rotation"
+
+
+def _squeeze(weights: list[sympy.Expr], offsets: list[sympy.Expr]) -> str | None:
+    """What a diagonal field does (a template for its ``weights``) when it is a
+    squeeze: its weights are numbers of both signs summing to zero, so its flow
+    diag(e^(t w)) has determinant e^(t sum w) = 1 -- it stretches some states and
+    shrinks others keeping volume (a hyperbolic squeeze, not a scaling: no
+    common factor). Weights of both signs not summing to zero stay a scaling
+    (lengths up, an inverse depth down: monocular SLAM's scale). For two states
+    u, v (offsets from the centre) with weights a > 0 > c, u^(-c) v^a is
+    unchanged: its derivative along the field is (-c a + a c) u^(-c) v^a = 0."""
+    if not all(sympy.sympify(w).is_Rational for w in weights) or sum(weights) != 0:
+        return None
+    up = [o for o, w in zip(offsets, weights) if w > 0]
+    down = [o for o, w in zip(offsets, weights) if w < 0]
+    if not up or not down:
+        return None
+    said = f"stretches {_listing([str(o) for o in up])} and shrinks {_listing([str(o) for o in down])}"
+    said += " with weights {weights}"
+    if len(weights) != 2:
+        return said
+    (a, u), (c, v) = sorted(zip(weights, offsets), key=lambda p: -p[0])
+    p, q = _smallest_integers([-c, a])
+    return f"{said} ({sympy.sstr(u ** p * v ** q)} unchanged)"
+
+
+def _smallest_integers(numbers: list) -> list[sympy.Integer]:
+    """Rational ``numbers`` as the smallest integers with the same ratios."""
+    den = math.lcm(*(sympy.Rational(e).q for e in numbers))
+    whole = [int(sympy.Rational(e) * den) for e in numbers]
+    return [sympy.Integer(e // math.gcd(*whole)) for e in whole]
 
 
 def _translation(vector: Sequence[sympy.Expr], states: list[sympy.Symbol]) -> str:
@@ -192,7 +226,9 @@ def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], 
     if len(set(coupled)) < len(coupled):  # a state in two planes: a rotation of three or more states together
         moved = _listing(sorted({states[k].name for k in coupled}, key=[s.name for s in states].index))
         kept = ", keeping the sum of their squares" if not any(b[k] for k in coupled) else ""
-        return f"rotation of ({moved})", f"turns ({moved}) together by a skew-symmetric linear map{kept}"
+        axis = _spatial_axis(A, sorted(set(coupled))) if not any(b[k] for k in coupled) else None
+        about = f" about the axis {axis}" if axis else ""
+        return f"rotation of ({moved}){about}", f"turns ({moved}) together{about} by a skew-symmetric linear map{kept}"
     n = len(states)
     i, j = pairs[0]
     rate = A[j][i]
@@ -213,6 +249,22 @@ def _rotation(A: list[list], b: list[sympy.Expr], pairs: list[tuple[int, int]], 
         return f"rotation about the {axis}-axis{screw}", description
     about = f" about ({states[i].name}, {states[j].name}) = ({centre[0]}, {centre[1]})"
     return f"rotation{about}{screw}", description
+
+
+def _spatial_axis(A: list[list], group: list[int]) -> str | None:
+    """The axis (in the coordinates of ``group``) of a rotation of three states:
+    a 3 x 3 skew-symmetric block [[0, -c, b], [c, 0, -a], [-b, a, 0]] is
+    v -> (a, b, c) x v, which fixes (a, b, c) and turns the plane normal to it.
+    Shown by its smallest integer direction when rational; None unless three states."""
+    if len(group) != 3:
+        return None
+    i, j, k = group
+    axis = [A[k][j], A[i][k], A[j][i]]
+    if all(sympy.sympify(e).is_Rational for e in axis):
+        axis = _smallest_integers(axis)
+    if next(sympy.sympify(e) for e in axis if e != 0).could_extract_minus_sign():
+        axis = [-e for e in axis]
+    return f"({', '.join(str(e) for e in axis)})"
 
 
 def _is_angle(state: sympy.Symbol, system: System) -> bool:
@@ -278,9 +330,7 @@ def _pure_quaternion(block: list[list]) -> str | None:
     if not any(a) or not (same(left) or same(right)):
         return None
     if all(sympy.sympify(e).is_Rational for e in a):  # a line: shown by its smallest integer direction
-        den = math.lcm(*(sympy.Rational(e).q for e in a))
-        whole = [int(sympy.Rational(e) * den) for e in a]
-        a = [sympy.Integer(e // math.gcd(*whole)) for e in whole]
+        a = _smallest_integers(a)
     first = next(sympy.sympify(e) for e in a if e != 0)
     if first.could_extract_minus_sign():
         a = [-e for e in a]

@@ -78,8 +78,14 @@ def _solve_inverse(system: System) -> tuple[sympy.Expr, ...] | str:
         solutions = sympy.solve(equations, z, dict=True)
     except NotImplementedError:
         solutions = []
-    if len(solutions) != 1 or set(solutions[0]) != set(z):
-        return f"cannot invert the motion model uniquely in closed form ({len(solutions)} solutions)"
+    if len(solutions) == 1 and set(solutions[0]) != set(z):
+        # One solution leaving some previous states free: F forgets them (x+ = F(x, u) does not depend on
+        # them), so no inverse exists at all, not merely no unique or closed-form one.
+        free = ", ".join(s.name for s, zi in zip(system.states, z) if zi not in solutions[0])
+        return f"the motion model is not invertible: the next state does not determine the previous {free}"
+    if len(solutions) != 1:
+        found = "no solution" if not solutions else f"{len(solutions)} solutions"
+        return f"cannot invert the motion model uniquely in closed form (sympy found {found} for the previous state)"
     return tuple(sympy.simplify(solutions[0][zi]) for zi in z)
 
 
