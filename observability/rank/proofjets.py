@@ -74,10 +74,16 @@ class _Jets:
         self.names: dict[sympy.Expr, Named] = {}
 
     def named(self, number: sympy.Expr) -> sympy.Expr:
-        """``number`` where it is rational, else its name (``proofballs.Named``), the
-        same name for the same definition: the series then never hold a
-        transcendental number, whose every product sympy would re-evaluate."""
-        if number.is_Rational or isinstance(number, Named):
+        """``number``, or its name (``proofballs.Named``, the same name for the same
+        definition) where it holds a function of a number that is not rational
+        (sin(sin(2/3))): sympy re-evaluates such a number at every product, its
+        cost growing with the depth. A function of rationals stays as it is
+        (evaluated in one step), so sympy's exact rules still apply to it:
+        exp(2/3) exp(1/3) = exp(1)."""
+        if isinstance(number, Named) or not any(
+                (isinstance(node, sympy.Function) or node.is_Pow and not node.exp.is_Integer)
+                and not all(a.is_Rational for a in node.args)
+                for node in sympy.preorder_traversal(number)):
             return number
         if number not in self.names:
             self.names[number] = Named(number)
@@ -207,8 +213,8 @@ def _evaluate(jets: _Jets, expr: sympy.Expr, values: dict, memo: dict) -> list:
         return memo[expr]
     if expr in values:
         return values[expr]
-    if not expr.free_symbols:  # a constant of the model: named where it holds a function (sin(sin(1)))
-        result = jets.constant(jets.named(expr) if expr.atoms(sympy.Function) else expr)
+    if not expr.free_symbols:  # a constant of the model, named where it nests functions (sin(sin(1)))
+        result = jets.constant(jets.named(expr))
     elif isinstance(expr, sympy.Add):
         parts = [_evaluate(jets, a, values, memo) for a in expr.args]
         result = [[sympy.Add(*column) for column in zip(*coefficients)] for coefficients in zip(*parts)]
