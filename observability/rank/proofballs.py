@@ -14,7 +14,7 @@ import sympy
 
 from .proofread import Rejected
 
-__all__ = ["ball", "nonzero", "positive", "determinant", "independent", "PRECISIONS"]
+__all__ = ["Named", "ball", "nonzero", "positive", "determinant", "independent", "PRECISIONS"]
 
 #: Precisions (bits) tried for the ball of a transcendental number.
 PRECISIONS = (128, 512, 2048, 8192)
@@ -23,15 +23,42 @@ _BALL_FUNCTIONS = {sympy.exp: flint.arb.exp, sympy.log: flint.arb.log, sympy.sin
                    sympy.sinh: flint.arb.sinh, sympy.cosh: flint.arb.cosh, sympy.tanh: flint.arb.tanh}
 
 
+class Named(sympy.Dummy):
+    """A number at the point by name, standing for its ``definition`` (an exact
+    expression of rationals, constants and other names): the series
+    (``proofjets``) compute with the name, so sympy never re-evaluates the
+    definition numerically (it does, to decide a sign or an order, for a number
+    it sees: a depth-d nesting sin(sin(...)) cost about 3**d). A name is a
+    symbol without assumptions: sympy's algebra on it holds for every complex
+    value, so for the definition's; its ball is the definition's ball, computed
+    once per precision (a memo: names refer to names, and each is met many times)."""
+
+    definition: sympy.Expr
+
+    def __new__(cls, definition: sympy.Expr) -> Named:
+        self = super().__new__(cls, "v")
+        self.definition, self._balls = definition, {}
+        return self
+
+    def ball(self) -> flint.arb:
+        """A ball that contains the definition's value, at the context's precision."""
+        precision = flint.ctx.prec
+        if precision not in self._balls:
+            self._balls[precision] = ball(self.definition)
+        return self._balls[precision]
+
+
 def ball(number: sympy.Expr) -> flint.arb:
     """A ball (python-flint's arb, at the context's precision) that contains the
-    real number ``number`` (an expression without symbols), or a ball that is not
+    real number ``number`` (an expression without symbols but names, ``Named``), or a ball that is not
     finite where it cannot be enclosed (a pole, the logarithm of a number not
     proven positive, a complex value). Each arb operation returns a ball that
     contains every result of its arguments' balls, so the final ball contains
     the true value."""
     if number.is_Rational:
         return flint.arb(flint.fmpq(int(number.p), int(number.q)))
+    if isinstance(number, Named):
+        return number.ball()
     if number is sympy.pi or number is sympy.E:
         return flint.arb.pi() if number is sympy.pi else flint.arb(1).exp()
     if isinstance(number, sympy.Pow) and number.exp.is_Rational:

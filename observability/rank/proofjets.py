@@ -35,7 +35,7 @@ import math
 
 import sympy
 
-from .proofballs import nonzero, positive
+from .proofballs import Named, nonzero, positive
 from .proofread import Rejected
 
 __all__ = ["rows", "branches", "analytic_at"]
@@ -71,6 +71,23 @@ class _Jets:
 
     def __init__(self, order: int, width: int):
         self.order, self.width, self.products = order, width, 0
+        self.names: dict[sympy.Expr, Named] = {}
+
+    def named(self, number: sympy.Expr) -> sympy.Expr:
+        """``number``, or its name (``proofballs.Named``, the same name for the same
+        definition) where it holds a function of a number that is not rational
+        (sin(sin(2/3))): sympy re-evaluates such a number at every product, its
+        cost growing with the depth. A function of rationals stays as it is
+        (evaluated in one step), so sympy's exact rules still apply to it:
+        exp(2/3) exp(1/3) = exp(1)."""
+        if isinstance(number, Named) or not any(
+                (isinstance(node, sympy.Function) or node.is_Pow and not node.exp.is_Integer)
+                and not all(a.is_Rational for a in node.args)
+                for node in sympy.preorder_traversal(number)):
+            return number
+        if number not in self.names:
+            self.names[number] = Named(number)
+        return self.names[number]
 
     def constant(self, value: sympy.Expr, gradient: list | None = None) -> list:
         first = [value, *(gradient or [sympy.S.Zero] * self.width)]
@@ -122,8 +139,8 @@ class _Jets:
     def at(self, a: list, phi, dphi) -> list:
         """phi of a dual number a[0]: phi(v) + phi'(v) d."""
         value = a[0][0]
-        slope = dphi(value)
-        return [phi(value), *(slope * d for d in a[0][1:])]
+        slope = self.named(dphi(value))
+        return [self.named(phi(value)), *(slope * d for d in a[0][1:])]
 
 
 def _function(jets: _Jets, node: sympy.Expr, args: list[list]) -> list:
@@ -146,7 +163,7 @@ def _function(jets: _Jets, node: sympy.Expr, args: list[list]) -> list:
         norm = jets.add(jets.mul(x, x), jets.mul(y, y))
         rate = jets.mul(jets.add(jets.mul(x, jets.derivative(y)), jets.mul(y, jets.derivative(x)), -1),
                         jets.reciprocal(norm))
-        start = [sympy.atan2(y[0][0], x[0][0]),
+        start = [jets.named(sympy.atan2(y[0][0], x[0][0])),
                  *((x[0][0] * dy - y[0][0] * dx) / (x[0][0] ** 2 + y[0][0] ** 2) for dx, dy in zip(x[0][1:], y[0][1:]))]
         return jets.solve([start], lambda _: [rate])[0]
     phi = {sympy.exp: sympy.exp, sympy.log: sympy.log, sympy.tan: sympy.tan, sympy.atan: sympy.atan,
@@ -196,8 +213,8 @@ def _evaluate(jets: _Jets, expr: sympy.Expr, values: dict, memo: dict) -> list:
         return memo[expr]
     if expr in values:
         return values[expr]
-    if not expr.free_symbols:
-        result = jets.constant(expr)
+    if not expr.free_symbols:  # a constant of the model, named where it nests functions (sin(sin(1)))
+        result = jets.constant(jets.named(expr))
     elif isinstance(expr, sympy.Add):
         parts = [_evaluate(jets, a, values, memo) for a in expr.args]
         result = [[sympy.Add(*column) for column in zip(*coefficients)] for coefficients in zip(*parts)]
