@@ -19,7 +19,8 @@ import time
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
-__all__ = ["Undecided", "with_budget", "BudgetedRun", "WALL_FACTOR", "paused_collection", "remaining_cpu"]
+__all__ = ["Undecided", "with_budget", "BudgetedRun", "WALL_FACTOR", "paused_collection", "remaining_cpu",
+           "inherited_objects_unscanned"]
 
 T = TypeVar("T")
 
@@ -77,12 +78,26 @@ def _end_group() -> None:
     os._exit(1)
 
 
+def inherited_objects_unscanned() -> None:
+    """In a forked child, the objects inherited from the parent left out of the cyclic garbage
+    collector's passes (``gc.freeze``; the objects the child creates are collected as before).
+
+    A full collection visits every tracked object, and visiting one writes its header: each
+    page of the parent's heap (a few hundred MB in a long session) was copied into the child
+    at its first full collection. A child allocating 300,000 objects in a 170 MB parent took
+    342 ms of CPU, 88 ms with the inherited objects frozen. What is given up: a cycle among
+    inherited objects that the child alone makes unreachable is not freed before the child
+    ends; it is no larger than what the parent held, and its pages are still shared."""
+    gc.freeze()
+
+
 #: Seconds between two looks at the parent.
 _WATCH = 0.5
 
 
 def _child(conn: Any, func: Callable[..., Any], args: tuple, seconds: float, parent: int) -> None:
     _bound_self(seconds, parent)
+    inherited_objects_unscanned()
     try:
         try:
             result = ("ok", func(*args))

@@ -116,23 +116,24 @@ proven_verdicts.install()
 
 
 @pytest.fixture(scope="session", autouse=True)
-def every_written_proof_is_verified():
+def every_written_proof_is_verified(pytestconfig, tmp_path_factory):
     """The session's last word on proofs: each one the suite wrote and no test had
     accepted is verified now (in the checker's bounded child, 120 CPU seconds each);
     then every verdict called proven whose proof no test wrote is proven now
     (:mod:`proven_verdicts`: written as ``check --proof`` writes it, verified by
-    ``verify-proof --model``, the claim the verdict's rank). Each xdist worker
-    verifies its own."""
+    ``verify-proof --model``, the claim the verdict's rank). Under xdist each
+    worker verifies those of its own that no other worker of the session has
+    taken (:func:`proven_verdicts.first_in_session`)."""
     yield
-    refused, covered = [], set()
+    refused, covered, first = [], set(), proven_verdicts.first_in_session(pytestconfig, tmp_path_factory)
     for text, (name, model) in list(_WRITTEN.items()):
         written = json.loads(text)
         covered.add((_proofcheck.digest(written["model"]), written["rank"], written["n_states"]))
-        if text not in _ACCEPTED:
+        if text not in _ACCEPTED and first(text + json.dumps(model, sort_keys=True)):
             accepted, lines = _proofcheck._in_child(lambda: _proofcheck._answer(text, model), 120)
             if not accepted:
                 refused.append(f"{name}: {lines[0]}")
-    unproven = proven_verdicts.verify_recorded(covered)
+    unproven = proven_verdicts.verify_recorded(covered, first=first)
     assert not refused, "proofs the suite wrote that verify-proof refuses:\n" + "\n".join(refused)
     assert not unproven, "verdicts called proven whose proof is not written or not verified:\n" + "\n".join(unproven)
 

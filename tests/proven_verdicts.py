@@ -47,6 +47,7 @@ one whose proof is out of the writer's reach on purpose (to test that
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import resource
@@ -184,11 +185,35 @@ def _cpu() -> float:
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
-def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult], str | None] = claim_problem
-                    ) -> list[str]:
+def first_in_session(config: pytest.Config, tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], bool]:
+    """Whether this process is the first of the test session to take a key (True once per key):
+    under pytest-xdist each worker records the verdicts and proofs of its own tests, and the
+    same model's verdict obtained on two workers was verified by both at their session's end.
+    A key is taken by creating its file (O_EXCL: exactly one creator) in a directory the
+    workers of this run share (the run's base temporary directory, each worker's own being
+    inside it); the worker that takes it verifies it and fails the session if the check fails,
+    the others skip it. In one process every key is its own."""
+    if getattr(config, "workerinput", None) is None:
+        return lambda key: True
+    shared = tmp_path_factory.getbasetemp().parent / "verified-proofs"
+    shared.mkdir(exist_ok=True)
+
+    def first(key: str) -> bool:
+        try:
+            os.close(os.open(shared / hashlib.sha256(key.encode()).hexdigest(), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            return False
+        return True
+    return first
+
+
+def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult], str | None] = claim_problem,
+                    first: Callable[[str], bool] = lambda key: True) -> list[str]:
     """The failures among the recorded verdicts, one line each naming the model
     and its claimed rank; ``covered``: (digest, rank, states) of the proofs the
-    tests wrote (verified already or at the session's end). A verdict listed in
+    tests wrote (verified already or at the session's end); ``first``: whether
+    this process is the first of the session to verify a key (:func:`first_in_session`;
+    another worker verifies the rest). A verdict listed in
     :data:`KNOWN` that fails as listed is counted in the summary instead; one
     that is now verified is a failure (the list is out of date)."""
     start, seen, failures, known, larger, costs = _cpu(), set(covered), [], 0, set(), []
@@ -205,6 +230,8 @@ def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult
             continue
         if key is not None:
             seen.add(key)
+            if not first(repr(key)):
+                continue
             began = _cpu()
             found = problem(system, result)
             costs.append((_cpu() - began, system.name))

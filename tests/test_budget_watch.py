@@ -26,3 +26,13 @@ def test_a_child_ends_when_its_parent_is_no_longer_the_one_that_started_it():
     # It kills its own process group, itself with it (the programs it started too: tests/test_budget_group.py);
     # it exited with 1 before the group was killed (issue 66's review).
     assert os.waitstatus_to_exitcode(status) == -signal.SIGKILL
+
+
+def test_a_budgeted_child_leaves_the_inherited_heap_out_of_the_collector_and_the_parent_unchanged():
+    """The objects a budgeted child inherits are frozen (gc.get_freeze_count counts them: at least the
+    20,000 lists made here before the fork), so its full collections do not copy the parent's pages
+    (budget.inherited_objects_unscanned); the parent's own collector is untouched (nothing frozen)."""
+    import gc
+    inherited = [[k] for k in range(20_000)]
+    assert budget.with_budget(gc.get_freeze_count, seconds=10) >= len(inherited)
+    assert gc.get_freeze_count() == 0

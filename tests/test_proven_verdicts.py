@@ -191,3 +191,27 @@ def test_a_session_that_obtains_a_forged_proven_verdict_fails(tmp_path):
     assert ("verdicts called proven whose proof is not written or not verified:\nE         forged-in-a-session "
             "(proven rank 2 of 2; x1' = 0, x2' = 0; y1 = x1 + x2, y2 = p*(x1 + x2); obtained by "
             "test_forged.py::test_obtains_a_forged_verdict): check --proof fails (exit 4, RuntimeError") in run.stdout
+
+
+def test_each_key_is_verified_by_one_worker_of_a_session(tmp_path):
+    """Two xdist workers of one run (their base temporary directories side by side): a key taken by one is
+    not taken by the other, nor again by the first; a key of its own is; in one process every key is."""
+    class Worker:
+        def __init__(self, name):
+            self.workerinput, self.base = {"workerid": name}, tmp_path / f"popen-{name}"
+
+        def getbasetemp(self):
+            return self.base
+
+    first, second = (proven_verdicts.first_in_session(worker, worker) for worker in (Worker("gw0"), Worker("gw1")))
+    assert [first("a"), second("a"), first("a"), second("b"), first("b")] == [True, False, False, True, False]
+    alone = proven_verdicts.first_in_session(object(), None)
+    assert alone("a") and alone("a")
+
+
+def test_a_verdict_another_worker_took_is_not_verified_again(monkeypatch):
+    system = _line()
+    result = analyze(system, seed=1)
+    monkeypatch.setattr(proven_verdicts.RECORD, "verdicts", {(system, 1, 2): (system, result, "a test")})
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "called", first=lambda key: False) == []
+    assert proven_verdicts.verify_recorded(set(), problem=lambda *_: "called", first=lambda key: True) != []

@@ -61,6 +61,7 @@ arithmetic (arb), the transcendental numbers.
 
 from __future__ import annotations
 
+import gc
 import hashlib
 import json
 import math
@@ -460,6 +461,7 @@ def _in_child(answer: Callable[[], tuple[bool, list[str]]], seconds: float) -> t
     if pid == 0:  # the child: answer, write, and leave without running the parent's exit handlers
         try:
             os.close(reading)
+            gc.freeze()  # the inherited heap left out of the collector's passes, whose visits copy every page of it
             with open("/proc/self/statm") as statm:
                 held = int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
             _limit(resource.RLIMIT_CPU, max(1, math.ceil(seconds)))  # SIGXCPU past it
