@@ -350,10 +350,16 @@ def _inverse(system: System, noise: Sequence[str]) -> list[sympy.Expr] | None:
 
 
 def _solve_inverse(system: System, noise: list[str]) -> list[sympy.Expr] | None:
-    """Solve x_k = F(z, u + w_u) + w_x for z; None without a unique solution."""
+    """Solve x_k = F(z, u) + w_x for z; None without a unique solution.
+
+    The noise on inputs is not added here: the solution keeps the input
+    symbols, and the casadi conversion table maps each input to u + w_u (the
+    one place input noise is applied, for f and g alike); adding it here as well
+    counted it twice (G_w of p = p + v, v = v + a - b with noise on a was 2x).
+    """
     symbols = dict(zip(noise, _noise_symbols(noise)))
     z = sympy.symbols(f"z0:{system.n}", cls=sympy.Dummy)
-    back = dict(zip(system.states, z)) | {u: u + symbols[u.name] for u in system.inputs if u.name in symbols}
+    back = dict(zip(system.states, z))
     equations = [
         sympy.Eq(fi.xreplace(back) + symbols.get(s.name, 0), s) for s, fi in zip(system.states, system.dynamics)
     ]
