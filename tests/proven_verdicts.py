@@ -53,6 +53,7 @@ import os
 import resource
 import subprocess
 import sys
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -207,6 +208,20 @@ def first_in_session(config: pytest.Config, tmp_path_factory: pytest.TempPathFac
     return first
 
 
+def _from_a_fresh_stack(problem: Callable[[System, ObservabilityResult], str | None], system: System,
+                        result: ObservabilityResult) -> str | None:
+    """``problem(system, result)`` run in a new thread, so from a stack as shallow as
+    ``check --proof``'s: a forked step pickles its answer from the stack it was forked
+    at, and a 150-deep nested sine's proof ran out of recursion under the test runner's
+    session teardown (a hundred frames deeper than the command line) but not from
+    the command line."""
+    answer: list[str | None] = []
+    worker = threading.Thread(target=lambda: answer.append(problem(system, result)))
+    worker.start()
+    worker.join()
+    return answer[0] if answer else "the re-verification raised in its thread (see the output above)"
+
+
 def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult], str | None] = claim_problem,
                     first: Callable[[str], bool] = lambda key: True) -> list[str]:
     """The failures among the recorded verdicts, one line each naming the model
@@ -233,7 +248,7 @@ def verify_recorded(covered: set, problem: Callable[[System, ObservabilityResult
             if not first(repr(key)):
                 continue
             began = _cpu()
-            found = problem(system, result)
+            found = _from_a_fresh_stack(problem, system, result)
             costs.append((_cpu() - began, system.name))
         listed = KNOWN.get((result.rank, result.n_states, _equations(system)))
         if listed is not None and found is not None and listed in found:
